@@ -1,1 +1,29 @@
-//! actuator-model
+//! actuator-model: the physics of piezoelectric bimorph bending actuators (PZT / passive / PZT), as in
+//! Lenzen, AFIT 2013, after Wood, Steltz & Fearing, Sensors and Actuators A 119 (2005).
+//!
+//! SI units throughout; no file or terminal I/O. The usual path:
+//! [`Laminate::bimorph`] → [`Section::new`] at a [`Drive`] → [`performance::evaluate`] for a [`Planform`],
+//! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
+
+pub mod drive;
+pub mod empirical;
+pub mod error;
+pub mod euler_bernoulli;
+pub mod lamina;
+pub mod laminate;
+pub mod material;
+pub mod model;
+pub mod performance;
+pub mod planform;
+pub mod section;
+pub mod weibull;
+
+pub use drive::{Drive, DriveMode};
+pub use error::ModelError;
+pub use laminate::{Laminate, Layer, LayerRole};
+pub use material::Material;
+pub use model::ModelKind;
+pub use performance::{MassBreakdown, Performance};
+pub use planform::Planform;
+pub use section::Section;
+pub use weibull::Weibull;

@@ -1,0 +1,105 @@
+//! A laminate solved at one drive level: the per-unit-width quantities every planform shares.
+
+use crate::drive::Drive;
+use crate::error::ModelError;
+use crate::laminate::{Laminate, LayerRole};
+
+/// Everything the planform-dependent formulas need from the laminate at one drive level.
+///
+/// Computing it costs one pass over the layers; evaluating a planform against it
+/// ([`crate::performance::evaluate`]) costs a few dozen flops and allocates nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Section {
+    /// Drive mode and peak plate field.
+    pub drive: Drive,
+    /// Supply voltage for that field, V.
+    pub voltage: f64,
+    /// Magnitude of the free curvature `|P|` (thesis eq. 2.24), 1/m.
+    pub free_curvature: f64,
+    /// Bending compliance `C44`, 1/(N·m).
+    pub bending_compliance: f64,
+    /// Total thickness, m.
+    pub thickness: f64,
+    /// Thickness of one PZT plate, m.
+    pub pzt_thickness: f64,
+    /// Areal mass of both PZT plates, kg/m².
+    pub pzt_areal_mass: f64,
+    /// Areal mass of the passive plies, kg/m².
+    pub passive_areal_mass: f64,
+    /// Areal mass of bond layers, kg/m².
+    pub bond_areal_mass: f64,
+    /// Relative permittivity K33 of the PZT.
+    pub relative_permittivity: f64,
+    /// Peak |ε_x| on a PZT surface in free deflection (`ε0 + z κ`, thesis eq. 2.18).
+    pub peak_pzt_strain: f64,
+    /// σ_x on the four PZT surfaces (bottom plate bottom/top, top plate bottom/top) in free deflection, Pa.
+    surface_stress_free: [f64; 4],
+    /// σ_x on the same surfaces per unit external moment (N·m/m) opposing the free curvature.
+    surface_stress_per_moment: [f64; 4],
+}
+
+impl Section {
+    /// Solve the laminate at a drive level. The laminate must have exactly two piezo layers.
+    pub fn new(laminate: &Laminate, drive: Drive) -> Result<Self, ModelError> {
+        if laminate.piezo_count() != 2 {
+            return Err(ModelError::Laminate(format!(
+                "a bimorph needs 2 piezo layers, this stack has {}",
+                laminate.piezo_count()
+            )));
+        }
+        if !(drive.field.is_finite() && drive.field >= 0.0) {
+            return Err(ModelError::OutOfRange {
+                name: "field",
+                value: drive.field,
+                range: "[0, inf) V/m",
+            });
+        }
+        let fields = drive.mode.layer_fields(drive.field);
+        let free = laminate.free_response(&fields);
+        let curvature = free[3];
+        // The blocking moment bends the beam back against its free curvature.
+        let opposing = if curvature >= 0.0 { -1.0 } else { 1.0 };
+        let unit_moment = laminate.moment_response(opposing);
+        let none = [0.0, 0.0];
+        let z = laminate.interfaces();
+        let mut surface_stress_free = [0.0; 4];
+        let mut surface_stress_per_moment = [0.0; 4];
+        let mut peak_strain: f64 = 0.0;
+        for plate in 0..2 {
+            let k = laminate.piezo_layer(plate);
+            for (side, zz) in [z[k], z[k + 1]].into_iter().enumerate() {
+                let i = 2 * plate + side;
+                surface_stress_free[i] = laminate.stress_at(k, zz, &free, &fields)[0];
+                surface_stress_per_moment[i] = laminate.stress_at(k, zz, &unit_moment, &none)[0];
+                peak_strain = peak_strain.max(Laminate::strain_at(&free, zz)[0].abs());
+            }
+        }
+        let pzt = &laminate.layers()[laminate.piezo_layer(0)];
+        Ok(Section {
+            drive,
+            voltage: drive.mode.voltage_from_field(drive.field, pzt.thickness),
+            free_curvature: curvature.abs(),
+            bending_compliance: laminate.bending_compliance(),
+            thickness: laminate.thickness(),
+            pzt_thickness: pzt.thickness,
+            pzt_areal_mass: laminate.areal_mass(LayerRole::Piezo),
+            passive_areal_mass: laminate.areal_mass(LayerRole::Passive),
+            bond_areal_mass: laminate.areal_mass(LayerRole::Bond),
+            relative_permittivity: pzt.material.relative_permittivity,
+            peak_pzt_strain: peak_strain,
+            surface_stress_free,
+            surface_stress_per_moment,
+        })
+    }
+
+    /// Peak |σ_x| over the PZT surfaces at the root under an external moment per unit width `m` (N·m/m)
+    /// opposing the free curvature: CLT `σ = Q̄ (ε0 + z κ - d E3)` (thesis eqs. 2.18, 2.23).
+    pub fn peak_pzt_stress(&self, moment_per_width: f64) -> f64 {
+        (0..4)
+            .map(|i| {
+                (self.surface_stress_free[i] + moment_per_width * self.surface_stress_per_moment[i])
+                    .abs()
+            })
+            .fold(0.0, f64::max)
+    }
+}
