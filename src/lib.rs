@@ -1,1 +1,7 @@
-//! actuator-cam
+//! actuator-cam: design files, predictions, laser-cut layer geometry and reports for piezoelectric bimorph
+//! bending actuators, on top of the `actuator-model` physics crate.
+
+pub mod commands;
+pub mod design;
+pub mod input;
+pub mod prediction;

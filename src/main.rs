@@ -1,1 +1,39 @@
-fn main() {}
+//! The `actuator-cam` command line: parses arguments and hands them to the library.
+
+use actuator_cam::commands::{laminate, predict, weibull};
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// CAD/CAM for piezoelectric bimorph bending actuators.
+#[derive(Parser)]
+#[command(name = "actuator-cam", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Mass and performance of a design.
+    Predict(predict::PredictArgs),
+    /// ABD matrices, thickness and areal mass of a layup.
+    Laminate(laminate::LaminateArgs),
+    /// Weibull fit and survival thresholds from failure data.
+    Weibull(weibull::WeibullArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Predict(a) => predict::run(a),
+        Command::Laminate(a) => laminate::run(a),
+        Command::Weibull(a) => weibull::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::FAILURE
+        }
+    }
+}

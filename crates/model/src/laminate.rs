@@ -190,7 +190,8 @@ impl Laminate {
             .iter()
             .filter(|l| l.role == role)
             .map(|l| l.material.density * l.thickness)
-            .sum()
+            // fold from +0.0: an empty f64 sum is -0.0, which would print as "-0.00 mg".
+            .fold(0.0, |acc, m| acc + m)
     }
 
     /// Number of piezo layers (2 for a bimorph).

@@ -1,0 +1,5 @@
+//! The subcommands: each file holds its clap arguments and a `run` that does the job.
+
+pub mod laminate;
+pub mod predict;
+pub mod weibull;

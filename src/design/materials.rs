@@ -1,0 +1,81 @@
+//! Materials named in a design file: the built-in library, or a `[materials.NAME]` table.
+
+use crate::input::{InputError, Range, TableReader};
+use actuator_model::material::builtin_names;
+use actuator_model::Material;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+const MODULUS_GPA: Range = Range::positive_up_to(2000.0, "GPa");
+const POISSON: Range = Range::closed(0.0, 0.5, "");
+const DENSITY: Range = Range::positive_up_to(30_000.0, "kg/m^3");
+const D31_PM_PER_V: Range = Range::closed(-2000.0, 2000.0, "pm/V");
+const PERMITTIVITY: Range = Range::closed(0.0, 100_000.0, "");
+const THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+
+/// A user material from `[materials.NAME]`: `e1_GPa`, optional `e2_GPa` (default e1), `g12_GPa`
+/// (default `e1 / (2 (1 + ν12))`), `nu12`, `density_kg_per_m3`, optional `d31_pm_per_V`,
+/// `relative_permittivity`, `ply_thickness_mm`.
+pub fn material_from_table(name: &str, t: &TableReader<'_>) -> Result<Material, InputError> {
+    let e1 = t.number_in("e1_GPa", MODULUS_GPA)? * 1e9;
+    let e2 = t
+        .optional_number_in("e2_GPa", MODULUS_GPA)?
+        .map(|e| e * 1e9)
+        .unwrap_or(e1);
+    let nu12 = t.number_in("nu12", POISSON)?;
+    let g12 = t
+        .optional_number_in("g12_GPa", MODULUS_GPA)?
+        .map(|g| g * 1e9)
+        .unwrap_or(e1 / (2.0 * (1.0 + nu12)));
+    let m = Material {
+        name: name.to_string(),
+        e1,
+        e2,
+        g12,
+        nu12,
+        density: t.number_in("density_kg_per_m3", DENSITY)?,
+        d31: t
+            .optional_number_in("d31_pm_per_V", D31_PM_PER_V)?
+            .unwrap_or(0.0)
+            * 1e-12,
+        relative_permittivity: t
+            .optional_number_in("relative_permittivity", PERMITTIVITY)?
+            .unwrap_or(0.0),
+        ply_thickness: t
+            .optional_number_in("ply_thickness_mm", THICKNESS_MM)?
+            .map(|x| x * 1e-3),
+    };
+    // Plane-stress stiffness needs 1 - ν12 ν21 > 0.
+    if m.nu12 * m.nu21() >= 1.0 {
+        return Err(InputError::invalid(
+            t.file(),
+            &t.path("nu12"),
+            nu12,
+            "gives ν12 ν21 >= 1: no plane-stress stiffness",
+        ));
+    }
+    t.finish()?;
+    Ok(m)
+}
+
+/// Find a material by name: the file's own `[materials]` first, then the built-in library.
+pub fn resolve_material(
+    file: &Path,
+    field: &str,
+    name: &str,
+    own: &BTreeMap<String, Material>,
+) -> Result<Material, InputError> {
+    own.get(name)
+        .cloned()
+        .or_else(|| Material::builtin(name))
+        .ok_or_else(|| {
+            let mut known: Vec<String> = own.keys().cloned().collect();
+            known.extend(builtin_names());
+            InputError::invalid(
+                file,
+                field,
+                format!("{name:?}"),
+                format!("unknown material; known: {}", known.join(", ")),
+            )
+        })
+}

@@ -1,0 +1,265 @@
+//! The design file (`design.toml`): one place that names each field, its unit and its allowed range, and
+//! one conversion from the parsed file into a validated [`Design`] that later code trusts.
+
+mod materials;
+
+pub use materials::{material_from_table, resolve_material};
+
+use crate::input::{read_toml, InputError, Range, TableReader};
+use actuator_model::{Drive, DriveMode, Laminate, Material, ModelError, Planform};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// `geometry.length_mm`: total length l_tot = l_p + l_ext.
+pub const LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// `geometry.extension_ratio`: l_r = l_ext / l_p.
+pub const EXTENSION_RATIO: Range = Range::closed(0.0, 20.0, "");
+/// `geometry.base_width_mm`: w_0.
+pub const BASE_WIDTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// `geometry.width_ratio`: w_r = w_0 / w_nom; the tip width `(2 - w_r) w_nom` must stay positive.
+pub const WIDTH_RATIO: Range = Range::open(0.0, 2.0, "");
+/// `geometry.base_tab_mm`: passive-only tab behind the PZT.
+pub const BASE_TAB_MM: Range = Range::closed(0.0, 1000.0, "mm");
+/// `laminate.pzt_thickness_mm`: one PZT plate.
+pub const PZT_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+/// `laminate.ply_thickness_mm` / `bond_thickness_mm`.
+pub const PLY_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+/// `laminate.layup_deg[i]`: ply angle from the actuator axis.
+pub const PLY_ANGLE_DEG: Range = Range::closed(-180.0, 180.0, "deg");
+/// `drive.field_V_per_mm`: peak field in a plate.
+pub const FIELD_V_PER_MM: Range = Range::positive_up_to(10_000.0, "V/mm");
+/// `drive.voltage_V`: supply voltage.
+pub const VOLTAGE_V: Range = Range::positive_up_to(100_000.0, "V");
+/// Largest `quantity`.
+pub const MAX_QUANTITY: i64 = 100_000;
+/// Most plies in a layup.
+pub const MAX_PLIES: usize = 64;
+
+/// A validated actuator design, SI inside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Design {
+    /// Name used in labels and reports.
+    pub name: String,
+    /// Actuators to build.
+    pub quantity: usize,
+    /// Process template: `method-1`, `method-2` or a path (resolved against the design file).
+    pub process: String,
+    /// Outline.
+    pub planform: Planform,
+    /// PZT material.
+    pub pzt: Material,
+    /// One PZT plate, m.
+    pub pzt_thickness: f64,
+    /// Passive ply material.
+    pub ply: Material,
+    /// One passive ply, m.
+    pub ply_thickness: f64,
+    /// Ply angles, bottom to top, degrees.
+    pub layup_deg: Vec<f64>,
+    /// Optional bond layer between each PZT plate and the passive core: material and thickness (m).
+    pub bond: Option<(Material, f64)>,
+    /// Drive mode and field.
+    pub drive: Drive,
+    /// The file it came from (for relative paths and messages).
+    pub source: PathBuf,
+}
+
+impl Design {
+    /// Read and validate a design file.
+    pub fn load(path: &Path) -> Result<Design, InputError> {
+        let table = read_toml(path)?;
+        Self::from_table(path, &table)
+    }
+
+    /// Validate a parsed design file.
+    pub fn from_table(path: &Path, table: &toml::Table) -> Result<Design, InputError> {
+        let root = TableReader::new(path, "", table);
+        let name = root.string("name", "a design name (text)")?.to_string();
+        if name.trim().is_empty() || name.len() > 64 {
+            return Err(InputError::invalid(
+                path,
+                "name",
+                format!("{name:?}"),
+                "expected 1 to 64 characters",
+            ));
+        }
+        let quantity = root
+            .optional_count("quantity", 1, MAX_QUANTITY)?
+            .unwrap_or(1);
+        let process = root
+            .optional_string("process", "\"method-1\", \"method-2\" or a template path")?
+            .unwrap_or("method-2")
+            .to_string();
+        let materials = read_materials(&root)?;
+
+        let g = root.table("geometry")?;
+        let length = g.number_in("length_mm", LENGTH_MM)?;
+        let extension_ratio = g.number_in("extension_ratio", EXTENSION_RATIO)?;
+        let base_width = g.number_in("base_width_mm", BASE_WIDTH_MM)?;
+        let width_ratio = g.number_in("width_ratio", WIDTH_RATIO)?;
+        let base_tab = g
+            .optional_number_in("base_tab_mm", BASE_TAB_MM)?
+            .unwrap_or(0.0);
+        g.finish()?;
+        let planform = Planform::new(
+            length * 1e-3,
+            extension_ratio,
+            base_width * 1e-3,
+            width_ratio,
+            base_tab * 1e-3,
+        )
+        .map_err(|e| model_error(path, "geometry", e))?;
+
+        let l = root.table("laminate")?;
+        let pzt_name = l.string("pzt", "a PZT material name")?;
+        let pzt = resolve_material(path, &l.path("pzt"), pzt_name, &materials)?;
+        if !pzt.is_piezoelectric() {
+            return Err(InputError::invalid(
+                path,
+                &l.path("pzt"),
+                pzt_name,
+                "expected a piezoelectric material (d31 != 0)",
+            ));
+        }
+        let pzt_thickness = l.number_in("pzt_thickness_mm", PZT_THICKNESS_MM)? * 1e-3;
+        let ply_name = l.string("ply", "a passive ply material name")?;
+        let ply = resolve_material(path, &l.path("ply"), ply_name, &materials)?;
+        let ply_thickness = match l.optional_number_in("ply_thickness_mm", PLY_THICKNESS_MM)? {
+            Some(t) => t * 1e-3,
+            None => ply.ply_thickness.ok_or_else(|| {
+                InputError::missing(
+                    path,
+                    &l.path("ply_thickness_mm"),
+                    &format!("a ply thickness: {ply_name} has no standard ply, {PLY_THICKNESS_MM}"),
+                )
+            })?,
+        };
+        let layup_deg = l.numbers_in("layup_deg", PLY_ANGLE_DEG, 1, MAX_PLIES)?;
+        let bond = match l.optional_string("bond", "a bond-layer material name")? {
+            Some(bond_name) => {
+                let m = resolve_material(path, &l.path("bond"), bond_name, &materials)?;
+                let t = match l.optional_number_in("bond_thickness_mm", PLY_THICKNESS_MM)? {
+                    Some(t) => t * 1e-3,
+                    None => m.ply_thickness.ok_or_else(|| {
+                        InputError::missing(
+                            path,
+                            &l.path("bond_thickness_mm"),
+                            &format!("a bond thickness, {PLY_THICKNESS_MM}"),
+                        )
+                    })?,
+                };
+                Some((m, t))
+            }
+            None => {
+                if l.has("bond_thickness_mm") {
+                    return Err(InputError::invalid(
+                        path,
+                        &l.path("bond_thickness_mm"),
+                        "(set)",
+                        "needs laminate.bond (the bond material)",
+                    ));
+                }
+                None
+            }
+        };
+        l.finish()?;
+
+        let d = root.table("drive")?;
+        let mode_name = d.string("mode", "parallel, series, simultaneous or alternating")?;
+        let mode = DriveMode::from_name(mode_name).ok_or_else(|| {
+            InputError::invalid(
+                path,
+                &d.path("mode"),
+                format!("{mode_name:?}"),
+                "expected one of parallel, series, simultaneous, alternating",
+            )
+        })?;
+        let field = d.optional_number_in("field_V_per_mm", FIELD_V_PER_MM)?;
+        let voltage = d.optional_number_in("voltage_V", VOLTAGE_V)?;
+        let field = match (field, voltage) {
+            (Some(f), None) => f * 1e3,
+            (None, Some(v)) => mode.field_from_voltage(v, pzt_thickness),
+            (Some(f), Some(v)) => {
+                return Err(InputError::invalid(
+                    path,
+                    "drive",
+                    format!("field_V_per_mm = {f} and voltage_V = {v}"),
+                    "give exactly one of field_V_per_mm and voltage_V",
+                ))
+            }
+            (None, None) => {
+                return Err(InputError::missing(
+                    path,
+                    "drive.field_V_per_mm",
+                    "exactly one of field_V_per_mm and voltage_V",
+                ))
+            }
+        };
+        if !(field > 0.0 && field <= FIELD_V_PER_MM.hi * 1e3) {
+            return Err(InputError::invalid(
+                path,
+                "drive.voltage_V",
+                voltage.unwrap_or(0.0),
+                format!(
+                    "gives a plate field of {} V/mm, outside the {FIELD_V_PER_MM}",
+                    field * 1e-3
+                ),
+            ));
+        }
+        d.finish()?;
+        root.finish()?;
+
+        Ok(Design {
+            name,
+            quantity,
+            process,
+            planform,
+            pzt,
+            pzt_thickness,
+            ply,
+            ply_thickness,
+            layup_deg,
+            bond,
+            drive: Drive { mode, field },
+            source: path.to_path_buf(),
+        })
+    }
+
+    /// The laminate stack of this design.
+    pub fn laminate(&self) -> Result<Laminate, ModelError> {
+        Laminate::bimorph(
+            &self.pzt,
+            self.pzt_thickness,
+            &self.ply,
+            self.ply_thickness,
+            &self.layup_deg,
+            self.bond.as_ref().map(|(m, t)| (m, *t)),
+        )
+    }
+
+    /// Layup as `0/90/0`.
+    pub fn layup_text(&self) -> String {
+        self.layup_deg
+            .iter()
+            .map(|a| format!("{a}"))
+            .collect::<Vec<_>>()
+            .join("/")
+    }
+}
+
+fn read_materials(root: &TableReader<'_>) -> Result<BTreeMap<String, Material>, InputError> {
+    let mut out = BTreeMap::new();
+    if let Some(mats) = root.optional_table("materials")? {
+        for name in mats.keys() {
+            let t = mats.table(name)?;
+            out.insert(name.to_string(), material_from_table(name, &t)?);
+        }
+        mats.finish()?;
+    }
+    Ok(out)
+}
+
+/// A model error on validated-looking input (should not happen; reported, never a panic).
+fn model_error(path: &Path, field: &str, e: ModelError) -> InputError {
+    InputError::invalid(path, field, "(combination)", e.to_string())
+}

@@ -1,0 +1,96 @@
+//! Allowed ranges of numeric fields, stated once with their unit.
+
+use std::fmt;
+
+/// A closed or open interval with a unit, for validation and for the error message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    /// Lower bound.
+    pub lo: f64,
+    /// Whether `lo` itself is allowed.
+    pub lo_inclusive: bool,
+    /// Upper bound.
+    pub hi: f64,
+    /// Whether `hi` itself is allowed.
+    pub hi_inclusive: bool,
+    /// Unit shown in messages ("mm", "V/mm", "" for none).
+    pub unit: &'static str,
+}
+
+impl Range {
+    /// `lo < x <= hi`.
+    pub const fn positive_up_to(hi: f64, unit: &'static str) -> Self {
+        Range {
+            lo: 0.0,
+            lo_inclusive: false,
+            hi,
+            hi_inclusive: true,
+            unit,
+        }
+    }
+
+    /// `lo <= x <= hi`.
+    pub const fn closed(lo: f64, hi: f64, unit: &'static str) -> Self {
+        Range {
+            lo,
+            lo_inclusive: true,
+            hi,
+            hi_inclusive: true,
+            unit,
+        }
+    }
+
+    /// `lo < x < hi`.
+    pub const fn open(lo: f64, hi: f64, unit: &'static str) -> Self {
+        Range {
+            lo,
+            lo_inclusive: false,
+            hi,
+            hi_inclusive: false,
+            unit,
+        }
+    }
+
+    /// True if `x` is finite and inside.
+    pub fn contains(&self, x: f64) -> bool {
+        x.is_finite()
+            && (if self.lo_inclusive {
+                x >= self.lo
+            } else {
+                x > self.lo
+            })
+            && (if self.hi_inclusive {
+                x <= self.hi
+            } else {
+                x < self.hi
+            })
+    }
+}
+
+impl fmt::Display for Range {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let open = if self.lo_inclusive { '[' } else { '(' };
+        let close = if self.hi_inclusive { ']' } else { ')' };
+        write!(f, "allowed range {open}{}, {}{close}", self.lo, self.hi)?;
+        if !self.unit.is_empty() {
+            write!(f, " {}", self.unit)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_and_nan() {
+        let r = Range::open(0.0, 2.0, "");
+        assert!(r.contains(1.0) && !r.contains(2.0) && !r.contains(0.0) && !r.contains(f64::NAN));
+        assert_eq!(r.to_string(), "allowed range (0, 2)");
+        assert_eq!(
+            Range::positive_up_to(1000.0, "mm").to_string(),
+            "allowed range (0, 1000] mm"
+        );
+    }
+}

@@ -1,0 +1,214 @@
+//! A checked reader over one TOML table: typed getters that validate and record which keys were read, and
+//! a final check that refuses any key nobody asked for.
+
+use super::{InputError, Range};
+use std::cell::RefCell;
+use std::collections::BTreeSet;
+use std::path::Path;
+use toml::{Table, Value};
+
+/// Reads fields of one table; `finish` reports the first unknown key.
+pub struct TableReader<'a> {
+    file: &'a Path,
+    prefix: String,
+    table: &'a Table,
+    used: RefCell<BTreeSet<String>>,
+}
+
+impl<'a> TableReader<'a> {
+    /// A reader over `table`, whose fields are named `prefix.key` in errors (prefix "" for the root).
+    pub fn new(file: &'a Path, prefix: &str, table: &'a Table) -> Self {
+        TableReader {
+            file,
+            prefix: prefix.to_string(),
+            table,
+            used: RefCell::new(BTreeSet::new()),
+        }
+    }
+
+    /// The file being read.
+    pub fn file(&self) -> &'a Path {
+        self.file
+    }
+
+    /// Dotted path of a key.
+    pub fn path(&self, key: &str) -> String {
+        if self.prefix.is_empty() {
+            key.to_string()
+        } else {
+            format!("{}.{key}", self.prefix)
+        }
+    }
+
+    fn get(&self, key: &str) -> Option<&'a Value> {
+        self.used.borrow_mut().insert(key.to_string());
+        self.table.get(key)
+    }
+
+    /// True if the key is present (and marks it as known).
+    pub fn has(&self, key: &str) -> bool {
+        self.get(key).is_some()
+    }
+
+    fn number(&self, key: &str, value: &Value, range: &Range) -> Result<f64, InputError> {
+        let x = match value {
+            Value::Float(x) => *x,
+            Value::Integer(i) => *i as f64,
+            other => {
+                return Err(InputError::invalid(
+                    self.file,
+                    &self.path(key),
+                    other,
+                    format!("expected a number, {range}"),
+                ))
+            }
+        };
+        if range.contains(x) {
+            Ok(x)
+        } else {
+            Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                x,
+                format!("outside the {range}"),
+            ))
+        }
+    }
+
+    /// A required number in a range.
+    pub fn number_in(&self, key: &str, range: Range) -> Result<f64, InputError> {
+        match self.get(key) {
+            Some(v) => self.number(key, v, &range),
+            None => Err(InputError::missing(
+                self.file,
+                &self.path(key),
+                &format!("a number, {range}"),
+            )),
+        }
+    }
+
+    /// An optional number in a range.
+    pub fn optional_number_in(&self, key: &str, range: Range) -> Result<Option<f64>, InputError> {
+        self.get(key)
+            .map(|v| self.number(key, v, &range))
+            .transpose()
+    }
+
+    /// An optional whole number in `[lo, hi]`.
+    pub fn optional_count(&self, key: &str, lo: i64, hi: i64) -> Result<Option<usize>, InputError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(Value::Integer(i)) if (lo..=hi).contains(i) => Ok(Some(*i as usize)),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected a whole number in [{lo}, {hi}]"),
+            )),
+        }
+    }
+
+    /// A required string.
+    pub fn string(&self, key: &str, expected: &str) -> Result<&'a str, InputError> {
+        match self.get(key) {
+            Some(Value::String(s)) => Ok(s),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected {expected}"),
+            )),
+            None => Err(InputError::missing(self.file, &self.path(key), expected)),
+        }
+    }
+
+    /// An optional string.
+    pub fn optional_string(
+        &self,
+        key: &str,
+        expected: &str,
+    ) -> Result<Option<&'a str>, InputError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(Value::String(s)) => Ok(Some(s)),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected {expected}"),
+            )),
+        }
+    }
+
+    /// A required array of numbers, each in `range`, with `min_len..=max_len` entries.
+    pub fn numbers_in(
+        &self,
+        key: &str,
+        range: Range,
+        min_len: usize,
+        max_len: usize,
+    ) -> Result<Vec<f64>, InputError> {
+        let expected = format!("an array of {min_len} to {max_len} numbers, each in the {range}");
+        match self.get(key) {
+            Some(Value::Array(items)) if (min_len..=max_len).contains(&items.len()) => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| self.number(&format!("{key}[{i}]"), v, &range))
+                .collect(),
+            Some(v) => Err(InputError::invalid(self.file, &self.path(key), v, expected)),
+            None => Err(InputError::missing(self.file, &self.path(key), &expected)),
+        }
+    }
+
+    /// A required sub-table.
+    pub fn table(&self, key: &str) -> Result<TableReader<'a>, InputError> {
+        match self.get(key) {
+            Some(Value::Table(t)) => Ok(TableReader::new(self.file, &self.path(key), t)),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                "expected a table",
+            )),
+            None => Err(InputError::missing(
+                self.file,
+                &self.path(key),
+                &format!("a [{}] table", self.path(key)),
+            )),
+        }
+    }
+
+    /// An optional sub-table.
+    pub fn optional_table(&self, key: &str) -> Result<Option<TableReader<'a>>, InputError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(Value::Table(t)) => Ok(Some(TableReader::new(self.file, &self.path(key), t))),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                "expected a table",
+            )),
+        }
+    }
+
+    /// Keys of this table, sorted.
+    pub fn keys(&self) -> Vec<&'a str> {
+        self.table.keys().map(String::as_str).collect()
+    }
+
+    /// Refuse any key that no getter asked for: a typo must not be silently ignored.
+    pub fn finish(&self) -> Result<(), InputError> {
+        let used = self.used.borrow();
+        if let Some(key) = self.table.keys().find(|k| !used.contains(*k)) {
+            let known: Vec<&str> = used.iter().map(String::as_str).collect();
+            return Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                self.table[key].clone(),
+                format!("unknown key; known keys here: {}", known.join(", ")),
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,157 @@
+//! A prediction at the file edge: the model's SI performance turned into the lab's units, as printed by
+//! `predict` and embedded in cut-sheet reports.
+
+use crate::design::Design;
+use actuator_model::model::{predict, ModelKind};
+use actuator_model::{ModelError, Performance};
+use serde::Serialize;
+use std::fmt::Write;
+
+/// Mass by layer kind, mg.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MassBreakdownMg {
+    /// Both PZT plates.
+    pub pzt: f64,
+    /// Passive plies under the PZT, extension and tab.
+    pub passive: f64,
+    /// Bond layers.
+    pub bond: f64,
+}
+
+/// Predicted performance in lab units (the `predict --json` object).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)] // the unit is part of the field name: `blocked_force_N`, `energy_mJ`
+pub struct Prediction {
+    pub name: String,
+    pub model: String,
+    pub drive_mode: String,
+    pub mass_mg: f64,
+    pub free_deflection_mm: f64,
+    pub blocked_force_N: f64,
+    pub energy_mJ: f64,
+    pub energy_density_J_per_kg: f64,
+    pub stiffness_N_per_m: f64,
+    pub field_V_per_mm: f64,
+    pub voltage_V: f64,
+    pub survival: f64,
+    pub peak_pzt_strain: f64,
+    pub peak_pzt_stress_MPa: f64,
+    pub base_stress_MPa: f64,
+    pub capacitance_nF: f64,
+    pub mass_breakdown_mg: MassBreakdownMg,
+}
+
+impl Prediction {
+    /// Predict a design with one of the built-in models.
+    pub fn of(design: &Design, kind: ModelKind) -> Result<Prediction, ModelError> {
+        let laminate = design.laminate()?;
+        let perf = predict(kind, &laminate, &design.planform, design.drive)?;
+        Ok(Self::from_performance(design, kind.name(), &perf))
+    }
+
+    /// Convert a model performance (SI) for a design into lab units.
+    pub fn from_performance(design: &Design, model: &str, p: &Performance) -> Prediction {
+        let drive = design.drive;
+        Prediction {
+            name: design.name.clone(),
+            model: model.to_string(),
+            drive_mode: drive.mode.name().to_string(),
+            mass_mg: p.mass * 1e6,
+            free_deflection_mm: p.free_deflection * 1e3,
+            blocked_force_N: p.blocked_force,
+            energy_mJ: p.energy * 1e3,
+            energy_density_J_per_kg: p.energy_density,
+            stiffness_N_per_m: p.stiffness,
+            field_V_per_mm: drive.field * 1e-3,
+            voltage_V: drive
+                .mode
+                .voltage_from_field(drive.field, design.pzt_thickness),
+            survival: drive.survival(),
+            peak_pzt_strain: p.peak_pzt_strain,
+            peak_pzt_stress_MPa: p.peak_pzt_stress * 1e-6,
+            base_stress_MPa: p.base_stress * 1e-6,
+            capacitance_nF: p.capacitance * 1e9,
+            mass_breakdown_mg: MassBreakdownMg {
+                pzt: p.mass_breakdown.pzt * 1e6,
+                passive: p.mass_breakdown.passive * 1e6,
+                bond: p.mass_breakdown.bond * 1e6,
+            },
+        }
+    }
+
+    /// A readable table, one quantity per line.
+    pub fn table(&self) -> String {
+        let rows: [(&str, String, &str); 16] = [
+            ("mass", format!("{:.2}", self.mass_mg), "mg"),
+            (
+                "  PZT plates",
+                format!("{:.2}", self.mass_breakdown_mg.pzt),
+                "mg",
+            ),
+            (
+                "  passive",
+                format!("{:.2}", self.mass_breakdown_mg.passive),
+                "mg",
+            ),
+            (
+                "  bond",
+                format!("{:.2}", self.mass_breakdown_mg.bond),
+                "mg",
+            ),
+            (
+                "free deflection",
+                format!("{:.4}", self.free_deflection_mm),
+                "mm (one-sided)",
+            ),
+            (
+                "blocked force",
+                format!("{:.2}", self.blocked_force_N * 1e3),
+                "mN",
+            ),
+            ("energy", format!("{:.4}", self.energy_mJ), "mJ"),
+            (
+                "energy density",
+                format!("{:.4}", self.energy_density_J_per_kg),
+                "J/kg",
+            ),
+            ("stiffness", format!("{:.1}", self.stiffness_N_per_m), "N/m"),
+            ("field", format!("{:.1}", self.field_V_per_mm), "V/mm"),
+            ("voltage", format!("{:.1}", self.voltage_V), "V"),
+            (
+                "survival (field)",
+                format!("{:.3}", self.survival),
+                "(thesis Table 4.12)",
+            ),
+            (
+                "peak PZT strain",
+                format!("{:.0}", self.peak_pzt_strain * 1e6),
+                "µm/m (free)",
+            ),
+            (
+                "peak PZT stress",
+                format!("{:.1}", self.peak_pzt_stress_MPa),
+                "MPa (blocked, root)",
+            ),
+            (
+                "base stress",
+                format!("{:.1}", self.base_stress_MPa),
+                "MPa (thesis eq. 3.3)",
+            ),
+            (
+                "capacitance",
+                format!("{:.3}", self.capacitance_nF),
+                "nF per plate",
+            ),
+        ];
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "{} ({} model, {} drive)",
+            self.name, self.model, self.drive_mode
+        );
+        for (label, value, unit) in rows {
+            let _ = writeln!(out, "  {label:<18} {value:>12}  {unit}");
+        }
+        out
+    }
+}

@@ -1,0 +1,58 @@
+//! Helpers shared by the integration tests: run the built binary, write scratch design files.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Run the built `actuator-cam` with arguments, from the crate root.
+pub fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+/// Path of a file in `examples/`.
+pub fn example(name: &str) -> String {
+    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A valid design (thesis design C) as TOML text with one line replaced: `(key prefix, new line)`.
+pub fn design_c_with(replace: &[(&str, &str)]) -> String {
+    let base = std::fs::read_to_string(example("thesis-C.toml")).unwrap();
+    base.lines()
+        .map(|line| {
+            replace
+                .iter()
+                .find(|(key, _)| line.starts_with(key))
+                .map(|(_, new)| new.to_string())
+                .unwrap_or_else(|| line.to_string())
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// Write text into a fresh file in a temp dir; returns the dir guard and the path.
+pub fn write_temp(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// True if a path exists.
+pub fn exists(p: &Path) -> bool {
+    p.exists()
+}

@@ -1,0 +1,266 @@
+//! `actuator-cam predict` on the example designs: reference numbers and input errors.
+
+mod common;
+use common::*;
+use proptest::prelude::*;
+
+fn predict_json(file: &str, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["predict", file, "--json"];
+    args.extend_from_slice(extra);
+    let out = run(&args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+#[allow(clippy::approx_constant)] // 0.5236 mm is design 21's deflection, not π/6
+fn reference_predictions_of_the_example_designs() {
+    // Source: MODEL-NOTES §9 (independent derivation), within 0.1%.
+    let rows = [
+        ("A", 0.7371, 456.00, 168.07, 1704.56),
+        ("B", 0.8120, 341.37, 138.59, 933.23),
+        ("C", 0.6443, 180.56, 58.16, 310.35),
+        ("1", 0.5471, 353.50, 96.70, 1119.15),
+        ("7", 0.5776, 682.41, 197.07, 1343.45),
+        ("21", 0.5236, 446.55, 116.90, 1074.67),
+    ];
+    for (name, d_mm, f_mn, u_uj, m_mg) in rows {
+        let j = predict_json(&example(&format!("thesis-{name}.toml")), &[]);
+        let close = |key: &str, scale: f64, want: f64| {
+            let got = j[key].as_f64().unwrap() * scale;
+            assert!(
+                ((got - want) / want).abs() < 1e-3,
+                "{name} {key}: {got} vs {want}"
+            );
+        };
+        close("free_deflection_mm", 1.0, d_mm);
+        close("blocked_force_N", 1e3, f_mn);
+        close("energy_mJ", 1e3, u_uj);
+        close("mass_mg", 1.0, m_mg);
+        for key in [
+            "name",
+            "model",
+            "energy_density_J_per_kg",
+            "stiffness_N_per_m",
+            "field_V_per_mm",
+            "voltage_V",
+            "survival",
+            "peak_pzt_strain",
+            "base_stress_MPa",
+            "capacitance_nF",
+            "mass_breakdown_mg",
+        ] {
+            assert!(!j[key].is_null(), "{name}: {key} missing");
+        }
+        let b = &j["mass_breakdown_mg"];
+        let sum = b["pzt"].as_f64().unwrap()
+            + b["passive"].as_f64().unwrap()
+            + b["bond"].as_f64().unwrap();
+        assert!((sum - j["mass_mg"].as_f64().unwrap()).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn models_are_selectable_and_euler_bernoulli_refuses_tapers() {
+    let adjusted = predict_json(&example("thesis-C.toml"), &["--model", "thesis-adjusted"]);
+    assert_eq!(adjusted["model"], "thesis-adjusted");
+    let original = predict_json(&example("thesis-C.toml"), &[]);
+    assert!(adjusted["free_deflection_mm"].as_f64() < original["free_deflection_mm"].as_f64());
+    let eb = predict_json(&example("thesis-B.toml"), &["--model", "euler-bernoulli"]);
+    // Thesis Table 4.1: EB and CLT free deflection agree closely (here within 1%).
+    let ratio = eb["free_deflection_mm"].as_f64().unwrap()
+        / original_b()["free_deflection_mm"].as_f64().unwrap();
+    assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
+    let out = run(&[
+        "predict",
+        &example("thesis-C.toml"),
+        "--model",
+        "euler-bernoulli",
+    ]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("rectangles only"), "{}", stderr(&out));
+}
+
+fn original_b() -> serde_json::Value {
+    predict_json(&example("thesis-B.toml"), &[])
+}
+
+#[test]
+fn voltage_or_field_give_the_same_prediction() {
+    // 800 V/mm on 0.267 mm plates in parallel is 213.6 V.
+    let text = design_c_with(&[("field_V_per_mm", "voltage_V = 213.6")]);
+    let (_d, path) = write_temp("v.toml", &text);
+    let by_voltage = predict_json(path.to_str().unwrap(), &[]);
+    let by_field = predict_json(&example("thesis-C.toml"), &[]);
+    assert!(
+        (by_voltage["energy_mJ"].as_f64().unwrap() / by_field["energy_mJ"].as_f64().unwrap() - 1.0)
+            .abs()
+            < 1e-9
+    );
+}
+
+/// Run predict on a design text; return (success, stderr).
+fn predict_text(text: &str) -> (bool, String) {
+    let (_d, path) = write_temp("design.toml", text);
+    let out = run(&["predict", path.to_str().unwrap()]);
+    (out.status.success(), stderr(&out))
+}
+
+#[test]
+fn bad_input_gives_one_clear_line_naming_file_field_value_and_range() {
+    let cases: Vec<(String, &[&str])> = vec![
+        (
+            design_c_with(&[("width_ratio", "width_ratio = 2.5")]),
+            &["design.toml", "geometry.width_ratio", "2.5", "(0, 2)"],
+        ),
+        (
+            design_c_with(&[("length_mm", "length_mm = -42.2")]),
+            &["geometry.length_mm", "-42.2", "(0, 1000] mm"],
+        ),
+        (
+            design_c_with(&[("length_mm", "length_mm = 0")]),
+            &["geometry.length_mm", "0", "(0, 1000] mm"],
+        ),
+        (
+            design_c_with(&[("pzt_thickness_mm", "pzt_thickness_mm = 0")]),
+            &["laminate.pzt_thickness_mm", "0", "(0, 10] mm"],
+        ),
+        (
+            design_c_with(&[("base_width_mm", "base_width_mm = nan")]),
+            &["geometry.base_width_mm", "NaN", "allowed range"],
+        ),
+        (
+            design_c_with(&[("extension_ratio", "")]),
+            &["geometry.extension_ratio", "missing", "[0, 20]"],
+        ),
+        (
+            design_c_with(&[("base_tab_mm", "base_tab_mn = 1.0")]),
+            &["geometry.base_tab_mn", "unknown key"],
+        ),
+        (
+            design_c_with(&[("ply =", "ply = \"unobtainium\"")]),
+            &[
+                "laminate.ply",
+                "unobtainium",
+                "unknown material",
+                "CF-thesis",
+            ],
+        ),
+        (
+            design_c_with(&[("field_V_per_mm", "field_V_per_mm = 800\nvoltage_V = 200")]),
+            &["drive", "exactly one of field_V_per_mm and voltage_V"],
+        ),
+        (
+            design_c_with(&[("layup_deg", "layup_deg = [0, nan, 0]")]),
+            &["laminate.layup_deg[1]", "NaN", "[-180, 180] deg"],
+        ),
+        (
+            design_c_with(&[("layup_deg", "layup_deg = [0, inf, 0]")]),
+            &["laminate.layup_deg[1]", "inf"],
+        ),
+        (
+            design_c_with(&[("mode", "mode = \"diagonal\"")]),
+            &["drive.mode", "diagonal", "parallel"],
+        ),
+        (
+            design_c_with(&[("quantity", "quantity = 0")]),
+            &["quantity", "0", "[1, 100000]"],
+        ),
+        (
+            "name = \"x\"\n[geometry\n".to_string(),
+            &["line", "not valid TOML"],
+        ),
+    ];
+    for (text, needles) in cases {
+        let (ok, err) = predict_text(&text);
+        assert!(!ok, "accepted: {text}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{err:?} lacks {n:?}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let out = run(&["predict", "examples/no-such-file.toml"]);
+    assert!(!out.status.success() && stderr(&out).contains("no-such-file.toml"));
+}
+
+#[test]
+fn user_materials_are_read_from_the_file() {
+    let text = design_c_with(&[("ply =", "ply = \"my-glass\"")])
+        + "[materials.my-glass]\ne1_GPa = 55\ne2_GPa = 14\ng12_GPa = 5\nnu12 = 0.28\ndensity_kg_per_m3 = 1780\nply_thickness_mm = 0.1\n";
+    let (_d, path) = write_temp("glass.toml", &text);
+    let j = predict_json(path.to_str().unwrap(), &[]);
+    let c = predict_json(&example("thesis-C.toml"), &[]);
+    // Glass is far more compliant than carbon: more deflection per field (thinner effective core).
+    assert!(
+        j["mass_breakdown_mg"]["passive"].as_f64() > c["mass_breakdown_mg"]["passive"].as_f64()
+    );
+    let bad = design_c_with(&[("ply =", "ply = \"g\"")])
+        + "[materials.g]\ne1_GPa = 55\nnu12 = 0.28\ndensity = 1780\n";
+    let (ok, err) = predict_text(&bad);
+    assert!(
+        !ok && err.contains("materials.g.density_kg_per_m3"),
+        "{err}"
+    );
+}
+
+#[test]
+fn laminate_and_weibull_commands() {
+    let out = run(&["laminate", "--layup", "0/90/0", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // Source: 3 plies of 61.8 µm at 1390 kg/m³ = 0.1854 mm and 257.7 g/m².
+    assert!((j["thickness_mm"].as_f64().unwrap() - 0.1854).abs() < 1e-12);
+    assert!((j["areal_mass_g_per_m2"].as_f64().unwrap() - 257.706).abs() < 1e-9);
+    let bad = run(&["laminate", "--layup", "0/x/0"]);
+    assert!(!bad.status.success() && stderr(&bad).contains("\"x\""));
+
+    let (_d, path) = write_temp(
+        "f.csv",
+        "field_V_per_mm\n# comment\n850\n900\n910\n870\n930\n",
+    );
+    let out = run(&["weibull", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("90.0% survive up to"));
+    let (_d2, bad_csv) = write_temp("g.csv", "field\n850\nabc\n");
+    let out = run(&["weibull", bad_csv.to_str().unwrap()]);
+    assert!(
+        !out.status.success() && stderr(&out).contains("row 3, column field"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
+    /// No panic on any number in any field: the binary either predicts or says what is wrong.
+    #[test]
+    fn random_numbers_in_every_field_never_panic(
+        values in proptest::collection::vec(prop_oneof![
+            any::<f64>(),
+            -10.0f64..100.0,
+            Just(f64::NAN),
+            Just(f64::INFINITY),
+            Just(0.0),
+        ], 9)
+    ) {
+        let fmt = |x: f64| if x.is_nan() { "nan".to_string() } else if x.is_infinite() { if x > 0.0 { "inf".into() } else { "-inf".into() } } else { format!("{x:?}") };
+        let text = design_c_with(&[
+            ("length_mm", &format!("length_mm = {}", fmt(values[0]))),
+            ("extension_ratio", &format!("extension_ratio = {}", fmt(values[1]))),
+            ("base_width_mm", &format!("base_width_mm = {}", fmt(values[2]))),
+            ("width_ratio", &format!("width_ratio = {}", fmt(values[3]))),
+            ("base_tab_mm", &format!("base_tab_mm = {}", fmt(values[4]))),
+            ("pzt_thickness_mm", &format!("pzt_thickness_mm = {}", fmt(values[5]))),
+            ("layup_deg", &format!("layup_deg = [{}, 90, 0]", fmt(values[6]))),
+            ("field_V_per_mm", &format!("field_V_per_mm = {}", fmt(values[7]))),
+            ("quantity", &format!("quantity = {}", fmt(values[8]))),
+        ]);
+        let (ok, err) = predict_text(&text);
+        prop_assert!(!err.contains("panicked"), "{}", err);
+        if !ok {
+            prop_assert_eq!(err.trim_end().lines().count(), 1, "{}", err);
+            prop_assert!(err.starts_with("error: "), "{}", err);
+        }
+    }
+}
