@@ -2,3 +2,4 @@
 //! single-stroke label font. Units are millimetres throughout; the model's y axis points up.
 
 pub mod drawing;
+pub mod svg;
