@@ -2,4 +2,5 @@
 //! single-stroke label font. Units are millimetres throughout; the model's y axis points up.
 
 pub mod drawing;
+pub mod dxf;
 pub mod svg;
