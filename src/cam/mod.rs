@@ -3,4 +3,5 @@
 
 pub mod drawing;
 pub mod dxf;
+pub mod kerf;
 pub mod svg;
