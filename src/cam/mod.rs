@@ -4,4 +4,5 @@
 pub mod drawing;
 pub mod dxf;
 pub mod kerf;
+pub mod label;
 pub mod svg;
