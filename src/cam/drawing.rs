@@ -1,0 +1,251 @@
+//! The drawing model: shapes in millimetres (y up), each tagged with the laser operation
+//! that will process it.
+//!
+//! Writers ([`crate::cam::svg`], [`crate::cam::dxf`]) turn a [`Drawing`] into files; they emit
+//! operations in [`Operation`] order (engrave, score, secondary, cut) so that inner features
+//! and score lines come before the outer contours that free a part (CAM-NOTES §3).
+
+/// A point `[x, y]` in millimetres, y axis up.
+pub type Point = [f64; 2];
+
+/// What the laser does along a shape. The derived order is the processing order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Operation {
+    /// Surface marking: labels, fiducials. Black.
+    Engrave,
+    /// Partial-depth line for snapping ceramic. Blue.
+    Score,
+    /// A second cut pass or auxiliary process. Green.
+    Secondary,
+    /// Cut through. Red.
+    Cut,
+}
+
+impl Operation {
+    /// All operations in processing order.
+    pub const ALL: [Operation; 4] = [
+        Operation::Engrave,
+        Operation::Score,
+        Operation::Secondary,
+        Operation::Cut,
+    ];
+
+    /// Layer name used in both SVG (`inkscape:label`) and DXF.
+    pub fn layer_name(self) -> &'static str {
+        match self {
+            Operation::Engrave => "ENGRAVE",
+            Operation::Score => "SCORE",
+            Operation::Secondary => "SECONDARY",
+            Operation::Cut => "CUT",
+        }
+    }
+
+    /// Pure primary stroke colour that laser drivers map to this operation (CAM-NOTES §3).
+    pub fn svg_colour(self) -> &'static str {
+        match self {
+            Operation::Engrave => "#000000",
+            Operation::Score => "#0000FF",
+            Operation::Secondary => "#00FF00",
+            Operation::Cut => "#FF0000",
+        }
+    }
+
+    /// AutoCAD Colour Index of the DXF layer: 7 white/black, 5 blue, 3 green, 1 red.
+    pub fn aci(self) -> u8 {
+        match self {
+            Operation::Engrave => 7,
+            Operation::Score => 5,
+            Operation::Secondary => 3,
+            Operation::Cut => 1,
+        }
+    }
+
+    /// The operation whose layer is named `name` (exact, upper case), if any.
+    pub fn from_layer_name(name: &str) -> Option<Operation> {
+        Operation::ALL
+            .into_iter()
+            .find(|op| op.layer_name() == name)
+    }
+
+    /// The operation whose SVG stroke colour is `colour` (case-insensitive `#RRGGBB`), if any.
+    pub fn from_svg_colour(colour: &str) -> Option<Operation> {
+        Operation::ALL
+            .into_iter()
+            .find(|op| op.svg_colour().eq_ignore_ascii_case(colour))
+    }
+}
+
+/// One geometric primitive, in millimetres.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// Closed ring; the closing point is implied, not repeated.
+    Polygon(Vec<Point>),
+    /// Open path (score lines, label strokes).
+    Polyline(Vec<Point>),
+    /// Full circle.
+    Circle { center: Point, radius: f64 },
+    /// Arc swept counter-clockwise from `start_deg` to `end_deg` (degrees, 0 = +x axis).
+    /// Equal start and end angles mean a full turn.
+    Arc {
+        center: Point,
+        radius: f64,
+        start_deg: f64,
+        end_deg: f64,
+    },
+}
+
+/// A sheet of shapes: the content of one laser file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// Sheet width (mm); the SVG page and viewBox width.
+    pub width_mm: f64,
+    /// Sheet height (mm); the SVG page and viewBox height.
+    pub height_mm: f64,
+    /// Human-readable title, written to the SVG `<title>`.
+    pub title: String,
+    items: Vec<(Operation, Shape)>,
+}
+
+impl Drawing {
+    /// An empty drawing of the given sheet size.
+    pub fn new(title: &str, width_mm: f64, height_mm: f64) -> Self {
+        Drawing {
+            width_mm,
+            height_mm,
+            title: title.to_string(),
+            items: Vec::new(),
+        }
+    }
+
+    /// Appends a shape processed by `op`.
+    pub fn add(&mut self, op: Operation, shape: Shape) {
+        self.items.push((op, shape));
+    }
+
+    /// All items in insertion order.
+    pub fn items(&self) -> &[(Operation, Shape)] {
+        &self.items
+    }
+
+    /// The operations that have at least one item, in processing order.
+    pub fn operations(&self) -> Vec<Operation> {
+        Operation::ALL
+            .into_iter()
+            .filter(|op| self.items.iter().any(|(o, _)| o == op))
+            .collect()
+    }
+
+    /// The shapes of one operation, in insertion order.
+    pub fn shapes_of(&self, op: Operation) -> impl Iterator<Item = &Shape> + '_ {
+        self.items
+            .iter()
+            .filter(move |(o, _)| *o == op)
+            .map(|(_, s)| s)
+    }
+}
+
+/// Signed area of a ring by the shoelace formula: positive when counter-clockwise (y up).
+/// The ring is implicitly closed; fewer than three points give 0.
+pub fn polygon_area(ring: &[Point]) -> f64 {
+    if ring.len() < 3 {
+        return 0.0;
+    }
+    let mut twice_area = 0.0;
+    for (i, a) in ring.iter().enumerate() {
+        let b = ring[(i + 1) % ring.len()];
+        twice_area += a[0] * b[1] - b[0] * a[1];
+    }
+    0.5 * twice_area
+}
+
+/// A drawing with one shape of every kind and every operation, for the writers' tests:
+/// a trapezoid and a circle (cut), a score line, an off-grid triangle (secondary) and a
+/// 270° arc (engrave), inserted out of processing order.
+#[cfg(test)]
+pub(crate) fn sample_drawing() -> Drawing {
+    let mut d = Drawing::new("sample <A&B>", 80.0, 50.0);
+    d.add(
+        Operation::Cut,
+        Shape::Polygon(vec![[5.0, 5.0], [45.0, 8.0], [45.0, 22.0], [5.0, 25.0]]),
+    );
+    d.add(
+        Operation::Score,
+        Shape::Polyline(vec![[0.0, 30.0], [80.0, 30.0]]),
+    );
+    d.add(
+        Operation::Secondary,
+        Shape::Polygon(vec![[60.123456789, 10.0], [70.0, 10.000001], [65.5, 19.25]]),
+    );
+    d.add(
+        Operation::Cut,
+        Shape::Circle {
+            center: [20.0, 40.0],
+            radius: 0.79,
+        },
+    );
+    d.add(
+        Operation::Engrave,
+        Shape::Arc {
+            center: [60.0, 40.0],
+            radius: 3.0,
+            start_deg: 0.0,
+            end_deg: 270.0,
+        },
+    );
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn area_of_ccw_trapezoid_is_positive_and_exact() {
+        // Trapezoid with parallel sides 10 and 4, height 3: area (10 + 4) / 2 * 3 = 21.
+        let ring = [[0.0, 0.0], [10.0, 0.0], [7.0, 3.0], [3.0, 3.0]];
+        assert_eq!(polygon_area(&ring), 21.0);
+        let mut cw = ring.to_vec();
+        cw.reverse();
+        assert_eq!(polygon_area(&cw), -21.0);
+    }
+
+    #[test]
+    fn degenerate_rings_have_zero_area() {
+        assert_eq!(polygon_area(&[]), 0.0);
+        assert_eq!(polygon_area(&[[1.0, 1.0], [2.0, 2.0]]), 0.0);
+    }
+
+    #[test]
+    fn operations_come_out_in_processing_order() {
+        let mut d = Drawing::new("t", 10.0, 10.0);
+        d.add(
+            Operation::Cut,
+            Shape::Polygon(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        );
+        d.add(
+            Operation::Score,
+            Shape::Polyline(vec![[0.0, 0.0], [1.0, 1.0]]),
+        );
+        d.add(
+            Operation::Cut,
+            Shape::Circle {
+                center: [5.0, 5.0],
+                radius: 1.0,
+            },
+        );
+        assert_eq!(d.operations(), vec![Operation::Score, Operation::Cut]);
+        assert_eq!(d.shapes_of(Operation::Cut).count(), 2);
+        assert_eq!(d.items().len(), 3);
+        assert_eq!(d.items()[1].0, Operation::Score);
+    }
+
+    #[test]
+    fn colour_and_layer_names_round_trip() {
+        for op in Operation::ALL {
+            assert_eq!(Operation::from_layer_name(op.layer_name()), Some(op));
+            assert_eq!(Operation::from_svg_colour(op.svg_colour()), Some(op));
+        }
+        assert_eq!(Operation::from_svg_colour("#ff0000"), Some(Operation::Cut));
+        assert_eq!(Operation::from_layer_name("0"), None);
+    }
+}

@@ -1,0 +1,417 @@
+//! SVG writer for laser software (LightBurn, Inkscape, LPKF via import), and a reader for
+//! our own output used by tests and verification.
+//!
+//! Conventions (CAM-NOTES §3): `width`/`height` in mm and `viewBox="0 0 W H"` so one user unit
+//! is one millimetre; one Inkscape layer per operation in processing order; every shape a
+//! `<path>` with absolute `M`/`L`/`A`/`Z` commands, `fill="none"`, a hairline stroke in the
+//! operation's pure colour. The drawing model is y-up; SVG is y-down, so `y_svg = H - y`.
+
+use std::fmt::Write as _;
+
+use thiserror::Error;
+
+use super::drawing::{Drawing, Operation, Point, Shape};
+
+/// Options of the SVG writer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// Stroke width in mm; laser drivers treat a hairline as a vector line.
+    pub stroke_mm: f64,
+}
+
+impl Default for SvgOptions {
+    /// 0.0254 mm (0.001 in), the usual vector-cut hairline.
+    fn default() -> Self {
+        SvgOptions { stroke_mm: 0.0254 }
+    }
+}
+
+/// Why [`read_svg_polygons`] could not read a document.
+#[derive(Debug, Error, PartialEq)]
+pub enum ParseError {
+    #[error("unterminated <path> element at byte {0}")]
+    UnterminatedElement(usize),
+    #[error("<path> at byte {0} has no `{1}` attribute")]
+    MissingAttribute(usize, &'static str),
+    #[error("stroke colour {0:?} is not one of the operation colours")]
+    UnknownColour(String),
+    #[error("path data {0:?}: {1}")]
+    BadPathData(String, &'static str),
+}
+
+/// Formats a length with 6 decimals, trailing zeros trimmed, never `-0`.
+pub fn fmt_mm(v: f64) -> String {
+    let mut s = format!("{v:.6}");
+    if s.contains('.') {
+        let trimmed = s.trim_end_matches('0').trim_end_matches('.').len();
+        s.truncate(trimmed);
+    }
+    if s == "-0" {
+        s = "0".to_string();
+    }
+    s
+}
+
+/// Escapes text for XML content and double-quoted attributes.
+fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// Builds one path's `d` string in SVG coordinates (y flipped about the sheet height).
+struct PathData<'a> {
+    height_mm: f64,
+    d: &'a mut String,
+}
+
+impl PathData<'_> {
+    fn xy(&mut self, p: Point) {
+        let _ = write!(self.d, "{} {}", fmt_mm(p[0]), fmt_mm(self.height_mm - p[1]));
+    }
+
+    fn command(&mut self, cmd: char, p: Point) {
+        if !self.d.is_empty() {
+            self.d.push(' ');
+        }
+        self.d.push(cmd);
+        self.xy(p);
+    }
+
+    /// Counter-clockwise arc (y up) of at most 180° to `to`. Mirroring y turns it clockwise on
+    /// screen, which is SVG's sweep-flag 0; large-arc-flag is 0 because the sweep is ≤ 180°.
+    fn arc_to(&mut self, radius: f64, to: Point) {
+        let r = fmt_mm(radius);
+        let _ = write!(self.d, " A{r} {r} 0 0 0 ");
+        self.xy(to);
+    }
+
+    fn close(&mut self) {
+        self.d.push_str(" Z");
+    }
+}
+
+fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
+    let (s, c) = deg.to_radians().sin_cos();
+    [center[0] + radius * c, center[1] + radius * s]
+}
+
+/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
+pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
+    let sweep = (end_deg - start_deg).rem_euclid(360.0);
+    if sweep == 0.0 {
+        360.0
+    } else {
+        sweep
+    }
+}
+
+fn path_data(shape: &Shape, height_mm: f64) -> String {
+    let mut d = String::new();
+    let mut path = PathData {
+        height_mm,
+        d: &mut d,
+    };
+    match shape {
+        Shape::Polygon(ring) | Shape::Polyline(ring) => {
+            for (i, &p) in ring.iter().enumerate() {
+                path.command(if i == 0 { 'M' } else { 'L' }, p);
+            }
+            if matches!(shape, Shape::Polygon(_)) && !ring.is_empty() {
+                path.close();
+            }
+        }
+        Shape::Circle { center, radius } => {
+            // Two half-circle arcs: a single SVG arc cannot end where it starts.
+            path.command('M', on_circle(*center, *radius, 0.0));
+            path.arc_to(*radius, on_circle(*center, *radius, 180.0));
+            path.arc_to(*radius, on_circle(*center, *radius, 0.0));
+            path.close();
+        }
+        Shape::Arc {
+            center,
+            radius,
+            start_deg,
+            end_deg,
+        } => {
+            // Split sweeps over 180° in two equal halves so the large-arc flag is never needed.
+            let sweep = arc_sweep_deg(*start_deg, *end_deg);
+            path.command('M', on_circle(*center, *radius, *start_deg));
+            if sweep > 180.0 {
+                let mid = start_deg + 0.5 * sweep;
+                path.arc_to(*radius, on_circle(*center, *radius, mid));
+            }
+            path.arc_to(*radius, on_circle(*center, *radius, start_deg + sweep));
+        }
+    }
+    d
+}
+
+/// Writes `drawing` as an SVG document (deterministic: same drawing, same bytes).
+pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
+    let w = fmt_mm(drawing.width_mm);
+    let h = fmt_mm(drawing.height_mm);
+    let stroke = fmt_mm(opts.stroke_mm);
+    let mut out = String::new();
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" \
+         xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" \
+         version=\"1.1\" width=\"{w}mm\" height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">"
+    );
+    let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
+    for op in drawing.operations() {
+        let name = op.layer_name();
+        let _ = writeln!(
+            out,
+            "  <g inkscape:groupmode=\"layer\" inkscape:label=\"{name}\" id=\"layer-{}\">",
+            name.to_ascii_lowercase()
+        );
+        for shape in drawing.shapes_of(op) {
+            let _ = writeln!(
+                out,
+                "    <path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{stroke}\"/>",
+                path_data(shape, drawing.height_mm),
+                op.svg_colour()
+            );
+        }
+        out.push_str("  </g>\n");
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Value of attribute `name` inside one start tag (double-quoted, as we write it).
+fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let start = tag.find(&key)? + key.len();
+    let len = tag[start..].find('"')?;
+    Some(&tag[start..start + len])
+}
+
+/// Ring of one `d` string if it is closed (ends in `Z`) and made of `M`/`L` only; paths with
+/// arcs (circles, arcs) and open paths give `None`.
+fn closed_ring(d: &str, height_mm: f64) -> Result<Option<Vec<Point>>, ParseError> {
+    let bad = |why| ParseError::BadPathData(d.to_string(), why);
+    let mut ring = Vec::new();
+    let mut closed = false;
+    let mut has_arc = false;
+    // Commands are glued to their first number ("M1 2"); split them off.
+    let spaced: String = d
+        .chars()
+        .flat_map(|c| match c {
+            'M' | 'L' | 'A' | 'Z' => [' ', c, ' '],
+            _ => ['\0', c, '\0'],
+        })
+        .filter(|&c| c != '\0')
+        .collect();
+    let mut tokens = spaced.split_whitespace();
+    while let Some(cmd) = tokens.next() {
+        if closed {
+            return Err(bad("content after Z"));
+        }
+        let mut number = || -> Result<f64, ParseError> {
+            tokens
+                .next()
+                .ok_or_else(|| bad("missing number"))?
+                .parse::<f64>()
+                .map_err(|_| bad("not a number"))
+        };
+        match cmd {
+            "M" | "L" => {
+                if (cmd == "M") != ring.is_empty() {
+                    return Err(bad("M must start the path and appear once"));
+                }
+                let x = number()?;
+                let y = number()?;
+                ring.push([x, height_mm - y]);
+            }
+            "A" => {
+                for _ in 0..7 {
+                    number()?;
+                }
+                has_arc = true;
+            }
+            "Z" => closed = true,
+            _ => return Err(bad("unsupported command (only absolute M, L, A, Z)")),
+        }
+    }
+    Ok((closed && !has_arc).then_some(ring))
+}
+
+/// Reads back the closed straight-edged paths of an SVG written by [`to_svg`]: each as its
+/// operation (from the stroke colour) and its ring in drawing coordinates (y up), in document
+/// order. Open paths and paths with arcs (circles, arcs) are skipped. Not a general SVG parser.
+pub fn read_svg_polygons(svg_text: &str) -> Result<Vec<(Operation, Vec<Point>)>, ParseError> {
+    let root = svg_text.find("<svg").unwrap_or(0);
+    let height_mm = svg_text[root..]
+        .find('>')
+        .and_then(|end| attribute(&svg_text[root..root + end], "viewBox"))
+        .and_then(|vb| vb.split_whitespace().nth(3))
+        .and_then(|h| h.parse::<f64>().ok())
+        .ok_or(ParseError::MissingAttribute(root, "viewBox"))?;
+    let mut polygons = Vec::new();
+    let mut pos = 0;
+    while let Some(found) = svg_text[pos..].find("<path") {
+        let start = pos + found;
+        let len = svg_text[start..]
+            .find('>')
+            .ok_or(ParseError::UnterminatedElement(start))?;
+        let tag = &svg_text[start..start + len];
+        pos = start + len;
+        let d = attribute(tag, "d").ok_or(ParseError::MissingAttribute(start, "d"))?;
+        let stroke =
+            attribute(tag, "stroke").ok_or(ParseError::MissingAttribute(start, "stroke"))?;
+        let op = Operation::from_svg_colour(stroke)
+            .ok_or_else(|| ParseError::UnknownColour(stroke.to_string()))?;
+        if let Some(ring) = closed_ring(d, height_mm)? {
+            polygons.push((op, ring));
+        }
+    }
+    Ok(polygons)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cam::drawing::{polygon_area, sample_drawing as sample};
+
+    #[test]
+    fn numbers_are_six_decimals_trimmed_without_negative_zero() {
+        assert_eq!(fmt_mm(1.0), "1");
+        assert_eq!(fmt_mm(0.0254), "0.0254");
+        assert_eq!(fmt_mm(-0.0000001), "0");
+        assert_eq!(fmt_mm(-0.0), "0");
+        assert_eq!(fmt_mm(12.3456789), "12.345679");
+        assert_eq!(fmt_mm(-2.5), "-2.5");
+        assert_eq!(fmt_mm(100.0), "100");
+    }
+
+    #[test]
+    fn root_declares_mm_page_and_matching_viewbox() {
+        let svg = to_svg(&sample(), &SvgOptions::default());
+        assert!(svg.contains("width=\"80mm\" height=\"50mm\" viewBox=\"0 0 80 50\""));
+        assert!(svg.contains("xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\""));
+        assert!(svg.contains("<title>sample &lt;A&amp;B&gt;</title>"));
+        assert!(svg.contains("stroke-width=\"0.0254\""));
+        assert_eq!(svg.matches("fill=\"none\"").count(), 5);
+    }
+
+    #[test]
+    fn layers_follow_processing_order_not_insertion_order() {
+        let svg = to_svg(&sample(), &SvgOptions::default());
+        let at = |label: &str| svg.find(&format!("inkscape:label=\"{label}\"")).unwrap();
+        assert!(at("ENGRAVE") < at("SCORE"));
+        assert!(at("SCORE") < at("SECONDARY"));
+        assert!(at("SECONDARY") < at("CUT"));
+        // Inside the CUT layer the polygon (added first) precedes the circle.
+        let cut = &svg[at("CUT")..];
+        assert!(cut.find("M5 45").unwrap() < cut.find(" A0.79 0.79").unwrap());
+    }
+
+    #[test]
+    fn y_axis_is_flipped_about_sheet_height() {
+        let mut d = Drawing::new("flip", 10.0, 20.0);
+        d.add(
+            Operation::Cut,
+            Shape::Polyline(vec![[1.0, 2.0], [3.0, 19.5]]),
+        );
+        let svg = to_svg(&d, &SvgOptions::default());
+        assert!(svg.contains("d=\"M1 18 L3 0.5\""), "{svg}");
+    }
+
+    #[test]
+    fn circle_is_two_arcs_closed_and_arc_is_split_past_180() {
+        let svg = to_svg(&sample(), &SvgOptions::default());
+        // Circle at (20, 40) r 0.79 on a 50 mm sheet: y_svg = 10.
+        assert!(
+            svg.contains("d=\"M20.79 10 A0.79 0.79 0 0 0 19.21 10 A0.79 0.79 0 0 0 20.79 10 Z\"")
+        );
+        // 270° arc from (63, 40) via 135° to 270° = (60, 37) -> y_svg 13.
+        let mid = on_circle([60.0, 40.0], 3.0, 135.0);
+        let expected = format!(
+            "d=\"M63 10 A3 3 0 0 0 {} {} A3 3 0 0 0 60 13\"",
+            fmt_mm(mid[0]),
+            fmt_mm(50.0 - mid[1])
+        );
+        assert!(svg.contains(&expected), "{svg}");
+    }
+
+    #[test]
+    fn polygons_round_trip_through_svg() {
+        let drawing = sample();
+        let svg = to_svg(&drawing, &SvgOptions::default());
+        let back = read_svg_polygons(&svg).unwrap();
+        // Document order: SECONDARY layer before CUT layer; circle and open paths skipped.
+        let originals: Vec<(Operation, Vec<Point>)> = [Operation::Secondary, Operation::Cut]
+            .into_iter()
+            .flat_map(|op| {
+                drawing.shapes_of(op).filter_map(move |s| match s {
+                    Shape::Polygon(r) => Some((op, r.clone())),
+                    _ => None,
+                })
+            })
+            .collect();
+        assert_eq!(back.len(), originals.len());
+        for ((op_back, ring_back), (op, ring)) in back.iter().zip(&originals) {
+            assert_eq!(op_back, op);
+            assert_eq!(ring_back.len(), ring.len());
+            for (a, b) in ring_back.iter().zip(ring) {
+                assert!((a[0] - b[0]).abs() <= 1e-6 && (a[1] - b[1]).abs() <= 1e-6);
+            }
+            // Off-grid vertices move by at most 5e-7 mm per axis, so the area moves by at most
+            // perimeter * 5e-7 * sqrt(2); vertices on the 1e-6 grid come back exactly.
+            let (a0, a1) = (polygon_area(ring), polygon_area(ring_back));
+            assert!(a0 > 0.0, "orientation survives the y flip");
+            let on_grid = ring
+                .iter()
+                .flatten()
+                .all(|v| ((v * 1e6).round() - v * 1e6).abs() < 1e-6);
+            let tolerance = if on_grid {
+                1e-9 * a0
+            } else {
+                perimeter(ring) * 5e-7 * std::f64::consts::SQRT_2
+            };
+            assert!((a1 - a0).abs() <= tolerance, "{a0} vs {a1}");
+        }
+    }
+
+    fn perimeter(ring: &[Point]) -> f64 {
+        (0..ring.len())
+            .map(|i| {
+                let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                (b[0] - a[0]).hypot(b[1] - a[1])
+            })
+            .sum()
+    }
+
+    #[test]
+    fn reader_rejects_relative_commands_and_foreign_colours() {
+        let head = "<svg width=\"1mm\" height=\"1mm\" viewBox=\"0 0 1 1\">";
+        let rel = format!("{head}<path d=\"m0 0 l1 1 z\" stroke=\"#FF0000\"/></svg>");
+        assert!(matches!(
+            read_svg_polygons(&rel),
+            Err(ParseError::BadPathData(..))
+        ));
+        let grey = format!("{head}<path d=\"M0 0 L1 1 Z\" stroke=\"#808080\"/></svg>");
+        assert_eq!(
+            read_svg_polygons(&grey),
+            Err(ParseError::UnknownColour("#808080".into()))
+        );
+    }
+
+    #[test]
+    fn output_is_deterministic() {
+        let opts = SvgOptions::default();
+        assert_eq!(to_svg(&sample(), &opts), to_svg(&sample(), &opts));
+    }
+}
