@@ -103,7 +103,8 @@ pub fn layout_plates(
     let mut sheets = Vec::new();
     while remaining.iter().any(|&n| n > 0) {
         planner.budget.set(SEARCH_BUDGET);
-        let plan = planner.fill(&whole, &mut remaining);
+        let mut plan = planner.fill(&whole, &mut remaining, 0);
+        plan.lines.sort_by_key(|&(depth, _)| depth);
         // Every remaining item fits an empty sheet, so a sheet always takes at least one plate.
         assert!(!plan.plates.is_empty(), "empty sheet plan");
         let placements = plan
@@ -124,7 +125,7 @@ pub fn layout_plates(
         sheets.push(SheetLayout {
             sheet_index: sheets.len(),
             placements,
-            score_lines: plan.lines,
+            score_lines: plan.lines.into_iter().map(|(_, l)| l).collect(),
         });
     }
     match max_sheets {
@@ -222,11 +223,13 @@ struct PlatePos {
     bbox_min: Point,
 }
 
-/// The plates and score lines (in break order) of one region.
+/// The plates and score lines of one region. Each line carries its depth in the guillotine tree:
+/// its ends rest on the sheet edge or on lines of smaller depth, so sorting by depth gives a
+/// break order that starts with the lines across the whole sheet.
 #[derive(Default)]
 struct Plan {
     plates: Vec<PlatePos>,
-    lines: Vec<[Point; 2]>,
+    lines: Vec<(usize, [Point; 2])>,
     area: f64,
 }
 
@@ -302,7 +305,7 @@ impl Planner<'_> {
     }
 
     /// Fills `region` with the remaining plates, taking them from `remaining`.
-    fn fill(&self, region: &Region, remaining: &mut [usize]) -> Plan {
+    fn fill(&self, region: &Region, remaining: &mut [usize], depth: usize) -> Plan {
         let Some(i) = (0..self.shapes.len())
             .find(|&i| remaining[i] > 0 && (self.fits(region, i, 0) || self.fits(region, i, 1)))
         else {
@@ -314,7 +317,7 @@ impl Planner<'_> {
             let mut best: Option<(Plan, Vec<usize>)> = None;
             for &axis in &axes {
                 let mut left = remaining.to_vec();
-                let plan = self.fill_strips(region, i, axis, &mut left);
+                let plan = self.fill_strips(region, i, axis, &mut left, depth);
                 if best.as_ref().is_none_or(|(b, _)| plan.area > b.area + EPS) {
                     best = Some((plan, left));
                 }
@@ -329,7 +332,7 @@ impl Planner<'_> {
                 (per_strip * strips).min(remaining[i])
             };
             let axis = axes.iter().copied().max_by_key(|&a| (holds(a), 1 - a));
-            self.fill_strips(region, i, axis.expect("item fits"), remaining)
+            self.fill_strips(region, i, axis.expect("item fits"), remaining, depth)
         }
     }
 
@@ -341,6 +344,7 @@ impl Planner<'_> {
         i: usize,
         u_axis: usize,
         remaining: &mut [usize],
+        depth: usize,
     ) -> Plan {
         let (ua, va) = (u_axis, 1 - u_axis);
         let shape = &self.shapes[i];
@@ -366,17 +370,22 @@ impl Planner<'_> {
             let mut strip = region;
             let (bottom, top) = (plate_v0 - self.half_kerf, plate_v1 + self.half_kerf);
             if bottom > region.lo[va] + EPS {
-                plan.lines.push([
-                    point(ua, region.lo[ua], bottom),
-                    point(ua, region.hi[ua], bottom),
-                ]);
+                plan.lines.push((
+                    depth,
+                    [
+                        point(ua, region.lo[ua], bottom),
+                        point(ua, region.hi[ua], bottom),
+                    ],
+                ));
                 strip.lo[va] = bottom;
                 strip.lo_side[va] = Side::Line;
             }
             rest = None;
             if top < region.hi[va] - EPS {
-                plan.lines
-                    .push([point(ua, region.lo[ua], top), point(ua, region.hi[ua], top)]);
+                plan.lines.push((
+                    depth,
+                    [point(ua, region.lo[ua], top), point(ua, region.hi[ua], top)],
+                ));
                 strip.hi[va] = top;
                 strip.hi_side[va] = Side::Line;
                 let mut beyond = region;
@@ -400,25 +409,30 @@ impl Planner<'_> {
 
             // The leftover at the end of the strip, split off by a cross cut if anything fits.
             let mut run_region = strip;
+            let mut slanted_depth = depth + 1;
             let cut = run_end + self.half_kerf;
             if cut < strip.hi[ua] - EPS {
                 let mut leftover = strip;
                 leftover.lo[ua] = cut;
                 leftover.lo_side[ua] = Side::Line;
-                let sub = self.fill(&leftover, remaining);
+                let sub = self.fill(&leftover, remaining, depth + 2);
                 if !sub.plates.is_empty() {
-                    plan.lines
-                        .push([point(ua, cut, strip.lo[va]), point(ua, cut, strip.hi[va])]);
+                    plan.lines.push((
+                        depth + 1,
+                        [point(ua, cut, strip.lo[va]), point(ua, cut, strip.hi[va])],
+                    ));
+                    slanted_depth = depth + 2;
                     run_region.hi[ua] = cut;
                     run_region.hi_side[ua] = Side::Line;
                     plan.append(sub);
                 }
             }
+            let slanted = self.slanted_lines(shape, &run_region, ua, centre0, plate_v0, n);
             plan.lines
-                .extend(self.slanted_lines(shape, &run_region, ua, centre0, plate_v0, n));
+                .extend(slanted.into_iter().map(|l| (slanted_depth, l)));
         }
         if let Some(region) = rest {
-            let more = self.fill(&region, remaining);
+            let more = self.fill(&region, remaining, depth + 1);
             plan.append(more);
         }
         plan
@@ -489,7 +503,8 @@ mod tests {
     use super::*;
     use crate::layout::placement::signed_area;
     use crate::layout::verify::{
-        verify_copies, verify_outlines, verify_sheet_edges, verify_snappable, Violation,
+        verify_break_order, verify_copies, verify_outlines, verify_sheet_edges, verify_snappable,
+        Violation,
     };
     use proptest::prelude::*;
 
@@ -530,6 +545,8 @@ mod tests {
         for layout in sheets {
             verify_snappable(layout, sheet)
                 .unwrap_or_else(|v| panic!("sheet {} not snappable: {v:?}", layout.sheet_index));
+            verify_break_order(layout, sheet)
+                .unwrap_or_else(|v| panic!("sheet {} break order: {v:?}", layout.sheet_index));
             verify_sheet_edges(layout, sheet, kerf - 1e-9, margin - 1e-9, &any_rotation)
                 .unwrap_or_else(|v| panic!("sheet {} invalid: {v:?}", layout.sheet_index));
             verify_outlines(layout, &nominal, 1e-9)
@@ -571,8 +588,10 @@ mod tests {
         let sheets = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, Some(1)).unwrap();
         let lines = &sheets[0].score_lines;
         let horizontal = lines.iter().filter(|l| l[0][1] == l[1][1]).count();
-        // Bottom trim, two strip boundaries, top trim; 23 slanted lines in each of 3 strips.
+        // Bottom trim, two strip boundaries, top trim first; then 23 slanted lines in each of
+        // 3 strips.
         assert_eq!(horizontal, 4);
+        assert!(lines[..4].iter().all(|l| l[0][1] == l[1][1]));
         assert_eq!(lines.len(), 4 + 3 * 23);
         for l in lines.iter().filter(|l| l[0][1] == l[1][1]) {
             assert_eq!(

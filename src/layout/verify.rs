@@ -79,6 +79,8 @@ pub enum Violation {
     ScoreLineMidAir { line: usize, x: f64, y: f64 },
     #[error("score lines {lines:?} cannot be snapped in any order: each ends on another of them")]
     NotGuillotine { lines: Vec<usize> },
+    #[error("score line {line} is listed before the line its end ({x:.4}, {y:.4}) rests on")]
+    OutOfOrder { line: usize, x: f64, y: f64 },
     #[error("score line {line} ends inside a piece it should split edge to edge")]
     ScoreLineEndsInPiece { line: usize },
     #[error("score line {line} crosses the interior of {part}")]
@@ -337,55 +339,12 @@ pub fn verify_copies(sheets: &[SheetLayout], counts: &[usize]) -> Result<(), Vec
 pub fn verify_snappable(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<Violation>> {
     let mut violations = Vec::new();
     let sheet_poly = sheet_polygon(sheet);
-    let sheet_edge = sheet_poly.exterior().clone();
-    let lines: Vec<Line<f64>> = layout
-        .score_lines
-        .iter()
-        .map(|s| Line::new(coord(s[0]), coord(s[1])))
-        .collect();
-
-    // Which lines are usable at all, and what each end rests on.
-    let mut usable = vec![true; lines.len()];
-    let mut rests_on: Vec<[Vec<usize>; 2]> = vec![[Vec::new(), Vec::new()]; lines.len()];
-    let mut on_edge = vec![[false; 2]; lines.len()];
-    for (i, line) in lines.iter().enumerate() {
-        let ends = [line.start, line.end];
-        let finite = ends.iter().all(|c| c.x.is_finite() && c.y.is_finite());
-        if !finite || Euclidean.length(line) <= ON_TOL {
-            violations.push(Violation::DegenerateScoreLine { line: i });
-            usable[i] = false;
-            continue;
-        }
-        if ends.iter().any(|c| {
-            c.x < -ON_TOL
-                || c.y < -ON_TOL
-                || c.x > sheet.width_mm + ON_TOL
-                || c.y > sheet.height_mm + ON_TOL
-        }) {
-            violations.push(Violation::ScoreLineOutsideSheet { line: i });
-            usable[i] = false;
-        }
-    }
-    for (i, line) in lines.iter().enumerate() {
-        if !usable[i] {
-            continue;
-        }
-        for (e, end) in [line.start, line.end].into_iter().enumerate() {
-            let point = geo::Point::from(end);
-            on_edge[i][e] = Euclidean.distance(&point, &sheet_edge) <= ON_TOL;
-            rests_on[i][e] = (0..lines.len())
-                .filter(|&j| j != i && usable[j] && Euclidean.distance(&point, &lines[j]) <= ON_TOL)
-                .collect();
-            if !on_edge[i][e] && rests_on[i][e].is_empty() {
-                violations.push(Violation::ScoreLineMidAir {
-                    line: i,
-                    x: end.x,
-                    y: end.y,
-                });
-                usable[i] = false;
-            }
-        }
-    }
+    let Support {
+        lines,
+        usable,
+        on_edge,
+        rests_on,
+    } = Support::new(layout, sheet, &mut violations);
 
     // A break order: repeatedly take a line whose ends rest on the edge or on lines taken before.
     let mut order = Vec::new();
@@ -462,6 +421,99 @@ pub fn verify_snappable(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<V
             },
             None if !crossed => violations.push(Violation::PlateNotInCell { part }),
             None => {}
+        }
+    }
+    finish(violations)
+}
+
+/// The score lines of a layout and what each of their ends rests on.
+struct Support {
+    lines: Vec<Line<f64>>,
+    /// False for lines that are degenerate, leave the sheet or end in mid-air.
+    usable: Vec<bool>,
+    /// Whether each end lies on the sheet edge.
+    on_edge: Vec<[bool; 2]>,
+    /// The other usable lines each end lies on.
+    rests_on: Vec<[Vec<usize>; 2]>,
+}
+
+impl Support {
+    fn new(layout: &SheetLayout, sheet: &Sheet, violations: &mut Vec<Violation>) -> Support {
+        let sheet_edge = sheet_polygon(sheet).exterior().clone();
+        let lines: Vec<Line<f64>> = layout
+            .score_lines
+            .iter()
+            .map(|s| Line::new(coord(s[0]), coord(s[1])))
+            .collect();
+        let mut usable = vec![true; lines.len()];
+        let mut rests_on: Vec<[Vec<usize>; 2]> = vec![[Vec::new(), Vec::new()]; lines.len()];
+        let mut on_edge = vec![[false; 2]; lines.len()];
+        for (i, line) in lines.iter().enumerate() {
+            let ends = [line.start, line.end];
+            let finite = ends.iter().all(|c| c.x.is_finite() && c.y.is_finite());
+            if !finite || Euclidean.length(line) <= ON_TOL {
+                violations.push(Violation::DegenerateScoreLine { line: i });
+                usable[i] = false;
+                continue;
+            }
+            if ends.iter().any(|c| {
+                c.x < -ON_TOL
+                    || c.y < -ON_TOL
+                    || c.x > sheet.width_mm + ON_TOL
+                    || c.y > sheet.height_mm + ON_TOL
+            }) {
+                violations.push(Violation::ScoreLineOutsideSheet { line: i });
+                usable[i] = false;
+            }
+        }
+        for (i, line) in lines.iter().enumerate() {
+            if !usable[i] {
+                continue;
+            }
+            for (e, end) in [line.start, line.end].into_iter().enumerate() {
+                let point = geo::Point::from(end);
+                on_edge[i][e] = Euclidean.distance(&point, &sheet_edge) <= ON_TOL;
+                rests_on[i][e] = (0..lines.len())
+                    .filter(|&j| {
+                        j != i && usable[j] && Euclidean.distance(&point, &lines[j]) <= ON_TOL
+                    })
+                    .collect();
+                if !on_edge[i][e] && rests_on[i][e].is_empty() {
+                    violations.push(Violation::ScoreLineMidAir {
+                        line: i,
+                        x: end.x,
+                        y: end.y,
+                    });
+                    usable[i] = false;
+                }
+            }
+        }
+        Support {
+            lines,
+            usable,
+            on_edge,
+            rests_on,
+        }
+    }
+}
+
+/// Checks that the score lines are listed in a break order: each line's ends rest on the sheet
+/// edge or on lines listed before it (for writers whose document order is the laser order).
+pub fn verify_break_order(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<Violation>> {
+    let mut violations = Vec::new();
+    let support = Support::new(layout, sheet, &mut violations);
+    for (i, line) in support.lines.iter().enumerate() {
+        if !support.usable[i] {
+            continue;
+        }
+        for (e, end) in [line.start, line.end].into_iter().enumerate() {
+            if !support.on_edge[i][e] && !support.rests_on[i][e].iter().any(|&j| j < i) {
+                violations.push(Violation::OutOfOrder {
+                    line: i,
+                    x: end.x,
+                    y: end.y,
+                });
+            }
         }
     }
     finish(violations)
@@ -751,5 +803,20 @@ mod tests {
         );
         let twice = [good(), good()];
         assert!(verify_copies(&twice, &[2]).is_err());
+    }
+
+    #[test]
+    fn catches_lines_listed_out_of_break_order() {
+        let l = good();
+        verify_break_order(&l, &SHEET).unwrap();
+        let mut swapped = l;
+        swapped.score_lines.reverse();
+        // Still snappable in some order, but not in the order listed.
+        verify_snappable(&swapped, &SHEET).unwrap();
+        let v = verify_break_order(&swapped, &SHEET).unwrap_err();
+        assert!(
+            matches!(v[..], [Violation::OutOfOrder { line: 0, x, y }] if x == 15.0 && y == 20.0),
+            "{v:?}"
+        );
     }
 }
