@@ -5,4 +5,5 @@ pub mod cam;
 pub mod commands;
 pub mod design;
 pub mod input;
+pub mod layout;
 pub mod prediction;
