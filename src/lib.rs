@@ -3,6 +3,7 @@
 
 pub mod cam;
 pub mod commands;
+pub mod cutsheet;
 pub mod design;
 pub mod input;
 pub mod layout;

@@ -1,6 +1,6 @@
 //! The `actuator-cam` command line: parses arguments and hands them to the library.
 
-use actuator_cam::commands::{laminate, predict, weibull};
+use actuator_cam::commands::{cut_sheet, laminate, predict, weibull};
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -16,6 +16,8 @@ struct Cli {
 enum Command {
     /// Mass and performance of a design.
     Predict(predict::PredictArgs),
+    /// Laser-cut layer files, report and build checklist for a design.
+    CutSheet(cut_sheet::CutSheetArgs),
     /// ABD matrices, thickness and areal mass of a layup.
     Laminate(laminate::LaminateArgs),
     /// Weibull fit and survival thresholds from failure data.
@@ -26,6 +28,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Predict(a) => predict::run(a),
+        Command::CutSheet(a) => cut_sheet::run(a),
         Command::Laminate(a) => laminate::run(a),
         Command::Weibull(a) => weibull::run(a),
     };

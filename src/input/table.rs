@@ -160,6 +160,33 @@ impl<'a> TableReader<'a> {
         }
     }
 
+    /// A required array of strings.
+    pub fn strings(&self, key: &str, expected: &str) -> Result<Vec<String>, InputError> {
+        match self.get(key) {
+            Some(Value::Array(items)) => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    v.as_str().map(str::to_string).ok_or_else(|| {
+                        InputError::invalid(
+                            self.file,
+                            &self.path(&format!("{key}[{i}]")),
+                            v,
+                            format!("expected {expected}"),
+                        )
+                    })
+                })
+                .collect(),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected {expected}"),
+            )),
+            None => Err(InputError::missing(self.file, &self.path(key), expected)),
+        }
+    }
+
     /// A required sub-table.
     pub fn table(&self, key: &str) -> Result<TableReader<'a>, InputError> {
         match self.get(key) {

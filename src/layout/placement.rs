@@ -127,6 +127,21 @@ pub(crate) fn rotate_ring(ring: &[Point], deg: f64) -> Vec<Point> {
         .collect()
 }
 
+/// Rotates a point about the origin by `deg` (CCW), then translates it by `offset`: how a placement
+/// carries any feature of its part (holes, labels) onto the sheet.
+pub fn place_point(p: Point, deg: f64, offset: Point) -> Point {
+    let (c, s) = cos_sin_deg(deg);
+    [
+        c * p[0] - s * p[1] + offset[0],
+        s * p[0] + c * p[1] + offset[1],
+    ]
+}
+
+/// [`place_point`] over a ring or polyline.
+pub fn place_ring(ring: &[Point], deg: f64, offset: Point) -> Vec<Point> {
+    ring.iter().map(|p| place_point(*p, deg, offset)).collect()
+}
+
 /// Axis-aligned bounding box `(min, max)` of a non-empty ring.
 pub(crate) fn bbox(ring: &[Point]) -> (Point, Point) {
     let mut lo = [f64::INFINITY; 2];

@@ -1,0 +1,179 @@
+//! The clamp panel every clamp layer shares (CAM-NOTES §2): outline with a chamfered orientation corner,
+//! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
+
+use super::parts::{PartGeometry, Point};
+use super::template::ClampSpec;
+use crate::layout::place_ring as place;
+use thiserror::Error;
+
+/// Where the actuators sit on clamp panels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PanelLayout {
+    /// Panel width, mm.
+    pub width_mm: f64,
+    /// Panel height, mm.
+    pub height_mm: f64,
+    /// Actuators per panel.
+    pub capacity: usize,
+    /// Per panel, the base position (origin of the part outlines) of each actuator it holds, with its
+    /// global actuator index.
+    pub panels: Vec<Vec<(usize, Point)>>,
+}
+
+/// The panel cannot hold even one actuator.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("the actuator ({part_width_mm:.2} x {part_length_mm:.2} mm with clearance) does not fit the {width_mm} x {height_mm} mm clamp panel inside its {border_mm} mm border")]
+pub struct PanelTooSmall {
+    part_width_mm: f64,
+    part_length_mm: f64,
+    width_mm: f64,
+    height_mm: f64,
+    border_mm: f64,
+}
+
+/// Actuators on a grid of cavities, row by row, as many panels as needed.
+pub fn layout_panels(
+    spec: &ClampSpec,
+    parts: &PartGeometry,
+    quantity: usize,
+) -> Result<PanelLayout, PanelTooSmall> {
+    let cell_w = parts.base_width_mm.max(parts.tip_width_mm)
+        + 2.0 * spec.cavity_clearance_mm
+        + spec.cavity_spacing_mm;
+    let cell_h =
+        parts.passive_length_mm() + 2.0 * spec.cavity_clearance_mm + spec.cavity_spacing_mm;
+    let usable_w = spec.panel_width_mm - 2.0 * spec.border_mm + spec.cavity_spacing_mm;
+    let usable_h = spec.panel_height_mm - 2.0 * spec.border_mm + spec.cavity_spacing_mm;
+    let cols = (usable_w / cell_w).floor().max(0.0) as usize;
+    let rows = (usable_h / cell_h).floor().max(0.0) as usize;
+    let capacity = cols * rows;
+    if capacity == 0 {
+        return Err(PanelTooSmall {
+            part_width_mm: cell_w - spec.cavity_spacing_mm,
+            part_length_mm: cell_h - spec.cavity_spacing_mm,
+            width_mm: spec.panel_width_mm,
+            height_mm: spec.panel_height_mm,
+            border_mm: spec.border_mm,
+        });
+    }
+    // Centre the grid in the panel.
+    let x0 = (spec.panel_width_mm - (cols as f64 * cell_w - spec.cavity_spacing_mm)) / 2.0;
+    let y0 = (spec.panel_height_mm - (rows as f64 * cell_h - spec.cavity_spacing_mm)) / 2.0;
+    let mut panels: Vec<Vec<(usize, Point)>> = Vec::new();
+    for i in 0..quantity {
+        let slot = i % capacity;
+        if slot == 0 {
+            panels.push(Vec::new());
+        }
+        let (col, row) = (slot % cols, slot / cols);
+        let base = [
+            x0 + col as f64 * cell_w + (cell_w - spec.cavity_spacing_mm) / 2.0,
+            y0 + row as f64 * cell_h + spec.cavity_clearance_mm + parts.base_tab_mm,
+        ];
+        panels.last_mut().expect("pushed above").push((i, base));
+    }
+    Ok(PanelLayout {
+        width_mm: spec.panel_width_mm,
+        height_mm: spec.panel_height_mm,
+        capacity,
+        panels,
+    })
+}
+
+/// Panel outline with the top-left corner chamfered so no layer can go in flipped or turned (CCW).
+pub fn panel_outline(spec: &ClampSpec) -> Vec<Point> {
+    let (w, h) = (spec.panel_width_mm, spec.panel_height_mm);
+    let c = (spec.pin_inset_mm * 2.0).min(w / 4.0).min(h / 4.0);
+    vec![[0.0, 0.0], [w, 0.0], [w, h], [c, h], [0.0, h - c]]
+}
+
+/// Pin hole centres: three corners and a fourth moved off-symmetric, so the pins also key the panel.
+pub fn pin_centres(spec: &ClampSpec) -> Vec<Point> {
+    let (w, h, d) = (spec.panel_width_mm, spec.panel_height_mm, spec.pin_inset_mm);
+    vec![[d, d], [w - d, d], [w - d, h - d], [d + 2.0 * d, h - d]]
+}
+
+/// Crosshair fiducials (two strokes each) in the border at mid-height of both sides, clear of the pins
+/// (corners), the stacking windows (bottom edge) and the title (top edge).
+pub fn fiducials(spec: &ClampSpec) -> Vec<Vec<Point>> {
+    let (w, h, s) = (
+        spec.panel_width_mm,
+        spec.panel_height_mm,
+        spec.fiducial_size_mm / 2.0,
+    );
+    let inset = (spec.border_mm / 2.0).max(s);
+    let centres = [[inset, h / 2.0], [w - inset, h / 2.0]];
+    centres
+        .iter()
+        .flat_map(|c| {
+            vec![
+                vec![[c[0] - s, c[1]], [c[0] + s, c[1]]],
+                vec![[c[0], c[1] - s], [c[0], c[1] + s]],
+            ]
+        })
+        .collect()
+}
+
+/// Lower-left corner of stacking window `k` (0-based stack position), along the bottom edge.
+pub fn window_origin(spec: &ClampSpec, k: usize) -> Point {
+    let x = 3.0 * spec.pin_inset_mm
+        + spec.pin_radius_mm
+        + 2.0
+        + k as f64 * (spec.window_width_mm + 1.5);
+    [x, (spec.border_mm - spec.window_height_mm) / 2.0]
+}
+
+/// Rectangle ring.
+pub fn rect(origin: Point, w: f64, h: f64) -> Vec<Point> {
+    vec![
+        origin,
+        [origin[0] + w, origin[1]],
+        [origin[0] + w, origin[1] + h],
+        [origin[0], origin[1] + h],
+    ]
+}
+
+/// A cavity outline for one actuator placed at `base`: the part ring grown by the clearance is done by
+/// the caller (kerf module); here the nominal ring is placed.
+pub fn placed(ring: &[Point], base: Point) -> Vec<Point> {
+    place(ring, 0.0, base)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cutsheet::template::Template;
+    use std::path::Path;
+
+    #[test]
+    fn panels_hold_every_actuator_once_inside_the_border() {
+        let spec = Template::resolve("method-2", Path::new("d.toml"))
+            .unwrap()
+            .clamp;
+        let g = PartGeometry {
+            piezo_length_mm: 23.0,
+            extension_length_mm: 19.2,
+            base_width_mm: 5.0,
+            tip_width_mm: 1.0,
+            base_tab_mm: 0.0,
+        };
+        let layout = layout_panels(&spec, &g, 50).unwrap();
+        let all: Vec<usize> = layout.panels.iter().flatten().map(|(i, _)| *i).collect();
+        assert_eq!(all, (0..50).collect::<Vec<_>>());
+        assert_eq!(layout.panels.len(), 50usize.div_ceil(layout.capacity));
+        for (_, base) in layout.panels.iter().flatten() {
+            assert!(
+                base[0] - 2.5 >= spec.border_mm - 1e-9
+                    && base[0] + 2.5 <= spec.panel_width_mm - spec.border_mm + 1e-9
+            );
+            assert!(
+                base[1] + g.passive_length_mm() <= spec.panel_height_mm - spec.border_mm + 1e-9
+            );
+        }
+        let huge = PartGeometry {
+            piezo_length_mm: 200.0,
+            ..g
+        };
+        assert!(layout_panels(&spec, &huge, 1).is_err());
+    }
+}

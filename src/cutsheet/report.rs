@@ -1,0 +1,209 @@
+//! The cut-sheet report: the design, its predicted performance, per-layer material use and mass, and the
+//! build checklist; as `report.json` and a readable `report.md`.
+
+use super::sheets::Built;
+use super::template::Template;
+use crate::design::Design;
+use crate::prediction::Prediction;
+use serde::Serialize;
+use std::fmt::Write;
+
+/// The design as built, in file units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DesignSummary {
+    pub name: String,
+    pub file: String,
+    pub process: String,
+    pub length_mm: f64,
+    pub extension_ratio: f64,
+    pub base_width_mm: f64,
+    pub width_ratio: f64,
+    pub base_tab_mm: f64,
+    pub piezo_length_mm: f64,
+    pub extension_length_mm: f64,
+    pub tip_width_mm: f64,
+    pub pzt: String,
+    pub pzt_thickness_mm: f64,
+    pub ply: String,
+    pub ply_thickness_mm: f64,
+    pub layup_deg: Vec<f64>,
+    pub bond: Option<String>,
+    pub drive_mode: String,
+}
+
+/// One layer's row (JSON `layers[]`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LayerRow {
+    pub layer: String,
+    pub material: String,
+    pub thickness_mm: f64,
+    pub density_kg_per_m3: f64,
+    pub part_area_mm2: f64,
+    pub parts_per_actuator: usize,
+    pub mass_per_actuator_mg: f64,
+    pub sheets: usize,
+    pub utilization: Option<f64>,
+}
+
+impl LayerRow {
+    /// Fill in the mass this layer adds to one actuator, mg: `area x thickness x density x parts`.
+    pub fn new(row: LayerRow) -> LayerRow {
+        // mm² x mm = 1e-9 m³; x kg/m³ = kg; x 1e6 = mg.
+        let mass = row.part_area_mm2
+            * row.thickness_mm
+            * row.density_kg_per_m3
+            * 1e-3
+            * row.parts_per_actuator as f64;
+        LayerRow {
+            mass_per_actuator_mg: mass,
+            ..row
+        }
+    }
+}
+
+/// `report.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Report {
+    pub design: DesignSummary,
+    pub quantity: usize,
+    pub predicted: Prediction,
+    pub layers: Vec<LayerRow>,
+    /// Σ area x thickness x density over the nominal part outlines of one actuator.
+    pub mass_from_geometry_mg: f64,
+    pub clamp_panels: usize,
+    pub stacking_order: Vec<String>,
+    pub build_steps: Vec<String>,
+    pub placement_map: Vec<String>,
+    pub files: Vec<String>,
+}
+
+impl Report {
+    /// Assemble the report; `files` is filled in by the caller once the formats are known.
+    pub fn new(
+        design: &Design,
+        template: &Template,
+        predicted: Prediction,
+        built: &Built,
+    ) -> Report {
+        let p = &design.planform;
+        let layers = built.layers.clone();
+        let mass_from_geometry_mg = layers
+            .iter()
+            .map(|l| l.mass_per_actuator_mg)
+            .fold(0.0, |a, b| a + b);
+        Report {
+            design: DesignSummary {
+                name: design.name.clone(),
+                file: design.source.display().to_string(),
+                process: template.name.clone(),
+                length_mm: p.length * 1e3,
+                extension_ratio: p.extension_ratio,
+                base_width_mm: p.base_width * 1e3,
+                width_ratio: p.width_ratio,
+                base_tab_mm: p.base_tab * 1e3,
+                piezo_length_mm: p.piezo_length() * 1e3,
+                extension_length_mm: p.extension_length() * 1e3,
+                tip_width_mm: p.tip_width() * 1e3,
+                pzt: design.pzt.name.clone(),
+                pzt_thickness_mm: design.pzt_thickness * 1e3,
+                ply: design.ply.name.clone(),
+                ply_thickness_mm: design.ply_thickness * 1e3,
+                layup_deg: design.layup_deg.clone(),
+                bond: design
+                    .bond
+                    .as_ref()
+                    .map(|(m, t)| format!("{} {} mm", m.name, t * 1e3)),
+                drive_mode: design.drive.mode.name().to_string(),
+            },
+            quantity: design.quantity,
+            predicted,
+            layers,
+            mass_from_geometry_mg,
+            clamp_panels: built.panels,
+            stacking_order: built.stack.clone(),
+            build_steps: template.cure_steps.clone(),
+            placement_map: built.placement_map.clone(),
+            files: Vec::new(),
+        }
+    }
+
+    /// The readable report (Markdown, with the sheet SVGs as images).
+    pub fn markdown(&self) -> String {
+        let d = &self.design;
+        let p = &self.predicted;
+        let mut s = String::new();
+        let _ = writeln!(s, "# Cut sheet: {} x {}\n", d.name, self.quantity);
+        let _ = writeln!(s, "Process `{}`; design file `{}`.\n", d.process, d.file);
+        let _ = writeln!(s, "![assembled actuator](preview-actuator.svg)\n");
+        let _ = writeln!(s, "## Design\n");
+        let _ = writeln!(s, "| l_tot mm | l_r | l_p mm | l_ext mm | w_0 mm | w_r | w_tip mm | tab mm | t_p mm | layup | drive |");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
+        let layup = d
+            .layup_deg
+            .iter()
+            .map(|a| a.to_string())
+            .collect::<Vec<_>>()
+            .join("/");
+        let _ = writeln!(
+            s,
+            "| {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {} {} | {} |\n",
+            d.length_mm, d.extension_ratio, d.piezo_length_mm, d.extension_length_mm, d.base_width_mm, d.width_ratio, d.tip_width_mm, d.base_tab_mm, d.pzt_thickness_mm, d.ply, layup, d.drive_mode
+        );
+        let _ = writeln!(s, "## Predicted performance ({} model)\n", p.model);
+        let _ = writeln!(s, "```\n{}```\n", p.table());
+        let _ = writeln!(
+            s,
+            "Mass from the cut geometry: **{:.3} mg** per actuator; model: **{:.3} mg**.\n",
+            self.mass_from_geometry_mg, p.mass_mg
+        );
+        let _ = writeln!(s, "## Layers\n");
+        let _ = writeln!(s, "| layer | material | thickness mm | density kg/m³ | part area mm² | parts/actuator | mass/actuator mg | sheets | utilisation |");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+        for l in &self.layers {
+            let util = l
+                .utilization
+                .map(|u| format!("{:.1}%", u * 100.0))
+                .unwrap_or_else(|| "-".into());
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} | {:.0} | {:.3} | {} | {:.3} | {} | {} |",
+                l.layer,
+                l.material,
+                l.thickness_mm,
+                l.density_kg_per_m3,
+                l.part_area_mm2,
+                l.parts_per_actuator,
+                l.mass_per_actuator_mg,
+                l.sheets,
+                util
+            );
+        }
+        let _ = writeln!(s, "\n## Build checklist\n");
+        let _ = writeln!(
+            s,
+            "Clamp stack, bottom to top ({} panel(s)): {}\n",
+            self.clamp_panels,
+            self.stacking_order.join(" → ")
+        );
+        for (i, step) in self.build_steps.iter().enumerate() {
+            let _ = writeln!(s, "{}. [ ] {step}", i + 1);
+        }
+        let _ = writeln!(
+            s,
+            "\nKerf values are starting points: calibrate them on a coupon of each material.\n"
+        );
+        let _ = writeln!(s, "## Placement map\n");
+        for line in &self.placement_map {
+            let _ = writeln!(s, "- {line}");
+        }
+        let _ = writeln!(s, "\n## Files\n");
+        for f in &self.files {
+            if f.ends_with(".svg") {
+                let _ = writeln!(s, "- `{f}`\n\n  ![{f}]({f})");
+            } else {
+                let _ = writeln!(s, "- `{f}`");
+            }
+        }
+        s
+    }
+}

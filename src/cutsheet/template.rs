@@ -1,0 +1,323 @@
+//! Process templates (`templates/*.toml`): data that names each layer of a manufacturing process, its
+//! material, sheet, kerf and clearances, the clamp panel and the cure recipe. The two thesis methods are
+//! embedded in the binary; any other template is read from a path.
+
+use crate::input::{parse_toml, read_toml, InputError, Range, TableReader};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+const SHEET_MM: Range = Range::positive_up_to(2000.0, "mm");
+const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
+const GAP_MM: Range = Range::closed(0.0, 50.0, "mm");
+const THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
+const DENSITY: Range = Range::positive_up_to(30_000.0, "kg/m^3");
+const FRACTION: Range = Range::open(0.0, 1.0, "");
+
+/// A stock sheet of a cut material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheetSpec {
+    /// Material as bought.
+    pub material: String,
+    /// Sheet width, mm.
+    pub width_mm: f64,
+    /// Sheet height, mm.
+    pub height_mm: f64,
+    /// Laser kerf on this material, mm.
+    pub kerf_mm: f64,
+    /// Gap between parts and to the sheet edge on top of the kerf, mm.
+    pub spacing_mm: f64,
+    /// Unusable border of the sheet (chipped PZT edges), mm.
+    pub edge_margin_mm: f64,
+}
+
+/// A clamp layer (mold, felt, Teflon, bleeder): material, thickness and kerf; cut on the clamp panel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClampLayerSpec {
+    /// Material.
+    pub material: String,
+    /// Thickness, mm.
+    pub thickness_mm: f64,
+    /// Density, kg/m³.
+    pub density_kg_per_m3: f64,
+    /// Kerf, mm.
+    pub kerf_mm: f64,
+}
+
+/// Pyralux bond layers of method 1.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BondSpec {
+    /// Sheet the bond parts are cut from.
+    pub sheet: SheetSpec,
+    /// Material name in the model library (for the predicted mass).
+    pub bond_material: String,
+    /// Film thickness, mm.
+    pub thickness_mm: f64,
+    /// Density, kg/m³.
+    pub density_kg_per_m3: f64,
+    /// Via for silver epoxy, diameter mm.
+    pub via_diameter_mm: f64,
+    /// Via centre as a fraction of the plate length from the base.
+    pub via_position: f64,
+}
+
+/// The clamp panel every clamp layer shares.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClampSpec {
+    /// Panel width, mm.
+    pub panel_width_mm: f64,
+    /// Panel height, mm.
+    pub panel_height_mm: f64,
+    /// Frame border around the cavity region, mm.
+    pub border_mm: f64,
+    /// Gap between a part and its mold cavity wall, mm.
+    pub cavity_clearance_mm: f64,
+    /// Wall between neighbouring cavities, mm.
+    pub cavity_spacing_mm: f64,
+    /// Registration pin hole radius, mm.
+    pub pin_radius_mm: f64,
+    /// Pin centre distance from the panel edges, mm.
+    pub pin_inset_mm: f64,
+    /// Fiducial crosshair size, mm.
+    pub fiducial_size_mm: f64,
+    /// Stacking-order window width, mm.
+    pub window_width_mm: f64,
+    /// Stacking-order window height, mm.
+    pub window_height_mm: f64,
+    /// Layers bottom to top; `mold` stands for all mold layers.
+    pub stack: Vec<String>,
+}
+
+/// How the passive layer is cut.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PassiveCut {
+    /// One outline per actuator from the laid-up stack.
+    Stack,
+    /// Each ply on its own sheet, turned so its fibres run at the ply angle.
+    PlyByPly,
+}
+
+/// A validated process template.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Template {
+    /// Template name.
+    pub name: String,
+    /// One-line description.
+    pub description: String,
+    /// How the passive layer is cut.
+    pub passive_cut: PassiveCut,
+    /// Engraved label text height, mm.
+    pub label_height_mm: f64,
+    /// Build checklist, in order.
+    pub cure_steps: Vec<String>,
+    /// Clamp panel.
+    pub clamp: ClampSpec,
+    /// PZT sheets.
+    pub pzt: SheetSpec,
+    /// Passive (CF) sheets.
+    pub passive: SheetSpec,
+    /// Bond layers (method 1 only).
+    pub bond: Option<BondSpec>,
+    /// Mold layers.
+    pub mold: ClampLayerSpec,
+    /// Other clamp layers by name (felt, teflon-cover, …).
+    pub covers: BTreeMap<String, ClampLayerSpec>,
+}
+
+const METHOD_1: &str = include_str!("../../templates/method-1.toml");
+const METHOD_2: &str = include_str!("../../templates/method-2.toml");
+
+/// The sheet fields of a cut layer (`material`, `sheet_width_mm`, `sheet_height_mm`, `kerf_mm`, optional
+/// `spacing_mm`, `edge_margin_mm`); the caller checks for unknown keys.
+fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
+    Ok(SheetSpec {
+        material: t.string("material", "a material description")?.to_string(),
+        width_mm: t.number_in("sheet_width_mm", SHEET_MM)?,
+        height_mm: t.number_in("sheet_height_mm", SHEET_MM)?,
+        kerf_mm: t.number_in("kerf_mm", KERF_MM)?,
+        spacing_mm: t.optional_number_in("spacing_mm", GAP_MM)?.unwrap_or(0.0),
+        edge_margin_mm: t
+            .optional_number_in("edge_margin_mm", GAP_MM)?
+            .unwrap_or(0.0),
+    })
+}
+
+impl Template {
+    /// `method-1`, `method-2`, or a template file (relative paths resolved against `base_dir`).
+    pub fn resolve(process: &str, design_file: &Path) -> Result<Template, InputError> {
+        match process {
+            "method-1" => Self::parse(Path::new("templates/method-1.toml (built in)"), METHOD_1),
+            "method-2" => Self::parse(Path::new("templates/method-2.toml (built in)"), METHOD_2),
+            other if other.ends_with(".toml") => {
+                let base = design_file.parent().unwrap_or(Path::new("."));
+                let path: PathBuf = base.join(other);
+                let table = read_toml(&path)?;
+                Self::from_table(&path, &table)
+            }
+            other => Err(InputError::invalid(
+                design_file,
+                "process",
+                format!("{other:?}"),
+                "expected \"method-1\", \"method-2\" or a path to a template .toml",
+            )),
+        }
+    }
+
+    fn parse(name: &Path, text: &str) -> Result<Template, InputError> {
+        let table = parse_toml(name, text)?;
+        Self::from_table(name, &table)
+    }
+
+    /// Validate a parsed template.
+    pub fn from_table(path: &Path, table: &toml::Table) -> Result<Template, InputError> {
+        let root = TableReader::new(path, "", table);
+        let name = root.string("name", "a template name")?.to_string();
+        let description = root
+            .optional_string("description", "text")?
+            .unwrap_or("")
+            .to_string();
+        let passive_cut = match root
+            .optional_string("passive_cut", "\"stack\" or \"ply-by-ply\"")?
+            .unwrap_or("stack")
+        {
+            "stack" => PassiveCut::Stack,
+            "ply-by-ply" => PassiveCut::PlyByPly,
+            other => {
+                return Err(InputError::invalid(
+                    path,
+                    "passive_cut",
+                    format!("{other:?}"),
+                    "expected \"stack\" or \"ply-by-ply\"",
+                ))
+            }
+        };
+        let label_height_mm = root
+            .optional_number_in("label_height_mm", Range::closed(0.0, 20.0, "mm"))?
+            .unwrap_or(1.0);
+        let cure = root.table("cure")?;
+        let cure_steps = cure.strings("steps", "an array of checklist lines")?;
+        cure.finish()?;
+
+        let c = root.table("clamp")?;
+        let clamp = ClampSpec {
+            panel_width_mm: c.number_in("panel_width_mm", SHEET_MM)?,
+            panel_height_mm: c.number_in("panel_height_mm", SHEET_MM)?,
+            border_mm: c.number_in("border_mm", GAP_MM)?,
+            cavity_clearance_mm: c.number_in("cavity_clearance_mm", GAP_MM)?,
+            cavity_spacing_mm: c.number_in("cavity_spacing_mm", GAP_MM)?,
+            pin_radius_mm: c.number_in("pin_radius_mm", Range::positive_up_to(20.0, "mm"))?,
+            pin_inset_mm: c.number_in("pin_inset_mm", GAP_MM)?,
+            fiducial_size_mm: c.number_in("fiducial_size_mm", GAP_MM)?,
+            window_width_mm: c.number_in("window_width_mm", GAP_MM)?,
+            window_height_mm: c.number_in("window_height_mm", GAP_MM)?,
+            stack: c.strings("stack", "an array of layer names, bottom to top")?,
+        };
+        c.finish()?;
+
+        let layers = root.table("layers")?;
+        let sheet = |key: &str| -> Result<SheetSpec, InputError> {
+            let t = layers.table(key)?;
+            let s = read_sheet(&t)?;
+            t.finish()?;
+            Ok(s)
+        };
+        let pzt = sheet("pzt")?;
+        let passive = sheet("passive")?;
+        let bond = match layers.optional_table("pyralux")? {
+            None => None,
+            Some(t) => {
+                let b = BondSpec {
+                    sheet: read_sheet(&t)?,
+                    bond_material: t
+                        .string("bond_material", "a material name from the library")?
+                        .to_string(),
+                    thickness_mm: t.number_in("thickness_mm", THICKNESS_MM)?,
+                    density_kg_per_m3: t.number_in("density_kg_per_m3", DENSITY)?,
+                    via_diameter_mm: t
+                        .number_in("via_diameter_mm", Range::positive_up_to(10.0, "mm"))?,
+                    via_position: t.number_in("via_position", FRACTION)?,
+                };
+                t.finish()?;
+                Some(b)
+            }
+        };
+        let clamp_layer = |key: &str| -> Result<ClampLayerSpec, InputError> {
+            let t = layers.table(key)?;
+            let s = ClampLayerSpec {
+                material: t.string("material", "a material description")?.to_string(),
+                thickness_mm: t.number_in("thickness_mm", THICKNESS_MM)?,
+                density_kg_per_m3: t.number_in("density_kg_per_m3", DENSITY)?,
+                kerf_mm: t.number_in("kerf_mm", KERF_MM)?,
+            };
+            t.finish()?;
+            Ok(s)
+        };
+        let mold = clamp_layer("mold")?;
+        let mut covers = BTreeMap::new();
+        for key in layers.keys() {
+            if !["pzt", "passive", "pyralux", "mold"].contains(&key) {
+                covers.insert(key.to_string(), clamp_layer(key)?);
+            }
+        }
+        layers.finish()?;
+        for (i, name) in clamp.stack.iter().enumerate() {
+            if name != "mold" && !covers.contains_key(name) {
+                return Err(InputError::invalid(
+                    path,
+                    &format!("clamp.stack[{i}]"),
+                    format!("{name:?}"),
+                    "names no [layers.NAME] table",
+                ));
+            }
+        }
+        if !clamp.stack.iter().any(|n| n == "mold") {
+            return Err(InputError::invalid(
+                path,
+                "clamp.stack",
+                "(no mold)",
+                "must contain \"mold\"",
+            ));
+        }
+        root.finish()?;
+        Ok(Template {
+            name,
+            description,
+            passive_cut,
+            label_height_mm,
+            cure_steps,
+            clamp,
+            pzt,
+            passive,
+            bond,
+            mold,
+            covers,
+        })
+    }
+
+    /// Set every layer's kerf (the `--kerf-mm` override).
+    pub fn override_kerf(&mut self, kerf_mm: f64) {
+        self.pzt.kerf_mm = kerf_mm;
+        self.passive.kerf_mm = kerf_mm;
+        if let Some(b) = &mut self.bond {
+            b.sheet.kerf_mm = kerf_mm;
+        }
+        self.mold.kerf_mm = kerf_mm;
+        for c in self.covers.values_mut() {
+            c.kerf_mm = kerf_mm;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_in_templates_load() {
+        let m1 = Template::resolve("method-1", Path::new("d.toml")).unwrap();
+        let m2 = Template::resolve("method-2", Path::new("d.toml")).unwrap();
+        assert!(m1.bond.is_some() && m2.bond.is_none());
+        assert_eq!(m2.pzt.width_mm, 72.4);
+        assert!(m2.covers.contains_key("bleeder") && !m1.covers.contains_key("bleeder"));
+        assert!(Template::resolve("method-3", Path::new("d.toml")).is_err());
+    }
+}

@@ -1,0 +1,459 @@
+//! `actuator-cam cut-sheet` on the example designs: geometry against mass, files read back, score lines,
+//! spacing, determinism and bad input.
+
+mod common;
+use common::*;
+use geo::{Distance, Euclidean, Intersects, LineString, Polygon};
+use rand::{Rng, SeedableRng};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+const EXAMPLES: [&str; 6] = [
+    "thesis-A.toml",
+    "thesis-B.toml",
+    "thesis-C.toml",
+    "thesis-1.toml",
+    "thesis-7.toml",
+    "thesis-21.toml",
+];
+
+fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["cut-sheet", design, "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+fn report(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+}
+
+fn files(out: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut m = BTreeMap::new();
+    for e in std::fs::read_dir(out).unwrap() {
+        let e = e.unwrap();
+        m.insert(
+            e.file_name().to_string_lossy().into_owned(),
+            std::fs::read(e.path()).unwrap(),
+        );
+    }
+    m
+}
+
+/// Paths of one Inkscape layer of an SVG, as point lists, plus whether each is closed. A tiny reader
+/// independent of the writer: it understands the M/L/Z subset the writer uses for polygons and lines.
+fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
+    let height: f64 = svg
+        .split("viewBox=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .nth(3)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let Some(group) = svg.split(&format!("inkscape:label=\"{layer}\"")).nth(1) else {
+        return vec![];
+    };
+    let group = group.split("</g>").next().unwrap();
+    group
+        .split(" d=\"")
+        .skip(1)
+        .filter_map(|rest| {
+            let d = rest.split('"').next().unwrap();
+            if d.contains('A') {
+                return None; // circles (holes) are not part outlines
+            }
+            let closed = d.trim_end().ends_with('Z');
+            let nums: Vec<f64> = d
+                .replace(['M', 'L', 'Z', ','], " ")
+                .split_whitespace()
+                .map(|t| t.parse().unwrap())
+                .collect();
+            Some((
+                nums.chunks(2).map(|c| [c[0], height - c[1]]).collect(),
+                closed,
+            ))
+        })
+        .collect()
+}
+
+fn area(ring: &[[f64; 2]]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|i| ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1])
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+fn perimeter(ring: &[[f64; 2]]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|i| {
+            ((ring[(i + 1) % n][0] - ring[i][0]).powi(2)
+                + (ring[(i + 1) % n][1] - ring[i][1]).powi(2))
+            .sqrt()
+        })
+        .sum()
+}
+
+fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
+    Polygon::new(
+        LineString::from(ring.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()),
+        vec![],
+    )
+}
+
+/// A random valid design file (thesis ranges, CF plies, random process and tab).
+fn random_design(rng: &mut impl Rng, i: usize) -> String {
+    let layups = ["[0, 90, 0]", "[0, 0, 90, 0, 0]", "[0, 45, -45, 0]"];
+    let field_or_voltage = if rng.gen_bool(0.5) {
+        format!("field_V_per_mm = {:.1}", rng.gen_range(100.0..900.0))
+    } else {
+        format!("voltage_V = {:.1}", rng.gen_range(20.0..200.0))
+    };
+    format!(
+        "name = \"rnd{i}\"\nquantity = {}\nprocess = \"{}\"\n[geometry]\nlength_mm = {:.4}\nextension_ratio = {:.4}\nbase_width_mm = {:.4}\nwidth_ratio = {:.4}\nbase_tab_mm = {:.3}\n[laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {}\n[drive]\nmode = \"{}\"\n{field_or_voltage}\n",
+        rng.gen_range(1..8),
+        ["method-1", "method-2"][rng.gen_range(0..2)],
+        rng.gen_range(15.0..60.0),
+        rng.gen_range(0.0..1.5),
+        rng.gen_range(3.0..15.0),
+        rng.gen_range(0.3..1.9),
+        if rng.gen_bool(0.5) { 0.0 } else { rng.gen_range(0.5..4.0) },
+        [0.127, 0.191, 0.267][rng.gen_range(0..3)],
+        layups[rng.gen_range(0..3)],
+        ["parallel", "series", "simultaneous", "alternating"][rng.gen_range(0..4)],
+    )
+}
+
+#[test]
+fn geometry_mass_equals_model_mass_and_svg_areas_read_back() {
+    // Issue #3: Σ area x thickness x density of the nominal outlines equals the model's mass to 1e-9,
+    // and the outline area read back from the written SVG (kerf 0) equals the nominal area to 1e-6.
+    let dir = tempfile::tempdir().unwrap();
+    let mut designs: Vec<String> = EXAMPLES.iter().map(|e| example(e)).collect();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    for i in 0..12 {
+        let path = dir.path().join(format!("rnd{i}.toml"));
+        std::fs::write(&path, random_design(&mut rng, i)).unwrap();
+        designs.push(path.to_string_lossy().into_owned());
+    }
+    for (i, design) in designs.iter().enumerate() {
+        let out = dir.path().join(format!("out{i}"));
+        let o = cut_sheet(design, &out, &["--kerf-mm", "0"]);
+        assert!(o.status.success(), "{design}: {}", stderr(&o));
+        let r = report(&out);
+        let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
+        let model = r["predicted"]["mass_mg"].as_f64().unwrap();
+        assert!(
+            ((geometry - model) / model).abs() < 1e-9,
+            "{design}: geometry {geometry} mg vs model {model} mg"
+        );
+        let layers = r["layers"].as_array().unwrap();
+        for l in layers {
+            for key in [
+                "layer",
+                "material",
+                "thickness_mm",
+                "density_kg_per_m3",
+                "part_area_mm2",
+                "parts_per_actuator",
+                "mass_per_actuator_mg",
+                "sheets",
+                "utilization",
+            ] {
+                assert!(l.get(key).is_some(), "{design}: layers[] lacks {key}");
+            }
+        }
+        for (name, bytes) in files(&out) {
+            let layer = name.split('-').next().unwrap();
+            if !name.ends_with(".svg") || !(layer == "passive" || layer == "pyralux") {
+                continue;
+            }
+            let row = layers
+                .iter()
+                .find(|l| name.starts_with(l["layer"].as_str().unwrap()))
+                .unwrap();
+            let nominal = row["part_area_mm2"].as_f64().unwrap();
+            let svg = String::from_utf8(bytes).unwrap();
+            let outlines = svg_paths(&svg, "CUT");
+            assert!(!outlines.is_empty(), "{name}");
+            for (ring, closed) in outlines {
+                assert!(closed);
+                assert!(
+                    ((area(&ring) - nominal) / nominal).abs() < 1e-6,
+                    "{name}: {} vs {nominal}",
+                    area(&ring)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn kerf_grows_every_cut_outline_by_at_least_half_the_kerf() {
+    // Issue #3: with kerf on, a part's cut path encloses its nominal outline grown by kerf/2:
+    // area >= A + P k/2 (Steiner: a convex offset adds P k/2 + π k²/4; mitre corners add more).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let kerf = 0.1;
+    let o = cut_sheet(&example("thesis-C.toml"), &out, &["--kerf-mm", "0.1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    let nominal = r["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["layer"] == "passive")
+        .unwrap()["part_area_mm2"]
+        .as_f64()
+        .unwrap();
+    // The nominal perimeter from the design's own dimensions (trapezoid sides, base, extension sides, tip).
+    let d = &r["design"];
+    let f = |k: &str| d[k].as_f64().unwrap();
+    let (l_p, w0, w_tip, l_ext) = (
+        f("piezo_length_mm"),
+        f("base_width_mm"),
+        f("tip_width_mm"),
+        f("extension_length_mm"),
+    );
+    let nominal_perimeter =
+        w0 + w_tip + 2.0 * (l_p * l_p + (w0 - w_tip).powi(2) / 4.0).sqrt() + 2.0 * l_ext;
+    let svg = std::fs::read_to_string(out.join("passive-1.svg")).unwrap();
+    let cuts = svg_paths(&svg, "CUT");
+    assert_eq!(cuts.len(), 6);
+    for (ring, _) in cuts {
+        let grown = area(&ring);
+        assert!(
+            grown >= nominal + nominal_perimeter * kerf / 2.0 - 1e-9,
+            "{grown} vs {nominal}"
+        );
+        // Upper bound: the mitred corners add at most (k/2)² x Σ tan(φ/2) over 6 corners, each < 1/tan(5.7°/2).
+        assert!(
+            grown <= nominal + nominal_perimeter * kerf / 2.0 + 6.0 * (kerf / 2.0).powi(2) * 20.1,
+            "grew too much: {grown}"
+        );
+        assert!(perimeter(&ring) > nominal_perimeter);
+    }
+}
+
+#[test]
+fn pzt_score_lines_end_on_edges_and_parts_keep_their_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    for design in EXAMPLES {
+        let out = dir.path().join(design);
+        let o = cut_sheet(&example(design), &out, &["--quantity", "20"]);
+        assert!(o.status.success(), "{design}: {}", stderr(&o));
+        for (name, bytes) in files(&out) {
+            if !name.ends_with(".svg") {
+                continue;
+            }
+            let svg = String::from_utf8(bytes).unwrap();
+            let vb: Vec<f64> = svg
+                .split("viewBox=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .map(|t| t.parse().unwrap())
+                .collect();
+            let (w, h) = (vb[2], vb[3]);
+            if name.starts_with("pzt-") {
+                let lines: Vec<[[f64; 2]; 2]> = svg_paths(&svg, "SCORE")
+                    .into_iter()
+                    .map(|(p, closed)| {
+                        assert!(
+                            !closed && p.len() == 2,
+                            "{name}: score lines are straight open segments"
+                        );
+                        [p[0], p[1]]
+                    })
+                    .collect();
+                assert!(!lines.is_empty());
+                let on_edge = |p: [f64; 2]| {
+                    p[0].abs() < 1e-6
+                        || p[1].abs() < 1e-6
+                        || (p[0] - w).abs() < 1e-6
+                        || (p[1] - h).abs() < 1e-6
+                };
+                let on_line = |p: [f64; 2], l: &[[f64; 2]; 2]| {
+                    let seg = geo::Line::new((l[0][0], l[0][1]), (l[1][0], l[1][1]));
+                    Euclidean.distance(&geo::Point::new(p[0], p[1]), &seg) < 1e-6
+                };
+                for (i, l) in lines.iter().enumerate() {
+                    for end in l {
+                        assert!(
+                            on_edge(*end)
+                                || lines
+                                    .iter()
+                                    .enumerate()
+                                    .any(|(j, m)| j != i && on_line(*end, m)),
+                            "{name}: score line {i} ends in mid-air at {end:?}"
+                        );
+                    }
+                }
+            }
+            if name.starts_with("passive-") || name.starts_with("pyralux-") {
+                let gap = 0.5; // template spacing between cut paths (method-1 and method-2 both 0.5 mm)
+                let parts: Vec<Polygon<f64>> = svg_paths(&svg, "CUT")
+                    .into_iter()
+                    .map(|(r, _)| polygon(&r))
+                    .collect();
+                for (i, a) in parts.iter().enumerate() {
+                    for b in &parts[i + 1..] {
+                        assert!(!a.intersects(b), "{name}: parts overlap");
+                        assert!(
+                            Euclidean.distance(a, b) >= gap - 1e-6,
+                            "{name}: gap {}",
+                            Euclidean.distance(a, b)
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn two_runs_give_identical_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    for design in ["thesis-C.toml", "thesis-A.toml"] {
+        let (a, b) = (
+            dir.path().join(format!("a-{design}")),
+            dir.path().join(format!("b-{design}")),
+        );
+        assert!(cut_sheet(&example(design), &a, &[]).status.success());
+        assert!(cut_sheet(&example(design), &b, &[]).status.success());
+        let (fa, fb) = (files(&a), files(&b));
+        assert_eq!(fa.keys().collect::<Vec<_>>(), fb.keys().collect::<Vec<_>>());
+        for (name, bytes) in &fa {
+            assert!(bytes == &fb[name], "{name} differs between runs");
+        }
+    }
+}
+
+#[test]
+fn outputs_have_the_layer_files_the_process_needs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m2");
+    assert!(cut_sheet(&example("thesis-C.toml"), &out, &[])
+        .status
+        .success());
+    let names: Vec<String> = files(&out).into_keys().collect();
+    for want in [
+        "pzt-1.svg",
+        "pzt-1.dxf",
+        "passive-1.svg",
+        "mold-1-1.svg",
+        "mold-1-1.dxf",
+        "felt-1-1.svg",
+        "teflon-cover-1-1.svg",
+        "porous-teflon-1-1.svg",
+        "bleeder-1-1.dxf",
+        "report.json",
+        "report.md",
+        "preview-actuator.svg",
+    ] {
+        assert!(
+            names.contains(&want.to_string()),
+            "missing {want}: {names:?}"
+        );
+    }
+    let method1 = design_c_with(&[("process", "process = \"method-1\"")]);
+    let (_d, path) = write_temp("m1.toml", &method1);
+    let out1 = dir.path().join("m1");
+    let o = cut_sheet(path.to_str().unwrap(), &out1, &["--format", "svg"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let names: Vec<String> = files(&out1).into_keys().collect();
+    assert!(
+        names.contains(&"pyralux-1.svg".to_string()) && !names.iter().any(|n| n.ends_with(".dxf"))
+    );
+    let r = report(&out1);
+    assert!(
+        r["predicted"]["mass_breakdown_mg"]["bond"]
+            .as_f64()
+            .unwrap()
+            > 0.0,
+        "method 1 counts its Pyralux"
+    );
+    // The via is cut in every Pyralux part: as many circles as parts.
+    let svg = std::fs::read_to_string(out1.join("pyralux-1.svg")).unwrap();
+    assert_eq!(svg.matches(" A").count() / 2, svg_paths(&svg, "CUT").len());
+}
+
+#[test]
+fn bad_input_exits_non_zero_and_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(String, Vec<&str>, &str)> = vec![
+        (
+            design_c_with(&[("width_ratio", "width_ratio = 2.5")]),
+            vec![],
+            "geometry.width_ratio",
+        ),
+        (
+            design_c_with(&[("process", "process = \"method-9\"")]),
+            vec![],
+            "process",
+        ),
+        (
+            design_c_with(&[("width_ratio", "width_ratio = 1.99")]),
+            vec!["--kerf-mm", "0.05"],
+            "narrower than twice the kerf",
+        ),
+        (
+            design_c_with(&[("quantity", "quantity = 0")]),
+            vec![],
+            "quantity",
+        ),
+        (design_c_with(&[]), vec!["--quantity", "0"], "--quantity"),
+        (
+            design_c_with(&[("length_mm", "length_mm = 400")]),
+            vec![],
+            "larger than",
+        ),
+    ];
+    for (i, (text, extra, needle)) in cases.into_iter().enumerate() {
+        let path = dir.path().join(format!("bad{i}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let out = dir.path().join(format!("out{i}"));
+        let o = cut_sheet(path.to_str().unwrap(), &out, &extra);
+        assert!(!o.status.success(), "case {i} accepted");
+        assert!(stderr(&o).contains(needle), "case {i}: {}", stderr(&o));
+        assert!(!out.exists(), "case {i} left {out:?}");
+    }
+    // Unwritable output: the target is a file, or its parent is a file.
+    let file = dir.path().join("plain-file");
+    std::fs::write(&file, "x").unwrap();
+    let o = cut_sheet(&example("thesis-C.toml"), &file, &[]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("not a directory"),
+        "{}",
+        stderr(&o)
+    );
+    let o = cut_sheet(&example("thesis-C.toml"), &file.join("out"), &[]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("cannot create the directory"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
+    // Missing parents are created, like mkdir -p.
+    let nested = dir.path().join("new/nested/out");
+    assert!(cut_sheet(&example("thesis-C.toml"), &nested, &[])
+        .status
+        .success());
+    assert!(nested.join("report.json").exists());
+    // Nothing staged was left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".cut-sheet"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
