@@ -388,6 +388,67 @@ fn outputs_have_the_layer_files_the_process_needs() {
 }
 
 #[test]
+fn ply_by_ply_template_turns_each_ply_and_registers_it() {
+    // A user template (method 2 with ply-by-ply cutting) named by path from the design file.
+    let dir = tempfile::tempdir().unwrap();
+    let template = std::fs::read_to_string(format!(
+        "{}/templates/method-2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    std::fs::write(dir.path().join("plies.toml"), template).unwrap();
+    let design = design_c_with(&[
+        ("process", "process = \"plies.toml\""),
+        ("base_tab_mm", "base_tab_mm = 2.0"),
+    ]);
+    std::fs::write(dir.path().join("d.toml"), &design).unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet(
+        dir.path().join("d.toml").to_str().unwrap(),
+        &out,
+        &["--kerf-mm", "0"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
+    let model = r["predicted"]["mass_mg"].as_f64().unwrap();
+    assert!(
+        ((geometry - model) / model).abs() < 1e-9,
+        "{geometry} vs {model}"
+    );
+    for (i, angle) in [0, 90, 0].iter().enumerate() {
+        let svg =
+            std::fs::read_to_string(out.join(format!("passive-ply{}-{angle}deg-1.svg", i + 1)))
+                .unwrap();
+        let parts = svg_paths(&svg, "CUT");
+        assert_eq!(parts.len(), 6);
+        // Two registration holes (circles: two arcs each) per part.
+        assert_eq!(svg.matches(" A").count(), 6 * 2 * 2);
+        // The 90° ply's parts lie across the sheet: wider than tall.
+        let (xs, ys): (Vec<f64>, Vec<f64>) = parts[0].0.iter().map(|p| (p[0], p[1])).unzip();
+        let span = |v: &[f64]| {
+            v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
+        };
+        assert_eq!(span(&xs) > span(&ys), *angle == 90, "ply {i}");
+    }
+    // Without a base tab there is no room for the holes: a clear error.
+    let no_tab = design_c_with(&[("process", "process = \"plies.toml\"")]);
+    std::fs::write(dir.path().join("e.toml"), no_tab).unwrap();
+    let o = cut_sheet(
+        dir.path().join("e.toml").to_str().unwrap(),
+        &dir.path().join("out2"),
+        &[],
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("geometry.base_tab_mm"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("out2").exists());
+}
+
+#[test]
 fn bad_input_exits_non_zero_and_leaves_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let cases: Vec<(String, Vec<&str>, &str)> = vec![

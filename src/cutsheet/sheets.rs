@@ -16,6 +16,9 @@ use crate::layout::{
 };
 use crate::layout::{place_point, place_ring as place};
 
+/// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
+pub const REGISTRATION_HOLE_MM: f64 = 0.5;
+
 /// Everything `build` makes.
 #[derive(Debug, Clone)]
 pub struct Built {
@@ -338,10 +341,38 @@ fn passive_sheets(
             }));
         }
         PassiveCut::PlyByPly => {
+            // Registration holes through every ply, in the passive-only base tab (clamped, so they do
+            // not touch the active part): two pins stack one actuator's plies in register.
+            let d = REGISTRATION_HOLE_MM;
+            let web = spec.kerf_mm.max(0.2);
+            if g.base_tab_mm < d + 2.0 * web || g.base_width_mm / 4.0 < d / 2.0 + web {
+                return Err(geometry_error(
+                    design,
+                    format!(
+                        "geometry.base_tab_mm = {}: ply-by-ply cutting puts two {d} mm registration holes in the base tab; it needs a tab of at least {:.2} mm and a base width of at least {:.2} mm",
+                        g.base_tab_mm,
+                        d + 2.0 * web,
+                        4.0 * (d / 2.0 + web)
+                    ),
+                ));
+            }
+            let holes: Vec<(Point, f64)> = [-1.0, 1.0]
+                .iter()
+                .map(|side| {
+                    (
+                        [side * g.base_width_mm / 4.0, -g.base_tab_mm / 2.0],
+                        d / 2.0,
+                    )
+                })
+                .collect();
             for (i, angle) in design.layup_deg.iter().enumerate() {
                 // Prepreg fibres run along the sheet's y axis; turning the part by -θ puts them at +θ
                 // (counter-clockwise) from its axis.
                 let turned = place(&outline, -angle, [0.0, 0.0]);
+                let turned_holes: Vec<(Point, f64)> = holes
+                    .iter()
+                    .map(|(c, r)| (place_point(*c, -angle, [0.0, 0.0]), *r))
+                    .collect();
                 let layer = format!("passive-ply{}-{}deg", i + 1, angle);
                 let sheets = cut_part_sheets(
                     design,
@@ -349,7 +380,7 @@ fn passive_sheets(
                     spec,
                     &turned,
                     design.quantity,
-                    &[],
+                    &turned_holes,
                     &|_| None,
                     built,
                 )?;
