@@ -138,11 +138,19 @@ pub fn error_table(data: &Dataset, predictions: &[Performance]) -> ErrorTable {
     }
 }
 
-/// Per-actuator mean log residuals: (deflection, stiffness, mass).
-pub fn group_residuals(
-    data: &Dataset,
-    predictions: &[Performance],
-) -> Vec<(Option<f64>, Option<f64>, Option<f64>)> {
+/// Mean log residuals of one actuator, split into actuation, stiffness and mass parts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroupResidual {
+    /// Mean ln(δ_meas/δ_model).
+    pub deflection: Option<f64>,
+    /// Mean ln(k_meas/k_model), k = F_b/δ.
+    pub stiffness: Option<f64>,
+    /// ln(m_meas/m_model).
+    pub mass: Option<f64>,
+}
+
+/// Per-actuator mean log residuals.
+pub fn group_residuals(data: &Dataset, predictions: &[Performance]) -> Vec<GroupResidual> {
     data.groups
         .iter()
         .map(|g| {
@@ -163,7 +171,11 @@ pub fn group_residuals(
             let mass = data.rows[g[0]]
                 .mass
                 .map(|m| (m / predictions[g[0]].mass).ln());
-            (mean(&d), mean(&k), mass)
+            GroupResidual {
+                deflection: mean(&d),
+                stiffness: mean(&k),
+                mass,
+            }
         })
         .collect()
 }
@@ -179,21 +191,20 @@ pub fn residual_correlations(
         .iter()
         .map(|g| design_variables(&data.rows[g[0]]))
         .collect();
-    let corr =
-        |k: usize, pick: &dyn Fn(&(Option<f64>, Option<f64>, Option<f64>)) -> Option<f64>| {
-            let (xs, ys): (Vec<f64>, Vec<f64>) = vars
-                .iter()
-                .zip(&res)
-                .filter_map(|(v, r)| pick(r).map(|y| (v[k].1, y)))
-                .unzip();
-            stats::pearson(&xs, &ys)
-        };
+    let corr = |k: usize, pick: &dyn Fn(&GroupResidual) -> Option<f64>| {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = vars
+            .iter()
+            .zip(&res)
+            .filter_map(|(v, r)| pick(r).map(|y| (v[k].1, y)))
+            .unzip();
+        stats::pearson(&xs, &ys)
+    };
     (0..9)
         .map(|k| ResidualCorrelation {
             variable: vars.first().map(|v| v[k].0).unwrap_or("").to_string(),
-            deflection: corr(k, &|r| r.0),
-            stiffness: corr(k, &|r| r.1),
-            mass: corr(k, &|r| r.2),
+            deflection: corr(k, &|r| r.deflection),
+            stiffness: corr(k, &|r| r.stiffness),
+            mass: corr(k, &|r| r.mass),
         })
         .collect()
 }

@@ -505,7 +505,11 @@ fn residual_svg(data: &Dataset, preds: &[Performance], when: &str) -> String {
                 .iter()
                 .zip(&res)
                 .filter_map(|(v, r)| {
-                    let y = if kind.starts_with("ln(δ") { r.0 } else { r.1 };
+                    let y = if kind.starts_with("ln(δ") {
+                        r.deflection
+                    } else {
+                        r.stiffness
+                    };
                     y.map(|y| (v[k].1, y))
                 })
                 .collect(),

@@ -26,6 +26,9 @@ pub struct Settings {
     pub min_delta_aicc: f64,
     /// Family-wise level of the adequacy tests.
     pub alpha: f64,
+    /// Smallest |η - 1| reported as a d31 scale: below it the change is immaterial to a design and a
+    /// 5%-noise data set flags it by chance more often than the 1-in-10 the null case allows.
+    pub min_relevant_d31_change: f64,
 }
 
 impl Default for Settings {
@@ -37,6 +40,7 @@ impl Default for Settings {
             max_effects: 2,
             min_delta_aicc: 4.0,
             alpha: 0.01,
+            min_relevant_d31_change: 0.02,
         }
     }
 }
@@ -638,7 +642,6 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     let fitter = Fitter {
         data: &act_data,
         base,
-        settings: *settings,
         folds: folds_of,
         dead_length_max_mm,
     };
@@ -687,7 +690,9 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         Some(b) => b,
         None => {
             let (original, null_eta) = (&candidates[0], &candidates[1]);
-            if null_eta.aicc < original.aicc - settings.min_delta_aicc && null_eta.excludes_null(0)
+            if null_eta.aicc < original.aicc - settings.min_delta_aicc
+                && null_eta.excludes_null(0)
+                && (null_eta.values[0] - 1.0).abs() >= settings.min_relevant_d31_change
             {
                 1
             } else {
@@ -697,7 +702,9 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     };
     let chosen = &candidates[final_index];
     if let Some(k) = chosen.effects.iter().position(|e| *e == eta) {
-        if chosen.excludes_null(k) {
+        if chosen.excludes_null(k)
+            && (chosen.values[k] - 1.0).abs() >= settings.min_relevant_d31_change
+        {
             selected.insert(0, eta);
         }
     }
