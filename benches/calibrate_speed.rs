@@ -1,14 +1,14 @@
 //! Speed figure of issue 6: calibrate 50 actuators x 10 voltages with the full effect library.
 //! `cargo bench --bench calibrate_speed` (release); the same case is a test with a 5 s limit.
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+#[path = "../tests/synthetic/mod.rs"]
+mod synthetic;
 
 use actuator_cam::calibrate::{self, csv::parse, Settings};
 use actuator_model::Effects;
-use common::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use synthetic::*;
 
 fn main() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);

@@ -5,14 +5,14 @@
 //! `CALIBRATE_CASE=dead-length CALIBRATE_SEEDS=5 cargo test --test calibrate_synthetic -- --nocapture`
 //! runs one case with fewer seeds while tuning.
 
-mod common;
+mod synthetic;
 
 use actuator_cam::calibrate::{self, csv::parse, Settings};
 use actuator_model::Effects;
-use common::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use synthetic::*;
 
 struct Outcome {
     verdict: String,
