@@ -179,11 +179,21 @@ pub fn synthetic_csv_at(
     fields: &[f64],
     rng: &mut ChaCha8Rng,
 ) -> String {
+    synthetic_csv_each(truth, designs, &|_| fields.to_vec(), rng)
+}
+
+/// Synthetic CSV with each design driven at its own fields (V/mm).
+pub fn synthetic_csv_each(
+    truth: Truth,
+    designs: &[Design],
+    fields_of: &dyn Fn(&Design) -> Vec<f64>,
+    rng: &mut ChaCha8Rng,
+) -> String {
     let mut s = String::from(
         "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N\n",
     );
     for (i, d) in designs.iter().enumerate() {
-        for (k, &field) in fields.iter().enumerate() {
+        for (k, field) in fields_of(d).into_iter().enumerate() {
             let (delta, force, mass) = truth_at(truth, d, field);
             let mass_cell = if k == 0 {
                 format!("{:.6}", mass * 1e6 * (0.01 * normal(rng)).exp())
