@@ -40,6 +40,9 @@ pub enum Truth {
     /// Blocked force loses `a (E / 1 V/µm)²` (a force-only, quadratic-in-field loss no library effect
     /// can express).
     QuadraticForceLoss(f64),
+    /// Deflection and force lose a factor `exp(-a w0 / l_p)` (a width-dependent actuation loss, e.g.
+    /// anticlastic stiffening of wide plates, that no library effect expresses).
+    WidthLoss(f64),
 }
 
 pub struct Case {
@@ -122,6 +125,11 @@ pub fn cases() -> Vec<Case> {
             }),
         },
         Case {
+            name: "out-of-library width loss",
+            hidden: &[],
+            truth: Truth::WidthLoss(0.6),
+        },
+        Case {
             name: "out-of-library",
             hidden: &[],
             truth: Truth::QuadraticForceLoss(0.4),
@@ -148,6 +156,11 @@ pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64
         Truth::Library(e) => {
             let p = e.predict(&a).unwrap();
             (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::WidthLoss(loss) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let k = (-loss * d.w0_mm / (a.planform.piezo_length() * 1e3)).exp();
+            (p.free_deflection * k, p.blocked_force * k, p.mass)
         }
         Truth::QuadraticForceLoss(loss) => {
             let p = Effects::default().predict(&a).unwrap();
