@@ -766,6 +766,7 @@ fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Settings) {
         .iter()
         .map(|c| (c.library_effects(), c.aicc, c.cv_rmse))
         .collect();
+    let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
     for c in candidates.iter_mut() {
         if c.role != Role::Candidate {
             continue;
@@ -785,12 +786,8 @@ fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Settings) {
         }
         let mut why = Vec::new();
         for &p in &parents {
-            let (ref pe, aicc, cv) = snapshot[p];
-            let label = if pe.is_empty() {
-                "null".to_string()
-            } else {
-                pe.iter().map(|e| e.name()).collect::<Vec<_>>().join("+")
-            };
+            let (_, aicc, cv) = snapshot[p];
+            let label = &labels[p];
             // The stiffness null has as many parameters as a single: it must only be beaten, not by 4.
             let margin = if mine.len() == 1 && nulls.len() > 1 && p == nulls[nulls.len() - 1] {
                 0.0
