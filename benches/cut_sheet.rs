@@ -15,7 +15,7 @@ fn main() {
         },
         kerf_mm: None,
         quantity: Some(50),
-        model: ModelKind::Original,
+        model: ModelKind::Original.into(),
         stroke_mm: 0.0254,
     };
     println!("cut-sheet, quantity 50, SVG + DXF + report, in memory (median of 7 runs)");

@@ -14,6 +14,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Find the physical effect behind measured-vs-model errors and write a calibrated model.
+    Calibrate(actuator_cam::calibrate::CalibrateArgs),
     /// Mass and performance of a design.
     Predict(predict::PredictArgs),
     /// Laser-cut layer files, report and build checklist for a design.
@@ -27,6 +29,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
+        Command::Calibrate(a) => actuator_cam::calibrate::run(a),
         Command::Predict(a) => predict::run(a),
         Command::CutSheet(a) => cut_sheet::run(a),
         Command::Laminate(a) => laminate::run(a),

@@ -2,7 +2,8 @@
 //! `predict` and embedded in cut-sheet reports.
 
 use crate::design::Design;
-use actuator_model::model::{predict, ModelKind};
+use actuator_model::effects::Actuator;
+use actuator_model::model::{predict, ModelChoice, ModelKind};
 use actuator_model::{ModelError, Performance};
 use serde::Serialize;
 use std::fmt::Write;
@@ -47,6 +48,27 @@ impl Prediction {
         let laminate = design.laminate()?;
         let perf = predict(kind, &laminate, &design.planform, design.drive)?;
         Ok(Self::from_performance(design, kind.name(), &perf))
+    }
+
+    /// Predict a design with a built-in or a calibrated model. A calibrated model replaces the design's
+    /// declared bond layer by its own fitted effects (it was fitted on built actuators, bond and all).
+    pub fn with_model(design: &Design, model: &ModelChoice) -> Result<Prediction, ModelError> {
+        match model {
+            ModelChoice::Kind(kind) => Self::of(design, *kind),
+            ModelChoice::Calibrated(_) => {
+                let actuator = Actuator {
+                    pzt: &design.pzt,
+                    pzt_thickness: design.pzt_thickness,
+                    ply: &design.ply,
+                    ply_thickness: design.ply_thickness,
+                    layup_deg: &design.layup_deg,
+                    planform: design.planform,
+                    drive: design.drive,
+                };
+                let perf = model.predict(&actuator)?;
+                Ok(Self::from_performance(design, model.name(), &perf))
+            }
+        }
     }
 
     /// Convert a model performance (SI) for a design into lab units.

@@ -1,6 +1,6 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
-use super::predict::ModelArg;
+use super::model_arg::parse_model;
 use crate::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
 use crate::design::Design;
 use anyhow::bail;
@@ -24,9 +24,9 @@ pub struct CutSheetArgs {
     /// Number of actuators (overrides the design's quantity).
     #[arg(long)]
     pub quantity: Option<i64>,
-    /// Model for the predicted performance.
-    #[arg(long, value_enum, default_value = "original")]
-    pub model: ModelArg,
+    /// Model for the predicted performance: original, thesis-adjusted, euler-bernoulli, or a calibrated-model.toml.
+    #[arg(long, default_value = "original")]
+    pub model: String,
     /// Hairline stroke width in the SVG files, mm.
     #[arg(long, default_value_t = 0.0254)]
     pub stroke_mm: f64,
@@ -70,7 +70,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         formats,
         kerf_mm: args.kerf_mm,
         quantity,
-        model: args.model.into(),
+        model: parse_model(&args.model)?,
         stroke_mm: args.stroke_mm,
     };
     let sheet = plan(&design, &template, &opts)?;

@@ -2,5 +2,6 @@
 
 pub mod cut_sheet;
 pub mod laminate;
+pub mod model_arg;
 pub mod predict;
 pub mod weibull;

@@ -1,40 +1,19 @@
 //! `actuator-cam predict design.toml`: mass and performance of one design.
 
+use super::model_arg::parse_model;
 use crate::design::Design;
 use crate::prediction::Prediction;
-use actuator_model::ModelKind;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use std::path::PathBuf;
-
-/// Built-in model choice on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelArg {
-    /// Lamination theory with the tapered-beam compliance.
-    Original,
-    /// Original with the thesis' empirical corrections (eqs. 4.3-4.5).
-    ThesisAdjusted,
-    /// Euler-Bernoulli beam (rectangles only).
-    EulerBernoulli,
-}
-
-impl From<ModelArg> for ModelKind {
-    fn from(m: ModelArg) -> Self {
-        match m {
-            ModelArg::Original => ModelKind::Original,
-            ModelArg::ThesisAdjusted => ModelKind::ThesisAdjusted,
-            ModelArg::EulerBernoulli => ModelKind::EulerBernoulli,
-        }
-    }
-}
 
 /// Arguments of `predict`.
 #[derive(Debug, Args)]
 pub struct PredictArgs {
     /// Design file (design.toml).
     pub design: PathBuf,
-    /// Which model predicts.
-    #[arg(long, value_enum, default_value = "original")]
-    pub model: ModelArg,
+    /// Which model predicts: original, thesis-adjusted, euler-bernoulli, or a calibrated-model.toml file.
+    #[arg(long, default_value = "original")]
+    pub model: String,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -42,8 +21,9 @@ pub struct PredictArgs {
 
 /// Run `predict`.
 pub fn run(args: &PredictArgs) -> anyhow::Result<()> {
+    let model = parse_model(&args.model)?;
     let design = Design::load(&args.design)?;
-    let prediction = Prediction::of(&design, args.model.into())
+    let prediction = Prediction::with_model(&design, &model)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.design.display()))?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&prediction)?);

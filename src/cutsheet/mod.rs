@@ -14,7 +14,8 @@ pub use template::Template;
 use crate::cam::drawing::Drawing;
 use crate::design::Design;
 use crate::prediction::Prediction;
-use actuator_model::{Material, ModelKind};
+use actuator_model::model::ModelChoice;
+use actuator_model::Material;
 use thiserror::Error;
 
 /// Which file formats to write.
@@ -27,7 +28,7 @@ pub struct Formats {
 }
 
 /// Settings of one cut-sheet run (after the command line is parsed).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct CutSheetOptions {
     /// File formats.
     pub formats: Formats,
@@ -36,7 +37,7 @@ pub struct CutSheetOptions {
     /// Quantity overriding the design's.
     pub quantity: Option<usize>,
     /// Model for the predicted performance.
-    pub model: ModelKind,
+    pub model: ModelChoice,
     /// Hairline stroke width, mm.
     pub stroke_mm: f64,
 }
@@ -115,8 +116,8 @@ pub fn plan(
         design.quantity = q;
     }
     let file = design.source.display().to_string();
-    let prediction =
-        Prediction::of(&design, opts.model).map_err(|e| CutSheetError::Model(e, file.clone()))?;
+    let prediction = Prediction::with_model(&design, &opts.model)
+        .map_err(|e| CutSheetError::Model(e, file.clone()))?;
     let built = sheets::build(&design, &template)?;
     let report = report::Report::new(&design, &template, prediction, &built);
     Ok(CutSheet {

@@ -6,6 +6,7 @@
 //! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
 
 pub mod drive;
+pub mod effects;
 pub mod empirical;
 pub mod error;
 pub mod euler_bernoulli;
@@ -19,10 +20,11 @@ pub mod section;
 pub mod weibull;
 
 pub use drive::{Drive, DriveMode};
+pub use effects::{Actuator, CalibratedModel, Effects};
 pub use error::ModelError;
 pub use laminate::{Laminate, Layer, LayerRole};
 pub use material::Material;
-pub use model::ModelKind;
+pub use model::{ModelChoice, ModelKind};
 pub use performance::{MassBreakdown, Performance};
 pub use planform::Planform;
 pub use section::Section;

@@ -2,6 +2,7 @@
 //! Euler-Bernoulli beam.
 
 use crate::drive::Drive;
+use crate::effects::{Actuator, CalibratedModel};
 use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
@@ -9,6 +10,7 @@ use crate::laminate::Laminate;
 use crate::performance::{evaluate, Performance};
 use crate::planform::Planform;
 use crate::section::Section;
+use std::sync::Arc;
 
 /// Which model predicts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,6 +70,51 @@ pub fn predict(
             let beam = BeamBimorph::from_laminate(laminate, planform.length, planform.base_width)?;
             let r = beam.response(drive.field);
             Ok(original.with_outputs(r.free_deflection, r.blocked_force, original.mass_breakdown))
+        }
+    }
+}
+
+/// A model as the command line chooses it: one of the built-in kinds, or a calibrated model read from
+/// `calibrated-model.toml` (`--model FILE`). [`ModelKind`] stays `Copy`; this carries the parameters.
+#[derive(Debug, Clone)]
+pub enum ModelChoice {
+    /// A built-in model.
+    Kind(ModelKind),
+    /// The original model with calibrated physical effects ([`crate::effects`]).
+    Calibrated(Arc<CalibratedModel>),
+}
+
+impl From<ModelKind> for ModelChoice {
+    fn from(kind: ModelKind) -> Self {
+        ModelChoice::Kind(kind)
+    }
+}
+
+impl ModelChoice {
+    /// Name for reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ModelChoice::Kind(k) => k.name(),
+            ModelChoice::Calibrated(_) => "calibrated",
+        }
+    }
+
+    /// Predict one actuator from its raw inputs (the calibrated effects change the stack itself, so they
+    /// need the materials and thicknesses, not a finished laminate).
+    pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
+        match self {
+            ModelChoice::Kind(kind) => {
+                let lam = Laminate::bimorph(
+                    a.pzt,
+                    a.pzt_thickness,
+                    a.ply,
+                    a.ply_thickness,
+                    a.layup_deg,
+                    None,
+                )?;
+                predict(*kind, &lam, &a.planform, a.drive)
+            }
+            ModelChoice::Calibrated(model) => model.predict(a),
         }
     }
 }

@@ -1,0 +1,209 @@
+//! Bounded nonlinear least squares: projected Levenberg-Marquardt with a forward-difference Jacobian,
+//! several starting points, and the covariance `σ² (JᵀJ)⁻¹` by SVD at the optimum.
+
+use nalgebra::{DMatrix, DVector};
+
+/// One fitted parameter's range and the point the search may start from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+}
+
+/// Result of a least-squares fit.
+#[derive(Debug, Clone)]
+pub struct FitResult {
+    /// Parameter estimates.
+    pub theta: Vec<f64>,
+    /// Residual sum of squares.
+    pub rss: f64,
+    /// Number of residuals.
+    pub n: usize,
+    /// Residuals at the optimum.
+    pub residuals: Vec<f64>,
+    /// Jacobian at the optimum (n x p).
+    pub jacobian: DMatrix<f64>,
+}
+
+impl FitResult {
+    /// Covariance `σ² (JᵀJ)⁺` with `σ² = RSS / (n - p)` (pseudo-inverse by SVD).
+    pub fn covariance(&self) -> DMatrix<f64> {
+        let p = self.theta.len();
+        if p == 0 {
+            return DMatrix::zeros(0, 0);
+        }
+        let dof = (self.n as f64 - p as f64).max(1.0);
+        let sigma2 = self.rss / dof;
+        let jtj = self.jacobian.transpose() * &self.jacobian;
+        let svd = jtj.svd(true, true);
+        let max_sv = svd.singular_values.max();
+        let pinv = svd
+            .pseudo_inverse(max_sv * 1e-13)
+            .unwrap_or_else(|_| DMatrix::from_element(p, p, f64::INFINITY));
+        pinv * sigma2
+    }
+
+    /// Leverage `h_ii` of each residual (diagonal of `J (JᵀJ)⁺ Jᵀ`).
+    pub fn leverage(&self) -> Vec<f64> {
+        let p = self.theta.len();
+        if p == 0 {
+            return vec![0.0; self.n];
+        }
+        let jtj = self.jacobian.transpose() * &self.jacobian;
+        let svd = jtj.svd(true, true);
+        let max_sv = svd.singular_values.max();
+        let Ok(pinv) = svd.pseudo_inverse(max_sv * 1e-13) else {
+            return vec![0.0; self.n];
+        };
+        (0..self.n)
+            .map(|i| {
+                let row = self.jacobian.row(i);
+                (row * &pinv * row.transpose())[(0, 0)]
+            })
+            .collect()
+    }
+}
+
+/// Minimise `Σ r(θ)²` over the box `bounds` from each start; keep the best.
+///
+/// `residuals(θ, out)` fills `out` (same length on every call).
+pub fn least_squares<F>(residuals: &F, bounds: &[Bounds], starts: &[Vec<f64>]) -> FitResult
+where
+    F: Fn(&[f64], &mut Vec<f64>),
+{
+    let mut best: Option<FitResult> = None;
+    for start in starts {
+        let fit = levenberg_marquardt(residuals, bounds, start);
+        if best.as_ref().is_none_or(|b| fit.rss < b.rss) {
+            best = Some(fit);
+        }
+    }
+    best.unwrap_or_else(|| levenberg_marquardt(residuals, bounds, &[]))
+}
+
+fn clamp(theta: &mut [f64], bounds: &[Bounds]) {
+    for (t, b) in theta.iter_mut().zip(bounds) {
+        *t = t.clamp(b.lo, b.hi);
+    }
+}
+
+fn rss_of(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum()
+}
+
+fn jacobian<F>(residuals: &F, bounds: &[Bounds], theta: &[f64], r0: &[f64]) -> DMatrix<f64>
+where
+    F: Fn(&[f64], &mut Vec<f64>),
+{
+    let n = r0.len();
+    let p = theta.len();
+    let mut j = DMatrix::zeros(n, p);
+    let mut shifted = theta.to_vec();
+    let mut r = Vec::with_capacity(n);
+    for k in 0..p {
+        let b = bounds[k];
+        let scale = (b.hi - b.lo).abs().max(1e-12);
+        let mut h = 1e-7 * scale.max(theta[k].abs());
+        if theta[k] + h > b.hi {
+            h = -h;
+        }
+        shifted[k] = theta[k] + h;
+        residuals(&shifted, &mut r);
+        for i in 0..n {
+            j[(i, k)] = (r[i] - r0[i]) / h;
+        }
+        shifted[k] = theta[k];
+    }
+    j
+}
+
+fn levenberg_marquardt<F>(residuals: &F, bounds: &[Bounds], start: &[f64]) -> FitResult
+where
+    F: Fn(&[f64], &mut Vec<f64>),
+{
+    let p = bounds.len();
+    let mut theta = start.to_vec();
+    theta.resize(p, 0.0);
+    clamp(&mut theta, bounds);
+    let mut r = Vec::new();
+    residuals(&theta, &mut r);
+    let mut rss = rss_of(&r);
+    let mut lambda = 1e-3;
+    let mut trial = vec![0.0; p];
+    let mut r_trial = Vec::new();
+    if p > 0 {
+        for _ in 0..200 {
+            let j = jacobian(residuals, bounds, &theta, &r);
+            let jtj = j.transpose() * &j;
+            let g = j.transpose() * DVector::from_column_slice(&r);
+            let mut improved = false;
+            for _ in 0..30 {
+                let mut a = jtj.clone();
+                for k in 0..p {
+                    a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+                }
+                let Some(step) = a.cholesky().map(|c| c.solve(&(-&g))) else {
+                    lambda *= 10.0;
+                    continue;
+                };
+                for k in 0..p {
+                    trial[k] = theta[k] + step[k];
+                }
+                clamp(&mut trial, bounds);
+                residuals(&trial, &mut r_trial);
+                let rss_trial = rss_of(&r_trial);
+                if rss_trial.is_finite() && rss_trial < rss {
+                    let gain = (rss - rss_trial) / rss.max(1e-300);
+                    theta.copy_from_slice(&trial);
+                    std::mem::swap(&mut r, &mut r_trial);
+                    rss = rss_trial;
+                    lambda = (lambda / 3.0).max(1e-12);
+                    improved = gain > 1e-12;
+                    break;
+                }
+                lambda *= 4.0;
+                if lambda > 1e12 {
+                    break;
+                }
+            }
+            if !improved {
+                break;
+            }
+        }
+    }
+    let jacobian = jacobian(residuals, bounds, &theta, &r);
+    FitResult {
+        n: r.len(),
+        theta,
+        rss,
+        residuals: r,
+        jacobian,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fits_an_exponential_and_respects_bounds() {
+        let xs: Vec<f64> = (0..20).map(|i| i as f64 * 0.1).collect();
+        let ys: Vec<f64> = xs.iter().map(|x| 2.0 * (-1.3 * x).exp()).collect();
+        let f = |t: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend(
+                xs.iter()
+                    .zip(&ys)
+                    .map(|(x, y)| y - t[0] * (-t[1] * x).exp()),
+            );
+        };
+        let b = [Bounds { lo: 0.0, hi: 10.0 }, Bounds { lo: 0.0, hi: 5.0 }];
+        let fit = least_squares(&f, &b, &[vec![1.0, 0.1]]);
+        assert!((fit.theta[0] - 2.0).abs() < 1e-6 && (fit.theta[1] - 1.3).abs() < 1e-6);
+        let capped = [Bounds { lo: 0.0, hi: 10.0 }, Bounds { lo: 0.0, hi: 1.0 }];
+        let fit = least_squares(&f, &capped, &[vec![1.0, 0.1]]);
+        assert!(fit.theta[1] <= 1.0 && (fit.theta[1] - 1.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,144 @@
+//! `actuator-cam calibrate measured.csv` (issue 6): find the residual between measured actuators and the
+//! model, trace it to a physical effect from a library, fit it, report the error before and after, and
+//! write `calibrated-model.toml` for `predict`, `optimize` and `cut-sheet --model FILE`.
+//!
+//! Flow: [`csv`] validates the file into [`Measurement`]s → [`baseline`] error tables →
+//! [`select`] (mass stage, then every subset of ≤ 2 effects with [`fit`]) → [`report`].
+
+pub mod baseline;
+pub mod csv;
+pub mod fit;
+pub mod library;
+pub mod model_file;
+pub mod report;
+pub mod select;
+pub mod stats;
+
+pub use self::csv::{Dataset, Measurement};
+pub use select::{Selection, Settings, Verdict};
+
+use actuator_model::empirical;
+use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
+use anyhow::Context;
+use baseline::{error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation};
+use std::path::PathBuf;
+
+/// Command-line arguments of `calibrate`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CalibrateArgs {
+    /// Measured data, CSV with columns
+    /// id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N
+    /// (optional drive, pzt, ply, base_tab_mm).
+    pub measured: PathBuf,
+    /// Output directory for calibrated-model.toml, report.json, report.md and the SVG plots.
+    #[arg(short = 'o', long = "output", default_value = "calibration")]
+    pub output: PathBuf,
+    /// Print report.json to standard output.
+    #[arg(long)]
+    pub json: bool,
+    /// Seed of the cross-validation folds.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Largest number of effects (besides the d31 scale) combined in one model.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=2))]
+    pub max_effects: u64,
+}
+
+/// Everything `calibrate` computed.
+#[derive(Debug, Clone)]
+pub struct Calibration {
+    /// The selection and its verdict.
+    pub selection: Selection,
+    /// The calibrated model as written to the TOML file.
+    pub model: CalibratedModel,
+    /// Original model.
+    pub before: ErrorTable,
+    /// Calibrated model.
+    pub after: ErrorTable,
+    /// Thesis' empirical corrections (eqs. 4.3-4.5) on the same data.
+    pub thesis_adjusted: ErrorTable,
+    /// Cross-validated RMSE of the log residuals (δ, F_b) of the original model.
+    pub cv_rmse_before: f64,
+    /// The same for the selected model.
+    pub cv_rmse_after: f64,
+    /// Residual correlations before.
+    pub correlations_before: Vec<ResidualCorrelation>,
+    /// Residual correlations after.
+    pub correlations_after: Vec<ResidualCorrelation>,
+    /// Original-model predictions per row.
+    pub predictions_before: Vec<Performance>,
+    /// Calibrated predictions per row.
+    pub predictions_after: Vec<Performance>,
+}
+
+/// Predict one measured row with a calibrated model (the "after" predictions; `predict --model` must give
+/// the same numbers).
+pub fn predict_row(model: &CalibratedModel, m: &Measurement) -> Result<Performance, ModelError> {
+    model.predict(&m.actuator())
+}
+
+/// Calibrate a validated data set.
+pub fn calibrate(data: &Dataset, settings: &Settings) -> anyhow::Result<Calibration> {
+    let selection = select::select(data, settings)?;
+    let model = CalibratedModel {
+        model: "calibrated".into(),
+        verdict: selection.verdict.name().into(),
+        selected_effects: selection
+            .selected
+            .iter()
+            .map(|e| e.name().to_string())
+            .collect(),
+        effects: selection.model,
+    };
+    let original = Effects::default();
+    let predictions_before = predict_all(data, |m| Ok(original.predict(&m.actuator())?))?;
+    let predictions_after = predict_all(data, |m| Ok(predict_row(&model, m)?))?;
+    let thesis = predict_all(data, |m| {
+        let p = original.predict(&m.actuator())?;
+        Ok(empirical::adjust(&p, &m.planform, m.pzt_thickness))
+    })?;
+    Ok(Calibration {
+        before: error_table(data, &predictions_before),
+        after: error_table(data, &predictions_after),
+        thesis_adjusted: error_table(data, &thesis),
+        cv_rmse_before: selection.candidates[0].cv_rmse,
+        cv_rmse_after: selection.candidates[selection.final_index].cv_rmse,
+        correlations_before: residual_correlations(data, &predictions_before),
+        correlations_after: residual_correlations(data, &predictions_after),
+        selection,
+        model,
+        predictions_before,
+        predictions_after,
+    })
+}
+
+/// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
+pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
+    let data = self::csv::read_path(&args.measured)
+        .with_context(|| format!("reading {}", args.measured.display()))?;
+    let settings = Settings {
+        seed: args.seed,
+        max_effects: args.max_effects as usize,
+        ..Settings::default()
+    };
+    let calibration = calibrate(&data, &settings)?;
+    let source = args
+        .measured
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let files = report::render(&calibration, &data, &source)?;
+    report::write_atomically(&args.output, &files)?;
+    if args.json {
+        let json = files
+            .iter()
+            .find(|(name, _)| name == "report.json")
+            .map(|(_, text)| text.as_str())
+            .unwrap_or("{}");
+        println!("{json}");
+    } else {
+        print!("{}", report::summary(&calibration));
+        println!("wrote {}", args.output.display());
+    }
+    Ok(())
+}

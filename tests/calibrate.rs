@@ -1,0 +1,335 @@
+//! `actuator-cam calibrate` end to end: the example data set, the files it writes, the round trip of the
+//! calibrated model, and clear errors (non-zero exit, nothing written) on bad input.
+
+use actuator_cam::calibrate::{self, csv, model_file, predict_row, Settings};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const HEADER: &str =
+    "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N";
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/measured-thesis-like.csv")
+}
+
+fn cam(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+        .args(args)
+        .output()
+        .expect("runs the binary")
+}
+
+/// Run the binary and require success; standard error goes into the failure message.
+fn cam_ok(args: &[&str]) -> std::process::Output {
+    let run = cam(args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    run
+}
+
+/// `actuator-cam calibrate examples/measured-thesis-like.csv -o DIR`, which must succeed.
+fn calibrate_example_into(dir: &Path) {
+    cam_ok(&[
+        "calibrate",
+        example().to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+}
+
+#[test]
+fn example_is_explained_and_every_file_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = cam_ok(&[
+        "calibrate",
+        example().to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(report["verdict"], "explained");
+    let names: Vec<&str> = report["selected_effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    for hidden in [
+        "ply-thickness",
+        "d31-scale",
+        "dead-length",
+        "clamp-compliance",
+    ] {
+        assert!(names.contains(&hidden), "{hidden} not in {names:?}");
+    }
+    for e in report["selected_effects"].as_array().unwrap() {
+        for (name, value) in e["parameters"].as_object().unwrap() {
+            let iv = &e["intervals"][name];
+            let v = value.as_f64().unwrap();
+            assert!(iv[0].as_f64().unwrap() <= v && v <= iv[1].as_f64().unwrap());
+        }
+    }
+    for c in report["candidates"].as_array().unwrap() {
+        assert!(c["effects"].is_array() && c.get("aicc").is_some() && c.get("cv_rmse").is_some());
+    }
+    for when in ["before", "after"] {
+        for output in ["mass", "free_deflection", "blocked_force"] {
+            for key in ["k_mean", "k_std", "rmse_log", "mape"] {
+                assert!(
+                    report[when][output][key].is_number(),
+                    "{when}.{output}.{key}"
+                );
+            }
+        }
+    }
+    let before = report["before"]["blocked_force"]["rmse_log"]
+        .as_f64()
+        .unwrap();
+    let after = report["after"]["blocked_force"]["rmse_log"]
+        .as_f64()
+        .unwrap();
+    assert!(after * 3.0 < before, "force rmse_log {before} -> {after}");
+    for file in [
+        "calibrated-model.toml",
+        "report.json",
+        "report.md",
+        "parity-before.svg",
+        "parity-after.svg",
+        "residuals-before.svg",
+        "residuals-after.svg",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    // Deterministic: a second run writes the same bytes.
+    let out2 = dir.path().join("out2");
+    calibrate_example_into(&out2);
+    for file in ["report.json", "calibrated-model.toml", "parity-after.svg"] {
+        assert_eq!(
+            std::fs::read(out.join(file)).unwrap(),
+            std::fs::read(out2.join(file)).unwrap(),
+            "{file} differs between runs"
+        );
+    }
+}
+
+/// Round trip through the file: the model read back from `calibrated-model.toml` predicts exactly the
+/// "after" numbers. (The CLI form, `predict --model`, is `predict_cli_reproduces_after_predictions`.)
+#[test]
+fn calibrated_model_file_reproduces_the_after_predictions() {
+    let data = csv::read_path(&example()).unwrap();
+    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let text = model_file::to_toml(&cal.model).unwrap();
+    let back = model_file::from_toml(&text).unwrap();
+    assert_eq!(back, cal.model);
+    for (m, after) in data.rows.iter().zip(&cal.predictions_after) {
+        let p = predict_row(&back, m).unwrap();
+        assert_eq!(p.free_deflection, after.free_deflection);
+        assert_eq!(p.blocked_force, after.blocked_force);
+        assert_eq!(p.mass, after.mass);
+    }
+    // The model crate's dispatcher gives the same numbers as predict_row.
+    let choice = actuator_model::ModelChoice::Calibrated(std::sync::Arc::new(back));
+    let m = &data.rows[0];
+    assert_eq!(
+        choice.predict(&m.actuator()).unwrap().blocked_force,
+        cal.predictions_after[0].blocked_force
+    );
+}
+
+/// CLI round trip: `predict DESIGN.toml --model calibrated-model.toml --json` must print the "after"
+/// prediction.
+#[test]
+fn predict_cli_reproduces_after_predictions() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    calibrate_example_into(&out);
+    let data = csv::read_path(&example()).unwrap();
+    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let m = &data.rows[3];
+    // Design-file format of main's src/design (examples/thesis-B.toml).
+    let design = format!(
+        "name = \"row-3\"\n[geometry]\nlength_mm = {}\nextension_ratio = {}\nbase_width_mm = {}\nwidth_ratio = {}\nbase_tab_mm = 0.0\n\
+         [laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {:?}\n\
+         [drive]\nmode = \"parallel\"\nfield_V_per_mm = {}\n",
+        m.planform.length * 1e3,
+        m.planform.extension_ratio,
+        m.planform.base_width * 1e3,
+        m.planform.width_ratio,
+        m.pzt_thickness * 1e3,
+        m.layup_deg,
+        m.field * 1e-3
+    );
+    let design_path = dir.path().join("design.toml");
+    std::fs::write(&design_path, design).unwrap();
+    let run = cam_ok(&[
+        "predict",
+        design_path.to_str().unwrap(),
+        "--model",
+        out.join("calibrated-model.toml").to_str().unwrap(),
+        "--json",
+    ]);
+    let p: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let after = &cal.predictions_after[3];
+    let close = |a: f64, b: f64| ((a - b) / b).abs() < 1e-6;
+    assert!(close(
+        p["free_deflection_mm"].as_f64().unwrap(),
+        after.free_deflection * 1e3
+    ));
+    assert!(close(
+        p["blocked_force_N"].as_f64().unwrap(),
+        after.blocked_force
+    ));
+    assert!(close(p["mass_mg"].as_f64().unwrap(), after.mass * 1e6));
+}
+
+/// Runs `calibrate` on `text`; asserts a non-zero exit, an error naming `needles`, and no output.
+fn rejects(text: &str, needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("measured.csv");
+    std::fs::write(&input, text).unwrap();
+    let out = dir.path().join("out");
+    let run = cam(&[
+        "calibrate",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "accepted: {text}");
+    for n in needles {
+        assert!(stderr.contains(n), "`{n}` not in: {stderr}");
+    }
+    assert!(!out.exists(), "output written on error");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n != "measured.csv")
+        .collect();
+    assert!(leftovers.is_empty(), "left behind: {leftovers:?}");
+}
+
+/// Eight good actuators, then `row` (line 26 of the file).
+fn rejects_row(row: &str, needles: &[&str]) {
+    rejects(&format!("{HEADER}\n{}{row}\n", good_rows(8)), needles);
+}
+
+fn good_rows(n: usize) -> String {
+    let mut s = String::new();
+    for i in 0..n {
+        for v in [50.0, 100.0, 150.0] {
+            s.push_str(&format!(
+                "A{i},{},0.3,8,1.2,0.191,0/90/0,{v},{},{},{}\n",
+                30 + i,
+                400 + i,
+                0.001 * v,
+                0.0005 * v
+            ));
+        }
+    }
+    s
+}
+
+#[test]
+fn missing_column_is_named() {
+    let header = HEADER.replace(",blocked_force_N", "");
+    let rows: String = good_rows(8)
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    rejects(
+        &format!("{header}\n{rows}"),
+        &["missing column", "blocked_force_N"],
+    );
+}
+
+#[test]
+fn non_numeric_cell_reports_line_and_column() {
+    rejects_row(
+        "A9,30,0.3,8,1.2,0.191,0/90/0,50,400,zero point one,0.02",
+        &["line 26", "free_deflection_mm", "zero point one"],
+    );
+}
+
+#[test]
+fn negative_mass_is_rejected() {
+    rejects_row(
+        "A9,30,0.3,8,1.2,0.191,0/90/0,50,-400,0.1,0.02",
+        &["mass_mg", "-400"],
+    );
+}
+
+#[test]
+fn unknown_layup_and_material_are_rejected() {
+    rejects_row(
+        "A9,30,0.3,8,1.2,0.191,[0/90]s,50,400,0.1,0.02",
+        &["layup", "[0/90]s"],
+    );
+    let text = format!(
+        "{HEADER},pzt\n{}",
+        good_rows(8)
+            .lines()
+            .map(|l| format!("{l},PZT-9Z\n"))
+            .collect::<String>()
+    );
+    rejects(&text, &["pzt", "PZT-9Z", "PZT-5H"]);
+}
+
+#[test]
+fn fewer_actuators_than_parameters_is_rejected() {
+    rejects(
+        &format!("{HEADER}\n{}", good_rows(2)),
+        &["actuators", "parameters"],
+    );
+}
+
+/// The calibrated model feeds cut-sheet: its report carries the calibrated prediction, the same numbers
+/// `predict --model FILE` prints.
+#[test]
+fn cut_sheet_takes_the_calibrated_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = dir.path().join("cal");
+    calibrate_example_into(&cal);
+    let model = cal.join("calibrated-model.toml");
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/thesis-C.toml");
+    let out = dir.path().join("cut");
+    cam_ok(&[
+        "cut-sheet",
+        design.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let predicted = cam_ok(&[
+        "predict",
+        design.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--json",
+    ]);
+    let p: serde_json::Value = serde_json::from_slice(&predicted.stdout).unwrap();
+    assert_eq!(report["predicted"]["model"], "calibrated");
+    assert_eq!(report["predicted"]["energy_mJ"], p["energy_mJ"]);
+    let original = cam_ok(&["predict", design.to_str().unwrap(), "--json"]);
+    let o: serde_json::Value = serde_json::from_slice(&original.stdout).unwrap();
+    // The example data hides a lower d31 and a compliant clamp: the calibrated energy is lower.
+    assert!(p["energy_mJ"].as_f64() < o["energy_mJ"].as_f64());
+    let bad = cam(&[
+        "predict",
+        design.to_str().unwrap(),
+        "--model",
+        "no-such-model",
+    ]);
+    assert!(
+        !bad.status.success()
+            && String::from_utf8_lossy(&bad.stderr)
+                .contains("original, thesis-adjusted, euler-bernoulli")
+    );
+}

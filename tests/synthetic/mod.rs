@@ -1,0 +1,262 @@
+//! Synthetic measured data for the calibration tests and the speed bench: random designs, a hidden truth
+//! generated with the model crate's effect physics, log-normal noise.
+#![allow(dead_code)]
+
+use actuator_cam::calibrate;
+use actuator_model::effects::{drive_at_voltage, Actuator};
+use actuator_model::{DriveMode, Effects, Material, Planform};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+pub const LAYUPS: [&str; 3] = ["0/90/0", "0/0/90/0/0", "0/0/0/90/0/0/0"];
+pub const T_P_MM: [f64; 3] = [0.127, 0.191, 0.267];
+pub const FIELDS_V_PER_MM: [f64; 4] = [200.0, 400.0, 600.0, 800.0];
+
+#[derive(Debug, Clone, Copy)]
+pub struct Design {
+    pub l_tot_mm: f64,
+    pub l_r: f64,
+    pub w0_mm: f64,
+    pub w_r: f64,
+    pub t_p_mm: f64,
+    pub layup: usize,
+}
+
+pub fn random_design(rng: &mut ChaCha8Rng) -> Design {
+    Design {
+        l_tot_mm: rng.gen_range(20.0..50.0),
+        l_r: rng.gen_range(0.0..1.0),
+        w0_mm: rng.gen_range(3.0..15.0),
+        w_r: rng.gen_range(0.5..1.75),
+        t_p_mm: T_P_MM[rng.gen_range(0..3)],
+        layup: rng.gen_range(0..3),
+    }
+}
+
+/// Hidden truth: a library effect set, or an effect outside the library.
+#[derive(Debug, Clone, Copy)]
+pub enum Truth {
+    Library(Effects),
+    /// Blocked force loses `a (E / 1 V/µm)²` (a force-only, quadratic-in-field loss no library effect
+    /// can express).
+    QuadraticForceLoss(f64),
+    /// Deflection and force lose a factor `exp(-a w0 / l_p)` (a width-dependent actuation loss, e.g.
+    /// anticlastic stiffening of wide plates, that no library effect expresses).
+    WidthLoss(f64),
+}
+
+pub struct Case {
+    pub name: &'static str,
+    pub hidden: &'static [&'static str],
+    pub truth: Truth,
+}
+
+pub fn cases() -> Vec<Case> {
+    let e = Effects::default;
+    vec![
+        Case {
+            name: "null",
+            hidden: &[],
+            truth: Truth::Library(e()),
+        },
+        Case {
+            name: "d31-scale",
+            hidden: &["d31-scale"],
+            truth: Truth::Library(Effects {
+                d31_scale: 0.7,
+                ..e()
+            }),
+        },
+        Case {
+            name: "field-dependent-d31",
+            hidden: &["field-dependent-d31"],
+            truth: Truth::Library(Effects {
+                d31_field_coefficient: 0.8e-6,
+                ..e()
+            }),
+        },
+        Case {
+            name: "dead-length",
+            hidden: &["dead-length"],
+            truth: Truth::Library(Effects {
+                dead_length: 3e-3,
+                ..e()
+            }),
+        },
+        Case {
+            name: "bond-layer",
+            hidden: &["bond-layer"],
+            truth: Truth::Library(Effects {
+                bond_thickness: 30e-6,
+                ..e()
+            }),
+        },
+        Case {
+            name: "compliant-extension",
+            hidden: &["compliant-extension"],
+            truth: Truth::Library(Effects {
+                extension_flexibility: 1.0,
+                ..e()
+            }),
+        },
+        Case {
+            name: "clamp-compliance",
+            hidden: &["clamp-compliance"],
+            truth: Truth::Library(Effects {
+                clamp_compliance: 0.5,
+                ..e()
+            }),
+        },
+        Case {
+            name: "ply-thickness",
+            hidden: &["ply-thickness"],
+            truth: Truth::Library(Effects {
+                ply_thickness_scale: 1.3,
+                ..e()
+            }),
+        },
+        Case {
+            name: "pair dead-length + clamp-compliance",
+            hidden: &["dead-length", "clamp-compliance"],
+            truth: Truth::Library(Effects {
+                dead_length: 3e-3,
+                clamp_compliance: 0.5,
+                ..e()
+            }),
+        },
+        Case {
+            name: "out-of-library width loss",
+            hidden: &[],
+            truth: Truth::WidthLoss(0.6),
+        },
+        Case {
+            name: "out-of-library",
+            hidden: &[],
+            truth: Truth::QuadraticForceLoss(0.4),
+        },
+    ]
+}
+
+/// True (δ m, F N, m kg) of a design at a field.
+pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64) {
+    let pzt = Material::builtin("PZT-5H").unwrap();
+    let cf = Material::builtin("CF-thesis").unwrap();
+    let layup = calibrate::csv::parse_layup(LAYUPS[d.layup]).unwrap();
+    let t_p = d.t_p_mm * 1e-3;
+    let a = Actuator {
+        pzt: &pzt,
+        pzt_thickness: t_p,
+        ply: &cf,
+        ply_thickness: 61.8e-6,
+        layup_deg: &layup,
+        planform: Planform::new(d.l_tot_mm * 1e-3, d.l_r, d.w0_mm * 1e-3, d.w_r, 0.0).unwrap(),
+        drive: drive_at_voltage(DriveMode::Parallel, field_v_per_mm * d.t_p_mm, t_p),
+    };
+    match truth {
+        Truth::Library(e) => {
+            let p = e.predict(&a).unwrap();
+            (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::WidthLoss(loss) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let k = (-loss * d.w0_mm / (a.planform.piezo_length() * 1e3)).exp();
+            (p.free_deflection * k, p.blocked_force * k, p.mass)
+        }
+        Truth::QuadraticForceLoss(loss) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let e = field_v_per_mm * 1e-3;
+            (
+                p.free_deflection,
+                p.blocked_force * (1.0 - loss * e * e),
+                p.mass,
+            )
+        }
+    }
+}
+
+pub fn normal(rng: &mut ChaCha8Rng) -> f64 {
+    let u1: f64 = rng.gen_range(1e-12..1.0);
+    let u2: f64 = rng.gen_range(0.0..1.0);
+    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+/// Synthetic CSV: n actuators x 4 voltages, log-normal noise 5% (δ, F) and 1% (mass, given once per id).
+pub fn synthetic_csv(truth: Truth, designs: &[Design], rng: &mut ChaCha8Rng) -> String {
+    synthetic_csv_at(truth, designs, &FIELDS_V_PER_MM, rng)
+}
+
+/// Synthetic CSV at the given drive fields (V/mm).
+pub fn synthetic_csv_at(
+    truth: Truth,
+    designs: &[Design],
+    fields: &[f64],
+    rng: &mut ChaCha8Rng,
+) -> String {
+    synthetic_csv_each(truth, designs, &|_| fields.to_vec(), rng)
+}
+
+/// Synthetic CSV with each design driven at its own fields (V/mm).
+pub fn synthetic_csv_each(
+    truth: Truth,
+    designs: &[Design],
+    fields_of: &dyn Fn(&Design) -> Vec<f64>,
+    rng: &mut ChaCha8Rng,
+) -> String {
+    let mut s = String::from(
+        "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N\n",
+    );
+    for (i, d) in designs.iter().enumerate() {
+        for (k, field) in fields_of(d).into_iter().enumerate() {
+            let (delta, force, mass) = truth_at(truth, d, field);
+            let mass_cell = if k == 0 {
+                format!("{:.6}", mass * 1e6 * (0.01 * normal(rng)).exp())
+            } else {
+                String::new()
+            };
+            s.push_str(&format!(
+                "A{i},{:.6},{:.6},{:.6},{:.6},{},{},{:.6},{},{:.8},{:.8}\n",
+                d.l_tot_mm,
+                d.l_r,
+                d.w0_mm,
+                d.w_r,
+                d.t_p_mm,
+                LAYUPS[d.layup],
+                field * d.t_p_mm,
+                mass_cell,
+                delta * 1e3 * (0.05 * normal(rng)).exp(),
+                force * (0.05 * normal(rng)).exp(),
+            ));
+        }
+    }
+    s
+}
+
+/// RMSE of log errors (δ, F, m) of a model against the noise-free truth on held-out designs.
+pub fn held_out_error(truth: Truth, designs: &[Design], model: &Effects) -> f64 {
+    let pzt = Material::builtin("PZT-5H").unwrap();
+    let cf = Material::builtin("CF-thesis").unwrap();
+    let mut sum = 0.0;
+    let mut n = 0;
+    for d in designs {
+        let layup = calibrate::csv::parse_layup(LAYUPS[d.layup]).unwrap();
+        for &field in &FIELDS_V_PER_MM {
+            let (td, tf, tm) = truth_at(truth, d, field);
+            let a = Actuator {
+                pzt: &pzt,
+                pzt_thickness: d.t_p_mm * 1e-3,
+                ply: &cf,
+                ply_thickness: 61.8e-6,
+                layup_deg: &layup,
+                planform: Planform::new(d.l_tot_mm * 1e-3, d.l_r, d.w0_mm * 1e-3, d.w_r, 0.0)
+                    .unwrap(),
+                drive: drive_at_voltage(DriveMode::Parallel, field * d.t_p_mm, d.t_p_mm * 1e-3),
+            };
+            let p = model.predict(&a).unwrap();
+            for (m, t) in [(p.free_deflection, td), (p.blocked_force, tf), (p.mass, tm)] {
+                sum += (m / t).ln().powi(2);
+                n += 1;
+            }
+        }
+    }
+    (sum / n as f64).sqrt()
+}
