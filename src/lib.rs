@@ -1,1 +1,3 @@
 //! actuator-cam
+
+pub mod nest;
