@@ -307,12 +307,48 @@ proptest! {
     }
 }
 
-fn report(name: &str, items: &[NestItem], s: &NestSettings) {
+/// Writes the sheets side by side as SVG (y up) for a look at the layout.
+fn write_svg(path: &std::path::Path, solution: &NestSolution, bin: &NestBin) {
+    let (w, h) = (bin.width_mm, bin.height_mm);
+    let mut svg = format!(
+        "<svg xmlns='http://www.w3.org/2000/svg' viewBox='-5 -5 {} {}' width='{}' height='{}'>\n",
+        (w + 10.0) * solution.bins.len() as f64,
+        h + 10.0,
+        4.0 * (w + 10.0) * solution.bins.len() as f64,
+        4.0 * (h + 10.0)
+    );
+    for (i, b) in solution.bins.iter().enumerate() {
+        let dx = i as f64 * (w + 10.0);
+        svg += &format!("<rect x='{dx}' y='0' width='{w}' height='{h}' fill='none' stroke='black' stroke-width='0.3'/>\n");
+        for p in &b.parts {
+            let points: Vec<String> = p
+                .outline
+                .iter()
+                .map(|q| format!("{:.3},{:.3}", q[0] + dx, h - q[1]))
+                .collect();
+            svg += &format!(
+                "<polygon points='{}' fill='hsl({},60%,60%)' stroke='black' stroke-width='0.1'/>\n",
+                points.join(" "),
+                p.item * 67 % 360
+            );
+        }
+    }
+    svg += "</svg>\n";
+    std::fs::write(path, svg).expect("write svg");
+}
+
+/// Nests `items` with both nesters, prints sheets, utilisation and wall time, and returns
+/// `(nester, baseline)` utilisation of the sheets used.
+fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
     let bin = sheet(100);
     let started = Instant::now();
     let solution = nest(items, &bin, s).expect("nest");
     let elapsed = started.elapsed();
     verify(items, &bin, s, &solution, 1e-9).expect("verifies");
+    if let Some(dir) = std::env::var_os("NEST_SVG_DIR") {
+        let file = format!("{}-{}.svg", name.replace([' ', ','], "_"), s.iterations);
+        write_svg(&std::path::Path::new(&dir).join(file), &solution, &bin);
+    }
     let baseline = nest_bounding_boxes(items, &bin, s).expect("baseline");
     let parts: usize = items.iter().map(|i| i.demand).sum();
     let fills = |sol: &NestSolution| {
@@ -334,12 +370,13 @@ fn report(name: &str, items: &[NestItem], s: &NestSettings) {
         baseline.utilization() * 100.0,
         fills(&baseline),
     );
+    (solution.utilization(), baseline.utilization())
 }
 
 #[test]
 #[ignore = "measurement; run in release with --nocapture"]
 fn report_sixty_mixed_actuators() {
-    for iterations in [0, 400, 2000] {
+    for iterations in [0, 500, 2000] {
         report(
             "60 mixed (4 x 15)",
             &sixty_mixed(),
@@ -350,8 +387,30 @@ fn report_sixty_mixed_actuators() {
 
 #[test]
 #[ignore = "measurement; run in release with --nocapture"]
+fn report_sixty_random_designs() {
+    let seeds = 1..=12u64;
+    let n = seeds.clone().count() as f64;
+    let (mut nester, mut baseline) = (0.0, 0.0);
+    for seed in seeds {
+        let (a, b) = report(
+            &format!("60 random (4 designs x 15, seed {seed})"),
+            &random_designs(seed, 4, 15),
+            &settings(0.3, 1, 1000),
+        );
+        nester += a / n;
+        baseline += b / n;
+    }
+    println!(
+        "mean utilisation over the batches: nester {:.1} %, baseline {:.1} %",
+        nester * 100.0,
+        baseline * 100.0
+    );
+}
+
+#[test]
+#[ignore = "measurement; run in release with --nocapture"]
 fn report_three_hundred_parts() {
-    for iterations in [0, 400, 1000] {
+    for iterations in [0, 1000, 3000] {
         report(
             "300 parts (10 random designs x 30)",
             &random_designs(2024, 10, 30),

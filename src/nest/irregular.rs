@@ -6,16 +6,21 @@
 //! sheet edge. Everything else is ours:
 //!
 //! * **Placement** ([`Model::find_spot`]): start positions at the sheet corner, next to and above
-//!   placed parts and at random, each pushed down and left in halving steps (a bottom-left slide)
-//!   while it stays collision-free; the end position with the lowest `top + λ·right` wins. This
-//!   slides a part turned by 180° into the slanted gap its neighbour leaves, which is where
-//!   trapezoidal parts gain over their bounding boxes.
-//! * **Greedy fill**: copies in decreasing size, first sheet that takes them.
-//! * **Local search** ([`Model::improve`]): ruin and recreate. Remove the parts around a random
-//!   point of a sheet, also take a few parts from the emptiest sheet, and reinsert them all,
-//!   fuller sheets first. Kept if the sheet count does not grow and the sum of squared fills
-//!   (which rises as parts move into fuller sheets) does not fall, and on a tie if the parts sit
-//!   no higher. Emptying the last sheet is the goal; a sheet that loses all its parts is closed.
+//!   placed parts, where parts of the same design sat before a ruin, and at random; each is
+//!   pushed down and left in halving steps (a bottom-left slide) while it stays collision-free,
+//!   and the end position with the lowest `top + λ·right` wins. The slide drops a part turned by
+//!   180° into the slanted gap its neighbour leaves, which is where trapezoids gain over their
+//!   bounding boxes.
+//! * **Greedy fill**: copies in decreasing size (area, length or box area, by worker), each on
+//!   the first sheet that takes it. The collision shapes come from jagua-rs's separation offset,
+//!   simplified outwards (a superset, so the gap holds) to keep queries cheap.
+//! * **Local search** ([`Model::improve`]): ruin and recreate. Either remove the parts nearest a
+//!   random point of a sheet and pull up to three parts from the emptiest sheet, or pull one part
+//!   and put it at a random spot of a sheet, removing what is in its way. Pulled parts go in
+//!   first, then the removed ones: the ruined sheet first, then fuller sheets, the emptiest last.
+//!   The objective is lexicographic: fewer sheets, a higher sum of squared fills (it rises as
+//!   parts move into fuller sheets, i.e. as the last sheet empties), then lower parts. Moves are
+//!   accepted by a threshold that shrinks to zero over the budget; the best layout is kept.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream derived from the
 //!   seed; work is cut into epochs by iteration count, and after each epoch the best layout
 //!   (ties to the lower worker index) seeds all workers. Thread timing never enters a decision.
@@ -24,7 +29,7 @@ use std::sync::Arc;
 
 use jagua_rs::collision_detection::hazards::filter::NoFilter;
 use jagua_rs::collision_detection::{CDEConfig, CDEngine};
-use jagua_rs::entities::Layout;
+use jagua_rs::entities::{Layout, PItemKey, PlacedItem};
 use jagua_rs::geometry::fail_fast::SPSurrogateConfig;
 use jagua_rs::geometry::geo_traits::{Transformable, TransformableFrom};
 use jagua_rs::geometry::primitives::{Rect, SPolygon};
@@ -82,13 +87,15 @@ struct Effort {
 }
 
 const GREEDY_EFFORT: Effort = Effort {
-    random: 10,
-    anchors: 24,
+    random: 100,
+    anchors: 200,
 };
 const REPAIR_EFFORT: Effort = Effort {
-    random: 8,
-    anchors: 20,
+    random: 20,
+    anchors: 50,
 };
+/// Largest drop in the sum of squared fills a move may cause at the start of a worker's budget.
+const ACCEPT_SLACK: f64 = 0.005;
 /// Most parts removed around the ruin point, and most parts pulled from the emptiest sheet.
 const MAX_RUIN: usize = 8;
 const MAX_PULL: usize = 3;
@@ -261,9 +268,16 @@ impl<'a> Model<'a> {
             blink_shuffle(&mut order, &mut rng);
         }
         let mut problem = BPProblem::new(self.instance.clone());
+        let mut sheets = Vec::new();
         for part in order {
-            let keys: Vec<LayKey> = problem.layouts().keys().collect();
-            self.insert(&mut problem, part, &keys, &mut rng, GREEDY_EFFORT)?;
+            self.insert(
+                &mut problem,
+                part,
+                &mut sheets,
+                &mut rng,
+                GREEDY_EFFORT,
+                &[],
+            )?;
         }
         Ok((self.score(&problem), self.sheets(&problem)))
     }
@@ -272,8 +286,9 @@ impl<'a> Model<'a> {
     fn improve(&self, start: &Sheets, budget: usize, mut rng: ChaCha8Rng) -> (Score, Sheets) {
         let mut problem = self.rebuild(start);
         let mut score = self.score(&problem);
+        let mut best = (score, start.clone());
         let mut saved = problem.save();
-        for _ in 0..budget {
+        for iteration in 0..budget {
             if problem.layouts().len() < 2 {
                 break;
             }
@@ -282,14 +297,24 @@ impl<'a> Model<'a> {
                 continue;
             }
             let trial = self.score(&problem);
-            if trial.at_least_as_good_as(&score) {
+            // Threshold acceptance: early on, a move may lower the concentration a little (never
+            // add a sheet); the slack shrinks linearly to zero over the budget.
+            let slack = ACCEPT_SLACK * (1.0 - iteration as f64 / budget as f64);
+            let relaxed = Score {
+                concentration: score.concentration - slack,
+                ..score
+            };
+            if trial.sheets <= score.sheets && trial.at_least_as_good_as(&relaxed) {
                 score = trial;
                 saved = problem.save();
+                if score.better_than(&best.0) {
+                    best = (score, self.sheets(&problem));
+                }
             } else {
                 problem.restore(&saved);
             }
         }
-        (score, self.sheets(&problem))
+        best
     }
 
     /// One move: remove the parts nearest a random point of a sheet (not the emptiest) and a few
@@ -303,13 +328,58 @@ impl<'a> Model<'a> {
         let (&emptiest, fuller) = by_fill.split_last().expect("two or more sheets");
         let target = fuller[rng.gen_range(0..fuller.len())];
 
-        let mut pool = Vec::new();
-        let layout = &problem.layouts()[target];
+        // Parts pulled from the emptiest sheet go in first, so they claim the room the ruin
+        // opened; the ruined parts refill what is left. Half the moves clear a window for one
+        // pulled part at a random spot instead of ruining around a random point.
+        let mut donors: Vec<_> = problem.layouts()[emptiest].placed_items().keys().collect();
+        donors.shuffle(rng);
+        let clear_window = !donors.is_empty() && rng.gen_bool(0.5);
+        let pull = if clear_window {
+            1
+        } else {
+            rng.gen_range(0..=MAX_PULL.min(donors.len()))
+        };
+        let mut pulled: Vec<Placement> = donors[..pull]
+            .iter()
+            .map(|&key| self.remove(problem, emptiest, key))
+            .collect();
+        let mut ruined = if clear_window {
+            let part = pulled.pop().expect("one part pulled");
+            self.make_room(problem, target, part.part, rng)
+        } else {
+            self.ruin_around_point(problem, target, rng)
+        };
+
+        let mut order: Vec<LayKey> = std::iter::once(target)
+            .chain(fuller.iter().copied().filter(|&k| k != target))
+            .chain(std::iter::once(emptiest))
+            .collect();
+        let area = |p: &Placement| self.job.parts[p.part].area;
+        for group in [&mut pulled, &mut ruined] {
+            group.sort_by(|a, b| area(b).total_cmp(&area(a)));
+            blink_shuffle(group, rng);
+        }
+        // Where the ruined parts were is a good place to try again.
+        let hints = ruined.clone();
+        for spot in pulled.into_iter().chain(ruined) {
+            order.retain(|&k| problem.layouts().contains_key(k));
+            self.insert(problem, spot.part, &mut order, rng, REPAIR_EFFORT, &hints)?;
+        }
+        Ok(())
+    }
+
+    /// Removes up to `MAX_RUIN` parts of sheet `target` nearest a random point; returns them.
+    fn ruin_around_point(
+        &self,
+        problem: &mut BPProblem,
+        target: LayKey,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Placement> {
         let centre = (
             rng.gen_range(self.usable.x_min..=self.usable.x_max),
             rng.gen_range(self.usable.y_min..=self.usable.y_max),
         );
-        let mut near: Vec<(f32, _)> = layout
+        let mut near: Vec<(f32, PItemKey)> = problem.layouts()[target]
             .placed_items()
             .iter()
             .map(|(key, pi)| {
@@ -323,50 +393,107 @@ impl<'a> Model<'a> {
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
         let ruin = rng.gen_range(1..=MAX_RUIN.min(near.len()));
-        for &(_, key) in &near[..ruin] {
-            pool.push(problem.remove_item(target, key).item_idx);
-        }
-
-        let mut donors: Vec<_> = problem.layouts()[emptiest].placed_items().keys().collect();
-        donors.shuffle(rng);
-        let pull = rng.gen_range(0..=MAX_PULL.min(donors.len()));
-        for &key in &donors[..pull] {
-            pool.push(problem.remove_item(emptiest, key).item_idx);
-        }
-
-        let mut order: Vec<LayKey> = std::iter::once(target)
-            .chain(fuller.iter().copied().filter(|&k| k != target))
-            .chain(std::iter::once(emptiest))
-            .collect();
-        let area = |p: usize| self.job.parts[p].area;
-        pool.sort_by(|&a, &b| area(b).total_cmp(&area(a)));
-        blink_shuffle(&mut pool, rng);
-        for part in pool {
-            order.retain(|&k| problem.layouts().contains_key(k));
-            self.insert(problem, part, &order, rng, REPAIR_EFFORT)?;
-        }
-        Ok(())
+        near[..ruin]
+            .iter()
+            .map(|&(_, key)| self.remove(problem, target, key))
+            .collect()
     }
 
-    /// Places `part` in the first of `sheets` with room, else on a new sheet.
+    /// Puts `part` at a random position of sheet `target`, removing the parts whose bounding
+    /// boxes are in the way, then slides it bottom-left; returns the removed parts (and `part`,
+    /// placement meaningless, if it could not be placed so).
+    fn make_room(
+        &self,
+        problem: &mut BPProblem,
+        target: LayKey,
+        part: usize,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Placement> {
+        let fitting: Vec<usize> = (0..self.shapes[part].len())
+            .filter(|&r| self.shapes[part][r].fits())
+            .collect();
+        let rot = fitting[rng.gen_range(0..fitting.len())];
+        let shape = &self.shapes[part][rot];
+        let t = (
+            rng.gen_range(shape.x.0..=shape.x.1),
+            rng.gen_range(shape.y.0..=shape.y.1),
+        );
+        let b = shape.plain.bbox();
+        let in_way: Vec<PItemKey> = problem.layouts()[target]
+            .placed_items()
+            .iter()
+            .filter(|(_, pi)| {
+                let o = pi.shape().bbox();
+                o.x_min < b.x_max + t.0
+                    && b.x_min + t.0 < o.x_max
+                    && o.y_min < b.y_max + t.1
+                    && b.y_min + t.1 < o.y_max
+            })
+            .map(|(key, _)| key)
+            .collect();
+        let mut removed: Vec<Placement> = in_way
+            .into_iter()
+            .map(|key| self.remove(problem, target, key))
+            .collect();
+        if let Some(layout) = problem.layouts().get(target) {
+            let mut buffer = shape.plain.clone();
+            if collision_free(layout.cde(), shape, &mut buffer, t) {
+                let t = slide_bottom_left(layout.cde(), shape, &mut buffer, t);
+                let spot = Placement { part, rot, t };
+                problem.place_item(self.bp_placement(BPLayoutType::Open(target), spot));
+                return removed;
+            }
+        }
+        removed.insert(0, Placement { part, rot, t });
+        removed
+    }
+
+    /// Takes a part off a sheet, returning where it was.
+    fn remove(&self, problem: &mut BPProblem, sheet: LayKey, key: PItemKey) -> Placement {
+        let spot = self.placement_of(&problem.layouts()[sheet].placed_items()[key]);
+        problem.remove_item(sheet, key);
+        spot
+    }
+
+    /// Where a placed item sits, in our terms.
+    fn placement_of(&self, pi: &PlacedItem) -> Placement {
+        let part = pi.item().idx();
+        let dt = pi.d_transf();
+        let rot = self.shapes[part]
+            .iter()
+            .position(|s| s.rotation_rad == dt.rotation())
+            .expect("placed at one of the part's rotations");
+        Placement {
+            part,
+            rot,
+            t: dt.translation(),
+        }
+    }
+
+    /// Places `part` in the first of `sheets` with room, else on a new sheet (appended to
+    /// `sheets`). `hints` are earlier placements worth trying as start positions.
     fn insert(
         &self,
         problem: &mut BPProblem,
         part: usize,
-        sheets: &[LayKey],
+        sheets: &mut Vec<LayKey>,
         rng: &mut ChaCha8Rng,
         effort: Effort,
+        hints: &[Placement],
     ) -> Result<(), NestError> {
-        for &key in sheets {
-            if let Some(spot) = self.find_spot(Some(&problem.layouts()[key]), part, rng, effort) {
+        for &key in sheets.iter() {
+            let layout = &problem.layouts()[key];
+            if let Some(spot) = self.find_spot(Some(layout), part, rng, effort, hints) {
                 problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
                 return Ok(());
             }
         }
         let spot = self
-            .find_spot(None, part, rng, effort)
+            .find_spot(None, part, rng, effort, &[])
             .ok_or_else(|| self.too_large(part))?;
-        problem.place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
+        let (key, _) =
+            problem.place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
+        sheets.push(key);
         Ok(())
     }
 
@@ -385,6 +512,7 @@ impl<'a> Model<'a> {
         part: usize,
         rng: &mut ChaCha8Rng,
         effort: Effort,
+        hints: &[Placement],
     ) -> Option<Placement> {
         let empty_sheet = self.instance.bins[0].container.base_cde();
         let cde = layout.map_or(empty_sheet.as_ref(), Layout::cde);
@@ -404,6 +532,12 @@ impl<'a> Model<'a> {
             let mut buffer = shape.plain.clone();
             let b = shape.plain.bbox();
             let mut starts = vec![(shape.x.0, shape.y.0)];
+            starts.extend(
+                hints
+                    .iter()
+                    .filter(|h| h.part == part && h.rot == rot)
+                    .map(|h| h.t),
+            );
             if !placed.is_empty() {
                 let mut anchors: Vec<(f32, f32)> = placed
                     .iter()
@@ -495,19 +629,7 @@ impl<'a> Model<'a> {
                 layout
                     .placed_items()
                     .values()
-                    .map(|pi| {
-                        let part = pi.item().idx();
-                        let dt = pi.d_transf();
-                        let rot = self.shapes[part]
-                            .iter()
-                            .position(|s| s.rotation_rad == dt.rotation())
-                            .expect("placed at one of the part's rotations");
-                        Placement {
-                            part,
-                            rot,
-                            t: dt.translation(),
-                        }
-                    })
+                    .map(|pi| self.placement_of(pi))
                     .collect()
             })
             .collect()
