@@ -255,6 +255,18 @@ fn empty_and_degenerate_outlines_are_rejected() {
 }
 
 #[test]
+fn closed_repeated_and_clockwise_rings_are_accepted() {
+    let mut clockwise = actuator(25.0, 8.0, 2.0, 10.0, 2.0);
+    clockwise.reverse();
+    let mut closed = actuator(30.0, 10.0, 1.0, 0.0, 0.0);
+    closed.push(closed[0]);
+    closed.insert(2, closed[1]);
+    let items = vec![fibre(clockwise, 5), fibre(closed, 5)];
+    let solution = nest_verified(&items, &sheet(5), &settings(0.3, 4, 10));
+    assert_eq!(solution.parts_placed(), 10);
+}
+
+#[test]
 fn bad_settings_are_rejected() {
     let items = sixty_mixed();
     let mut s = settings(0.3, 0, 0);

@@ -38,12 +38,13 @@ use jagua_rs::io::ext_repr::{
     ExtContainer, ExtItem, ExtOrientation, ExtRotation, ExtSPolygon, ExtShape,
 };
 use jagua_rs::io::import::Importer;
-use jagua_rs::probs::bpp::entities::{BPInstance, BPLayoutType, BPPlacement, BPProblem, LayKey};
-use jagua_rs::probs::bpp::io::ext_repr::{ExtBPInstance, ExtBin, ExtItem as ExtBPItem};
-use jagua_rs::probs::bpp::io::import_instance;
+use jagua_rs::probs::bpp::entities::{
+    BPInstance, BPLayoutType, BPPlacement, BPProblem, Bin, LayKey,
+};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 use super::problem::{
     rotate, Job, NestBin, NestError, NestItem, NestSettings, NestSolution, Placed,
@@ -685,7 +686,8 @@ impl<'a> Model<'a> {
 
 /// The job as a jagua-rs bin-packing instance: one item per part (same index), one sheet type
 /// with enough stock for one part per sheet (the real stock is checked on the result, so the
-/// error can say how many sheets are needed).
+/// error can say how many sheets are needed). Items are imported one by one so that an outline
+/// jagua-rs cannot take (e.g. it cannot be offset in f32) is named in the error.
 fn build_instance(job: &Job) -> Result<BPInstance, NestError> {
     let importer = Importer::new(
         CDEConfig {
@@ -699,57 +701,56 @@ fn build_instance(job: &Job) -> Result<BPInstance, NestError> {
         },
         Some(SIMPLIFY_AREA_RATIO),
         None,
-    );
-    let ext = ExtBPInstance {
-        name: "actuator-cam".into(),
-        min_item_separation: job.model_separation() as f32,
-        items: job
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(p, part)| ExtBPItem {
-                base: ExtItem {
-                    id: p as u64,
-                    orientation: ExtOrientation {
-                        rotation: ExtRotation::Discrete {
-                            angles: part.rotations_deg.iter().map(|&r| r as f32).collect(),
-                        },
-                        reflection_axes: Vec::new(),
+    )
+    .with_min_item_separation(job.model_separation() as f32)
+    .map_err(|e| NestError::BadSettings(format!("{e:#}")))?;
+    let items = job
+        .parts
+        .par_iter()
+        .enumerate()
+        .map(|(p, part)| {
+            let ext = ExtItem {
+                id: p as u64,
+                orientation: ExtOrientation {
+                    rotation: ExtRotation::Discrete {
+                        angles: part.rotations_deg.iter().map(|&r| r as f32).collect(),
                     },
-                    shape: ExtShape::SimplePolygon(ExtSPolygon(
-                        part.outline
-                            .iter()
-                            .map(|p| (p[0] as f32, p[1] as f32))
-                            .collect(),
-                    )),
-                    min_quality: None,
+                    reflection_axes: Vec::new(),
                 },
-                demand: part.demand as u64,
-            })
-            .collect(),
-        bins: vec![ExtBin {
-            base: ExtContainer {
-                id: 0,
-                shape: ExtShape::Rectangle {
-                    x_min: 0.0,
-                    y_min: 0.0,
-                    width: job.bin.width_mm as f32,
-                    height: job.bin.height_mm as f32,
-                },
-                zones: Vec::new(),
-            },
-            stock: job.copies(),
-            cost: 1,
-        }],
+                shape: ExtShape::SimplePolygon(ExtSPolygon(
+                    part.outline
+                        .iter()
+                        .map(|q| (q[0] as f32, q[1] as f32))
+                        .collect(),
+                )),
+                min_quality: None,
+            };
+            let item = importer
+                .import_item(&ext, p)
+                .map_err(|e| NestError::DegenerateOutline {
+                    item: part.item,
+                    reason: format!("jagua-rs cannot use it: {e:#}"),
+                })?;
+            Ok((item, part.demand))
+        })
+        .collect::<Result<Vec<_>, NestError>>()?;
+    let sheet = ExtContainer {
+        id: 0,
+        shape: ExtShape::Rectangle {
+            x_min: 0.0,
+            y_min: 0.0,
+            width: job.bin.width_mm as f32,
+            height: job.bin.height_mm as f32,
+        },
+        zones: Vec::new(),
     };
-    import_instance(&importer, &ext).map_err(|e| {
-        // Outlines were validated already; what jagua-rs still rejects is geometry it cannot
-        // offset or represent in f32.
-        NestError::DegenerateOutline {
-            item: usize::MAX,
-            reason: format!("jagua-rs rejected the instance: {e:#}"),
-        }
-    })
+    let container = importer
+        .import_container(&sheet)
+        .map_err(|e| NestError::BadSettings(format!("sheet rejected by jagua-rs: {e:#}")))?;
+    Ok(BPInstance::new(
+        items,
+        vec![Bin::new(0, 0, container, job.copies(), 1)],
+    ))
 }
 
 fn rotated_shape(shape_cd: &Arc<SPolygon>, deg: f64, usable: Rect) -> Result<RotatedShape, String> {

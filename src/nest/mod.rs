@@ -15,6 +15,6 @@ mod problem;
 pub use baseline::nest_bounding_boxes;
 pub use irregular::nest;
 pub use problem::{
-    place_outline, rotate, signed_area, verify, NestBin, NestError, NestItem, NestSettings,
-    NestSolution, NestViolation, NestedBin, PlacedPart, Point,
+    clean_ring, place_outline, rotate, signed_area, verify, NestBin, NestError, NestItem,
+    NestSettings, NestSolution, NestViolation, NestedBin, PlacedPart, Point,
 };

@@ -336,7 +336,8 @@ impl Job {
 
     /// Every part must fit an empty sheet at some allowed rotation.
     fn check_sizes(&self) -> Result<(), NestError> {
-        let gap = 2.0 * self.model_separation();
+        // The engine also keeps 1 µm start clearances; 0.01 mm covers them.
+        let gap = 2.0 * self.model_separation() + 0.01;
         for part in &self.parts {
             let fits =
                 |s: &[f64; 2]| s[0] + gap < self.bin.width_mm && s[1] + gap < self.bin.height_mm;
@@ -424,6 +425,22 @@ impl Job {
     }
 }
 
+/// The ring without a repeated closing point and without repeated consecutive points: what the
+/// nesters place and what placed outlines are made of.
+#[must_use]
+pub fn clean_ring(outline: &[Point]) -> Vec<Point> {
+    let mut ring: Vec<Point> = Vec::with_capacity(outline.len());
+    for &p in outline {
+        if ring.last() != Some(&p) {
+            ring.push(p);
+        }
+    }
+    while ring.len() > 1 && ring.first() == ring.last() {
+        ring.pop();
+    }
+    ring
+}
+
 fn validate_item(index: usize, item: &NestItem) -> Result<Part, NestError> {
     let degenerate = |reason: &str| {
         Err(NestError::DegenerateOutline {
@@ -431,10 +448,7 @@ fn validate_item(index: usize, item: &NestItem) -> Result<Part, NestError> {
             reason: reason.to_string(),
         })
     };
-    let mut outline = item.outline.clone();
-    if outline.len() > 1 && outline.first() == outline.last() {
-        outline.pop();
-    }
+    let outline = clean_ring(&item.outline);
     if outline.len() < 3 {
         return degenerate(&format!("{} points, needs at least 3", outline.len()));
     }
@@ -531,8 +545,9 @@ fn segments_touch(a: Point, b: Point, c: Point, d: Point) -> bool {
 
 /// Checks a solution against the rules without trusting the nester (plain `geo` geometry, no
 /// jagua-rs): every part inside its sheet with at least the separation to each edge, pairwise
-/// distance at least the separation, rotations from the allowed list, outlines equal to item
-/// outline + rotation + translation, every demanded copy placed exactly once, stock respected.
+/// distance at least the separation, rotations from the allowed list, outlines equal to the item
+/// outline ([`clean_ring`]) + rotation + translation, every demanded copy placed exactly once,
+/// stock respected.
 /// `tolerance_mm` absorbs rounding in the check itself (1e-9 is plenty).
 pub fn verify(
     items: &[NestItem],
@@ -568,7 +583,11 @@ pub fn verify(
                     rotation_deg: part.rotation_deg,
                 });
             }
-            let expected = place_outline(&item.outline, part.rotation_deg, part.translation);
+            let expected = place_outline(
+                &clean_ring(&item.outline),
+                part.rotation_deg,
+                part.translation,
+            );
             let matches = expected.len() == part.outline.len()
                 && expected.iter().zip(&part.outline).all(|(e, o)| {
                     (e[0] - o[0]).abs() <= tolerance_mm && (e[1] - o[1]).abs() <= tolerance_mm
