@@ -53,7 +53,7 @@ impl Default for NestSettings {
         Self {
             separation_mm: 0.3,
             seed: 0,
-            iterations: 400,
+            iterations: 1000,
             workers: 2,
         }
     }
