@@ -5,7 +5,7 @@
 //! the separation, so a collision-free layout keeps the full separation between parts and to the
 //! sheet edge. Everything else is ours:
 //!
-//! * **Placement** ([`Model::find_spot`]): start positions at the sheet corner, next to and above
+//! * **Placement** (`Model::find_spot`): start positions at the sheet corner, next to and above
 //!   placed parts, where parts of the same design sat before a ruin, and at random; each is
 //!   pushed down and left in halving steps (a bottom-left slide) while it stays collision-free,
 //!   and the end position with the lowest `top + λ·right` wins. The slide drops a part turned by
@@ -14,7 +14,7 @@
 //! * **Greedy fill**: copies in decreasing size (area, length or box area, by worker), each on
 //!   the first sheet that takes it. The collision shapes come from jagua-rs's separation offset,
 //!   simplified outwards (a superset, so the gap holds) to keep queries cheap.
-//! * **Local search** ([`Model::improve`]): ruin and recreate. Either remove the parts nearest a
+//! * **Local search** (`Model::improve`): ruin and recreate. Either remove the parts nearest a
 //!   random point of a sheet and pull up to three parts from the emptiest sheet, or pull one part
 //!   and put it at a random spot of a sheet, removing what is in its way. Pulled parts go in
 //!   first, then the removed ones: the ruined sheet first, then fuller sheets, the emptiest last.
