@@ -8,4 +8,5 @@ pub mod cutsheet;
 pub mod design;
 pub mod input;
 pub mod layout;
+pub mod nest;
 pub mod prediction;

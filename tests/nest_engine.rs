@@ -1,0 +1,432 @@
+//! Nesting engine: every layout is checked with `nest::verify` (plain `geo` distances, not
+//! jagua-rs), plus determinism, the bounding-box baseline comparison and error messages.
+//! `report_*` tests are `#[ignore]`d measurements: run them in release with
+//! `cargo test --release --test nest_engine -- --ignored --nocapture`.
+
+use actuator_cam::nest::{
+    nest, nest_bounding_boxes, verify, NestBin, NestError, NestItem, NestSettings, NestSolution,
+    Point,
+};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+
+/// Passive part of a bimorph actuator, base at x = 0, tip towards +x, symmetric about y = 0:
+/// trapezoid (`length`, `base` and `tip` widths), a rectangular extension at the tip width and a
+/// rectangular tab at the base width behind the base. CCW, no repeated closing point.
+fn actuator(length: f64, base: f64, tip: f64, extension: f64, tab: f64) -> Vec<Point> {
+    let (b, t) = (base / 2.0, tip / 2.0);
+    let mut ring = Vec::new();
+    if tab > 0.0 {
+        ring.push([-tab, -b]);
+    }
+    ring.push([0.0, -b]);
+    ring.push([length, -t]);
+    if extension > 0.0 {
+        ring.push([length + extension, -t]);
+        ring.push([length + extension, t]);
+    }
+    ring.push([length, t]);
+    ring.push([0.0, b]);
+    if tab > 0.0 {
+        ring.push([-tab, b]);
+    }
+    ring
+}
+
+fn fibre(outline: Vec<Point>, demand: usize) -> NestItem {
+    NestItem {
+        outline,
+        demand,
+        rotations_deg: vec![0.0, 180.0],
+    }
+}
+
+/// 60 actuators: 4 designs x 15 spanning the usual sizes.
+fn sixty_mixed() -> Vec<NestItem> {
+    vec![
+        fibre(actuator(20.0, 6.0, 1.5, 10.0, 2.0), 15),
+        fibre(actuator(30.0, 12.0, 3.0, 20.0, 3.0), 15),
+        fibre(actuator(40.0, 20.0, 6.0, 25.0, 5.0), 15),
+        fibre(actuator(15.0, 4.0, 0.8, 0.0, 0.0), 15),
+    ]
+}
+
+/// `designs` random actuator designs from the usual ranges, `copies` of each.
+fn random_designs(seed: u64, designs: usize, copies: usize) -> Vec<NestItem> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..designs)
+        .map(|_| {
+            let length = rng.gen_range(15.0..=40.0);
+            let base = rng.gen_range(3.0..=20.0);
+            let tip = rng.gen_range(0.5f64..=10.0).min(base);
+            let extension = if rng.gen_bool(0.7) {
+                rng.gen_range(0.0..=30.0)
+            } else {
+                0.0
+            };
+            let tab = if rng.gen_bool(0.5) {
+                rng.gen_range(0.0..=5.0)
+            } else {
+                0.0
+            };
+            fibre(actuator(length, base, tip, extension, tab), copies)
+        })
+        .collect()
+}
+
+fn sheet(stock: usize) -> NestBin {
+    NestBin {
+        width_mm: 150.0,
+        height_mm: 150.0,
+        stock,
+    }
+}
+
+fn settings(separation_mm: f64, seed: u64, iterations: usize) -> NestSettings {
+    NestSettings {
+        separation_mm,
+        seed,
+        iterations,
+        workers: 2,
+    }
+}
+
+fn nest_verified(items: &[NestItem], bin: &NestBin, settings: &NestSettings) -> NestSolution {
+    let solution = nest(items, bin, settings).expect("nest");
+    if let Err(violation) = verify(items, bin, settings, &solution, 1e-9) {
+        panic!("invalid nest: {violation}");
+    }
+    solution
+}
+
+/// Item, copy, rotation bits and translation bits of one placed part.
+type ExactPlacement = (usize, usize, u64, [u64; 2]);
+
+/// Placements only, exactly (bit for bit).
+fn placements(solution: &NestSolution) -> Vec<Vec<ExactPlacement>> {
+    solution
+        .bins
+        .iter()
+        .map(|b| {
+            b.parts
+                .iter()
+                .map(|p| {
+                    (
+                        p.item,
+                        p.copy,
+                        p.rotation_deg.to_bits(),
+                        p.translation.map(f64::to_bits),
+                    )
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn fixed_batches() -> Vec<(&'static str, Vec<NestItem>, f64)> {
+    let mut quarter_turns = random_designs(3, 3, 4);
+    for item in &mut quarter_turns {
+        item.rotations_deg = vec![0.0, 90.0, 180.0, 270.0];
+    }
+    quarter_turns.push(NestItem {
+        outline: vec![[0.0, 0.0], [30.0, 0.0], [30.0, 8.0], [0.0, 8.0]],
+        demand: 6,
+        rotations_deg: vec![90.0],
+    });
+    vec![
+        ("60 mixed actuators, 0.3 mm", sixty_mixed(), 0.3),
+        (
+            "random designs 4 x 10, 0.5 mm",
+            random_designs(11, 4, 10),
+            0.5,
+        ),
+        ("quarter turns + fixed 90°", quarter_turns, 0.4),
+    ]
+}
+
+#[test]
+fn fixed_batches_verify_and_never_lose_to_the_baseline() {
+    for (name, items, sep) in fixed_batches() {
+        let s = settings(sep, 1, 40);
+        let solution = nest_verified(&items, &sheet(20), &s);
+        let baseline = nest_bounding_boxes(&items, &sheet(20), &s).expect("baseline");
+        verify(&items, &sheet(20), &s, &baseline, 1e-9).expect("baseline verifies");
+        println!(
+            "{name}: nester {} sheets at {:.1} %, baseline {} sheets at {:.1} %",
+            solution.bins_used(),
+            solution.utilization() * 100.0,
+            baseline.bins_used(),
+            baseline.utilization() * 100.0
+        );
+        assert!(
+            solution.bins_used() <= baseline.bins_used(),
+            "{name}: nester used {} sheets, baseline {}",
+            solution.bins_used(),
+            baseline.bins_used()
+        );
+    }
+}
+
+#[test]
+fn same_seed_same_layout_other_seed_still_valid() {
+    let items = random_designs(5, 3, 8);
+    let a = nest_verified(&items, &sheet(10), &settings(0.3, 42, 30));
+    let b = nest_verified(&items, &sheet(10), &settings(0.3, 42, 30));
+    assert_eq!(placements(&a), placements(&b));
+    assert_eq!(a, b);
+    nest_verified(&items, &sheet(10), &settings(0.3, 43, 30));
+}
+
+#[test]
+fn one_worker_and_three_workers_both_verify() {
+    let items = random_designs(8, 2, 6);
+    for workers in [1, 3] {
+        let s = NestSettings {
+            workers,
+            ..settings(0.4, 9, 12)
+        };
+        nest_verified(&items, &sheet(10), &s);
+    }
+}
+
+#[test]
+fn oversize_part_names_both_sizes() {
+    let items = vec![fibre(vec![[0.0, 0.0], [160.0, 0.0], [0.0, 10.0]], 1)];
+    let err = nest(&items, &sheet(1), &settings(0.3, 0, 0)).unwrap_err();
+    assert!(matches!(err, NestError::PartLargerThanBin { item: 0, .. }));
+    let msg = err.to_string();
+    assert!(
+        msg.contains("160.000 x 10.000") && msg.contains("150 x 150"),
+        "{msg}"
+    );
+    let err = nest_bounding_boxes(&items, &sheet(1), &settings(0.3, 0, 0)).unwrap_err();
+    assert!(matches!(err, NestError::PartLargerThanBin { .. }));
+}
+
+#[test]
+fn a_part_that_fits_only_turned_is_turned() {
+    let items = vec![NestItem {
+        outline: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 140.0], [0.0, 140.0]],
+        demand: 1,
+        rotations_deg: vec![90.0, 0.0],
+    }];
+    let bin = NestBin {
+        width_mm: 150.0,
+        height_mm: 20.0,
+        stock: 1,
+    };
+    let solution = nest_verified(&items, &bin, &settings(0.3, 0, 0));
+    assert_eq!(solution.bins[0].parts[0].rotation_deg, 90.0);
+}
+
+#[test]
+fn stock_too_small_says_how_many_sheets_are_needed() {
+    // 40 x 40 mm squares: at most 9 a sheet, so 20 need 3 sheets.
+    let items = vec![fibre(
+        vec![[0.0, 0.0], [40.0, 0.0], [40.0, 40.0], [0.0, 40.0]],
+        20,
+    )];
+    let err = nest(&items, &sheet(2), &settings(0.3, 0, 10)).unwrap_err();
+    assert_eq!(
+        err,
+        NestError::StockTooSmall {
+            needed: 3,
+            stock: 2
+        }
+    );
+    assert!(err.to_string().contains("need 3 sheets"), "{err}");
+}
+
+#[test]
+fn empty_and_degenerate_outlines_are_rejected() {
+    for outline in [
+        vec![],
+        vec![[0.0, 0.0], [1.0, 1.0]],
+        vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]],
+    ] {
+        let err = nest(&[fibre(outline, 1)], &sheet(1), &settings(0.3, 0, 0)).unwrap_err();
+        assert!(
+            matches!(err, NestError::DegenerateOutline { item: 0, .. }),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn closed_repeated_and_clockwise_rings_are_accepted() {
+    let mut clockwise = actuator(25.0, 8.0, 2.0, 10.0, 2.0);
+    clockwise.reverse();
+    let mut closed = actuator(30.0, 10.0, 1.0, 0.0, 0.0);
+    closed.push(closed[0]);
+    closed.insert(2, closed[1]);
+    let items = vec![fibre(clockwise, 5), fibre(closed, 5)];
+    let solution = nest_verified(&items, &sheet(5), &settings(0.3, 4, 10));
+    assert_eq!(solution.parts_placed(), 10);
+}
+
+#[test]
+fn bad_settings_are_rejected() {
+    let items = sixty_mixed();
+    let mut s = settings(0.3, 0, 0);
+    s.workers = 0;
+    assert!(matches!(
+        nest(&items, &sheet(5), &s),
+        Err(NestError::BadSettings(_))
+    ));
+    s = settings(-0.1, 0, 0);
+    assert!(matches!(
+        nest(&items, &sheet(5), &s),
+        Err(NestError::BadSettings(_))
+    ));
+    let mut no_rotation = sixty_mixed();
+    no_rotation[1].rotations_deg.clear();
+    assert!(matches!(
+        nest(&no_rotation, &sheet(5), &settings(0.3, 0, 0)),
+        Err(NestError::BadRotations { item: 1, .. })
+    ));
+}
+
+#[test]
+fn nothing_demanded_gives_an_empty_solution() {
+    let solution = nest(
+        &[fibre(actuator(20.0, 5.0, 1.0, 0.0, 0.0), 0)],
+        &sheet(0),
+        &settings(0.3, 0, 5),
+    )
+    .expect("nest");
+    assert_eq!(solution.bins_used(), 0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+    #[test]
+    fn random_batches_verify(
+        seed in any::<u64>(),
+        designs in 1usize..4,
+        copies in 1usize..8,
+        separation in 0.0f64..0.6,
+        quarter in any::<bool>(),
+    ) {
+        let mut items = random_designs(seed, designs, copies);
+        if quarter {
+            items[0].rotations_deg = vec![0.0, 90.0, 180.0, 270.0];
+        }
+        let s = settings(separation, seed, 8);
+        let solution = nest(&items, &sheet(50), &s).expect("nest");
+        prop_assert_eq!(verify(&items, &sheet(50), &s, &solution, 1e-9), Ok(()));
+    }
+}
+
+/// Writes the sheets side by side as SVG (y up) for a look at the layout.
+fn write_svg(path: &std::path::Path, solution: &NestSolution, bin: &NestBin) {
+    let (w, h) = (bin.width_mm, bin.height_mm);
+    let mut svg = format!(
+        "<svg xmlns='http://www.w3.org/2000/svg' viewBox='-5 -5 {} {}' width='{}' height='{}'>\n",
+        (w + 10.0) * solution.bins.len() as f64,
+        h + 10.0,
+        4.0 * (w + 10.0) * solution.bins.len() as f64,
+        4.0 * (h + 10.0)
+    );
+    for (i, b) in solution.bins.iter().enumerate() {
+        let dx = i as f64 * (w + 10.0);
+        svg += &format!("<rect x='{dx}' y='0' width='{w}' height='{h}' fill='none' stroke='black' stroke-width='0.3'/>\n");
+        for p in &b.parts {
+            let points: Vec<String> = p
+                .outline
+                .iter()
+                .map(|q| format!("{:.3},{:.3}", q[0] + dx, h - q[1]))
+                .collect();
+            svg += &format!(
+                "<polygon points='{}' fill='hsl({},60%,60%)' stroke='black' stroke-width='0.1'/>\n",
+                points.join(" "),
+                p.item * 67 % 360
+            );
+        }
+    }
+    svg += "</svg>\n";
+    std::fs::write(path, svg).expect("write svg");
+}
+
+/// Nests `items` with both nesters, prints sheets, utilisation and wall time, and returns
+/// `(nester, baseline)` utilisation of the sheets used.
+fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
+    let bin = sheet(100);
+    let started = Instant::now();
+    let solution = nest(items, &bin, s).expect("nest");
+    let elapsed = started.elapsed();
+    verify(items, &bin, s, &solution, 1e-9).expect("verifies");
+    if let Some(dir) = std::env::var_os("NEST_SVG_DIR") {
+        let file = format!("{}-{}.svg", name.replace([' ', ','], "_"), s.iterations);
+        write_svg(&std::path::Path::new(&dir).join(file), &solution, &bin);
+    }
+    let baseline = nest_bounding_boxes(items, &bin, s).expect("baseline");
+    let parts: usize = items.iter().map(|i| i.demand).sum();
+    let fills = |sol: &NestSolution| {
+        sol.bins
+            .iter()
+            .map(|b| format!("{:.1}", b.utilization * 100.0))
+            .collect::<Vec<_>>()
+            .join("/")
+    };
+    println!(
+        "{name}: {parts} parts, {} iterations, {} workers: {:.2} s\n  nester   {} sheets, utilisation {:.1} % (per sheet {})\n  baseline {} sheets, utilisation {:.1} % (per sheet {})",
+        s.iterations,
+        s.workers,
+        elapsed.as_secs_f64(),
+        solution.bins_used(),
+        solution.utilization() * 100.0,
+        fills(&solution),
+        baseline.bins_used(),
+        baseline.utilization() * 100.0,
+        fills(&baseline),
+    );
+    (solution.utilization(), baseline.utilization())
+}
+
+#[test]
+#[ignore = "measurement; run in release with --nocapture"]
+fn report_sixty_mixed_actuators() {
+    for iterations in [0, 500, 2000] {
+        report(
+            "60 mixed (4 x 15)",
+            &sixty_mixed(),
+            &settings(0.3, 1, iterations),
+        );
+    }
+}
+
+#[test]
+#[ignore = "measurement; run in release with --nocapture"]
+fn report_sixty_random_designs() {
+    let seeds = 1..=12u64;
+    let n = seeds.clone().count() as f64;
+    let (mut nester, mut baseline) = (0.0, 0.0);
+    for seed in seeds {
+        let (a, b) = report(
+            &format!("60 random (4 designs x 15, seed {seed})"),
+            &random_designs(seed, 4, 15),
+            &settings(0.3, 1, 1000),
+        );
+        nester += a / n;
+        baseline += b / n;
+    }
+    println!(
+        "mean utilisation over the batches: nester {:.1} %, baseline {:.1} %",
+        nester * 100.0,
+        baseline * 100.0
+    );
+}
+
+#[test]
+#[ignore = "measurement; run in release with --nocapture"]
+fn report_three_hundred_parts() {
+    for iterations in [0, 1000, 3000] {
+        report(
+            "300 parts (10 random designs x 30)",
+            &random_designs(2024, 10, 30),
+            &settings(0.3, 1, iterations),
+        );
+    }
+}
