@@ -1,25 +1,24 @@
 //! Writing a cut sheet: every file is rendered in memory, written into a temporary directory beside the
 //! target, and the directory renamed into place, so a failure leaves no half-written output.
 
-use super::{CutSheet, Formats};
+use super::{CutSheet, Formats, SheetDrawing};
 use crate::cam::dxf::to_dxf;
 use crate::cam::svg::{to_svg, SvgOptions};
 use anyhow::{anyhow, Context};
 use std::path::Path;
 
-/// File names and bytes of a cut sheet, in a fixed order.
-pub fn render(
-    sheet: &CutSheet,
+/// File names and bytes of layer drawings (SVG and/or DXF per drawing), in drawing order.
+pub fn render_drawings(
+    drawings: &[SheetDrawing],
     formats: Formats,
-    stroke_mm: f64,
+    opts: &SvgOptions,
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
-    let opts = SvgOptions { stroke_mm };
     let mut files = Vec::new();
-    for d in &sheet.drawings {
+    for d in drawings {
         if formats.svg {
             files.push((
                 format!("{}.svg", d.stem),
-                to_svg(&d.drawing, &opts).into_bytes(),
+                to_svg(&d.drawing, opts).into_bytes(),
             ));
         }
         if formats.dxf {
@@ -29,6 +28,17 @@ pub fn render(
             ));
         }
     }
+    Ok(files)
+}
+
+/// File names and bytes of a cut sheet, in a fixed order.
+pub fn render(
+    sheet: &CutSheet,
+    formats: Formats,
+    stroke_mm: f64,
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let opts = SvgOptions { stroke_mm };
+    let mut files = render_drawings(&sheet.drawings, formats, &opts)?;
     files.push((
         "preview-actuator.svg".into(),
         to_svg(&sheet.preview, &opts).into_bytes(),
