@@ -48,12 +48,14 @@ fn main() {
                 .iter()
                 .map(|b| {
                     format!(
-                        "{} parts: {} sheet(s) {:.1}% vs boxes {} {:.1}%",
+                        "{} parts: {} sheet(s) {:.1}% (strip {:.1}%) vs boxes {} {:.1}% (strip {:.1}%)",
                         b.parts,
                         b.sheets,
                         b.utilization * 100.0,
+                        b.used_utilization * 100.0,
                         b.baseline_sheets,
-                        b.baseline_utilization * 100.0
+                        b.baseline_utilization * 100.0,
+                        b.baseline_used_utilization * 100.0
                     )
                 })
                 .collect();

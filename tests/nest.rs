@@ -189,6 +189,12 @@ fn check_report(
     assert_eq!(panels, designs.values().map(|(_, q)| q).sum::<usize>());
     for b in report["baseline"].as_array().unwrap() {
         assert!(b["sheets"].as_u64() <= b["baseline_sheets"].as_u64(), "{b}");
+        let f = |k: &str| b[k].as_f64().unwrap();
+        assert!(f("used_utilization") >= f("utilization") - 1e-12, "{b}");
+        assert!(
+            f("baseline_used_utilization") >= f("baseline_utilization") - 1e-12,
+            "{b}"
+        );
     }
 }
 
@@ -306,6 +312,66 @@ fn random_batches_always_check_out() {
         assert!(o.status.success(), "{text}\n{}", stderr(&o));
         check_report(&out, &designs, spacing);
     }
+}
+
+#[test]
+fn method_1_batch_nests_pyralux_bond_layers_with_vias() {
+    let c = std::fs::read_to_string(example("thesis-C.toml")).unwrap();
+    let b = std::fs::read_to_string(example("thesis-B.toml")).unwrap();
+    let dir = scratch_batch(
+        "name = \"m1\"\n[[item]]\ndesign = \"c.toml\"\nquantity = 5\n[[item]]\ndesign = \"b.toml\"\nquantity = 3\n\
+         [sheets]\npyralux = { width_mm = 60, height_mm = 60, price_per_sheet = 12.5 }\n",
+        &[
+            ("c.toml", &c.replace("method-2", "method-1")),
+            ("b.toml", &b.replace("method-2", "method-1")),
+        ],
+    );
+    let out = dir.path().join("out");
+    let o = nest(&dir.path().join("batch.toml"), &out, &["--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(
+        report,
+        serde_json::from_str::<serde_json::Value>(
+            &std::fs::read_to_string(out.join("nest-report.json")).unwrap()
+        )
+        .unwrap(),
+        "--json prints the written report"
+    );
+    let mut bond_parts = BTreeMap::new();
+    for sheet in report["sheets"].as_array().unwrap() {
+        if sheet["layer"] == "pyralux" {
+            assert_eq!(sheet["width_mm"], 60.0);
+            for p in sheet["parts"].as_array().unwrap() {
+                *bond_parts
+                    .entry(p["design"].as_str().unwrap().to_string())
+                    .or_insert(0) += 1;
+            }
+            let svg = std::fs::read_to_string(
+                out.join(format!("{}.svg", sheet["file_stem"].as_str().unwrap())),
+            )
+            .unwrap();
+            // One via (a circle drawn with arcs) per bond part.
+            assert_eq!(
+                svg.matches(" A").count() / 2,
+                sheet["parts"].as_array().unwrap().len(),
+                "one via per part"
+            );
+        }
+    }
+    assert_eq!(bond_parts["thesis-C"], 10);
+    assert_eq!(bond_parts["thesis-B"], 6);
+    let pyralux = report["totals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|t| t["layer"] == "pyralux")
+        .unwrap();
+    assert_eq!(
+        pyralux["cost"].as_f64().unwrap(),
+        12.5 * pyralux["sheets"].as_f64().unwrap()
+    );
+    assert_eq!(report["total_cost"], pyralux["cost"]);
 }
 
 /// A batch in a temp dir with copies of example designs (one line of a design replaceable).

@@ -238,8 +238,28 @@ fn nest_layer(
         parts: copies,
         sheets: solution.bins_used(),
         utilization: solution.utilization(),
+        used_utilization: used_utilization(&solution, &bin),
         baseline_sheets: boxes.bins_used(),
         baseline_utilization: boxes.utilization(),
+        baseline_used_utilization: used_utilization(&boxes, &bin),
     };
     Ok((layouts, row))
+}
+
+/// Part area over the material a nest consumes when the emptiest (last) sheet's unused strip is kept as
+/// offcut: full sheets, plus the last sheet up to its highest or rightmost part, whichever leaves the
+/// larger offcut. Separates two nesters that need the same number of sheets.
+fn used_utilization(solution: &NestSolution, bin: &NestBin) -> f64 {
+    let Some(last) = solution.bins.last() else {
+        return 0.0;
+    };
+    let sheet = bin.width_mm * bin.height_mm;
+    let parts: f64 = solution.bins.iter().map(|b| b.utilization * sheet).sum();
+    let (right, top) = last
+        .parts
+        .iter()
+        .flat_map(|p| &p.outline)
+        .fold((0.0f64, 0.0f64), |(x, y), q| (x.max(q[0]), y.max(q[1])));
+    let strip = (bin.width_mm * top).min(bin.height_mm * right);
+    parts / ((solution.bins.len() - 1) as f64 * sheet + strip)
 }

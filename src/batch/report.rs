@@ -56,8 +56,11 @@ pub struct BaselineRow {
     pub sheets: usize,
     /// Part area / area of the sheets used.
     pub utilization: f64,
+    /// Part area / material consumed when the last sheet's unused strip is kept as offcut.
+    pub used_utilization: f64,
     pub baseline_sheets: usize,
     pub baseline_utilization: f64,
+    pub baseline_used_utilization: f64,
 }
 
 /// An actuator of the batch.
@@ -284,22 +287,28 @@ impl NestReport {
         let _ = writeln!(s, "\n## Irregular nest against the bounding-box baseline\n");
         let _ = writeln!(
             s,
-            "| layer | material | parts | sheets | utilisation | baseline sheets | baseline utilisation |"
+            "| layer | material | parts | sheets | utilisation | used-strip utilisation | baseline sheets | baseline utilisation | baseline used-strip utilisation |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
         for b in &self.baseline {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.1}% | {} | {:.1}% |",
+                "| {} | {} | {} | {} | {:.1}% | {:.1}% | {} | {:.1}% | {:.1}% |",
                 b.layer,
                 b.material,
                 b.parts,
                 b.sheets,
                 b.utilization * 100.0,
+                b.used_utilization * 100.0,
                 b.baseline_sheets,
-                b.baseline_utilization * 100.0
+                b.baseline_utilization * 100.0,
+                b.baseline_used_utilization * 100.0
             );
         }
+        let _ = writeln!(
+            s,
+            "\nUsed-strip utilisation counts the last sheet only up to its highest (or rightmost) part: the rest stays usable as offcut.\n"
+        );
         let _ = writeln!(s, "\n## Totals\n");
         let _ = writeln!(s, "| layer | material | sheets | price/sheet | cost |");
         let _ = writeln!(s, "|---|---|---|---|---|");
