@@ -43,24 +43,9 @@ fn main() {
             .expect("render");
             times.push(start.elapsed().as_secs_f64());
             let r = &planned.report;
-            let passive: Vec<String> = r
-                .baseline
-                .iter()
-                .map(|b| {
-                    format!(
-                        "{} parts: {} sheet(s) {:.1}% (strip {:.1}%) vs boxes {} {:.1}% (strip {:.1}%)",
-                        b.parts,
-                        b.sheets,
-                        b.utilization * 100.0,
-                        b.used_utilization * 100.0,
-                        b.baseline_sheets,
-                        b.baseline_utilization * 100.0,
-                        b.baseline_used_utilization * 100.0
-                    )
-                })
-                .collect();
+            let passive: Vec<String> = r.baseline.iter().map(|b| b.summary()).collect();
             summary = format!(
-                "{} files, {} PZT sheets, {} panels; passive {}",
+                "{} files, {} PZT sheets, {} panels; {}",
                 files.len(),
                 r.sheets_of("pzt"),
                 r.clamp_panels.len(),

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use geo::{Distance, Euclidean, Polygon};
+use geo::{Distance, Euclidean};
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -17,19 +17,6 @@ fn nest(batch: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec!["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()];
     args.extend_from_slice(extra);
     run(&args)
-}
-
-fn files(out: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(out)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            (
-                e.file_name().to_string_lossy().into_owned(),
-                std::fs::read(e.path()).unwrap(),
-            )
-        })
-        .collect()
 }
 
 /// Nominal outlines of a design, rebuilt from its file (MODEL-NOTES §4 planform): l_p = l / (1 + l_r),
@@ -70,19 +57,6 @@ fn outlines(design_file: &Path) -> Outlines {
         passive.dedup();
     }
     Outlines { pzt, passive }
-}
-
-fn area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|i| ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1])
-        .sum::<f64>()
-        .abs()
-        / 2.0
-}
-
-fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
-    Polygon::new(ring.iter().map(|p| (p[0], p[1])).collect(), vec![])
 }
 
 /// Check a written nest independently of the planner: every demanded part once, each part inside its

@@ -78,15 +78,7 @@ impl Batch {
     pub fn load(path: &Path) -> Result<Batch, InputError> {
         let table = read_toml(path)?;
         let root = TableReader::new(path, "", &table);
-        let name = root.string("name", "a batch name (text)")?.to_string();
-        if name.trim().is_empty() || name.len() > 64 {
-            return Err(InputError::invalid(
-                path,
-                "name",
-                format!("{name:?}"),
-                "expected 1 to 64 characters",
-            ));
-        }
+        let name = root.name("name", "a batch name (text)")?;
         let seed = root.optional_count("seed", 0, i64::MAX)?.unwrap_or(1) as u64;
         let iterations = root.optional_count("iterations", 0, MAX_ITERATIONS)?;
         let base = path.parent().unwrap_or(Path::new("."));

@@ -63,6 +63,23 @@ pub struct BaselineRow {
     pub baseline_used_utilization: f64,
 }
 
+impl BaselineRow {
+    /// One line: parts, sheets and utilisation of the nest and of the baseline.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} {} parts: {} sheet(s) {:.1}% (strip {:.1}%), bounding boxes {} sheet(s) {:.1}% (strip {:.1}%)",
+            self.layer,
+            self.parts,
+            self.sheets,
+            self.utilization * 100.0,
+            self.used_utilization * 100.0,
+            self.baseline_sheets,
+            self.baseline_utilization * 100.0,
+            self.baseline_used_utilization * 100.0
+        )
+    }
+}
+
 /// An actuator of the batch.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ActuatorRef {

@@ -76,20 +76,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     if args.json {
         print!("{json}");
     } else {
-        let passive: Vec<String> = report
-            .baseline
-            .iter()
-            .map(|b| {
-                format!(
-                    "{} {} sheet(s) at {:.1}% (bounding boxes: {} at {:.1}%)",
-                    b.layer,
-                    b.sheets,
-                    b.utilization * 100.0,
-                    b.baseline_sheets,
-                    b.baseline_utilization * 100.0
-                )
-            })
-            .collect();
+        let passive: Vec<String> = report.baseline.iter().map(|b| b.summary()).collect();
         println!(
             "{}: {} actuators, {} files in {}; {} PZT sheet(s), {}; {} clamp panel(s)",
             report.name,
@@ -97,7 +84,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             files.len(),
             args.output.display(),
             report.sheets_of("pzt"),
-            passive.join(", "),
+            passive.join("; "),
             report.clamp_panels.len()
         );
     }

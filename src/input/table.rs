@@ -219,6 +219,20 @@ impl<'a> TableReader<'a> {
         }
     }
 
+    /// A required name: text of 1 to 64 characters, not only blanks (labels and titles show it).
+    pub fn name(&self, key: &str, expected: &str) -> Result<String, InputError> {
+        let name = self.string(key, expected)?;
+        if name.trim().is_empty() || name.len() > 64 {
+            return Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                format!("{name:?}"),
+                "expected 1 to 64 characters",
+            ));
+        }
+        Ok(name.to_string())
+    }
+
     /// A required, non-empty array of tables (`[[key]]`), each named `key[i]` in errors.
     pub fn tables(&self, key: &str) -> Result<Vec<TableReader<'a>>, InputError> {
         match self.get(key) {
