@@ -348,6 +348,63 @@ fn method_1_batch_nests_pyralux_bond_layers_with_vias() {
     assert_eq!(report["total_cost"], pyralux["cost"]);
 }
 
+#[test]
+fn ply_by_ply_batch_nests_each_ply_of_each_layup() {
+    let template = std::fs::read_to_string(format!(
+        "{}/templates/method-2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+    .replace("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    let design = |name: &str| {
+        std::fs::read_to_string(example(name))
+            .unwrap()
+            .replace("process = \"method-2\"", "process = \"pbp.toml\"")
+            .replace("base_tab_mm = 0.0", "base_tab_mm = 2.0")
+    };
+    let dir = scratch_batch(
+        "name = \"pbp\"\niterations = 200\n[[item]]\ndesign = \"c.toml\"\nquantity = 4\n\
+         [[item]]\ndesign = \"a.toml\"\nquantity = 2\n",
+        &[
+            ("pbp.toml", &template),
+            ("c.toml", &design("thesis-C.toml")),
+            ("a.toml", &design("thesis-A.toml")),
+        ],
+    );
+    let out = dir.path().join("out");
+    let o = nest(&dir.path().join("batch.toml"), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    // C is 0/90/0 and A 0/0/90/0/0: one nest per ply of each layup, every ply of every actuator once.
+    let mut per_layer: BTreeMap<String, usize> = BTreeMap::new();
+    for sheet in report["sheets"].as_array().unwrap() {
+        let layer = sheet["layer"].as_str().unwrap();
+        if layer.starts_with("passive-ply") {
+            *per_layer.entry(layer.to_string()).or_default() +=
+                sheet["parts"].as_array().unwrap().len();
+            assert!(out
+                .join(format!("{}.svg", sheet["file_stem"].as_str().unwrap()))
+                .exists());
+        }
+    }
+    let want: BTreeMap<String, usize> = [
+        ("passive-ply1-0deg", 6),
+        ("passive-ply2-90deg", 4),
+        ("passive-ply2-0deg", 2),
+        ("passive-ply3-0deg", 4),
+        ("passive-ply3-90deg", 2),
+        ("passive-ply4-0deg", 2),
+        ("passive-ply5-0deg", 2),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), *v))
+    .collect();
+    assert_eq!(per_layer, want);
+    assert_eq!(report["baseline"].as_array().unwrap().len(), 8);
+}
+
 /// A batch in a temp dir with copies of example designs (one line of a design replaceable).
 fn scratch_batch(batch: &str, designs: &[(&str, &str)]) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
