@@ -1,1 +1,3 @@
 //! actuator-cam
+pub mod optimize;
+pub mod sweep;
