@@ -17,7 +17,7 @@ const LENGTH_MARGIN: f64 = 1e-10;
 
 /// Two designs within this relative objective difference are a tie; ties go to the shorter actuator
 /// (stiffer, higher resonance).
-pub const TIE_TOLERANCE: f64 = 1e-9;
+pub const TIE_TOLERANCE: f64 = 1e-12;
 
 /// One laminate's continuous problem in unit coordinates.
 struct Reduced<'a> {
@@ -365,4 +365,106 @@ pub fn most_energy(problem: &Problem, candidate: usize, seed: &Design) -> Design
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimize::model::SearchModel;
+    use crate::optimize::search::{exhaustive, Candidate, FieldLimit};
+    use crate::optimize::spec::Bounds;
+    use actuator_model::planform::energy_shape_factor;
+    use actuator_model::{Drive, DriveMode, Laminate, Material, Section};
+
+    /// One laminate (t_p 267 µm, [0/90/0], 800 V/mm parallel) whose passive plies weigh nothing, so the
+    /// extension costs no mass: then `m = μ_p l_p w_nom` and `U = k l_p w_nom G_U` with
+    /// `k = 3 P² / (8 C44)` (MODEL-NOTES §3), and the lightest design maximises `G_U`, whose maximum 4/3 lies
+    /// on the ridge `w_r = 2 (1 + l_r) / (1 + 2 l_r)`. Closed-form mass: `U_min μ_p / (k 4/3)`.
+    fn massless_extension_problem(extension_ratio: Range) -> (Problem, f64) {
+        let pzt = Material::builtin("PZT-5H").unwrap();
+        let cf = Material::builtin("CF-thesis").unwrap();
+        let lam = Laminate::bimorph(&pzt, 267e-6, &cf, 61.8e-6, &[0.0, 90.0, 0.0], None).unwrap();
+        let mut section = Section::new(
+            &lam,
+            Drive {
+                mode: DriveMode::Parallel,
+                field: 800e3,
+            },
+        )
+        .unwrap();
+        section.passive_areal_mass = 0.0;
+        let k = 3.0 * section.free_curvature.powi(2) / (8.0 * section.bending_compliance);
+        // Piezo area l_p w_nom = 200 mm² on the ridge: inside the box for every l_r in [0, 1.5].
+        let energy = k * 200e-6 * 4.0 / 3.0;
+        let problem = Problem {
+            model: SearchModel::Original,
+            objective: Objective::MinMass,
+            energy,
+            bounds: Bounds {
+                length: Range {
+                    lo: 40e-3,
+                    hi: 60e-3,
+                },
+                base_width: Range {
+                    lo: 5e-3,
+                    hi: 20e-3,
+                },
+                extension_ratio,
+                width_ratio: Range { lo: 1.0, hi: 1.95 },
+            },
+            min_tip_width: 0.0,
+            grid: 15,
+            candidates: vec![Candidate {
+                pzt_thickness: 267e-6,
+                layup: vec![0.0, 90.0, 0.0],
+                section,
+                field_limit: FieldLimit::Requested,
+            }],
+        };
+        let mass = energy * section.pzt_areal_mass / (k * 4.0 / 3.0);
+        (problem, mass)
+    }
+
+    fn solve(problem: &Problem) -> Design {
+        let grid = exhaustive(problem, false);
+        refine(problem, 0, &grid.per_candidate[0].seeds).unwrap()
+    }
+
+    #[test]
+    fn lands_on_the_uniform_strain_ridge_when_the_extension_is_massless() {
+        let (problem, mass) = massless_extension_problem(Range { lo: 0.0, hi: 1.5 });
+        let d = solve(&problem);
+        let g_u = energy_shape_factor(d.width_ratio, d.extension_ratio);
+        assert!((g_u * 0.75 - 1.0).abs() < 1e-9, "G_U {g_u} at {d:?}");
+        assert!((d.mass / mass - 1.0).abs() < 1e-8, "{} vs {mass}", d.mass);
+        assert!(
+            d.energy >= problem.energy && d.energy <= problem.energy * (1.0 + 1e-9),
+            "{d:?} {}",
+            problem.energy
+        );
+    }
+
+    #[test]
+    fn with_the_extension_fixed_the_width_ratio_is_the_ridge_value() {
+        // l_r = 0.5: the ridge is at w_r = 2 (1.5) / 2 = 1.5 exactly, off every grid point of a 15-grid.
+        let (problem, mass) = massless_extension_problem(Range::fixed(0.5));
+        let d = solve(&problem);
+        assert_eq!(d.extension_ratio, 0.5);
+        assert!((d.width_ratio - 1.5).abs() < 1e-5, "w_r {}", d.width_ratio);
+        assert!((d.mass / mass - 1.0).abs() < 1e-9, "{d:?} {mass}");
+    }
+
+    #[test]
+    fn nelder_mead_finds_an_interior_and_a_boundary_minimum() {
+        let mut bowl = |x: &[f64]| (x[0] - 0.3).powi(2) + 2.0 * (x[1] - 0.7).powi(2);
+        let (x, f) = nelder_mead(&mut bowl, &[0.9, 0.1], 0.1, 2000);
+        assert!((x[0] - 0.3).abs() < 1e-6 && (x[1] - 0.7).abs() < 1e-6 && f < 1e-12);
+        // Minimum outside the cube: the clamped search ends on the face x0 = 1.
+        let mut slope = |x: &[f64]| -x[0] + (x[1] - 0.5).powi(2);
+        let (x, _) = nelder_mead(&mut slope, &[0.2, 0.2], 0.1, 2000);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-9 && (x[1] - 0.5).abs() < 1e-4,
+            "{x:?}"
+        );
+    }
 }
