@@ -7,6 +7,7 @@
 //! energetic) form the front.
 
 use super::refine::refine;
+use super::report::decimal;
 use super::search::{tip_width, Design, Objective, Problem, TIP_SLACK};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -176,13 +177,13 @@ pub fn to_svg(front: &[Design], required: f64, chosen: Option<&Design>) -> Strin
             "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
             x(e),
             height - bottom + 16.0,
-            trim(e)
+            decimal(e, 4)
         ));
         s.push_str(&format!(
             "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>\n",
             left - 6.0,
             y(m) + 4.0,
-            trim(m)
+            decimal(m, 4)
         ));
     }
     s.push_str(&format!(
@@ -238,9 +239,4 @@ fn nice_ceiling(x: f64) -> f64 {
         .map(|f| f * p)
         .find(|v| *v >= x * (1.0 - 1e-12))
         .unwrap_or(10.0 * p)
-}
-
-fn trim(x: f64) -> String {
-    let s = format!("{x:.4}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }

@@ -10,6 +10,16 @@ use std::fmt::Write;
 /// Relative distance within which a design is "at" a bound or a constraint limit.
 const AT_LIMIT: f64 = 1e-6;
 
+/// `x` with at most `places` decimals, trailing zeros dropped: `59`, `0.127`, `7.5`.
+pub fn decimal(x: f64, places: usize) -> String {
+    let s = format!("{x:.places$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// `[0/90/0]`.
 pub fn layup_label(layup: &[f64]) -> String {
     let plies: Vec<String> = layup.iter().map(|a| a.to_string()).collect();

@@ -162,6 +162,47 @@ impl FieldErrors {
         })
     }
 
+    /// The drive field, V/m: given in V/mm, or the level a survival share withstands in the mode's
+    /// Weibull fit (thesis eq. 3.2, Table 4.12). Exactly one of the two.
+    pub(crate) fn field(
+        &self,
+        mode: DriveMode,
+        field_v_per_mm: Option<f64>,
+        survival: Option<f64>,
+    ) -> Result<(f64, FieldSource), SpecError> {
+        match (field_v_per_mm, survival) {
+            (Some(_), Some(_)) => Err(self.error(
+                "drive.field_V_per_mm / drive.survival",
+                "both given",
+                "give one of them",
+            )),
+            (None, None) => Err(self.error(
+                "drive.field_V_per_mm / drive.survival",
+                "missing",
+                "give the field in V/mm or a survival share in (0, 1)",
+            )),
+            (Some(e), None) => Ok((
+                self.number(
+                    "drive.field_V_per_mm",
+                    e,
+                    0.0,
+                    false,
+                    f64::INFINITY,
+                    "(0, inf) V/mm",
+                )? * 1e3,
+                FieldSource::Given,
+            )),
+            (None, Some(s)) => {
+                let s = self.number("drive.survival", s, 0.0, false, 1.0, "(0, 1)")?;
+                let field = mode
+                    .field_limit()
+                    .threshold(s)
+                    .map_err(|e| self.error("drive.survival", s, e))?;
+                Ok((field, FieldSource::Survival(s)))
+            }
+        }
+    }
+
     /// A layup: a non-empty list of finite ply angles in degrees.
     pub(crate) fn layup(&self, field: &str, angles: &[f64]) -> Result<Vec<f64>, SpecError> {
         if angles.is_empty() {
@@ -410,41 +451,7 @@ impl Spec {
             "(0, inf) mJ",
         )? * 1e-3;
         let mode = f.drive_mode("drive.mode", &raw.drive.mode)?;
-        let (field, field_source) = match (raw.drive.field_V_per_mm, raw.drive.survival) {
-            (Some(_), Some(_)) => {
-                return Err(f.error(
-                    "drive.field_V_per_mm / drive.survival",
-                    "both given",
-                    "give one of them",
-                ))
-            }
-            (None, None) => {
-                return Err(f.error(
-                    "drive.field_V_per_mm / drive.survival",
-                    "missing",
-                    "give the field in V/mm or a survival share in (0, 1)",
-                ))
-            }
-            (Some(e), None) => (
-                f.number(
-                    "drive.field_V_per_mm",
-                    e,
-                    0.0,
-                    false,
-                    f64::INFINITY,
-                    "(0, inf) V/mm",
-                )? * 1e3,
-                FieldSource::Given,
-            ),
-            (None, Some(s)) => {
-                let s = f.number("drive.survival", s, 0.0, false, 1.0, "(0, 1)")?;
-                let field = mode
-                    .field_limit()
-                    .threshold(s)
-                    .map_err(|e| f.error("drive.survival", s, e))?;
-                (field, FieldSource::Survival(s))
-            }
-        };
+        let (field, field_source) = f.field(mode, raw.drive.field_V_per_mm, raw.drive.survival)?;
         let max_voltage = raw
             .drive
             .max_voltage_V
