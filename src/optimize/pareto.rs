@@ -228,13 +228,13 @@ pub fn to_svg(front: &[Design], required: f64, chosen: Option<&Design>) -> Strin
     s
 }
 
-/// Smallest of 1, 2, 5 x 10^k at or above `x`.
+/// Smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 x 10^k) at or above `x`.
 fn nice_ceiling(x: f64) -> f64 {
     if x.is_nan() || x <= 0.0 {
         return 1.0;
     }
     let p = 10f64.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
+    [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0]
         .into_iter()
         .map(|f| f * p)
         .find(|v| *v >= x * (1.0 - 1e-12))

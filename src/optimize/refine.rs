@@ -296,7 +296,49 @@ pub fn refine(problem: &Problem, candidate: usize, seeds: &[Design]) -> Option<D
         }
     }
     let best = incumbent.best?;
+    let best = match problem.objective {
+        Objective::MinMass => best,
+        Objective::MaxEnergyDensity => lighter_at_same_density(&reduced, best),
+    };
     Some(prefer_shorter(&reduced, best))
+}
+
+/// With the highest energy density found, the lightest design of the same shape that keeps it: a
+/// golden-section search over `w_0` below the optimum's. With the original model the density does not
+/// depend on `w_0`, while the mass does once the length sits at `l_min` with energy to spare.
+fn lighter_at_same_density(reduced: &Reduced, best: Design) -> Design {
+    if !reduced.free[0] {
+        return best;
+    }
+    let p = reduced.problem;
+    let target = p.value(best.energy, best.mass);
+    let tol = TIE_TOLERANCE * target.abs();
+    let (l_r, w_r) = (best.extension_ratio, best.width_ratio);
+    let at = |w0: f64| -> Option<Design> {
+        let (d, needed) = reduced.design(w0, l_r, w_r);
+        (reduced.feasible(&d, needed) && p.value(d.energy, d.mass) <= target + tol).then_some(d)
+    };
+    let mass = |w0: f64| at(w0).map_or(f64::INFINITY, |d| d.mass);
+    // Lowest base width at which this width ratio keeps the tip wide enough.
+    let lo = reduced
+        .base_width
+        .lo
+        .max(p.min_tip_width * w_r / (2.0 - w_r));
+    let (mut a, mut b) = (lo, best.base_width);
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..100 {
+        let (c, d) = (b - ratio * (b - a), a + ratio * (b - a));
+        // Ties move right: the feasible side, and the shorter actuator.
+        if mass(c) < mass(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    match at(0.5 * (a + b)) {
+        Some(d) if d.mass < best.mass => d,
+        _ => best,
+    }
 }
 
 /// Among designs of the same shape within [`TIE_TOLERANCE`] of the best (objective and mass), take the

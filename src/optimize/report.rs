@@ -1,7 +1,7 @@
 //! What `optimize` prints and writes: the text report (fixed formatting, no timestamps) and the winning
 //! design as a `design.toml` that `cut-sheet` reads.
 
-use super::search::{Candidate, Design, FieldLimit, Problem};
+use super::search::{Candidate, Design, FieldLimit, Objective, Problem};
 use super::spec::{FieldSource, Range, Spec};
 use super::Outcome;
 use actuator_model::Performance;
@@ -121,11 +121,18 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     }
     let _ = write!(s, "refined:         {}", one_line(p, best));
     if let Some(g) = &grid_best {
-        let _ = write!(
-            s,
-            " ({:+.3}% mass against the grid)",
-            (best.mass / g.mass - 1.0) * 100.0
-        );
+        let _ = match p.objective {
+            Objective::MinMass => write!(
+                s,
+                " ({:+.3}% mass against the grid)",
+                (best.mass / g.mass - 1.0) * 100.0
+            ),
+            Objective::MaxEnergyDensity => write!(
+                s,
+                " ({:+.3}% energy density against the grid)",
+                (best.energy / best.mass / (g.energy / g.mass) - 1.0) * 100.0
+            ),
+        };
     }
     let _ = writeln!(s);
     let _ = writeln!(s);

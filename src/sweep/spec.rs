@@ -1,7 +1,7 @@
 //! The sweep's factors file: raw serde structs and their validation into SI levels.
 
 use crate::optimize::report::decimal;
-use crate::optimize::spec::{list, read_toml, FieldErrors, FieldSource, SpecError};
+use crate::optimize::spec::{list, read_toml, FieldErrors, FieldSource, RawLaminate, SpecError};
 use actuator_model::{DriveMode, Material};
 use serde::Deserialize;
 use std::path::Path;
@@ -11,21 +11,11 @@ use std::path::Path;
 #[serde(deny_unknown_fields)]
 pub struct RawSweep {
     /// `[laminate]`: the materials.
-    pub laminate: RawSweepLaminate,
+    pub laminate: RawLaminate,
     /// `[drive]`: mode and field, the same for every design.
     pub drive: RawSweepDrive,
     /// `[factors]`: the levels of each factor.
     pub factors: RawFactors,
-}
-
-/// `[laminate]`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawSweepLaminate {
-    /// PZT material name.
-    pub pzt: String,
-    /// Passive ply material name.
-    pub ply: String,
 }
 
 /// `[drive]`.
