@@ -28,6 +28,13 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// The refined optimum's mass in mg, from the report's `refined:` line.
+fn refined_mass(report: &str) -> f64 {
+    let line = report.lines().find(|l| l.starts_with("refined:")).unwrap();
+    let after = line.split("mass ").nth(1).unwrap();
+    after.split(' ').next().unwrap().parse().unwrap()
+}
+
 /// A design.toml as the optimizer wrote it, read back into SI.
 struct Written {
     length: f64,
@@ -193,6 +200,11 @@ fn example_optimum_beats_an_independent_100_grid_and_meets_every_bound() {
     assert!(p.peak_pzt_strain <= 0.0009);
     // No heavier than the best point of a 100-per-axis grid.
     let brute = brute_force_lightest(100);
+    eprintln!(
+        "refined optimum {:.3} mg; best of the independent 100-per-axis grid {:.3} mg",
+        p.mass * 1e6,
+        brute * 1e6
+    );
     assert!(
         p.mass <= brute,
         "refined {} mg, 100-grid {} mg",
@@ -261,13 +273,8 @@ fn rectangular_optimum_matches_its_closed_form_and_the_tapered_one_is_lighter() 
         example("optimize-thesis.toml").to_str().unwrap(),
     ]);
     let tapered = stdout(&o);
-    let mass_of = |text: &str| -> f64 {
-        let line = text.lines().find(|l| l.starts_with("refined:")).unwrap();
-        let after = line.split("mass ").nth(1).unwrap();
-        after.split(' ').next().unwrap().parse().unwrap()
-    };
     // Taper and extension put the PZT where the strain energy is (G_U up to 4/3) and shed mass at the tip.
-    assert!(mass_of(&tapered) < mass_of(&rect));
+    assert!(refined_mass(&tapered) < refined_mass(&rect));
 }
 
 #[test]
@@ -316,17 +323,7 @@ fn pareto_front_is_sorted_nondominated_and_agrees_with_the_optimum() {
         assert!(pair[0].0 < pair[1].0 && pair[0].1 < pair[1].1, "{pair:?}");
     }
     // The optimum is the lightest design with U >= 0.059 mJ: no front point delivering that is lighter.
-    let text = stdout(&o);
-    let line = text.lines().find(|l| l.starts_with("refined:")).unwrap();
-    let optimum: f64 = line
-        .split("mass ")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let optimum = refined_mass(&stdout(&o));
     for (e, m) in &rows {
         if *e >= 0.059 {
             assert!(
@@ -478,4 +475,63 @@ fn infeasible_message_names_the_most_energy_in_the_ranges() {
         coarse * 1e3
     );
     assert!(most < coarse * 1e3 * 1.05, "{most} vs {}", coarse * 1e3);
+}
+
+#[test]
+fn voltage_and_strain_limits_cap_the_field_and_are_reported() {
+    // 150 V caps the field of the 0.191 mm and 0.267 mm plates (800 V/mm needs 153 V and 214 V).
+    let text = std::fs::read_to_string(example("optimize-thesis.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("capped.toml");
+    let out = dir.path().join("best.toml");
+    std::fs::write(
+        &spec,
+        text.replacen("max_voltage_V = 300", "max_voltage_V = 150", 1)
+            .replacen(
+                "max_peak_pzt_strain = 0.0009",
+                "max_peak_pzt_strain = 0.0003",
+                1,
+            ),
+    )
+    .unwrap();
+    let o = run(&[
+        "optimize",
+        spec.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let d = read_design(&out);
+    let (lam, _) = thesis_section(d.pzt_thickness, &d.layup);
+    let drive = Drive {
+        mode: DriveMode::Parallel,
+        field: d.field,
+    };
+    let section = Section::new(&lam, drive).unwrap();
+    assert!(
+        section.voltage <= 150.0 * (1.0 + 1e-12),
+        "{} V",
+        section.voltage
+    );
+    assert!(section.peak_pzt_strain <= 0.0003 * (1.0 + 1e-12));
+    assert!(d.field <= 800e3);
+    let pl = Planform::new(
+        d.length,
+        d.extension_ratio,
+        d.base_width,
+        d.width_ratio,
+        0.0,
+    )
+    .unwrap();
+    let p = model::predict(ModelKind::Original, &lam, &pl, drive).unwrap();
+    assert!(p.energy >= ENERGY * (1.0 - 1e-12));
+    let report = stdout(&o);
+    if d.field < 800e3 {
+        assert!(
+            report.contains("field capped at"),
+            "a capped optimum must say so: {report}"
+        );
+    }
+    // The per-laminate table shows the capped fields: 150 V / 0.267 mm = 561.8 V/mm.
+    assert!(report.contains("561.8"), "{report}");
 }

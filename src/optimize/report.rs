@@ -28,9 +28,13 @@ pub fn layup_label(layup: &[f64]) -> String {
 
 fn describe(range: &Range, scale: f64, unit: &str) -> String {
     if range.is_fixed() {
-        format!("{}{unit}", range.lo * scale)
+        format!("{}{unit}", decimal(range.lo * scale, 9))
     } else {
-        format!("[{}, {}]{unit}", range.lo * scale, range.hi * scale)
+        format!(
+            "[{}, {}]{unit}",
+            decimal(range.lo * scale, 9),
+            decimal(range.hi * scale, 9)
+        )
     }
 }
 
@@ -66,7 +70,7 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     let mut s = String::new();
     let _ = writeln!(s, "actuator-cam optimize {file}");
     let field = match spec.field_source {
-        FieldSource::Given => format!("{} V/mm", spec.field * 1e-3),
+        FieldSource::Given => format!("{} V/mm", decimal(spec.field * 1e-3, 9)),
         FieldSource::Survival(share) => format!(
             "{:.1} V/mm (survival {share} from the {} Weibull fit)",
             spec.field * 1e-3,
@@ -80,7 +84,7 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
         p.objective.name(),
         spec.mode.name()
     );
-    let _ = writeln!(s, "requirement: U >= {} mJ", spec.energy * 1e3);
+    let _ = writeln!(s, "requirement: U >= {} mJ", decimal(spec.energy * 1e3, 12));
     let b = &p.bounds;
     let _ = writeln!(
         s,
@@ -98,7 +102,10 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     );
     let mut limits = Vec::new();
     if p.min_tip_width > 0.0 {
-        limits.push(format!("tip width >= {} mm", p.min_tip_width * 1e3));
+        limits.push(format!(
+            "tip width >= {} mm",
+            decimal(p.min_tip_width * 1e3, 9)
+        ));
     }
     if let Some(e) = spec.max_peak_pzt_strain {
         limits.push(format!("peak PZT strain <= {e}"));
@@ -278,7 +285,7 @@ fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<Stri
         out.push(format!(
             "energy: U = {:.6} mJ meets U_min = {} mJ (active)",
             perf.energy * 1e3,
-            p.energy * 1e3
+            decimal(p.energy * 1e3, 12)
         ));
     }
     let at = |x: f64, bound: f64| (x - bound).abs() <= AT_LIMIT * bound.abs().max(1e-12);
@@ -315,20 +322,20 @@ fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<Stri
         out.push(format!(
             "tip width {:.4} mm at min_tip_width_mm = {}",
             d.tip_width() * 1e3,
-            p.min_tip_width * 1e3
+            decimal(p.min_tip_width * 1e3, 9)
         ));
     }
     let c = &p.candidates[d.candidate];
     match c.field_limit {
         FieldLimit::Requested => {}
         FieldLimit::Voltage => out.push(format!(
-            "max_voltage_V = {}: field capped at {:.1} V/mm (requested {} V/mm)",
+            "max_voltage_V = {}: field capped at {:.1} V/mm (requested {:.1} V/mm)",
             spec.max_voltage.unwrap_or(f64::NAN),
             c.section.drive.field * 1e-3,
             spec.field * 1e-3
         )),
         FieldLimit::Strain => out.push(format!(
-            "max_peak_pzt_strain = {}: field capped at {:.1} V/mm (requested {} V/mm)",
+            "max_peak_pzt_strain = {}: field capped at {:.1} V/mm (requested {:.1} V/mm)",
             spec.max_peak_pzt_strain.unwrap_or(f64::NAN),
             c.section.drive.field * 1e-3,
             spec.field * 1e-3

@@ -7,7 +7,7 @@
 //! a comparison and a select. Every grid point is still evaluated and counted.
 
 use super::model::{SearchModel, ShapeRates};
-use super::spec::{Bounds, Range, Spec};
+use super::spec::{Bounds, Spec};
 use actuator_model::{Drive, Laminate, ModelError, Planform, Section};
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use rayon::prelude::*;
@@ -454,14 +454,5 @@ pub fn exhaustive(problem: &Problem, progress: bool) -> GridResult {
         evaluated: problem.grid_size(),
         per_candidate,
         best,
-    }
-}
-
-/// A range of the search, for reports.
-pub fn describe(range: &Range, scale: f64) -> String {
-    if range.is_fixed() {
-        format!("{}", range.lo * scale)
-    } else {
-        format!("[{}, {}]", range.lo * scale, range.hi * scale)
     }
 }
