@@ -1,7 +1,9 @@
 //! `actuator-cam optimize` driven as a user would: the built binary on the example specs.
 
 use actuator_model::performance::energy_and_mass;
-use actuator_model::{model, Drive, DriveMode, Laminate, Material, ModelKind, Planform, Section};
+use actuator_model::{
+    model, Drive, DriveMode, Laminate, Material, ModelKind, Performance, Planform, Section,
+};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -44,6 +46,27 @@ struct Written {
     pzt_thickness: f64,
     layup: Vec<f64>,
     field: f64,
+}
+
+impl Written {
+    /// The written design's section and its original-model prediction, through the model crate.
+    fn predict(&self) -> (Section, Performance, Planform) {
+        let (lam, _) = thesis_section(self.pzt_thickness, &self.layup);
+        let drive = Drive {
+            mode: DriveMode::Parallel,
+            field: self.field,
+        };
+        let pl = Planform::new(
+            self.length,
+            self.extension_ratio,
+            self.base_width,
+            self.width_ratio,
+            0.0,
+        )
+        .unwrap();
+        let p = model::predict(ModelKind::Original, &lam, &pl, drive).unwrap();
+        (Section::new(&lam, drive).unwrap(), p, pl)
+    }
 }
 
 fn read_design(path: &Path) -> Written {
@@ -169,25 +192,7 @@ fn example_optimum_beats_an_independent_100_grid_and_meets_every_bound() {
     assert!(THICKNESSES
         .iter()
         .any(|t| (t / d.pzt_thickness - 1.0).abs() < 1e-12));
-    let (lam, _) = thesis_section(d.pzt_thickness, &d.layup);
-    let pl = Planform::new(
-        d.length,
-        d.extension_ratio,
-        d.base_width,
-        d.width_ratio,
-        0.0,
-    )
-    .unwrap();
-    let p = model::predict(
-        ModelKind::Original,
-        &lam,
-        &pl,
-        Drive {
-            mode: DriveMode::Parallel,
-            field: d.field,
-        },
-    )
-    .unwrap();
+    let (_, p, pl) = d.predict();
     // Meets the energy within 1e-6 relative, from above.
     assert!(p.energy >= ENERGY * (1.0 - 1e-12), "U {}", p.energy);
     assert!((p.energy / ENERGY - 1.0) < 1e-6, "U {}", p.energy);
@@ -502,12 +507,7 @@ fn voltage_and_strain_limits_cap_the_field_and_are_reported() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let d = read_design(&out);
-    let (lam, _) = thesis_section(d.pzt_thickness, &d.layup);
-    let drive = Drive {
-        mode: DriveMode::Parallel,
-        field: d.field,
-    };
-    let section = Section::new(&lam, drive).unwrap();
+    let (section, p, _) = d.predict();
     assert!(
         section.voltage <= 150.0 * (1.0 + 1e-12),
         "{} V",
@@ -515,15 +515,6 @@ fn voltage_and_strain_limits_cap_the_field_and_are_reported() {
     );
     assert!(section.peak_pzt_strain <= 0.0003 * (1.0 + 1e-12));
     assert!(d.field <= 800e3);
-    let pl = Planform::new(
-        d.length,
-        d.extension_ratio,
-        d.base_width,
-        d.width_ratio,
-        0.0,
-    )
-    .unwrap();
-    let p = model::predict(ModelKind::Original, &lam, &pl, drive).unwrap();
     assert!(p.energy >= ENERGY * (1.0 - 1e-12));
     let report = stdout(&o);
     if d.field < 800e3 {
