@@ -9,7 +9,7 @@
 use super::model::{SearchModel, ShapeRates};
 use super::spec::{Bounds, Spec};
 use actuator_model::{Drive, Laminate, ModelError, Planform, Section};
-use indicatif::{ProgressBar, ProgressDrawTarget};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 
@@ -353,6 +353,10 @@ pub fn exhaustive(problem: &Problem, progress: bool) -> GridResult {
         .collect();
     let bar = if progress {
         ProgressBar::with_draw_target(Some((n_c * n_r) as u64), ProgressDrawTarget::stderr())
+            .with_style(
+                ProgressStyle::with_template("exhaustive grid {wide_bar} {percent}%")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            )
     } else {
         ProgressBar::hidden()
     };
