@@ -641,6 +641,25 @@ fn calibrated_model_file_optimum_meets_the_energy_and_beats_an_independent_grid(
         "refined {mass_mg} mg vs grid {} mg",
         grid_best * 1e6
     );
+    // The written design goes straight to cut-sheet with the same model, which predicts the same mass.
+    let out = dir.path().join("cut");
+    let c = run(&[
+        "cut-sheet",
+        best.to_str().unwrap(),
+        "--model",
+        model_file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(c.status.success(), "{}", stderr(&c));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let predicted = r["predicted"]["mass_mg"].as_f64().unwrap();
+    assert!(
+        (predicted - mass_mg).abs() < 1e-3,
+        "{predicted} vs {mass_mg}"
+    );
+    assert!(out.join("pzt-1.svg").exists());
     // The calibrated actuator is weaker than the original one predicts, so the optimum is heavier.
     let original = run(&["optimize", spec.to_str().unwrap()]);
     assert!(mass_mg > refined_mass(&stdout(&original)) * 1.1);
