@@ -2,7 +2,7 @@
 //! target, and the directory renamed into place, so a failure leaves no half-written output.
 
 use super::{CutSheet, Formats};
-use crate::cam::dxf::to_dxf;
+use crate::cam::dxf::to_dxf_with;
 use crate::cam::svg::{to_svg, SvgOptions};
 use anyhow::{anyhow, Context};
 use std::path::Path;
@@ -13,7 +13,10 @@ pub fn render(
     formats: Formats,
     stroke_mm: f64,
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
-    let opts = SvgOptions { stroke_mm };
+    let opts = SvgOptions {
+        stroke_mm,
+        palette: sheet.palette.clone(),
+    };
     let mut files = Vec::new();
     for d in &sheet.drawings {
         if formats.svg {
@@ -25,7 +28,7 @@ pub fn render(
         if formats.dxf {
             files.push((
                 format!("{}.dxf", d.stem),
-                to_dxf(&d.drawing).map_err(|e| anyhow!("{}: {e}", d.stem))?,
+                to_dxf_with(&d.drawing, &sheet.palette).map_err(|e| anyhow!("{}: {e}", d.stem))?,
             ));
         }
     }
