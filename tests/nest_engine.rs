@@ -371,18 +371,23 @@ fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
             .join("/")
     };
     println!(
-        "{name}: {parts} parts, {} iterations, {} workers: {:.2} s\n  nester   {} sheets, utilisation {:.1} % (per sheet {})\n  baseline {} sheets, utilisation {:.1} % (per sheet {})",
+        "{name}: {parts} parts, {} iterations, {} workers: {:.2} s\n  nester   {} sheets, utilisation {:.1} %, used-length {:.1} % (per sheet {})\n  baseline {} sheets, utilisation {:.1} %, used-length {:.1} % (per sheet {})",
         s.iterations,
         s.workers,
         elapsed.as_secs_f64(),
         solution.bins_used(),
         solution.utilization() * 100.0,
+        solution.used_length_utilization(&bin, s.separation_mm) * 100.0,
         fills(&solution),
         baseline.bins_used(),
         baseline.utilization() * 100.0,
+        baseline.used_length_utilization(&bin, s.separation_mm) * 100.0,
         fills(&baseline),
     );
-    (solution.utilization(), baseline.utilization())
+    (
+        solution.used_length_utilization(&bin, s.separation_mm),
+        baseline.used_length_utilization(&bin, s.separation_mm),
+    )
 }
 
 #[test]
