@@ -19,9 +19,16 @@
 //!   and put it at a random spot of a sheet, removing what is in its way. Pulled parts go in
 //!   first, then the removed ones: the ruined sheet first, then fuller sheets, the emptiest last.
 //!   A few moves instead repack a sheet and the emptiest one from scratch in a perturbed order.
-//!   The objective is lexicographic: fewer sheets, a higher sum of squared fills (it rises as
-//!   parts move into fuller sheets, i.e. as the last sheet empties), then lower parts. Moves are
-//!   accepted by a threshold that shrinks to zero over the budget; the best layout is kept.
+//!   A share of the moves (all of them on a single sheet) *shrink*, as strip packers shrink the
+//!   strip: put a ceiling a little below the top of the sheet with the lowest top, remove the
+//!   parts above it and up to 16 parts around a random point, and reinsert them on the other
+//!   sheets or under the ceiling, or fail.
+//!   The objective is lexicographic: fewer sheets, a shorter *used length* (all sheets but the
+//!   one with the lowest top counted whole, plus that top: what
+//!   [`NestSolution::used_length_mm`](super::NestSolution::used_length_mm) measures), a higher
+//!   sum of squared fills (it rises as parts move into fuller sheets, i.e. as the last sheet
+//!   empties), then lower parts. Moves are accepted by thresholds on the length and the fills
+//!   that shrink to zero over the budget; the best layout is kept.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream derived from the
 //!   seed; work is cut into epochs by iteration count, and after each epoch the best layout
 //!   (ties to the lower worker index) seeds all workers. Thread timing never enters a decision.
@@ -133,6 +140,8 @@ const REPACK_SHARE: f64 = 0.03;
 /// Most parts removed around the ruin point, and most parts pulled from the emptiest sheet.
 const MAX_RUIN: usize = 8;
 const MAX_PULL: usize = 3;
+/// Most parts removed around the ruin point of a shrink move.
+const MAX_SHRINK_RUIN: usize = 16;
 /// Epochs split the budget so workers share progress; each epoch gives a worker at least this
 /// many iterations, and there are at most this many epochs.
 const MIN_EPOCH_ITERATIONS: usize = 25;
@@ -394,7 +403,7 @@ impl<'a> Model<'a> {
             let part = pulled.pop().expect("one part pulled");
             self.make_room(problem, target, part.part, rng)
         } else {
-            self.ruin_around_point(problem, target, rng)
+            self.ruin_around_point(problem, target, MAX_RUIN, rng)
         };
 
         let mut order: Vec<LayKey> = std::iter::once(target)
@@ -448,7 +457,7 @@ impl<'a> Model<'a> {
             .map(|key| self.remove(problem, lowest, key))
             .collect();
         if problem.layouts().contains_key(ruined_sheet) {
-            removed.extend(self.ruin_around_point(problem, ruined_sheet, rng));
+            removed.extend(self.ruin_around_point(problem, ruined_sheet, MAX_SHRINK_RUIN, rng));
         }
         let area = |p: &Placement| self.job.parts[p.part].area;
         removed.sort_by(|a, b| area(b).total_cmp(&area(a)));
@@ -491,11 +500,12 @@ impl<'a> Model<'a> {
         Ok(())
     }
 
-    /// Removes up to `MAX_RUIN` parts of sheet `target` nearest a random point; returns them.
+    /// Removes up to `max_ruin` parts of sheet `target` nearest a random point; returns them.
     fn ruin_around_point(
         &self,
         problem: &mut BPProblem,
         target: LayKey,
+        max_ruin: usize,
         rng: &mut ChaCha8Rng,
     ) -> Vec<Placement> {
         let top = self.top(&problem.layouts()[target]);
@@ -516,7 +526,7 @@ impl<'a> Model<'a> {
             })
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let ruin = rng.gen_range(1..=MAX_RUIN.min(near.len()));
+        let ruin = rng.gen_range(1..=max_ruin.min(near.len()));
         near[..ruin]
             .iter()
             .map(|&(_, key)| self.remove(problem, target, key))

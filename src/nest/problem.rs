@@ -5,6 +5,17 @@
 //! A placed part is `R(rotation_deg) * p + translation` for every vertex `p` of the item outline:
 //! rotation about the outline's own origin, then translation into sheet coordinates, where the
 //! sheet spans `[0, width_mm] x [0, height_mm]`.
+//!
+//! Two measures of a nest:
+//! * **utilisation** ([`NestSolution::utilization`]): part area / area of the sheets used. What
+//!   the report prints per sheet; it jumps when the parts spill onto one more sheet and cannot
+//!   tell apart two nests on the same number of sheets.
+//! * **used-length utilisation** ([`NestSolution::used_length_utilization`]): part area /
+//!   (sheet width x used length), used length = all sheets but one counted whole + the used
+//!   height of the sheet with the lowest top (top of its highest part + separation). The rest of
+//!   that sheet is a reusable remnant (the nester packs toward `y = 0`). On one long sheet it is
+//!   the density of strip packing (fixed width, length minimised), the usual benchmark of
+//!   irregular nesting; it is the measure to compare nesters with.
 
 use geo::{Distance, Euclidean};
 use serde::{Deserialize, Serialize};
