@@ -442,7 +442,7 @@ fn write_svg(path: &std::path::Path, solution: &NestSolution, bin: &NestBin) {
 }
 
 /// Nests `items` with both nesters, prints sheets, utilisation and wall time, and returns
-/// `(nester, baseline)` utilisation of the sheets used.
+/// `(nester, baseline)` used-length utilisation.
 fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
     let bin = sheet(100);
     let started = Instant::now();
@@ -510,7 +510,7 @@ fn report_sixty_random_designs() {
         baseline += b / n;
     }
     println!(
-        "mean utilisation over the batches: nester {:.1} %, baseline {:.1} %",
+        "mean used-length utilisation over the batches: nester {:.1} %, baseline {:.1} %",
         nester * 100.0,
         baseline * 100.0
     );
