@@ -38,7 +38,10 @@ fn main() {
             let files = render_drawings(
                 &planned.drawings,
                 formats,
-                &SvgOptions { stroke_mm: 0.0254 },
+                &SvgOptions {
+                    stroke_mm: 0.0254,
+                    palette: batch.template.palette.clone(),
+                },
             )
             .expect("render");
             times.push(start.elapsed().as_secs_f64());

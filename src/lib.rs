@@ -10,4 +10,6 @@ pub mod design;
 pub mod input;
 pub mod layout;
 pub mod nest;
+pub mod optimize;
 pub mod prediction;
+pub mod sweep;

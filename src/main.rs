@@ -1,6 +1,7 @@
 //! The `actuator-cam` command line: parses arguments and hands them to the library.
 
 use actuator_cam::commands::{cut_sheet, laminate, predict, weibull};
+use actuator_cam::{optimize, sweep};
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -26,6 +27,10 @@ enum Command {
     Laminate(laminate::LaminateArgs),
     /// Weibull fit and survival thresholds from failure data.
     Weibull(weibull::WeibullArgs),
+    /// Lightest actuator (or highest energy density) for a required mechanical energy.
+    Optimize(optimize::OptimizeArgs),
+    /// Full-factorial design sweep: every design's outputs, main effects, model comparison.
+    Sweep(sweep::SweepArgs),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +42,8 @@ fn main() -> ExitCode {
         Command::Nest(a) => actuator_cam::commands::nest::run(a),
         Command::Laminate(a) => laminate::run(a),
         Command::Weibull(a) => weibull::run(a),
+        Command::Optimize(a) => optimize::run(a),
+        Command::Sweep(a) => sweep::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -420,6 +420,62 @@ fn ply_by_ply_template_turns_each_ply_and_registers_it() {
 }
 
 #[test]
+fn template_operation_colours_reach_both_file_formats() {
+    // A lab whose laser maps magenta to "cut": the template says so, and SVG stroke and DXF layer follow.
+    let dir = tempfile::tempdir().unwrap();
+    let method_2 = std::fs::read_to_string(format!(
+        "{}/templates/method-2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let magenta = method_2.replace(
+        "cut = { colour = \"#FF0000\", aci = 1 }",
+        "cut = { colour = \"#ff00ff\", aci = 6 }",
+    );
+    assert_ne!(magenta, method_2);
+    std::fs::write(dir.path().join("magenta.toml"), &magenta).unwrap();
+    let design = design_c_with(&[("process", "process = \"magenta.toml\"")]);
+    std::fs::write(dir.path().join("d.toml"), &design).unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet(dir.path().join("d.toml").to_str().unwrap(), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(out.join("passive-1.svg")).unwrap();
+    assert!(svg.contains("stroke=\"#FF00FF\""));
+    assert!(!svg.contains("#FF0000"));
+    let dxf = std::fs::read_to_string(out.join("passive-1.dxf")).unwrap();
+    let lines: Vec<&str> = dxf.lines().map(str::trim).collect();
+    // The LAYER table entry: name CUT, then its colour (group code 62).
+    let at = lines
+        .windows(2)
+        .position(|w| w == ["2", "CUT"])
+        .expect("a CUT layer");
+    let colour = lines[at..]
+        .windows(2)
+        .find(|w| w[0] == "62")
+        .map(|w| w[1])
+        .unwrap();
+    assert_eq!(colour, "6");
+
+    // Two operations sharing a colour could not be told apart by the laser software: refused.
+    let clash = method_2.replace(
+        "engrave = { colour = \"#000000\", aci = 7 }",
+        "engrave = { colour = \"#0000FF\", aci = 7 }",
+    );
+    std::fs::write(dir.path().join("magenta.toml"), clash).unwrap();
+    let out2 = dir.path().join("out2");
+    let o = cut_sheet(dir.path().join("d.toml").to_str().unwrap(), &out2, &[]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("magenta.toml")
+            && err.contains("operations")
+            && err.contains("share a colour"),
+        "{err}"
+    );
+    assert!(!out2.exists());
+}
+
+#[test]
 fn bad_input_exits_non_zero_and_leaves_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let cases: Vec<(String, Vec<&str>, &str)> = vec![

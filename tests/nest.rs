@@ -164,9 +164,12 @@ fn check_report(
     for b in report["baseline"].as_array().unwrap() {
         assert!(b["sheets"].as_u64() <= b["baseline_sheets"].as_u64(), "{b}");
         let f = |k: &str| b[k].as_f64().unwrap();
-        assert!(f("used_utilization") >= f("utilization") - 1e-12, "{b}");
         assert!(
-            f("baseline_used_utilization") >= f("baseline_utilization") - 1e-12,
+            f("used_length_utilization") >= f("utilization") - 1e-12,
+            "{b}"
+        );
+        assert!(
+            f("baseline_used_length_utilization") >= f("baseline_utilization") - 1e-12,
             "{b}"
         );
     }

@@ -169,6 +169,98 @@ fn fixed_batches_verify_and_never_lose_to_the_baseline() {
     }
 }
 
+/// Used-length utilisation of both nesters on `bin` (verified), `(nester, baseline)`.
+fn used_length_pair(items: &[NestItem], bin: &NestBin, s: &NestSettings) -> (f64, f64) {
+    let solution = nest_verified(items, bin, s);
+    let baseline = nest_bounding_boxes(items, bin, s).expect("baseline");
+    verify(items, bin, s, &baseline, 1e-9).expect("baseline verifies");
+    (
+        solution.used_length_utilization(bin, s.separation_mm),
+        baseline.used_length_utilization(bin, s.separation_mm),
+    )
+}
+
+/// The target, on the measure that does not jump at sheet boundaries: at least 10
+/// points above the bounding-box baseline on 60 passive parts of mixed designs on 150 mm sheets
+/// (measured margins 21-34 points in the bench), and for the fixed mix on a 150 mm wide strip too (about 25).
+/// Not asserted on the strip for every random mix: where the designs are near-rectangles the
+/// baseline packs a strip well (random mix 1: 76 % vs 70 %, see the bench).
+#[test]
+fn sixty_mixed_parts_beat_the_baseline_by_ten_points_of_used_length() {
+    let s = settings(0.3, 1, 100);
+    let strip = NestBin {
+        width_mm: 150.0,
+        height_mm: 500.0,
+        stock: 1,
+    };
+    let batches = [
+        ("fixed mix", sixty_mixed()),
+        ("random mix 1", random_designs(1, 4, 15)),
+        ("random mix 2", random_designs(2, 4, 15)),
+        ("random mix 3", random_designs(3, 4, 15)),
+    ];
+    for (i, (name, items)) in batches.into_iter().enumerate() {
+        let shapes = [("sheets", sheet(10)), ("strip", strip)];
+        for (shape, bin) in shapes.into_iter().take(if i == 0 { 2 } else { 1 }) {
+            let (nester, baseline) = used_length_pair(&items, &bin, &s);
+            println!(
+                "{name}, {shape}: nester {:.1} %, baseline {:.1} %",
+                nester * 100.0,
+                baseline * 100.0
+            );
+            assert!(
+                nester >= baseline + 0.10,
+                "{name}, {shape}: used-length utilisation {:.1} % vs baseline {:.1} %",
+                nester * 100.0,
+                baseline * 100.0
+            );
+        }
+    }
+}
+
+#[test]
+fn used_length_counts_full_sheets_and_the_lowest_top() {
+    // Sheet 0: a 10 x 100 bar (top at 101); sheet 1: a 10 x 20 bar (top at 21).
+    let bar = |height: f64, copy: usize| {
+        let outline = vec![[0.0, 0.0], [10.0, 0.0], [10.0, height], [0.0, height]];
+        actuator_cam::nest::PlacedPart {
+            item: 0,
+            copy,
+            rotation_deg: 0.0,
+            translation: [1.0, 1.0],
+            outline: actuator_cam::nest::place_outline(&outline, 0.0, [1.0, 1.0]),
+        }
+    };
+    let solution = NestSolution {
+        bins: vec![
+            actuator_cam::nest::NestedBin {
+                index: 0,
+                parts: vec![bar(100.0, 0)],
+                utilization: 1000.0 / 15000.0,
+            },
+            actuator_cam::nest::NestedBin {
+                index: 1,
+                parts: vec![bar(20.0, 1)],
+                utilization: 200.0 / 15000.0,
+            },
+        ],
+    };
+    let bin = NestBin {
+        width_mm: 100.0,
+        height_mm: 150.0,
+        stock: 2,
+    };
+    // 150 for the first sheet + 21 + 0.5 separation for the second.
+    assert!((solution.used_length_mm(&bin, 0.5) - 171.5).abs() < 1e-12);
+    let want = 1200.0 / (100.0 * 171.5);
+    assert!((solution.used_length_utilization(&bin, 0.5) - want).abs() < 1e-12);
+    assert!((solution.utilization() - 1200.0 / 30000.0).abs() < 1e-12);
+    assert_eq!(
+        NestSolution::default().used_length_utilization(&bin, 0.5),
+        0.0
+    );
+}
+
 #[test]
 fn same_seed_same_layout_other_seed_still_valid() {
     let items = random_designs(5, 3, 8);
@@ -350,7 +442,7 @@ fn write_svg(path: &std::path::Path, solution: &NestSolution, bin: &NestBin) {
 }
 
 /// Nests `items` with both nesters, prints sheets, utilisation and wall time, and returns
-/// `(nester, baseline)` utilisation of the sheets used.
+/// `(nester, baseline)` used-length utilisation.
 fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
     let bin = sheet(100);
     let started = Instant::now();
@@ -371,18 +463,23 @@ fn report(name: &str, items: &[NestItem], s: &NestSettings) -> (f64, f64) {
             .join("/")
     };
     println!(
-        "{name}: {parts} parts, {} iterations, {} workers: {:.2} s\n  nester   {} sheets, utilisation {:.1} % (per sheet {})\n  baseline {} sheets, utilisation {:.1} % (per sheet {})",
+        "{name}: {parts} parts, {} iterations, {} workers: {:.2} s\n  nester   {} sheets, utilisation {:.1} %, used-length {:.1} % (per sheet {})\n  baseline {} sheets, utilisation {:.1} %, used-length {:.1} % (per sheet {})",
         s.iterations,
         s.workers,
         elapsed.as_secs_f64(),
         solution.bins_used(),
         solution.utilization() * 100.0,
+        solution.used_length_utilization(&bin, s.separation_mm) * 100.0,
         fills(&solution),
         baseline.bins_used(),
         baseline.utilization() * 100.0,
+        baseline.used_length_utilization(&bin, s.separation_mm) * 100.0,
         fills(&baseline),
     );
-    (solution.utilization(), baseline.utilization())
+    (
+        solution.used_length_utilization(&bin, s.separation_mm),
+        baseline.used_length_utilization(&bin, s.separation_mm),
+    )
 }
 
 #[test]
@@ -413,7 +510,7 @@ fn report_sixty_random_designs() {
         baseline += b / n;
     }
     println!(
-        "mean utilisation over the batches: nester {:.1} %, baseline {:.1} %",
+        "mean used-length utilisation over the batches: nester {:.1} %, baseline {:.1} %",
         nester * 100.0,
         baseline * 100.0
     );

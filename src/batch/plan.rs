@@ -238,68 +238,11 @@ fn nest_layer(
         parts: copies,
         sheets: solution.bins_used(),
         utilization: solution.utilization(),
-        used_utilization: used_utilization(&solution, &bin),
+        used_length_utilization: solution.used_length_utilization(&bin, settings.separation_mm),
         baseline_sheets: boxes.bins_used(),
         baseline_utilization: boxes.utilization(),
-        baseline_used_utilization: used_utilization(&boxes, &bin),
+        baseline_used_length_utilization: boxes
+            .used_length_utilization(&bin, settings.separation_mm),
     };
     Ok((layouts, row))
-}
-
-/// Part area over the material a nest consumes when the emptiest (last) sheet's unused strip is kept as
-/// offcut: full sheets, plus the last sheet up to its highest or rightmost part, whichever leaves the
-/// larger offcut. Separates two nesters that need the same number of sheets.
-fn used_utilization(solution: &NestSolution, bin: &NestBin) -> f64 {
-    let Some(last) = solution.bins.last() else {
-        return 0.0;
-    };
-    let sheet = bin.width_mm * bin.height_mm;
-    let parts: f64 = solution.bins.iter().map(|b| b.utilization * sheet).sum();
-    let (right, top) = last
-        .parts
-        .iter()
-        .flat_map(|p| &p.outline)
-        .fold((0.0f64, 0.0f64), |(x, y), q| (x.max(q[0]), y.max(q[1])));
-    let strip = (bin.width_mm * top).min(bin.height_mm * right);
-    parts / ((solution.bins.len() - 1) as f64 * sheet + strip)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::nest::{NestedBin, PlacedPart};
-
-    #[test]
-    fn used_utilization_counts_the_last_sheet_up_to_its_used_strip() {
-        let square = |x: f64, y: f64| PlacedPart {
-            item: 0,
-            copy: 0,
-            rotation_deg: 0.0,
-            translation: [x, y],
-            outline: vec![[x, y], [x + 10.0, y], [x + 10.0, y + 10.0], [x, y + 10.0]],
-        };
-        let bin = NestBin {
-            width_mm: 100.0,
-            height_mm: 50.0,
-            stock: 2,
-        };
-        // A half-full sheet, then a last sheet with one 10 mm square in the corner: the larger
-        // offcut is the one right of x = 10 (90 x 50 mm), so the last sheet consumes 10 x 50 mm.
-        let solution = NestSolution {
-            bins: vec![
-                NestedBin {
-                    index: 0,
-                    parts: vec![square(0.0, 0.0)],
-                    utilization: 0.5,
-                },
-                NestedBin {
-                    index: 1,
-                    parts: vec![square(0.0, 0.0)],
-                    utilization: 100.0 / 5000.0,
-                },
-            ],
-        };
-        let want = (2500.0 + 100.0) / (5000.0 + 500.0);
-        assert!((used_utilization(&solution, &bin) - want).abs() < 1e-12);
-    }
 }

@@ -56,26 +56,27 @@ pub struct BaselineRow {
     pub sheets: usize,
     /// Part area / area of the sheets used.
     pub utilization: f64,
-    /// Part area / material consumed when the last sheet's unused strip is kept as offcut.
-    pub used_utilization: f64,
+    /// Part area / (sheet width x used length): the emptiest sheet counts up to its highest part,
+    /// the rest being a remnant (`NestSolution::used_length_utilization`).
+    pub used_length_utilization: f64,
     pub baseline_sheets: usize,
     pub baseline_utilization: f64,
-    pub baseline_used_utilization: f64,
+    pub baseline_used_length_utilization: f64,
 }
 
 impl BaselineRow {
     /// One line: parts, sheets and utilisation of the nest and of the baseline.
     pub fn summary(&self) -> String {
         format!(
-            "{} {} parts: {} sheet(s) {:.1}% (strip {:.1}%), bounding boxes {} sheet(s) {:.1}% (strip {:.1}%)",
+            "{} {} parts: {} sheet(s) {:.1}% (used length {:.1}%), bounding boxes {} sheet(s) {:.1}% (used length {:.1}%)",
             self.layer,
             self.parts,
             self.sheets,
             self.utilization * 100.0,
-            self.used_utilization * 100.0,
+            self.used_length_utilization * 100.0,
             self.baseline_sheets,
             self.baseline_utilization * 100.0,
-            self.baseline_used_utilization * 100.0
+            self.baseline_used_length_utilization * 100.0
         )
     }
 }
@@ -304,7 +305,7 @@ impl NestReport {
         let _ = writeln!(s, "\n## Irregular nest against the bounding-box baseline\n");
         let _ = writeln!(
             s,
-            "| layer | material | parts | sheets | utilisation | used-strip utilisation | baseline sheets | baseline utilisation | baseline used-strip utilisation |"
+            "| layer | material | parts | sheets | utilisation | used-length utilisation | baseline sheets | baseline utilisation | baseline used-length utilisation |"
         );
         let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
         for b in &self.baseline {
@@ -316,15 +317,15 @@ impl NestReport {
                 b.parts,
                 b.sheets,
                 b.utilization * 100.0,
-                b.used_utilization * 100.0,
+                b.used_length_utilization * 100.0,
                 b.baseline_sheets,
                 b.baseline_utilization * 100.0,
-                b.baseline_used_utilization * 100.0
+                b.baseline_used_length_utilization * 100.0
             );
         }
         let _ = writeln!(
             s,
-            "\nUsed-strip utilisation counts the last sheet only up to its highest (or rightmost) part: the rest stays usable as offcut.\n"
+            "\nUsed-length utilisation counts the emptiest sheet only up to its highest part (plus the separation): the rest stays usable as a remnant.\n"
         );
         let _ = writeln!(s, "\n## Totals\n");
         let _ = writeln!(s, "| layer | material | sheets | price/sheet | cost |");

@@ -23,6 +23,7 @@ use dxf::{Color, LwPolylineVertex};
 use thiserror::Error;
 
 use super::drawing::{Drawing, Operation, Point, Shape};
+use super::palette::Palette;
 
 /// Why a DXF could not be written.
 #[derive(Debug, Error)]
@@ -143,13 +144,19 @@ fn entity(op: Operation, shape: &Shape) -> Result<Entity, DxfError> {
     Ok(entity)
 }
 
-/// Writes `drawing` as an ASCII DXF R2000 file (deterministic: same drawing, same bytes).
+/// Writes `drawing` as an ASCII DXF R2000 file with the default colours (deterministic: same drawing,
+/// same bytes).
 pub fn to_dxf(drawing: &Drawing) -> Result<Vec<u8>, DxfError> {
+    to_dxf_with(drawing, &Palette::default())
+}
+
+/// [`to_dxf`] with the layer colours of `palette`.
+pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfError> {
     let mut doc = fixed_document()?;
     for op in drawing.operations() {
         doc.add_layer(Layer {
             name: op.layer_name().to_string(),
-            color: Color::from_index(op.aci()),
+            color: Color::from_index(palette.aci(op)),
             ..Default::default()
         });
         for shape in drawing.shapes_of(op) {

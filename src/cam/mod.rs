@@ -5,4 +5,5 @@ pub mod drawing;
 pub mod dxf;
 pub mod kerf;
 pub mod label;
+pub mod palette;
 pub mod svg;

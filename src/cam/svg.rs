@@ -11,18 +11,24 @@ use std::fmt::Write as _;
 use thiserror::Error;
 
 use super::drawing::{Drawing, Operation, Point, Shape};
+use super::palette::Palette;
 
 /// Options of the SVG writer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvgOptions {
     /// Stroke width in mm; laser drivers treat a hairline as a vector line.
     pub stroke_mm: f64,
+    /// Stroke colour per operation.
+    pub palette: Palette,
 }
 
 impl Default for SvgOptions {
     /// 0.0254 mm (0.001 in), the usual vector-cut hairline.
     fn default() -> Self {
-        SvgOptions { stroke_mm: 0.0254 }
+        SvgOptions {
+            stroke_mm: 0.0254,
+            palette: Palette::default(),
+        }
     }
 }
 
@@ -181,7 +187,7 @@ pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
                 out,
                 "    <path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{stroke}\"/>",
                 path_data(shape, drawing.height_mm),
-                op.svg_colour()
+                opts.palette.svg_colour(op)
             );
         }
         out.push_str("  </g>\n");

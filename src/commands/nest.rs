@@ -61,6 +61,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         formats,
         &SvgOptions {
             stroke_mm: args.stroke_mm,
+            palette: batch.template.palette.clone(),
         },
     )?;
     let mut report = planned.report;

@@ -16,6 +16,7 @@ pub use report::{LayerRow, Report};
 pub use template::Template;
 
 use crate::cam::drawing::Drawing;
+use crate::cam::palette::Palette;
 use crate::design::Design;
 use crate::prediction::Prediction;
 use actuator_model::model::ModelChoice;
@@ -85,6 +86,8 @@ pub struct CutSheet {
     pub report: Report,
     /// Preview of the assembled actuator.
     pub preview: Drawing,
+    /// Operation colours of the process template.
+    pub palette: Palette,
 }
 
 /// The design as the process builds it: method 1 adds its Pyralux bond layers to the stack so the
@@ -128,5 +131,6 @@ pub fn plan(
         drawings: built.drawings,
         report,
         preview: built.preview,
+        palette: template.palette.clone(),
     })
 }

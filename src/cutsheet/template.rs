@@ -2,6 +2,8 @@
 //! material, sheet, kerf and clearances, the clamp panel and the cure recipe. The two thesis methods are
 //! embedded in the binary; any other template is read from a path.
 
+use crate::cam::drawing::Operation;
+use crate::cam::palette::Palette;
 use crate::input::{parse_toml, read_toml, InputError, Range, TableReader};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -133,6 +135,8 @@ pub struct Template {
     pub mold: ClampLayerSpec,
     /// Other clamp layers by name (felt, teflon-cover, …).
     pub covers: BTreeMap<String, ClampLayerSpec>,
+    /// Colour of each laser operation in the files (`[operations]`; default CAM-NOTES §3).
+    pub palette: Palette,
 }
 
 const METHOD_1: &str = include_str!("../../templates/method-1.toml");
@@ -153,6 +157,41 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         stock: t.optional_count("stock", 1, MAX_STOCK)?,
         price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
     })
+}
+
+/// The optional `[operations]` table: `[operations.cut] colour = "#FF0000", aci = 1`, and likewise `score`,
+/// `engrave`, `secondary`; operations not named keep their default colour.
+fn read_palette(path: &Path, root: &TableReader<'_>) -> Result<Palette, InputError> {
+    let mut palette = Palette::default();
+    let Some(ops) = root.optional_table("operations")? else {
+        return Ok(palette);
+    };
+    for op in Operation::ALL {
+        let key = op.layer_name().to_ascii_lowercase();
+        let Some(t) = ops.optional_table(&key)? else {
+            continue;
+        };
+        let colour = t.string("colour", "an SVG colour #RRGGBB")?;
+        let aci = t.number_in("aci", Range::closed(1.0, 255.0, ""))?;
+        let field = format!("operations.{key}");
+        if aci.fract() != 0.0 {
+            return Err(InputError::invalid(
+                path,
+                &format!("{field}.aci"),
+                aci,
+                "an AutoCAD colour index, a whole number 1-255",
+            ));
+        }
+        palette
+            .set(op, colour, aci as i64)
+            .map_err(|e| InputError::invalid(path, &field, colour, e.to_string()))?;
+        t.finish()?;
+    }
+    ops.finish()?;
+    palette
+        .check_distinct()
+        .map_err(|e| InputError::invalid(path, "operations", "(colours)", e.to_string()))?;
+    Ok(palette)
 }
 
 impl Template {
@@ -291,6 +330,7 @@ impl Template {
                 "must contain \"mold\"",
             ));
         }
+        let palette = read_palette(path, &root)?;
         root.finish()?;
         Ok(Template {
             name,
@@ -304,6 +344,7 @@ impl Template {
             bond,
             mold,
             covers,
+            palette,
         })
     }
 

@@ -2,12 +2,13 @@
 //! target, and the directory renamed into place, so a failure leaves no half-written output.
 
 use super::{CutSheet, Formats, SheetDrawing};
-use crate::cam::dxf::to_dxf;
+use crate::cam::dxf::to_dxf_with;
 use crate::cam::svg::{to_svg, SvgOptions};
 use anyhow::{anyhow, Context};
 use std::path::Path;
 
-/// File names and bytes of layer drawings (SVG and/or DXF per drawing), in drawing order.
+/// File names and bytes of layer drawings (SVG and/or DXF per drawing, colours from `opts.palette`), in
+/// drawing order.
 pub fn render_drawings(
     drawings: &[SheetDrawing],
     formats: Formats,
@@ -24,7 +25,7 @@ pub fn render_drawings(
         if formats.dxf {
             files.push((
                 format!("{}.dxf", d.stem),
-                to_dxf(&d.drawing).map_err(|e| anyhow!("{}: {e}", d.stem))?,
+                to_dxf_with(&d.drawing, &opts.palette).map_err(|e| anyhow!("{}: {e}", d.stem))?,
             ));
         }
     }
@@ -37,7 +38,10 @@ pub fn render(
     formats: Formats,
     stroke_mm: f64,
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
-    let opts = SvgOptions { stroke_mm };
+    let opts = SvgOptions {
+        stroke_mm,
+        palette: sheet.palette.clone(),
+    };
     let mut files = render_drawings(&sheet.drawings, formats, &opts)?;
     files.push((
         "preview-actuator.svg".into(),

@@ -19,9 +19,16 @@
 //!   and put it at a random spot of a sheet, removing what is in its way. Pulled parts go in
 //!   first, then the removed ones: the ruined sheet first, then fuller sheets, the emptiest last.
 //!   A few moves instead repack a sheet and the emptiest one from scratch in a perturbed order.
-//!   The objective is lexicographic: fewer sheets, a higher sum of squared fills (it rises as
-//!   parts move into fuller sheets, i.e. as the last sheet empties), then lower parts. Moves are
-//!   accepted by a threshold that shrinks to zero over the budget; the best layout is kept.
+//!   A share of the moves (all of them on a single sheet) *shrink*, as strip packers shrink the
+//!   strip: put a ceiling a little below the top of the sheet with the lowest top, remove the
+//!   parts above it and up to 16 parts around a random point, and reinsert them on the other
+//!   sheets or under the ceiling, or fail.
+//!   The objective is lexicographic: fewer sheets, a shorter *used length* (all sheets but the
+//!   one with the lowest top counted whole, plus that top: what
+//!   [`NestSolution::used_length_mm`](super::NestSolution::used_length_mm) measures), a higher
+//!   sum of squared fills (it rises as parts move into fuller sheets, i.e. as the last sheet
+//!   empties), then lower parts. Moves are accepted by thresholds on the length and the fills
+//!   that shrink to zero over the budget; the best layout is kept.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream derived from the
 //!   seed; work is cut into epochs by iteration count, and after each epoch the best layout
 //!   (ties to the lower worker index) seeds all workers. Thread timing never enters a decision.
@@ -96,13 +103,45 @@ const REPAIR_EFFORT: Effort = Effort {
     random: 20,
     anchors: 50,
 };
+
+/// What an insertion tries: how hard, which earlier placements to try first, and an optional
+/// ceiling on one sheet (then no new sheet is opened).
+#[derive(Clone, Copy)]
+struct Search<'h> {
+    effort: Effort,
+    hints: &'h [Placement],
+    ceiling: Option<(LayKey, f32)>,
+}
+
+impl Search<'_> {
+    const GREEDY: Search<'static> = Search {
+        effort: GREEDY_EFFORT,
+        hints: &[],
+        ceiling: None,
+    };
+    const REPAIR: Search<'static> = Search {
+        effort: REPAIR_EFFORT,
+        hints: &[],
+        ceiling: None,
+    };
+}
 /// Largest drop in the sum of squared fills a move may cause at the start of a worker's budget.
 const ACCEPT_SLACK: f64 = 0.005;
+/// Largest growth of the used length a move may cause at the start of a worker's budget, mm.
+const LENGTH_SLACK_MM: f64 = 1.0;
+/// Used lengths closer than this are equal (the model works in f32), mm.
+const LENGTH_TOLERANCE_MM: f64 = 1e-3;
+/// Share of moves on two or more sheets that lower the lowest sheet's top (on one sheet, all).
+const SHRINK_SHARE: f64 = 0.3;
+/// Range of the drop a shrink move asks of the lowest top, mm.
+const SHRINK_STEP_MM: (f32, f32) = (0.05, 3.0);
 /// Share of moves that repack a sheet together with the emptiest one from scratch.
 const REPACK_SHARE: f64 = 0.03;
 /// Most parts removed around the ruin point, and most parts pulled from the emptiest sheet.
 const MAX_RUIN: usize = 8;
 const MAX_PULL: usize = 3;
+/// Most parts removed around the ruin point of a shrink move.
+const MAX_SHRINK_RUIN: usize = 16;
 /// Epochs split the budget so workers share progress; each epoch gives a worker at least this
 /// many iterations, and there are at most this many epochs.
 const MIN_EPOCH_ITERATIONS: usize = 25;
@@ -139,12 +178,16 @@ impl RotatedShape {
     }
 }
 
-/// Lexicographic quality of a layout: fewer sheets, then higher sum of squared fills, then
-/// lower parts.
+/// Lexicographic quality of a layout: fewer sheets, then a shorter used length (all sheets but
+/// the one with the lowest top counted whole, plus that top), then a higher sum of squared
+/// fills, then lower parts.
 #[derive(Debug, Clone, Copy)]
 struct Score {
     sheets: usize,
+    /// `(sheets - 1) * usable height + lowest sheet top`, mm above the usable bottom.
+    length: f64,
     concentration: f64,
+    /// Sum of the parts' tops over the usable height.
     height: f64,
 }
 
@@ -152,6 +195,9 @@ impl Score {
     fn at_least_as_good_as(&self, other: &Score) -> bool {
         if self.sheets != other.sheets {
             return self.sheets < other.sheets;
+        }
+        if (self.length - other.length).abs() > LENGTH_TOLERANCE_MM {
+            return self.length < other.length;
         }
         let tol = 1e-12;
         if (self.concentration - other.concentration).abs() > tol {
@@ -162,6 +208,23 @@ impl Score {
 
     fn better_than(&self, other: &Score) -> bool {
         !other.at_least_as_good_as(self)
+    }
+
+    /// Threshold acceptance of a move from `current`: never an extra sheet; a shorter layout
+    /// always; one longer by more than `slack * LENGTH_SLACK_MM` never; otherwise if the
+    /// concentration drops by at most `slack * ACCEPT_SLACK`. `slack` falls from 1 to 0 over a
+    /// worker's budget.
+    fn acceptable_after(&self, current: &Score, slack: f64) -> bool {
+        if self.sheets != current.sheets {
+            return self.sheets < current.sheets;
+        }
+        if self.length < current.length - LENGTH_TOLERANCE_MM {
+            return true;
+        }
+        if self.length > current.length + LENGTH_TOLERANCE_MM + LENGTH_SLACK_MM * slack {
+            return false;
+        }
+        self.concentration >= current.concentration - 1e-12 - ACCEPT_SLACK * slack
     }
 }
 
@@ -223,9 +286,6 @@ impl<'a> Model<'a> {
         let epochs = (settings.iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
         let slots = epochs * workers;
         for epoch in 0..epochs {
-            if best_sheets.len() < 2 {
-                break; // one sheet: nothing left to empty
-            }
             let incumbent = &best_sheets;
             let results = parallel(workers, |w| {
                 let slot = epoch * workers + w;
@@ -274,14 +334,7 @@ impl<'a> Model<'a> {
         let mut problem = BPProblem::new(self.instance.clone());
         let mut sheets = Vec::new();
         for part in order {
-            self.insert(
-                &mut problem,
-                part,
-                &mut sheets,
-                &mut rng,
-                GREEDY_EFFORT,
-                &[],
-            )?;
+            self.insert(&mut problem, part, &mut sheets, &mut rng, Search::GREEDY)?;
         }
         Ok((self.score(&problem), self.sheets(&problem)))
     }
@@ -293,22 +346,15 @@ impl<'a> Model<'a> {
         let mut best = (score, start.clone());
         let mut saved = problem.save();
         for iteration in 0..budget {
-            if problem.layouts().len() < 2 {
-                break;
-            }
             if self.ruin_and_recreate(&mut problem, &mut rng).is_err() {
                 problem.restore(&saved);
                 continue;
             }
             let trial = self.score(&problem);
-            // Threshold acceptance: early on, a move may lower the concentration a little (never
-            // add a sheet); the slack shrinks linearly to zero over the budget.
-            let slack = ACCEPT_SLACK * (1.0 - iteration as f64 / budget as f64);
-            let relaxed = Score {
-                concentration: score.concentration - slack,
-                ..score
-            };
-            if trial.sheets <= score.sheets && trial.at_least_as_good_as(&relaxed) {
+            // Threshold acceptance: early on, a move may lengthen the layout or lower the
+            // concentration a little (never add a sheet); the slack shrinks linearly to zero.
+            let slack = 1.0 - iteration as f64 / budget as f64;
+            if trial.acceptable_after(&score, slack) {
                 score = trial;
                 saved = problem.save();
                 if score.better_than(&best.0) {
@@ -328,6 +374,9 @@ impl<'a> Model<'a> {
         problem: &mut BPProblem,
         rng: &mut ChaCha8Rng,
     ) -> Result<(), NestError> {
+        if problem.layouts().len() < 2 || rng.gen_bool(SHRINK_SHARE) {
+            return self.shrink(problem, rng);
+        }
         let by_fill = self.keys_by_fill(problem);
         let (&emptiest, fuller) = by_fill.split_last().expect("two or more sheets");
         let target = fuller[rng.gen_range(0..fuller.len())];
@@ -354,7 +403,7 @@ impl<'a> Model<'a> {
             let part = pulled.pop().expect("one part pulled");
             self.make_room(problem, target, part.part, rng)
         } else {
-            self.ruin_around_point(problem, target, rng)
+            self.ruin_around_point(problem, target, MAX_RUIN, rng)
         };
 
         let mut order: Vec<LayKey> = std::iter::once(target)
@@ -370,7 +419,59 @@ impl<'a> Model<'a> {
         let hints = ruined.clone();
         for spot in pulled.into_iter().chain(ruined) {
             order.retain(|&k| problem.layouts().contains_key(k));
-            self.insert(problem, spot.part, &mut order, rng, REPAIR_EFFORT, &hints)?;
+            let search = Search {
+                hints: &hints,
+                ..Search::REPAIR
+            };
+            self.insert(problem, spot.part, &mut order, rng, search)?;
+        }
+        Ok(())
+    }
+
+    /// Asks the sheet with the lowest top (the one whose used length counts) to end lower, as
+    /// strip packers shrink the strip: removes its parts that reach above a ceiling a little
+    /// below that top and the parts around a random point of it or of another sheet, then puts
+    /// them back, on the other sheets (fullest first) or under the ceiling. Fails if one does
+    /// not fit.
+    fn shrink(&self, problem: &mut BPProblem, rng: &mut ChaCha8Rng) -> Result<(), NestError> {
+        let (lowest, top) = self.lowest_sheet(problem);
+        let ceiling = top - rng.gen_range(SHRINK_STEP_MM.0..=SHRINK_STEP_MM.1);
+        let others: Vec<LayKey> = self
+            .keys_by_fill(problem)
+            .into_iter()
+            .filter(|&k| k != lowest)
+            .collect();
+        let ruined_sheet = if others.is_empty() || rng.gen_bool(0.5) {
+            lowest
+        } else {
+            others[rng.gen_range(0..others.len())]
+        };
+        let above: Vec<PItemKey> = problem.layouts()[lowest]
+            .placed_items()
+            .iter()
+            .filter(|(_, pi)| pi.shape().bbox().y_max > ceiling)
+            .map(|(key, _)| key)
+            .collect();
+        let mut removed: Vec<Placement> = above
+            .into_iter()
+            .map(|key| self.remove(problem, lowest, key))
+            .collect();
+        if problem.layouts().contains_key(ruined_sheet) {
+            removed.extend(self.ruin_around_point(problem, ruined_sheet, MAX_SHRINK_RUIN, rng));
+        }
+        let area = |p: &Placement| self.job.parts[p.part].area;
+        removed.sort_by(|a, b| area(b).total_cmp(&area(a)));
+        blink_shuffle(&mut removed, rng);
+        let hints = removed.clone();
+        let search = Search {
+            hints: &hints,
+            ceiling: Some((lowest, ceiling)),
+            ..Search::REPAIR
+        };
+        let mut order: Vec<LayKey> = others.into_iter().chain([lowest]).collect();
+        for spot in removed {
+            order.retain(|&k| problem.layouts().contains_key(k));
+            self.insert(problem, spot.part, &mut order, rng, search)?;
         }
         Ok(())
     }
@@ -394,21 +495,23 @@ impl<'a> Model<'a> {
         blink_shuffle(&mut parts, rng);
         let mut sheets = Vec::new();
         for spot in parts {
-            self.insert(problem, spot.part, &mut sheets, rng, REPAIR_EFFORT, &[])?;
+            self.insert(problem, spot.part, &mut sheets, rng, Search::REPAIR)?;
         }
         Ok(())
     }
 
-    /// Removes up to `MAX_RUIN` parts of sheet `target` nearest a random point; returns them.
+    /// Removes up to `max_ruin` parts of sheet `target` nearest a random point; returns them.
     fn ruin_around_point(
         &self,
         problem: &mut BPProblem,
         target: LayKey,
+        max_ruin: usize,
         rng: &mut ChaCha8Rng,
     ) -> Vec<Placement> {
+        let top = self.top(&problem.layouts()[target]);
         let centre = (
             rng.gen_range(self.usable.x_min..=self.usable.x_max),
-            rng.gen_range(self.usable.y_min..=self.usable.y_max),
+            rng.gen_range(self.usable.y_min..=top),
         );
         let mut near: Vec<(f32, PItemKey)> = problem.layouts()[target]
             .placed_items()
@@ -423,7 +526,7 @@ impl<'a> Model<'a> {
             })
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let ruin = rng.gen_range(1..=MAX_RUIN.min(near.len()));
+        let ruin = rng.gen_range(1..=max_ruin.min(near.len()));
         near[..ruin]
             .iter()
             .map(|&(_, key)| self.remove(problem, target, key))
@@ -509,18 +612,29 @@ impl<'a> Model<'a> {
         part: usize,
         sheets: &mut Vec<LayKey>,
         rng: &mut ChaCha8Rng,
-        effort: Effort,
-        hints: &[Placement],
+        search: Search,
     ) -> Result<(), NestError> {
         for &key in sheets.iter() {
             let layout = &problem.layouts()[key];
-            if let Some(spot) = self.find_spot(Some(layout), part, rng, effort, hints) {
+            let ceiling = search.ceiling.and_then(|(k, c)| (k == key).then_some(c));
+            if let Some(spot) = self.find_spot(
+                Some(layout),
+                part,
+                rng,
+                search.effort,
+                search.hints,
+                ceiling,
+            ) {
                 problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
                 return Ok(());
             }
         }
+        if search.ceiling.is_some() {
+            // A shrink move that did not fit: it fails rather than open a sheet.
+            return Err(self.too_large(part));
+        }
         let spot = self
-            .find_spot(None, part, rng, effort, &[])
+            .find_spot(None, part, rng, search.effort, &[], None)
             .ok_or_else(|| self.too_large(part))?;
         let (key, _) =
             problem.place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
@@ -536,7 +650,8 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// Best bottom-left spot for `part` in `layout` (an empty sheet if `None`).
+    /// Best bottom-left spot for `part` in `layout` (an empty sheet if `None`), with the part's
+    /// top at most `ceiling` if given.
     fn find_spot(
         &self,
         layout: Option<&Layout>,
@@ -544,6 +659,7 @@ impl<'a> Model<'a> {
         rng: &mut ChaCha8Rng,
         effort: Effort,
         hints: &[Placement],
+        ceiling: Option<f32>,
     ) -> Option<Placement> {
         let empty_sheet = self.instance.bins[0].container.base_cde();
         let cde = layout.map_or(empty_sheet.as_ref(), Layout::cde);
@@ -562,11 +678,16 @@ impl<'a> Model<'a> {
             }
             let mut buffer = shape.plain.clone();
             let b = shape.plain.bbox();
+            // Highest translation that keeps the part inside the sheet and under the ceiling.
+            let y_max = ceiling.map_or(shape.y.1, |c| shape.y.1.min(c - b.y_max));
+            if y_max < shape.y.0 {
+                continue;
+            }
             let mut starts = vec![(shape.x.0, shape.y.0)];
             starts.extend(
                 hints
                     .iter()
-                    .filter(|h| h.part == part && h.rot == rot)
+                    .filter(|h| h.part == part && h.rot == rot && h.t.1 <= y_max)
                     .map(|h| h.t),
             );
             if !placed.is_empty() {
@@ -580,7 +701,7 @@ impl<'a> Model<'a> {
                         ]
                     })
                     .filter(|&(x, y)| {
-                        (shape.x.0..=shape.x.1).contains(&x) && (shape.y.0..=shape.y.1).contains(&y)
+                        (shape.x.0..=shape.x.1).contains(&x) && (shape.y.0..=y_max).contains(&y)
                     })
                     .collect();
                 if anchors.len() > effort.anchors {
@@ -593,7 +714,7 @@ impl<'a> Model<'a> {
                 starts.extend((0..effort.random).map(|_| {
                     (
                         rng.gen_range(shape.x.0..=shape.x.1),
-                        rng.gen_range(shape.y.0..=shape.y.1),
+                        rng.gen_range(shape.y.0..=y_max),
                     )
                 }));
             }
@@ -634,21 +755,49 @@ impl<'a> Model<'a> {
 
     fn score(&self, problem: &BPProblem) -> Score {
         let usable_height = f64::from(self.usable.y_max - self.usable.y_min);
+        let sheets = problem.layouts().len();
         let mut score = Score {
-            sheets: problem.layouts().len(),
+            sheets,
+            length: 0.0,
             concentration: 0.0,
             height: 0.0,
         };
+        let mut lowest_top = f64::INFINITY;
         for layout in problem.layouts().values() {
             score.concentration += self.fill(layout).powi(2);
-            let top = layout
+            lowest_top = lowest_top.min(f64::from(self.top(layout) - self.usable.y_min));
+            score.height += layout
                 .placed_items()
                 .values()
-                .map(|pi| pi.shape().bbox().y_max)
-                .fold(self.usable.y_min, f32::max);
-            score.height += f64::from(top - self.usable.y_min) / usable_height;
+                .map(|pi| f64::from(pi.shape().bbox().y_max - self.usable.y_min))
+                .sum::<f64>()
+                / usable_height;
+        }
+        if sheets > 0 {
+            score.length = (sheets - 1) as f64 * usable_height + lowest_top;
         }
         score
+    }
+
+    /// Top of the highest collision shape of a sheet (the usable bottom when empty).
+    fn top(&self, layout: &Layout) -> f32 {
+        layout
+            .placed_items()
+            .values()
+            .map(|pi| pi.shape().bbox().y_max)
+            .fold(self.usable.y_min, f32::max)
+    }
+
+    /// The sheet with the lowest top (ties to the emptier, then the later key): the one whose
+    /// used length counts.
+    fn lowest_sheet(&self, problem: &BPProblem) -> (LayKey, f32) {
+        problem
+            .layouts()
+            .iter()
+            .map(|(k, l)| (k, self.top(l), self.fill(l)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)))
+            .map(|(k, top, _)| (k, top))
+            .expect("at least one sheet")
     }
 
     /// The layout of a problem, sheet by sheet in key order.

@@ -5,6 +5,17 @@
 //! A placed part is `R(rotation_deg) * p + translation` for every vertex `p` of the item outline:
 //! rotation about the outline's own origin, then translation into sheet coordinates, where the
 //! sheet spans `[0, width_mm] x [0, height_mm]`.
+//!
+//! Two measures of a nest:
+//! * **utilisation** ([`NestSolution::utilization`]): part area / area of the sheets used. What
+//!   the report prints per sheet; it jumps when the parts spill onto one more sheet and cannot
+//!   tell apart two nests on the same number of sheets.
+//! * **used-length utilisation** ([`NestSolution::used_length_utilization`]): part area /
+//!   (sheet width x used length), used length = all sheets but one counted whole + the used
+//!   height of the sheet with the lowest top (top of its highest part + separation). The rest of
+//!   that sheet is a reusable remnant (the nester packs toward `y = 0`). On one long sheet it is
+//!   the density of strip packing (fixed width, length minimised), the usual benchmark of
+//!   irregular nesting; it is the measure to compare nesters with.
 
 use geo::{Distance, Euclidean};
 use serde::{Deserialize, Serialize};
@@ -110,6 +121,69 @@ impl NestSolution {
     #[must_use]
     pub fn parts_placed(&self) -> usize {
         self.bins.iter().map(|b| b.parts.len()).sum()
+    }
+
+    /// Total area of the placed parts, mm².
+    #[must_use]
+    pub fn part_area_mm2(&self) -> f64 {
+        self.bins.iter().map(NestedBin::part_area_mm2).sum()
+    }
+
+    /// Used length: all sheets but one counted whole (`height_mm` each), plus the used height
+    /// of the sheet with the lowest top ([`NestedBin::used_height_mm`]), whose rest is a
+    /// reusable remnant. This is the strip length of strip packing, measured on sheets.
+    #[must_use]
+    pub fn used_length_mm(&self, bin: &NestBin, separation_mm: f64) -> f64 {
+        let remnant = self
+            .bins
+            .iter()
+            .map(|b| b.used_height_mm(bin, separation_mm))
+            .fold(f64::INFINITY, f64::min);
+        if self.bins.is_empty() {
+            return 0.0;
+        }
+        (self.bins.len() - 1) as f64 * bin.height_mm + remnant
+    }
+
+    /// Used-length utilisation: part area / (sheet width x [`Self::used_length_mm`]). Unlike
+    /// [`Self::utilization`] it does not jump when the parts spill onto one more sheet, so it
+    /// compares nesters on the same parts; on a single long sheet it is the density of strip
+    /// packing. 0 when nothing is placed.
+    #[must_use]
+    pub fn used_length_utilization(&self, bin: &NestBin, separation_mm: f64) -> f64 {
+        let length = self.used_length_mm(bin, separation_mm);
+        if length <= 0.0 {
+            return 0.0;
+        }
+        self.part_area_mm2() / (bin.width_mm * length)
+    }
+}
+
+impl NestedBin {
+    /// Total area of the parts on this sheet, mm².
+    #[must_use]
+    pub fn part_area_mm2(&self) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| signed_area(&p.outline).abs())
+            .sum()
+    }
+
+    /// Height of the strip `[0, used]` of the sheet the parts need: the top of the highest part
+    /// plus the separation a cut along it must keep, at most the sheet height; 0 when empty.
+    /// The rest of the sheet above is a remnant, whole if the nester packed toward `y = 0`.
+    #[must_use]
+    pub fn used_height_mm(&self, bin: &NestBin, separation_mm: f64) -> f64 {
+        let top = self
+            .parts
+            .iter()
+            .flat_map(|p| p.outline.iter().map(|q| q[1]))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if top.is_finite() {
+            (top + separation_mm).min(bin.height_mm)
+        } else {
+            0.0
+        }
     }
 }
 

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Reference for the nesting figures: nests the benchmark batches with an external, strong
+irregular strip packer and writes its strip density next to ours. Run by hand, not in CI:
+
+    cargo bench --bench nest_engine            # writes target/nest-bench/batches.json
+    python3 -m venv /tmp/nestref && /tmp/nestref/bin/pip install spyrrow==0.9.0
+    /tmp/nestref/bin/python tools/nest_reference.py [--seconds 30] [--workers 2]
+    cargo bench --bench nest_engine            # now prints the reference column
+
+The packer is `spyrrow`, the Python binding of sparrow (Gardeyn & Wauters, state-of-the-art
+irregular strip packing, built on jagua-rs). Strip packing: fixed strip width (our sheet width,
+150 mm), length minimised, the same parts, rotations (0/180 deg) and minimum separation (between
+parts and to the strip edges). sparrow's strip runs along x with a fixed y extent, ours along y
+with a fixed x extent, so every outline is turned by 90 deg before it is handed over, which keeps
+each part's orientation to the strip. Density = part area / (strip width x used length), used
+length = furthest part point + separation: the same definition as
+`NestSolution::used_length_utilization` on a strip.
+
+sparrow stops on wall-clock time (seeded, but not reproducible across machines); that is why
+this is a hand-run reference and not a test.
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import spyrrow
+
+
+def area(ring):
+    return abs(
+        sum(
+            ring[i][0] * ring[(i + 1) % len(ring)][1]
+            - ring[(i + 1) % len(ring)][0] * ring[i][1]
+            for i in range(len(ring))
+        )
+        / 2.0
+    )
+
+
+def solve(batch, seconds, workers, seed):
+    width = batch["strip_width_mm"]
+    sep = batch["separation_mm"]
+    shapes = {}
+    items = []
+    for index, item in enumerate(batch["items"]):
+        if item["demand"] == 0:
+            continue
+        # Our x (across the strip) becomes sparrow's y (its fixed strip height).
+        ring = [(-y, x) for x, y in item["outline"]]
+        shapes[str(index)] = ring
+        items.append(
+            spyrrow.Item(
+                str(index),
+                ring,
+                demand=item["demand"],
+                allowed_orientations=[float(r) for r in item["rotations_deg"]],
+            )
+        )
+    instance = spyrrow.StripPackingInstance(batch["name"], strip_height=width, items=items)
+    config = spyrrow.StripPackingConfig(
+        early_termination=True,
+        min_items_separation=sep,
+        total_computation_time=seconds,
+        num_workers=workers,
+        seed=seed,
+    )
+    started = time.time()
+    solution = instance.solve(config)
+    elapsed = time.time() - started
+    xs, ys, part_area = [], [], 0.0
+    for placed in solution.placed_items:
+        c, s = math.cos(math.radians(placed.rotation)), math.sin(math.radians(placed.rotation))
+        tx, ty = placed.translation
+        ring = shapes[placed.id]
+        part_area += area(ring)
+        for x, y in ring:
+            xs.append(c * x - s * y + tx)
+            ys.append(s * x + c * y + ty)
+    demanded = sum(i["demand"] for i in batch["items"])
+    if len(solution.placed_items) != demanded:
+        sys.exit(f"{batch['name']}: {len(solution.placed_items)} of {demanded} parts placed")
+    # The edge gap holds as for our nester (sparrow keeps the separation to the strip edges).
+    edge = min(min(xs), min(ys), width - max(ys))
+    if edge < sep - 1e-3:
+        sys.exit(f"{batch['name']}: a part is {edge:.4f} mm from the strip edge (needs {sep})")
+    length = max(xs) + sep
+    return {
+        "density": part_area / (width * length),
+        "length_mm": length,
+        "sparrow_density": solution.density,
+        "seconds": elapsed,
+        "time_budget_s": seconds,
+        "workers": workers,
+        "seed": seed,
+        "packer": f"spyrrow {getattr(spyrrow, '__version__', '0.9.0')}",
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--batches", default="target/nest-bench/batches.json")
+    parser.add_argument("--out", default="target/nest-bench/reference.json")
+    parser.add_argument("--seconds", type=int, default=30, help="time budget per batch")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    batches = json.loads(Path(args.batches).read_text())
+    results = {}
+    for batch in batches:
+        result = solve(batch, args.seconds, args.workers, args.seed)
+        results[batch["name"]] = result
+        print(
+            f"{batch['name']:<12} strip length {result['length_mm']:7.2f} mm, "
+            f"density {100 * result['density']:.1f} % ({result['seconds']:.0f} s)",
+            flush=True,
+        )
+    mean = sum(r["density"] for r in results.values()) / len(results)
+    print(f"mean density {100 * mean:.1f} %")
+    Path(args.out).write_text(json.dumps(results, indent=2) + "\n")
+
+
+if __name__ == "__main__":
+    main()
