@@ -1,6 +1,7 @@
 //! actuator-cam: design files, predictions, laser-cut layer geometry and reports for piezoelectric bimorph
 //! bending actuators, on top of the `actuator-model` physics crate.
 
+pub mod batch;
 pub mod calibrate;
 pub mod cam;
 pub mod commands;

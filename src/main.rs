@@ -21,6 +21,8 @@ enum Command {
     Predict(predict::PredictArgs),
     /// Laser-cut layer files, report and build checklist for a design.
     CutSheet(cut_sheet::CutSheetArgs),
+    /// Nest a batch of designs on shared PZT, prepreg and Pyralux sheets and clamp panels.
+    Nest(actuator_cam::commands::nest::NestArgs),
     /// ABD matrices, thickness and areal mass of a layup.
     Laminate(laminate::LaminateArgs),
     /// Weibull fit and survival thresholds from failure data.
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
         Command::Calibrate(a) => actuator_cam::calibrate::run(a),
         Command::Predict(a) => predict::run(a),
         Command::CutSheet(a) => cut_sheet::run(a),
+        Command::Nest(a) => actuator_cam::commands::nest::run(a),
         Command::Laminate(a) => laminate::run(a),
         Command::Weibull(a) => weibull::run(a),
         Command::Optimize(a) => optimize::run(a),

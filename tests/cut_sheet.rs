@@ -3,9 +3,8 @@
 
 mod common;
 use common::*;
-use geo::{Distance, Euclidean, Intersects, LineString, Polygon};
+use geo::{Distance, Euclidean, Intersects, Polygon};
 use rand::{Rng, SeedableRng};
-use std::collections::BTreeMap;
 use std::path::Path;
 
 const EXAMPLES: [&str; 6] = [
@@ -25,18 +24,6 @@ fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> std::process::Output {
 
 fn report(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
-}
-
-fn files(out: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut m = BTreeMap::new();
-    for e in std::fs::read_dir(out).unwrap() {
-        let e = e.unwrap();
-        m.insert(
-            e.file_name().to_string_lossy().into_owned(),
-            std::fs::read(e.path()).unwrap(),
-        );
-    }
-    m
 }
 
 /// Paths of one Inkscape layer of an SVG, as point lists, plus whether each is closed. A tiny reader
@@ -80,15 +67,6 @@ fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
         .collect()
 }
 
-fn area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|i| ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1])
-        .sum::<f64>()
-        .abs()
-        / 2.0
-}
-
 fn perimeter(ring: &[[f64; 2]]) -> f64 {
     let n = ring.len();
     (0..n)
@@ -98,13 +76,6 @@ fn perimeter(ring: &[[f64; 2]]) -> f64 {
             .sqrt()
         })
         .sum()
-}
-
-fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
-    Polygon::new(
-        LineString::from(ring.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()),
-        vec![],
-    )
 }
 
 /// A random valid design file (thesis ranges, CF plies, random process and tab).

@@ -1,7 +1,8 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
+use super::formats::parse_formats;
 use super::model_arg::parse_model;
-use crate::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
+use crate::cutsheet::{plan, write, CutSheetOptions, Template};
 use crate::design::Design;
 use anyhow::bail;
 use clap::Args;
@@ -34,17 +35,7 @@ pub struct CutSheetArgs {
 
 /// Run `cut-sheet`.
 pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
-    let mut formats = Formats {
-        svg: false,
-        dxf: false,
-    };
-    for f in &args.format {
-        match f.as_str() {
-            "svg" => formats.svg = true,
-            "dxf" => formats.dxf = true,
-            other => bail!("--format {other:?}: expected svg, dxf or svg,dxf"),
-        }
-    }
+    let formats = parse_formats(&args.format)?;
     if let Some(k) = args.kerf_mm {
         if !(k.is_finite() && (0.0..=2.0).contains(&k)) {
             bail!("--kerf-mm = {k}: outside the allowed range [0, 2] mm");

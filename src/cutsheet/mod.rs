@@ -1,8 +1,12 @@
 //! `cut-sheet`: turn one design into laser-cut layer drawings, a build checklist and a report with the
 //! predicted mass and performance beside the geometry's own mass.
 
+pub mod clamp;
+pub mod cut;
+pub mod jobs;
 pub mod panel;
 pub mod parts;
+pub mod pzt;
 pub mod report;
 pub mod sheets;
 pub mod template;

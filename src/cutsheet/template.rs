@@ -13,6 +13,14 @@ const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
 const GAP_MM: Range = Range::closed(0.0, 50.0, "mm");
 const THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
 const DENSITY: Range = Range::positive_up_to(30_000.0, "kg/m^3");
+/// Largest sheet stock.
+pub const MAX_STOCK: i64 = 100_000;
+/// Price of one sheet.
+pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
+/// Sheet side.
+pub const SHEET_SIDE_MM: Range = SHEET_MM;
+/// Gap between parts on top of the kerf.
+pub const SPACING_MM: Range = GAP_MM;
 const FRACTION: Range = Range::open(0.0, 1.0, "");
 
 /// A stock sheet of a cut material.
@@ -30,6 +38,10 @@ pub struct SheetSpec {
     pub spacing_mm: f64,
     /// Unusable border of the sheet (chipped PZT edges), mm.
     pub edge_margin_mm: f64,
+    /// Sheets in stock, if limited.
+    pub stock: Option<usize>,
+    /// Price of one sheet (any currency), if known: reports show material cost only when it is.
+    pub price_per_sheet: Option<f64>,
 }
 
 /// A clamp layer (mold, felt, Teflon, bleeder): material, thickness and kerf; cut on the clamp panel.
@@ -131,7 +143,7 @@ const METHOD_1: &str = include_str!("../../templates/method-1.toml");
 const METHOD_2: &str = include_str!("../../templates/method-2.toml");
 
 /// The sheet fields of a cut layer (`material`, `sheet_width_mm`, `sheet_height_mm`, `kerf_mm`, optional
-/// `spacing_mm`, `edge_margin_mm`); the caller checks for unknown keys.
+/// `spacing_mm`, `edge_margin_mm`, `stock`, `price_per_sheet`); the caller checks for unknown keys.
 fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
     Ok(SheetSpec {
         material: t.string("material", "a material description")?.to_string(),
@@ -142,6 +154,8 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         edge_margin_mm: t
             .optional_number_in("edge_margin_mm", GAP_MM)?
             .unwrap_or(0.0),
+        stock: t.optional_count("stock", 1, MAX_STOCK)?,
+        price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
     })
 }
 

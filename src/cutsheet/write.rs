@@ -1,11 +1,36 @@
 //! Writing a cut sheet: every file is rendered in memory, written into a temporary directory beside the
 //! target, and the directory renamed into place, so a failure leaves no half-written output.
 
-use super::{CutSheet, Formats};
+use super::{CutSheet, Formats, SheetDrawing};
 use crate::cam::dxf::to_dxf_with;
 use crate::cam::svg::{to_svg, SvgOptions};
 use anyhow::{anyhow, Context};
 use std::path::Path;
+
+/// File names and bytes of layer drawings (SVG and/or DXF per drawing, colours from `opts.palette`), in
+/// drawing order.
+pub fn render_drawings(
+    drawings: &[SheetDrawing],
+    formats: Formats,
+    opts: &SvgOptions,
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let mut files = Vec::new();
+    for d in drawings {
+        if formats.svg {
+            files.push((
+                format!("{}.svg", d.stem),
+                to_svg(&d.drawing, opts).into_bytes(),
+            ));
+        }
+        if formats.dxf {
+            files.push((
+                format!("{}.dxf", d.stem),
+                to_dxf_with(&d.drawing, &opts.palette).map_err(|e| anyhow!("{}: {e}", d.stem))?,
+            ));
+        }
+    }
+    Ok(files)
+}
 
 /// File names and bytes of a cut sheet, in a fixed order.
 pub fn render(
@@ -17,21 +42,7 @@ pub fn render(
         stroke_mm,
         palette: sheet.palette.clone(),
     };
-    let mut files = Vec::new();
-    for d in &sheet.drawings {
-        if formats.svg {
-            files.push((
-                format!("{}.svg", d.stem),
-                to_svg(&d.drawing, &opts).into_bytes(),
-            ));
-        }
-        if formats.dxf {
-            files.push((
-                format!("{}.dxf", d.stem),
-                to_dxf_with(&d.drawing, &sheet.palette).map_err(|e| anyhow!("{}: {e}", d.stem))?,
-            ));
-        }
-    }
+    let mut files = render_drawings(&sheet.drawings, formats, &opts)?;
     files.push((
         "preview-actuator.svg".into(),
         to_svg(&sheet.preview, &opts).into_bytes(),

@@ -74,15 +74,7 @@ impl Design {
     /// Validate a parsed design file.
     pub fn from_table(path: &Path, table: &toml::Table) -> Result<Design, InputError> {
         let root = TableReader::new(path, "", table);
-        let name = root.string("name", "a design name (text)")?.to_string();
-        if name.trim().is_empty() || name.len() > 64 {
-            return Err(InputError::invalid(
-                path,
-                "name",
-                format!("{name:?}"),
-                "expected 1 to 64 characters",
-            ));
-        }
+        let name = root.name("name", "a design name (text)")?;
         let quantity = root
             .optional_count("quantity", 1, MAX_QUANTITY)?
             .unwrap_or(1);

@@ -219,6 +219,54 @@ impl<'a> TableReader<'a> {
         }
     }
 
+    /// A required name: text of 1 to 64 characters, not only blanks (labels and titles show it).
+    pub fn name(&self, key: &str, expected: &str) -> Result<String, InputError> {
+        let name = self.string(key, expected)?;
+        if name.trim().is_empty() || name.len() > 64 {
+            return Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                format!("{name:?}"),
+                "expected 1 to 64 characters",
+            ));
+        }
+        Ok(name.to_string())
+    }
+
+    /// A required, non-empty array of tables (`[[key]]`), each named `key[i]` in errors.
+    pub fn tables(&self, key: &str) -> Result<Vec<TableReader<'a>>, InputError> {
+        match self.get(key) {
+            Some(Value::Array(items)) if !items.is_empty() => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| match v {
+                    Value::Table(t) => Ok(TableReader::new(
+                        self.file,
+                        &format!("{}[{}]", self.path(key), i + 1),
+                        t,
+                    )),
+                    other => Err(InputError::invalid(
+                        self.file,
+                        &format!("{}[{}]", self.path(key), i + 1),
+                        other,
+                        "expected a table",
+                    )),
+                })
+                .collect(),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected one or more [[{}]] tables", self.path(key)),
+            )),
+            None => Err(InputError::missing(
+                self.file,
+                &self.path(key),
+                &format!("one or more [[{}]] tables", self.path(key)),
+            )),
+        }
+    }
+
     /// Keys of this table, sorted.
     pub fn keys(&self) -> Vec<&'a str> {
         self.table.keys().map(String::as_str).collect()

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: run the built binary, write scratch design files.
 #![allow(dead_code)]
 
+use geo::{LineString, Polygon};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -55,4 +57,35 @@ pub fn write_temp(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
 /// True if a path exists.
 pub fn exists(p: &Path) -> bool {
     p.exists()
+}
+
+/// Every file of an output directory, by name.
+pub fn files(out: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut m = BTreeMap::new();
+    for e in std::fs::read_dir(out).unwrap() {
+        let e = e.unwrap();
+        m.insert(
+            e.file_name().to_string_lossy().into_owned(),
+            std::fs::read(e.path()).unwrap(),
+        );
+    }
+    m
+}
+
+/// Shoelace area of a ring, mm².
+pub fn area(ring: &[[f64; 2]]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|i| ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1])
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+/// A ring as a `geo` polygon.
+pub fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
+    Polygon::new(
+        LineString::from(ring.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()),
+        vec![],
+    )
 }

@@ -1,0 +1,10 @@
+//! `nest`: a batch of designs and quantities laid out on as few sheets and clamp panels as possible,
+//! with the same layer files as `cut-sheet` and a report of where every part went.
+
+pub mod file;
+pub mod plan;
+pub mod report;
+
+pub use file::{Batch, BatchItem, SheetOverride};
+pub use plan::{plan, NestOptions, Planned, WORKERS};
+pub use report::NestReport;

@@ -1,0 +1,392 @@
+//! The batch report: every sheet with the parts on it, nesting against the bounding-box baseline,
+//! clamp panels, totals (and cost when the sheets have prices); as `nest-report.json` and a readable
+//! `nest-report.md`.
+
+use super::file::Batch;
+use super::plan::{NestOptions, WORKERS};
+use crate::cutsheet::clamp::ClampBuild;
+use crate::cutsheet::jobs::{Drawn, Job};
+use serde::Serialize;
+use std::fmt::Write;
+
+/// One `[[item]]` as built.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ItemRow {
+    pub design: String,
+    pub file: String,
+    pub quantity: usize,
+    pub pzt_thickness_mm: f64,
+    pub layup_deg: String,
+}
+
+/// One part on a sheet: `x_mm`, `y_mm` is where the part's origin (the centre of its base, the
+/// clamped end) lands after the rotation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PartRow {
+    pub design: String,
+    /// 1-based, within its design.
+    pub actuator: usize,
+    pub part: String,
+    pub rotation_deg: f64,
+    pub x_mm: f64,
+    pub y_mm: f64,
+}
+
+/// One sheet of a cut material.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SheetRow {
+    pub layer: String,
+    pub material: String,
+    /// 1-based sheet number within the layer, as in the file name.
+    pub index: usize,
+    pub file_stem: String,
+    pub width_mm: f64,
+    pub height_mm: f64,
+    /// Nominal part area / sheet area.
+    pub utilization: f64,
+    pub parts: Vec<PartRow>,
+}
+
+/// Irregular nest against the bounding-box baseline on the same parts and sheet.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BaselineRow {
+    pub layer: String,
+    pub material: String,
+    pub parts: usize,
+    pub sheets: usize,
+    /// Part area / area of the sheets used.
+    pub utilization: f64,
+    /// Part area / (sheet width x used length): the emptiest sheet counts up to its highest part,
+    /// the rest being a remnant (`NestSolution::used_length_utilization`).
+    pub used_length_utilization: f64,
+    pub baseline_sheets: usize,
+    pub baseline_utilization: f64,
+    pub baseline_used_length_utilization: f64,
+}
+
+impl BaselineRow {
+    /// One line: parts, sheets and utilisation of the nest and of the baseline.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} {} parts: {} sheet(s) {:.1}% (used length {:.1}%), bounding boxes {} sheet(s) {:.1}% (used length {:.1}%)",
+            self.layer,
+            self.parts,
+            self.sheets,
+            self.utilization * 100.0,
+            self.used_length_utilization * 100.0,
+            self.baseline_sheets,
+            self.baseline_utilization * 100.0,
+            self.baseline_used_length_utilization * 100.0
+        )
+    }
+}
+
+/// An actuator of the batch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ActuatorRef {
+    pub design: String,
+    pub actuator: usize,
+}
+
+/// One clamp panel.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PanelRow {
+    pub index: usize,
+    pub stacking_order: Vec<String>,
+    pub actuators: Vec<ActuatorRef>,
+}
+
+/// Sheets of one material.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TotalRow {
+    pub layer: String,
+    pub material: String,
+    pub sheets: usize,
+    pub price_per_sheet: Option<f64>,
+    pub cost: Option<f64>,
+}
+
+/// `nest-report.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NestReport {
+    pub name: String,
+    pub seed: u64,
+    pub iterations: usize,
+    pub workers: usize,
+    pub process: String,
+    pub batch_file: String,
+    pub items: Vec<ItemRow>,
+    pub sheets: Vec<SheetRow>,
+    pub baseline: Vec<BaselineRow>,
+    pub clamp_panels: Vec<PanelRow>,
+    pub totals: Vec<TotalRow>,
+    /// Sum of the costs, when every cut material has a price.
+    pub total_cost: Option<f64>,
+    pub placement_map: Vec<String>,
+    pub files: Vec<String>,
+}
+
+fn total(rows: &mut Vec<TotalRow>, layer: &str, material: &str, sheets: usize, price: Option<f64>) {
+    match rows
+        .iter_mut()
+        .find(|r| r.layer == layer && r.material == material)
+    {
+        Some(r) => r.sheets += sheets,
+        None => rows.push(TotalRow {
+            layer: layer.into(),
+            material: material.into(),
+            sheets,
+            price_per_sheet: price,
+            cost: None,
+        }),
+    }
+}
+
+impl NestReport {
+    /// Assemble the report from what the planner drew; `files` is filled in by the writer.
+    pub fn new(
+        batch: &Batch,
+        opts: &NestOptions,
+        jobs: &[Job<'_>],
+        drawn: &Drawn,
+        clamps: &[ClampBuild],
+        baseline: Vec<BaselineRow>,
+    ) -> NestReport {
+        let t = &batch.template;
+        let sheets: Vec<SheetRow> = drawn
+            .sheets
+            .iter()
+            .map(|s| SheetRow {
+                layer: s.layer.clone(),
+                material: s.material.clone(),
+                index: s
+                    .stem
+                    .rsplit_once('-')
+                    .and_then(|(_, n)| n.parse().ok())
+                    .unwrap_or(0),
+                file_stem: s.stem.clone(),
+                width_mm: s.width_mm,
+                height_mm: s.height_mm,
+                utilization: s.utilization(),
+                parts: s
+                    .parts
+                    .iter()
+                    .map(|p| PartRow {
+                        design: jobs[p.job].design.name.clone(),
+                        actuator: p.actuator + 1,
+                        part: p.part.clone(),
+                        rotation_deg: p.rotation_deg,
+                        x_mm: p.offset[0],
+                        y_mm: p.offset[1],
+                    })
+                    .collect(),
+            })
+            .collect();
+        let mut totals = Vec::new();
+        for s in &sheets {
+            let price = match s.layer.as_str() {
+                "pzt" => t.pzt.price_per_sheet,
+                "pyralux" => t.bond.as_ref().and_then(|b| b.sheet.price_per_sheet),
+                _ => t.passive.price_per_sheet,
+            };
+            total(&mut totals, &s.layer, &s.material, 1, price);
+        }
+        let mut clamp_panels = Vec::new();
+        for c in clamps {
+            for stem in &c.stack {
+                let kind = stem.rsplit_once('-').map(|(k, _)| k).unwrap_or(stem);
+                let material = if kind == "mold" {
+                    &t.mold.material
+                } else {
+                    t.covers
+                        .get(kind)
+                        .map(|s| &s.material)
+                        .unwrap_or(&t.mold.material)
+                };
+                total(&mut totals, kind, material, c.panels.len(), None);
+            }
+            for (p, members) in c.panels.iter().enumerate() {
+                clamp_panels.push(PanelRow {
+                    index: c.first_panel + p,
+                    stacking_order: c.stack.clone(),
+                    actuators: members
+                        .iter()
+                        .map(|(j, a)| ActuatorRef {
+                            design: jobs[*j].design.name.clone(),
+                            actuator: a + 1,
+                        })
+                        .collect(),
+                });
+            }
+        }
+        for r in &mut totals {
+            r.cost = r.price_per_sheet.map(|p| p * r.sheets as f64);
+        }
+        let priced: Vec<&TotalRow> = totals.iter().filter(|r| r.cost.is_some()).collect();
+        let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
+        NestReport {
+            name: batch.name.clone(),
+            seed: opts.seed,
+            iterations: opts.iterations,
+            workers: WORKERS,
+            process: t.name.clone(),
+            batch_file: batch.source.display().to_string(),
+            items: batch
+                .items
+                .iter()
+                .map(|i| ItemRow {
+                    design: i.design.name.clone(),
+                    file: i.design.source.display().to_string(),
+                    quantity: i.quantity,
+                    pzt_thickness_mm: i.design.pzt_thickness * 1e3,
+                    layup_deg: i.design.layup_text(),
+                })
+                .collect(),
+            sheets,
+            baseline,
+            clamp_panels,
+            totals,
+            total_cost,
+            placement_map: drawn.placement_map.clone(),
+            files: Vec::new(),
+        }
+    }
+
+    /// Actuators in the batch.
+    pub fn actuators(&self) -> usize {
+        self.items.iter().map(|i| i.quantity).sum()
+    }
+
+    /// Sheets of one layer kind (`pzt`, a name starting `passive`, `pyralux`).
+    pub fn sheets_of(&self, layer_prefix: &str) -> usize {
+        self.sheets
+            .iter()
+            .filter(|s| s.layer.starts_with(layer_prefix))
+            .count()
+    }
+
+    /// The readable report.
+    pub fn markdown(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "# Nest: {}\n", self.name);
+        let _ = writeln!(
+            s,
+            "Process `{}`; batch file `{}`; seed {}, {} optimiser iterations on {} workers (same batch and seed, same files).\n",
+            self.process, self.batch_file, self.seed, self.iterations, self.workers
+        );
+        let _ = writeln!(s, "| design | quantity | PZT mm | layup | file |");
+        let _ = writeln!(s, "|---|---|---|---|---|");
+        for i in &self.items {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | `{}` |",
+                i.design, i.quantity, i.pzt_thickness_mm, i.layup_deg, i.file
+            );
+        }
+        let _ = writeln!(s, "\n## Sheets\n");
+        let _ = writeln!(
+            s,
+            "| file | layer | material | size mm | parts | utilisation |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|");
+        for sh in &self.sheets {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} | {} x {} | {} | {:.1}% |",
+                sh.file_stem,
+                sh.layer,
+                sh.material,
+                sh.width_mm,
+                sh.height_mm,
+                sh.parts.len(),
+                sh.utilization * 100.0
+            );
+        }
+        let _ = writeln!(s, "\n## Irregular nest against the bounding-box baseline\n");
+        let _ = writeln!(
+            s,
+            "| layer | material | parts | sheets | utilisation | used-length utilisation | baseline sheets | baseline utilisation | baseline used-length utilisation |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+        for b in &self.baseline {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {:.1}% | {:.1}% | {} | {:.1}% | {:.1}% |",
+                b.layer,
+                b.material,
+                b.parts,
+                b.sheets,
+                b.utilization * 100.0,
+                b.used_length_utilization * 100.0,
+                b.baseline_sheets,
+                b.baseline_utilization * 100.0,
+                b.baseline_used_length_utilization * 100.0
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nUsed-length utilisation counts the emptiest sheet only up to its highest part (plus the separation): the rest stays usable as a remnant.\n"
+        );
+        let _ = writeln!(s, "\n## Totals\n");
+        let _ = writeln!(s, "| layer | material | sheets | price/sheet | cost |");
+        let _ = writeln!(s, "|---|---|---|---|---|");
+        let money = |x: Option<f64>| x.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
+        for r in &self.totals {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} |",
+                r.layer,
+                r.material,
+                r.sheets,
+                money(r.price_per_sheet),
+                money(r.cost)
+            );
+        }
+        if let Some(c) = self.total_cost {
+            let _ = writeln!(s, "\nMaterial cost of the priced sheets: **{c:.2}**.");
+        }
+        let _ = writeln!(s, "\n## Clamp panels\n");
+        for p in &self.clamp_panels {
+            let who: Vec<String> = p
+                .actuators
+                .iter()
+                .map(|a| format!("{} #{}", a.design, a.actuator))
+                .collect();
+            let _ = writeln!(
+                s,
+                "- panel {} ({} layers: {}): {}",
+                p.index,
+                p.stacking_order.len(),
+                p.stacking_order.join(" → "),
+                who.join(", ")
+            );
+        }
+        let _ = writeln!(s, "\n## Parts on each sheet\n");
+        let _ = writeln!(
+            s,
+            "Position: where the centre of the part's base (clamped end) lands, after the rotation.\n"
+        );
+        for sh in &self.sheets {
+            let _ = writeln!(s, "### `{}` ({})\n", sh.file_stem, sh.material);
+            let _ = writeln!(s, "| design | actuator | part | rotation ° | x mm | y mm |");
+            let _ = writeln!(s, "|---|---|---|---|---|---|");
+            for p in &sh.parts {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {} | {:.3} | {:.3} |",
+                    p.design, p.actuator, p.part, p.rotation_deg, p.x_mm, p.y_mm
+                );
+            }
+            let _ = writeln!(s);
+        }
+        let _ = writeln!(s, "## Placement map\n");
+        for line in &self.placement_map {
+            let _ = writeln!(s, "- {line}");
+        }
+        let _ = writeln!(s, "\n## Files\n");
+        for f in &self.files {
+            let _ = writeln!(s, "- `{f}`");
+        }
+        s
+    }
+}

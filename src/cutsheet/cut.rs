@@ -1,0 +1,393 @@
+//! Cut-through parts (passive layer, ply-by-ply plies, Pyralux bond layers): the parts each job needs per
+//! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
+//! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
+
+use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
+use super::parts::{PartGeometry, Point};
+use super::template::{PassiveCut, SheetSpec, Template};
+use super::CutSheetError;
+use crate::cam::drawing::polygon_area as ring_area;
+use crate::cam::drawing::{Drawing, Operation, Shape};
+use crate::cam::label::{label_strokes, label_width};
+use crate::layout::{place_point, place_ring as place, SheetLayout};
+
+/// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
+pub const REGISTRATION_HOLE_MM: f64 = 0.5;
+
+/// Rotations a cut-through part may take: 0° and 180° keep the fibre direction.
+pub const CUT_ROTATIONS_DEG: [f64; 2] = [0.0, 180.0];
+
+/// The engraved label of a part, if it has room for one.
+#[derive(Debug, Clone)]
+pub enum Label {
+    /// No label.
+    None,
+    /// `"{name} {n}"` (or just `n`) along the axis of the PZT trapezoid.
+    Axis {
+        /// Plan dimensions.
+        geometry: PartGeometry,
+        /// Design name.
+        name: String,
+        /// Text height, mm.
+        height_mm: f64,
+        /// Room to keep to the part edge, mm.
+        margin_mm: f64,
+    },
+}
+
+impl Label {
+    /// Strokes of the label of copy `copy` (0-based), in part coordinates.
+    pub fn strokes(&self, copy: usize) -> Option<Vec<Vec<Point>>> {
+        match self {
+            Label::None => None,
+            Label::Axis {
+                geometry,
+                name,
+                height_mm,
+                margin_mm,
+            } => axis_label(
+                geometry,
+                &format!("{name} {}", copy + 1),
+                *height_mm,
+                *margin_mm,
+            )
+            .or_else(|| axis_label(geometry, &format!("{}", copy + 1), *height_mm, *margin_mm)),
+        }
+    }
+}
+
+/// One part design of a cut layer: `per_actuator` copies for each actuator of a job.
+#[derive(Debug, Clone)]
+pub struct CutItem {
+    /// Index of the job.
+    pub job: usize,
+    /// Part kind in reports (`passive`, `pyralux`); numbered when an actuator has several.
+    pub part: String,
+    /// Nominal outline, actuator axis along +y, base centred on the origin.
+    pub nominal: Vec<Point>,
+    /// The cut path: nominal outline grown by kerf/2.
+    pub cut: Vec<Point>,
+    /// Holes (centre, nominal radius) in part coordinates.
+    pub holes: Vec<(Point, f64)>,
+    /// Copies per actuator.
+    pub per_actuator: usize,
+    /// Copies in all.
+    pub count: usize,
+    /// Engraved label.
+    pub label: Label,
+}
+
+/// One cut layer of a build: its name, sheet, material and parts.
+#[derive(Debug, Clone)]
+pub struct CutLayer {
+    /// Layer name and file-stem prefix (`passive`, `passive-ply2-90deg`, `pyralux`).
+    pub layer: String,
+    /// Material for the report.
+    pub material: String,
+    /// Thickness of the cut sheet, mm.
+    pub thickness_mm: f64,
+    /// Density, kg/m³.
+    pub density_kg_per_m3: f64,
+    /// The sheet.
+    pub spec: SheetSpec,
+    /// Parts, one per job.
+    pub items: Vec<CutItem>,
+}
+
+/// A label along the part axis from `y_start`, if it fits inside the trapezoid with a margin.
+fn axis_label(g: &PartGeometry, text: &str, height: f64, margin: f64) -> Option<Vec<Vec<Point>>> {
+    if height <= 0.0 {
+        return None;
+    }
+    let width = label_width(text, height);
+    let y_start = 0.1 * g.piezo_length_mm;
+    let y_end = y_start + width;
+    let narrowest = g
+        .width_at_mm(y_start)
+        .min(g.width_at_mm(y_end.min(g.piezo_length_mm)));
+    if y_end > 0.9 * g.piezo_length_mm || narrowest < height + 2.0 * margin {
+        return None;
+    }
+    // Text runs along +x from the origin; turn it 90° so it reads along the axis, centred on it.
+    Some(
+        label_strokes(text, [0.0, 0.0], height)
+            .into_iter()
+            .map(|s| place(&s, 90.0, [height / 2.0, y_start]))
+            .collect(),
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn item(
+    job_index: usize,
+    job: &Job<'_>,
+    part: &str,
+    spec: &SheetSpec,
+    nominal: Vec<Point>,
+    holes: Vec<(Point, f64)>,
+    per_actuator: usize,
+    label: Label,
+    layer: &str,
+) -> Result<CutItem, CutSheetError> {
+    // Parts are laid out by their cut paths (nominal outline grown by kerf/2, mitred corners included):
+    // the web of material between two cuts is what must survive.
+    let cut = kerfed(
+        job.design,
+        &nominal,
+        spec.kerf_mm / 2.0,
+        &format!("{layer} part outline"),
+    )?;
+    for (_, radius) in &holes {
+        if radius - spec.kerf_mm / 2.0 <= 0.0 {
+            return Err(design_error(
+                job.design,
+                format!(
+                    "{layer}: a {:.3} mm hole vanishes inside the {} mm kerf",
+                    2.0 * radius,
+                    spec.kerf_mm
+                ),
+            ));
+        }
+    }
+    Ok(CutItem {
+        job: job_index,
+        part: part.into(),
+        nominal,
+        cut,
+        holes,
+        per_actuator,
+        count: per_actuator * job.quantity,
+        label,
+    })
+}
+
+/// The passive layers of jobs that share one layup: one layer cut from the laid-up stack, or one per
+/// ply (ply-by-ply cutting), each with one part per actuator.
+pub fn passive_layers(
+    jobs: &[(usize, Job<'_>)],
+    template: &Template,
+    spec: &SheetSpec,
+) -> Result<Vec<CutLayer>, CutSheetError> {
+    let Some((_, first)) = jobs.first() else {
+        return Ok(Vec::new());
+    };
+    let d0 = first.design;
+    let material = format!("{} ({})", d0.ply.name, spec.material);
+    match template.passive_cut {
+        PassiveCut::Stack => {
+            let items = jobs
+                .iter()
+                .map(|(i, job)| {
+                    let label = Label::Axis {
+                        geometry: job.geometry,
+                        name: job.design.name.clone(),
+                        height_mm: template.label_height_mm,
+                        margin_mm: spec.kerf_mm.max(0.2),
+                    };
+                    let outline = job.geometry.passive_outline();
+                    item(
+                        *i,
+                        job,
+                        "passive",
+                        spec,
+                        outline,
+                        Vec::new(),
+                        1,
+                        label,
+                        "passive",
+                    )
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(vec![CutLayer {
+                layer: "passive".into(),
+                material,
+                thickness_mm: d0.ply_thickness * 1e3 * d0.layup_deg.len() as f64,
+                density_kg_per_m3: d0.ply.density,
+                spec: spec.clone(),
+                items,
+            }])
+        }
+        PassiveCut::PlyByPly => {
+            let mut plies: Vec<CutLayer> = d0
+                .layup_deg
+                .iter()
+                .enumerate()
+                .map(|(i, angle)| CutLayer {
+                    layer: format!("passive-ply{}-{}deg", i + 1, angle),
+                    material: material.clone(),
+                    thickness_mm: d0.ply_thickness * 1e3,
+                    density_kg_per_m3: d0.ply.density,
+                    spec: spec.clone(),
+                    items: Vec::new(),
+                })
+                .collect();
+            for (i, job) in jobs {
+                let g = &job.geometry;
+                let holes = registration_holes(job, spec)?;
+                let outline = g.passive_outline();
+                for (ply, angle) in plies.iter_mut().zip(&job.design.layup_deg) {
+                    // Prepreg fibres run along the sheet's y axis; turning the part by -θ puts them at
+                    // +θ (counter-clockwise) from its axis.
+                    let turned = place(&outline, -angle, [0.0, 0.0]);
+                    let turned_holes: Vec<(Point, f64)> = holes
+                        .iter()
+                        .map(|(c, r)| (place_point(*c, -angle, [0.0, 0.0]), *r))
+                        .collect();
+                    let layer = ply.layer.clone();
+                    ply.items.push(item(
+                        *i,
+                        job,
+                        &layer,
+                        spec,
+                        turned,
+                        turned_holes,
+                        1,
+                        Label::None,
+                        &layer,
+                    )?);
+                }
+            }
+            Ok(plies)
+        }
+    }
+}
+
+/// Registration holes through every ply, in the passive-only base tab (clamped, so they do not touch
+/// the active part): two pins stack one actuator's plies in register.
+fn registration_holes(job: &Job<'_>, spec: &SheetSpec) -> Result<Vec<(Point, f64)>, CutSheetError> {
+    let g = &job.geometry;
+    let d = REGISTRATION_HOLE_MM;
+    let web = spec.kerf_mm.max(0.2);
+    if g.base_tab_mm < d + 2.0 * web || g.base_width_mm / 4.0 < d / 2.0 + web {
+        return Err(design_error(
+            job.design,
+            format!(
+                "geometry.base_tab_mm = {}: ply-by-ply cutting puts two {d} mm registration holes in the base tab; it needs a tab of at least {:.2} mm and a base width of at least {:.2} mm",
+                g.base_tab_mm,
+                d + 2.0 * web,
+                4.0 * (d / 2.0 + web)
+            ),
+        ));
+    }
+    Ok([-1.0, 1.0]
+        .iter()
+        .map(|side| {
+            (
+                [side * g.base_width_mm / 4.0, -g.base_tab_mm / 2.0],
+                d / 2.0,
+            )
+        })
+        .collect())
+}
+
+/// The Pyralux bond layer of method 1: two PZT-shaped parts per actuator, each with a via for silver
+/// epoxy. `None` when the process has no bond layer.
+pub fn pyralux_layer(
+    jobs: &[Job<'_>],
+    template: &Template,
+    spec: Option<&SheetSpec>,
+) -> Result<Option<CutLayer>, CutSheetError> {
+    let Some(bond) = template.bond.as_ref() else {
+        return Ok(None);
+    };
+    let spec = spec.unwrap_or(&bond.sheet);
+    let mut items = Vec::new();
+    for (i, job) in jobs.iter().enumerate() {
+        let g = &job.geometry;
+        let via = (
+            [0.0, bond.via_position * g.piezo_length_mm],
+            bond.via_diameter_mm / 2.0,
+        );
+        let via_edge_room = g.width_at_mm(via.0[1]) / 2.0 - via.1;
+        if via_edge_room < 2.0 * spec.kerf_mm {
+            return Err(design_error(job.design, format!("pyralux: the {} mm via leaves {:.3} mm to the plate edge, less than twice the kerf", bond.via_diameter_mm, via_edge_room)));
+        }
+        items.push(item(
+            i,
+            job,
+            "pyralux",
+            spec,
+            g.pzt_outline(),
+            vec![via],
+            2,
+            Label::None,
+            "pyralux",
+        )?);
+    }
+    Ok(Some(CutLayer {
+        layer: "pyralux".into(),
+        material: spec.material.clone(),
+        thickness_mm: bond.thickness_mm,
+        density_kg_per_m3: bond.density_kg_per_m3,
+        spec: spec.clone(),
+        items,
+    }))
+}
+
+/// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is
+/// the item's cut path placed, its `copy` counts over the item's copies. Holes first, then labels, then
+/// the outer contours (cut order).
+pub fn draw_cut_sheets(
+    layer: &CutLayer,
+    layouts: &[SheetLayout],
+    names: &Names,
+    drawn: &mut Drawn,
+) {
+    let spec = &layer.spec;
+    for layout in layouts {
+        let n = drawn.next_number(&layer.layer);
+        let mut d = Drawing::new(
+            &format!("{} {}, sheet {n}", names.title, layer.layer),
+            spec.width_mm,
+            spec.height_mm,
+        );
+        for p in &layout.placements {
+            for (centre, radius) in &layer.items[p.item].holes {
+                d.add(
+                    Operation::Cut,
+                    Shape::Circle {
+                        center: place_point(*centre, p.rotation_deg, p.offset),
+                        radius: radius - spec.kerf_mm / 2.0,
+                    },
+                );
+            }
+        }
+        for p in &layout.placements {
+            let item = &layer.items[p.item];
+            if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {
+                for s in strokes {
+                    d.add(
+                        Operation::Engrave,
+                        Shape::Polyline(place(&s, p.rotation_deg, p.offset)),
+                    );
+                }
+            }
+        }
+        let mut record = SheetRecord {
+            stem: format!("{}-{n}", layer.layer),
+            layer: layer.layer.clone(),
+            material: layer.material.clone(),
+            width_mm: spec.width_mm,
+            height_mm: spec.height_mm,
+            parts: Vec::new(),
+        };
+        for p in &layout.placements {
+            d.add(Operation::Cut, Shape::Polygon(p.outline.clone()));
+            let item = &layer.items[p.item];
+            record.parts.push(PartRecord {
+                job: item.job,
+                actuator: p.copy / item.per_actuator,
+                part: if item.per_actuator > 1 {
+                    format!("{}-{}", item.part, p.copy % item.per_actuator + 1)
+                } else {
+                    item.part.clone()
+                },
+                rotation_deg: p.rotation_deg,
+                offset: p.offset,
+                area_mm2: ring_area(&item.nominal),
+            });
+        }
+        drawn.sheets.push(record);
+        drawn.push(format!("{}-{n}", layer.layer), &layer.layer, d);
+    }
+}

@@ -1,0 +1,185 @@
+//! What the layer builders share: a list of jobs (designs with quantities) built together, the names
+//! drawings and messages use, and what has been built so far (drawings, per-sheet records, placement map).
+
+use super::parts::{PartGeometry, Point};
+use super::template::Template;
+use super::{CutSheetError, SheetDrawing};
+use crate::cam::drawing::Drawing;
+use crate::cam::kerf::offset_ring;
+use crate::design::Design;
+use std::collections::BTreeMap;
+
+/// One design's share of a build: the design as the process builds it, its plan geometry, how many.
+#[derive(Debug, Clone, Copy)]
+pub struct Job<'a> {
+    /// The design (bond layers of the process included).
+    pub design: &'a Design,
+    /// Plan dimensions, mm.
+    pub geometry: PartGeometry,
+    /// Actuators of this design.
+    pub quantity: usize,
+}
+
+impl<'a> Job<'a> {
+    /// A job for `quantity` actuators of `design`.
+    pub fn new(design: &'a Design, quantity: usize) -> Self {
+        Job {
+            design,
+            geometry: PartGeometry::of(design),
+            quantity,
+        }
+    }
+}
+
+/// How a build names itself in drawing titles, engraved labels, messages and the placement map.
+#[derive(Debug, Clone)]
+pub struct Names {
+    /// Title of drawings and clamp-panel labels (the design name, or the batch name).
+    pub title: String,
+    /// File errors are reported against.
+    pub file: String,
+    /// Prefix actuators with their design name in the placement map (batches of several designs).
+    pub name_designs: bool,
+}
+
+impl Names {
+    /// How the placement map names actuator `actuator` (0-based) of `design`.
+    pub fn actuator(&self, design: &Design, actuator: usize) -> String {
+        if self.name_designs {
+            format!("{} actuator {}", design.name, actuator + 1)
+        } else {
+            format!("actuator {}", actuator + 1)
+        }
+    }
+
+    /// A geometry or layout problem of the whole build.
+    pub fn error(&self, what: String) -> CutSheetError {
+        CutSheetError::Geometry {
+            file: self.file.clone(),
+            what,
+        }
+    }
+}
+
+/// One part placed on a sheet, for reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartRecord {
+    /// Index of the job (design) in the build.
+    pub job: usize,
+    /// Actuator of that job, 0-based.
+    pub actuator: usize,
+    /// Part kind: `pzt-plate-1`, `passive`, `pyralux-2`, …
+    pub part: String,
+    /// Rotation of the nominal outline, degrees CCW.
+    pub rotation_deg: f64,
+    /// Where the outline's origin (the base centre of the part) lands on the sheet, mm.
+    pub offset: Point,
+    /// Nominal part area, mm².
+    pub area_mm2: f64,
+}
+
+/// One sheet of a cut material (PZT, passive, Pyralux) as drawn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheetRecord {
+    /// File stem (`pzt-2`).
+    pub stem: String,
+    /// Layer name.
+    pub layer: String,
+    /// Material as bought.
+    pub material: String,
+    /// Sheet width, mm.
+    pub width_mm: f64,
+    /// Sheet height, mm.
+    pub height_mm: f64,
+    /// Parts on it.
+    pub parts: Vec<PartRecord>,
+}
+
+impl SheetRecord {
+    /// Nominal part area over sheet area.
+    pub fn utilization(&self) -> f64 {
+        self.parts.iter().map(|p| p.area_mm2).sum::<f64>() / (self.width_mm * self.height_mm)
+    }
+}
+
+/// Everything the layer builders make, in file order.
+#[derive(Debug, Clone, Default)]
+pub struct Drawn {
+    /// Drawings in file order.
+    pub drawings: Vec<SheetDrawing>,
+    /// Cut-material sheets with the parts on them.
+    pub sheets: Vec<SheetRecord>,
+    /// Clamp panels used.
+    pub panels: usize,
+    /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
+    pub placement_map: Vec<String>,
+    /// Next sheet number of each layer (stems are numbered per layer across the whole build).
+    numbers: BTreeMap<String, usize>,
+}
+
+impl Drawn {
+    /// The next 1-based sheet number of `layer`.
+    pub fn next_number(&mut self, layer: &str) -> usize {
+        let n = self.numbers.entry(layer.to_string()).or_insert(0);
+        *n += 1;
+        *n
+    }
+
+    /// Add a drawing.
+    pub fn push(&mut self, stem: String, layer: &str, drawing: Drawing) {
+        self.drawings.push(SheetDrawing {
+            stem,
+            layer: layer.into(),
+            drawing,
+        });
+    }
+}
+
+/// Process checks every design of a build must pass: the tip must survive the kerf.
+pub fn check_geometry(job: &Job<'_>, template: &Template) -> Result<(), CutSheetError> {
+    let widest_kerf = [template.pzt.kerf_mm, template.passive.kerf_mm]
+        .into_iter()
+        .fold(0.0, f64::max);
+    let g = &job.geometry;
+    if g.tip_width_mm < 2.0 * widest_kerf {
+        return Err(design_error(
+            job.design,
+            format!(
+                "geometry: tip width {:.4} mm is narrower than twice the kerf (2 x {} mm): the tip would be cut away",
+                g.tip_width_mm, widest_kerf
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A problem with one design's geometry, reported against its file.
+pub fn design_error(design: &Design, what: String) -> CutSheetError {
+    CutSheetError::Geometry {
+        file: design.source.display().to_string(),
+        what,
+    }
+}
+
+/// Offset a ring by `delta` mm (outer contours +kerf/2, holes and cavities -kerf/2), naming the feature
+/// when it vanishes.
+pub fn kerfed(
+    design: &Design,
+    ring: &[Point],
+    delta: f64,
+    feature: &str,
+) -> Result<Vec<Point>, CutSheetError> {
+    if delta == 0.0 {
+        return Ok(ring.to_vec());
+    }
+    offset_ring(ring, delta).map_err(|e| design_error(design, format!("{feature}: {e}")))
+}
+
+/// At most three violations, joined for a one-line message.
+pub fn format_violations<V: std::fmt::Display>(v: &[V]) -> String {
+    v.iter()
+        .take(3)
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
