@@ -101,6 +101,34 @@ fn random_design(rng: &mut impl Rng, i: usize) -> String {
     )
 }
 
+/// The built-in method-2 template with one text replaced (the replacement must apply).
+fn method_2_with(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(format!(
+        "{}/templates/method-2.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let changed = text.replace(from, to);
+    assert_ne!(changed, text, "{from:?} is not in the template");
+    changed
+}
+
+/// Write `template` as `dir/NAME` and design C using it (with more replaced lines) as `dir/d.toml`.
+fn design_on_template(
+    dir: &Path,
+    name: &str,
+    template: &str,
+    replace: &[(&str, &str)],
+) -> std::path::PathBuf {
+    std::fs::write(dir.join(name), template).unwrap();
+    let process = format!("process = \"{name}\"");
+    let mut lines = vec![("process", process.as_str())];
+    lines.extend_from_slice(replace);
+    let path = dir.join("d.toml");
+    std::fs::write(&path, design_c_with(&lines)).unwrap();
+    path
+}
+
 #[test]
 fn geometry_mass_equals_model_mass_and_svg_areas_read_back() {
     // Issue #3: Σ area x thickness x density of the nominal outlines equals the model's mass to 1e-9,
@@ -362,24 +390,15 @@ fn outputs_have_the_layer_files_the_process_needs() {
 fn ply_by_ply_template_turns_each_ply_and_registers_it() {
     // A user template (method 2 with ply-by-ply cutting) named by path from the design file.
     let dir = tempfile::tempdir().unwrap();
-    let template = std::fs::read_to_string(format!(
-        "{}/templates/method-2.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
-    std::fs::write(dir.path().join("plies.toml"), template).unwrap();
-    let design = design_c_with(&[
-        ("process", "process = \"plies.toml\""),
-        ("base_tab_mm", "base_tab_mm = 2.0"),
-    ]);
-    std::fs::write(dir.path().join("d.toml"), &design).unwrap();
-    let out = dir.path().join("out");
-    let o = cut_sheet(
-        dir.path().join("d.toml").to_str().unwrap(),
-        &out,
-        &["--kerf-mm", "0"],
+    let template = method_2_with("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    let design = design_on_template(
+        dir.path(),
+        "plies.toml",
+        &template,
+        &[("base_tab_mm", "base_tab_mm = 2.0")],
     );
+    let out = dir.path().join("out");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let r = report(&out);
     let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
@@ -423,21 +442,13 @@ fn ply_by_ply_template_turns_each_ply_and_registers_it() {
 fn template_operation_colours_reach_both_file_formats() {
     // A lab whose laser maps magenta to "cut": the template says so, and SVG stroke and DXF layer follow.
     let dir = tempfile::tempdir().unwrap();
-    let method_2 = std::fs::read_to_string(format!(
-        "{}/templates/method-2.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let magenta = method_2.replace(
+    let magenta = method_2_with(
         "cut = { colour = \"#FF0000\", aci = 1 }",
         "cut = { colour = \"#ff00ff\", aci = 6 }",
     );
-    assert_ne!(magenta, method_2);
-    std::fs::write(dir.path().join("magenta.toml"), &magenta).unwrap();
-    let design = design_c_with(&[("process", "process = \"magenta.toml\"")]);
-    std::fs::write(dir.path().join("d.toml"), &design).unwrap();
+    let design = design_on_template(dir.path(), "magenta.toml", &magenta, &[]);
     let out = dir.path().join("out");
-    let o = cut_sheet(dir.path().join("d.toml").to_str().unwrap(), &out, &[]);
+    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(out.join("passive-1.svg")).unwrap();
     assert!(svg.contains("stroke=\"#FF00FF\""));
@@ -457,19 +468,78 @@ fn template_operation_colours_reach_both_file_formats() {
     assert_eq!(colour, "6");
 
     // Two operations sharing a colour could not be told apart by the laser software: refused.
-    let clash = method_2.replace(
+    let clash = method_2_with(
         "engrave = { colour = \"#000000\", aci = 7 }",
         "engrave = { colour = \"#0000FF\", aci = 7 }",
     );
-    std::fs::write(dir.path().join("magenta.toml"), clash).unwrap();
+    let design = design_on_template(dir.path(), "magenta.toml", &clash, &[]);
     let out2 = dir.path().join("out2");
-    let o = cut_sheet(dir.path().join("d.toml").to_str().unwrap(), &out2, &[]);
+    let o = cut_sheet(design.to_str().unwrap(), &out2, &[]);
     let err = stderr(&o);
     assert!(!o.status.success());
     assert!(
         err.contains("magenta.toml")
             && err.contains("operations")
             && err.contains("share a colour"),
+        "{err}"
+    );
+    assert!(!out2.exists());
+}
+
+#[test]
+fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
+    // CAM-NOTES §1: a clearance between plate edge and passive edge. With the template's margin m, every
+    // corner of the plate (preview, kerf 0) lies inside the passive outline, exactly m from its edge.
+    let dir = tempfile::tempdir().unwrap();
+    let with_margin = |m: &str| {
+        method_2_with(
+            "passive_edge_margin_mm = 0.0",
+            &format!("passive_edge_margin_mm = {m}"),
+        )
+    };
+    let tab = [("base_tab_mm", "base_tab_mm = 1.0")];
+    let design = design_on_template(dir.path(), "inset.toml", &with_margin("0.15"), &tab);
+    let out = dir.path().join("out");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
+    let passive = &svg_paths(&svg, "SECONDARY")[0].0;
+    let plate = &svg_paths(&svg, "CUT")[0].0;
+    assert_eq!(plate.len(), 4);
+    let outer = polygon(passive);
+    for corner in plate {
+        let p = geo::Point::new(corner[0], corner[1]);
+        assert!(outer.intersects(&p), "{corner:?} outside the passive part");
+        let d = Euclidean.distance(&p, outer.exterior());
+        assert!(
+            (d - 0.15).abs() < 1e-6,
+            "{corner:?} is {d} mm from the edge"
+        );
+    }
+    let r = report(&out);
+    let pzt_area = r["layers"][0]["part_area_mm2"].as_f64().unwrap();
+    // The SVG holds 6 decimals: each corner within 5e-7 mm, so the area within perimeter x 5e-7.
+    let bound = perimeter(plate) * 5e-7;
+    assert!(
+        (pzt_area - area(plate)).abs() < bound,
+        "{pzt_area} vs {} (bound {bound})",
+        area(plate)
+    );
+    assert_eq!(r["pzt_edge_margin_mm"].as_f64(), Some(0.15));
+    let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
+    assert!(geometry < r["predicted"]["mass_mg"].as_f64().unwrap());
+    assert!(std::fs::read_to_string(out.join("report.md"))
+        .unwrap()
+        .contains("insets the PZT plates 0.15 mm"));
+
+    // A margin that eats the 1 mm tip of design C: refused, nothing written.
+    let design = design_on_template(dir.path(), "inset.toml", &with_margin("0.5"), &tab);
+    let out2 = dir.path().join("out2");
+    let o = cut_sheet(design.to_str().unwrap(), &out2, &[]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("d.toml") && err.contains("edge margin"),
         "{err}"
     );
     assert!(!out2.exists());

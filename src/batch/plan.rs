@@ -64,7 +64,7 @@ pub fn plan(batch: &Batch, opts: &NestOptions) -> Result<Planned, CutSheetError>
     let jobs: Vec<Job<'_>> = batch
         .items
         .iter()
-        .map(|i| Job::new(&i.design, i.quantity))
+        .map(|i| Job::new(&i.design, i.quantity, template))
         .collect();
     for job in &jobs {
         check_geometry(job, template)?;

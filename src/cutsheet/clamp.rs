@@ -76,6 +76,7 @@ fn envelope(jobs: &[(usize, Job<'_>)]) -> PartGeometry {
         base_width_mm: width,
         tip_width_mm: width,
         base_tab_mm: tab,
+        pzt_margin_mm: 0.0,
     }
 }
 

@@ -298,7 +298,7 @@ pub fn pyralux_layer(
             [0.0, bond.via_position * g.piezo_length_mm],
             bond.via_diameter_mm / 2.0,
         );
-        let via_edge_room = g.width_at_mm(via.0[1]) / 2.0 - via.1;
+        let via_edge_room = g.plate_width_at_mm(via.0[1]) / 2.0 - via.1;
         if via_edge_room < 2.0 * spec.kerf_mm {
             return Err(design_error(job.design, format!("pyralux: the {} mm via leaves {:.3} mm to the plate edge, less than twice the kerf", bond.via_diameter_mm, via_edge_room)));
         }

@@ -21,11 +21,11 @@ pub struct Job<'a> {
 }
 
 impl<'a> Job<'a> {
-    /// A job for `quantity` actuators of `design`.
-    pub fn new(design: &'a Design, quantity: usize) -> Self {
+    /// A job for `quantity` actuators of `design`, its PZT plates inset by the template's margin.
+    pub fn new(design: &'a Design, quantity: usize, template: &Template) -> Self {
         Job {
             design,
-            geometry: PartGeometry::of(design),
+            geometry: PartGeometry::of(design).with_pzt_margin(template.pzt_edge_margin_mm),
             quantity,
         }
     }
@@ -147,6 +147,17 @@ pub fn check_geometry(job: &Job<'_>, template: &Template) -> Result<(), CutSheet
             format!(
                 "geometry: tip width {:.4} mm is narrower than twice the kerf (2 x {} mm): the tip would be cut away",
                 g.tip_width_mm, widest_kerf
+            ),
+        ));
+    }
+    if g.pzt_margin_mm > 0.0 && g.plate_tip_width_mm() < 2.0 * widest_kerf {
+        return Err(design_error(
+            job.design,
+            format!(
+                "geometry: the PZT plate inset by the template's {} mm edge margin is {:.4} mm wide at its tip, narrower than twice the kerf (2 x {} mm)",
+                g.pzt_margin_mm,
+                g.plate_tip_width_mm(),
+                widest_kerf
             ),
         ));
     }

@@ -156,6 +156,7 @@ mod tests {
             base_width_mm: 5.0,
             tip_width_mm: 1.0,
             base_tab_mm: 0.0,
+            pzt_margin_mm: 0.0,
         };
         let layout = layout_panels(&spec, &g, 50).unwrap();
         let all: Vec<usize> = layout.panels.iter().flatten().map(|(i, _)| *i).collect();

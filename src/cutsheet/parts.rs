@@ -19,6 +19,10 @@ pub struct PartGeometry {
     pub tip_width_mm: f64,
     /// Passive-only tab behind the PZT.
     pub base_tab_mm: f64,
+    /// How far the PZT plate's sides and tip end sit inside the passive part's edge (the template's
+    /// PZT-to-CF edge margin, CAM-NOTES §1: resin squeezed out at the CF edge cannot bridge the PZT
+    /// electrodes). 0: the plate is the design's trapezoid.
+    pub pzt_margin_mm: f64,
 }
 
 impl PartGeometry {
@@ -31,7 +35,39 @@ impl PartGeometry {
             base_width_mm: p.base_width * 1e3,
             tip_width_mm: p.tip_width() * 1e3,
             base_tab_mm: p.base_tab * 1e3,
+            pzt_margin_mm: 0.0,
         }
+    }
+
+    /// The same actuator with the PZT plate inset by `margin_mm` from the passive edge.
+    pub fn with_pzt_margin(self, margin_mm: f64) -> Self {
+        PartGeometry {
+            pzt_margin_mm: margin_mm,
+            ..self
+        }
+    }
+
+    /// Length of the PZT plate: `l_p` less the margin at the tip end (the root stays on the clamp line).
+    pub fn plate_length_mm(&self) -> f64 {
+        self.piezo_length_mm - self.pzt_margin_mm
+    }
+
+    /// Width of the PZT plate at its root. Each side moves in by the margin measured square to the
+    /// tapered edge, so by `margin · sqrt(1 + s²)` across, with `s` the side's slope `(w_tip - w_0)/(2 l_p)`.
+    pub fn plate_base_width_mm(&self) -> f64 {
+        let slope = (self.tip_width_mm - self.base_width_mm) / (2.0 * self.piezo_length_mm);
+        self.base_width_mm - 2.0 * self.pzt_margin_mm * (1.0 + slope * slope).sqrt()
+    }
+
+    /// Width of the PZT plate at its tip end.
+    pub fn plate_tip_width_mm(&self) -> f64 {
+        self.plate_width_at_mm(self.plate_length_mm())
+    }
+
+    /// Width of the PZT plate at height y (the sides keep the design's taper).
+    pub fn plate_width_at_mm(&self, y: f64) -> f64 {
+        self.plate_base_width_mm()
+            + (self.tip_width_mm - self.base_width_mm) * y / self.piezo_length_mm
     }
 
     /// Total passive length (tab + PZT + extension).
@@ -39,12 +75,12 @@ impl PartGeometry {
         self.base_tab_mm + self.piezo_length_mm + self.extension_length_mm
     }
 
-    /// The PZT plate: trapezoid from w_0 at y = 0 to w_tip at y = l_p (CCW).
+    /// The PZT plate: trapezoid from w_0 at y = 0 to w_tip at y = l_p (CCW), inset by the margin.
     pub fn pzt_outline(&self) -> Vec<Point> {
         let (b, t, l) = (
-            self.base_width_mm / 2.0,
-            self.tip_width_mm / 2.0,
-            self.piezo_length_mm,
+            self.plate_base_width_mm() / 2.0,
+            self.plate_tip_width_mm() / 2.0,
+            self.plate_length_mm(),
         );
         vec![[-b, 0.0], [b, 0.0], [t, l], [-t, l]]
     }
@@ -75,7 +111,7 @@ impl PartGeometry {
         ring
     }
 
-    /// Width of the PZT at height y (0 ≤ y ≤ l_p).
+    /// Width of the passive part's tapered section at height y (0 ≤ y ≤ l_p).
     pub fn width_at_mm(&self, y: f64) -> f64 {
         self.base_width_mm + (self.tip_width_mm - self.base_width_mm) * y / self.piezo_length_mm
     }
@@ -93,6 +129,7 @@ mod tests {
             base_width_mm: 5.0,
             tip_width_mm: 1.0,
             base_tab_mm: tab,
+            pzt_margin_mm: 0.0,
         }
     }
 
@@ -108,6 +145,31 @@ mod tests {
                 "{tab} {ext}"
             );
         }
+    }
+
+    #[test]
+    fn the_margin_insets_every_plate_edge_square_to_itself() {
+        // Each inset side must lie `margin` from the passive side it follows (distance from a point to a
+        // line), and the plate's tip end `margin` below the end of the taper.
+        let g = geometry(1.0, 10.0).with_pzt_margin(0.2);
+        let plate = g.pzt_outline();
+        let (b, t, l) = (2.5, 0.5, 23.0);
+        let distance = |p: [f64; 2]| {
+            // Passive right side from (b, 0) to (t, l).
+            let (dx, dy) = (t - b, l);
+            ((p[0] - b) * dy - p[1] * dx).abs() / (dx * dx + dy * dy).sqrt()
+        };
+        assert!((distance(plate[1]) - 0.2).abs() < 1e-12);
+        assert!((distance(plate[2]) - 0.2).abs() < 1e-12);
+        assert!((plate[2][1] - (23.0 - 0.2)).abs() < 1e-12);
+        assert!((g.plate_tip_width_mm() - 2.0 * plate[2][0]).abs() < 1e-12);
+        // The passive part keeps the design's outline.
+        assert_eq!(g.passive_outline(), geometry(1.0, 10.0).passive_outline());
+        // No margin: the design's trapezoid exactly.
+        assert_eq!(
+            geometry(0.0, 0.0).pzt_outline(),
+            vec![[-2.5, 0.0], [2.5, 0.0], [0.5, 23.0], [-0.5, 23.0]]
+        );
     }
 
     #[test]

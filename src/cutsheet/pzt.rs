@@ -28,9 +28,9 @@ pub fn pzt_sheets(
     let items: Vec<PlateSpec> = jobs
         .iter()
         .map(|j| PlateSpec {
-            length_mm: j.geometry.piezo_length_mm,
-            base_width_mm: j.geometry.base_width_mm,
-            tip_width_mm: j.geometry.tip_width_mm,
+            length_mm: j.geometry.plate_length_mm(),
+            base_width_mm: j.geometry.plate_base_width_mm(),
+            tip_width_mm: j.geometry.plate_tip_width_mm(),
             count: 2 * j.quantity,
         })
         .collect();

@@ -70,6 +70,9 @@ pub struct Report {
     pub layers: Vec<LayerRow>,
     /// Σ area x thickness x density over the nominal part outlines of one actuator.
     pub mass_from_geometry_mg: f64,
+    /// The template's PZT-to-CF edge margin: the plates are this much inside the passive edge, so
+    /// narrower and shorter than the design the model predicts.
+    pub pzt_edge_margin_mm: f64,
     pub clamp_panels: usize,
     pub stacking_order: Vec<String>,
     pub build_steps: Vec<String>,
@@ -119,6 +122,7 @@ impl Report {
             predicted,
             layers,
             mass_from_geometry_mg,
+            pzt_edge_margin_mm: template.pzt_edge_margin_mm,
             clamp_panels: built.panels,
             stacking_order: built.stack.clone(),
             build_steps: template.cure_steps.clone(),
@@ -156,6 +160,13 @@ impl Report {
             "Mass from the cut geometry: **{:.3} mg** per actuator; model: **{:.3} mg**.\n",
             self.mass_from_geometry_mg, p.mass_mg
         );
+        if self.pzt_edge_margin_mm > 0.0 {
+            let _ = writeln!(
+                s,
+                "The process template insets the PZT plates {} mm from the passive edge (sides and tip end), so they are smaller than the design the model predicts; the geometry mass counts the plates as cut.\n",
+                self.pzt_edge_margin_mm
+            );
+        }
         let _ = writeln!(s, "## Layers\n");
         let _ = writeln!(s, "| layer | material | thickness mm | density kg/m³ | part area mm² | parts/actuator | mass/actuator mg | sheets | utilisation |");
         let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");

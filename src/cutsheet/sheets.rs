@@ -49,7 +49,7 @@ fn utilization(
 
 /// Build every layer of `design.quantity` actuators.
 pub fn build(design: &Design, template: &Template) -> Result<Built, CutSheetError> {
-    let job = Job::new(design, design.quantity);
+    let job = Job::new(design, design.quantity, template);
     check_geometry(&job, template)?;
     let g = job.geometry;
     let names = Names {

@@ -137,6 +137,9 @@ pub struct Template {
     pub covers: BTreeMap<String, ClampLayerSpec>,
     /// Colour of each laser operation in the files (`[operations]`; default CAM-NOTES §3).
     pub palette: Palette,
+    /// PZT-to-CF edge margin: the PZT plates' sides and tip end sit this far inside the passive part's
+    /// edge, mm (`[layers.pzt] passive_edge_margin_mm`, default 0).
+    pub pzt_edge_margin_mm: f64,
 }
 
 const METHOD_1: &str = include_str!("../../templates/method-1.toml");
@@ -273,7 +276,15 @@ impl Template {
             t.finish()?;
             Ok(s)
         };
-        let pzt = sheet("pzt")?;
+        let (pzt, pzt_edge_margin_mm) = {
+            let t = layers.table("pzt")?;
+            let spec = read_sheet(&t)?;
+            let margin = t
+                .optional_number_in("passive_edge_margin_mm", Range::closed(0.0, 2.0, "mm"))?
+                .unwrap_or(0.0);
+            t.finish()?;
+            (spec, margin)
+        };
         let passive = sheet("passive")?;
         let bond = match layers.optional_table("pyralux")? {
             None => None,
@@ -345,6 +356,7 @@ impl Template {
             mold,
             covers,
             palette,
+            pzt_edge_margin_mm,
         })
     }
 
