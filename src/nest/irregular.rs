@@ -111,7 +111,10 @@ const BEST_FIT_MIN_EFFORT: Effort = Effort {
     anchors: 25,
 };
 /// Starts each worker builds (see `Model::construct`) on jobs of at most this many copies.
-const STARTS_PER_WORKER: usize = 3;
+const STARTS_PER_WORKER: usize = 5;
+/// Tie widths of the best-fit starts (odd recipes), mm: spots whose bottoms are this close
+/// count as equally low.
+const BEST_FIT_TIES_MM: [f32; 5] = [2.0, 0.5, 5.0, 1.0, 3.0];
 const PORTFOLIO_MAX_COPIES: usize = 150;
 
 /// What an insertion tries: how hard, which earlier placements to try first, and an optional
@@ -168,6 +171,8 @@ const MAX_SHRINK_RUIN: usize = 16;
 /// many iterations, and there are at most this many epochs.
 const MIN_EPOCH_ITERATIONS: usize = 25;
 const MAX_EPOCHS: usize = 16;
+/// Share of the epochs in which workers keep to their own starts (see `Model::run`).
+const INDEPENDENT_EPOCHS: f64 = 0.5;
 
 /// One part placed in the jagua-rs frame: its centred, inflated shape turned by rotation `rot`
 /// and moved by `t`.
@@ -300,36 +305,50 @@ impl<'a> Model<'a> {
         })
     }
 
-    /// Greedy fill per worker, then epochs of local search; returns the best layout found.
+    /// Greedy fill per worker, then epochs of local search; returns the best layout found. In
+    /// the first `INDEPENDENT_EPOCHS` share of the epochs each worker improves its own start,
+    /// so the basins of different starts are all explored; after that, every epoch starts all
+    /// workers from the best layout so far.
     fn run(&self) -> Result<Sheets, NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
-        let starts = parallel(workers, |w| self.construct(w));
-        let mut best: Option<(Score, Sheets)> = None;
-        for start in starts {
-            let start = start?;
-            if best.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
-                best = Some(start);
-            }
-        }
-        let (mut best_score, mut best_sheets) = best.expect("at least one worker");
+        let mut own: Vec<(Score, Sheets)> = parallel(workers, |w| self.construct(w))
+            .into_iter()
+            .collect::<Result<_, _>>()?;
+        let mut best = own[0].clone();
         let epochs = (settings.iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
+        let independent = (epochs as f64 * INDEPENDENT_EPOCHS) as usize;
         let slots = epochs * workers;
-        for epoch in 0..epochs {
-            let incumbent = &best_sheets;
-            let results = parallel(workers, |w| {
+        for epoch in 0..=epochs {
+            for start in &own {
+                if start.0.better_than(&best.0) {
+                    best = start.clone();
+                }
+            }
+            if epoch == epochs {
+                break;
+            }
+            let incumbents: Vec<&Sheets> = (0..workers)
+                .map(|w| {
+                    if epoch < independent {
+                        &own[w].1
+                    } else {
+                        &best.1
+                    }
+                })
+                .collect();
+            own = parallel(workers, |w| {
                 let slot = epoch * workers + w;
                 let budget =
                     settings.iterations / slots + usize::from(slot < settings.iterations % slots);
-                self.improve(incumbent, budget, worker_rng(settings.seed, epoch + 1, w))
+                self.improve(
+                    incumbents[w],
+                    budget,
+                    worker_rng(settings.seed, epoch + 1, w),
+                )
             });
-            for (score, sheets) in results {
-                if score.better_than(&best_score) {
-                    (best_score, best_sheets) = (score, sheets);
-                }
-            }
         }
-        Ok(best_sheets)
+        Ok(best.1)
     }
 
     /// Best-fit fill: instead of placing parts in a fixed order, each step looks at every
@@ -425,11 +444,11 @@ impl<'a> Model<'a> {
         let mut best: Option<(Score, Sheets)> = None;
         for k in 0..starts {
             let recipe = worker + k * workers;
-            let start = match recipe {
-                1 => self.construct_best_fit(recipe, 2.0)?,
-                3 => self.construct_best_fit(recipe, 0.5)?,
-                5 => self.construct_best_fit(recipe, 5.0)?,
-                _ => self.construct_in_order(recipe)?,
+            let start = if recipe % 2 == 1 {
+                let ties = BEST_FIT_TIES_MM;
+                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])?
+            } else {
+                self.construct_in_order(recipe)?
             };
             if best.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
                 best = Some(start);
@@ -438,8 +457,8 @@ impl<'a> Model<'a> {
         Ok(best.expect("at least one start"))
     }
 
-    /// Greedy fill in a size order (area, length or box area, by recipe; perturbed from recipe
-    /// 6 on), first sheet that takes a part.
+    /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from
+    /// recipe 6 on), first sheet that takes a part.
     fn construct_in_order(&self, recipe: usize) -> Result<(Score, Sheets), NestError> {
         let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
         let mut order: Vec<usize> = self
