@@ -156,6 +156,8 @@ const BAND_SHARE: f64 = 0.5;
 /// Range of the height of a ruined band, mm, and most parts it removes.
 const BAND_HEIGHT_MM: (f32, f32) = (5.0, 40.0);
 const MAX_BAND_RUIN: usize = 24;
+/// Share of shrink and recombine moves that put parts back best fit (`Model::reinsert`).
+const BEST_FIT_REPAIR_SHARE: f64 = 0.6;
 /// Share of reinsertions in random order rather than largest first.
 const RANDOM_ORDER_SHARE: f64 = 0.5;
 /// Range of the drop a shrink move asks of the lowest top, mm.
@@ -628,7 +630,6 @@ impl<'a> Model<'a> {
                 self.ruin_around_point(problem, ruined_sheet, MAX_SHRINK_RUIN, rng)
             });
         }
-        self.reinsertion_order(&mut removed, rng);
         let hints = removed.clone();
         let search = Search {
             hints: &hints,
@@ -636,9 +637,89 @@ impl<'a> Model<'a> {
             ..Search::REPAIR
         };
         let mut order: Vec<LayKey> = others.into_iter().chain([lowest]).collect();
-        for spot in removed {
-            order.retain(|&k| problem.layouts().contains_key(k));
-            self.insert(problem, spot.part, &mut order, rng, search)?;
+        self.reinsert(problem, removed, &mut order, rng, search)
+    }
+
+    /// Puts removed parts back: in a size or random order ([`Self::reinsertion_order`]), each
+    /// on the first of `sheets` that takes it, or (a `BEST_FIT_REPAIR_SHARE` of the time) best
+    /// fit: each step the part whose spot on the first sheet with room is lowest, as in
+    /// [`Self::construct_best_fit`].
+    fn reinsert(
+        &self,
+        problem: &mut BPProblem,
+        mut parts: Vec<Placement>,
+        sheets: &mut Vec<LayKey>,
+        rng: &mut ChaCha8Rng,
+        search: Search,
+    ) -> Result<(), NestError> {
+        if !rng.gen_bool(BEST_FIT_REPAIR_SHARE) {
+            self.reinsertion_order(&mut parts, rng);
+            for spot in parts {
+                sheets.retain(|&k| problem.layouts().contains_key(k));
+                self.insert(problem, spot.part, sheets, rng, search)?;
+            }
+            return Ok(());
+        }
+        let mut left: Vec<usize> = parts.iter().map(|p| p.part).collect();
+        // (sheet, design) pairs found full; sheets only fill up while parts go back.
+        let mut full: Vec<(LayKey, usize)> = Vec::new();
+        while !left.is_empty() {
+            sheets.retain(|&k| problem.layouts().contains_key(k));
+            let mut designs = left.clone();
+            designs.sort_unstable();
+            designs.dedup();
+            let mut chosen = None;
+            for &key in sheets.iter() {
+                let layout = &problem.layouts()[key];
+                let ceiling = search.ceiling.and_then(|(k, c)| (k == key).then_some(c));
+                let mut fits: Vec<(f32, f64, f32, Placement)> = Vec::new();
+                for &d in &designs {
+                    if full.contains(&(key, d)) {
+                        continue;
+                    }
+                    let found =
+                        self.find_spot(Some(layout), d, rng, search.effort, search.hints, ceiling);
+                    match found {
+                        Some(spot) => {
+                            let b = self.shapes[d][spot.rot].plain.bbox();
+                            let cost = (b.y_max + spot.t.1) + RIGHT_WEIGHT * (b.x_max + spot.t.0);
+                            fits.push((b.y_min + spot.t.1, self.job.parts[d].area, cost, spot));
+                        }
+                        None => full.push((key, d)),
+                    }
+                }
+                let Some(lowest) = fits.iter().map(|f| f.0).min_by(f32::total_cmp) else {
+                    continue;
+                };
+                chosen = fits
+                    .into_iter()
+                    .filter(|f| f.0 <= lowest + BEST_FIT_TIES_MM[0])
+                    .min_by(|a, b| b.1.total_cmp(&a.1).then(a.2.total_cmp(&b.2)))
+                    .map(|f| (key, f.3));
+                break;
+            }
+            let part = match chosen {
+                Some((key, spot)) => {
+                    problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
+                    spot.part
+                }
+                None => {
+                    let largest = *designs
+                        .iter()
+                        .max_by(|&&a, &&b| {
+                            self.job.parts[a].area.total_cmp(&self.job.parts[b].area)
+                        })
+                        .expect("a part is left");
+                    // Opens a sheet unless a ceiling forbids it.
+                    self.insert(problem, largest, sheets, rng, search)?;
+                    largest
+                }
+            };
+            let i = left
+                .iter()
+                .position(|&p| p == part)
+                .expect("placed part was left");
+            left.swap_remove(i);
         }
         Ok(())
     }
@@ -650,7 +731,7 @@ impl<'a> Model<'a> {
     fn recombine(&self, problem: &mut BPProblem, rng: &mut ChaCha8Rng) -> Result<(), NestError> {
         let mut sheets: Vec<LayKey> = problem.layouts().keys().collect();
         let target = sheets[0];
-        let mut removed = if rng.gen_bool(BAND_SHARE) {
+        let removed = if rng.gen_bool(BAND_SHARE) {
             let top = self.top(&problem.layouts()[target]);
             let height = rng.gen_range(BAND_HEIGHT_MM.0..=BAND_HEIGHT_MM.1);
             let low = rng.gen_range(self.usable.y_min - height / 2.0..=top - height / 2.0);
@@ -658,17 +739,12 @@ impl<'a> Model<'a> {
         } else {
             self.ruin_around_point(problem, target, MAX_SHRINK_RUIN, rng)
         };
-        self.reinsertion_order(&mut removed, rng);
         let hints = removed.clone();
         let search = Search {
             hints: &hints,
             ..Search::REPAIR
         };
-        for spot in removed {
-            sheets.retain(|&k| problem.layouts().contains_key(k));
-            self.insert(problem, spot.part, &mut sheets, rng, search)?;
-        }
-        Ok(())
+        self.reinsert(problem, removed, &mut sheets, rng, search)
     }
 
     /// Orders parts for reinsertion: mostly largest first (slightly perturbed), sometimes at
