@@ -11,27 +11,43 @@
 //!   and the end position with the lowest `top + λ·right` wins. The slide drops a part turned by
 //!   180° into the slanted gap its neighbour leaves, which is where trapezoids gain over their
 //!   bounding boxes.
-//! * **Greedy fill**: copies in decreasing size (area, length or box area, by worker), each on
-//!   the first sheet that takes it. The collision shapes come from jagua-rs's separation offset,
-//!   simplified outwards (a superset, so the gap holds) to keep queries cheap.
+//! * **Greedy fills** (`Model::construct`): each worker builds several starts (five on jobs of
+//!   up to 150 copies, else one) and keeps the best. Even recipes place copies in decreasing
+//!   size (area, length or box area; later ones slightly shuffled), each on the first sheet
+//!   that takes it. Odd recipes fill *best fit*: each step finds a spot for every design still
+//!   to place and takes the lowest (ties within a recipe's width: the largest part), so low
+//!   gaps get whatever fits them and rows mix designs whose lengths add up to the sheet width,
+//!   where a size order leaves every row of one design short of the right edge. The search
+//!   below rarely leaves the basin of its start (five times the iterations gained 0.6 points),
+//!   so a portfolio of starts buys more than iterations do. The collision shapes come from
+//!   jagua-rs's separation offset, simplified outwards (a superset, so the gap holds) to keep
+//!   queries cheap.
 //! * **Local search** (`Model::improve`): ruin and recreate. Either remove the parts nearest a
 //!   random point of a sheet and pull up to three parts from the emptiest sheet, or pull one part
 //!   and put it at a random spot of a sheet, removing what is in its way. Pulled parts go in
 //!   first, then the removed ones: the ruined sheet first, then fuller sheets, the emptiest last.
 //!   A few moves instead repack a sheet and the emptiest one from scratch in a perturbed order.
-//!   A share of the moves (all of them on a single sheet) *shrink*, as strip packers shrink the
-//!   strip: put a ceiling a little below the top of the sheet with the lowest top, remove the
-//!   parts above it and up to 16 parts around a random point, and reinsert them on the other
-//!   sheets or under the ceiling, or fail.
+//!   A share of the moves (half of them on a single sheet) *shrink*, as strip packers shrink
+//!   the strip: put a ceiling a little below the top of the sheet with the lowest top, remove
+//!   the parts above it and either a band just under the ceiling or up to 16 parts around a
+//!   random point, and reinsert them on the other sheets or under the ceiling, or fail. On a
+//!   single sheet the other moves *recombine*: ruin a band across the sheet or around a point
+//!   and reinsert without a ceiling. Shrink and recombine moves reinsert in a size or random
+//!   order, or best fit as the greedy fill does.
 //!   The objective is lexicographic: fewer sheets, a shorter *used length* (all sheets but the
 //!   one with the lowest top counted whole, plus that top: what
 //!   [`NestSolution::used_length_mm`](super::NestSolution::used_length_mm) measures), a higher
 //!   sum of squared fills (it rises as parts move into fuller sheets, i.e. as the last sheet
-//!   empties), then lower parts. Moves are accepted by thresholds on the length and the fills
-//!   that shrink to zero over the budget; the best layout is kept.
+//!   empties), then lower parts. Moves are accepted by thresholds on the length, the fills and,
+//!   when neither changes, the area-weighted mean top (so such moves pack parts down instead of
+//!   drifting), all shrinking to zero over the budget; the best layout is kept.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream derived from the
-//!   seed; work is cut into epochs by iteration count, and after each epoch the best layout
-//!   (ties to the lower worker index) seeds all workers. Thread timing never enters a decision.
+//!   seed; work is cut into epochs by iteration count. In the first half of the epochs each
+//!   worker improves its own start; after each later epoch the best layout (ties to the lower
+//!   worker index) seeds all workers. Thread timing never enters a decision.
+//! * **Where it stands**: on the bench's 60-part strips about 3 points of density behind
+//!   sparrow, the state-of-the-art strip packer (README, "Nesting engine: figures"), which
+//!   moves parts through overlap and resolves it; we only ever place parts collision-free.
 
 use std::sync::Arc;
 
@@ -104,6 +120,19 @@ const REPAIR_EFFORT: Effort = Effort {
     anchors: 50,
 };
 
+/// Least effort per design of a best-fit step (`Model::construct_best_fit`), which searches a
+/// spot for every design still to place.
+const BEST_FIT_MIN_EFFORT: Effort = Effort {
+    random: 10,
+    anchors: 25,
+};
+/// Starts each worker builds (see `Model::construct`) on jobs of at most this many copies.
+const STARTS_PER_WORKER: usize = 5;
+/// Tie widths of the best-fit starts (odd recipes), mm: spots whose bottoms are this close
+/// count as equally low.
+const BEST_FIT_TIES_MM: [f32; 5] = [2.0, 0.5, 5.0, 1.0, 3.0];
+const PORTFOLIO_MAX_COPIES: usize = 150;
+
 /// What an insertion tries: how hard, which earlier placements to try first, and an optional
 /// ceiling on one sheet (then no new sheet is opened).
 #[derive(Clone, Copy)]
@@ -129,10 +158,24 @@ impl Search<'_> {
 const ACCEPT_SLACK: f64 = 0.005;
 /// Largest growth of the used length a move may cause at the start of a worker's budget, mm.
 const LENGTH_SLACK_MM: f64 = 1.0;
+/// Largest rise of the area-weighted mean top a move that keeps length and fills may cause at
+/// the start of a worker's budget, mm.
+const ENERGY_SLACK_MM: f64 = 0.3;
 /// Used lengths closer than this are equal (the model works in f32), mm.
 const LENGTH_TOLERANCE_MM: f64 = 1e-3;
 /// Share of moves on two or more sheets that lower the lowest sheet's top (on one sheet, all).
 const SHRINK_SHARE: f64 = 0.3;
+/// Share of shrink moves on a single sheet; the others recombine (see `Model::recombine`).
+const SINGLE_SHEET_SHRINK_SHARE: f64 = 0.5;
+/// Share of ruins that clear a horizontal band instead of the parts around a point.
+const BAND_SHARE: f64 = 0.5;
+/// Range of the height of a ruined band, mm, and most parts it removes.
+const BAND_HEIGHT_MM: (f32, f32) = (5.0, 40.0);
+const MAX_BAND_RUIN: usize = 24;
+/// Share of shrink and recombine moves that put parts back best fit (`Model::reinsert`).
+const BEST_FIT_REPAIR_SHARE: f64 = 0.6;
+/// Share of reinsertions in random order rather than largest first.
+const RANDOM_ORDER_SHARE: f64 = 0.5;
 /// Range of the drop a shrink move asks of the lowest top, mm.
 const SHRINK_STEP_MM: (f32, f32) = (0.05, 3.0);
 /// Share of moves that repack a sheet together with the emptiest one from scratch.
@@ -146,6 +189,8 @@ const MAX_SHRINK_RUIN: usize = 16;
 /// many iterations, and there are at most this many epochs.
 const MIN_EPOCH_ITERATIONS: usize = 25;
 const MAX_EPOCHS: usize = 16;
+/// Share of the epochs in which workers keep to their own starts (see `Model::run`).
+const INDEPENDENT_EPOCHS: f64 = 0.5;
 
 /// One part placed in the jagua-rs frame: its centred, inflated shape turned by rotation `rot`
 /// and moved by `t`.
@@ -189,6 +234,11 @@ struct Score {
     concentration: f64,
     /// Sum of the parts' tops over the usable height.
     height: f64,
+    /// Area-weighted mean top of the parts above their sheet's usable bottom, mm: where the
+    /// mass sits. Moves that change neither the length nor the fills are accepted by it, so
+    /// they pack the parts down and leave the free room at the top, where a later shrink needs
+    /// it, instead of drifting at random.
+    energy: f64,
 }
 
 impl Score {
@@ -223,6 +273,9 @@ impl Score {
         }
         if self.length > current.length + LENGTH_TOLERANCE_MM + LENGTH_SLACK_MM * slack {
             return false;
+        }
+        if (self.concentration - current.concentration).abs() <= 1e-12 {
+            return self.energy <= current.energy + 1e-9 + ENERGY_SLACK_MM * slack;
         }
         self.concentration >= current.concentration - 1e-12 - ACCEPT_SLACK * slack
     }
@@ -270,41 +323,162 @@ impl<'a> Model<'a> {
         })
     }
 
-    /// Greedy fill per worker, then epochs of local search; returns the best layout found.
+    /// Greedy fill per worker, then epochs of local search; returns the best layout found. In
+    /// the first `INDEPENDENT_EPOCHS` share of the epochs each worker improves its own start,
+    /// so the basins of different starts are all explored; after that, every epoch starts all
+    /// workers from the best layout so far.
     fn run(&self) -> Result<Sheets, NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
-        let starts = parallel(workers, |w| self.construct(w));
+        let mut own: Vec<(Score, Sheets)> = parallel(workers, |w| self.construct(w))
+            .into_iter()
+            .collect::<Result<_, _>>()?;
+        let mut best = own[0].clone();
+        let epochs = (settings.iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
+        let independent = (epochs as f64 * INDEPENDENT_EPOCHS) as usize;
+        let slots = epochs * workers;
+        for epoch in 0..=epochs {
+            for start in &own {
+                if start.0.better_than(&best.0) {
+                    best = start.clone();
+                }
+            }
+            if epoch == epochs {
+                break;
+            }
+            let incumbents: Vec<&Sheets> = (0..workers)
+                .map(|w| {
+                    if epoch < independent {
+                        &own[w].1
+                    } else {
+                        &best.1
+                    }
+                })
+                .collect();
+            own = parallel(workers, |w| {
+                let slot = epoch * workers + w;
+                let budget =
+                    settings.iterations / slots + usize::from(slot < settings.iterations % slots);
+                self.improve(
+                    incumbents[w],
+                    budget,
+                    worker_rng(settings.seed, epoch + 1, w),
+                )
+            });
+        }
+        Ok(best.1)
+    }
+
+    /// Best-fit fill: instead of placing parts in a fixed order, each step looks at every
+    /// design still to place, finds its best spot on the first sheet where any design fits, and
+    /// takes the one whose spot is lowest (ties within `tie_mm`: the largest part, then
+    /// the lower placement cost). Low gaps are filled with whatever fits them, so rows mix
+    /// designs whose widths add up to the sheet's, where a size order leaves every row of one
+    /// design short of the right edge.
+    fn construct_best_fit(&self, recipe: usize, tie_mm: f32) -> Result<(Score, Sheets), NestError> {
+        let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
+        let mut remaining: Vec<usize> = self.job.parts.iter().map(|p| p.demand).collect();
+        let mut problem = BPProblem::new(self.instance.clone());
+        let mut sheets: Vec<LayKey> = Vec::new();
+        // `full[s][p]`: design `p` found no room on sheet `s`; sheets only fill up, so it never will.
+        let mut full: Vec<Vec<bool>> = Vec::new();
+        while remaining.iter().any(|&r| r > 0) {
+            let designs = remaining.iter().filter(|&&r| r > 0).count();
+            let effort = Effort {
+                random: (GREEDY_EFFORT.random / designs).max(BEST_FIT_MIN_EFFORT.random),
+                anchors: (GREEDY_EFFORT.anchors / designs).max(BEST_FIT_MIN_EFFORT.anchors),
+            };
+            let mut chosen: Option<(LayKey, Placement)> = None;
+            for (s, &key) in sheets.iter().enumerate() {
+                let layout = &problem.layouts()[key];
+                // (bottom, area, cost, spot) of each design that fits this sheet.
+                let mut fits: Vec<(f32, f64, f32, Placement)> = Vec::new();
+                for p in 0..remaining.len() {
+                    if remaining[p] == 0 || full[s][p] {
+                        continue;
+                    }
+                    match self.find_spot(Some(layout), p, &mut rng, effort, &[], None) {
+                        Some(spot) => {
+                            let b = self.shapes[p][spot.rot].plain.bbox();
+                            let cost = (b.y_max + spot.t.1) + RIGHT_WEIGHT * (b.x_max + spot.t.0);
+                            fits.push((b.y_min + spot.t.1, self.job.parts[p].area, cost, spot));
+                        }
+                        None => full[s][p] = true,
+                    }
+                }
+                let Some(lowest) = fits.iter().map(|f| f.0).min_by(f32::total_cmp) else {
+                    continue;
+                };
+                let best = fits
+                    .into_iter()
+                    .filter(|f| f.0 <= lowest + tie_mm)
+                    .min_by(|a, b| b.1.total_cmp(&a.1).then(a.2.total_cmp(&b.2)))
+                    .expect("the lowest fits");
+                chosen = Some((key, best.3));
+                break;
+            }
+            let spot = match chosen {
+                Some((key, spot)) => {
+                    problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
+                    spot
+                }
+                None => {
+                    // Nothing fits the open sheets: the largest design left opens a new one.
+                    let p = (0..remaining.len())
+                        .filter(|&p| remaining[p] > 0)
+                        .max_by(|&a, &b| {
+                            self.job.parts[a]
+                                .area
+                                .total_cmp(&self.job.parts[b].area)
+                                .then(b.cmp(&a))
+                        })
+                        .expect("a design is left");
+                    let spot = self
+                        .find_spot(None, p, &mut rng, GREEDY_EFFORT, &[], None)
+                        .ok_or_else(|| self.too_large(p))?;
+                    let (key, _) = problem
+                        .place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
+                    sheets.push(key);
+                    full.push(vec![false; remaining.len()]);
+                    spot
+                }
+            };
+            remaining[spot.part] -= 1;
+        }
+        Ok((self.score(&problem), self.sheets(&problem)))
+    }
+
+    /// The starts of one worker: recipes `worker`, `worker + workers`, ... (`STARTS_PER_WORKER`
+    /// of them on jobs of up to `PORTFOLIO_MAX_COPIES` copies, else one); the best is kept. The
+    /// local search rarely leaves the basin of its start, so several kinds of start buy more
+    /// than more iterations.
+    fn construct(&self, worker: usize) -> Result<(Score, Sheets), NestError> {
+        let workers = self.job.settings.workers;
+        let starts = if self.job.copies() <= PORTFOLIO_MAX_COPIES {
+            STARTS_PER_WORKER
+        } else {
+            1
+        };
         let mut best: Option<(Score, Sheets)> = None;
-        for start in starts {
-            let start = start?;
+        for k in 0..starts {
+            let recipe = worker + k * workers;
+            let start = if recipe % 2 == 1 {
+                let ties = BEST_FIT_TIES_MM;
+                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])?
+            } else {
+                self.construct_in_order(recipe)?
+            };
             if best.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
                 best = Some(start);
             }
         }
-        let (mut best_score, mut best_sheets) = best.expect("at least one worker");
-        let epochs = (settings.iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
-        let slots = epochs * workers;
-        for epoch in 0..epochs {
-            let incumbent = &best_sheets;
-            let results = parallel(workers, |w| {
-                let slot = epoch * workers + w;
-                let budget =
-                    settings.iterations / slots + usize::from(slot < settings.iterations % slots);
-                self.improve(incumbent, budget, worker_rng(settings.seed, epoch + 1, w))
-            });
-            for (score, sheets) in results {
-                if score.better_than(&best_score) {
-                    (best_score, best_sheets) = (score, sheets);
-                }
-            }
-        }
-        Ok(best_sheets)
+        Ok(best.expect("at least one start"))
     }
 
-    /// Greedy fill in one of several size orders (by worker), first sheet that takes a part.
-    fn construct(&self, worker: usize) -> Result<(Score, Sheets), NestError> {
-        let mut rng = worker_rng(self.job.settings.seed, 0, worker);
+    /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from
+    /// recipe 6 on), first sheet that takes a part.
+    fn construct_in_order(&self, recipe: usize) -> Result<(Score, Sheets), NestError> {
+        let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
         let mut order: Vec<usize> = self
             .job
             .parts
@@ -314,7 +488,7 @@ impl<'a> Model<'a> {
             .collect();
         let size = |p: usize| -> f64 {
             let part = &self.job.parts[p];
-            match worker % 3 {
+            match recipe / 2 % 3 {
                 0 => part.area,
                 1 => {
                     let s = part.bbox_size(part.rotations_deg[0]);
@@ -328,7 +502,7 @@ impl<'a> Model<'a> {
         };
         // Stable: equal sizes keep part order, so copies of one design stay together.
         order.sort_by(|&a, &b| size(b).total_cmp(&size(a)));
-        if worker >= 3 {
+        if recipe >= 6 {
             blink_shuffle(&mut order, &mut rng);
         }
         let mut problem = BPProblem::new(self.instance.clone());
@@ -374,7 +548,14 @@ impl<'a> Model<'a> {
         problem: &mut BPProblem,
         rng: &mut ChaCha8Rng,
     ) -> Result<(), NestError> {
-        if problem.layouts().len() < 2 || rng.gen_bool(SHRINK_SHARE) {
+        if problem.layouts().len() < 2 {
+            return if rng.gen_bool(SINGLE_SHEET_SHRINK_SHARE) {
+                self.shrink(problem, rng)
+            } else {
+                self.recombine(problem, rng)
+            };
+        }
+        if rng.gen_bool(SHRINK_SHARE) {
             return self.shrink(problem, rng);
         }
         let by_fill = self.keys_by_fill(problem);
@@ -457,11 +638,14 @@ impl<'a> Model<'a> {
             .map(|key| self.remove(problem, lowest, key))
             .collect();
         if problem.layouts().contains_key(ruined_sheet) {
-            removed.extend(self.ruin_around_point(problem, ruined_sheet, MAX_SHRINK_RUIN, rng));
+            removed.extend(if ruined_sheet == lowest && rng.gen_bool(BAND_SHARE) {
+                // The band just under the ceiling: where the parts above must find room.
+                let height = rng.gen_range(BAND_HEIGHT_MM.0..=BAND_HEIGHT_MM.1);
+                self.ruin_band(problem, ruined_sheet, ceiling - height, height)
+            } else {
+                self.ruin_around_point(problem, ruined_sheet, MAX_SHRINK_RUIN, rng)
+            });
         }
-        let area = |p: &Placement| self.job.parts[p.part].area;
-        removed.sort_by(|a, b| area(b).total_cmp(&area(a)));
-        blink_shuffle(&mut removed, rng);
         let hints = removed.clone();
         let search = Search {
             hints: &hints,
@@ -469,11 +653,151 @@ impl<'a> Model<'a> {
             ..Search::REPAIR
         };
         let mut order: Vec<LayKey> = others.into_iter().chain([lowest]).collect();
-        for spot in removed {
-            order.retain(|&k| problem.layouts().contains_key(k));
-            self.insert(problem, spot.part, &mut order, rng, search)?;
+        self.reinsert(problem, removed, &mut order, rng, search)
+    }
+
+    /// Puts removed parts back: in a size or random order ([`Self::reinsertion_order`]), each
+    /// on the first of `sheets` that takes it, or (a `BEST_FIT_REPAIR_SHARE` of the time) best
+    /// fit: each step the part whose spot on the first sheet with room is lowest, as in
+    /// [`Self::construct_best_fit`].
+    fn reinsert(
+        &self,
+        problem: &mut BPProblem,
+        mut parts: Vec<Placement>,
+        sheets: &mut Vec<LayKey>,
+        rng: &mut ChaCha8Rng,
+        search: Search,
+    ) -> Result<(), NestError> {
+        if !rng.gen_bool(BEST_FIT_REPAIR_SHARE) {
+            self.reinsertion_order(&mut parts, rng);
+            for spot in parts {
+                sheets.retain(|&k| problem.layouts().contains_key(k));
+                self.insert(problem, spot.part, sheets, rng, search)?;
+            }
+            return Ok(());
+        }
+        let mut left: Vec<usize> = parts.iter().map(|p| p.part).collect();
+        // (sheet, design) pairs found full; sheets only fill up while parts go back.
+        let mut full: Vec<(LayKey, usize)> = Vec::new();
+        while !left.is_empty() {
+            sheets.retain(|&k| problem.layouts().contains_key(k));
+            let mut designs = left.clone();
+            designs.sort_unstable();
+            designs.dedup();
+            let mut chosen = None;
+            for &key in sheets.iter() {
+                let layout = &problem.layouts()[key];
+                let ceiling = search.ceiling.and_then(|(k, c)| (k == key).then_some(c));
+                let mut fits: Vec<(f32, f64, f32, Placement)> = Vec::new();
+                for &d in &designs {
+                    if full.contains(&(key, d)) {
+                        continue;
+                    }
+                    let found =
+                        self.find_spot(Some(layout), d, rng, search.effort, search.hints, ceiling);
+                    match found {
+                        Some(spot) => {
+                            let b = self.shapes[d][spot.rot].plain.bbox();
+                            let cost = (b.y_max + spot.t.1) + RIGHT_WEIGHT * (b.x_max + spot.t.0);
+                            fits.push((b.y_min + spot.t.1, self.job.parts[d].area, cost, spot));
+                        }
+                        None => full.push((key, d)),
+                    }
+                }
+                let Some(lowest) = fits.iter().map(|f| f.0).min_by(f32::total_cmp) else {
+                    continue;
+                };
+                chosen = fits
+                    .into_iter()
+                    .filter(|f| f.0 <= lowest + BEST_FIT_TIES_MM[0])
+                    .min_by(|a, b| b.1.total_cmp(&a.1).then(a.2.total_cmp(&b.2)))
+                    .map(|f| (key, f.3));
+                break;
+            }
+            let part = match chosen {
+                Some((key, spot)) => {
+                    problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
+                    spot.part
+                }
+                None => {
+                    let largest = *designs
+                        .iter()
+                        .max_by(|&&a, &&b| {
+                            self.job.parts[a].area.total_cmp(&self.job.parts[b].area)
+                        })
+                        .expect("a part is left");
+                    // Opens a sheet unless a ceiling forbids it.
+                    self.insert(problem, largest, sheets, rng, search)?;
+                    largest
+                }
+            };
+            let i = left
+                .iter()
+                .position(|&p| p == part)
+                .expect("placed part was left");
+            left.swap_remove(i);
         }
         Ok(())
+    }
+
+    /// The single-sheet move that does not shrink: removes a band or the parts around a point
+    /// and puts them back in a new order, possibly above the current top (the acceptance
+    /// threshold decides). It lets rows of parts be recombined, which a shrink move, bound to
+    /// fit under a lower ceiling at once, rarely manages.
+    fn recombine(&self, problem: &mut BPProblem, rng: &mut ChaCha8Rng) -> Result<(), NestError> {
+        let mut sheets: Vec<LayKey> = problem.layouts().keys().collect();
+        let target = sheets[0];
+        let removed = if rng.gen_bool(BAND_SHARE) {
+            let top = self.top(&problem.layouts()[target]);
+            let height = rng.gen_range(BAND_HEIGHT_MM.0..=BAND_HEIGHT_MM.1);
+            let low = rng.gen_range(self.usable.y_min - height / 2.0..=top - height / 2.0);
+            self.ruin_band(problem, target, low, height)
+        } else {
+            self.ruin_around_point(problem, target, MAX_SHRINK_RUIN, rng)
+        };
+        let hints = removed.clone();
+        let search = Search {
+            hints: &hints,
+            ..Search::REPAIR
+        };
+        self.reinsert(problem, removed, &mut sheets, rng, search)
+    }
+
+    /// Orders parts for reinsertion: mostly largest first (slightly perturbed), sometimes at
+    /// random, so that small and large parts can trade places and rows get new mixes.
+    fn reinsertion_order(&self, parts: &mut [Placement], rng: &mut ChaCha8Rng) {
+        if rng.gen_bool(RANDOM_ORDER_SHARE) {
+            parts.shuffle(rng);
+        } else {
+            let area = |p: &Placement| self.job.parts[p.part].area;
+            parts.sort_by(|a, b| area(b).total_cmp(&area(a)));
+            blink_shuffle(parts, rng);
+        }
+    }
+
+    /// Removes the parts of sheet `target` whose centres lie in the horizontal band
+    /// `[low, low + height]` across the whole sheet (at most `MAX_BAND_RUIN`); returns them.
+    fn ruin_band(
+        &self,
+        problem: &mut BPProblem,
+        target: LayKey,
+        low: f32,
+        height: f32,
+    ) -> Vec<Placement> {
+        let keys: Vec<PItemKey> = problem.layouts()[target]
+            .placed_items()
+            .iter()
+            .filter(|(_, pi)| {
+                let b = pi.shape().bbox();
+                let c = (b.y_min + b.y_max) / 2.0;
+                (low..=low + height).contains(&c)
+            })
+            .map(|(key, _)| key)
+            .take(MAX_BAND_RUIN)
+            .collect();
+        keys.into_iter()
+            .map(|key| self.remove(problem, target, key))
+            .collect()
     }
 
     /// Empties sheet `target` and the emptiest sheet and nests all their parts afresh, in a
@@ -761,17 +1085,27 @@ impl<'a> Model<'a> {
             length: 0.0,
             concentration: 0.0,
             height: 0.0,
+            energy: 0.0,
         };
+        let mut mass = 0.0;
         let mut lowest_top = f64::INFINITY;
         for layout in problem.layouts().values() {
             score.concentration += self.fill(layout).powi(2);
             lowest_top = lowest_top.min(f64::from(self.top(layout) - self.usable.y_min));
+            for pi in layout.placed_items().values() {
+                let area = self.job.parts[pi.item().idx()].area;
+                score.energy += area * f64::from(pi.shape().bbox().y_max - self.usable.y_min);
+                mass += area;
+            }
             score.height += layout
                 .placed_items()
                 .values()
                 .map(|pi| f64::from(pi.shape().bbox().y_max - self.usable.y_min))
                 .sum::<f64>()
                 / usable_height;
+        }
+        if mass > 0.0 {
+            score.energy /= mass;
         }
         if sheets > 0 {
             score.length = (sheets - 1) as f64 * usable_height + lowest_top;
