@@ -1,5 +1,5 @@
 //! Speed figure of issue 6: calibrate 50 actuators x 10 voltages with the full effect library.
-//! `cargo bench --bench calibrate_speed` (release); the same case is a test with a 5 s limit.
+//! `cargo bench --bench calibrate_speed` (release); the test suite checks the same case finds its effects.
 
 #[path = "../tests/synthetic/mod.rs"]
 mod synthetic;

@@ -135,31 +135,29 @@ fn twenty_seed_study_names_the_hidden_effect() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// Issue 6 speed figure: 50 actuators x 10 voltages with the full library in under 5 s. Run here in the
-/// test profile (opt-level 1), so a release build has margin; `cargo bench --bench calibrate_speed`
-/// prints the release figure.
+/// The issue 6 speed case (50 actuators x 10 voltages, full library) must still find what is hidden in it.
+/// Its time is a benchmark figure, not a test: `cargo bench --bench calibrate_speed`.
 #[test]
-fn fifty_actuators_by_ten_voltages_calibrate_in_under_five_seconds() {
+fn fifty_actuators_by_ten_voltages_name_the_hidden_pair() {
     let _cores = CORES.lock().unwrap_or_else(|e| e.into_inner());
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let designs: Vec<Design> = (0..50).map(|_| random_design(&mut rng)).collect();
     let fields: Vec<f64> = (1..=10).map(|k| 80.0 * k as f64).collect();
-    let truth = cases()
+    let case = cases()
         .into_iter()
         .find(|c| c.name.starts_with("pair"))
-        .unwrap()
-        .truth;
-    let data = parse(&synthetic_csv_at(truth, &designs, &fields, &mut rng)).unwrap();
+        .unwrap();
+    let data = parse(&synthetic_csv_at(case.truth, &designs, &fields, &mut rng)).unwrap();
     assert_eq!(data.rows.len(), 500);
-    let start = std::time::Instant::now();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
-    let seconds = start.elapsed().as_secs_f64();
-    println!(
-        "50 x 10 rows, {} models fitted: {seconds:.2} s, verdict {}",
-        cal.selection.candidates.len() + cal.selection.mass_candidates.len(),
-        cal.model.verdict
-    );
-    assert!(seconds < 5.0, "{seconds} s");
+    assert_eq!(cal.model.verdict, "explained");
+    for hidden in case.hidden {
+        assert!(
+            cal.model.selected_effects.iter().any(|e| e == hidden),
+            "{hidden} not in {:?}",
+            cal.model.selected_effects
+        );
+    }
 }
 
 /// Writes `examples/measured-thesis-like.csv`: 24 actuators of thesis-like designs with resin-rich plies,
