@@ -93,8 +93,15 @@ pub fn plan(batch: &Batch, opts: &NestOptions) -> Result<Planned, CutSheetError>
         );
         let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
         let before = drawn.sheets.len();
-        pzt_sheets(&members, &spec, spec.stock, &names, &mut drawn)
-            .map_err(|e| in_context(e, &format!("PZT sheets of {}", spec.material)))?;
+        pzt_sheets(
+            &members,
+            &spec,
+            spec.stock,
+            &names,
+            &template.features,
+            &mut drawn,
+        )
+        .map_err(|e| in_context(e, &format!("PZT sheets of {}", spec.material)))?;
         for record in &mut drawn.sheets[before..] {
             for part in &mut record.parts {
                 part.job = group[part.job].0;

@@ -1,12 +1,13 @@
 //! Clamp-panel layers (mold frames with a cavity per actuator, pads and covers) for jobs that share one
 //! laminate height, so one stack of mold layers fits all of them.
 
+use super::features::Feature;
 use super::jobs::{kerfed, Drawn, Job, Names};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::{PartGeometry, Point};
 use super::template::Template;
 use super::CutSheetError;
-use crate::cam::drawing::{Drawing, Operation, Shape};
+use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
 use crate::design::Design;
 use crate::layout::place_ring as place;
@@ -155,6 +156,7 @@ pub fn clamp_layers(
     let levels = stack.len();
     // Errors about panel features name the first design (the single design of a cut sheet).
     let design = first.design;
+    let features = &template.features;
     for (k, (kind, prefix, j)) in stack.iter().enumerate() {
         let spec = if kind == "mold" {
             &template.mold
@@ -185,7 +187,7 @@ pub fn clamp_layers(
                     ));
                 }
                 d.add(
-                    Operation::Cut,
+                    features.op(Feature::PinHole),
                     Shape::Circle {
                         center: centre,
                         radius: r,
@@ -200,7 +202,7 @@ pub fn clamp_layers(
                     c.window_height_mm,
                 );
                 d.add(
-                    Operation::Cut,
+                    features.op(Feature::StackingWindow),
                     Shape::Polygon(kerfed(design, &w, -kerf / 2.0, "stacking window")?),
                 );
             }
@@ -217,7 +219,7 @@ pub fn clamp_layers(
                     )?;
                     let placed = place(&grown, 0.0, *base);
                     d.add(
-                        Operation::Cut,
+                        features.op(Feature::MoldCavity),
                         Shape::Polygon(kerfed(job.design, &placed, -kerf / 2.0, "mold cavity")?),
                     );
                 }
@@ -230,7 +232,7 @@ pub fn clamp_layers(
                 [o[0] + 0.5, o[1] + (c.window_height_mm - h) / 2.0],
                 h,
             ) {
-                d.add(Operation::Engrave, Shape::Polyline(s));
+                d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
             }
             let title = format!("{} {prefix} P{number}", names.title);
             let th = (c.border_mm * 0.3).min(2.5);
@@ -243,14 +245,14 @@ pub fn clamp_layers(
                     ],
                     th,
                 ) {
-                    d.add(Operation::Engrave, Shape::Polyline(s));
+                    d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
                 }
             }
             for f in fiducials(c) {
-                d.add(Operation::Engrave, Shape::Polyline(f));
+                d.add(features.op(Feature::Fiducial), Shape::Polyline(f));
             }
             d.add(
-                Operation::Cut,
+                features.op(Feature::PanelOutline),
                 Shape::Polygon(kerfed(design, &outline, kerf / 2.0, "panel outline")?),
             );
             drawn.push(format!("{prefix}-{number}"), kind, d);

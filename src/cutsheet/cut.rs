@@ -2,12 +2,13 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
+use super::features::{Feature, FeatureMap};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::parts::{PartGeometry, Point};
 use super::template::{PassiveCut, SheetSpec, Template};
 use super::CutSheetError;
 use crate::cam::drawing::polygon_area as ring_area;
-use crate::cam::drawing::{Drawing, Operation, Shape};
+use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
 use crate::layout::{place_point, place_ring as place, SheetLayout};
 
@@ -69,6 +70,8 @@ pub struct CutItem {
     pub cut: Vec<Point>,
     /// Holes (centre, nominal radius) in part coordinates.
     pub holes: Vec<(Point, f64)>,
+    /// What the holes are (vias, registration holes), for their operation.
+    pub hole: Feature,
     /// Copies per actuator.
     pub per_actuator: usize,
     /// Copies in all.
@@ -92,6 +95,8 @@ pub struct CutLayer {
     pub spec: SheetSpec,
     /// Parts, one per job.
     pub items: Vec<CutItem>,
+    /// Operation of each feature, from the template.
+    pub features: FeatureMap,
 }
 
 /// A label along the part axis from `y_start`, if it fits inside the trapezoid with a margin.
@@ -124,7 +129,7 @@ fn item(
     part: &str,
     spec: &SheetSpec,
     nominal: Vec<Point>,
-    holes: Vec<(Point, f64)>,
+    (hole, holes): (Feature, Vec<(Point, f64)>),
     per_actuator: usize,
     label: Label,
     layer: &str,
@@ -155,6 +160,7 @@ fn item(
         nominal,
         cut,
         holes,
+        hole,
         per_actuator,
         count: per_actuator * job.quantity,
         label,
@@ -191,7 +197,7 @@ pub fn passive_layers(
                         "passive",
                         spec,
                         outline,
-                        Vec::new(),
+                        (Feature::RegistrationHole, Vec::new()),
                         1,
                         label,
                         "passive",
@@ -205,6 +211,7 @@ pub fn passive_layers(
                 density_kg_per_m3: d0.ply.density,
                 spec: spec.clone(),
                 items,
+                features: template.features,
             }])
         }
         PassiveCut::PlyByPly => {
@@ -219,6 +226,7 @@ pub fn passive_layers(
                     density_kg_per_m3: d0.ply.density,
                     spec: spec.clone(),
                     items: Vec::new(),
+                    features: template.features,
                 })
                 .collect();
             for (i, job) in jobs {
@@ -240,7 +248,7 @@ pub fn passive_layers(
                         &layer,
                         spec,
                         turned,
-                        turned_holes,
+                        (Feature::RegistrationHole, turned_holes),
                         1,
                         Label::None,
                         &layer,
@@ -308,7 +316,7 @@ pub fn pyralux_layer(
             "pyralux",
             spec,
             g.pzt_outline(),
-            vec![via],
+            (Feature::Via, vec![via]),
             2,
             Label::None,
             "pyralux",
@@ -321,12 +329,13 @@ pub fn pyralux_layer(
         density_kg_per_m3: bond.density_kg_per_m3,
         spec: spec.clone(),
         items,
+        features: template.features,
     }))
 }
 
 /// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is
 /// the item's cut path placed, its `copy` counts over the item's copies. Holes first, then labels, then
-/// the outer contours (cut order).
+/// the outer contours (cut order), each with the operation the layer's feature map gives it.
 pub fn draw_cut_sheets(
     layer: &CutLayer,
     layouts: &[SheetLayout],
@@ -334,6 +343,7 @@ pub fn draw_cut_sheets(
     drawn: &mut Drawn,
 ) {
     let spec = &layer.spec;
+    let op = |feature| layer.features.op(feature);
     for layout in layouts {
         let n = drawn.next_number(&layer.layer);
         let mut d = Drawing::new(
@@ -342,9 +352,10 @@ pub fn draw_cut_sheets(
             spec.height_mm,
         );
         for p in &layout.placements {
-            for (centre, radius) in &layer.items[p.item].holes {
+            let item = &layer.items[p.item];
+            for (centre, radius) in &item.holes {
                 d.add(
-                    Operation::Cut,
+                    op(item.hole),
                     Shape::Circle {
                         center: place_point(*centre, p.rotation_deg, p.offset),
                         radius: radius - spec.kerf_mm / 2.0,
@@ -357,7 +368,7 @@ pub fn draw_cut_sheets(
             if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {
                 for s in strokes {
                     d.add(
-                        Operation::Engrave,
+                        op(Feature::PartLabel),
                         Shape::Polyline(place(&s, p.rotation_deg, p.offset)),
                     );
                 }
@@ -372,7 +383,7 @@ pub fn draw_cut_sheets(
             parts: Vec::new(),
         };
         for p in &layout.placements {
-            d.add(Operation::Cut, Shape::Polygon(p.outline.clone()));
+            d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
             let item = &layer.items[p.item];
             record.parts.push(PartRecord {
                 job: item.job,

@@ -3,6 +3,7 @@
 
 pub mod clamp;
 pub mod cut;
+pub mod features;
 pub mod jobs;
 pub mod panel;
 pub mod parts;

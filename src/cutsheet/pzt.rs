@@ -1,24 +1,27 @@
 //! PZT score sheets: the plates of every job in one snappable layout (CAM-NOTES §4), verified before
 //! anything is drawn.
 
+use super::features::{Feature, FeatureMap};
 use super::jobs::{format_violations, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
 use super::template::SheetSpec;
 use super::CutSheetError;
 use crate::cam::drawing::polygon_area as ring_area;
-use crate::cam::drawing::{Drawing, Operation, Shape};
+use crate::cam::drawing::{Drawing, Shape};
 use crate::layout::{
     layout_plates, verify_break_order, verify_copies, verify_outlines, verify_sheet_edges,
     verify_snappable, PlateSpec, Sheet, Violation,
 };
 
 /// Lay out two plates per actuator of every job on `spec` sheets (at most `stock`), verify each sheet
-/// and draw its score lines. Returns the number of sheets.
+/// and draw its score lines, each feature with the operation `features` gives it. Returns the number of
+/// sheets.
 pub fn pzt_sheets(
     jobs: &[Job<'_>],
     spec: &SheetSpec,
     stock: Option<usize>,
     names: &Names,
+    features: &FeatureMap,
     drawn: &mut Drawn,
 ) -> Result<usize, CutSheetError> {
     let sheet = Sheet {
@@ -63,11 +66,14 @@ pub fn pzt_sheets(
             sheet.height_mm,
         );
         for line in &layout.score_lines {
-            d.add(Operation::Score, Shape::Polyline(vec![line[0], line[1]]));
+            d.add(
+                features.op(Feature::PztScoreLine),
+                Shape::Polyline(vec![line[0], line[1]]),
+            );
         }
-        // The sheet edge as a green alignment reference (not a cut).
+        // The sheet edge as an alignment reference (green, not a cut, by default).
         d.add(
-            Operation::Secondary,
+            features.op(Feature::PztSheetOutline),
             Shape::Polygon(rect([0.0, 0.0], sheet.width_mm, sheet.height_mm)),
         );
         let mut record = SheetRecord {

@@ -59,7 +59,14 @@ pub fn build(design: &Design, template: &Template) -> Result<Built, CutSheetErro
     };
     let mut drawn = Drawn::default();
     let mut layers = Vec::new();
-    let pzt = pzt_sheets(&[job], &template.pzt, None, &names, &mut drawn)?;
+    let pzt = pzt_sheets(
+        &[job],
+        &template.pzt,
+        None,
+        &names,
+        &template.features,
+        &mut drawn,
+    )?;
     let spec = &template.pzt;
     layers.push(LayerRow::new(LayerRow {
         layer: "pzt".into(),

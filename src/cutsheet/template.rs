@@ -2,6 +2,7 @@
 //! material, sheet, kerf and clearances, the clamp panel and the cure recipe. The two thesis methods are
 //! embedded in the binary; any other template is read from a path.
 
+use super::features::FeatureMap;
 use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
 use crate::input::{parse_toml, read_toml, InputError, Range, TableReader};
@@ -137,6 +138,8 @@ pub struct Template {
     pub covers: BTreeMap<String, ClampLayerSpec>,
     /// Colour of each laser operation in the files (`[operations]`; default CAM-NOTES §3).
     pub palette: Palette,
+    /// Operation of each drawn feature (`[features]`; default the builders' long-standing mapping).
+    pub features: FeatureMap,
     /// PZT-to-CF edge margin: the PZT plates' sides and tip end sit this far inside the passive part's
     /// edge, mm (`[layers.pzt] passive_edge_margin_mm`, default 0).
     pub pzt_edge_margin_mm: f64,
@@ -342,6 +345,7 @@ impl Template {
             ));
         }
         let palette = read_palette(path, &root)?;
+        let features = FeatureMap::read(path, &root)?;
         root.finish()?;
         Ok(Template {
             name,
@@ -356,6 +360,7 @@ impl Template {
             mold,
             covers,
             palette,
+            features,
             pzt_edge_margin_mm,
         })
     }

@@ -1,0 +1,239 @@
+//! The geometric features the layer builders draw (score lines, part outlines, holes, labels, …) and the
+//! laser operation each one gets: the `[features]` table of a process template. A template that leaves a
+//! feature out keeps its default, which is the mapping the builders always used, so files stay the same.
+
+use crate::cam::drawing::Operation;
+use crate::input::{InputError, TableReader};
+use std::path::Path;
+
+/// A kind of geometry a layer builder draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    /// Score lines of a PZT sheet (snap lines between the plates).
+    PztScoreLine,
+    /// The PZT sheet edge, an alignment reference.
+    PztSheetOutline,
+    /// Outer contour of a cut part (passive part, ply, Pyralux bond part).
+    PartOutline,
+    /// Silver-epoxy via through a Pyralux bond part.
+    Via,
+    /// Pin hole through every ply of a ply-by-ply part.
+    RegistrationHole,
+    /// Design name and copy number along a part's axis.
+    PartLabel,
+    /// Outline of a clamp panel.
+    PanelOutline,
+    /// Registration pin hole of a clamp panel.
+    PinHole,
+    /// Actuator cavity of a mold layer.
+    MoldCavity,
+    /// Stacking-order window onto the layers below.
+    StackingWindow,
+    /// Layer number inside a clamp layer's own stacking window.
+    WindowNumber,
+    /// Design, layer and panel number on the panel border.
+    PanelLabel,
+    /// Alignment crosshair of a clamp panel.
+    Fiducial,
+}
+
+/// Operations that leave a part or panel cut out: `secondary` is the lab's second cut pass.
+const THROUGH: &[Operation] = &[Operation::Cut, Operation::Secondary];
+/// Operations that mark without cutting through: a cut label would riddle the part.
+const MARK: &[Operation] = &[Operation::Engrave, Operation::Score, Operation::Secondary];
+/// A score line may be scored, cut through (no snapping) or given the second pass; an engraved one
+/// would be too shallow to snap along.
+const SCORE_LINE: &[Operation] = &[Operation::Score, Operation::Cut, Operation::Secondary];
+/// The sheet edge is only a reference: any operation.
+const ANY: &[Operation] = &Operation::ALL;
+
+impl Feature {
+    /// Every feature, in the order of the `[features]` table of the shipped templates.
+    pub const ALL: [Feature; 13] = [
+        Feature::PztScoreLine,
+        Feature::PztSheetOutline,
+        Feature::PartOutline,
+        Feature::Via,
+        Feature::RegistrationHole,
+        Feature::PartLabel,
+        Feature::PanelOutline,
+        Feature::PinHole,
+        Feature::MoldCavity,
+        Feature::StackingWindow,
+        Feature::WindowNumber,
+        Feature::PanelLabel,
+        Feature::Fiducial,
+    ];
+
+    /// Key in the `[features]` table.
+    pub fn key(self) -> &'static str {
+        match self {
+            Feature::PztScoreLine => "pzt-score-line",
+            Feature::PztSheetOutline => "pzt-sheet-outline",
+            Feature::PartOutline => "part-outline",
+            Feature::Via => "via",
+            Feature::RegistrationHole => "registration-hole",
+            Feature::PartLabel => "part-label",
+            Feature::PanelOutline => "panel-outline",
+            Feature::PinHole => "pin-hole",
+            Feature::MoldCavity => "mold-cavity",
+            Feature::StackingWindow => "stacking-window",
+            Feature::WindowNumber => "window-number",
+            Feature::PanelLabel => "panel-label",
+            Feature::Fiducial => "fiducial",
+        }
+    }
+
+    /// The operation the builders have always given this feature.
+    pub fn default_operation(self) -> Operation {
+        match self {
+            Feature::PztScoreLine => Operation::Score,
+            Feature::PztSheetOutline => Operation::Secondary,
+            Feature::PartLabel
+            | Feature::WindowNumber
+            | Feature::PanelLabel
+            | Feature::Fiducial => Operation::Engrave,
+            _ => Operation::Cut,
+        }
+    }
+
+    /// Operations this feature may be given without spoiling the build.
+    pub fn allowed(self) -> &'static [Operation] {
+        match self {
+            Feature::PztScoreLine => SCORE_LINE,
+            Feature::PztSheetOutline => ANY,
+            Feature::PartLabel
+            | Feature::WindowNumber
+            | Feature::PanelLabel
+            | Feature::Fiducial => MARK,
+            _ => THROUGH,
+        }
+    }
+
+    fn index(self) -> usize {
+        Feature::ALL
+            .iter()
+            .position(|f| *f == self)
+            .unwrap_or_default()
+    }
+}
+
+/// Name of an operation in a template (`cut`, `score`, `secondary`, `engrave`).
+fn op_name(op: Operation) -> String {
+    op.layer_name().to_ascii_lowercase()
+}
+
+fn op_names(ops: &[Operation]) -> String {
+    ops.iter()
+        .map(|op| format!("\"{}\"", op_name(*op)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The operation of every feature.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FeatureMap {
+    ops: [Operation; Feature::ALL.len()],
+}
+
+impl Default for FeatureMap {
+    fn default() -> Self {
+        FeatureMap {
+            ops: Feature::ALL.map(Feature::default_operation),
+        }
+    }
+}
+
+impl FeatureMap {
+    /// The operation that draws `feature`.
+    pub fn op(&self, feature: Feature) -> Operation {
+        self.ops[feature.index()]
+    }
+
+    /// The optional `[features]` table of a template: `pzt-score-line = "score"`, … Features not named
+    /// keep their default; an unknown key, an unknown operation or one the feature may not take is an
+    /// error naming the file, the field, the value and what is allowed.
+    pub fn read(path: &Path, root: &TableReader<'_>) -> Result<FeatureMap, InputError> {
+        let mut map = FeatureMap::default();
+        let Some(table) = root.optional_table("features")? else {
+            return Ok(map);
+        };
+        for feature in Feature::ALL {
+            let key = feature.key();
+            let Some(name) = table.optional_string(key, "an operation name")? else {
+                continue;
+            };
+            let field = table.path(key);
+            let op = Operation::ALL
+                .into_iter()
+                .find(|op| op_name(*op) == name)
+                .ok_or_else(|| {
+                    InputError::invalid(
+                        path,
+                        &field,
+                        format!("{name:?}"),
+                        format!("unknown operation; expected {}", op_names(&Operation::ALL)),
+                    )
+                })?;
+            if !feature.allowed().contains(&op) {
+                return Err(InputError::invalid(
+                    path,
+                    &field,
+                    format!("{name:?}"),
+                    format!(
+                        "a {} may only be {}",
+                        key.replace('-', " "),
+                        op_names(feature.allowed())
+                    ),
+                ));
+            }
+            map.ops[feature.index()] = op;
+        }
+        table.finish()?;
+        Ok(map)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<FeatureMap, InputError> {
+        let table: toml::Table = text.parse().unwrap();
+        FeatureMap::read(
+            Path::new("t.toml"),
+            &TableReader::new(Path::new("t.toml"), "", &table),
+        )
+    }
+
+    #[test]
+    fn defaults_allowed_and_keys_unique() {
+        for f in Feature::ALL {
+            assert!(f.allowed().contains(&f.default_operation()), "{f:?}");
+            assert_eq!(Feature::ALL[f.index()], f);
+        }
+        let mut keys: Vec<_> = Feature::ALL.iter().map(|f| f.key()).collect();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), Feature::ALL.len());
+        assert_eq!(read("").unwrap(), FeatureMap::default());
+    }
+
+    #[test]
+    fn remap_and_errors() {
+        let m = read("[features]\npzt-score-line = \"cut\"").unwrap();
+        assert_eq!(m.op(Feature::PztScoreLine), Operation::Cut);
+        assert_eq!(m.op(Feature::PartOutline), Operation::Cut);
+        let e = read("[features]\npzt-score-line = \"etch\"").unwrap_err();
+        assert_eq!(e.field, "features.pzt-score-line");
+        assert!(
+            e.value.contains("etch") && e.expected.contains("\"engrave\""),
+            "{e}"
+        );
+        let e = read("[features]\npart-outline = \"engrave\"").unwrap_err();
+        assert!(e.expected.contains("\"cut\", \"secondary\""), "{e}");
+        let e = read("[features]\nscore-lines = \"score\"").unwrap_err();
+        assert_eq!(e.field, "features.score-lines");
+        assert!(e.expected.contains("pzt-score-line"), "{e}");
+    }
+}
