@@ -101,13 +101,18 @@ fn random_design(rng: &mut impl Rng, i: usize) -> String {
     )
 }
 
-/// The built-in method-2 template with one text replaced (the replacement must apply).
-fn method_2_with(from: &str, to: &str) -> String {
-    let text = std::fs::read_to_string(format!(
+/// The built-in method-2 template as shipped.
+fn method_2() -> String {
+    std::fs::read_to_string(format!(
         "{}/templates/method-2.toml",
         env!("CARGO_MANIFEST_DIR")
     ))
-    .unwrap();
+    .unwrap()
+}
+
+/// The built-in method-2 template with one text replaced (the replacement must apply).
+fn method_2_with(from: &str, to: &str) -> String {
+    let text = method_2();
     let changed = text.replace(from, to);
     assert_ne!(changed, text, "{from:?} is not in the template");
     changed
@@ -484,6 +489,140 @@ fn template_operation_colours_reach_both_file_formats() {
         "{err}"
     );
     assert!(!out2.exists());
+}
+
+/// Entities of a DXF on `layer` (group code 8 names an entity's layer; the LAYER table uses code 2).
+fn dxf_entities_on(dxf: &str, layer: &str) -> usize {
+    let lines: Vec<&str> = dxf.lines().map(str::trim).collect();
+    lines.windows(2).filter(|w| w == &["8", layer]).count()
+}
+
+/// Run cut-sheet on design C with `template` written as `dir/sub/t.toml`; the output directory.
+fn run_on_template(dir: &Path, sub: &str, template: &str) -> std::path::PathBuf {
+    let d = dir.join(sub);
+    std::fs::create_dir_all(&d).unwrap();
+    let design = design_on_template(&d, "t.toml", template, &[]);
+    let out = d.join("out");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+    assert!(o.status.success(), "{sub}: {}", stderr(&o));
+    out
+}
+
+#[test]
+fn template_features_table_remaps_score_lines_into_the_cut_layer() {
+    let dir = tempfile::tempdir().unwrap();
+    let shipped = method_2();
+    let base = run_on_template(dir.path(), "shipped", &shipped);
+    let remapped = method_2_with("pzt-score-line = \"score\"", "pzt-score-line = \"cut\"");
+    let cut = run_on_template(dir.path(), "remapped", &remapped);
+
+    let svg0 = std::fs::read_to_string(base.join("pzt-1.svg")).unwrap();
+    let svg1 = std::fs::read_to_string(cut.join("pzt-1.svg")).unwrap();
+    let score0 = svg_paths(&svg0, "SCORE");
+    assert!(!score0.is_empty(), "the shipped template scores the PZT");
+    assert!(svg_paths(&svg1, "SCORE").is_empty(), "no score layer left");
+    assert!(!svg1.contains("#0000FF"), "no blue (score) stroke left");
+    // Every score line is now an open straight path in the red cut layer, beside nothing else there.
+    let cut1 = svg_paths(&svg1, "CUT");
+    let open: Vec<_> = cut1
+        .iter()
+        .filter(|(p, closed)| !closed && p.len() == 2)
+        .collect();
+    assert_eq!(open.len(), score0.len());
+    assert!(
+        svg_paths(&svg0, "CUT").is_empty(),
+        "the PZT sheet had no cuts"
+    );
+    let red = svg1.split("inkscape:label=\"CUT\"").nth(1).unwrap();
+    let red = red.split("</g>").next().unwrap();
+    assert!(red.contains("#FF0000") && !red.contains("#0000FF"));
+
+    let dxf0 = std::fs::read_to_string(base.join("pzt-1.dxf")).unwrap();
+    let dxf1 = std::fs::read_to_string(cut.join("pzt-1.dxf")).unwrap();
+    assert_eq!(dxf_entities_on(&dxf1, "SCORE"), 0);
+    assert_eq!(
+        dxf_entities_on(&dxf1, "CUT"),
+        dxf_entities_on(&dxf0, "SCORE") + dxf_entities_on(&dxf0, "CUT")
+    );
+    assert!(dxf_entities_on(&dxf0, "SCORE") > 0);
+    // The other layers did not move.
+    for (name, bytes) in files(&base) {
+        if !name.starts_with("pzt-") && !name.starts_with("report") {
+            assert_eq!(files(&cut)[&name], bytes, "{name} changed");
+        }
+    }
+}
+
+#[test]
+fn template_without_features_table_gives_the_shipped_bytes() {
+    // The [features] table of the shipped template spells out the defaults: dropping it changes nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let shipped = method_2();
+    let start = shipped.find("\n[features]\n").expect("a [features] table");
+    let end = start + 1 + shipped[start + 1..].find("\n[").unwrap();
+    let bare = format!("{}{}", &shipped[..start], &shipped[end..]);
+    assert!(!bare.contains("[features]") && bare.contains("[cure]"));
+    let a = files(&run_on_template(dir.path(), "shipped", &shipped));
+    let b = files(&run_on_template(dir.path(), "bare", &bare));
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (name, bytes) in &a {
+        if name.ends_with(".svg") || name.ends_with(".dxf") {
+            assert!(bytes == &b[name], "{name} differs without [features]");
+        }
+    }
+    // And an explicit non-default differs (the comparison can fail).
+    let moved = method_2_with("fiducial = \"engrave\"", "fiducial = \"score\"");
+    let c = files(&run_on_template(dir.path(), "moved", &moved));
+    assert!(c["mold-1-1.svg"] != a["mold-1-1.svg"]);
+}
+
+#[test]
+fn bad_features_table_names_file_field_value_and_the_allowed() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            ("pzt-score-line = \"score\"", "pzt-score-lines = \"score\""),
+            ["features.pzt-score-lines", "unknown key", "pzt-score-line,"],
+        ),
+        (
+            ("pzt-score-line = \"score\"", "pzt-score-line = \"etch\""),
+            [
+                "features.pzt-score-line",
+                "\"etch\"",
+                "\"engrave\", \"score\", \"secondary\", \"cut\"",
+            ],
+        ),
+        (
+            ("part-outline = \"cut\"", "part-outline = \"engrave\""),
+            [
+                "features.part-outline",
+                "\"engrave\"",
+                "\"cut\", \"secondary\"",
+            ],
+        ),
+        (
+            ("part-label = \"engrave\"", "part-label = \"cut\""),
+            [
+                "features.part-label",
+                "\"cut\"",
+                "\"engrave\", \"score\", \"secondary\"",
+            ],
+        ),
+    ];
+    for (i, ((from, to), needles)) in cases.into_iter().enumerate() {
+        let d = dir.path().join(format!("case{i}"));
+        std::fs::create_dir_all(&d).unwrap();
+        let design = design_on_template(&d, "lab.toml", &method_2_with(from, to), &[]);
+        let out = d.join("out");
+        let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "case {i} accepted");
+        assert!(err.contains("lab.toml"), "case {i}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "case {i}: {n:?} not in {err}");
+        }
+        assert!(!out.exists(), "case {i} left {out:?}");
+    }
 }
 
 #[test]

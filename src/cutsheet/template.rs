@@ -391,5 +391,8 @@ mod tests {
         assert_eq!(m2.pzt.width_mm, 72.4);
         assert!(m2.covers.contains_key("bleeder") && !m1.covers.contains_key("bleeder"));
         assert!(Template::resolve("method-3", Path::new("d.toml")).is_err());
+        // The shipped [features] tables spell out the defaults.
+        assert_eq!(m1.features, FeatureMap::default());
+        assert_eq!(m2.features, FeatureMap::default());
     }
 }
