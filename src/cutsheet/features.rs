@@ -181,7 +181,7 @@ impl FeatureMap {
                     &field,
                     format!("{name:?}"),
                     format!(
-                        "a {} may only be {}",
+                        "a {} may only be one of {}",
                         key.replace('-', " "),
                         op_names(feature.allowed())
                     ),
