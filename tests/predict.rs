@@ -264,3 +264,43 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn method_1_design_predicts_its_pyralux_bond_layers_as_cut_sheet_does() {
+    // The process named in the design file is part of the actuator: method 1 bonds each PZT plate
+    // with a Pyralux layer (templates/method-1.toml: 0.025 mm, 1100 kg/m³), method 2 with none.
+    let m1 = predict_json(&example("thesis-C-method-1.toml"), &[]);
+    let m2 = predict_json(&example("thesis-C.toml"), &[]);
+    let mb = |v: &serde_json::Value, k: &str| v["mass_breakdown_mg"][k].as_f64().unwrap();
+    assert_eq!(mb(&m1, "pzt"), mb(&m2, "pzt"));
+    assert_eq!(mb(&m1, "passive"), mb(&m2, "passive"));
+    assert_eq!(mb(&m2, "bond"), 0.0);
+    // Closed form: two bond layers of the PZT trapezoid, l_p · w_nom with l_p = l_tot / (1 + l_r),
+    // w_nom = w_0 / w_r (design C: 42.2 mm, l_r 0.833, w_0 5 mm, w_r 1.667).
+    let plate_area_mm2 = 42.2 / 1.833 * (5.0 / 1.667);
+    let bond_mg = 2.0 * plate_area_mm2 * 0.025 * 1100.0 * 1e-6 * 1e3;
+    assert!(
+        (mb(&m1, "bond") / bond_mg - 1.0).abs() < 1e-9,
+        "{}",
+        mb(&m1, "bond")
+    );
+    // A stiffer stack: the bond layers carry no piezo load, so deflection falls.
+    assert!(m1["free_deflection_mm"].as_f64() < m2["free_deflection_mm"].as_f64());
+    // cut-sheet reports the same prediction for the same file.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run_out = run(&[
+        "cut-sheet",
+        &example("thesis-C-method-1.toml"),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run_out.status.success(), "{}", stderr(&run_out));
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["predicted"]["mass_mg"], m1["mass_mg"]);
+    assert_eq!(
+        report["predicted"]["blocked_force_N"],
+        m1["blocked_force_N"]
+    );
+}

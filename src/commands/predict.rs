@@ -1,6 +1,8 @@
 //! `actuator-cam predict design.toml`: mass and performance of one design.
 
 use super::model_arg::parse_model;
+use crate::cutsheet::design_for_process;
+use crate::cutsheet::template::Template;
 use crate::design::Design;
 use crate::prediction::Prediction;
 use clap::Args;
@@ -22,7 +24,11 @@ pub struct PredictArgs {
 /// Run `predict`.
 pub fn run(args: &PredictArgs) -> anyhow::Result<()> {
     let model = parse_model(&args.model)?;
+    // The design as its process builds it, so `predict` and `cut-sheet` print the same mass: method 1
+    // adds its Pyralux bond layers (method 2 adds nothing).
     let design = Design::load(&args.design)?;
+    let template = Template::resolve(&design.process, &design.source)?;
+    let design = design_for_process(&design, &template)?;
     let prediction = Prediction::with_model(&design, &model)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.design.display()))?;
     if args.json {
