@@ -7,13 +7,14 @@ use geo::{Distance, Euclidean, Intersects, Polygon};
 use rand::{Rng, SeedableRng};
 use std::path::Path;
 
-const EXAMPLES: [&str; 6] = [
+const EXAMPLES: [&str; 7] = [
     "thesis-A.toml",
     "thesis-B.toml",
     "thesis-C.toml",
     "thesis-1.toml",
     "thesis-7.toml",
     "thesis-21.toml",
+    "thesis-C-method-1.toml",
 ];
 
 fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> std::process::Output {
