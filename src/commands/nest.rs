@@ -23,7 +23,7 @@ pub struct NestArgs {
     /// Seed of the nester (overrides the batch file's).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Optimiser budget of the irregular nester (overrides the batch file's; default 1000).
+    /// Optimiser budget of the irregular nester per job of 60+ parts, smaller jobs a share (overrides the batch file's; default 1000).
     #[arg(long)]
     pub iterations: Option<usize>,
     /// Print nest-report.json to stdout instead of the summary line.

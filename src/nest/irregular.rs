@@ -334,7 +334,8 @@ impl<'a> Model<'a> {
             .into_iter()
             .collect::<Result<_, _>>()?;
         let mut best = own[0].clone();
-        let epochs = (settings.iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
+        let iterations = self.job.iteration_budget();
+        let epochs = (iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
         let independent = (epochs as f64 * INDEPENDENT_EPOCHS) as usize;
         let slots = epochs * workers;
         for epoch in 0..=epochs {
@@ -357,8 +358,7 @@ impl<'a> Model<'a> {
                 .collect();
             own = parallel(workers, |w| {
                 let slot = epoch * workers + w;
-                let budget =
-                    settings.iterations / slots + usize::from(slot < settings.iterations % slots);
+                let budget = iterations / slots + usize::from(slot < iterations % slots);
                 self.improve(
                     incumbents[w],
                     budget,

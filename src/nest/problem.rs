@@ -45,6 +45,11 @@ pub struct NestBin {
     pub stock: usize,
 }
 
+/// Copies from which a job gets the whole iteration budget (the bench's 60-actuator batches).
+const FULL_BUDGET_COPIES: usize = 60;
+/// Fewest iterations a smaller job gets (unless the budget is smaller).
+const MIN_BUDGET: usize = 100;
+
 /// Knobs of a nesting run. The same settings and input give the same layout on any machine.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NestSettings {
@@ -52,8 +57,10 @@ pub struct NestSettings {
     pub separation_mm: f64,
     /// Seed of every random choice.
     pub seed: u64,
-    /// Optimiser budget: number of improvement moves (ruin-and-recreate steps) over all workers.
-    /// Not wall-clock time, so runs are reproducible; 0 keeps the greedy fill.
+    /// Optimiser budget: number of improvement moves (ruin-and-recreate steps) over all workers
+    /// for a job of 60 copies or more; smaller jobs get a proportional share
+    /// ([`Job::iteration_budget`]). Not wall-clock time, so runs are reproducible; 0 keeps the
+    /// greedy fill.
     pub iterations: usize,
     /// Number of parallel workers; fixed, so the result does not depend on the machine.
     pub workers: usize,
@@ -449,6 +456,17 @@ impl Job {
         self.parts.iter().map(|p| p.demand).sum()
     }
 
+    /// The optimiser's iterations for this job: the whole budget from `FULL_BUDGET_COPIES` copies
+    /// up, a proportional share below (at least `MIN_BUDGET`, never more than the budget). A move
+    /// costs about as much on 16 parts as on 300 (it reinserts up to 16), so a fixed budget made
+    /// a small batch on a mostly empty sheet take seconds for nothing: the example batch's layout
+    /// is the same after 100 iterations as after 1000. Counted in iterations, never in time.
+    pub fn iteration_budget(&self) -> usize {
+        let full = self.settings.iterations;
+        let share = full.saturating_mul(self.copies()) / FULL_BUDGET_COPIES;
+        share.clamp(full.min(MIN_BUDGET), full)
+    }
+
     /// Builds the solution from placed copies sheet by sheet, ordering sheets fullest first and
     /// numbering copies in that order; fails if stock is exceeded.
     pub fn solution(&self, sheets: Vec<Vec<Placed>>) -> Result<NestSolution, NestError> {
@@ -734,6 +752,44 @@ mod tests {
         vec![[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]]
     }
 
+    /// `demand` 10 mm squares and a 100 mm sheet with `stock`.
+    fn squares_job(demand: usize, stock: usize) -> (Vec<NestItem>, NestBin) {
+        let items = vec![NestItem {
+            outline: square(10.0),
+            demand,
+            rotations_deg: vec![0.0],
+        }];
+        let bin = NestBin {
+            width_mm: 100.0,
+            height_mm: 100.0,
+            stock,
+        };
+        (items, bin)
+    }
+
+    #[test]
+    fn small_jobs_get_a_proportional_share_of_the_iterations() {
+        let budget = |copies: usize, iterations: usize| {
+            let (items, bin) = squares_job(copies, 10);
+            let settings = NestSettings {
+                iterations,
+                ..NestSettings::default()
+            };
+            Job::new(&items, &bin, &settings)
+                .unwrap()
+                .iteration_budget()
+        };
+        // 60 copies and up: the whole budget (the bench's batches keep their figures).
+        assert_eq!(budget(60, 1000), 1000);
+        assert_eq!(budget(300, 1000), 1000);
+        // Below: in proportion, 16 of 60 copies -> 266 of 1000, but never under 100 ...
+        assert_eq!(budget(16, 1000), 266);
+        assert_eq!(budget(2, 1000), 100);
+        // ... unless the budget itself is smaller; 0 keeps the greedy fill.
+        assert_eq!(budget(2, 40), 40);
+        assert_eq!(budget(16, 0), 0);
+    }
+
     #[test]
     fn rotation_by_180_is_exact() {
         assert_eq!(rotate([3.5, -2.25], 180.0), [-3.5, 2.25]);
@@ -756,16 +812,7 @@ mod tests {
 
     #[test]
     fn verify_catches_parts_too_close() {
-        let items = vec![NestItem {
-            outline: square(10.0),
-            demand: 2,
-            rotations_deg: vec![0.0],
-        }];
-        let bin = NestBin {
-            width_mm: 100.0,
-            height_mm: 100.0,
-            stock: 1,
-        };
+        let (items, bin) = squares_job(2, 1);
         let settings = NestSettings {
             separation_mm: 0.5,
             ..NestSettings::default()
