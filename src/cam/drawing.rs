@@ -40,6 +40,16 @@ impl Operation {
         }
     }
 
+    /// Name of the operation in a process template (`[operations]` keys, `[features]` values).
+    pub fn template_key(self) -> &'static str {
+        match self {
+            Operation::Engrave => "engrave",
+            Operation::Score => "score",
+            Operation::Secondary => "secondary",
+            Operation::Cut => "cut",
+        }
+    }
+
     /// Pure primary stroke colour that laser drivers map to this operation (CAM-NOTES §3).
     pub fn svg_colour(self) -> &'static str {
         match self {

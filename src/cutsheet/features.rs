@@ -110,22 +110,15 @@ impl Feature {
         }
     }
 
+    /// Position in `ALL`, which lists the variants in declaration order (a unit test checks).
     fn index(self) -> usize {
-        Feature::ALL
-            .iter()
-            .position(|f| *f == self)
-            .unwrap_or_default()
+        self as usize
     }
-}
-
-/// Name of an operation in a template (`cut`, `score`, `secondary`, `engrave`).
-fn op_name(op: Operation) -> String {
-    op.layer_name().to_ascii_lowercase()
 }
 
 fn op_names(ops: &[Operation]) -> String {
     ops.iter()
-        .map(|op| format!("\"{}\"", op_name(*op)))
+        .map(|op| format!("\"{}\"", op.template_key()))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -166,7 +159,7 @@ impl FeatureMap {
             let field = table.path(key);
             let op = Operation::ALL
                 .into_iter()
-                .find(|op| op_name(*op) == name)
+                .find(|op| op.template_key() == name)
                 .ok_or_else(|| {
                     InputError::invalid(
                         path,

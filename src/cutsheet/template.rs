@@ -173,8 +173,8 @@ fn read_palette(path: &Path, root: &TableReader<'_>) -> Result<Palette, InputErr
         return Ok(palette);
     };
     for op in Operation::ALL {
-        let key = op.layer_name().to_ascii_lowercase();
-        let Some(t) = ops.optional_table(&key)? else {
+        let key = op.template_key();
+        let Some(t) = ops.optional_table(key)? else {
             continue;
         };
         let colour = t.string("colour", "an SVG colour #RRGGBB")?;
