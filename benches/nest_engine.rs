@@ -13,7 +13,8 @@
 //! `-- --quick` runs 3 random mixes instead of 8 and the 300-part job once;
 //! `-- --export-only` only writes `batches.json`; `NEST_BENCH_SVG=1` also writes the layouts as
 //! SVG; `NEST_BENCH_ITERATIONS=n` changes the budget of every run (to see what more search buys);
-//! `NEST_BENCH_SEED=n` changes the seed (default 1); `NEST_STRIP_ONLY=1` runs only our nester on
+//! `NEST_BENCH_SEED=n` changes the seed (default 1); `NEST_BENCH_BATCH=name` runs one batch
+//! (e.g. `random-2`); `NEST_STRIP_ONLY=1` runs only our nester on
 //! the strips and prints the mean density, a quicker measure to repeat over several seeds (one
 //! seed's figure of a batch moves by up to 3 points with any change of the random stream, the
 //! mean of 9 batches by about 0.3).
@@ -171,6 +172,9 @@ fn main() {
     let mut batches: Vec<(String, Vec<NestItem>)> = vec![("mixed-4x15".into(), sixty_mixed())];
     let randoms = if quick { 3 } else { 8 };
     batches.extend((1..=randoms).map(|s| (format!("random-{s}"), random_designs(s, 4, 15))));
+    if let Ok(only) = std::env::var("NEST_BENCH_BATCH") {
+        batches.retain(|(name, _)| *name == only);
+    }
 
     // The parts for tools/nest_reference.py.
     let export: Vec<serde_json::Value> = batches

@@ -70,6 +70,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
+use super::compress::{compress, Footprint};
+use super::overlap::Pieces;
 use super::problem::{
     rotate, Job, NestBin, NestError, NestItem, NestSettings, NestSolution, Placed,
 };
@@ -101,6 +103,8 @@ const SLIDE_LAST_STEP_MM: f32 = 0.01;
 const SIMPLIFY_AREA_RATIO: f32 = 0.005;
 /// Weight of the right edge against the top edge in the placement cost.
 const RIGHT_WEIGHT: f32 = 0.25;
+/// Overlap evaluations of the final compression per iteration of the budget, per worker.
+const COMPRESSION_EVALUATIONS: usize = 3000;
 
 /// How hard one insertion looks.
 #[derive(Debug, Clone, Copy)]
@@ -195,10 +199,10 @@ const INDEPENDENT_EPOCHS: f64 = 0.5;
 /// One part placed in the jagua-rs frame: its centred, inflated shape turned by rotation `rot`
 /// and moved by `t`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Placement {
-    part: usize,
-    rot: usize,
-    t: (f32, f32),
+pub(super) struct Placement {
+    pub(super) part: usize,
+    pub(super) rot: usize,
+    pub(super) t: (f32, f32),
 }
 
 /// A whole layout, independent of any `BPProblem`: what workers exchange.
@@ -291,6 +295,9 @@ struct Model<'a> {
     centring: Vec<[f64; 2]>,
     /// Usable sheet: the deflated container's bounding box.
     usable: Rect,
+    /// `[part][rotation]`: the collision shapes as convex pieces, for compression; `None` if
+    /// one did not decompose (then the layout is not compressed).
+    footprints: Option<Vec<Vec<Footprint>>>,
 }
 
 impl<'a> Model<'a> {
@@ -314,12 +321,30 @@ impl<'a> Model<'a> {
                 })?;
             shapes.push(rotated);
         }
+        let footprints = shapes
+            .iter()
+            .map(|rotations| {
+                rotations
+                    .iter()
+                    .map(|shape| {
+                        let ring: Vec<[f32; 2]> =
+                            shape.plain.vertices().iter().map(|v| [v.0, v.1]).collect();
+                        Some(Footprint {
+                            pieces: Pieces::new(&ring)?,
+                            x: shape.x,
+                            y: shape.y,
+                        })
+                    })
+                    .collect::<Option<Vec<_>>>()
+            })
+            .collect::<Option<Vec<_>>>();
         Ok(Self {
             job,
             instance,
             shapes,
             centring,
             usable,
+            footprints,
         })
     }
 
@@ -366,7 +391,77 @@ impl<'a> Model<'a> {
                 )
             });
         }
-        Ok(best.1)
+        Ok(self.compressed(best.1, epochs + 1))
+    }
+
+    /// The layout with its lowest-topped sheet (the one whose used length counts) compressed
+    /// through overlap ([`super::compress`]), each worker on its own random stream with
+    /// `COMPRESSION_EVALUATIONS` per iteration of the budget; the lowest top wins (ties to the
+    /// lower worker).
+    fn compressed(&self, mut sheets: Sheets, epoch: usize) -> Sheets {
+        let Some(footprints) = &self.footprints else {
+            return sheets;
+        };
+        let top = |sheet: &[Placement]| {
+            sheet
+                .iter()
+                .map(|s| self.shapes[s.part][s.rot].plain.bbox().y_max + s.t.1)
+                .fold(self.usable.y_min, f32::max)
+        };
+        let fill = |sheet: &[Placement]| -> f64 {
+            sheet.iter().map(|s| self.job.parts[s.part].area).sum()
+        };
+        // As `lowest_sheet`: the lowest top, ties to the emptier, then the later sheet.
+        let Some(lowest) = (0..sheets.len()).min_by(|&a, &b| {
+            top(&sheets[a])
+                .total_cmp(&top(&sheets[b]))
+                .then(fill(&sheets[a]).total_cmp(&fill(&sheets[b])))
+                .then(b.cmp(&a))
+        }) else {
+            return sheets;
+        };
+        let settings = &self.job.settings;
+        let budget = self.job.iteration_budget() * COMPRESSION_EVALUATIONS;
+        let candidates = parallel(settings.workers, |w| {
+            let mut rng = worker_rng(settings.seed, epoch, w);
+            compress(footprints, &sheets[lowest], budget, &mut rng, |items| {
+                self.clear(items)
+            })
+        });
+        let best = candidates
+            .into_iter()
+            .min_by(|a, b| top(a).total_cmp(&top(b)))
+            .expect("at least one worker");
+        if top(&best) < top(&sheets[lowest]) {
+            sheets[lowest] = best;
+        }
+        sheets
+    }
+
+    /// Whether jagua-rs finds the parts of one sheet clear of each other and inside it: each
+    /// checked against those placed before it.
+    fn clear(&self, sheet: &[Placement]) -> bool {
+        let mut problem = BPProblem::new(self.instance.clone());
+        let mut key = None;
+        for &spot in sheet {
+            let shape = &self.shapes[spot.part][spot.rot];
+            if spot.t.0 < shape.x.0 - NUDGE_MM
+                || spot.t.0 > shape.x.1 + NUDGE_MM
+                || spot.t.1 < shape.y.0 - NUDGE_MM
+                || spot.t.1 > shape.y.1 + NUDGE_MM
+            {
+                return false;
+            }
+            if let Some(k) = key {
+                let cde = problem.layouts()[k].cde();
+                if !collision_free(cde, shape, &mut shape.plain.clone(), spot.t) {
+                    return false;
+                }
+            }
+            let layout_id = key.map_or(BPLayoutType::Closed { bin_id: 0 }, BPLayoutType::Open);
+            key = Some(problem.place_item(self.bp_placement(layout_id, spot)).0);
+        }
+        true
     }
 
     /// Best-fit fill: instead of placing parts in a fixed order, each step looks at every

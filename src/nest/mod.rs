@@ -9,7 +9,9 @@
 //! stop on an iteration budget, never on time, so the same input and seed give the same layout.
 
 mod baseline;
+mod compress;
 pub mod irregular;
+mod overlap;
 mod problem;
 
 pub use baseline::nest_bounding_boxes;

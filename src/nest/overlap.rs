@@ -1,0 +1,327 @@
+//! How deeply two placed collision shapes overlap: the measure the strip compression
+//! ([`super::compress`]) drives to zero.
+//!
+//! The ruin-and-recreate search only places parts where they are clear. Compression instead
+//! pushes parts into one another and moves them apart again, as sparrow does (Gardeyn &
+//! Wauters, "An open-source heuristic to reboot 2D nesting research", 2025), so it needs to know
+//! *how much* two shapes collide, with a measure that is zero exactly when they are clear. Each
+//! shape is cut into convex pieces (earcut triangles merged while the union stays convex, as in
+//! Hertel & Mehlhorn 1983). Between two convex pieces the separating-axis theorem gives the
+//! penetration depth: the least overlap of their projections on the edge normals of either,
+//! zero when one of those axes separates them. Summed over the piece pairs, it is zero iff the
+//! shapes are clear by at least [`CLEARANCE_MM`], and it shrinks as a part moves out.
+
+use geo::{Coord, LineString, Polygon, TriangulateEarcut};
+
+use super::problem::signed_area;
+
+/// Margin the measure adds to every pair, so that shapes it calls clear are apart by this much
+/// and also pass jagua-rs's own f32 collision test.
+pub(super) const CLEARANCE_MM: f32 = 2e-3;
+
+/// `[x_min, y_min, x_max, y_max]`.
+pub(super) type Bounds = [f32; 4];
+
+/// A convex polygon, counter-clockwise, with its outward unit edge normals.
+#[derive(Debug, Clone)]
+struct Convex {
+    vertices: Vec<[f32; 2]>,
+    normals: Vec<[f32; 2]>,
+    bounds: Bounds,
+}
+
+/// A collision shape at the origin, as convex pieces.
+#[derive(Debug, Clone)]
+pub(super) struct Pieces {
+    pieces: Vec<Convex>,
+    pub(super) bounds: Bounds,
+}
+
+impl Pieces {
+    /// Convex pieces of a simple polygon (vertices counter-clockwise, not closed). `None` if it
+    /// does not triangulate into pieces that cover it (a degenerate ring).
+    pub(super) fn new(ring: &[[f32; 2]]) -> Option<Pieces> {
+        let exterior: Vec<Coord<f64>> = ring
+            .iter()
+            .map(|p| Coord {
+                x: f64::from(p[0]),
+                y: f64::from(p[1]),
+            })
+            .collect();
+        let raw = Polygon::new(LineString::new(exterior), Vec::new()).earcut_triangles_raw();
+        let points: Vec<[f64; 2]> = raw.vertices;
+        let mut polygons: Vec<Vec<usize>> = raw
+            .triangle_indices
+            .chunks_exact(3)
+            .map(|t| {
+                let mut t = t.to_vec();
+                if cross(points[t[0]], points[t[1]], points[t[2]]) < 0.0 {
+                    t.swap(1, 2);
+                }
+                t
+            })
+            .filter(|t| cross(points[t[0]], points[t[1]], points[t[2]]) > 0.0)
+            .collect();
+        let triangles_area: f64 = polygons
+            .iter()
+            .map(|t| cross(points[t[0]], points[t[1]], points[t[2]]) / 2.0)
+            .sum();
+        let ring_area = signed_area(&points).abs();
+        if polygons.is_empty() || (triangles_area - ring_area).abs() > 1e-6 * ring_area.max(1.0) {
+            return None;
+        }
+        merge_while_convex(&mut polygons, &points);
+        let pieces: Vec<Convex> = polygons
+            .iter()
+            .map(|poly| {
+                Convex::new(
+                    poly.iter()
+                        .map(|&i| [points[i][0] as f32, points[i][1] as f32])
+                        .collect(),
+                )
+            })
+            .collect();
+        let bounds = pieces
+            .iter()
+            .fold([f32::MAX, f32::MAX, f32::MIN, f32::MIN], |b, piece| {
+                union(b, piece.bounds)
+            });
+        Some(Pieces { pieces, bounds })
+    }
+
+    /// Number of convex pieces.
+    #[cfg(test)]
+    fn len(&self) -> usize {
+        self.pieces.len()
+    }
+}
+
+/// Penetration of shape `a` moved by `ta` into shape `b` moved by `tb`: the sum over piece
+/// pairs of their separating-axis depth (plus [`CLEARANCE_MM`]); zero when they are clear.
+pub(super) fn overlap(a: &Pieces, ta: [f32; 2], b: &Pieces, tb: [f32; 2]) -> f32 {
+    // `a` in the frame where `b` sits at the origin.
+    let d = [ta[0] - tb[0], ta[1] - tb[1]];
+    if !bounds_meet(shifted(a.bounds, d), b.bounds) {
+        return 0.0;
+    }
+    let mut total = 0.0;
+    for pa in &a.pieces {
+        let ba = shifted(pa.bounds, d);
+        if !bounds_meet(ba, b.bounds) {
+            continue;
+        }
+        for pb in &b.pieces {
+            if bounds_meet(ba, pb.bounds) {
+                total += depth(pa, d, pb);
+            }
+        }
+    }
+    total
+}
+
+/// Separating-axis penetration depth of convex `a` moved by `d` into convex `b`: the smallest
+/// overlap of their projections over the edge normals of both, or zero if one is negative.
+fn depth(a: &Convex, d: [f32; 2], b: &Convex) -> f32 {
+    let mut least = f32::MAX;
+    for n in a.normals.iter().chain(&b.normals) {
+        let offset = d[0] * n[0] + d[1] * n[1];
+        let (a_min, a_max) = project(&a.vertices, *n);
+        let (b_min, b_max) = project(&b.vertices, *n);
+        let o = (a_max + offset).min(b_max) - (a_min + offset).max(b_min) + CLEARANCE_MM;
+        if o <= 0.0 {
+            return 0.0;
+        }
+        least = least.min(o);
+    }
+    least
+}
+
+fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> (f32, f32) {
+    vertices.iter().fold((f32::MAX, f32::MIN), |(lo, hi), v| {
+        let p = v[0] * n[0] + v[1] * n[1];
+        (lo.min(p), hi.max(p))
+    })
+}
+
+impl Convex {
+    fn new(vertices: Vec<[f32; 2]>) -> Convex {
+        let k = vertices.len();
+        let normals = (0..k)
+            .map(|i| {
+                let (p, q) = (vertices[i], vertices[(i + 1) % k]);
+                let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+                let len = dx.hypot(dy);
+                [dy / len, -dx / len]
+            })
+            .collect();
+        let bounds = vertices
+            .iter()
+            .fold([f32::MAX, f32::MAX, f32::MIN, f32::MIN], |b, v| {
+                [
+                    b[0].min(v[0]),
+                    b[1].min(v[1]),
+                    b[2].max(v[0]),
+                    b[3].max(v[1]),
+                ]
+            });
+        Convex {
+            vertices,
+            normals,
+            bounds,
+        }
+    }
+}
+
+/// Hertel–Mehlhorn: merges two pieces across a shared edge whenever their union is convex,
+/// until no pair merges. Pieces are index cycles, counter-clockwise.
+fn merge_while_convex(polygons: &mut Vec<Vec<usize>>, points: &[[f64; 2]]) {
+    'again: loop {
+        for i in 0..polygons.len() {
+            for j in i + 1..polygons.len() {
+                if let Some(merged) = merged_if_convex(&polygons[i], &polygons[j], points) {
+                    polygons[i] = merged;
+                    polygons.remove(j);
+                    continue 'again;
+                }
+            }
+        }
+        return;
+    }
+}
+
+/// The union of two counter-clockwise cycles sharing an edge (`u → v` in `a`, `v → u` in `b`),
+/// if it is convex.
+fn merged_if_convex(a: &[usize], b: &[usize], points: &[[f64; 2]]) -> Option<Vec<usize>> {
+    for ia in 0..a.len() {
+        let (u, v) = (a[ia], a[(ia + 1) % a.len()]);
+        let Some(ib) = (0..b.len()).find(|&ib| b[ib] == v && b[(ib + 1) % b.len()] == u) else {
+            continue;
+        };
+        // a's cycle from v round to u, then b's vertices strictly between u and v.
+        let mut merged: Vec<usize> = (0..a.len()).map(|k| a[(ia + 1 + k) % a.len()]).collect();
+        merged.extend((2..b.len()).map(|k| b[(ib + k) % b.len()]));
+        let n = merged.len();
+        let convex = (0..n).all(|k| {
+            cross(
+                points[merged[k]],
+                points[merged[(k + 1) % n]],
+                points[merged[(k + 2) % n]],
+            ) > 1e-12
+        });
+        return convex.then_some(merged);
+    }
+    None
+}
+
+/// Twice the signed area of triangle `p q r` (positive when counter-clockwise).
+fn cross(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+    (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+}
+
+fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
+    [b[0] + d[0], b[1] + d[1], b[2] + d[0], b[3] + d[1]]
+}
+
+pub(super) fn union(a: Bounds, b: Bounds) -> Bounds {
+    [
+        a[0].min(b[0]),
+        a[1].min(b[1]),
+        a[2].max(b[2]),
+        a[3].max(b[3]),
+    ]
+}
+
+/// Whether two boxes come within [`CLEARANCE_MM`] of each other.
+pub(super) fn bounds_meet(a: Bounds, b: Bounds) -> bool {
+    a[0] < b[2] + CLEARANCE_MM
+        && b[0] < a[2] + CLEARANCE_MM
+        && a[1] < b[3] + CLEARANCE_MM
+        && b[1] < a[3] + CLEARANCE_MM
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An L: a 4 x 1 bar with a 1 x 3 upright on its left end (area 4 + 3 = 7), not convex.
+    fn ell() -> Vec<[f32; 2]> {
+        vec![[0., 0.], [4., 0.], [4., 1.], [1., 1.], [1., 4.], [0., 4.]]
+    }
+
+    #[test]
+    fn pieces_are_convex_and_cover_the_ring() {
+        let pieces = Pieces::new(&ell()).expect("an L triangulates");
+        // Hertel–Mehlhorn leaves at most 4x the optimum (2 pieces for an L).
+        assert!(
+            pieces.len() >= 2 && pieces.len() <= 3,
+            "{} pieces",
+            pieces.len()
+        );
+        let area: f64 = pieces
+            .pieces
+            .iter()
+            .map(|p| {
+                let ring: Vec<[f64; 2]> = p
+                    .vertices
+                    .iter()
+                    .map(|v| [f64::from(v[0]), f64::from(v[1])])
+                    .collect();
+                signed_area(&ring).abs()
+            })
+            .sum();
+        assert!((area - 7.0).abs() < 1e-6, "pieces cover {area}, the L is 7");
+        for p in &pieces.pieces {
+            let k = p.vertices.len();
+            for i in 0..k {
+                let f = |v: [f32; 2]| [f64::from(v[0]), f64::from(v[1])];
+                let c = cross(
+                    f(p.vertices[i]),
+                    f(p.vertices[(i + 1) % k]),
+                    f(p.vertices[(i + 2) % k]),
+                );
+                assert!(c > 0.0, "piece {:?} not convex", p.vertices);
+            }
+        }
+    }
+
+    #[test]
+    fn overlap_is_zero_exactly_when_apart_and_equals_the_depth_of_two_squares() {
+        let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
+        // Closed form: two axis-aligned squares overlapping by 0.5 in x (and fully in y)
+        // penetrate 0.5 deep.
+        let o = overlap(&square, [1.5, 0.0], &square, [0.0, 0.0]);
+        assert!((o - 0.5 - CLEARANCE_MM).abs() < 1e-5, "{o}");
+        // Apart by more than the clearance: zero; closer than it: positive.
+        assert_eq!(overlap(&square, [2.01, 0.3], &square, [0.0, 0.0]), 0.0);
+        assert!(overlap(&square, [2.001, 0.3], &square, [0.0, 0.0]) > 0.0);
+        // Diagonal neighbours whose boxes overlap but whose edges do not meet.
+        let diamond = Pieces::new(&[[1., 0.], [2., 1.], [1., 2.], [0., 1.]]).unwrap();
+        assert_eq!(overlap(&diamond, [1.4, 1.4], &diamond, [0.0, 0.0]), 0.0);
+        assert!(overlap(&diamond, [0.9, 0.9], &diamond, [0.0, 0.0]) > 0.0);
+    }
+
+    #[test]
+    fn an_ell_does_not_collide_with_a_square_in_its_notch() {
+        // The notch of the L is [1, 4] x [1, 4]: a square there is clear of it, which a
+        // convex hull or a box test would miss.
+        let l = Pieces::new(&ell()).unwrap();
+        let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
+        assert_eq!(overlap(&square, [1.5, 1.5], &l, [0.0, 0.0]), 0.0);
+        assert_eq!(overlap(&l, [0.0, 0.0], &square, [1.5, 1.5]), 0.0);
+        assert!(overlap(&square, [0.9, 1.5], &l, [0.0, 0.0]) > 0.0);
+        assert!(overlap(&square, [1.5, 0.9], &l, [0.0, 0.0]) > 0.0);
+    }
+
+    #[test]
+    fn overlap_falls_as_a_part_moves_out() {
+        let l = Pieces::new(&ell()).unwrap();
+        let mut last = f32::MAX;
+        for k in 1..=10 {
+            let s = 0.5 * k as f32;
+            let o = overlap(&l, [s, s], &l, [0.0, 0.0]);
+            assert!(o <= last, "overlap rose from {last} to {o} at ({s}, {s})");
+            last = o;
+        }
+        assert_eq!(last, 0.0);
+    }
+}
