@@ -405,6 +405,38 @@ mod tests {
     }
 
     #[test]
+    fn stops_when_the_tallest_part_sets_the_top_even_with_an_endless_budget() {
+        // A 1 x 3 bar beside two squares: no layout is lower than the bar, so every lower
+        // ceiling fails at once and compression must stop on its own, not on the budget.
+        let mut footprints = squares();
+        footprints.push(vec![Footprint {
+            pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 3.], [0., 3.]]).unwrap(),
+            x: (0.0, 1.1),
+            y: (0.0, 10.0),
+        }]);
+        let start = vec![
+            Placement {
+                part: 1,
+                rot: 0,
+                t: (0.0, 0.0),
+            },
+            Placement {
+                part: 0,
+                rot: 0,
+                t: (1.05, 0.0),
+            },
+            Placement {
+                part: 0,
+                rot: 0,
+                t: (1.05, 1.01),
+            },
+        ];
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let kept = compress(&footprints, &start, usize::MAX, &mut rng, |_| true);
+        assert_eq!(kept, start);
+    }
+
+    #[test]
     fn the_same_stream_gives_the_same_layout_and_a_rejected_layout_is_never_kept() {
         let run = |seed| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
