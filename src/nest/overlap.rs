@@ -27,6 +27,9 @@ pub(super) type Bounds = [f32; 4];
 struct Convex {
     vertices: Vec<[f32; 2]>,
     normals: Vec<[f32; 2]>,
+    /// The piece's own projection on each of its normals: fixed, so only the other piece of a
+    /// pair needs projecting on them (half the work of a depth query).
+    extents: Vec<(f32, f32)>,
     bounds: Bounds,
 }
 
@@ -123,10 +126,18 @@ pub(super) fn overlap(a: &Pieces, ta: [f32; 2], b: &Pieces, tb: [f32; 2]) -> f32
 /// overlap of their projections over the edge normals of both, or zero if one is negative.
 fn depth(a: &Convex, d: [f32; 2], b: &Convex) -> f32 {
     let mut least = f32::MAX;
-    for n in a.normals.iter().chain(&b.normals) {
+    for (n, &(a_min, a_max)) in a.normals.iter().zip(&a.extents) {
+        let offset = d[0] * n[0] + d[1] * n[1];
+        let (b_min, b_max) = project(&b.vertices, *n);
+        let o = (a_max + offset).min(b_max) - (a_min + offset).max(b_min) + CLEARANCE_MM;
+        if o <= 0.0 {
+            return 0.0;
+        }
+        least = least.min(o);
+    }
+    for (n, &(b_min, b_max)) in b.normals.iter().zip(&b.extents) {
         let offset = d[0] * n[0] + d[1] * n[1];
         let (a_min, a_max) = project(&a.vertices, *n);
-        let (b_min, b_max) = project(&b.vertices, *n);
         let o = (a_max + offset).min(b_max) - (a_min + offset).max(b_min) + CLEARANCE_MM;
         if o <= 0.0 {
             return 0.0;
@@ -137,16 +148,19 @@ fn depth(a: &Convex, d: [f32; 2], b: &Convex) -> f32 {
 }
 
 fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> (f32, f32) {
-    vertices.iter().fold((f32::MAX, f32::MIN), |(lo, hi), v| {
+    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+    for v in vertices {
         let p = v[0] * n[0] + v[1] * n[1];
-        (lo.min(p), hi.max(p))
-    })
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    (lo, hi)
 }
 
 impl Convex {
     fn new(vertices: Vec<[f32; 2]>) -> Convex {
         let k = vertices.len();
-        let normals = (0..k)
+        let normals: Vec<[f32; 2]> = (0..k)
             .map(|i| {
                 let (p, q) = (vertices[i], vertices[(i + 1) % k]);
                 let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
@@ -164,9 +178,11 @@ impl Convex {
                     b[3].max(v[1]),
                 ]
             });
+        let extents = normals.iter().map(|&n| project(&vertices, n)).collect();
         Convex {
             vertices,
             normals,
+            extents,
             bounds,
         }
     }
