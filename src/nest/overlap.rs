@@ -328,6 +328,66 @@ mod tests {
         assert!(overlap(&square, [1.5, 0.9], &l, [0.0, 0.0]) > 0.0);
     }
 
+    /// Independent check with geo's polygon distance: over random placements of two tapered
+    /// actuator outlines (a trapezoid with a tip extension and a base tab, not convex), the
+    /// measure is zero exactly when the polygons are at least the clearance apart (placements
+    /// within 1e-3 mm of that boundary are skipped: f32 against f64).
+    #[test]
+    fn zero_exactly_when_geo_finds_the_outlines_apart() {
+        use geo::{Distance, Euclidean};
+        use rand::{Rng, SeedableRng};
+        let ring: Vec<[f32; 2]> = vec![
+            [-3., -6.],
+            [0., -6.],
+            [30., -1.5],
+            [50., -1.5],
+            [50., 1.5],
+            [30., 1.5],
+            [0., 6.],
+            [-3., 6.],
+        ];
+        let pieces = Pieces::new(&ring).unwrap();
+        let turned: Vec<[f32; 2]> = ring.iter().map(|p| [-p[0], -p[1]]).collect();
+        let turned_pieces = Pieces::new(&turned).unwrap();
+        let polygon = |r: &[[f32; 2]], t: [f32; 2]| {
+            Polygon::new(
+                LineString::from(
+                    r.iter()
+                        .map(|p| (f64::from(p[0] + t[0]), f64::from(p[1] + t[1])))
+                        .collect::<Vec<_>>(),
+                ),
+                Vec::new(),
+            )
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let (mut apart, mut overlapping) = (0, 0);
+        for _ in 0..4000 {
+            let t = [rng.gen_range(-60.0..60.0f32), rng.gen_range(-14.0..14.0f32)];
+            let (other, other_ring) = if rng.gen_bool(0.5) {
+                (&pieces, &ring)
+            } else {
+                (&turned_pieces, &turned)
+            };
+            let distance = Euclidean.distance(&polygon(&ring, [0.0, 0.0]), &polygon(other_ring, t));
+            let margin = f64::from(CLEARANCE_MM);
+            if (distance - margin).abs() < 1e-3 {
+                continue;
+            }
+            let o = overlap(&pieces, [0.0, 0.0], other, t);
+            if distance > margin {
+                assert_eq!(o, 0.0, "apart by {distance} at {t:?} but overlap {o}");
+                apart += 1;
+            } else {
+                assert!(o > 0.0, "{distance} apart at {t:?} but overlap 0");
+                overlapping += 1;
+            }
+        }
+        assert!(
+            apart > 500 && overlapping > 500,
+            "{apart} apart, {overlapping} overlapping"
+        );
+    }
+
     #[test]
     fn overlap_falls_as_a_part_moves_out() {
         let l = Pieces::new(&ell()).unwrap();
