@@ -125,20 +125,19 @@ pub(super) fn overlap(a: &Pieces, ta: [f32; 2], b: &Pieces, tb: [f32; 2]) -> f32
 /// Separating-axis penetration depth of convex `a` moved by `d` into convex `b`: the smallest
 /// overlap of their projections over the edge normals of both, or zero if one is negative.
 fn depth(a: &Convex, d: [f32; 2], b: &Convex) -> f32 {
+    // On each normal: both projections (one fixed, one projected now), `a`'s moved by `d`.
+    let on_a = a.normals.iter().zip(&a.extents).map(|(n, &own)| {
+        let offset = d[0] * n[0] + d[1] * n[1];
+        ((own.0 + offset, own.1 + offset), project(&b.vertices, *n))
+    });
+    let on_b = b.normals.iter().zip(&b.extents).map(|(n, &own)| {
+        let offset = d[0] * n[0] + d[1] * n[1];
+        let (lo, hi) = project(&a.vertices, *n);
+        ((lo + offset, hi + offset), own)
+    });
     let mut least = f32::MAX;
-    for (n, &(a_min, a_max)) in a.normals.iter().zip(&a.extents) {
-        let offset = d[0] * n[0] + d[1] * n[1];
-        let (b_min, b_max) = project(&b.vertices, *n);
-        let o = (a_max + offset).min(b_max) - (a_min + offset).max(b_min) + CLEARANCE_MM;
-        if o <= 0.0 {
-            return 0.0;
-        }
-        least = least.min(o);
-    }
-    for (n, &(b_min, b_max)) in b.normals.iter().zip(&b.extents) {
-        let offset = d[0] * n[0] + d[1] * n[1];
-        let (a_min, a_max) = project(&a.vertices, *n);
-        let o = (a_max + offset).min(b_max) - (a_min + offset).max(b_min) + CLEARANCE_MM;
+    for ((a_min, a_max), (b_min, b_max)) in on_a.chain(on_b) {
+        let o = a_max.min(b_max) - a_min.max(b_min) + CLEARANCE_MM;
         if o <= 0.0 {
             return 0.0;
         }
