@@ -18,7 +18,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::irregular::Placement;
-use super::overlap::{bounds_meet, overlap, Bounds, Pieces};
+use super::overlap::{bounds_meet, overlap, shifted, Bounds, Pieces};
 
 /// A part at one of its rotations, as compression sees it.
 pub(super) struct Footprint {
@@ -27,6 +27,15 @@ pub(super) struct Footprint {
     /// Translations that keep the shape inside the usable sheet.
     pub(super) x: (f32, f32),
     pub(super) y: (f32, f32),
+}
+
+impl Footprint {
+    /// Translations (x range, y range) that keep the shape inside the usable sheet and its top
+    /// at most `ceiling`; `None` if there are none.
+    fn range_under(&self, ceiling: f32) -> Option<((f32, f32), (f32, f32))> {
+        let y_max = self.y.1.min(ceiling - self.pieces.bounds[3]);
+        (self.x.0 <= self.x.1 && self.y.0 <= y_max).then_some((self.x, (self.y.0, y_max)))
+    }
 }
 
 /// First ceiling step, as a share of the sheet's used length; halved after each failure down to
@@ -117,23 +126,18 @@ pub(super) fn compress(
 /// `s` moved down (or turned) so that it stays under `ceiling`, or `None` if no rotation of the
 /// part fits under it.
 fn under_ceiling(footprints: &[Vec<Footprint>], s: Placement, ceiling: f32) -> Option<Placement> {
-    let fits = |rot: usize| {
-        let f = &footprints[s.part][rot];
-        let y_max = f.y.1.min(ceiling - f.pieces.bounds[3]);
-        (f.x.0 <= f.x.1 && f.y.0 <= y_max).then_some((f, y_max))
-    };
-    if let Some((_, y_max)) = fits(s.rot) {
+    if let Some((_, y)) = footprints[s.part][s.rot].range_under(ceiling) {
         return Some(Placement {
-            t: (s.t.0, s.t.1.min(y_max)),
+            t: (s.t.0, s.t.1.min(y.1)),
             ..s
         });
     }
-    (0..footprints[s.part].len()).find_map(|rot| {
-        let (f, y_max) = fits(rot)?;
+    footprints[s.part].iter().enumerate().find_map(|(rot, f)| {
+        let (x, y) = f.range_under(ceiling)?;
         Some(Placement {
             part: s.part,
             rot,
-            t: (s.t.0.clamp(f.x.0, f.x.1), s.t.1.clamp(f.y.0, y_max)),
+            t: (s.t.0.clamp(x.0, x.1), s.t.1.clamp(y.0, y.1)),
         })
     })
 }
@@ -184,8 +188,7 @@ impl<'a> Separation<'a> {
     }
 
     fn bounds_of(&self, s: Placement) -> Bounds {
-        let b = self.pieces(s).bounds;
-        [b[0] + s.t.0, b[1] + s.t.1, b[2] + s.t.0, b[3] + s.t.1]
+        shifted(self.pieces(s).bounds, [s.t.0, s.t.1])
     }
 
     /// Recomputes item `i`'s overlaps with every other item.
@@ -260,9 +263,7 @@ impl<'a> Separation<'a> {
 
     /// Translations of item `i` at rotation `rot` inside the sheet and under the ceiling.
     fn range(&self, i: usize, rot: usize) -> Option<((f32, f32), (f32, f32))> {
-        let f = &self.footprints[self.items[i].part][rot];
-        let y_max = f.y.1.min(self.ceiling - f.pieces.bounds[3]);
-        (f.x.0 <= f.x.1 && f.y.0 <= y_max).then_some((f.x, (f.y.0, y_max)))
+        self.footprints[self.items[i].part][rot].range_under(self.ceiling)
     }
 
     /// Weighted overlap of item `i` put at `rot`, `t` with every other item; stops adding once it

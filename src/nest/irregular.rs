@@ -406,7 +406,7 @@ impl<'a> Model<'a> {
     /// `COMPRESSION_EVALUATIONS` per iteration of the budget; the lowest top wins (ties to the
     /// lower worker).
     fn compressed(&self, mut sheets: Sheets, epoch: usize) -> Sheets {
-        let Some(footprints) = &self.footprints else {
+        let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
             return sheets;
         };
         let top = |sheet: &[Placement]| {
@@ -415,18 +415,20 @@ impl<'a> Model<'a> {
                 .map(|s| self.shapes[s.part][s.rot].plain.bbox().y_max + s.t.1)
                 .fold(self.usable.y_min, f32::max)
         };
-        let fill = |sheet: &[Placement]| -> f64 {
-            sheet.iter().map(|s| self.job.parts[s.part].area).sum()
-        };
-        // As `lowest_sheet`: the lowest top, ties to the emptier, then the later sheet.
-        let Some(lowest) = (0..sheets.len()).min_by(|&a, &b| {
-            top(&sheets[a])
-                .total_cmp(&top(&sheets[b]))
-                .then(fill(&sheets[a]).total_cmp(&fill(&sheets[b])))
-                .then(b.cmp(&a))
-        }) else {
-            return sheets;
-        };
+        // The sheet whose used length counts, found as the score finds it: `sheets` lists the
+        // sheets in key order and `rebuild` keeps that order.
+        let problem = self.rebuild(&sheets);
+        debug_assert!(problem
+            .layouts()
+            .values()
+            .zip(&sheets)
+            .all(|(layout, sheet)| layout.placed_items().len() == sheet.len()));
+        let (key, _) = self.lowest_sheet(&problem);
+        let lowest = problem
+            .layouts()
+            .keys()
+            .position(|k| k == key)
+            .expect("the lowest sheet is one of them");
         let settings = &self.job.settings;
         let budget = self.job.iteration_budget() * COMPRESSION_EVALUATIONS;
         let candidates = parallel(settings.workers, |w| {

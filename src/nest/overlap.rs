@@ -233,7 +233,8 @@ fn cross(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
     (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
 }
 
-fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
+/// `b` moved by `d`.
+pub(super) fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
     [b[0] + d[0], b[1] + d[1], b[2] + d[0], b[3] + d[1]]
 }
 
