@@ -1,10 +1,13 @@
 //! `cargo bench --bench cut_sheet`: time to plan and render a cut sheet (every layer, SVG + DXF, report)
 //! for 50 actuators of each thesis example design, in memory. Prints the median of 7 runs per design.
 
+#[path = "../tests/common/fixtures.rs"]
+mod fixtures;
+
 use actuator_cam::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
 use actuator_cam::design::Design;
 use actuator_model::ModelKind;
-use std::path::Path;
+use fixtures::{example_path, THESIS_DESIGNS};
 use std::time::Instant;
 
 fn main() {
@@ -19,16 +22,8 @@ fn main() {
         stroke_mm: 0.0254,
     };
     println!("cut-sheet, quantity 50, SVG + DXF + report, in memory (median of 7 runs)");
-    for name in [
-        "thesis-A",
-        "thesis-B",
-        "thesis-C",
-        "thesis-1",
-        "thesis-7",
-        "thesis-21",
-    ] {
-        let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        let design = Design::load(Path::new(&path)).expect("example loads");
+    for name in THESIS_DESIGNS {
+        let design = Design::load(&example_path(&format!("{name}.toml"))).expect("example loads");
         let template = Template::resolve(&design.process, &design.source).expect("template");
         let mut times = Vec::new();
         let mut bytes = 0;

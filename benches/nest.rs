@@ -2,16 +2,18 @@
 //! memory, for examples/batch.toml and the same designs scaled to 60 and 150 actuators. Prints the
 //! median of 5 runs, the sheets used and the passive utilisation against the bounding-box baseline.
 
+#[path = "../tests/common/fixtures.rs"]
+mod fixtures;
+
 use actuator_cam::batch::{plan, Batch, NestOptions};
 use actuator_cam::cam::svg::SvgOptions;
 use actuator_cam::cutsheet::write::render_drawings;
 use actuator_cam::cutsheet::Formats;
-use std::path::Path;
+use fixtures::example_path;
 use std::time::Instant;
 
 fn main() {
-    let path = format!("{}/examples/batch.toml", env!("CARGO_MANIFEST_DIR"));
-    let example = Batch::load(Path::new(&path)).expect("example batch loads");
+    let example = Batch::load(&example_path("batch.toml")).expect("example batch loads");
     let opts = NestOptions {
         seed: example.seed,
         iterations: 1000,

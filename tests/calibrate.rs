@@ -1,33 +1,17 @@
 //! `actuator-cam calibrate` end to end: the example data set, the files it writes, the round trip of the
 //! calibrated model, and clear errors (non-zero exit, nothing written) on bad input.
 
+mod common;
 use actuator_cam::calibrate::{self, csv, model_file, predict_row, Settings};
+use common::{example_path, run as cam, run_ok as cam_ok};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const HEADER: &str =
     "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N";
 
+/// The example measured data set.
 fn example() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/measured-thesis-like.csv")
-}
-
-fn cam(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
-        .args(args)
-        .output()
-        .expect("runs the binary")
-}
-
-/// Run the binary and require success; standard error goes into the failure message.
-fn cam_ok(args: &[&str]) -> std::process::Output {
-    let run = cam(args);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    run
+    example_path("measured-thesis-like.csv")
 }
 
 /// `actuator-cam calibrate examples/measured-thesis-like.csv -o DIR`, which must succeed.
@@ -295,7 +279,7 @@ fn cut_sheet_takes_the_calibrated_model() {
     let cal = dir.path().join("cal");
     calibrate_example_into(&cal);
     let model = cal.join("calibrated-model.toml");
-    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/thesis-C.toml");
+    let design = example_path("thesis-C.toml");
     let out = dir.path().join("cut");
     cam_ok(&[
         "cut-sheet",

@@ -27,21 +27,23 @@ fn report(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
 }
 
-/// Paths of one Inkscape layer of an SVG, as point lists, plus whether each is closed. A tiny reader
-/// independent of the writer: it understands the M/L/Z subset the writer uses for polygons and lines.
-fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
-    let height: f64 = svg
-        .split("viewBox=\"")
+/// The four numbers of an SVG's `viewBox`: x, y, width, height (mm).
+fn view_box(svg: &str) -> Vec<f64> {
+    svg.split("viewBox=\"")
         .nth(1)
         .unwrap()
         .split('"')
         .next()
         .unwrap()
         .split_whitespace()
-        .nth(3)
-        .unwrap()
-        .parse()
-        .unwrap();
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// Paths of one Inkscape layer of an SVG, as point lists, plus whether each is closed. A tiny reader
+/// independent of the writer: it understands the M/L/Z subset the writer uses for polygons and lines.
+fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
+    let height = view_box(svg)[3];
     let Some(group) = svg.split(&format!("inkscape:label=\"{layer}\"")).nth(1) else {
         return vec![];
     };
@@ -104,11 +106,7 @@ fn random_design(rng: &mut impl Rng, i: usize) -> String {
 
 /// The built-in method-2 template as shipped.
 fn method_2() -> String {
-    std::fs::read_to_string(format!(
-        "{}/templates/method-2.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
+    shipped_template("method-2.toml")
 }
 
 /// The built-in method-2 template with one text replaced (the replacement must apply).
@@ -258,16 +256,7 @@ fn pzt_score_lines_end_on_edges_and_parts_keep_their_spacing() {
                 continue;
             }
             let svg = String::from_utf8(bytes).unwrap();
-            let vb: Vec<f64> = svg
-                .split("viewBox=\"")
-                .nth(1)
-                .unwrap()
-                .split('"')
-                .next()
-                .unwrap()
-                .split_whitespace()
-                .map(|t| t.parse().unwrap())
-                .collect();
+            let vb = view_box(&svg);
             let (w, h) = (vb[2], vb[3]);
             if name.starts_with("pzt-") {
                 let lines: Vec<[[f64; 2]; 2]> = svg_paths(&svg, "SCORE")

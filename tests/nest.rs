@@ -183,12 +183,7 @@ fn example_designs() -> BTreeMap<String, (std::path::PathBuf, usize)> {
         ("thesis-1", 4),
     ]
     .iter()
-    .map(|(n, q)| {
-        (
-            n.to_string(),
-            (Path::new(&example(&format!("{n}.toml"))).to_path_buf(), *q),
-        )
-    })
+    .map(|(n, q)| (n.to_string(), (example_path(&format!("{n}.toml")), *q)))
     .collect()
 }
 
@@ -256,14 +251,7 @@ fn same_seed_gives_identical_bytes_and_another_seed_still_checks_out() {
 #[test]
 fn random_batches_always_check_out() {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
-    let names = [
-        "thesis-A",
-        "thesis-B",
-        "thesis-C",
-        "thesis-1",
-        "thesis-7",
-        "thesis-21",
-    ];
+    let names = THESIS_DESIGNS;
     for case in 0..3 {
         let dir = tempfile::tempdir().unwrap();
         let mut designs = BTreeMap::new();
@@ -353,12 +341,8 @@ fn method_1_batch_nests_pyralux_bond_layers_with_vias() {
 
 #[test]
 fn ply_by_ply_batch_nests_each_ply_of_each_layup() {
-    let template = std::fs::read_to_string(format!(
-        "{}/templates/method-2.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .replace("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    let template = shipped_template("method-2.toml")
+        .replace("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
     let design = |name: &str| {
         std::fs::read_to_string(example(name))
             .unwrap()

@@ -4,31 +4,10 @@ use actuator_model::performance::energy_and_mass;
 use actuator_model::{
     model, Drive, DriveMode, Laminate, Material, ModelKind, Performance, Planform, Section,
 };
+mod common;
+use common::{bin, example_path as example, run, stderr, stdout};
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
-}
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples")
-        .join(name)
-}
-
-fn run(args: &[&str]) -> Output {
-    bin().args(args).output().expect("the binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::path::Path;
 
 /// The refined optimum's mass in mg, from the report's `refined:` line.
 fn refined_mass(report: &str) -> f64 {

@@ -1,25 +1,11 @@
 //! `actuator-cam sweep` driven as a user would: the built binary on the example factor files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples")
-        .join(name)
-}
+mod common;
+use common::{example_path as example, ok_stdout, run};
+use std::process::Output;
 
 fn sweep(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
-        .arg("sweep")
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok_stdout(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
+    run(&[&["sweep"], args].concat())
 }
 
 /// `(mean, std)` of a comparison row ("blocked force", …).

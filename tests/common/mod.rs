@@ -1,23 +1,33 @@
-//! Helpers shared by the integration tests: run the built binary, write scratch design files.
+//! Helpers shared by the integration tests: run the built binary, read what it printed, write scratch
+//! files. Inputs the benches use as well live in `fixtures.rs`.
 #![allow(dead_code)]
+
+mod fixtures;
+pub use fixtures::*;
 
 use geo::{LineString, Polygon};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// Run the built `actuator-cam` with arguments, from the crate root.
-pub fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
+/// The built `actuator-cam`, to run from the crate root (so `examples/…` paths resolve); for runs that
+/// need more than arguments, such as an environment variable.
+pub fn bin() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_actuator-cam"));
+    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
+    cmd
 }
 
-/// Path of a file in `examples/`.
-pub fn example(name: &str) -> String {
-    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+/// Run the built `actuator-cam` with arguments, from the crate root.
+pub fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("the binary runs")
+}
+
+/// Run the built `actuator-cam` and require success; standard error goes into the failure message.
+pub fn run_ok(args: &[&str]) -> Output {
+    let o = run(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    o
 }
 
 /// stdout as text.
@@ -28,6 +38,12 @@ pub fn stdout(o: &Output) -> String {
 /// stderr as text.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// stdout as text of a run that must have succeeded; standard error goes into the failure message.
+pub fn ok_stdout(o: &Output) -> String {
+    assert!(o.status.success(), "{}", stderr(o));
+    stdout(o)
 }
 
 /// A valid design (thesis design C) as TOML text with one line replaced: `(key prefix, new line)`.
@@ -52,11 +68,6 @@ pub fn write_temp(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
     let path = dir.path().join(name);
     std::fs::write(&path, text).unwrap();
     (dir, path)
-}
-
-/// True if a path exists.
-pub fn exists(p: &Path) -> bool {
-    p.exists()
 }
 
 /// Every file of an output directory, by name.
