@@ -12,10 +12,11 @@
 //! directory's path is replaced by `<out>` before hashing, so the snapshot does not depend on where the
 //! temporary directory is.
 
+mod common;
+
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const SNAPSHOT: &str = "tests/golden/outputs.sha256";
 
@@ -32,19 +33,10 @@ fn case(name: impl Into<String>, args: &[&str]) -> Case {
     }
 }
 
-const DESIGNS: [&str; 7] = [
-    "thesis-A",
-    "thesis-B",
-    "thesis-C",
-    "thesis-C-method-1",
-    "thesis-1",
-    "thesis-7",
-    "thesis-21",
-];
-
 fn cases() -> Vec<Case> {
     let mut cases = Vec::new();
-    for d in DESIGNS {
+    // Every shipped design: the six thesis designs and design C by method 1.
+    for d in common::THESIS_DESIGNS.iter().chain(&["thesis-C-method-1"]) {
         let file = format!("examples/{d}.toml");
         cases.push(case(format!("predict-{d}"), &["predict", &file]));
         cases.push(case(
@@ -308,9 +300,8 @@ fn run_case(c: &Case, also_scrub: &[String]) -> (Vec<String>, tempfile::TempDir)
         // Commands that write single files (optimize -o, sweep --csv) expect the folder to exist.
         std::fs::create_dir_all(&out).unwrap();
     }
-    let o = Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+    let o = common::bin()
         .args(&args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .env("RAYON_NUM_THREADS", "2")
         .output()
         .expect("the binary runs");
