@@ -119,3 +119,27 @@ pub fn parse_model(text: &str) -> Result<ModelChoice, String> {
     let model = model_file::load(path).map_err(|e| format!("{e:#}"))?;
     Ok(ModelChoice::Calibrated(Arc::new(model)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_in_model_names_round_trip_and_others_are_refused() {
+        for name in ["original", "thesis-adjusted", "euler-bernoulli"] {
+            assert_eq!(parse_model(name).unwrap().name(), name);
+        }
+        let e = parse_model("no-such-model").unwrap_err();
+        assert!(e.contains("unknown model") && e.contains(BUILT_IN), "{e}");
+    }
+
+    #[test]
+    fn formats_and_stroke_are_checked_by_their_parsers() {
+        assert!(parse_format("svg").unwrap().svg);
+        assert!(parse_format("png").is_err());
+        assert_eq!(parse_stroke_mm("0.1"), Ok(0.1));
+        for bad in ["0", "-1", "2", "NaN", "x"] {
+            assert!(parse_stroke_mm(bad).is_err(), "{bad}");
+        }
+    }
+}
