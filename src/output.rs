@@ -10,8 +10,10 @@
 //! - If a move fails, the moves already made are undone (replaced files come back, new ones go), so a
 //!   failure leaves no half-written output.
 //!
-//! The checks on what may be overwritten live in one place, [`check_destination`], which runs for every
-//! destination before anything is staged.
+//! The checks on what may be overwritten live in one place, `check_destination`, which runs for every
+//! destination before anything is staged; a rule such as a manifest of the files a previous run wrote, or
+//! `--force` (a field beside `-o` in `commands::flags::OutputDir`), belongs there. Staging folders are made
+//! only in `stage` and carry [`STAGING_PREFIX`], so cleaning up after an interrupted run is one place too.
 
 use std::fs;
 use std::io;
