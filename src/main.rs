@@ -1,55 +1,45 @@
-//! The `actuator-cam` command line: parses arguments and hands them to the library.
+//! The `actuator-cam` command line: parses arguments and hands them to [`actuator_cam::commands`].
 
-use actuator_cam::commands::{cut_sheet, laminate, predict, weibull};
-use actuator_cam::{optimize, sweep};
-use clap::{Parser, Subcommand};
+use actuator_cam::commands::Cli;
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::Parser;
+use std::error::Error;
 use std::process::ExitCode;
 
-/// CAD/CAM for piezoelectric bimorph bending actuators.
-#[derive(Parser)]
-#[command(name = "actuator-cam", version, about)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Find the physical effect behind measured-vs-model errors and write a calibrated model.
-    Calibrate(actuator_cam::calibrate::CalibrateArgs),
-    /// Mass and performance of a design.
-    Predict(predict::PredictArgs),
-    /// Laser-cut layer files, report and build checklist for a design.
-    CutSheet(cut_sheet::CutSheetArgs),
-    /// Nest a batch of designs on shared PZT, prepreg and Pyralux sheets and clamp panels.
-    Nest(actuator_cam::commands::nest::NestArgs),
-    /// ABD matrices, thickness and areal mass of a layup.
-    Laminate(laminate::LaminateArgs),
-    /// Weibull fit and survival thresholds from failure data.
-    Weibull(weibull::WeibullArgs),
-    /// Lightest actuator (or highest energy density) for a required mechanical energy.
-    Optimize(optimize::OptimizeArgs),
-    /// Full-factorial design sweep: every design's outputs, main effects, model comparison.
-    Sweep(sweep::SweepArgs),
-}
-
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Calibrate(a) => actuator_cam::calibrate::run(a),
-        Command::Predict(a) => predict::run(a),
-        Command::CutSheet(a) => cut_sheet::run(a),
-        Command::Nest(a) => actuator_cam::commands::nest::run(a),
-        Command::Laminate(a) => laminate::run(a),
-        Command::Weibull(a) => weibull::run(a),
-        Command::Optimize(a) => optimize::run(a),
-        Command::Sweep(a) => sweep::run(a),
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match value_error(&e) {
+            Some(line) => return fail(&line),
+            None => e.exit(),
+        },
     };
-    match result {
+    match cli.command.run() {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
-            ExitCode::FAILURE
-        }
+        Err(e) => fail(&format!("{e:#}")),
     }
+}
+
+/// Every error is one line on stderr and exit status 1.
+fn fail(message: &str) -> ExitCode {
+    eprintln!("error: {}", message.replace('\n', " "));
+    ExitCode::FAILURE
+}
+
+/// A value our own parsers refused (`--model`, `--format`, `--stroke-mm`, …) reads like every other error
+/// of the tool, `--flag "value": reason`, rather than as a usage error.
+fn value_error(e: &clap::Error) -> Option<String> {
+    if e.kind() != ErrorKind::ValueValidation {
+        return None;
+    }
+    let flag = match e.get(ContextKind::InvalidArg)? {
+        ContextValue::String(s) => s.split(' ').next().unwrap_or(s).to_string(),
+        _ => return None,
+    };
+    let value = match e.get(ContextKind::InvalidValue)? {
+        ContextValue::String(s) => s.clone(),
+        _ => return None,
+    };
+    let reason = e.source()?.to_string();
+    Some(format!("{flag} {value:?}: {reason}"))
 }

@@ -740,7 +740,57 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
     let leftovers: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
         .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().starts_with(".cut-sheet"))
+        .filter(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with(actuator_cam::output::STAGING_PREFIX)
+        })
         .collect();
     assert!(leftovers.is_empty());
+}
+
+/// `-o` into a folder that holds other work: the run replaces only the files it writes (issue 14 item 1:
+/// the folder used to be replaced as a whole, deleting the design file and the user's notes).
+#[test]
+fn an_existing_output_folder_keeps_the_users_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("project");
+    std::fs::create_dir_all(out.join("photos")).unwrap();
+    let design = out.join("design.toml");
+    std::fs::copy(example("thesis-C.toml"), &design).unwrap();
+    std::fs::write(out.join("notes.txt"), "n").unwrap();
+    std::fs::write(out.join("photos/coupon.txt"), "p").unwrap();
+    std::fs::write(out.join("report.md"), "stale").unwrap();
+    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "n");
+    assert_eq!(
+        std::fs::read_to_string(out.join("photos/coupon.txt")).unwrap(),
+        "p"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&design).unwrap(),
+        std::fs::read_to_string(example("thesis-C.toml")).unwrap()
+    );
+    assert_ne!(
+        std::fs::read_to_string(out.join("report.md")).unwrap(),
+        "stale"
+    );
+    // The run wrote exactly what a fresh folder gets, on top of what was there.
+    let fresh = dir.path().join("fresh");
+    assert!(cut_sheet(design.to_str().unwrap(), &fresh, &[])
+        .status
+        .success());
+    for (name, bytes) in files(&fresh) {
+        assert!(
+            std::fs::read(out.join(&name)).unwrap() == bytes,
+            "{name} differs"
+        );
+    }
+    let staged: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name() != "project" && e.file_name() != "fresh")
+        .collect();
+    assert!(staged.is_empty(), "{staged:?}");
 }

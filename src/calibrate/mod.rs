@@ -19,30 +19,7 @@ pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
 use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
-use anyhow::Context;
 use baseline::{error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation};
-use std::path::PathBuf;
-
-/// Command-line arguments of `calibrate`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct CalibrateArgs {
-    /// Measured data, CSV with columns
-    /// id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N
-    /// (optional drive, pzt, ply, base_tab_mm).
-    pub measured: PathBuf,
-    /// Output directory for calibrated-model.toml, report.json, report.md and the SVG plots.
-    #[arg(short = 'o', long = "output", default_value = "calibration")]
-    pub output: PathBuf,
-    /// Print report.json to standard output.
-    #[arg(long)]
-    pub json: bool,
-    /// Seed of the cross-validation folds.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Largest number of effects (besides the d31 scale) combined in one model.
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=2))]
-    pub max_effects: u64,
-}
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -110,35 +87,4 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> anyhow::Result<Calibrat
         predictions_before,
         predictions_after,
     })
-}
-
-/// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
-pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
-    let data = self::csv::read_path(&args.measured)
-        .with_context(|| format!("reading {}", args.measured.display()))?;
-    let settings = Settings {
-        seed: args.seed,
-        max_effects: args.max_effects as usize,
-        ..Settings::default()
-    };
-    let calibration = calibrate(&data, &settings)?;
-    let source = args
-        .measured
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let files = report::render(&calibration, &data, &source)?;
-    report::write_atomically(&args.output, &files)?;
-    if args.json {
-        let json = files
-            .iter()
-            .find(|(name, _)| name == "report.json")
-            .map(|(_, text)| text.as_str())
-            .unwrap_or("{}");
-        println!("{json}");
-    } else {
-        print!("{}", report::summary(&calibration));
-        println!("wrote {}", args.output.display());
-    }
-    Ok(())
 }

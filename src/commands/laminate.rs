@@ -1,6 +1,7 @@
 //! `actuator-cam laminate --layup 0/90/0`: ABD matrices, thickness and areal mass of a stack (the thesis'
 //! `CFMatrixCalc`).
 
+use super::flags::JsonFlag;
 use crate::design::PLY_ANGLE_DEG;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
@@ -23,9 +24,9 @@ pub struct LaminateArgs {
     /// PZT material from the built-in library.
     #[arg(long, default_value = "PZT-5H")]
     pub pzt: String,
-    /// Print one JSON object.
-    #[arg(long)]
-    pub json: bool,
+    /// `--json`.
+    #[command(flatten)]
+    pub json: JsonFlag,
 }
 
 #[derive(Serialize)]
@@ -119,7 +120,7 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         D_N_m: block(abd, 3, 3),
         bending_compliance_C44_per_N_m: laminate.bending_compliance(),
     };
-    if args.json {
+    if args.json.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }

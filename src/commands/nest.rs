@@ -1,10 +1,11 @@
 //! `actuator-cam nest batch.toml -o out/`: a batch of designs nested on shared sheets and clamp panels.
 
-use super::formats::parse_formats;
+use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
 use crate::batch::{plan, Batch, NestOptions};
 use crate::cam::svg::SvgOptions;
-use crate::cutsheet::write::{render_drawings, write_atomically};
+use crate::cutsheet::write::render_drawings;
 use crate::nest::NestSettings;
+use crate::output::Output;
 use anyhow::bail;
 use clap::Args;
 use std::path::PathBuf;
@@ -14,35 +15,29 @@ use std::path::PathBuf;
 pub struct NestArgs {
     /// Batch file (designs relative to it).
     pub batch: PathBuf,
-    /// Output directory (replaced as a whole when the run succeeds).
-    #[arg(short, long, default_value = "out")]
-    pub output: PathBuf,
-    /// File formats, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "svg,dxf")]
-    pub format: Vec<String>,
+    /// `-o`.
+    #[command(flatten)]
+    pub output: OutputDir,
+    /// `--format`.
+    #[command(flatten)]
+    pub format: FormatFlag,
     /// Seed of the nester (overrides the batch file's).
     #[arg(long)]
     pub seed: Option<u64>,
     /// Optimiser budget of the irregular nester per job of 60+ parts, smaller jobs a share (overrides the batch file's; default 1000).
     #[arg(long)]
     pub iterations: Option<usize>,
-    /// Print nest-report.json to stdout instead of the summary line.
-    #[arg(long)]
-    pub json: bool,
-    /// Hairline stroke width in the SVG files, mm.
-    #[arg(long, default_value_t = 0.0254)]
-    pub stroke_mm: f64,
+    /// `--json`: nest-report.json on standard output.
+    #[command(flatten)]
+    pub json: JsonFlag,
+    /// `--stroke-mm`.
+    #[command(flatten)]
+    pub stroke: StrokeFlag,
 }
 
 /// Run `nest`.
 pub fn run(args: &NestArgs) -> anyhow::Result<()> {
-    let formats = parse_formats(&args.format)?;
-    if !(args.stroke_mm.is_finite() && args.stroke_mm > 0.0 && args.stroke_mm <= 1.0) {
-        bail!(
-            "--stroke-mm = {}: outside the allowed range (0, 1] mm",
-            args.stroke_mm
-        );
-    }
+    let formats = args.format.formats();
     let max = crate::batch::file::MAX_ITERATIONS as usize;
     if let Some(n) = args.iterations.filter(|n| *n > max) {
         bail!("--iterations = {n}: outside the allowed range [0, {max}]");
@@ -60,7 +55,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         &planned.drawings,
         formats,
         &SvgOptions {
-            stroke_mm: args.stroke_mm,
+            stroke_mm: args.stroke.stroke_mm,
             palette: batch.template.palette.clone(),
         },
     )?;
@@ -73,8 +68,11 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let json = serde_json::to_string_pretty(&report)? + "\n";
     files.push(("nest-report.json".into(), json.clone().into_bytes()));
     files.push(("nest-report.md".into(), report.markdown().into_bytes()));
-    write_atomically(&args.output, &files)?;
-    if args.json {
+    let count = files.len();
+    Output::new()
+        .folder("-o", &args.output.output, files)
+        .write()?;
+    if args.json.json {
         print!("{json}");
     } else {
         let passive: Vec<String> = report.baseline.iter().map(|b| b.summary()).collect();
@@ -82,8 +80,8 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             "{}: {} actuators, {} files in {}; {} PZT sheet(s), {}; {} clamp panel(s)",
             report.name,
             report.actuators(),
-            files.len(),
-            args.output.display(),
+            count,
+            args.output.output.display(),
             report.sheets_of("pzt"),
             passive.join("; "),
             report.clamp_panels.len()

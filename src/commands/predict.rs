@@ -1,6 +1,6 @@
 //! `actuator-cam predict design.toml`: mass and performance of one design.
 
-use super::model_arg::parse_model;
+use super::flags::{JsonFlag, ModelFlag};
 use crate::cutsheet::design_for_process;
 use crate::cutsheet::template::Template;
 use crate::design::Design;
@@ -13,25 +13,25 @@ use std::path::PathBuf;
 pub struct PredictArgs {
     /// Design file (design.toml).
     pub design: PathBuf,
-    /// Which model predicts: original, thesis-adjusted, euler-bernoulli, or a calibrated-model.toml file.
-    #[arg(long, default_value = "original")]
-    pub model: String,
-    /// Print one JSON object instead of a table.
-    #[arg(long)]
-    pub json: bool,
+    /// `--model`: which model predicts.
+    #[command(flatten)]
+    pub model: ModelFlag,
+    /// `--json` instead of a table.
+    #[command(flatten)]
+    pub json: JsonFlag,
 }
 
 /// Run `predict`.
 pub fn run(args: &PredictArgs) -> anyhow::Result<()> {
-    let model = parse_model(&args.model)?;
+    let model = &args.model.model;
     // The design as its process builds it, so `predict` and `cut-sheet` print the same mass: method 1
     // adds its Pyralux bond layers (method 2 adds nothing).
     let design = Design::load(&args.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let design = design_for_process(&design, &template)?;
-    let prediction = Prediction::with_model(&design, &model)
+    let prediction = Prediction::with_model(&design, model)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.design.display()))?;
-    if args.json {
+    if args.json.json {
         println!("{}", serde_json::to_string_pretty(&prediction)?);
     } else {
         print!("{}", prediction.table());

@@ -1,11 +1,25 @@
-//! Writing a cut sheet: every file is rendered in memory, written into a temporary directory beside the
-//! target, and the directory renamed into place, so a failure leaves no half-written output.
+//! Rendering a cut sheet: every file as bytes in memory, named, in a fixed order. Writing them is the
+//! one output writer's job ([`crate::output`]), so nothing reaches the disk before every file rendered.
 
 use super::{CutSheet, Formats, SheetDrawing};
-use crate::cam::dxf::to_dxf_with;
+use crate::cam::dxf::{to_dxf_with, DxfError};
 use crate::cam::svg::{to_svg, SvgOptions};
-use anyhow::{anyhow, Context};
-use std::path::Path;
+
+/// Why a drawing or report could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A drawing has no DXF form.
+    #[error("{stem}: {reason}")]
+    Dxf {
+        /// The drawing's file stem.
+        stem: String,
+        /// The DXF writer's reason.
+        reason: DxfError,
+    },
+    /// The report has no JSON form.
+    #[error(transparent)]
+    Json(#[from] serde_json::Error),
+}
 
 /// File names and bytes of layer drawings (SVG and/or DXF per drawing, colours from `opts.palette`), in
 /// drawing order.
@@ -13,7 +27,7 @@ pub fn render_drawings(
     drawings: &[SheetDrawing],
     formats: Formats,
     opts: &SvgOptions,
-) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
     let mut files = Vec::new();
     for d in drawings {
         if formats.svg {
@@ -25,7 +39,10 @@ pub fn render_drawings(
         if formats.dxf {
             files.push((
                 format!("{}.dxf", d.stem),
-                to_dxf_with(&d.drawing, &opts.palette).map_err(|e| anyhow!("{}: {e}", d.stem))?,
+                to_dxf_with(&d.drawing, &opts.palette).map_err(|reason| RenderError::Dxf {
+                    stem: d.stem.clone(),
+                    reason,
+                })?,
             ));
         }
     }
@@ -37,7 +54,7 @@ pub fn render(
     sheet: &CutSheet,
     formats: Formats,
     stroke_mm: f64,
-) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
     let opts = SvgOptions {
         stroke_mm,
         palette: sheet.palette.clone(),
@@ -59,66 +76,4 @@ pub fn render(
     ));
     files.push(("report.md".into(), report.markdown().into_bytes()));
     Ok(files)
-}
-
-/// Write files into `out_dir` atomically: all or nothing. An existing `out_dir` is replaced only after the
-/// new one is complete.
-pub fn write_atomically(out_dir: &Path, files: &[(String, Vec<u8>)]) -> anyhow::Result<()> {
-    let parent = match out_dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    // Missing parents are made (like `mkdir -p`); only now, when every file has rendered.
-    std::fs::create_dir_all(&parent).with_context(|| {
-        format!(
-            "-o {}: cannot create the directory {}",
-            out_dir.display(),
-            parent.display()
-        )
-    })?;
-    if out_dir.exists() && !out_dir.is_dir() {
-        return Err(anyhow!(
-            "-o {}: exists and is not a directory",
-            out_dir.display()
-        ));
-    }
-    let staging = tempfile::Builder::new()
-        .prefix(".cut-sheet-")
-        .tempdir_in(&parent)
-        .with_context(|| {
-            format!(
-                "-o {}: cannot write in {}",
-                out_dir.display(),
-                parent.display()
-            )
-        })?;
-    for (name, bytes) in files {
-        std::fs::write(staging.path().join(name), bytes)
-            .with_context(|| format!("-o {}: cannot write {name}", out_dir.display()))?;
-    }
-    let staged = staging.keep();
-    let result = (|| -> anyhow::Result<()> {
-        if out_dir.exists() {
-            let old = tempfile::Builder::new()
-                .prefix(".cut-sheet-old-")
-                .tempdir_in(&parent)?
-                .keep();
-            std::fs::remove_dir(&old)?;
-            std::fs::rename(out_dir, &old)?;
-            std::fs::rename(&staged, out_dir)?;
-            std::fs::remove_dir_all(&old)?;
-        } else {
-            std::fs::rename(&staged, out_dir)?;
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_dir_all(&staged);
-    }
-    result.with_context(|| {
-        format!(
-            "-o {}: cannot move the finished files into place",
-            out_dir.display()
-        )
-    })
 }

@@ -229,20 +229,6 @@ fn unit_planform(extension_ratio: f64, width_ratio: f64) -> Planform {
     }
 }
 
-/// Parse a model name as the command line writes it (`original`, `thesis-adjusted`, `euler-bernoulli`).
-pub fn parse_model_kind(name: &str) -> Result<ModelKind, String> {
-    [
-        ModelKind::Original,
-        ModelKind::ThesisAdjusted,
-        ModelKind::EulerBernoulli,
-    ]
-    .into_iter()
-    .find(|k| k.name() == name)
-    .ok_or_else(|| {
-        format!("unknown model \"{name}\"; use original, thesis-adjusted or euler-bernoulli")
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -345,11 +331,7 @@ mod tests {
     }
 
     #[test]
-    fn model_names_round_trip() {
-        for name in ["original", "thesis-adjusted", "euler-bernoulli"] {
-            assert_eq!(parse_model_kind(name).unwrap().name(), name);
-        }
-        assert!(parse_model_kind("calibrated").is_err());
+    fn the_beam_has_no_search_model() {
         assert!(SearchModel::from_kind(ModelKind::EulerBernoulli).is_none());
     }
 }

@@ -510,7 +510,7 @@ mod tests {
     }
 
     fn solve(problem: &Problem) -> Design {
-        let grid = exhaustive(problem, false);
+        let grid = exhaustive(problem, &crate::optimize::Silent);
         refine(problem, 0, &grid.per_candidate[0].seeds).unwrap()
     }
 

@@ -9,14 +9,14 @@
 //! [`SearchModel::energy`] (a few dozen flops, no allocation).
 
 use super::model::{SearchModel, ShapeRates, Stack};
+use super::progress::Progress;
 use super::spec::{Bounds, Spec};
 use actuator_model::{Drive, Laminate, Material, ModelError, Performance, Planform, Section};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 
 /// What the search minimises.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Objective {
     /// Lightest actuator with `U >= U_min`.
     MinMass,
@@ -436,7 +436,8 @@ fn general_row(
 
 /// Run the exhaustive stage, in parallel over `(laminate, l_r)` slices. The result does not depend on the
 /// number of threads: each slice reduces in index order, and slices are combined by (value, index).
-pub fn exhaustive(problem: &Problem, progress: bool) -> GridResult {
+/// `progress` hears of each slice done.
+pub fn exhaustive(problem: &Problem, progress: &dyn Progress) -> GridResult {
     let [lengths, widths, ext_ratios, width_ratios] = problem.axes();
     let n_c = problem.candidates.len();
     let (n_w, n_r, n_q) = (widths.len(), ext_ratios.len(), width_ratios.len());
@@ -450,15 +451,7 @@ pub fn exhaustive(problem: &Problem, progress: bool) -> GridResult {
                 .collect()
         })
         .collect();
-    let bar = if progress {
-        ProgressBar::with_draw_target(Some((n_c * n_r) as u64), ProgressDrawTarget::stderr())
-            .with_style(
-                ProgressStyle::with_template("exhaustive grid {wide_bar} {percent}%")
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
-            )
-    } else {
-        ProgressBar::hidden()
-    };
+    progress.start((n_c * n_r) as u64);
     let l_hi = *lengths.last().unwrap_or(&problem.bounds.length.hi);
     let tip_min = problem.min_tip_width * (1.0 - TIP_SLACK);
     let separable = problem.model.is_separable();
@@ -523,11 +516,11 @@ pub fn exhaustive(problem: &Problem, progress: bool) -> GridResult {
                     }
                 })
                 .collect();
-            bar.inc(1);
+            progress.advance(1);
             shapes
         })
         .collect();
-    bar.finish_and_clear();
+    progress.finish();
     let per_candidate: Vec<CandidateGrid> = (0..n_c)
         .map(|c| {
             let shapes = slices[c * n_r..(c + 1) * n_r].iter().flatten();

@@ -292,7 +292,7 @@ pub fn to_csv(
     designs: &[SweepDesign],
     compare: Option<ModelKind>,
     thesis_eq_2_36: bool,
-) -> anyhow::Result<String> {
+) -> Result<String, csv::Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header: Vec<String> = vec!["design".into()];
     header.extend(Factor::ALL.iter().map(|f| f.name().to_string()));
@@ -332,5 +332,9 @@ pub fn to_csv(
         }
         w.write_record(&row)?;
     }
-    Ok(String::from_utf8(w.into_inner()?)?)
+    let bytes = w
+        .into_inner()
+        .map_err(|e| csv::Error::from(e.into_error()))?;
+    // Every field is a `String`, so the bytes are UTF-8.
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
 }

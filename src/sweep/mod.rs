@@ -5,35 +5,10 @@
 pub mod analysis;
 pub mod spec;
 
-use crate::optimize::model::{parse_model_kind, SearchModel};
+use crate::optimize::model::SearchModel;
 use actuator_model::{model, Laminate, ModelError, ModelKind, Performance, Planform, Section};
-use analysis::{Comparison, MainEffects};
-use anyhow::Context;
-use clap::Args;
 use rayon::prelude::*;
 use spec::{Factor, SweepSpec};
-use std::path::PathBuf;
-
-/// `actuator-cam sweep`.
-#[derive(Debug, Clone, Args)]
-pub struct SweepArgs {
-    /// Factors file: materials, drive and the levels of each factor (see examples/sweep-*.toml).
-    pub factors: PathBuf,
-    /// Model for the outputs: original, thesis-adjusted or euler-bernoulli.
-    #[arg(long, default_value = "original")]
-    pub model: String,
-    /// Also predict with this model and report the mean and spread of the percent differences
-    /// (X_model - X_compare) / X_model (thesis eq. 3.1).
-    #[arg(long, value_name = "MODEL")]
-    pub compare: Option<String>,
-    /// In the comparison, scale the lamination-theory blocked force (and so the energy) by 8/9 as the
-    /// thesis' eq. 2.36 prints it; this reproduces its Table 4.1 blocked-force gap.
-    #[arg(long, requires = "compare")]
-    pub thesis_eq_2_36: bool,
-    /// Write every design's levels and outputs as CSV.
-    #[arg(long, value_name = "CSV")]
-    pub csv: Option<PathBuf>,
-}
 
 /// One design of the sweep: its level per factor ([`Factor::ALL`] order) and predictions.
 #[derive(Debug, Clone, Copy)]
@@ -143,41 +118,23 @@ fn cartesian(counts: &[usize]) -> Vec<Vec<usize>> {
     })
 }
 
-/// `actuator-cam sweep`.
-pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
-    let kind = parse_model_kind(&args.model).map_err(|e| anyhow::anyhow!("--model: {e}"))?;
-    let compare = args
-        .compare
-        .as_deref()
-        .map(parse_model_kind)
-        .transpose()
-        .map_err(|e| anyhow::anyhow!("--compare: {e}"))?;
-    if args.thesis_eq_2_36 && kind == ModelKind::EulerBernoulli {
-        anyhow::bail!("--thesis-eq-2-36 scales the lamination-theory blocked force; --model euler-bernoulli has none (compare the other way round)");
-    }
-    let spec = SweepSpec::from_file(&args.factors)?;
-    let file = args.factors.display().to_string();
+/// Why a sweep cannot run with these models.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SweepError {
+    /// The Euler-Bernoulli beam has no taper or extension.
+    #[error("factors.extension_ratio / factors.width_ratio: the Euler-Bernoulli model covers rectangles only; use extension_ratio = [0] and width_ratio = [1] (or leave them out)")]
+    BeamNeedsRectangles,
+}
+
+/// Check that every model of the sweep covers its factors.
+pub fn check_models(
+    spec: &SweepSpec,
+    kind: ModelKind,
+    compare: Option<ModelKind>,
+) -> Result<(), SweepError> {
     let uses_beam = kind == ModelKind::EulerBernoulli || compare == Some(ModelKind::EulerBernoulli);
     if uses_beam && (spec.extension_ratio != [0.0] || spec.width_ratio != [1.0]) {
-        anyhow::bail!(
-            "{file}: factors.extension_ratio / factors.width_ratio: the Euler-Bernoulli model covers rectangles only; use extension_ratio = [0] and width_ratio = [1] (or leave them out)"
-        );
-    }
-    let designs = evaluate(&spec, kind, compare)
-        .with_context(|| format!("{file}: a design cannot be predicted"))?;
-    let effects = MainEffects::new(&spec, &designs);
-    print!(
-        "{}",
-        analysis::report(&spec, &file, kind, &designs, &effects)
-    );
-    if let Some(other) = compare {
-        let c = Comparison::new(&designs, args.thesis_eq_2_36);
-        print!("\n{}", c.report(kind, other, args.thesis_eq_2_36));
-    }
-    if let Some(path) = &args.csv {
-        let text = analysis::to_csv(&spec, &designs, compare, args.thesis_eq_2_36)?;
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
-        println!("\nwrote {} ({} designs)", path.display(), designs.len());
+        return Err(SweepError::BeamNeedsRectangles);
     }
     Ok(())
 }

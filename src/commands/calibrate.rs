@@ -1,0 +1,72 @@
+//! `actuator-cam calibrate measured.csv -o calibration/`: trace measured-vs-model errors to a physical
+//! effect and write `calibrated-model.toml`, the reports and the plots.
+
+use super::flags::{JsonFlag, OutputDir};
+use crate::calibrate::{calibrate, csv, report, Settings};
+use crate::output::Output;
+use anyhow::Context;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `calibrate`.
+#[derive(Debug, Clone, Args)]
+#[command(mut_arg("output", |a| a.default_value("calibration")))]
+pub struct CalibrateArgs {
+    /// Measured data, CSV with columns
+    /// id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N
+    /// (optional drive, pzt, ply, base_tab_mm).
+    pub measured: PathBuf,
+    /// `-o`: calibrated-model.toml, report.json, report.md and the SVG plots.
+    #[command(flatten)]
+    pub output: OutputDir,
+    /// `--json`: report.json on standard output.
+    #[command(flatten)]
+    pub json: JsonFlag,
+    /// Seed of the cross-validation folds.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Largest number of effects (besides the d31 scale) combined in one model.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=2))]
+    pub max_effects: u64,
+}
+
+/// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
+pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
+    let data = csv::read_path(&args.measured)
+        .with_context(|| format!("reading {}", args.measured.display()))?;
+    let settings = Settings {
+        seed: args.seed,
+        max_effects: args.max_effects as usize,
+        ..Settings::default()
+    };
+    let calibration = calibrate(&data, &settings)?;
+    let source = args
+        .measured
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let files = report::render(&calibration, &data, &source)?;
+    let json = files
+        .iter()
+        .find(|(name, _)| name == "report.json")
+        .map(|(_, text)| text.clone())
+        .unwrap_or_else(|| "{}".into());
+    let dir = &args.output.output;
+    Output::new()
+        .folder(
+            "-o",
+            dir,
+            files
+                .into_iter()
+                .map(|(name, text)| (name, text.into_bytes()))
+                .collect(),
+        )
+        .write()?;
+    if args.json.json {
+        println!("{json}");
+    } else {
+        print!("{}", report::summary(&calibration));
+        println!("wrote {}", dir.display());
+    }
+    Ok(())
+}

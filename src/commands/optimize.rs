@@ -1,0 +1,160 @@
+//! `actuator-cam optimize spec.toml`: the lightest actuator (or the highest energy density) for a required
+//! mechanical energy, with the winning design and the Pareto front written on request.
+
+use super::flags::ModelFlag;
+use crate::optimize::model::SearchModel;
+use crate::optimize::search::{Design, Objective, Problem};
+use crate::optimize::spec::Spec;
+use crate::optimize::{optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS};
+use crate::output::Output;
+use actuator_model::ModelChoice;
+use anyhow::{bail, Context};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+/// Grids above this many designs show a progress bar (on a terminal only).
+const PROGRESS_ABOVE: u64 = 20_000_000;
+
+/// Arguments of `optimize`.
+#[derive(Debug, Clone, Args)]
+pub struct OptimizeArgs {
+    /// Spec file: requirement, drive, search ranges, laminate, constraints (see examples/optimize-*.toml).
+    pub spec: PathBuf,
+    /// `--model` to optimise with (the Euler-Bernoulli beam has no taper to optimise).
+    #[command(flatten)]
+    pub model: ModelFlag,
+    /// What to optimise.
+    #[arg(long, value_enum, default_value_t = ObjectiveArg::MinMass)]
+    pub objective: ObjectiveArg,
+    /// Write the winning design as a design.toml (cut-sheet reads it).
+    #[arg(short = 'o', long = "output", value_name = "DESIGN_TOML")]
+    pub output: Option<PathBuf>,
+    /// Write the front of mass against delivered energy as CSV, and beside it an SVG plot.
+    #[arg(long, value_name = "CSV")]
+    pub pareto: Option<PathBuf>,
+}
+
+/// `--objective`: what the search minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ObjectiveArg {
+    /// Lightest actuator with `U >= U_min`.
+    MinMass,
+    /// Highest `U / m` with `U >= U_min` (then the lightest such).
+    MaxEnergyDensity,
+}
+
+impl From<ObjectiveArg> for Objective {
+    fn from(o: ObjectiveArg) -> Objective {
+        match o {
+            ObjectiveArg::MinMass => Objective::MinMass,
+            ObjectiveArg::MaxEnergyDensity => Objective::MaxEnergyDensity,
+        }
+    }
+}
+
+/// The search model for `--model`: a built-in name or a `calibrated-model.toml`.
+fn search_model(choice: &ModelChoice) -> anyhow::Result<SearchModel> {
+    match choice {
+        ModelChoice::Calibrated(m) => Ok(SearchModel::Calibrated(m.clone())),
+        ModelChoice::Kind(kind) => SearchModel::from_kind(*kind).with_context(|| {
+            format!(
+                "--model {}: the Euler-Bernoulli beam covers rectangles only and has no taper or extension to optimise; use original, thesis-adjusted or a calibrated-model.toml",
+                kind.name()
+            )
+        }),
+    }
+}
+
+/// The exhaustive stage's progress as a bar on stderr.
+struct Bar(ProgressBar);
+
+impl Bar {
+    fn new() -> Bar {
+        Bar(
+            ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()).with_style(
+                ProgressStyle::with_template("exhaustive grid {wide_bar} {percent}%")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            ),
+        )
+    }
+}
+
+impl Progress for Bar {
+    fn start(&self, total: u64) {
+        self.0.set_length(total);
+    }
+    fn advance(&self, steps: u64) {
+        self.0.inc(steps);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+/// Run `optimize`.
+pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
+    let model = search_model(&args.model.model)?;
+    let spec = Spec::from_file(&args.spec)?;
+    let file = args.spec.display().to_string();
+    let problem = Problem::from_spec(&spec, model, args.objective.into())
+        .with_context(|| format!("{file}: the laminate cannot be solved"))?;
+    let bar =
+        (problem.grid_size() > PROGRESS_ABOVE && std::io::stderr().is_terminal()).then(Bar::new);
+    let progress: &dyn Progress = match &bar {
+        Some(b) => b,
+        None => &Silent,
+    };
+    let outcome = optimize(problem, progress).map_err(|e| match e {
+        OptimizeError::Infeasible { .. } => {
+            anyhow::anyhow!("{file}: requirement.energy_mJ = {}: {e}", spec.energy * 1e3)
+        }
+    })?;
+    let best = outcome.best;
+    let perf = outcome
+        .problem
+        .performance(&best)
+        .with_context(|| format!("{file}: the optimum cannot be predicted"))?;
+    if perf.energy < spec.energy * (1.0 - 1e-9) {
+        bail!(
+            "internal: the optimum delivers {} mJ < {} mJ",
+            perf.energy * 1e3,
+            spec.energy * 1e3
+        );
+    }
+    print!("{}", report::text(&spec, &file, &outcome, &perf));
+    let mut output = Output::new();
+    let mut wrote = Vec::new();
+    if let Some(path) = &args.output {
+        output = output.file(
+            "-o",
+            path,
+            report::design_toml(&spec, &outcome.problem, &best),
+        );
+        wrote.push(format!("\nwrote {}", path.display()));
+    }
+    if let Some(path) = &args.pareto {
+        let most: Vec<Design> = outcome.most_energy.iter().flatten().copied().collect();
+        let front = pareto::front(&outcome.problem, &most, PARETO_LEVELS);
+        let svg = path.with_extension("svg");
+        output = output
+            .file("--pareto", path, pareto::to_csv(&outcome.problem, &front)?)
+            .file(
+                "--pareto",
+                &svg,
+                pareto::to_svg(&front, spec.energy, Some(&best)),
+            );
+        wrote.push(format!(
+            "wrote {} and {} ({} designs on the front)",
+            path.display(),
+            svg.display(),
+            front.len()
+        ));
+    }
+    output.write()?;
+    for line in wrote {
+        println!("{line}");
+    }
+    Ok(())
+}
