@@ -1,7 +1,7 @@
 //! `actuator-cam laminate --layup 0/90/0`: ABD matrices, thickness and areal mass of a stack (the thesis'
 //! `CFMatrixCalc`).
 
-use crate::design::PLY_ANGLE_DEG;
+use crate::input::limits::PLY_ANGLE_DEG;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
 use clap::Args;

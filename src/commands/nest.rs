@@ -43,7 +43,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             args.stroke_mm
         );
     }
-    let max = crate::batch::file::MAX_ITERATIONS as usize;
+    let max = crate::input::limits::MAX_ITERATIONS as usize;
     if let Some(n) = args.iterations.filter(|n| *n > max) {
         bail!("--iterations = {n}: outside the allowed range [0, {max}]");
     }
