@@ -19,7 +19,6 @@ pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
 use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
-use anyhow::Context;
 use baseline::{error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation};
 use std::path::PathBuf;
 
@@ -114,8 +113,7 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> anyhow::Result<Calibrat
 
 /// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
-    let data = self::csv::read_path(&args.measured)
-        .with_context(|| format!("reading {}", args.measured.display()))?;
+    let data = self::csv::read_path(&args.measured)?;
     let settings = Settings {
         seed: args.seed,
         max_effects: args.max_effects as usize,

@@ -78,6 +78,9 @@ pub const MAX_QUANTITY: i64 = 100_000;
 /// Points per continuous variable in the optimizer's exhaustive stage: 500⁴ points per laminate is
 /// already hours of work, and fewer than 2 spans nothing.
 pub const GRID: (i64, i64) = (2, 500);
+/// Most levels of one sweep factor, or choices of one optimize search variable (PZT thicknesses,
+/// layups).
+pub const MAX_LEVELS: usize = 1000;
 /// Largest sweep: every design is kept in memory and written to the CSV.
 pub const MAX_DESIGNS: usize = 10_000_000;
 /// Largest optimiser budget of the irregular nester.
