@@ -161,3 +161,27 @@ impl Batch {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bad_field_is_one_line_naming_file_field_value_and_range() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("batch.toml");
+        std::fs::write(
+            &path,
+            "name = \"b\"\n[[item]]\ndesign = \"d.toml\"\nquantity = 2.5\n",
+        )
+        .unwrap();
+        let err = Batch::load(&path).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{}: item[1].quantity = 2.5: expected a whole number in [1, 100000]",
+                path.display()
+            )
+        );
+    }
+}

@@ -444,7 +444,10 @@ mod tests {
         ))
         .unwrap_err()
         .to_string();
-        assert!(e.contains("mass_mg") && e.contains("> 0"), "{e}");
+        assert!(
+            e.contains("line 2, column mass_mg = -3: outside the allowed range (0, inf) mg"),
+            "{e}"
+        );
         let e = parse(&format!(
             "{HEADER}\nA,40,0.5,8,1.2,0.191,quasi-iso,50,3,0.1,0.05\n"
         ))

@@ -384,4 +384,18 @@ mod tests {
         assert_eq!(m1.features, FeatureMap::default());
         assert_eq!(m2.features, FeatureMap::default());
     }
+
+    #[test]
+    fn a_bad_field_is_one_line_naming_file_field_value_and_range() {
+        let text = METHOD_2.replacen("kerf_mm = 0.03", "kerf_mm = 3", 1);
+        assert_ne!(text, METHOD_2);
+        let path = Path::new("my-process.toml");
+        let err = Template::from_table(path, &parse_toml(path, &text).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "my-process.toml: layers.pzt.kerf_mm = 3: outside the allowed range [0, 2] mm"
+        );
+    }
 }
