@@ -60,7 +60,7 @@ pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64
                     line,
                     &name,
                     cell,
-                    format!("a failure value must be finite, {FAILURE_VALUE}"),
+                    format!("a failure value must be positive: outside the {FAILURE_VALUE}"),
                 ))
             }
             Err(_) => {
