@@ -185,6 +185,7 @@ fn rejects(text: &str, needles: &[&str]) {
     ]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success(), "accepted: {text}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
     for n in needles {
         assert!(stderr.contains(n), "`{n}` not in: {stderr}");
     }
@@ -244,6 +245,24 @@ fn negative_mass_is_rejected() {
     rejects_row(
         "A9,30,0.3,8,1.2,0.191,0/90/0,50,-400,0.1,0.02",
         &["mass_mg", "-400"],
+    );
+}
+
+/// The CSV checks geometry against the design file's ranges; the error names file, line, column, value
+/// and the allowed range on one line.
+#[test]
+fn geometry_outside_the_design_range_is_rejected() {
+    rejects_row(
+        "A9,1500,0.3,8,1.2,0.191,0/90/0,50,400,0.1,0.02",
+        &["measured.csv: line 26, column l_tot_mm = 1500: outside the allowed range (0, 1000] mm"],
+    );
+    rejects_row(
+        "A9,30,25,8,1.2,0.191,0/90/0,50,400,0.1,0.02",
+        &["measured.csv: line 26, column l_r = 25: outside the allowed range [0, 20]"],
+    );
+    rejects_row(
+        "A9,30,0.3,8,1.2,12,0/90/0,50,400,0.1,0.02",
+        &["measured.csv: line 26, column t_p_mm = 12: outside the allowed range (0, 10] mm"],
     );
 }
 

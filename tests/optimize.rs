@@ -365,6 +365,7 @@ fn fails_with(from: &str, to: &str, expect: &[&str]) {
     assert_eq!(o.status.code(), Some(1), "{to}: {err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("bad.toml"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
     for e in expect {
         assert!(err.contains(e), "{to}: expected {e:?} in {err}");
     }
@@ -406,7 +407,28 @@ fn bad_input_fails_with_a_clear_message() {
     fails_with(
         "pzt_thickness_mm = [0.127, 0.191, 0.267]",
         "pzt_thickness_mm = [0.127, -0.191]",
-        &["search.pzt_thickness_mm = -0.191"],
+        &[
+            "search.pzt_thickness_mm[1] = -0.191",
+            "outside the allowed range (0, 10] mm",
+        ],
+    );
+    // serde's own wording ("expected i64", "did not match any variant of untagged enum") never shows:
+    // the message names the field, the value as written and what is allowed.
+    fails_with(
+        "grid = 70",
+        "grid = 8.5",
+        &["bad.toml: search.grid = 8.5: expected a whole number in [2, 500]"],
+    );
+    fails_with(
+        "base_width_mm = [5, 20]",
+        "base_width_mm = \"5-20\"",
+        &["bad.toml: search.base_width_mm = \"5-20\": expected a number or [min, max], each in the allowed range (0, 1000] mm"],
+    );
+    // The search ranges are checked against the design file's ranges.
+    fails_with(
+        "length_mm = [40, 60]",
+        "length_mm = [40, 1600]",
+        &["search.length_mm[1] = 1600: outside the allowed range (0, 1000] mm"],
     );
     let o = run(&["optimize", "/nonexistent/spec.toml"]);
     assert_eq!(o.status.code(), Some(1));

@@ -225,7 +225,8 @@ fn laminate_and_weibull_commands() {
     let (_d2, bad_csv) = write_temp("g.csv", "field\n850\nabc\n");
     let out = run(&["weibull", bad_csv.to_str().unwrap()]);
     assert!(
-        !out.status.success() && stderr(&out).contains("row 3, column field"),
+        !out.status.success()
+            && stderr(&out).contains("g.csv: line 3, column field = \"abc\": expected a number"),
         "{}",
         stderr(&out)
     );

@@ -189,4 +189,21 @@ fn bad_sweeps_fail_with_a_clear_message() {
         "{err}"
     );
     assert!(!err.contains("panicked"));
+    // A level outside the design file's range: file, field, value and range on one line.
+    std::fs::write(
+        &path,
+        text.replace(
+            "base_width_mm = [7.5, 5, 2.5]",
+            "base_width_mm = [7.5, 5, \"wide\"]",
+        ),
+    )
+    .unwrap();
+    let o = sweep(&[path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(
+        err.contains("bad.toml: factors.base_width_mm[2] = \"wide\": expected a number, allowed range (0, 1000] mm"),
+        "{err}"
+    );
 }

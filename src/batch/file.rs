@@ -1,14 +1,14 @@
 //! The batch file (`batch.toml`): which designs, how many of each, the seed and optional sheet
 //! overrides; validated once into a [`Batch`] that the planner trusts.
 
-use crate::cutsheet::template::{SheetSpec, MAX_STOCK, PRICE, SHEET_SIDE_MM, SPACING_MM};
+use crate::cutsheet::template::SheetSpec;
 use crate::cutsheet::{design_for_process, Template};
-use crate::design::{Design, MAX_QUANTITY};
+use crate::design::Design;
+use crate::input::limits::{
+    MAX_ITERATIONS, MAX_QUANTITY, MAX_STOCK, PRICE, SHEET_SIDE_MM, SPACING_MM,
+};
 use crate::input::{read_toml, InputError, TableReader};
 use std::path::{Path, PathBuf};
-
-/// Largest optimiser budget of the irregular nester.
-pub const MAX_ITERATIONS: i64 = 10_000_000;
 
 /// A sheet override from `[sheets]`: size, and optionally stock and price.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,15 +86,7 @@ impl Batch {
         let mut template: Option<(Template, String, String)> = None; // template, process, design file
         for t in root.tables("item")? {
             let file = t.string("design", "a design file path, relative to the batch file")?;
-            let quantity = t
-                .optional_count("quantity", 1, MAX_QUANTITY)?
-                .ok_or_else(|| {
-                    InputError::missing(
-                        path,
-                        &t.path("quantity"),
-                        &format!("a whole number in [1, {MAX_QUANTITY}]"),
-                    )
-                })?;
+            let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
             t.finish()?;
             let design_path = base.join(file);
             if !design_path.is_file() {
@@ -167,5 +159,29 @@ impl Batch {
             iterations,
             source: path.to_path_buf(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bad_field_is_one_line_naming_file_field_value_and_range() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("batch.toml");
+        std::fs::write(
+            &path,
+            "name = \"b\"\n[[item]]\ndesign = \"d.toml\"\nquantity = 2.5\n",
+        )
+        .unwrap();
+        let err = Batch::load(&path).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{}: item[1].quantity = 2.5: expected a whole number in [1, 100000]",
+                path.display()
+            )
+        );
     }
 }

@@ -3,13 +3,21 @@
 //! Columns: `id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N`,
 //! optional `drive` (parallel), `pzt` (PZT-5H), `ply` (CF-thesis), `base_tab_mm` (0). `#` lines are
 //! comments; an empty cell is "not measured". Units convert to SI here and nowhere else.
+//!
+//! The raw representation is the CSV record with its header; [`parse_file`] is the one validating
+//! conversion. Geometry is checked against the same ranges as the design file ([`crate::input::limits`]),
+//! and every problem is an [`InputError`] naming the file, the line, the column and the value.
 
+use crate::input::library::{drive_mode, library_ply, library_pzt};
+use crate::input::limits::{
+    BASE_TAB_MM, BASE_WIDTH_MM, BLOCKED_FORCE_N, EXTENSION_RATIO, FREE_DEFLECTION_MM, LENGTH_MM,
+    MASS_MG, MAX_PLIES, MEASURED_VOLTAGE_V, PLY_ANGLE_DEG, PZT_THICKNESS_MM, WIDTH_RATIO,
+};
+use crate::input::{InputError, Range};
 use actuator_model::effects::{drive_at_voltage, Actuator};
-use actuator_model::material::builtin_names;
 use actuator_model::{DriveMode, Material, Planform};
 use std::collections::BTreeMap;
 use std::path::Path;
-use thiserror::Error;
 
 /// The columns every file must have.
 pub const REQUIRED_COLUMNS: [&str; 11] = [
@@ -25,56 +33,6 @@ pub const REQUIRED_COLUMNS: [&str; 11] = [
     "free_deflection_mm",
     "blocked_force_N",
 ];
-
-/// A problem with the measured-data file; row numbers are file line numbers.
-#[derive(Debug, Error)]
-pub enum InputError {
-    /// The file cannot be read or is not CSV.
-    #[error("{0}")]
-    Io(String),
-    /// A required column is absent from the header.
-    #[error("missing column `{0}` (required: {cols})", cols = REQUIRED_COLUMNS.join(","))]
-    MissingColumn(String),
-    /// A cell is not a number.
-    #[error("line {line}, column `{column}`: `{value}` is not a number")]
-    NotNumeric {
-        /// File line.
-        line: u64,
-        /// Column name.
-        column: String,
-        /// Cell text.
-        value: String,
-    },
-    /// A value outside its range.
-    #[error("line {line}, column `{column}`: {value} {why}")]
-    OutOfRange {
-        /// File line.
-        line: u64,
-        /// Column name.
-        column: String,
-        /// Offending value.
-        value: String,
-        /// What is allowed.
-        why: String,
-    },
-    /// Rows of one actuator disagree about its design.
-    #[error("actuator `{id}`: line {line} gives {column} = {value}, earlier rows {earlier}")]
-    Inconsistent {
-        /// Actuator id.
-        id: String,
-        /// File line.
-        line: u64,
-        /// Column name.
-        column: String,
-        /// Value on this line.
-        value: String,
-        /// Value on earlier lines.
-        earlier: String,
-    },
-    /// Not enough data for the fit.
-    #[error("{0}")]
-    TooFew(String),
-}
 
 /// One measured actuator at one drive level, validated and in SI units.
 #[derive(Debug, Clone)]
@@ -138,8 +96,9 @@ pub struct Dataset {
 }
 
 impl Dataset {
-    /// Group the rows by id; the measured mass is copied to every row of its id.
-    pub fn new(mut rows: Vec<Measurement>) -> Result<Self, InputError> {
+    /// Group the rows by id; the measured mass is copied to every row of its id. `file` names the
+    /// measured-data file in errors.
+    pub fn new(file: &Path, mut rows: Vec<Measurement>) -> Result<Self, InputError> {
         let mut index: BTreeMap<String, usize> = BTreeMap::new();
         let mut groups: Vec<Vec<usize>> = Vec::new();
         let mut group_of = Vec::with_capacity(rows.len());
@@ -187,13 +146,7 @@ impl Dataset {
                 ];
                 for (column, v, v0, unit) in checks {
                     if !same(v, v0) {
-                        return Err(InputError::Inconsistent {
-                            id: r.id.clone(),
-                            line: r.line,
-                            column: column.into(),
-                            value: format!("{}", v * unit),
-                            earlier: format!("{}", v0 * unit),
-                        });
+                        return Err(inconsistent(file, r, column, v * unit, v0 * unit));
                     }
                 }
                 for (column, v, v0) in [
@@ -202,25 +155,13 @@ impl Dataset {
                     ("ply", &r.ply.name, &first.ply.name),
                 ] {
                     if v != v0 {
-                        return Err(InputError::Inconsistent {
-                            id: r.id.clone(),
-                            line: r.line,
-                            column: column.into(),
-                            value: v.clone(),
-                            earlier: v0.clone(),
-                        });
+                        return Err(inconsistent(file, r, column, v, v0));
                     }
                 }
                 if let Some(m) = r.mass {
                     match mass {
                         Some((m0, _)) if !same(m, m0) => {
-                            return Err(InputError::Inconsistent {
-                                id: r.id.clone(),
-                                line: r.line,
-                                column: "mass_mg".into(),
-                                value: format!("{}", m * 1e6),
-                                earlier: format!("{}", m0 * 1e6),
-                            })
+                            return Err(inconsistent(file, r, "mass_mg", m * 1e6, m0 * 1e6))
                         }
                         _ => mass = Some((m, r.line)),
                     }
@@ -250,15 +191,96 @@ impl Dataset {
     }
 }
 
-/// Read and validate a measured-data file.
-pub fn read_path(path: &Path) -> Result<Dataset, InputError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::Io(format!("cannot read {}: {e}", path.display())))?;
-    parse(&text)
+/// Rows of one actuator that disagree about its design (or its mass).
+fn inconsistent(
+    file: &Path,
+    row: &Measurement,
+    column: &str,
+    value: impl std::fmt::Display,
+    earlier: impl std::fmt::Display,
+) -> InputError {
+    InputError::cell(
+        file,
+        row.line,
+        column,
+        value,
+        format!(
+            "actuator `{}` has {column} = {earlier} on earlier lines; the rows of one actuator must agree",
+            row.id
+        ),
+    )
 }
 
-/// Parse and validate measured-data CSV text.
+/// Read and validate a measured-data file.
+pub fn read_path(path: &Path) -> Result<Dataset, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    parse_file(path, &text)
+}
+
+/// Parse and validate measured-data CSV text that has no file (errors name it "measured data").
 pub fn parse(text: &str) -> Result<Dataset, InputError> {
+    parse_file(Path::new("measured data"), text)
+}
+
+/// The raw cells of one record, read with the header names: every getter checks against a shared range
+/// and names the file, line and column in its error.
+struct Row<'a> {
+    file: &'a Path,
+    line: u64,
+    headers: &'a ::csv::StringRecord,
+    record: &'a ::csv::StringRecord,
+}
+
+impl Row<'_> {
+    fn cell(&self, c: usize) -> &str {
+        self.record.get(c).unwrap_or("")
+    }
+
+    fn error(
+        &self,
+        c: usize,
+        value: impl std::fmt::Display,
+        expected: impl Into<String>,
+    ) -> InputError {
+        InputError::cell(self.file, self.line, &self.headers[c], value, expected)
+    }
+
+    /// An optional number in `range` (an empty cell is "not measured").
+    fn number(&self, c: usize, range: Range) -> Result<Option<f64>, InputError> {
+        let s = self.cell(c);
+        if s.is_empty() {
+            return Ok(None);
+        }
+        match s.parse::<f64>() {
+            Ok(v) if range.contains(v) => Ok(Some(v)),
+            Ok(_) => Err(self.error(c, s, format!("outside the {range}"))),
+            Err(_) => Err(self.error(c, format!("{s:?}"), format!("expected a number, {range}"))),
+        }
+    }
+
+    /// A required number in `range`.
+    fn needed(&self, c: usize, range: Range) -> Result<f64, InputError> {
+        self.number(c, range)?.ok_or_else(|| {
+            InputError::missing(
+                self.file,
+                &format!("line {}, column {}", self.line, &self.headers[c]),
+                &format!("a number, {range}"),
+            )
+        })
+    }
+
+    /// An optional text cell of an optional column.
+    fn text(&self, c: Option<usize>) -> Option<&str> {
+        c.map(|c| self.cell(c)).filter(|s| !s.is_empty())
+    }
+
+    fn field(&self, column: &str) -> String {
+        format!("line {}, column {column}", self.line)
+    }
+}
+
+/// Parse and validate measured-data CSV text; `file` names it in errors.
+pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
     let mut reader = ::csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(::csv::Trim::All)
@@ -266,139 +288,79 @@ pub fn parse(text: &str) -> Result<Dataset, InputError> {
         .from_reader(text.as_bytes());
     let headers = reader
         .headers()
-        .map_err(|e| InputError::Io(format!("CSV header: {e}")))?
+        .map_err(|e| InputError::whole_file(file, format!("not valid CSV in the header: {e}")))?
         .clone();
     let col = |name: &str| headers.iter().position(|h| h == name);
     let mut required = [0usize; 11];
     for (slot, name) in required.iter_mut().zip(REQUIRED_COLUMNS) {
-        *slot = col(name).ok_or_else(|| InputError::MissingColumn(name.into()))?;
+        *slot = col(name).ok_or_else(|| {
+            InputError::invalid(
+                file,
+                "header",
+                headers.iter().collect::<Vec<_>>().join(","),
+                format!(
+                    "missing column `{name}`; required: {}",
+                    REQUIRED_COLUMNS.join(",")
+                ),
+            )
+        })?;
     }
-    let optional = |name| col(name);
-    let (c_drive, c_pzt, c_ply, c_tab) = (
-        optional("drive"),
-        optional("pzt"),
-        optional("ply"),
-        optional("base_tab_mm"),
-    );
+    let (c_drive, c_pzt, c_ply, c_tab) = (col("drive"), col("pzt"), col("ply"), col("base_tab_mm"));
+    let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = required;
     let mut rows = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| InputError::Io(format!("CSV: {e}")))?;
+        let record =
+            record.map_err(|e| InputError::whole_file(file, format!("not valid CSV: {e}")))?;
         let line = record.position().map(|p| p.line()).unwrap_or(0);
-        let cell = |c: usize| record.get(c).unwrap_or("");
-        let number = |c: usize| -> Result<Option<f64>, InputError> {
-            let s = cell(c);
-            if s.is_empty() {
-                return Ok(None);
-            }
-            match s.parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(Some(v)),
-                _ => Err(InputError::NotNumeric {
-                    line,
-                    column: headers[c].to_string(),
-                    value: s.to_string(),
-                }),
-            }
-        };
-        let range = |c: usize, v: f64, why: &str| InputError::OutOfRange {
+        let row = Row {
+            file,
             line,
-            column: headers[c].to_string(),
-            value: format!("{v}"),
-            why: why.to_string(),
+            headers: &headers,
+            record: &record,
         };
-        let needed = |c: usize| -> Result<f64, InputError> {
-            number(c)?.ok_or_else(|| InputError::OutOfRange {
-                line,
-                column: headers[c].to_string(),
-                value: "(empty)".into(),
-                why: "is required".into(),
-            })
-        };
-        let positive = |c: usize, v: f64| {
-            if v > 0.0 {
-                Ok(v)
-            } else {
-                Err(range(c, v, "must be > 0"))
-            }
-        };
-        let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = required;
-        let id = cell(c_id).to_string();
+        let id = row.cell(c_id).to_string();
         if id.is_empty() {
-            return Err(InputError::OutOfRange {
-                line,
-                column: "id".into(),
-                value: "(empty)".into(),
-                why: "is required".into(),
-            });
+            return Err(InputError::missing(
+                file,
+                &row.field("id"),
+                "an actuator id (text)",
+            ));
         }
-        let l_tot = positive(c_l, needed(c_l)?)?;
-        let l_r = needed(c_lr)?;
-        if l_r < 0.0 {
-            return Err(range(c_lr, l_r, "must be >= 0"));
-        }
-        let w0 = positive(c_w0, needed(c_w0)?)?;
-        let w_r = needed(c_wr)?;
-        if !(w_r > 0.0 && w_r < 2.0) {
-            return Err(range(c_wr, w_r, "must be in (0, 2)"));
-        }
-        let t_p = positive(c_tp, needed(c_tp)?)?;
-        let voltage = needed(c_v)?;
-        if voltage < 0.0 {
-            return Err(range(c_v, voltage, "must be >= 0"));
-        }
+        let l_tot = row.needed(c_l, LENGTH_MM)?;
+        let l_r = row.needed(c_lr, EXTENSION_RATIO)?;
+        let w0 = row.needed(c_w0, BASE_WIDTH_MM)?;
+        let w_r = row.needed(c_wr, WIDTH_RATIO)?;
+        let t_p = row.needed(c_tp, PZT_THICKNESS_MM)?;
+        let voltage = row.needed(c_v, MEASURED_VOLTAGE_V)?;
         let tab = match c_tab {
-            Some(c) => number(c)?.unwrap_or(0.0),
+            Some(c) => row.number(c, BASE_TAB_MM)?.unwrap_or(0.0),
             None => 0.0,
         };
-        if tab < 0.0 {
-            return Err(range(c_tab.unwrap_or(0), tab, "must be >= 0"));
-        }
-        let mass = number(c_m)?;
-        let delta = number(c_d)?;
-        let force = number(c_f)?;
-        for (c, v) in [(c_m, mass), (c_d, delta), (c_f, force)] {
-            if let Some(v) = v {
-                positive(c, v)?;
-            }
-        }
-        let layup_text = cell(c_layup).to_string();
-        let layup_deg = parse_layup(&layup_text).ok_or_else(|| InputError::OutOfRange {
-            line,
-            column: "layup".into(),
-            value: format!("`{layup_text}`"),
-            why: "is not a known layup: write ply angles in degrees separated by `/`, like 0/90/0"
-                .into(),
+        let mass = row.number(c_m, MASS_MG)?;
+        let delta = row.number(c_d, FREE_DEFLECTION_MM)?;
+        let force = row.number(c_f, BLOCKED_FORCE_N)?;
+        let layup_text = row.cell(c_layup).to_string();
+        let layup_deg = parse_layup(&layup_text).ok_or_else(|| {
+            row.error(
+                c_layup,
+                format!("{layup_text:?}"),
+                format!(
+                    "expected 1 to {MAX_PLIES} ply angles separated by `/`, like 0/90/0, each in the {PLY_ANGLE_DEG}"
+                ),
+            )
         })?;
-        let material = |c: Option<usize>, default: &str, piezo: bool| {
-            let name = c.map(cell).filter(|s| !s.is_empty()).unwrap_or(default);
-            match Material::builtin(name) {
-                Some(m) if m.is_piezoelectric() == piezo => Ok(m),
-                _ => Err(InputError::OutOfRange {
-                    line,
-                    column: if piezo { "pzt" } else { "ply" }.into(),
-                    value: format!("`{name}`"),
-                    why: format!(
-                        "is not a known {} material (built in: {})",
-                        if piezo { "piezoelectric" } else { "ply" },
-                        builtin_names().join(", ")
-                    ),
-                }),
-            }
-        };
-        let pzt = material(c_pzt, "PZT-5H", true)?;
-        let ply = material(c_ply, "CF-thesis", false)?;
-        let ply_thickness = ply.ply_thickness.unwrap_or(61.8e-6);
-        let drive_name = c_drive.map(cell).filter(|s| !s.is_empty());
-        let drive_mode = match drive_name {
+        let pzt = library_pzt(file, &row.field("pzt"), row.text(c_pzt).unwrap_or("PZT-5H"))?;
+        let (ply, ply_thickness) = library_ply(
+            file,
+            &row.field("ply"),
+            row.text(c_ply).unwrap_or("CF-thesis"),
+        )?;
+        let drive_mode = match row.text(c_drive) {
             None => DriveMode::Parallel,
-            Some(name) => DriveMode::from_name(name).ok_or_else(|| InputError::OutOfRange {
-                line,
-                column: "drive".into(),
-                value: format!("`{name}`"),
-                why: "is not a drive mode (parallel, series, simultaneous, alternating)".into(),
-            })?,
+            Some(name) => drive_mode(file, &row.field("drive"), name)?,
         };
         let planform = Planform::new(l_tot * 1e-3, l_r, w0 * 1e-3, w_r, tab * 1e-3)
-            .map_err(|e| range(c_l, l_tot, &format!("gives an invalid planform: {e}")))?;
+            .map_err(|e| row.error(c_l, l_tot, format!("gives an invalid planform: {e}")))?;
         let pzt_thickness = t_p * 1e-3;
         rows.push(Measurement {
             id,
@@ -419,12 +381,13 @@ pub fn parse(text: &str) -> Result<Dataset, InputError> {
         });
     }
     if rows.is_empty() {
-        return Err(InputError::TooFew("the file has no data rows".into()));
+        return Err(InputError::whole_file(file, "the file has no data rows"));
     }
-    Dataset::new(rows)
+    Dataset::new(file, rows)
 }
 
-/// `0/90/0` → angles; `None` if any part is not an angle in [-90, 90].
+/// `0/90/0` → angles; `None` unless every part is an angle in the design file's ply-angle range and
+/// there are at most as many plies as a design file allows.
 pub fn parse_layup(text: &str) -> Option<Vec<f64>> {
     let angles: Option<Vec<f64>> = text
         .split('/')
@@ -432,10 +395,10 @@ pub fn parse_layup(text: &str) -> Option<Vec<f64>> {
             p.trim()
                 .parse::<f64>()
                 .ok()
-                .filter(|a| a.is_finite() && a.abs() <= 90.0)
+                .filter(|a| PLY_ANGLE_DEG.contains(*a))
         })
         .collect();
-    angles.filter(|a| !a.is_empty())
+    angles.filter(|a| !a.is_empty() && a.len() <= MAX_PLIES)
 }
 
 #[cfg(test)]
@@ -481,7 +444,10 @@ mod tests {
         ))
         .unwrap_err()
         .to_string();
-        assert!(e.contains("mass_mg") && e.contains("> 0"), "{e}");
+        assert!(
+            e.contains("line 2, column mass_mg = -3: outside the allowed range (0, inf) mg"),
+            "{e}"
+        );
         let e = parse(&format!(
             "{HEADER}\nA,40,0.5,8,1.2,0.191,quasi-iso,50,3,0.1,0.05\n"
         ))

@@ -4,7 +4,6 @@
 use super::flags::{JsonFlag, OutputDir};
 use crate::calibrate::{calibrate, csv, report, Settings};
 use crate::output::Output;
-use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -32,8 +31,8 @@ pub struct CalibrateArgs {
 
 /// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
-    let data = csv::read_path(&args.measured)
-        .with_context(|| format!("reading {}", args.measured.display()))?;
+    // The input layer's error names the file already.
+    let data = csv::read_path(&args.measured)?;
     let settings = Settings {
         seed: args.seed,
         max_effects: args.max_effects as usize,

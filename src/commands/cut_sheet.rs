@@ -43,10 +43,10 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
     }
     let quantity = match args.quantity {
         None => None,
-        Some(q) if (1..=crate::design::MAX_QUANTITY).contains(&q) => Some(q as usize),
+        Some(q) if (1..=crate::input::limits::MAX_QUANTITY).contains(&q) => Some(q as usize),
         Some(q) => bail!(
             "--quantity = {q}: outside the allowed range [1, {}]",
-            crate::design::MAX_QUANTITY
+            crate::input::limits::MAX_QUANTITY
         ),
     };
     let design = Design::load(&args.design)?;

@@ -2,7 +2,7 @@
 //! `CFMatrixCalc`).
 
 use super::flags::JsonFlag;
-use crate::design::PLY_ANGLE_DEG;
+use crate::input::limits::PLY_ANGLE_DEG;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
 use clap::Args;

@@ -38,7 +38,7 @@ pub struct NestArgs {
 /// Run `nest`.
 pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
-    let max = crate::batch::file::MAX_ITERATIONS as usize;
+    let max = crate::input::limits::MAX_ITERATIONS as usize;
     if let Some(n) = args.iterations.filter(|n| *n > max) {
         bail!("--iterations = {n}: outside the allowed range [0, {max}]");
     }

@@ -1,9 +1,11 @@
 //! `actuator-cam weibull failures.csv`: maximum-likelihood Weibull fit and survival thresholds.
 
+use crate::input::limits::FAILURE_VALUE;
+use crate::input::InputError;
 use actuator_model::Weibull;
-use anyhow::{anyhow, bail, Context};
+use anyhow::{anyhow, bail};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `weibull`.
 #[derive(Debug, Args)]
@@ -18,43 +20,59 @@ pub struct WeibullArgs {
     pub survival: Vec<f64>,
 }
 
-/// Read one numeric column; errors name the file, the row and the column.
-pub fn read_column(path: &PathBuf, column: Option<&str>) -> anyhow::Result<(String, Vec<f64>)> {
-    let file = path.display();
+/// Read one numeric column of failure values; errors name the file, the line and the column.
+pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64>), InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
-        .from_path(path)
-        .with_context(|| format!("{file}: cannot read"))?;
+        .from_reader(text.as_bytes());
     let headers = reader
         .headers()
-        .with_context(|| format!("{file}: no header row"))?
+        .map_err(|e| InputError::whole_file(path, format!("not valid CSV in the header: {e}")))?
         .clone();
     let index = match column {
         Some(name) => headers.iter().position(|h| h == name).ok_or_else(|| {
-            anyhow!(
-                "{file}: no column {name:?}; columns: {}",
-                headers.iter().collect::<Vec<_>>().join(", ")
+            InputError::invalid(
+                path,
+                "header",
+                headers.iter().collect::<Vec<_>>().join(","),
+                format!("no column {name:?} (from --column)"),
             )
         })?,
         None => 0,
     };
     let name = headers.get(index).unwrap_or("value").to_string();
     let mut values = Vec::new();
-    for (i, record) in reader.records().enumerate() {
-        let row = i + 2; // 1-based, after the header
-        let record = record.with_context(|| format!("{file}: row {row}: malformed CSV"))?;
+    for record in reader.records() {
+        let record =
+            record.map_err(|e| InputError::whole_file(path, format!("not valid CSV: {e}")))?;
+        let line = record.position().map(|p| p.line()).unwrap_or(0);
         let cell = record.get(index).unwrap_or("");
         if cell.is_empty() {
             continue;
         }
-        let x: f64 = cell
-            .parse()
-            .map_err(|_| anyhow!("{file}: row {row}, column {name}: {cell:?} is not a number"))?;
-        if !(x.is_finite() && x > 0.0) {
-            bail!("{file}: row {row}, column {name} = {cell}: a failure value must be a positive finite number");
+        match cell.parse::<f64>() {
+            Ok(x) if FAILURE_VALUE.contains(x) => values.push(x),
+            Ok(_) => {
+                return Err(InputError::cell(
+                    path,
+                    line,
+                    &name,
+                    cell,
+                    format!("a failure value must be positive: outside the {FAILURE_VALUE}"),
+                ))
+            }
+            Err(_) => {
+                return Err(InputError::cell(
+                    path,
+                    line,
+                    &name,
+                    format!("{cell:?}"),
+                    format!("expected a number, {FAILURE_VALUE}"),
+                ))
+            }
         }
-        values.push(x);
     }
     Ok((name, values))
 }

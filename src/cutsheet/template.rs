@@ -5,24 +5,14 @@
 use super::features::FeatureMap;
 use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
-use crate::input::{parse_toml, read_toml, InputError, Range, TableReader};
+use crate::input::limits::{
+    ACI, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM, LABEL_HEIGHT_MM,
+    LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE,
+    SHEET_SIDE_MM as SHEET_MM, VIA_DIAMETER_MM,
+};
+use crate::input::{parse_toml, read_toml, InputError, TableReader};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-const SHEET_MM: Range = Range::positive_up_to(2000.0, "mm");
-const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
-const GAP_MM: Range = Range::closed(0.0, 50.0, "mm");
-const THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
-const DENSITY: Range = Range::positive_up_to(30_000.0, "kg/m^3");
-/// Largest sheet stock.
-pub const MAX_STOCK: i64 = 100_000;
-/// Price of one sheet.
-pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
-/// Sheet side.
-pub const SHEET_SIDE_MM: Range = SHEET_MM;
-/// Gap between parts on top of the kerf.
-pub const SPACING_MM: Range = GAP_MM;
-const FRACTION: Range = Range::open(0.0, 1.0, "");
 
 /// A stock sheet of a cut material.
 #[derive(Debug, Clone, PartialEq)]
@@ -178,7 +168,7 @@ fn read_palette(path: &Path, root: &TableReader<'_>) -> Result<Palette, InputErr
             continue;
         };
         let colour = t.string("colour", "an SVG colour #RRGGBB")?;
-        let aci = t.number_in("aci", Range::closed(1.0, 255.0, ""))?;
+        let aci = t.number_in("aci", ACI)?;
         let field = format!("operations.{key}");
         if aci.fract() != 0.0 {
             return Err(InputError::invalid(
@@ -250,7 +240,7 @@ impl Template {
             }
         };
         let label_height_mm = root
-            .optional_number_in("label_height_mm", Range::closed(0.0, 20.0, "mm"))?
+            .optional_number_in("label_height_mm", LABEL_HEIGHT_MM)?
             .unwrap_or(1.0);
         let cure = root.table("cure")?;
         let cure_steps = cure.strings("steps", "an array of checklist lines")?;
@@ -263,7 +253,7 @@ impl Template {
             border_mm: c.number_in("border_mm", GAP_MM)?,
             cavity_clearance_mm: c.number_in("cavity_clearance_mm", GAP_MM)?,
             cavity_spacing_mm: c.number_in("cavity_spacing_mm", GAP_MM)?,
-            pin_radius_mm: c.number_in("pin_radius_mm", Range::positive_up_to(20.0, "mm"))?,
+            pin_radius_mm: c.number_in("pin_radius_mm", PIN_RADIUS_MM)?,
             pin_inset_mm: c.number_in("pin_inset_mm", GAP_MM)?,
             fiducial_size_mm: c.number_in("fiducial_size_mm", GAP_MM)?,
             window_width_mm: c.number_in("window_width_mm", GAP_MM)?,
@@ -283,7 +273,7 @@ impl Template {
             let t = layers.table("pzt")?;
             let spec = read_sheet(&t)?;
             let margin = t
-                .optional_number_in("passive_edge_margin_mm", Range::closed(0.0, 2.0, "mm"))?
+                .optional_number_in("passive_edge_margin_mm", PASSIVE_EDGE_MARGIN_MM)?
                 .unwrap_or(0.0);
             t.finish()?;
             (spec, margin)
@@ -299,8 +289,7 @@ impl Template {
                         .to_string(),
                     thickness_mm: t.number_in("thickness_mm", THICKNESS_MM)?,
                     density_kg_per_m3: t.number_in("density_kg_per_m3", DENSITY)?,
-                    via_diameter_mm: t
-                        .number_in("via_diameter_mm", Range::positive_up_to(10.0, "mm"))?,
+                    via_diameter_mm: t.number_in("via_diameter_mm", VIA_DIAMETER_MM)?,
                     via_position: t.number_in("via_position", FRACTION)?,
                 };
                 t.finish()?;
@@ -394,5 +383,19 @@ mod tests {
         // The shipped [features] tables spell out the defaults.
         assert_eq!(m1.features, FeatureMap::default());
         assert_eq!(m2.features, FeatureMap::default());
+    }
+
+    #[test]
+    fn a_bad_field_is_one_line_naming_file_field_value_and_range() {
+        let text = METHOD_2.replacen("kerf_mm = 0.03", "kerf_mm = 3", 1);
+        assert_ne!(text, METHOD_2);
+        let path = Path::new("my-process.toml");
+        let err = Template::from_table(path, &parse_toml(path, &text).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "my-process.toml: layers.pzt.kerf_mm = 3: outside the allowed range [0, 2] mm"
+        );
     }
 }

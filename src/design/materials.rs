@@ -1,17 +1,14 @@
 //! Materials named in a design file: the built-in library, or a `[materials.NAME]` table.
 
-use crate::input::{InputError, Range, TableReader};
+use crate::input::limits::{
+    D31_PM_PER_V, DENSITY_KG_PER_M3 as DENSITY, MODULUS_GPA, PERMITTIVITY, PLY_THICKNESS_MM,
+    POISSON,
+};
+use crate::input::{InputError, TableReader};
 use actuator_model::material::builtin_names;
 use actuator_model::Material;
 use std::collections::BTreeMap;
 use std::path::Path;
-
-const MODULUS_GPA: Range = Range::positive_up_to(2000.0, "GPa");
-const POISSON: Range = Range::closed(0.0, 0.5, "");
-const DENSITY: Range = Range::positive_up_to(30_000.0, "kg/m^3");
-const D31_PM_PER_V: Range = Range::closed(-2000.0, 2000.0, "pm/V");
-const PERMITTIVITY: Range = Range::closed(0.0, 100_000.0, "");
-const THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
 
 /// A user material from `[materials.NAME]`: `e1_GPa`, optional `e2_GPa` (default e1), `g12_GPa`
 /// (default `e1 / (2 (1 + ν12))`), `nu12`, `density_kg_per_m3`, optional `d31_pm_per_V`,
@@ -42,7 +39,7 @@ pub fn material_from_table(name: &str, t: &TableReader<'_>) -> Result<Material, 
             .optional_number_in("relative_permittivity", PERMITTIVITY)?
             .unwrap_or(0.0),
         ply_thickness: t
-            .optional_number_in("ply_thickness_mm", THICKNESS_MM)?
+            .optional_number_in("ply_thickness_mm", PLY_THICKNESS_MM)?
             .map(|x| x * 1e-3),
     };
     // Plane-stress stiffness needs 1 - ν12 ν21 > 0.

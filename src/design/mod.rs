@@ -5,35 +5,15 @@ mod materials;
 
 pub use materials::{material_from_table, resolve_material};
 
-use crate::input::{read_toml, InputError, Range, TableReader};
-use actuator_model::{Drive, DriveMode, Laminate, Material, ModelError, Planform};
+use crate::input::library::read_drive_mode;
+use crate::input::limits::{
+    BASE_TAB_MM, BASE_WIDTH_MM, EXTENSION_RATIO, FIELD_V_PER_MM, LENGTH_MM, MAX_PLIES,
+    MAX_QUANTITY, PLY_ANGLE_DEG, PLY_THICKNESS_MM, PZT_THICKNESS_MM, VOLTAGE_V, WIDTH_RATIO,
+};
+use crate::input::{read_toml, InputError, TableReader};
+use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// `geometry.length_mm`: total length l_tot = l_p + l_ext.
-pub const LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
-/// `geometry.extension_ratio`: l_r = l_ext / l_p.
-pub const EXTENSION_RATIO: Range = Range::closed(0.0, 20.0, "");
-/// `geometry.base_width_mm`: w_0.
-pub const BASE_WIDTH_MM: Range = Range::positive_up_to(1000.0, "mm");
-/// `geometry.width_ratio`: w_r = w_0 / w_nom; the tip width `(2 - w_r) w_nom` must stay positive.
-pub const WIDTH_RATIO: Range = Range::open(0.0, 2.0, "");
-/// `geometry.base_tab_mm`: passive-only tab behind the PZT.
-pub const BASE_TAB_MM: Range = Range::closed(0.0, 1000.0, "mm");
-/// `laminate.pzt_thickness_mm`: one PZT plate.
-pub const PZT_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
-/// `laminate.ply_thickness_mm` / `bond_thickness_mm`.
-pub const PLY_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
-/// `laminate.layup_deg[i]`: ply angle from the actuator axis.
-pub const PLY_ANGLE_DEG: Range = Range::closed(-180.0, 180.0, "deg");
-/// `drive.field_V_per_mm`: peak field in a plate.
-pub const FIELD_V_PER_MM: Range = Range::positive_up_to(10_000.0, "V/mm");
-/// `drive.voltage_V`: supply voltage.
-pub const VOLTAGE_V: Range = Range::positive_up_to(100_000.0, "V");
-/// Largest `quantity`.
-pub const MAX_QUANTITY: i64 = 100_000;
-/// Most plies in a layup.
-pub const MAX_PLIES: usize = 64;
 
 /// A validated actuator design, SI inside.
 #[derive(Debug, Clone, PartialEq)]
@@ -157,15 +137,7 @@ impl Design {
         l.finish()?;
 
         let d = root.table("drive")?;
-        let mode_name = d.string("mode", "parallel, series, simultaneous or alternating")?;
-        let mode = DriveMode::from_name(mode_name).ok_or_else(|| {
-            InputError::invalid(
-                path,
-                &d.path("mode"),
-                format!("{mode_name:?}"),
-                "expected one of parallel, series, simultaneous, alternating",
-            )
-        })?;
+        let mode = read_drive_mode(&d)?;
         let field = d.optional_number_in("field_V_per_mm", FIELD_V_PER_MM)?;
         let voltage = d.optional_number_in("voltage_V", VOLTAGE_V)?;
         let field = match (field, voltage) {

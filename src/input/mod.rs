@@ -1,11 +1,23 @@
-//! Reading user files: a checked walk over a parsed TOML table, so that every error names the file, the
-//! field, the value and the allowed range, and unknown keys are refused.
+//! Reading user files, one layer for every file kind (design, process template, batch, optimize spec,
+//! sweep factors, measured-data CSV, failure CSV).
+//!
+//! Each kind is read in two steps. The raw representation is the parsed file itself (a TOML table, or a
+//! CSV record with its header); one validating conversion per kind (`Design::from_table`,
+//! `Spec::from_table`, `calibrate::csv::parse`, …) walks it with a checked reader and produces the typed,
+//! SI values that the rest of the code trusts. TOML files are walked with [`TableReader`] rather than
+//! deserialized into serde structs: at the point where a value is refused the reader knows the field's
+//! dotted path, the value as written and the allowed range from [`limits`], so every message is built
+//! from those facts instead of being translated back from a deserializer's text, and no serde message
+//! can reach the user. Every problem is one [`InputError`], printed on one line.
 
 mod error;
+pub mod library;
+pub mod limits;
 mod range;
 mod table;
 
 pub use error::InputError;
+pub use library::FieldSource;
 pub use range::Range;
 pub use table::TableReader;
 

@@ -51,6 +51,22 @@ impl Range {
         }
     }
 
+    /// `0 < x`, no upper bound (a measured quantity that only has to be physical).
+    pub const fn positive(unit: &'static str) -> Self {
+        Self::open(0.0, f64::INFINITY, unit)
+    }
+
+    /// `lo <= x`, no upper bound.
+    pub const fn at_least(lo: f64, unit: &'static str) -> Self {
+        Range {
+            lo,
+            lo_inclusive: true,
+            hi: f64::INFINITY,
+            hi_inclusive: false,
+            unit,
+        }
+    }
+
     /// True if `x` is finite and inside.
     pub fn contains(&self, x: f64) -> bool {
         x.is_finite()
@@ -70,7 +86,11 @@ impl Range {
 impl fmt::Display for Range {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let open = if self.lo_inclusive { '[' } else { '(' };
-        let close = if self.hi_inclusive { ']' } else { ')' };
+        let close = if self.hi_inclusive && self.hi.is_finite() {
+            ']'
+        } else {
+            ')'
+        };
         write!(f, "allowed range {open}{}, {}{close}", self.lo, self.hi)?;
         if !self.unit.is_empty() {
             write!(f, " {}", self.unit)?;
@@ -91,6 +111,13 @@ mod tests {
         assert_eq!(
             Range::positive_up_to(1000.0, "mm").to_string(),
             "allowed range (0, 1000] mm"
+        );
+        let p = Range::positive("mg");
+        assert!(p.contains(1e30) && !p.contains(f64::INFINITY) && !p.contains(0.0));
+        assert_eq!(p.to_string(), "allowed range (0, inf) mg");
+        assert_eq!(
+            Range::at_least(0.0, "").to_string(),
+            "allowed range [0, inf)"
         );
     }
 }

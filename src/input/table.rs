@@ -40,6 +40,15 @@ impl<'a> TableReader<'a> {
         }
     }
 
+    /// This table's own dotted path, or `root` for the root table.
+    pub fn prefix_or(&self, root: &str) -> String {
+        if self.prefix.is_empty() {
+            root.to_string()
+        } else {
+            self.prefix.clone()
+        }
+    }
+
     fn get(&self, key: &str) -> Option<&'a Value> {
         self.used.borrow_mut().insert(key.to_string());
         self.table.get(key)
@@ -106,6 +115,125 @@ impl<'a> TableReader<'a> {
                 format!("expected a whole number in [{lo}, {hi}]"),
             )),
         }
+    }
+
+    /// A required whole number in `[lo, hi]`.
+    pub fn count(&self, key: &str, lo: i64, hi: i64) -> Result<usize, InputError> {
+        self.optional_count(key, lo, hi)?.ok_or_else(|| {
+            InputError::missing(
+                self.file,
+                &self.path(key),
+                &format!("a whole number in [{lo}, {hi}]"),
+            )
+        })
+    }
+
+    /// A required span `[min, max]` of numbers in `range`, or one number for a fixed value (`min == max`).
+    pub fn span_in(&self, key: &str, range: Range) -> Result<(f64, f64), InputError> {
+        let expected = format!("expected a number or [min, max], each in the {range}");
+        let field = self.path(key);
+        let value = self.get(key).ok_or_else(|| {
+            InputError::missing(self.file, &field, &expected["expected ".len()..])
+        })?;
+        let bad =
+            |why: &str| InputError::invalid(self.file, &field, value, format!("{why}{expected}"));
+        let (lo, hi) = match value {
+            Value::Float(_) | Value::Integer(_) => {
+                let x = self.number(key, value, &range)?;
+                (x, x)
+            }
+            Value::Array(items) if items.is_empty() => return Err(bad("the range is empty; ")),
+            Value::Array(items) if items.len() == 2 => {
+                let lo = self.number(&format!("{key}[0]"), &items[0], &range)?;
+                let hi = self.number(&format!("{key}[1]"), &items[1], &range)?;
+                (lo, hi)
+            }
+            _ => return Err(bad("")),
+        };
+        if lo > hi {
+            return Err(bad("inverted range: min > max; "));
+        }
+        Ok((lo, hi))
+    }
+
+    /// A required array of `min_len..=max_len` arrays, each of `1..=inner_max` numbers in `range`
+    /// (layups: a list of ply-angle lists).
+    pub fn number_lists_in(
+        &self,
+        key: &str,
+        range: Range,
+        (min_len, max_len): (usize, usize),
+        inner_max: usize,
+    ) -> Result<Vec<Vec<f64>>, InputError> {
+        let expected = format!(
+            "an array of {min_len} to {max_len} arrays of 1 to {inner_max} numbers, each in the {range}"
+        );
+        match self.get(key) {
+            Some(Value::Array(lists)) if (min_len..=max_len).contains(&lists.len()) => lists
+                .iter()
+                .enumerate()
+                .map(|(i, list)| match list {
+                    Value::Array(items) if (1..=inner_max).contains(&items.len()) => items
+                        .iter()
+                        .enumerate()
+                        .map(|(j, v)| self.number(&format!("{key}[{i}][{j}]"), v, &range))
+                        .collect(),
+                    other => Err(InputError::invalid(
+                        self.file,
+                        &self.path(&format!("{key}[{i}]")),
+                        other,
+                        format!(
+                            "expected an array of 1 to {inner_max} numbers, each in the {range}"
+                        ),
+                    )),
+                })
+                .collect(),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                format!("expected {expected}"),
+            )),
+            None => Err(InputError::missing(self.file, &self.path(key), &expected)),
+        }
+    }
+
+    /// An optional array of numbers (see [`TableReader::numbers_in`]).
+    pub fn optional_numbers_in(
+        &self,
+        key: &str,
+        range: Range,
+        min_len: usize,
+        max_len: usize,
+    ) -> Result<Option<Vec<f64>>, InputError> {
+        if self.table.contains_key(key) {
+            self.numbers_in(key, range, min_len, max_len).map(Some)
+        } else {
+            self.used.borrow_mut().insert(key.to_string());
+            Ok(None)
+        }
+    }
+
+    /// Refuse at once any key outside `known`: used where a misspelt table would otherwise be reported
+    /// as a missing one.
+    pub fn only_keys(&self, known: &[&str]) -> Result<(), InputError> {
+        if let Some(key) = self.table.keys().find(|k| !known.contains(&k.as_str())) {
+            return Err(self.unknown_key(key, known));
+        }
+        Ok(())
+    }
+
+    fn unknown_key(&self, key: &str, known: &[&str]) -> InputError {
+        let value = match &self.table[key] {
+            Value::Table(_) => "(table)".to_string(),
+            v => v.to_string(),
+        };
+        InputError::invalid(
+            self.file,
+            &self.path(key),
+            value,
+            format!("unknown key; known keys here: {}", known.join(", ")),
+        )
     }
 
     /// A required string.
@@ -277,12 +405,7 @@ impl<'a> TableReader<'a> {
         let used = self.used.borrow();
         if let Some(key) = self.table.keys().find(|k| !used.contains(*k)) {
             let known: Vec<&str> = used.iter().map(String::as_str).collect();
-            return Err(InputError::invalid(
-                self.file,
-                &self.path(key),
-                self.table[key].clone(),
-                format!("unknown key; known keys here: {}", known.join(", ")),
-            ));
+            return Err(self.unknown_key(key, &known));
         }
         Ok(())
     }

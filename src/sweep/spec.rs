@@ -1,59 +1,15 @@
-//! The sweep's factors file: raw serde structs and their validation into SI levels.
+//! The sweep's factors file: one validating conversion ([`SweepSpec::from_table`]) from the parsed TOML
+//! into SI levels, through the checked reader and the shared field ranges of [`crate::input`].
 
+use crate::input::library::{library_ply, library_pzt, read_drive_field, read_drive_mode};
+use crate::input::limits::{
+    BASE_WIDTH_MM, D31_MAGNITUDE_PM_PER_V, EXTENSION_RATIO, LENGTH_MM, MAX_DESIGNS, MAX_LEVELS,
+    MAX_PLIES, MODULUS_GPA, PLY_ANGLE_DEG, PZT_THICKNESS_MM, WIDTH_RATIO,
+};
+use crate::input::{read_toml, FieldSource, InputError, Range, TableReader};
 use crate::optimize::report::decimal;
-use crate::optimize::spec::{list, read_toml, FieldErrors, FieldSource, RawLaminate, SpecError};
 use actuator_model::{DriveMode, Material};
-use serde::Deserialize;
 use std::path::Path;
-
-/// Raw factors file.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RawSweep {
-    /// `[laminate]`: the materials.
-    pub laminate: RawLaminate,
-    /// `[drive]`: mode and field, the same for every design.
-    pub drive: RawSweepDrive,
-    /// `[factors]`: the levels of each factor.
-    pub factors: RawFactors,
-}
-
-/// `[drive]`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct RawSweepDrive {
-    /// Drive mode.
-    pub mode: String,
-    /// Peak plate field, V/mm.
-    pub field_V_per_mm: Option<f64>,
-    /// Or a survival share (field from the Weibull fit).
-    pub survival: Option<f64>,
-}
-
-/// `[factors]`: lists of levels. The geometry and laminate factors are required; `extension_ratio` and
-/// `width_ratio` default to a rectangle, the PZT property factors to the library values.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct RawFactors {
-    /// PZT Young's modulus levels, GPa (thesis Table 3.1).
-    pub pzt_modulus_GPa: Option<Vec<f64>>,
-    /// PZT |d31| levels, pm/V (thesis Table 3.1); the sign of the library material is kept.
-    pub pzt_d31_pm_per_V: Option<Vec<f64>>,
-    /// PZT plate thickness levels, mm.
-    pub pzt_thickness_mm: Vec<f64>,
-    /// Passive layup levels, degrees.
-    pub layups_deg: Vec<Vec<f64>>,
-    /// Total length levels, mm.
-    pub length_mm: Vec<f64>,
-    /// Extension ratio levels.
-    pub extension_ratio: Option<Vec<f64>>,
-    /// Base width levels, mm.
-    pub base_width_mm: Vec<f64>,
-    /// Width ratio levels.
-    pub width_ratio: Option<Vec<f64>>,
-}
 
 /// One factor of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -137,63 +93,48 @@ pub struct SweepSpec {
     pub width_ratio: Vec<f64>,
 }
 
-/// Largest accepted sweep: every design is kept in memory and written to the CSV.
-pub const MAX_DESIGNS: usize = 10_000_000;
-
 impl SweepSpec {
     /// Read and validate a factors file.
-    pub fn from_file(path: &Path) -> Result<SweepSpec, SpecError> {
-        let raw: RawSweep = read_toml(path)?;
-        SweepSpec::from_raw(&raw, path)
+    pub fn from_file(path: &Path) -> Result<SweepSpec, InputError> {
+        let table = read_toml(path)?;
+        SweepSpec::from_table(path, &table)
     }
 
-    /// Validate raw input; `path` names the file in errors.
-    pub fn from_raw(raw: &RawSweep, path: &Path) -> Result<SweepSpec, SpecError> {
-        let f = FieldErrors::new(path);
-        let pzt = f.pzt("laminate.pzt", &raw.laminate.pzt)?;
-        let (ply, ply_thickness) = f.ply("laminate.ply", &raw.laminate.ply)?;
-        let mode = f.drive_mode("drive.mode", &raw.drive.mode)?;
-        let (field, field_source) = f.field(mode, raw.drive.field_V_per_mm, raw.drive.survival)?;
-        let r = &raw.factors;
-        let positive = (0.0, false, f64::INFINITY);
-        let pzt_modulus = match &r.pzt_modulus_GPa {
-            Some(v) => levels(
-                &f,
-                "factors.pzt_modulus_GPa",
-                v,
-                positive,
-                "(0, inf) GPa",
-                1e9,
-            )?,
-            None => vec![pzt.e1],
+    /// Validate a parsed factors file; `path` names the file in errors. The geometry and laminate
+    /// factors are required; `extension_ratio` and `width_ratio` default to a rectangle, the PZT
+    /// property factors to the library values.
+    pub fn from_table(path: &Path, table: &toml::Table) -> Result<SweepSpec, InputError> {
+        let root = TableReader::new(path, "", table);
+        root.only_keys(&["laminate", "drive", "factors"])?;
+
+        let l = root.table("laminate")?;
+        let pzt_name = l.string("pzt", "a PZT material name from the library")?;
+        let pzt = library_pzt(path, &l.path("pzt"), pzt_name)?;
+        let ply_name = l.string("ply", "a passive ply material name from the library")?;
+        let (ply, ply_thickness) = library_ply(path, &l.path("ply"), ply_name)?;
+        l.finish()?;
+
+        let d = root.table("drive")?;
+        let mode = read_drive_mode(&d)?;
+        let (field, field_source) = read_drive_field(&d, mode)?;
+        d.finish()?;
+
+        let f = root.table("factors")?;
+        let levels = |key: &str, allowed: Range, scale: f64| {
+            f.numbers_in(key, allowed, 1, MAX_LEVELS)
+                .map(|v| scaled(&v, scale))
         };
+        let optional_levels = |key: &str, allowed: Range, scale: f64| {
+            f.optional_numbers_in(key, allowed, 1, MAX_LEVELS)
+                .map(|v| v.map(|v| scaled(&v, scale)))
+        };
+        let pzt_modulus =
+            optional_levels("pzt_modulus_GPa", MODULUS_GPA, 1e9)?.unwrap_or_else(|| vec![pzt.e1]);
         let sign = pzt.d31.signum();
-        let pzt_d31 = match &r.pzt_d31_pm_per_V {
-            Some(v) => levels(
-                &f,
-                "factors.pzt_d31_pm_per_V",
-                v,
-                positive,
-                "(0, inf) pm/V",
-                1e-12,
-            )?
-            .into_iter()
-            .map(|d| sign * d)
-            .collect(),
+        let pzt_d31 = match optional_levels("pzt_d31_pm_per_V", D31_MAGNITUDE_PM_PER_V, 1e-12)? {
+            Some(v) => v.into_iter().map(|d| sign * d).collect(),
             None => vec![pzt.d31],
         };
-        if r.layups_deg.is_empty() {
-            return Err(f.error(
-                "factors.layups_deg",
-                "[]",
-                "list at least one layup, e.g. [[0, 90, 0]]",
-            ));
-        }
-        let layups = r
-            .layups_deg
-            .iter()
-            .map(|l| f.layup("factors.layups_deg", l))
-            .collect::<Result<Vec<_>, _>>()?;
         let spec = SweepSpec {
             ply_thickness,
             mode,
@@ -201,59 +142,23 @@ impl SweepSpec {
             field_source,
             pzt_modulus,
             pzt_d31,
-            pzt_thickness: levels(
-                &f,
-                "factors.pzt_thickness_mm",
-                &r.pzt_thickness_mm,
-                positive,
-                "(0, inf) mm",
-                1e-3,
-            )?,
-            layups,
-            length: levels(
-                &f,
-                "factors.length_mm",
-                &r.length_mm,
-                positive,
-                "(0, inf) mm",
-                1e-3,
-            )?,
-            extension_ratio: match &r.extension_ratio {
-                Some(v) => levels(
-                    &f,
-                    "factors.extension_ratio",
-                    v,
-                    (0.0, true, f64::INFINITY),
-                    "[0, inf)",
-                    1.0,
-                )?,
-                None => vec![0.0],
-            },
-            base_width: levels(
-                &f,
-                "factors.base_width_mm",
-                &r.base_width_mm,
-                positive,
-                "(0, inf) mm",
-                1e-3,
-            )?,
-            width_ratio: match &r.width_ratio {
-                Some(v) => levels(
-                    &f,
-                    "factors.width_ratio",
-                    v,
-                    (0.0, false, 2.0),
-                    "(0, 2)",
-                    1.0,
-                )?,
-                None => vec![1.0],
-            },
+            pzt_thickness: levels("pzt_thickness_mm", PZT_THICKNESS_MM, 1e-3)?,
+            layups: f.number_lists_in("layups_deg", PLY_ANGLE_DEG, (1, MAX_LEVELS), MAX_PLIES)?,
+            length: levels("length_mm", LENGTH_MM, 1e-3)?,
+            extension_ratio: optional_levels("extension_ratio", EXTENSION_RATIO, 1.0)?
+                .unwrap_or_else(|| vec![0.0]),
+            base_width: levels("base_width_mm", BASE_WIDTH_MM, 1e-3)?,
+            width_ratio: optional_levels("width_ratio", WIDTH_RATIO, 1.0)?
+                .unwrap_or_else(|| vec![1.0]),
             pzt,
             ply,
         };
+        f.finish()?;
+        root.finish()?;
         let count = spec.count();
         if count > MAX_DESIGNS {
-            return Err(f.error(
+            return Err(InputError::invalid(
+                path,
                 "factors",
                 format!("{count} designs"),
                 format!("a sweep may have at most {MAX_DESIGNS} designs"),
@@ -304,41 +209,18 @@ impl SweepSpec {
     }
 }
 
-/// A non-empty list of levels inside `(lo, hi)` (`[lo, hi)` when inclusive), scaled to SI.
-fn levels(
-    f: &FieldErrors,
-    field: &str,
-    values: &[f64],
-    (lo, lo_inclusive, hi): (f64, bool, f64),
-    allowed: &str,
-    scale: f64,
-) -> Result<Vec<f64>, SpecError> {
-    if values.is_empty() {
-        return Err(f.error(field, "[]", "list at least one level"));
-    }
-    for &v in values {
-        let above = if lo_inclusive { v >= lo } else { v > lo };
-        if !(v.is_finite() && above && v < hi) {
-            return Err(f.error(
-                field,
-                list(values),
-                format!("level {v} is outside {allowed}"),
-            ));
-        }
-    }
-    Ok(values.iter().map(|v| v * scale).collect())
+/// Levels in file units scaled to SI.
+fn scaled(values: &[f64], scale: f64) -> Vec<f64> {
+    values.iter().map(|v| v * scale).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<SweepSpec, SpecError> {
-        let raw: RawSweep = toml::from_str(text).map_err(|e| SpecError::Parse {
-            file: "s.toml".into(),
-            message: e.to_string(),
-        })?;
-        SweepSpec::from_raw(&raw, Path::new("s.toml"))
+    fn parse(text: &str) -> Result<SweepSpec, InputError> {
+        let path = Path::new("s.toml");
+        SweepSpec::from_table(path, &crate::input::parse_toml(path, text)?)
     }
 
     const TABLE_3_1: &str = r#"

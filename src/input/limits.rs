@@ -1,0 +1,116 @@
+//! The allowed range of every numeric user field, stated once with its unit. Every file kind checks
+//! against these: a length is a length whether it comes from a design file, an optimize search range, a
+//! sweep level or a measured-data CSV row.
+
+use super::Range;
+
+// Geometry (design `[geometry]`, optimize `[search]`, sweep `[factors]`, measured CSV).
+
+/// Total length l_tot = l_p + l_ext.
+pub const LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// Extension ratio l_r = l_ext / l_p.
+pub const EXTENSION_RATIO: Range = Range::closed(0.0, 20.0, "");
+/// Base width w_0.
+pub const BASE_WIDTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// Width ratio w_r = w_0 / w_nom; the tip width `(2 - w_r) w_nom` must stay positive.
+pub const WIDTH_RATIO: Range = Range::open(0.0, 2.0, "");
+/// Passive-only tab behind the PZT.
+pub const BASE_TAB_MM: Range = Range::closed(0.0, 1000.0, "mm");
+/// Smallest tip width asked of the optimizer (0: unconstrained).
+pub const MIN_TIP_WIDTH_MM: Range = Range::at_least(0.0, "mm");
+
+// Laminate.
+
+/// One PZT plate.
+pub const PZT_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+/// One passive ply, one bond layer, a material's standard ply.
+pub const PLY_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+/// A ply angle from the actuator axis.
+pub const PLY_ANGLE_DEG: Range = Range::closed(-180.0, 180.0, "deg");
+/// Most plies in a layup.
+pub const MAX_PLIES: usize = 64;
+
+// Materials (`[materials.NAME]`, sweep property levels).
+
+/// Young's and shear moduli.
+pub const MODULUS_GPA: Range = Range::positive_up_to(2000.0, "GPa");
+/// In-plane Poisson ratio ν12.
+pub const POISSON: Range = Range::closed(0.0, 0.5, "");
+/// Density of a material or a clamp layer.
+pub const DENSITY_KG_PER_M3: Range = Range::positive_up_to(30_000.0, "kg/m^3");
+/// Piezoelectric coefficient d31, signed.
+pub const D31_PM_PER_V: Range = Range::closed(-2000.0, 2000.0, "pm/V");
+/// |d31| of a sweep level (the library material's sign is kept).
+pub const D31_MAGNITUDE_PM_PER_V: Range = Range::positive_up_to(2000.0, "pm/V");
+/// Relative permittivity ε33/ε0.
+pub const PERMITTIVITY: Range = Range::closed(0.0, 100_000.0, "");
+
+// Drive.
+
+/// Peak field in a plate.
+pub const FIELD_V_PER_MM: Range = Range::positive_up_to(10_000.0, "V/mm");
+/// Supply voltage of a design, or the optimizer's highest supply voltage.
+pub const VOLTAGE_V: Range = Range::positive_up_to(100_000.0, "V");
+/// Applied voltage of a measurement: a reading at rest (0 V) is allowed.
+pub const MEASURED_VOLTAGE_V: Range = Range::closed(0.0, 100_000.0, "V");
+/// Share of plates that survive the field (Weibull fit, thesis eq. 3.2).
+pub const SURVIVAL: Range = Range::open(0.0, 1.0, "");
+
+// Requirements and measurements.
+
+/// Required mechanical energy U = ½ F_b δ.
+pub const ENERGY_MJ: Range = Range::positive("mJ");
+/// Largest peak |strain| on a PZT surface.
+pub const PZT_STRAIN: Range = Range::positive("");
+/// Measured mass of an actuator.
+pub const MASS_MG: Range = Range::positive("mg");
+/// Measured one-sided free deflection.
+pub const FREE_DEFLECTION_MM: Range = Range::positive("mm");
+/// Measured blocked force.
+pub const BLOCKED_FORCE_N: Range = Range::positive("N");
+/// A failure value of the Weibull fit (field, strain or stress, any unit).
+pub const FAILURE_VALUE: Range = Range::positive("");
+
+// Counts.
+
+/// Actuators of one design.
+pub const MAX_QUANTITY: i64 = 100_000;
+/// Points per continuous variable in the optimizer's exhaustive stage: 500⁴ points per laminate is
+/// already hours of work, and fewer than 2 spans nothing.
+pub const GRID: (i64, i64) = (2, 500);
+/// Most levels of one sweep factor, or choices of one optimize search variable (PZT thicknesses,
+/// layups).
+pub const MAX_LEVELS: usize = 1000;
+/// Largest sweep: every design is kept in memory and written to the CSV.
+pub const MAX_DESIGNS: usize = 10_000_000;
+/// Largest optimiser budget of the irregular nester.
+pub const MAX_ITERATIONS: i64 = 10_000_000;
+
+// Process templates and batch sheet overrides.
+
+/// Side of a stock sheet or a clamp panel.
+pub const SHEET_SIDE_MM: Range = Range::positive_up_to(2000.0, "mm");
+/// Laser kerf.
+pub const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
+/// Gaps, margins and clearances of sheets and clamp panels.
+pub const GAP_MM: Range = Range::closed(0.0, 50.0, "mm");
+/// Gap between parts on top of the kerf.
+pub const SPACING_MM: Range = GAP_MM;
+/// Thickness of a clamp layer or a bond film.
+pub const LAYER_THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
+/// Largest sheet stock.
+pub const MAX_STOCK: i64 = 100_000;
+/// Price of one sheet.
+pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
+/// Engraved label text height.
+pub const LABEL_HEIGHT_MM: Range = Range::closed(0.0, 20.0, "mm");
+/// Registration pin hole radius.
+pub const PIN_RADIUS_MM: Range = Range::positive_up_to(20.0, "mm");
+/// PZT-to-CF edge margin.
+pub const PASSIVE_EDGE_MARGIN_MM: Range = Range::closed(0.0, 2.0, "mm");
+/// Via for silver epoxy, diameter.
+pub const VIA_DIAMETER_MM: Range = Range::positive_up_to(10.0, "mm");
+/// A position as a fraction of a length, ends excluded.
+pub const FRACTION: Range = Range::open(0.0, 1.0, "");
+/// AutoCAD colour index.
+pub const ACI: Range = Range::closed(1.0, 255.0, "");
