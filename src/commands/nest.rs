@@ -4,8 +4,8 @@ use super::formats::parse_formats;
 use crate::batch::{plan, Batch, NestOptions};
 use crate::cam::svg::SvgOptions;
 use crate::cutsheet::write::{render_drawings, write_atomically};
-use crate::nest::NestSettings;
 use anyhow::bail;
+use cam_nest::NestSettings;
 use clap::Args;
 use std::path::PathBuf;
 
