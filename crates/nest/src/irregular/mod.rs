@@ -36,25 +36,30 @@
 //!   order, or best fit as the greedy fill does.
 //!   The objective is lexicographic: fewer sheets, a shorter *used length* (all sheets but the
 //!   one with the lowest top counted whole, plus that top: what
-//!   [`NestSolution::used_length_mm`](super::NestSolution::used_length_mm) measures), a higher
+//!   [`NestSolution::used_length_mm`](crate::NestSolution::used_length_mm) measures), a higher
 //!   sum of squared fills (it rises as parts move into fuller sheets, i.e. as the last sheet
 //!   empties), then lower parts. Moves are accepted by thresholds on the length, the fills and,
 //!   when neither changes, the area-weighted mean top (so such moves pack parts down instead of
 //!   drifting), all shrinking to zero over the budget; the best layout is kept.
-//! * **Compression** (`Model::compressed`, [`super::compress`]): the moves above only place parts
+//! * **Compression** (`Model::compressed`, [`crate::compress`]): the moves above only place parts
 //!   where they are clear, so the parts under a sheet's top seldom get past one another. Last,
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they overlap
 //!   least until none do (guided local search on the penetration of convex pieces,
-//!   [`super::overlap`]); jagua-rs checks every layout it keeps. Each worker compresses on its
+//!   [`crate::overlap`]); jagua-rs checks every layout it keeps. Each worker compresses on its
 //!   own stream for `COMPRESSION_EVALUATIONS` overlap evaluations per iteration; the lowest top
 //!   wins. On the bench's strips it took the density from 75.4 to 77.9 % (seed 1).
-//! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream derived from the
-//!   seed; work is cut into epochs by iteration count. In the first half of the epochs each
+//! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
+//!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
 //! * **Where it stands**: on the bench's 60-part strips about 1 point of density behind
 //!   sparrow, the state-of-the-art strip packer (README, "Nesting engine: figures").
+//!
+//! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
+//! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
+//! spot search and the greedy fills, `moves` ruin and recreate with its acceptance loop,
+//! `portfolio` the workers, epochs and final compression, `random` the streams.
 
 mod construct;
 mod model;

@@ -67,7 +67,7 @@ impl Model<'_> {
     }
 
     /// The layout with its lowest-topped sheet (the one whose used length counts) compressed
-    /// through overlap ([`super::compress`]), each worker on its own random stream with
+    /// through overlap ([`crate::compress`]), each worker on its own random stream with
     /// `COMPRESSION_EVALUATIONS` per iteration of the budget; the lowest top wins (ties to the
     /// lower worker).
     pub(super) fn compressed(&self, mut sheets: Sheets, epoch: usize) -> Sheets {
