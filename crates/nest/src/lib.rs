@@ -9,6 +9,9 @@
 //! * [`verify`] checks any layout, from these nesters or from elsewhere, with plain `geo`
 //!   geometry: inside the sheet with the separation to every edge, the separation between parts,
 //!   allowed rotations, outlines equal to the item moved as stated, every copy placed once.
+//!   [`verify_sheet`] checks one sheet's parts with its own [`Clearance`] (the gap to the edge
+//!   may differ from the gap between parts), for layouts made by other packers, e.g. a shelf
+//!   packer of scored plates.
 //!
 //! The vocabulary: an item ([`NestItem`]) is an outline with a demand and the rotations it may be
 //! cut at; a sheet ([`NestBin`]) is `[0, width_mm] x [0, height_mm]` with a stock count; a layout
@@ -60,4 +63,4 @@ pub use job::clean_ring;
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
-pub use verify::{verify, NestViolation};
+pub use verify::{verify, verify_sheet, Clearance, NestViolation};
