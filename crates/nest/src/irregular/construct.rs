@@ -206,7 +206,7 @@ impl Model<'_> {
                         .expect("a design is left");
                     let spot = self
                         .find_spot(None, p, &mut rng, GREEDY_EFFORT, &[], None)
-                        .ok_or_else(|| self.too_large(p))?;
+                        .ok_or_else(|| self.job.too_large(p))?;
                     let (key, _) = problem
                         .place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
                     sheets.push(key);
@@ -246,11 +246,11 @@ impl Model<'_> {
         }
         if search.ceiling.is_some() {
             // A shrink move that did not fit: it fails rather than open a sheet.
-            return Err(self.too_large(part));
+            return Err(self.job.too_large(part));
         }
         let spot = self
             .find_spot(None, part, rng, search.effort, &[], None)
-            .ok_or_else(|| self.too_large(part))?;
+            .ok_or_else(|| self.job.too_large(part))?;
         let (key, _) =
             problem.place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
         sheets.push(key);

@@ -228,19 +228,6 @@ impl<'a> Model<'a> {
             })
             .collect()
     }
-
-    pub(super) fn too_large(&self, part: usize) -> NestError {
-        let p = &self.job.parts[part];
-        let size = p.bbox_size(p.rotations_deg[0]);
-        NestError::PartLargerThanBin {
-            item: p.item,
-            part_width_mm: size[0],
-            part_height_mm: size[1],
-            bin_width_mm: self.job.bin.width_mm,
-            bin_height_mm: self.job.bin.height_mm,
-            separation_mm: self.job.settings.separation_mm,
-        }
-    }
 }
 
 /// The job as a jagua-rs bin-packing instance: one item per part (same index), one sheet type
