@@ -6,7 +6,7 @@
 //!   compression of the final sheet through overlap; [`irregular`] explains how.
 //! * [`nest_bounding_boxes`] is the baseline it is measured against: bounding boxes packed by
 //!   MaxRects.
-//! * [`verify`] checks any layout, from these nesters or from elsewhere, with plain `geo`
+//! * [`verify()`] checks any layout, from these nesters or from elsewhere, with plain `geo`
 //!   geometry: inside the sheet with the separation to every edge, the separation between parts,
 //!   allowed rotations, outlines equal to the item moved as stated, every copy placed once.
 //!   [`verify_sheet`] checks one sheet's parts with its own [`Clearance`] (the gap to the edge

@@ -41,12 +41,12 @@
 //!   empties), then lower parts. Moves are accepted by thresholds on the length, the fills and,
 //!   when neither changes, the area-weighted mean top (so such moves pack parts down instead of
 //!   drifting), all shrinking to zero over the budget; the best layout is kept.
-//! * **Compression** (`Model::compressed`, [`crate::compress`]): the moves above only place parts
+//! * **Compression** (`Model::compressed`, module `compress`): the moves above only place parts
 //!   where they are clear, so the parts under a sheet's top seldom get past one another. Last,
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they overlap
 //!   least until none do (guided local search on the penetration of convex pieces,
-//!   [`crate::overlap`]); jagua-rs checks every layout it keeps. Each worker compresses on its
+//!   module `overlap`); jagua-rs checks every layout it keeps. Each worker compresses on its
 //!   own stream for `COMPRESSION_EVALUATIONS` overlap evaluations per iteration; the lowest top
 //!   wins. On the bench's strips it took the density from 75.4 to 77.9 % (seed 1).
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
