@@ -9,7 +9,6 @@ pub mod cutsheet;
 pub mod design;
 pub mod input;
 pub mod layout;
-pub mod nest;
 pub mod optimize;
 pub mod output;
 pub mod prediction;

@@ -2,10 +2,10 @@
 """Reference for the nesting figures: nests the benchmark batches with an external, strong
 irregular strip packer and writes its strip density next to ours. Run by hand, not in CI:
 
-    cargo bench --bench nest_engine            # writes target/nest-bench/batches.json
+    cargo bench -p cam-nest --bench nest_engine   # writes target/nest-bench/batches.json
     python3 -m venv /tmp/nestref && /tmp/nestref/bin/pip install spyrrow==0.9.0
     /tmp/nestref/bin/python tools/nest_reference.py [--seconds 30] [--workers 2]
-    cargo bench --bench nest_engine            # now prints the reference column
+    cargo bench -p cam-nest --bench nest_engine   # now prints the reference column
 
 The packer is `spyrrow`, the Python binding of sparrow (Gardeyn & Wauters, state-of-the-art
 irregular strip packing, built on jagua-rs). Strip packing: fixed strip width (our sheet width,

@@ -13,7 +13,7 @@ use crate::cutsheet::jobs::{check_geometry, Drawn, Job, Names};
 use crate::cutsheet::pzt::pzt_sheets;
 use crate::cutsheet::{CutSheetError, SheetDrawing};
 use crate::layout::{place_ring, Placement, SheetLayout};
-use crate::nest::{
+use cam_nest::{
     nest, nest_bounding_boxes, verify, NestBin, NestError, NestItem, NestSettings, NestSolution,
 };
 
@@ -156,7 +156,7 @@ fn in_context(e: CutSheetError, context: &str) -> CutSheetError {
 }
 
 /// Nest one cut layer with the irregular nester: nominal outlines at rotations 0° / 180°, kerf +
-/// spacing between parts and to the sheet edge. Every nest is checked by `crate::nest::verify`; the
+/// spacing between parts and to the sheet edge. Every nest is checked by `cam_nest::verify`; the
 /// bounding-box baseline is nested too for the report. Returns the sheet layouts of the cut paths.
 fn nest_layer(
     layer: &CutLayer,

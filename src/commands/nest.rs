@@ -4,9 +4,9 @@ use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
 use crate::batch::{plan, Batch, NestOptions};
 use crate::cam::svg::SvgOptions;
 use crate::cutsheet::write::render_drawings;
-use crate::nest::NestSettings;
 use crate::output::Output;
 use anyhow::bail;
+use cam_nest::NestSettings;
 use clap::Args;
 use std::path::PathBuf;
 

@@ -1,80 +1,17 @@
-//! Nesting engine: every layout is checked with `nest::verify` (plain `geo` distances, not
+//! Nesting engine: every layout is checked with `cam_nest::verify` (plain `geo` distances, not
 //! jagua-rs), plus determinism, the bounding-box baseline comparison and error messages.
 //! `report_*` tests are `#[ignore]`d measurements: run them in release with
-//! `cargo test --release --test nest_engine -- --ignored --nocapture`.
+//! `cargo test --release -p cam-nest --test nest_engine -- --ignored --nocapture`.
 
-use actuator_cam::nest::{
+mod fixtures;
+
+use cam_nest::{
     nest, nest_bounding_boxes, verify, NestBin, NestError, NestItem, NestSettings, NestSolution,
-    Point,
+    NestedBin, PlacedPart,
 };
+use fixtures::{actuator, fibre, random_designs, sixty_mixed, write_svg};
 use proptest::prelude::*;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
-
-/// Passive part of a bimorph actuator, base at x = 0, tip towards +x, symmetric about y = 0:
-/// trapezoid (`length`, `base` and `tip` widths), a rectangular extension at the tip width and a
-/// rectangular tab at the base width behind the base. CCW, no repeated closing point.
-fn actuator(length: f64, base: f64, tip: f64, extension: f64, tab: f64) -> Vec<Point> {
-    let (b, t) = (base / 2.0, tip / 2.0);
-    let mut ring = Vec::new();
-    if tab > 0.0 {
-        ring.push([-tab, -b]);
-    }
-    ring.push([0.0, -b]);
-    ring.push([length, -t]);
-    if extension > 0.0 {
-        ring.push([length + extension, -t]);
-        ring.push([length + extension, t]);
-    }
-    ring.push([length, t]);
-    ring.push([0.0, b]);
-    if tab > 0.0 {
-        ring.push([-tab, b]);
-    }
-    ring
-}
-
-fn fibre(outline: Vec<Point>, demand: usize) -> NestItem {
-    NestItem {
-        outline,
-        demand,
-        rotations_deg: vec![0.0, 180.0],
-    }
-}
-
-/// 60 actuators: 4 designs x 15 spanning the usual sizes.
-fn sixty_mixed() -> Vec<NestItem> {
-    vec![
-        fibre(actuator(20.0, 6.0, 1.5, 10.0, 2.0), 15),
-        fibre(actuator(30.0, 12.0, 3.0, 20.0, 3.0), 15),
-        fibre(actuator(40.0, 20.0, 6.0, 25.0, 5.0), 15),
-        fibre(actuator(15.0, 4.0, 0.8, 0.0, 0.0), 15),
-    ]
-}
-
-/// `designs` random actuator designs from the usual ranges, `copies` of each.
-fn random_designs(seed: u64, designs: usize, copies: usize) -> Vec<NestItem> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..designs)
-        .map(|_| {
-            let length = rng.gen_range(15.0..=40.0);
-            let base = rng.gen_range(3.0..=20.0);
-            let tip = rng.gen_range(0.5f64..=10.0).min(base);
-            let extension = if rng.gen_bool(0.7) {
-                rng.gen_range(0.0..=30.0)
-            } else {
-                0.0
-            };
-            let tab = if rng.gen_bool(0.5) {
-                rng.gen_range(0.0..=5.0)
-            } else {
-                0.0
-            };
-            fibre(actuator(length, base, tip, extension, tab), copies)
-        })
-        .collect()
-}
 
 fn sheet(stock: usize) -> NestBin {
     NestBin {
@@ -223,22 +160,22 @@ fn used_length_counts_full_sheets_and_the_lowest_top() {
     // Sheet 0: a 10 x 100 bar (top at 101); sheet 1: a 10 x 20 bar (top at 21).
     let bar = |height: f64, copy: usize| {
         let outline = vec![[0.0, 0.0], [10.0, 0.0], [10.0, height], [0.0, height]];
-        actuator_cam::nest::PlacedPart {
+        PlacedPart {
             item: 0,
             copy,
             rotation_deg: 0.0,
             translation: [1.0, 1.0],
-            outline: actuator_cam::nest::place_outline(&outline, 0.0, [1.0, 1.0]),
+            outline: cam_geometry::place_ring(&outline, 0.0, [1.0, 1.0]),
         }
     };
     let solution = NestSolution {
         bins: vec![
-            actuator_cam::nest::NestedBin {
+            NestedBin {
                 index: 0,
                 parts: vec![bar(100.0, 0)],
                 utilization: 1000.0 / 15000.0,
             },
-            actuator_cam::nest::NestedBin {
+            NestedBin {
                 index: 1,
                 parts: vec![bar(20.0, 1)],
                 utilization: 200.0 / 15000.0,
@@ -409,36 +346,6 @@ proptest! {
         let solution = nest(&items, &sheet(50), &s).expect("nest");
         prop_assert_eq!(verify(&items, &sheet(50), &s, &solution, 1e-9), Ok(()));
     }
-}
-
-/// Writes the sheets side by side as SVG (y up) for a look at the layout.
-fn write_svg(path: &std::path::Path, solution: &NestSolution, bin: &NestBin) {
-    let (w, h) = (bin.width_mm, bin.height_mm);
-    let mut svg = format!(
-        "<svg xmlns='http://www.w3.org/2000/svg' viewBox='-5 -5 {} {}' width='{}' height='{}'>\n",
-        (w + 10.0) * solution.bins.len() as f64,
-        h + 10.0,
-        4.0 * (w + 10.0) * solution.bins.len() as f64,
-        4.0 * (h + 10.0)
-    );
-    for (i, b) in solution.bins.iter().enumerate() {
-        let dx = i as f64 * (w + 10.0);
-        svg += &format!("<rect x='{dx}' y='0' width='{w}' height='{h}' fill='none' stroke='black' stroke-width='0.3'/>\n");
-        for p in &b.parts {
-            let points: Vec<String> = p
-                .outline
-                .iter()
-                .map(|q| format!("{:.3},{:.3}", q[0] + dx, h - q[1]))
-                .collect();
-            svg += &format!(
-                "<polygon points='{}' fill='hsl({},60%,60%)' stroke='black' stroke-width='0.1'/>\n",
-                points.join(" "),
-                p.item * 67 % 360
-            );
-        }
-    }
-    svg += "</svg>\n";
-    std::fs::write(path, svg).expect("write svg");
 }
 
 /// Nests `items` with both nesters, prints sheets, utilisation and wall time, and returns

@@ -17,16 +17,16 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::irregular::Placement;
-use super::overlap::{bounds_meet, overlap, shifted, Bounds, Pieces};
+use crate::overlap::{bounds_meet, overlap, shifted, Bounds, Pieces};
+use crate::placement::Placement;
 
 /// A part at one of its rotations, as compression sees it.
-pub(super) struct Footprint {
+pub(crate) struct Footprint {
     /// The collision shape (inflated by half the separation) at the origin.
-    pub(super) pieces: Pieces,
+    pub(crate) pieces: Pieces,
     /// Translations that keep the shape inside the usable sheet.
-    pub(super) x: (f32, f32),
-    pub(super) y: (f32, f32),
+    pub(crate) x: (f32, f32),
+    pub(crate) y: (f32, f32),
 }
 
 impl Footprint {
@@ -63,7 +63,7 @@ const WEIGHT_DECAY: f32 = 0.95;
 /// The lowest-topped clear layout of `sheet`'s parts that compression finds within `budget`
 /// overlap evaluations (the input itself if none is lower). `clear` is the final judge of a
 /// layout (jagua-rs's collision test).
-pub(super) fn compress(
+pub(crate) fn compress(
     footprints: &[Vec<Footprint>],
     sheet: &[Placement],
     budget: usize,

@@ -13,14 +13,14 @@
 
 use geo::{Coord, LineString, Polygon, TriangulateEarcut};
 
-use super::problem::signed_area;
+use cam_geometry::area;
 
 /// Margin the measure adds to every pair, so that shapes it calls clear are apart by this much
 /// and also pass jagua-rs's own f32 collision test.
-pub(super) const CLEARANCE_MM: f32 = 2e-3;
+pub(crate) const CLEARANCE_MM: f32 = 2e-3;
 
 /// `[x_min, y_min, x_max, y_max]`.
-pub(super) type Bounds = [f32; 4];
+pub(crate) type Bounds = [f32; 4];
 
 /// A convex polygon, counter-clockwise, with its outward unit edge normals.
 #[derive(Debug, Clone)]
@@ -35,15 +35,15 @@ struct Convex {
 
 /// A collision shape at the origin, as convex pieces.
 #[derive(Debug, Clone)]
-pub(super) struct Pieces {
+pub(crate) struct Pieces {
     pieces: Vec<Convex>,
-    pub(super) bounds: Bounds,
+    pub(crate) bounds: Bounds,
 }
 
 impl Pieces {
     /// Convex pieces of a simple polygon (vertices counter-clockwise, not closed). `None` if it
     /// does not triangulate into pieces that cover it (a degenerate ring).
-    pub(super) fn new(ring: &[[f32; 2]]) -> Option<Pieces> {
+    pub(crate) fn new(ring: &[[f32; 2]]) -> Option<Pieces> {
         let exterior: Vec<Coord<f64>> = ring
             .iter()
             .map(|p| Coord {
@@ -69,7 +69,7 @@ impl Pieces {
             .iter()
             .map(|t| cross(points[t[0]], points[t[1]], points[t[2]]) / 2.0)
             .sum();
-        let ring_area = signed_area(&points).abs();
+        let ring_area = area(&points);
         if polygons.is_empty() || (triangles_area - ring_area).abs() > 1e-6 * ring_area.max(1.0) {
             return None;
         }
@@ -101,7 +101,7 @@ impl Pieces {
 
 /// Penetration of shape `a` moved by `ta` into shape `b` moved by `tb`: the sum over piece
 /// pairs of their separating-axis depth (plus [`CLEARANCE_MM`]); zero when they are clear.
-pub(super) fn overlap(a: &Pieces, ta: [f32; 2], b: &Pieces, tb: [f32; 2]) -> f32 {
+pub(crate) fn overlap(a: &Pieces, ta: [f32; 2], b: &Pieces, tb: [f32; 2]) -> f32 {
     // `a` in the frame where `b` sits at the origin.
     let d = [ta[0] - tb[0], ta[1] - tb[1]];
     if !bounds_meet(shifted(a.bounds, d), b.bounds) {
@@ -234,11 +234,11 @@ fn cross(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
 }
 
 /// `b` moved by `d`.
-pub(super) fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
+pub(crate) fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
     [b[0] + d[0], b[1] + d[1], b[2] + d[0], b[3] + d[1]]
 }
 
-pub(super) fn union(a: Bounds, b: Bounds) -> Bounds {
+pub(crate) fn union(a: Bounds, b: Bounds) -> Bounds {
     [
         a[0].min(b[0]),
         a[1].min(b[1]),
@@ -248,7 +248,7 @@ pub(super) fn union(a: Bounds, b: Bounds) -> Bounds {
 }
 
 /// Whether two boxes come within [`CLEARANCE_MM`] of each other.
-pub(super) fn bounds_meet(a: Bounds, b: Bounds) -> bool {
+pub(crate) fn bounds_meet(a: Bounds, b: Bounds) -> bool {
     a[0] < b[2] + CLEARANCE_MM
         && b[0] < a[2] + CLEARANCE_MM
         && a[1] < b[3] + CLEARANCE_MM
@@ -282,7 +282,7 @@ mod tests {
                     .iter()
                     .map(|v| [f64::from(v[0]), f64::from(v[1])])
                     .collect();
-                signed_area(&ring).abs()
+                cam_geometry::area(&ring)
             })
             .sum();
         assert!((area - 7.0).abs() < 1e-6, "pieces cover {area}, the L is 7");

@@ -1,4 +1,4 @@
-//! Nesting engine figures (README "Nesting engine: figures"): `cargo bench --bench nest_engine`.
+//! Nesting engine figures (README "Nesting engine: figures"): `cargo bench -p cam-nest --bench nest_engine`.
 //!
 //! * Passive parts of 60 actuators (4 designs x 15: a fixed mix and random mixes), 150 mm sheets,
 //!   0.3 mm separation, rotations 0°/180°: the irregular nester against the bounding-box
@@ -19,78 +19,20 @@
 //! seed's figure of a batch moves by up to 3 points with any change of the random stream, the
 //! mean of 9 batches by about 0.3).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use actuator_cam::nest::{
-    nest, nest_bounding_boxes, verify, NestBin, NestItem, NestSettings, NestSolution, Point,
+use cam_nest::{
+    nest, nest_bounding_boxes, verify, NestBin, NestError, NestItem, NestSettings, NestSolution,
 };
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+
+/// The parts of the engine tests, one definition for both.
+#[path = "../tests/fixtures/mod.rs"]
+mod fixtures;
+use fixtures::{random_designs, sixty_mixed, write_svg};
 
 const SHEET_MM: f64 = 150.0;
 const SEPARATION_MM: f64 = 0.3;
-
-/// Passive part: trapezoid along +x (`length`, `base` → `tip` width), tip extension, base tab.
-fn actuator(length: f64, base: f64, tip: f64, extension: f64, tab: f64) -> Vec<Point> {
-    let (b, t) = (base / 2.0, tip / 2.0);
-    let mut ring = Vec::new();
-    if tab > 0.0 {
-        ring.push([-tab, -b]);
-    }
-    ring.push([0.0, -b]);
-    ring.push([length, -t]);
-    if extension > 0.0 {
-        ring.push([length + extension, -t]);
-        ring.push([length + extension, t]);
-    }
-    ring.push([length, t]);
-    ring.push([0.0, b]);
-    if tab > 0.0 {
-        ring.push([-tab, b]);
-    }
-    ring
-}
-
-fn fibre(outline: Vec<Point>, demand: usize) -> NestItem {
-    NestItem {
-        outline,
-        demand,
-        rotations_deg: vec![0.0, 180.0],
-    }
-}
-
-/// The same mixes as tests/nest_engine.rs.
-fn sixty_mixed() -> Vec<NestItem> {
-    vec![
-        fibre(actuator(20.0, 6.0, 1.5, 10.0, 2.0), 15),
-        fibre(actuator(30.0, 12.0, 3.0, 20.0, 3.0), 15),
-        fibre(actuator(40.0, 20.0, 6.0, 25.0, 5.0), 15),
-        fibre(actuator(15.0, 4.0, 0.8, 0.0, 0.0), 15),
-    ]
-}
-
-fn random_designs(seed: u64, designs: usize, copies: usize) -> Vec<NestItem> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..designs)
-        .map(|_| {
-            let length = rng.gen_range(15.0..=40.0);
-            let base = rng.gen_range(3.0..=20.0);
-            let tip = rng.gen_range(0.5f64..=10.0).min(base);
-            let extension = if rng.gen_bool(0.7) {
-                rng.gen_range(0.0..=30.0)
-            } else {
-                0.0
-            };
-            let tab = if rng.gen_bool(0.5) {
-                rng.gen_range(0.0..=5.0)
-            } else {
-                0.0
-            };
-            fibre(actuator(length, base, tip, extension, tab), copies)
-        })
-        .collect()
-}
 
 fn settings() -> NestSettings {
     NestSettings {
@@ -110,7 +52,7 @@ fn settings() -> NestSettings {
 fn part_area(items: &[NestItem]) -> f64 {
     items
         .iter()
-        .map(|i| actuator_cam::nest::signed_area(&i.outline).abs() * i.demand as f64)
+        .map(|i| cam_geometry::area(&i.outline) * i.demand as f64)
         .sum()
 }
 
@@ -133,11 +75,7 @@ fn sheets() -> NestBin {
 
 /// Runs a nester, checks the result, returns it with the wall time.
 fn timed(
-    f: fn(
-        &[NestItem],
-        &NestBin,
-        &NestSettings,
-    ) -> Result<NestSolution, actuator_cam::nest::NestError>,
+    f: fn(&[NestItem], &NestBin, &NestSettings) -> Result<NestSolution, NestError>,
     items: &[NestItem],
     bin: &NestBin,
 ) -> (NestSolution, f64) {
@@ -161,8 +99,14 @@ struct Row {
     reference: Option<f64>,
 }
 
+/// `target/nest-bench` of the workspace, where `tools/nest_reference.py` looks (cargo runs a
+/// bench in its package's directory, `crates/nest`).
+fn bench_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/nest-bench")
+}
+
 fn reference(name: &str) -> Option<f64> {
-    let text = std::fs::read_to_string("target/nest-bench/reference.json").ok()?;
+    let text = std::fs::read_to_string(bench_dir().join("reference.json")).ok()?;
     let json: serde_json::Value = serde_json::from_str(&text).ok()?;
     json.get(name)?.get("density")?.as_f64()
 }
@@ -188,7 +132,8 @@ fn main() {
             })
         })
         .collect();
-    let dir = Path::new("target/nest-bench");
+    let dir = bench_dir();
+    let dir = dir.as_path();
     std::fs::create_dir_all(dir).expect("create target/nest-bench");
     std::fs::write(
         dir.join("batches.json"),
@@ -290,37 +235,6 @@ fn main() {
         solution.utilization() * 100.0,
         solution.used_length_utilization(&sheets(), SEPARATION_MM) * 100.0,
     );
-}
-
-/// The sheets side by side as SVG (y up), for a look at a layout.
-fn write_svg(path: &Path, solution: &NestSolution, bin: &NestBin) {
-    let (w, h) = (bin.width_mm, bin.height_mm);
-    let n = solution.bins.len() as f64;
-    let mut svg = format!(
-        "<svg xmlns='http://www.w3.org/2000/svg' viewBox='-5 -5 {} {}' width='{}' height='{}'>\n",
-        (w + 10.0) * n,
-        h + 10.0,
-        4.0 * (w + 10.0) * n,
-        4.0 * (h + 10.0)
-    );
-    for (i, b) in solution.bins.iter().enumerate() {
-        let dx = i as f64 * (w + 10.0);
-        svg += &format!("<rect x='{dx}' y='0' width='{w}' height='{h}' fill='none' stroke='black' stroke-width='0.3'/>\n");
-        for p in &b.parts {
-            let points: Vec<String> = p
-                .outline
-                .iter()
-                .map(|q| format!("{:.3},{:.3}", q[0] + dx, h - q[1]))
-                .collect();
-            svg += &format!(
-                "<polygon points='{}' fill='hsl({},60%,60%)' stroke='black' stroke-width='0.1'/>\n",
-                points.join(" "),
-                p.item * 67 % 360
-            );
-        }
-    }
-    svg += "</svg>\n";
-    std::fs::write(path, svg).expect("write svg");
 }
 
 fn print_row(name: &str, r: &Row) {

@@ -3,8 +3,10 @@
 //! the Bin", §3.2) onto as many sheets as needed. This is what a rectangle packer achieves; the
 //! irregular nester is measured against it.
 
-use super::problem::{bounds, place_outline, Job, NestBin, NestError, NestItem, NestSettings};
-use super::problem::{NestSolution, Placed};
+use cam_geometry::{place_ring, Bounds};
+
+use crate::job::{Job, Placed};
+use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
 
 /// Rotations (index) of one copy that give its smallest box, with the box size.
 type BoxChoices = Vec<(usize, [f64; 2])>;
@@ -76,33 +78,20 @@ pub fn nest_bounding_boxes(
                 let mut packer = MaxRects::new(region);
                 // Job::new checked that some rotation fits an empty sheet; the smallest box
                 // fits too unless the sheet is narrower than it is tall in the wrong way.
-                let (r, x, y) = packer.insert(&sized).ok_or_else(|| too_large(&job, p))?;
+                let (r, x, y) = packer.insert(&sized).ok_or_else(|| job.too_large(p))?;
                 sheets.push((packer, Vec::new()));
                 (sheets.len() - 1, r, x, y)
             }
         };
         let deg = part.rotations_deg[r];
-        let b = bounds(&place_outline(&part.outline, deg, [0.0, 0.0]));
+        let b = Bounds::of(&place_ring(&part.outline, deg, [0.0, 0.0]));
         sheets[s].1.push(Placed {
             part: p,
             rot: r,
-            translation: [x - b[0], y - b[1]],
+            translation: [x - b.min[0], y - b.min[1]],
         });
     }
     job.solution(sheets.into_iter().map(|(_, placed)| placed).collect())
-}
-
-fn too_large(job: &Job, p: usize) -> NestError {
-    let part = &job.parts[p];
-    let size = part.bbox_size(part.rotations_deg[0]);
-    NestError::PartLargerThanBin {
-        item: part.item,
-        part_width_mm: size[0],
-        part_height_mm: size[1],
-        bin_width_mm: job.bin.width_mm,
-        bin_height_mm: job.bin.height_mm,
-        separation_mm: job.settings.separation_mm,
-    }
 }
 
 /// The parts of the interval `[start, start + len)` before and after `[cut, cut + cut_len)`, as
@@ -203,7 +192,7 @@ impl MaxRects {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nest::problem::verify;
+    use crate::verify::verify;
 
     #[test]
     fn four_squares_fill_a_sheet_exactly() {

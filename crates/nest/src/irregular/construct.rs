@@ -1,0 +1,341 @@
+//! Construction: where one part goes (the bottom-left spot search), how it is inserted on the
+//! first sheet with room, and the greedy fills (size orders and best fit) that start the search.
+
+use jagua_rs::entities::Layout;
+use jagua_rs::geometry::primitives::Rect;
+use jagua_rs::probs::bpp::entities::{BPLayoutType, BPProblem, LayKey};
+use rand::seq::SliceRandom;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+use super::model::{collision_free, slide_bottom_left, Model, NUDGE_MM};
+use super::random::{blink_shuffle, worker_rng};
+use super::score::Score;
+use crate::placement::{Placement, Sheets};
+use crate::problem::NestError;
+
+/// Weight of the right edge against the top edge in the placement cost.
+pub(super) const RIGHT_WEIGHT: f32 = 0.25;
+
+/// How hard one insertion looks.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Effort {
+    /// Random start positions per rotation.
+    pub(super) random: usize,
+    /// Start positions next to placed parts, per rotation (sampled when there are more).
+    pub(super) anchors: usize,
+}
+
+const GREEDY_EFFORT: Effort = Effort {
+    random: 100,
+    anchors: 200,
+};
+const REPAIR_EFFORT: Effort = Effort {
+    random: 20,
+    anchors: 50,
+};
+
+/// Least effort per design of a best-fit step (`Model::construct_best_fit`), which searches a
+/// spot for every design still to place.
+const BEST_FIT_MIN_EFFORT: Effort = Effort {
+    random: 10,
+    anchors: 25,
+};
+/// Starts each worker builds (see `Model::construct`) on jobs of at most this many copies.
+const STARTS_PER_WORKER: usize = 5;
+/// Tie widths of the best-fit starts (odd recipes), mm: spots whose bottoms are this close
+/// count as equally low.
+pub(super) const BEST_FIT_TIES_MM: [f32; 5] = [2.0, 0.5, 5.0, 1.0, 3.0];
+const PORTFOLIO_MAX_COPIES: usize = 150;
+
+/// What an insertion tries: how hard, which earlier placements to try first, and an optional
+/// ceiling on one sheet (then no new sheet is opened).
+#[derive(Clone, Copy)]
+pub(super) struct Search<'h> {
+    pub(super) effort: Effort,
+    pub(super) hints: &'h [Placement],
+    pub(super) ceiling: Option<(LayKey, f32)>,
+}
+
+impl Search<'_> {
+    pub(super) const GREEDY: Search<'static> = Search {
+        effort: GREEDY_EFFORT,
+        hints: &[],
+        ceiling: None,
+    };
+    pub(super) const REPAIR: Search<'static> = Search {
+        effort: REPAIR_EFFORT,
+        hints: &[],
+        ceiling: None,
+    };
+}
+
+impl Model<'_> {
+    /// The starts of one worker: recipes `worker`, `worker + workers`, ... (`STARTS_PER_WORKER`
+    /// of them on jobs of up to `PORTFOLIO_MAX_COPIES` copies, else one); the best is kept. The
+    /// local search rarely leaves the basin of its start, so several kinds of start buy more
+    /// than more iterations.
+    pub(super) fn construct(&self, worker: usize) -> Result<(Score, Sheets), NestError> {
+        let workers = self.job.settings.workers;
+        let starts = if self.job.copies() <= PORTFOLIO_MAX_COPIES {
+            STARTS_PER_WORKER
+        } else {
+            1
+        };
+        let mut best: Option<(Score, Sheets)> = None;
+        for k in 0..starts {
+            let recipe = worker + k * workers;
+            let start = if recipe % 2 == 1 {
+                let ties = BEST_FIT_TIES_MM;
+                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])?
+            } else {
+                self.construct_in_order(recipe)?
+            };
+            if best.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
+                best = Some(start);
+            }
+        }
+        Ok(best.expect("at least one start"))
+    }
+
+    /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from
+    /// recipe 6 on), first sheet that takes a part.
+    pub(super) fn construct_in_order(&self, recipe: usize) -> Result<(Score, Sheets), NestError> {
+        let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
+        let mut order: Vec<usize> = self
+            .job
+            .parts
+            .iter()
+            .enumerate()
+            .flat_map(|(p, part)| std::iter::repeat_n(p, part.demand))
+            .collect();
+        let size = |p: usize| -> f64 {
+            let part = &self.job.parts[p];
+            match recipe / 2 % 3 {
+                0 => part.area,
+                1 => {
+                    let s = part.bbox_size(part.rotations_deg[0]);
+                    s[0].max(s[1])
+                }
+                _ => {
+                    let s = part.bbox_size(part.rotations_deg[0]);
+                    s[0] * s[1]
+                }
+            }
+        };
+        // Stable: equal sizes keep part order, so copies of one design stay together.
+        order.sort_by(|&a, &b| size(b).total_cmp(&size(a)));
+        if recipe >= 6 {
+            blink_shuffle(&mut order, &mut rng);
+        }
+        let mut problem = BPProblem::new(self.instance.clone());
+        let mut sheets = Vec::new();
+        for part in order {
+            self.insert(&mut problem, part, &mut sheets, &mut rng, Search::GREEDY)?;
+        }
+        Ok((self.score(&problem), self.sheets(&problem)))
+    }
+
+    /// Best-fit fill: instead of placing parts in a fixed order, each step looks at every
+    /// design still to place, finds its best spot on the first sheet where any design fits, and
+    /// takes the one whose spot is lowest (ties within `tie_mm`: the largest part, then
+    /// the lower placement cost). Low gaps are filled with whatever fits them, so rows mix
+    /// designs whose widths add up to the sheet's, where a size order leaves every row of one
+    /// design short of the right edge.
+    pub(super) fn construct_best_fit(
+        &self,
+        recipe: usize,
+        tie_mm: f32,
+    ) -> Result<(Score, Sheets), NestError> {
+        let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
+        let mut remaining: Vec<usize> = self.job.parts.iter().map(|p| p.demand).collect();
+        let mut problem = BPProblem::new(self.instance.clone());
+        let mut sheets: Vec<LayKey> = Vec::new();
+        // `full[s][p]`: design `p` found no room on sheet `s`; sheets only fill up, so it never will.
+        let mut full: Vec<Vec<bool>> = Vec::new();
+        while remaining.iter().any(|&r| r > 0) {
+            let designs = remaining.iter().filter(|&&r| r > 0).count();
+            let effort = Effort {
+                random: (GREEDY_EFFORT.random / designs).max(BEST_FIT_MIN_EFFORT.random),
+                anchors: (GREEDY_EFFORT.anchors / designs).max(BEST_FIT_MIN_EFFORT.anchors),
+            };
+            let mut chosen: Option<(LayKey, Placement)> = None;
+            for (s, &key) in sheets.iter().enumerate() {
+                let layout = &problem.layouts()[key];
+                // (bottom, area, cost, spot) of each design that fits this sheet.
+                let mut fits: Vec<(f32, f64, f32, Placement)> = Vec::new();
+                for p in 0..remaining.len() {
+                    if remaining[p] == 0 || full[s][p] {
+                        continue;
+                    }
+                    match self.find_spot(Some(layout), p, &mut rng, effort, &[], None) {
+                        Some(spot) => {
+                            let b = self.shapes[p][spot.rot].plain.bbox();
+                            let cost = (b.y_max + spot.t.1) + RIGHT_WEIGHT * (b.x_max + spot.t.0);
+                            fits.push((b.y_min + spot.t.1, self.job.parts[p].area, cost, spot));
+                        }
+                        None => full[s][p] = true,
+                    }
+                }
+                let Some(lowest) = fits.iter().map(|f| f.0).min_by(f32::total_cmp) else {
+                    continue;
+                };
+                let best = fits
+                    .into_iter()
+                    .filter(|f| f.0 <= lowest + tie_mm)
+                    .min_by(|a, b| b.1.total_cmp(&a.1).then(a.2.total_cmp(&b.2)))
+                    .expect("the lowest fits");
+                chosen = Some((key, best.3));
+                break;
+            }
+            let spot = match chosen {
+                Some((key, spot)) => {
+                    problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
+                    spot
+                }
+                None => {
+                    // Nothing fits the open sheets: the largest design left opens a new one.
+                    let p = (0..remaining.len())
+                        .filter(|&p| remaining[p] > 0)
+                        .max_by(|&a, &b| {
+                            self.job.parts[a]
+                                .area
+                                .total_cmp(&self.job.parts[b].area)
+                                .then(b.cmp(&a))
+                        })
+                        .expect("a design is left");
+                    let spot = self
+                        .find_spot(None, p, &mut rng, GREEDY_EFFORT, &[], None)
+                        .ok_or_else(|| self.job.too_large(p))?;
+                    let (key, _) = problem
+                        .place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
+                    sheets.push(key);
+                    full.push(vec![false; remaining.len()]);
+                    spot
+                }
+            };
+            remaining[spot.part] -= 1;
+        }
+        Ok((self.score(&problem), self.sheets(&problem)))
+    }
+
+    /// Places `part` in the first of `sheets` with room, else on a new sheet (appended to
+    /// `sheets`). `hints` are earlier placements worth trying as start positions.
+    pub(super) fn insert(
+        &self,
+        problem: &mut BPProblem,
+        part: usize,
+        sheets: &mut Vec<LayKey>,
+        rng: &mut ChaCha8Rng,
+        search: Search,
+    ) -> Result<(), NestError> {
+        for &key in sheets.iter() {
+            let layout = &problem.layouts()[key];
+            let ceiling = search.ceiling.and_then(|(k, c)| (k == key).then_some(c));
+            if let Some(spot) = self.find_spot(
+                Some(layout),
+                part,
+                rng,
+                search.effort,
+                search.hints,
+                ceiling,
+            ) {
+                problem.place_item(self.bp_placement(BPLayoutType::Open(key), spot));
+                return Ok(());
+            }
+        }
+        if search.ceiling.is_some() {
+            // A shrink move that did not fit: it fails rather than open a sheet.
+            return Err(self.job.too_large(part));
+        }
+        let spot = self
+            .find_spot(None, part, rng, search.effort, &[], None)
+            .ok_or_else(|| self.job.too_large(part))?;
+        let (key, _) =
+            problem.place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
+        sheets.push(key);
+        Ok(())
+    }
+
+    /// Best bottom-left spot for `part` in `layout` (an empty sheet if `None`), with the part's
+    /// top at most `ceiling` if given.
+    pub(super) fn find_spot(
+        &self,
+        layout: Option<&Layout>,
+        part: usize,
+        rng: &mut ChaCha8Rng,
+        effort: Effort,
+        hints: &[Placement],
+        ceiling: Option<f32>,
+    ) -> Option<Placement> {
+        let empty_sheet = self.instance.bins[0].container.base_cde();
+        let cde = layout.map_or(empty_sheet.as_ref(), Layout::cde);
+        let placed: Vec<Rect> = layout
+            .map(|l| {
+                l.placed_items()
+                    .values()
+                    .map(|pi| pi.shape().bbox())
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut best: Option<(f32, Placement)> = None;
+        for (rot, shape) in self.shapes[part].iter().enumerate() {
+            if !shape.fits() {
+                continue;
+            }
+            let mut buffer = shape.plain.clone();
+            let b = shape.plain.bbox();
+            // Highest translation that keeps the part inside the sheet and under the ceiling.
+            let y_max = ceiling.map_or(shape.y.1, |c| shape.y.1.min(c - b.y_max));
+            if y_max < shape.y.0 {
+                continue;
+            }
+            let mut starts = vec![(shape.x.0, shape.y.0)];
+            starts.extend(
+                hints
+                    .iter()
+                    .filter(|h| h.part == part && h.rot == rot && h.t.1 <= y_max)
+                    .map(|h| h.t),
+            );
+            if !placed.is_empty() {
+                let mut anchors: Vec<(f32, f32)> = placed
+                    .iter()
+                    .flat_map(|o| {
+                        [
+                            (o.x_max - b.x_min + NUDGE_MM, o.y_min - b.y_min),
+                            (o.x_min - b.x_min, o.y_max - b.y_min + NUDGE_MM),
+                            (o.x_max - b.x_max, o.y_max - b.y_min + NUDGE_MM),
+                        ]
+                    })
+                    .filter(|&(x, y)| {
+                        (shape.x.0..=shape.x.1).contains(&x) && (shape.y.0..=y_max).contains(&y)
+                    })
+                    .collect();
+                if anchors.len() > effort.anchors {
+                    anchors = anchors
+                        .choose_multiple(rng, effort.anchors)
+                        .copied()
+                        .collect();
+                }
+                starts.extend(anchors);
+                starts.extend((0..effort.random).map(|_| {
+                    (
+                        rng.gen_range(shape.x.0..=shape.x.1),
+                        rng.gen_range(shape.y.0..=y_max),
+                    )
+                }));
+            }
+            for start in starts {
+                if !collision_free(cde, shape, &mut buffer, start) {
+                    continue;
+                }
+                let t = slide_bottom_left(cde, shape, &mut buffer, start);
+                let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
+                if best.as_ref().is_none_or(|(c, _)| cost < *c) {
+                    best = Some((cost, Placement { part, rot, t }));
+                }
+            }
+        }
+        best.map(|(_, spot)| spot)
+    }
+}

@@ -1,0 +1,392 @@
+//! A validated nesting job: what both nesters work from, and how their placements become a
+//! [`NestSolution`].
+
+use cam_geometry::{area, place_ring, Bounds, Point};
+
+use crate::problem::{
+    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
+};
+
+/// Copies from which a job gets the whole iteration budget (the bench's 60-actuator batches).
+const FULL_BUDGET_COPIES: usize = 60;
+/// Fewest iterations a smaller job gets (unless the budget is smaller).
+const MIN_BUDGET: usize = 100;
+
+/// An item after validation: what both nesters work from.
+#[derive(Debug, Clone)]
+pub(crate) struct Part {
+    /// Index into the caller's `items`.
+    pub item: usize,
+    pub outline: Vec<Point>,
+    pub area: f64,
+    pub demand: usize,
+    /// Allowed rotations, deduplicated modulo 360°, values as the caller gave them.
+    pub rotations_deg: Vec<f64>,
+}
+
+impl Part {
+    /// Width and height of the axis-aligned bounding box at a rotation.
+    pub fn bbox_size(&self, rotation_deg: f64) -> [f64; 2] {
+        let b = Bounds::of(&place_ring(&self.outline, rotation_deg, [0.0, 0.0]));
+        [b.width(), b.height()]
+    }
+}
+
+/// One part copy as a nester placed it: part index, rotation index, translation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Placed {
+    pub part: usize,
+    pub rot: usize,
+    pub translation: Point,
+}
+
+/// A validated job: parts with positive demand, a sheet, settings.
+#[derive(Debug, Clone)]
+pub(crate) struct Job {
+    pub parts: Vec<Part>,
+    pub bin: NestBin,
+    pub settings: NestSettings,
+}
+
+impl Job {
+    /// Checks the caller's input; everything downstream trusts it.
+    pub fn new(
+        items: &[NestItem],
+        bin: &NestBin,
+        settings: &NestSettings,
+    ) -> Result<Self, NestError> {
+        let bad = |msg: String| Err(NestError::BadSettings(msg));
+        if !(bin.width_mm.is_finite() && bin.width_mm > 0.0) {
+            return bad(format!("sheet width_mm must be > 0, got {}", bin.width_mm));
+        }
+        if !(bin.height_mm.is_finite() && bin.height_mm > 0.0) {
+            return bad(format!(
+                "sheet height_mm must be > 0, got {}",
+                bin.height_mm
+            ));
+        }
+        if !(settings.separation_mm.is_finite() && settings.separation_mm >= 0.0) {
+            return bad(format!(
+                "separation_mm must be finite and >= 0, got {}",
+                settings.separation_mm
+            ));
+        }
+        if settings.workers == 0 {
+            return bad("workers must be at least 1".into());
+        }
+        let mut parts = Vec::new();
+        for (index, item) in items.iter().enumerate() {
+            let part = validate_item(index, item)?;
+            if part.demand > 0 {
+                parts.push(part);
+            }
+        }
+        let job = Self {
+            parts,
+            bin: *bin,
+            settings: *settings,
+        };
+        job.check_sizes()?;
+        Ok(job)
+    }
+
+    /// Gap the jagua-rs model keeps: the requested separation plus a margin that covers its f32
+    /// coordinates and the chords of its round offset joins (<= 0.125 % of the offset).
+    pub fn model_separation(&self) -> f64 {
+        self.settings.separation_mm * 1.01 + 2e-3
+    }
+
+    /// Every part must fit an empty sheet at some allowed rotation.
+    fn check_sizes(&self) -> Result<(), NestError> {
+        // The engine also keeps 1 µm start clearances; 0.01 mm covers them.
+        let gap = 2.0 * self.model_separation() + 0.01;
+        for part in &self.parts {
+            let fits =
+                |s: &[f64; 2]| s[0] + gap < self.bin.width_mm && s[1] + gap < self.bin.height_mm;
+            let sizes: Vec<[f64; 2]> = part
+                .rotations_deg
+                .iter()
+                .map(|&r| part.bbox_size(r))
+                .collect();
+            if !sizes.iter().any(fits) {
+                let best = sizes
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| {
+                        let over = |s: &[f64; 2]| {
+                            (s[0] - self.bin.width_mm).max(s[1] - self.bin.height_mm)
+                        };
+                        over(a).total_cmp(&over(b))
+                    })
+                    .unwrap_or([0.0, 0.0]);
+                return Err(NestError::PartLargerThanBin {
+                    item: part.item,
+                    part_width_mm: best[0],
+                    part_height_mm: best[1],
+                    bin_width_mm: self.bin.width_mm,
+                    bin_height_mm: self.bin.height_mm,
+                    separation_mm: self.settings.separation_mm,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Total number of copies to place.
+    pub fn copies(&self) -> usize {
+        self.parts.iter().map(|p| p.demand).sum()
+    }
+
+    /// The error for part `p` when no sheet takes it: its box at its first allowed rotation
+    /// against the sheet.
+    pub fn too_large(&self, p: usize) -> NestError {
+        let part = &self.parts[p];
+        let size = part.bbox_size(part.rotations_deg[0]);
+        NestError::PartLargerThanBin {
+            item: part.item,
+            part_width_mm: size[0],
+            part_height_mm: size[1],
+            bin_width_mm: self.bin.width_mm,
+            bin_height_mm: self.bin.height_mm,
+            separation_mm: self.settings.separation_mm,
+        }
+    }
+
+    /// The optimiser's iterations for this job: the whole budget from `FULL_BUDGET_COPIES` copies
+    /// up, a proportional share below (at least `MIN_BUDGET`, never more than the budget). A move
+    /// costs about as much on 16 parts as on 300 (it reinserts up to 16), so a fixed budget made
+    /// a small batch on a mostly empty sheet take seconds for nothing: the example batch's layout
+    /// is the same after 100 iterations as after 1000. Counted in iterations, never in time.
+    pub fn iteration_budget(&self) -> usize {
+        let full = self.settings.iterations;
+        let share = full.saturating_mul(self.copies()) / FULL_BUDGET_COPIES;
+        share.clamp(full.min(MIN_BUDGET), full)
+    }
+
+    /// Builds the solution from placed copies sheet by sheet, ordering sheets fullest first and
+    /// numbering copies in that order; fails if stock is exceeded.
+    pub fn solution(&self, sheets: Vec<Vec<Placed>>) -> Result<NestSolution, NestError> {
+        if sheets.len() > self.bin.stock {
+            return Err(NestError::StockTooSmall {
+                needed: sheets.len(),
+                stock: self.bin.stock,
+            });
+        }
+        let sheet_area = self.bin.width_mm * self.bin.height_mm;
+        let mut filled: Vec<(f64, Vec<Placed>)> = sheets
+            .into_iter()
+            .map(|s| (s.iter().map(|p| self.parts[p.part].area).sum::<f64>(), s))
+            .collect();
+        // Stable: equal fills keep their construction order.
+        filled.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let mut next_copy = vec![0usize; self.parts.len()];
+        let bins = filled
+            .into_iter()
+            .enumerate()
+            .map(|(index, (area, placements))| NestedBin {
+                index,
+                utilization: area / sheet_area,
+                parts: placements
+                    .into_iter()
+                    .map(|placed| {
+                        let Placed {
+                            part: p,
+                            rot,
+                            translation,
+                        } = placed;
+                        let part = &self.parts[p];
+                        let rotation_deg = part.rotations_deg[rot];
+                        let copy = next_copy[p];
+                        next_copy[p] += 1;
+                        PlacedPart {
+                            item: part.item,
+                            copy,
+                            rotation_deg,
+                            translation,
+                            outline: place_ring(&part.outline, rotation_deg, translation),
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        Ok(NestSolution { bins })
+    }
+}
+
+/// The ring without a repeated closing point and without repeated consecutive points: what the
+/// nesters place and what placed outlines are made of.
+#[must_use]
+pub fn clean_ring(outline: &[Point]) -> Vec<Point> {
+    let mut ring: Vec<Point> = Vec::with_capacity(outline.len());
+    for &p in outline {
+        if ring.last() != Some(&p) {
+            ring.push(p);
+        }
+    }
+    while ring.len() > 1 && ring.first() == ring.last() {
+        ring.pop();
+    }
+    ring
+}
+
+fn validate_item(index: usize, item: &NestItem) -> Result<Part, NestError> {
+    let degenerate = |reason: &str| {
+        Err(NestError::DegenerateOutline {
+            item: index,
+            reason: reason.to_string(),
+        })
+    };
+    let outline = clean_ring(&item.outline);
+    if outline.len() < 3 {
+        return degenerate(&format!("{} points, needs at least 3", outline.len()));
+    }
+    if outline.iter().flatten().any(|c| !c.is_finite()) {
+        return degenerate("non-finite coordinate");
+    }
+    let b = Bounds::of(&outline);
+    let area = area(&outline);
+    if area <= 1e-9 * (b.width() * b.height()).max(1e-12) || area < 1e-9 {
+        return degenerate("zero area");
+    }
+    if let Some((i, j)) = self_intersection(&outline) {
+        return degenerate(&format!("edges {i} and {j} cross"));
+    }
+    let mut rotations_deg: Vec<f64> = Vec::new();
+    for &r in &item.rotations_deg {
+        if !r.is_finite() {
+            return Err(NestError::BadRotations {
+                item: index,
+                rotations: item.rotations_deg.clone(),
+            });
+        }
+        let same = |q: &f64| {
+            let d = (q - r).rem_euclid(360.0);
+            !(1e-9..=360.0 - 1e-9).contains(&d)
+        };
+        if !rotations_deg.iter().any(same) {
+            rotations_deg.push(r);
+        }
+    }
+    if rotations_deg.is_empty() {
+        return Err(NestError::BadRotations {
+            item: index,
+            rotations: item.rotations_deg.clone(),
+        });
+    }
+    Ok(Part {
+        item: index,
+        outline,
+        area,
+        demand: item.demand,
+        rotations_deg,
+    })
+}
+
+/// First pair of non-adjacent edges that touch or cross, if any (O(n²), outlines are small).
+fn self_intersection(ring: &[Point]) -> Option<(usize, usize)> {
+    let n = ring.len();
+    let edge = |i: usize| (ring[i], ring[(i + 1) % n]);
+    for i in 0..n {
+        for j in i + 1..n {
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                continue;
+            }
+            let (a, b) = edge(i);
+            let (c, d) = edge(j);
+            if segments_touch(a, b, c, d) {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+fn segments_touch(a: Point, b: Point, c: Point, d: Point) -> bool {
+    let orient = |p: Point, q: Point, r: Point| {
+        let v = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+        if v > 0.0 {
+            1
+        } else if v < 0.0 {
+            -1
+        } else {
+            0
+        }
+    };
+    let on_segment = |p: Point, q: Point, r: Point| {
+        r[0] >= p[0].min(q[0])
+            && r[0] <= p[0].max(q[0])
+            && r[1] >= p[1].min(q[1])
+            && r[1] <= p[1].max(q[1])
+    };
+    let (o1, o2, o3, o4) = (
+        orient(a, b, c),
+        orient(a, b, d),
+        orient(c, d, a),
+        orient(c, d, b),
+    );
+    (o1 != o2 && o3 != o4)
+        || (o1 == 0 && on_segment(a, b, c))
+        || (o2 == 0 && on_segment(a, b, d))
+        || (o3 == 0 && on_segment(c, d, a))
+        || (o4 == 0 && on_segment(c, d, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(side: f64) -> Vec<Point> {
+        vec![[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]]
+    }
+
+    /// `demand` 10 mm squares and a 100 mm sheet with `stock`.
+    fn squares_job(demand: usize, stock: usize) -> (Vec<NestItem>, NestBin) {
+        let items = vec![NestItem {
+            outline: square(10.0),
+            demand,
+            rotations_deg: vec![0.0],
+        }];
+        let bin = NestBin {
+            width_mm: 100.0,
+            height_mm: 100.0,
+            stock,
+        };
+        (items, bin)
+    }
+
+    #[test]
+    fn small_jobs_get_a_proportional_share_of_the_iterations() {
+        let budget = |copies: usize, iterations: usize| {
+            let (items, bin) = squares_job(copies, 10);
+            let settings = NestSettings {
+                iterations,
+                ..NestSettings::default()
+            };
+            Job::new(&items, &bin, &settings)
+                .unwrap()
+                .iteration_budget()
+        };
+        // 60 copies and up: the whole budget (the bench's batches keep their figures).
+        assert_eq!(budget(60, 1000), 1000);
+        assert_eq!(budget(300, 1000), 1000);
+        // Below: in proportion, 16 of 60 copies -> 266 of 1000, but never under 100 ...
+        assert_eq!(budget(16, 1000), 266);
+        assert_eq!(budget(2, 1000), 100);
+        // ... unless the budget itself is smaller; 0 keeps the greedy fill.
+        assert_eq!(budget(2, 40), 40);
+        assert_eq!(budget(16, 0), 0);
+    }
+
+    #[test]
+    fn self_crossing_outline_is_degenerate() {
+        let bow_tie = NestItem {
+            outline: vec![[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]],
+            demand: 1,
+            rotations_deg: vec![0.0],
+        };
+        assert!(matches!(
+            validate_item(0, &bow_tie),
+            Err(NestError::DegenerateOutline { .. })
+        ));
+    }
+}

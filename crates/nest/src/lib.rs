@@ -1,0 +1,66 @@
+//! Nesting of cut-through parts on sheets: polygons, sheets, separation and rotations, nothing
+//! about what the parts are for.
+//!
+//! * [`nest`] is the irregular nester: jagua-rs's bin-packing model for collision detection and
+//!   feasibility, our own greedy fill and ruin-and-recreate local search on top, and last a
+//!   compression of the final sheet through overlap; [`irregular`] explains how.
+//! * [`nest_bounding_boxes`] is the baseline it is measured against: bounding boxes packed by
+//!   MaxRects.
+//! * [`verify()`] checks any layout, from these nesters or from elsewhere, with plain `geo`
+//!   geometry: inside the sheet with the separation to every edge, the separation between parts,
+//!   allowed rotations, outlines equal to the item moved as stated, every copy placed once.
+//!   [`verify_sheet`] checks one sheet's parts with its own [`Clearance`] (the gap to the edge
+//!   may differ from the gap between parts), for layouts made by other packers, e.g. a shelf
+//!   packer of scored plates.
+//!
+//! The vocabulary: an item ([`NestItem`]) is an outline with a demand and the rotations it may be
+//! cut at; a sheet ([`NestBin`]) is `[0, width_mm] x [0, height_mm]` with a stock count; a layout
+//! ([`NestSolution`]) is a list of sheets ([`NestedBin`]) of placed parts ([`PlacedPart`]: item,
+//! copy, rotation, translation and the placed outline). Units are millimetres, y up; points and
+//! rotations are those of [`cam_geometry`]. Both nesters stop on an iteration budget, never on
+//! time, so the same input and seed give the same layout on any machine.
+//!
+//! ```
+//! use cam_nest::{nest, verify, NestBin, NestItem, NestSettings};
+//!
+//! // Six 20 x 8 mm rectangles and four trapezoids (a part turned by 180° fills the slanted gap
+//! // of its neighbour) on 60 mm square sheets.
+//! let items = vec![
+//!     NestItem {
+//!         outline: vec![[0.0, 0.0], [20.0, 0.0], [20.0, 8.0], [0.0, 8.0]],
+//!         demand: 6,
+//!         rotations_deg: vec![0.0, 90.0],
+//!     },
+//!     NestItem {
+//!         outline: vec![[0.0, 0.0], [30.0, 0.0], [25.0, 10.0], [5.0, 10.0]],
+//!         demand: 4,
+//!         rotations_deg: vec![0.0, 180.0],
+//!     },
+//! ];
+//! let sheet = NestBin { width_mm: 60.0, height_mm: 60.0, stock: 3 };
+//! let settings = NestSettings { separation_mm: 0.5, seed: 1, iterations: 20, workers: 2 };
+//!
+//! let layout = nest(&items, &sheet, &settings)?;
+//! assert_eq!(layout.parts_placed(), 10);
+//! assert_eq!(layout.bins_used(), 1);
+//! verify(&items, &sheet, &settings, &layout, 1e-9)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod baseline;
+mod compress;
+pub mod irregular;
+mod job;
+mod overlap;
+mod placement;
+mod problem;
+mod verify;
+
+pub use baseline::nest_bounding_boxes;
+pub use cam_geometry::Point;
+pub use irregular::nest;
+pub use job::clean_ring;
+pub use problem::{
+    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
+};
+pub use verify::{verify, verify_sheet, Clearance, NestViolation};
