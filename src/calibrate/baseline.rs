@@ -3,8 +3,8 @@
 //! design variable.
 
 use super::csv::{Dataset, Measurement};
-use super::select::design_variables;
 use super::stats;
+use super::variables::design_variables;
 use actuator_model::Performance;
 use serde::Serialize;
 

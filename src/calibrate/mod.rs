@@ -13,6 +13,7 @@ pub mod model_file;
 pub mod report;
 pub mod select;
 pub mod stats;
+pub mod variables;
 
 pub use self::csv::{Dataset, Measurement};
 pub use select::{Selection, Settings, Verdict};
