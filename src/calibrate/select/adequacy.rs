@@ -5,43 +5,51 @@ use super::candidate::Candidate;
 use super::observations::{ActuationData, MassData, StageData};
 use super::settings::Settings;
 use crate::calibrate::csv::{Dataset, Measurement};
+use crate::calibrate::rounded::six_digits;
 use crate::calibrate::stats;
 use crate::calibrate::variables::design_variables;
+use serde::Serialize;
 
 /// Lack-of-fit F test against per-actuator lines in the field (pure error from the voltage sweeps).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LackOfFit {
     /// F statistic.
+    #[serde(serialize_with = "six_digits")]
     pub f: f64,
     /// Numerator degrees of freedom.
     pub df1: f64,
     /// Denominator (pure-error) degrees of freedom.
     pub df2: f64,
     /// Upper-tail p-value.
+    #[serde(serialize_with = "six_digits")]
     pub p: f64,
     /// Pure-error standard deviation of the log residuals.
+    #[serde(rename = "sigma_pure_log", serialize_with = "six_digits")]
     pub sigma_pure: f64,
 }
 
 /// Correlation of a remaining residual with a design variable.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CorrelationTest {
     /// `deflection`, `stiffness` or `mass`.
     pub residual: &'static str,
     /// Variable name.
     pub variable: &'static str,
     /// Pearson r.
+    #[serde(serialize_with = "six_digits")]
     pub r: f64,
     /// Pairs used.
     pub n: usize,
     /// Raw p-value.
+    #[serde(serialize_with = "six_digits")]
     pub p: f64,
     /// Holm-adjusted p-value.
+    #[serde(serialize_with = "six_digits")]
     pub p_holm: f64,
 }
 
 /// Adequacy of the final model.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Adequacy {
     /// Lack-of-fit test (None without sweeps of 3+ levels).
     pub lack_of_fit: Option<LackOfFit>,

@@ -3,9 +3,11 @@
 use super::candidate::Candidate;
 use super::observations::ActuationData;
 use crate::calibrate::csv::Dataset;
+use crate::calibrate::rounded::six_digits;
+use serde::Serialize;
 
 /// A flagged data row.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outlier {
     /// Actuator id.
     pub id: String,
@@ -14,8 +16,10 @@ pub struct Outlier {
     /// `free_deflection` or `blocked_force`.
     pub output: &'static str,
     /// Studentised residual.
+    #[serde(serialize_with = "six_digits")]
     pub studentised: f64,
     /// Cook's distance.
+    #[serde(serialize_with = "six_digits")]
     pub cooks_distance: f64,
 }
 

@@ -2,29 +2,39 @@
 //! predictions differ most.
 
 use crate::calibrate::csv::{Dataset, Measurement};
+use crate::calibrate::rounded::six_digits;
 use actuator_model::effects::{Actuator, Effects};
 use actuator_model::{Drive, Planform};
+use serde::Serialize;
 
 /// A design that would tell two contenders apart.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SeparatingDesign {
     /// l_tot, mm.
+    #[serde(serialize_with = "six_digits")]
     pub l_tot_mm: f64,
     /// l_r.
+    #[serde(serialize_with = "six_digits")]
     pub l_r: f64,
     /// w_0, mm.
+    #[serde(serialize_with = "six_digits")]
     pub w0_mm: f64,
     /// w_r.
+    #[serde(serialize_with = "six_digits")]
     pub w_r: f64,
     /// t_p, mm.
+    #[serde(serialize_with = "six_digits")]
     pub t_p_mm: f64,
     /// Layup.
     pub layup: String,
     /// Voltage, V.
+    #[serde(rename = "voltage_V", serialize_with = "six_digits")]
     pub voltage_v: f64,
     /// Predicted ratio of deflections (contender 1 / contender 2).
+    #[serde(serialize_with = "six_digits")]
     pub deflection_ratio: f64,
     /// Predicted ratio of blocked forces.
+    #[serde(serialize_with = "six_digits")]
     pub force_ratio: f64,
 }
 
