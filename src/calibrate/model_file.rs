@@ -104,4 +104,27 @@ mod tests {
         .unwrap();
         assert!(ok.effects.is_null());
     }
+
+    #[test]
+    fn load_errors_name_the_file_then_the_step_then_the_cause() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.toml");
+        std::fs::write(&path, "model = ").unwrap();
+        let e = load(&path).unwrap_err();
+        assert_eq!(e.to_string(), format!("in {}", path.display()));
+        let step = std::error::Error::source(&e).unwrap();
+        assert_eq!(step.to_string(), "parsing a calibrated model");
+        assert!(
+            step.source().is_some(),
+            "the TOML error is kept as the cause"
+        );
+        let missing = load(&dir.path().join("none.toml")).unwrap_err();
+        assert!(missing.to_string().starts_with("cannot read "));
+        assert!(
+            from_toml("model = \"x\"\nverdict = \"x\"\nselected_effects = []\n[effects]\n")
+                .unwrap_err()
+                .to_string()
+                .contains("expected \"calibrated\"")
+        );
+    }
 }

@@ -170,3 +170,80 @@ pub fn markdown(r: &Report) -> String {
     md.push_str("\n## Plots\n\n![parity before](parity-before.svg) ![parity after](parity-after.svg)\n\n![residuals before](residuals-before.svg) ![residuals after](residuals-after.svg)\n");
     md
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::report::tree::tests::sample;
+
+    #[test]
+    fn verdict_line_names_contenders_or_the_followed_variable() {
+        let r = sample();
+        assert_eq!(
+            verdict_line(r.verdict, &r.verdict_detail),
+            "verdict: ambiguous ({dead-length} vs {clamp-compliance})"
+        );
+        let follows = VerdictDetail {
+            contenders: None,
+            follows: Some("l_r"),
+        };
+        assert_eq!(
+            verdict_line("not-explained", &follows),
+            "verdict: not-explained (residual still follows l_r)"
+        );
+        assert_eq!(
+            verdict_line("explained", &VerdictDetail::default()),
+            "verdict: explained"
+        );
+    }
+
+    #[test]
+    fn error_tables_list_every_output_and_model() {
+        let r = sample();
+        let t = error_tables(&r.before, &r.after, &r.thesis_adjusted);
+        assert_eq!(t.lines().filter(|l| l.starts_with("| ")).count(), 13);
+        assert!(t.contains("| mass | original | – | – | – | – | – | – |\n"));
+        assert!(t.contains(
+            "| free deflection | calibrated | 1.799 ± 0.123 | 0.050 | 4.0 | 7.9 | 100% | 100% |\n"
+        ));
+        assert!(t.contains("original 0.610, calibrated 0.052."));
+    }
+
+    #[test]
+    fn summary_lists_parameters_with_intervals() {
+        let r = sample();
+        let s = summary(
+            r.verdict,
+            &r.verdict_detail,
+            &r.selected_effects,
+            [&r.before, &r.after, &r.thesis_adjusted],
+        );
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(
+            lines[0],
+            "verdict: ambiguous ({dead-length} vs {clamp-compliance})"
+        );
+        assert_eq!(
+            lines[1],
+            "  dead-length: dead_length_mm = 2.2931 [1.9080, inf]"
+        );
+    }
+
+    #[test]
+    fn markdown_renders_every_section_from_the_tree() {
+        let md = markdown(&sample());
+        assert!(md.starts_with("# Calibration of `measured.csv`\n\n12 actuators, 40 rows.\n\n## Verdict: ambiguous\n\nverdict: ambiguous ("));
+        assert!(
+            md.contains("| dead-length | dead_length_mm | 2.29312 | [1.90800, inf] | 0.19000 |\n")
+        );
+        assert!(md.contains("| δ, F_b | {d31-scale, dead-length} | -120.50 | 0.0500 | yes |  |\n"));
+        assert!(md.contains("| δ, F_b | original | -10.00 | 0.6000 |  |  |\n"));
+        assert!(md.contains("F = 1.50 (3, 20), p = 0.250; pure-error σ(log) = 0.0400."));
+        // Correlations sorted by p: w_r (0.06) before l_r (0.4).
+        assert!(md.find("| stiffness | w_r |").unwrap() < md.find("| deflection | l_r |").unwrap());
+        assert!(!md.contains("## Designs that would separate"));
+        assert!(md.contains("- A7 (line 9), blocked_force: studentised 3.75, Cook's D 0.50\n"));
+        assert!(md.contains("\nNote: a remark\n"));
+        assert!(md.ends_with("![residuals after](residuals-after.svg)\n"));
+    }
+}

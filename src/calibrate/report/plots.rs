@@ -186,3 +186,55 @@ pub fn residual_svg(data: &Dataset, preds: &[Performance], when: &str) -> String
         .collect();
     svg(&panels, picks.len())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn panel(points: Vec<(f64, f64)>, log: bool, parity: bool) -> Panel<'static> {
+        Panel {
+            title: "title",
+            xlabel: "x label",
+            points,
+            log,
+            parity,
+        }
+    }
+
+    #[test]
+    fn parity_panels_draw_the_diagonal_and_the_20_percent_band_on_log_axes() {
+        let s = svg(
+            &[
+                panel(vec![(1.0, 1.1), (10.0, 8.0)], true, true),
+                panel(vec![], true, true),
+            ],
+            2,
+        );
+        assert!(s.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"280\" font-family=\"sans-serif\" font-size=\"11\">\n"));
+        assert!(s.ends_with("</svg>\n"));
+        assert_eq!(s.matches("<rect ").count(), 2);
+        assert_eq!(s.matches("<circle ").count(), 2);
+        // Diagonal plus two dashed band lines per panel.
+        assert_eq!(s.matches("<line ").count(), 6);
+        assert_eq!(s.matches("stroke-dasharray=\"4 3\"").count(), 4);
+        // The axis ends are in data units: the log is undone.
+        assert!(s.contains(">0.891</text>"), "{s}");
+        assert!(s.contains("font-weight=\"bold\">title</text>"));
+    }
+
+    #[test]
+    fn residual_panels_are_symmetric_about_a_zero_line() {
+        let s = svg(&[panel(vec![(1.0, 0.2), (2.0, -0.1)], false, false)], 1);
+        assert!(
+            s.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"320\" height=\"280\"")
+        );
+        assert_eq!(s.matches("<line ").count(), 1);
+        // y from -0.2 to 0.2, padded by 5% of the span.
+        assert!(
+            s.contains(">-0.220</text>") && s.contains(">0.220</text>"),
+            "{s}"
+        );
+        // The zero line runs at mid-height of the frame (25 .. 240).
+        assert!(s.contains("<line x1=\"50.0\" y1=\"132.5\" x2=\"305.0\" y2=\"132.5\""));
+    }
+}

@@ -332,3 +332,233 @@ impl<'a> CandidateRow<'a> {
         }
     }
 }
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+    use crate::calibrate::baseline::OutputErrors;
+    use crate::calibrate::select::{CorrelationTest, LackOfFit};
+    use std::sync::LazyLock;
+
+    fn errors(k_mean: f64) -> OutputErrors {
+        OutputErrors {
+            n: 12,
+            k_mean,
+            k_std: 0.123_456_789,
+            rmse_log: 0.05,
+            mape: 4.0,
+            max_error: 7.9,
+            within_10: 1.0,
+            within_20: 1.0,
+        }
+    }
+
+    static TABLE: LazyLock<ErrorTable> = LazyLock::new(|| ErrorTable {
+        mass: None,
+        free_deflection: Some(errors(1.799)),
+        blocked_force: Some(errors(f64::NAN)),
+        stiffness: None,
+        rmse_log_actuation: 0.589,
+    });
+    static CORRELATIONS: LazyLock<Vec<ResidualCorrelation>> = LazyLock::new(|| {
+        vec![ResidualCorrelation {
+            variable: "l_r".into(),
+            deflection: Some(0.5),
+            stiffness: None,
+            mass: Some(-0.25),
+        }]
+    });
+    static CONTENDERS: LazyLock<Vec<Vec<String>>> =
+        LazyLock::new(|| vec![vec!["dead-length".into()], vec!["clamp-compliance".into()]]);
+    static ADEQUACY: LazyLock<Adequacy> = LazyLock::new(|| Adequacy {
+        lack_of_fit: Some(LackOfFit {
+            f: 1.5,
+            df1: 3.0,
+            df2: 20.0,
+            p: 0.25,
+            sigma_pure: 0.04,
+        }),
+        correlations: vec![
+            CorrelationTest {
+                residual: "deflection",
+                variable: "l_r",
+                r: 0.3,
+                n: 10,
+                p: 0.4,
+                p_holm: 1.0,
+            },
+            CorrelationTest {
+                residual: "stiffness",
+                variable: "w_r",
+                r: -0.6,
+                n: 10,
+                p: 0.06,
+                p_holm: 0.5,
+            },
+        ],
+        passed: true,
+        worst_variable: Some("w_r (stiffness residual, r = -0.60)".into()),
+    });
+    static OUTLIERS: LazyLock<Vec<Outlier>> = LazyLock::new(|| {
+        vec![Outlier {
+            id: "A7".into(),
+            line: 9,
+            output: "blocked_force",
+            studentised: 3.75,
+            cooks_distance: 0.5,
+        }]
+    });
+    static NOTES: LazyLock<Vec<String>> = LazyLock::new(|| vec!["a remark".into()]);
+
+    /// A hand-made report: an ambiguous verdict, one selected effect, an original and a candidate model.
+    pub(in crate::calibrate::report) fn sample() -> Report<'static> {
+        let with = |cv| Errors {
+            table: &TABLE,
+            cv_rmse: cv,
+            residual_correlations: cv.map(|_| CORRELATIONS.as_slice()),
+        };
+        Report {
+            verdict: "ambiguous",
+            verdict_detail: VerdictDetail {
+                contenders: Some(&CONTENDERS),
+                follows: None,
+            },
+            selected_effects: vec![SelectedEffect {
+                name: "dead-length",
+                parameter: "dead_length_mm",
+                estimate: 2.293_123_456,
+                interval: (1.908, f64::INFINITY),
+                std_error: 0.19,
+            }],
+            parameter_correlations: vec![ParameterCorrelation {
+                a: "eta",
+                b: "dead_length_mm",
+                rho: -0.912_345_678,
+            }],
+            candidates: vec![
+                CandidateRow {
+                    stage: "actuation",
+                    role: "original",
+                    effects: vec![],
+                    parameters: BTreeMap::new(),
+                    aicc: -10.0,
+                    bic: -8.0,
+                    cv_rmse: 0.6,
+                    rss: 3.0,
+                    n: 40,
+                    accepted: false,
+                    note: "",
+                },
+                CandidateRow {
+                    stage: "actuation",
+                    role: "candidate",
+                    effects: vec!["d31-scale", "dead-length"],
+                    parameters: BTreeMap::from([("eta", 0.8), ("dead_length_mm", 2.3)]),
+                    aicc: -120.5,
+                    bic: -118.0,
+                    cv_rmse: 0.05,
+                    rss: 0.1,
+                    n: 40,
+                    accepted: true,
+                    note: "",
+                },
+            ],
+            before: with(Some(0.61)),
+            after: with(Some(0.052)),
+            thesis_adjusted: with(None),
+            adequacy: &ADEQUACY,
+            outliers: &OUTLIERS,
+            separating_designs: &[],
+            notes: &NOTES,
+            data: DataSummary {
+                source: "measured.csv",
+                actuators: 12,
+                rows: 40,
+            },
+            model_file: model_file::FILE_NAME,
+        }
+    }
+
+    fn json() -> serde_json::Value {
+        serde_json::from_str(&sample().to_json().unwrap()).unwrap()
+    }
+
+    #[test]
+    fn json_has_the_issue_6_keys_in_sorted_order() {
+        let text = sample().to_json().unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let keys: Vec<&String> = v.as_object().unwrap().keys().collect();
+        let mut sorted = keys.clone();
+        sorted.sort();
+        assert_eq!(keys, sorted);
+        for key in [
+            "verdict",
+            "verdict_detail",
+            "selected_effects",
+            "parameter_correlations",
+            "candidates",
+            "before",
+            "after",
+            "thesis_adjusted",
+            "adequacy",
+            "outliers",
+            "separating_designs",
+            "notes",
+            "data",
+            "model_file",
+        ] {
+            assert!(v.get(key).is_some(), "{key} missing");
+        }
+        // Written sorted in the text too (the struct's field order does not leak through).
+        assert!(text.find("\"adequacy\"").unwrap() < text.find("\"verdict\"").unwrap());
+    }
+
+    #[test]
+    fn selected_effects_group_values_by_parameter_and_round() {
+        let v = json();
+        let e = &v["selected_effects"][0];
+        assert_eq!(e["name"], "dead-length");
+        assert_eq!(e["parameters"]["dead_length_mm"], 2.29312);
+        assert_eq!(e["intervals"]["dead_length_mm"][0], 1.908);
+        assert!(e["intervals"]["dead_length_mm"][1].is_null());
+        assert_eq!(e["std_errors"]["dead_length_mm"], 0.19);
+        assert_eq!(v["parameter_correlations"][0]["rho"], -0.912346);
+    }
+
+    #[test]
+    fn verdict_detail_and_error_tables() {
+        let v = json();
+        assert_eq!(v["verdict"], "ambiguous");
+        assert_eq!(v["verdict_detail"]["contenders"][1][0], "clamp-compliance");
+        assert!(v["verdict_detail"].get("follows").is_none());
+        let before = &v["before"];
+        assert_eq!(before["cv_rmse_log_actuation"], 0.61);
+        assert_eq!(before["free_deflection"]["k_std"], 0.123457);
+        assert!(before["blocked_force"]["k_mean"].is_null());
+        assert!(before["mass"].is_null());
+        assert_eq!(before["residual_correlations"][0]["mass"], -0.25);
+        assert!(before["residual_correlations"][0]["stiffness"].is_null());
+        let thesis = v["thesis_adjusted"].as_object().unwrap();
+        assert!(!thesis.contains_key("cv_rmse_log_actuation"));
+        assert!(!thesis.contains_key("residual_correlations"));
+    }
+
+    #[test]
+    fn candidates_adequacy_outliers_and_data() {
+        let v = json();
+        let c = &v["candidates"][1];
+        assert_eq!(c["role"], "candidate");
+        assert_eq!(c["parameters"]["eta"], 0.8);
+        assert_eq!(c["effects"][1], "dead-length");
+        assert_eq!(v["candidates"][0]["parameters"], serde_json::json!({}));
+        let a = &v["adequacy"];
+        assert_eq!(a["lack_of_fit"]["sigma_pure_log"], 0.04);
+        assert_eq!(a["lack_of_fit"]["df1"], 3.0);
+        assert_eq!(a["correlations"][1]["p_holm"], 0.5);
+        assert_eq!(v["outliers"][0]["line"], 9);
+        assert_eq!(v["data"]["rows"], 40);
+        assert_eq!(v["model_file"], "calibrated-model.toml");
+        assert_eq!(sample().candidates[1].label(), "{d31-scale, dead-length}");
+        assert_eq!(sample().candidates[0].label(), "original");
+    }
+}
