@@ -4,27 +4,19 @@
 use super::observations::StageData;
 use super::settings::Settings;
 use actuator_model::effects::Effects;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
-/// splitmix64: a fixed, dependency-free generator for the fold assignment.
-fn splitmix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// Fold of each actuator for each repeat (deterministic from the seed).
+/// Fold of each actuator for each repeat: the actuators shuffled by one seeded ChaCha8 stream (the
+/// nester's generator; the same folds on every machine), then dealt round-robin into the folds.
 pub(super) fn folds(groups: usize, settings: &Settings) -> Vec<Vec<usize>> {
     let k = settings.folds.clamp(2, groups.max(2));
+    let mut rng = ChaCha8Rng::seed_from_u64(settings.seed);
     (0..settings.repeats.max(1))
-        .map(|rep| {
-            let mut state = settings.seed ^ (0xA5A5_0000 + rep as u64);
+        .map(|_| {
             let mut order: Vec<usize> = (0..groups).collect();
-            for i in (1..groups).rev() {
-                let j = (splitmix(&mut state) % (i as u64 + 1)) as usize;
-                order.swap(i, j);
-            }
+            order.shuffle(&mut rng);
             let mut fold = vec![0; groups];
             for (pos, &g) in order.iter().enumerate() {
                 fold[g] = pos % k;
@@ -59,5 +51,31 @@ pub(super) fn rmse(
         f64::INFINITY
     } else {
         (sum / count as f64).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folds_are_balanced_seeded_and_differ_between_repeats() {
+        let settings = Settings::default();
+        let a = folds(23, &settings);
+        assert_eq!(a, folds(23, &settings), "same seed, same folds");
+        assert_eq!(a.len(), settings.repeats);
+        for fold_of in &a {
+            let mut sizes = vec![0; settings.folds];
+            for &f in fold_of {
+                sizes[f] += 1;
+            }
+            assert!(sizes.iter().all(|&n| n == 4 || n == 5), "{sizes:?}");
+        }
+        assert_ne!(a[0], a[1], "repeats shuffle differently");
+        let other = Settings {
+            seed: 2,
+            ..settings
+        };
+        assert_ne!(a, folds(23, &other), "the seed changes the folds");
     }
 }
