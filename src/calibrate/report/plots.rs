@@ -16,6 +16,7 @@ struct Panel<'a> {
     parity: bool,
 }
 
+/// Panels in a grid of `cols` columns, 320 × 280 px each.
 fn svg(panels: &[Panel], cols: usize) -> String {
     let (pw, ph) = (320.0, 280.0);
     let rows = panels.len().div_ceil(cols);
@@ -110,6 +111,8 @@ fn svg(panels: &[Panel], cols: usize) -> String {
     canvas.finish()
 }
 
+/// Model against measured free deflection and blocked force, log axes, with y = x and a ±20% band;
+/// `when` names the model in the titles.
 pub fn parity_svg(data: &Dataset, preds: &[Performance], when: &str) -> String {
     let mut d = Vec::new();
     let mut f = Vec::new();
@@ -144,6 +147,8 @@ pub fn parity_svg(data: &Dataset, preds: &[Performance], when: &str) -> String {
     )
 }
 
+/// Per-actuator log residuals of deflection and stiffness against five design variables, one panel
+/// each; a trend left in a panel is an effect the model misses.
 pub fn residual_svg(data: &Dataset, preds: &[Performance], when: &str) -> String {
     let res = group_residuals(data, preds);
     let vars: Vec<_> = data

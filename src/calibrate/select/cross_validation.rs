@@ -1,5 +1,5 @@
 //! Repeated grouped K-fold cross-validation: whole actuators are held out, so a model is scored on
-//! actuators it has not seen (CALIBRATION-NOTES §3).
+//! actuators it has not seen (docs/calibration.md §3).
 
 use super::observations::StageData;
 use super::settings::Settings;

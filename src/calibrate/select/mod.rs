@@ -1,4 +1,4 @@
-//! Model selection (CALIBRATION-NOTES §3): mass effects first, then every subset of at most two effects
+//! Model selection (docs/calibration.md §3): mass effects first, then every subset of at most two effects
 //! (+ η) against the null models {η} and {η, uniform stiffness}, by AICc and grouped cross-validation,
 //! with covariance intervals, an adequacy test and a verdict that refuses to name an effect it cannot
 //! tell apart or that leaves the residual following a design variable.
@@ -204,7 +204,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         .iter()
         .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
         .sum();
-    // Parameter count at most n/10 (CALIBRATION-NOTES §3).
+    // Parameter count at most n/10 (docs/calibration.md §3).
     let max_effects = settings.max_effects.min((n_points / 10).saturating_sub(1));
     if max_effects < settings.max_effects {
         notes.push(format!(

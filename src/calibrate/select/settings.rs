@@ -1,4 +1,4 @@
-//! The knobs of the selection (CALIBRATION-NOTES §3); the defaults are the documented procedure.
+//! The knobs of the selection (docs/calibration.md §3); the defaults are the documented procedure.
 
 /// Knobs of the selection; the defaults are the documented procedure.
 #[derive(Debug, Clone, Copy, PartialEq)]
