@@ -11,5 +11,6 @@ pub mod input;
 pub mod layout;
 pub mod optimize;
 pub mod output;
+pub mod plot;
 pub mod prediction;
 pub mod sweep;

@@ -3,9 +3,10 @@
 //! design variable.
 
 use super::csv::{Dataset, Measurement};
-use super::select::design_variables;
+use super::rounded::{six_digits, six_digits_opt};
 use super::stats;
-use actuator_model::Performance;
+use super::variables::design_variables;
+use actuator_model::{ModelError, Performance};
 use serde::Serialize;
 
 /// Errors of one output.
@@ -14,18 +15,25 @@ pub struct OutputErrors {
     /// Number of measured values.
     pub n: usize,
     /// Mean of k = model/measured (thesis eq. 4.1).
+    #[serde(serialize_with = "six_digits")]
     pub k_mean: f64,
     /// Sample standard deviation of k (thesis eq. 4.2).
+    #[serde(serialize_with = "six_digits")]
     pub k_std: f64,
     /// RMSE of ln(measured/model).
+    #[serde(serialize_with = "six_digits")]
     pub rmse_log: f64,
     /// Mean absolute percentage error, %.
+    #[serde(serialize_with = "six_digits")]
     pub mape: f64,
     /// Largest |model/measured - 1|, %.
+    #[serde(serialize_with = "six_digits")]
     pub max_error: f64,
     /// Share of values within ±10%.
+    #[serde(serialize_with = "six_digits")]
     pub within_10: f64,
     /// Share of values within ±20%.
+    #[serde(serialize_with = "six_digits")]
     pub within_20: f64,
 }
 
@@ -68,6 +76,7 @@ pub struct ErrorTable {
     /// Stiffness F_b/δ (rows with both).
     pub stiffness: Option<OutputErrors>,
     /// RMSE of all log residuals of deflection and force together.
+    #[serde(serialize_with = "six_digits")]
     pub rmse_log_actuation: f64,
 }
 
@@ -77,22 +86,41 @@ pub struct ResidualCorrelation {
     /// Variable.
     pub variable: String,
     /// r of the actuation residual ln(δ_meas/δ_model).
+    #[serde(serialize_with = "six_digits_opt")]
     pub deflection: Option<f64>,
     /// r of the stiffness residual ln(k_meas/k_model).
+    #[serde(serialize_with = "six_digits_opt")]
     pub stiffness: Option<f64>,
     /// r of the mass residual.
+    #[serde(serialize_with = "six_digits_opt")]
     pub mass: Option<f64>,
 }
 
+/// A row the model cannot predict.
+#[derive(Debug, thiserror::Error)]
+#[error("line {line} (actuator {id}): {error}")]
+pub struct RowError {
+    /// File line.
+    pub line: u64,
+    /// Actuator id.
+    pub id: String,
+    /// Why (in the message, not a separate cause).
+    pub error: ModelError,
+}
+
 /// Predictions of one model for every row.
-pub fn predict_all<F>(data: &Dataset, predict: F) -> anyhow::Result<Vec<Performance>>
+pub fn predict_all<F>(data: &Dataset, predict: F) -> Result<Vec<Performance>, RowError>
 where
-    F: Fn(&Measurement) -> anyhow::Result<Performance>,
+    F: Fn(&Measurement) -> Result<Performance, ModelError>,
 {
     data.rows
         .iter()
         .map(|m| {
-            predict(m).map_err(|e| anyhow::anyhow!("line {} (actuator {}): {e}", m.line, m.id))
+            predict(m).map_err(|error| RowError {
+                line: m.line,
+                id: m.id.clone(),
+                error,
+            })
         })
         .collect()
 }

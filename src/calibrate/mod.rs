@@ -11,15 +11,19 @@ pub mod fit;
 pub mod library;
 pub mod model_file;
 pub mod report;
+pub mod rounded;
 pub mod select;
 pub mod stats;
+pub mod variables;
 
 pub use self::csv::{Dataset, Measurement};
 pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
 use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
-use baseline::{error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation};
+use baseline::{
+    error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
+};
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -54,8 +58,19 @@ pub fn predict_row(model: &CalibratedModel, m: &Measurement) -> Result<Performan
     model.predict(&m.actuator())
 }
 
+/// Why a data set could not be calibrated.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrateError {
+    /// The selection could not fit (too few actuators, a model error).
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A row the original or calibrated model cannot predict.
+    #[error(transparent)]
+    Row(#[from] RowError),
+}
+
 /// Calibrate a validated data set.
-pub fn calibrate(data: &Dataset, settings: &Settings) -> anyhow::Result<Calibration> {
+pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, CalibrateError> {
     let selection = select::select(data, settings)?;
     let model = CalibratedModel {
         model: "calibrated".into(),
@@ -68,8 +83,8 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> anyhow::Result<Calibrat
         effects: selection.model,
     };
     let original = Effects::default();
-    let predictions_before = predict_all(data, |m| Ok(original.predict(&m.actuator())?))?;
-    let predictions_after = predict_all(data, |m| Ok(predict_row(&model, m)?))?;
+    let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
+    let predictions_after = predict_all(data, |m| predict_row(&model, m))?;
     let thesis = predict_all(data, |m| {
         let p = original.predict(&m.actuator())?;
         Ok(empirical::adjust(&p, &m.planform, m.pzt_thickness))

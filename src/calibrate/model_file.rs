@@ -1,15 +1,50 @@
 //! `calibrated-model.toml`: the TOML text of [`CalibratedModel`] (the model crate knows serde, not TOML).
 
-use actuator_model::CalibratedModel;
-use anyhow::{bail, Context};
-use std::path::Path;
+use actuator_model::{CalibratedModel, ModelError};
+use std::path::{Path, PathBuf};
 
 /// Name of the file `calibrate` writes.
 pub const FILE_NAME: &str = "calibrated-model.toml";
 
+/// A model file that cannot be written, read or used. Each layer names its own step and keeps the cause
+/// as its source, so the command line prints the whole chain.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelFileError {
+    /// The model does not serialise (not expected for a valid model).
+    #[error("serialising the calibrated model")]
+    Serialise(#[source] toml::ser::Error),
+    /// Not TOML of a calibrated model.
+    #[error("parsing a calibrated model")]
+    Parse(#[source] toml::de::Error),
+    /// `model = "..."` names another model.
+    #[error("`model = \"{0}\"`: expected \"calibrated\"")]
+    NotCalibrated(String),
+    /// An effect value out of its physical range.
+    #[error(transparent)]
+    Invalid(#[from] ModelError),
+    /// The file cannot be read.
+    #[error("cannot read {}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file's content is not a valid model.
+    #[error("in {}", path.display())]
+    In {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        #[source]
+        source: Box<ModelFileError>,
+    },
+}
+
 /// TOML text of a calibrated model, with a header saying what it is.
-pub fn to_toml(model: &CalibratedModel) -> anyhow::Result<String> {
-    let body = toml::to_string(model).context("serialising the calibrated model")?;
+pub fn to_toml(model: &CalibratedModel) -> Result<String, ModelFileError> {
+    let body = toml::to_string(model).map_err(ModelFileError::Serialise)?;
     Ok(format!(
         "# actuator-cam calibrated model: the original model plus the physical effects below (SI units,\n\
          # null values = effect off). Use with predict/optimize/cut-sheet --model FILE.\n{body}"
@@ -17,20 +52,25 @@ pub fn to_toml(model: &CalibratedModel) -> anyhow::Result<String> {
 }
 
 /// Parse and validate a calibrated model.
-pub fn from_toml(text: &str) -> anyhow::Result<CalibratedModel> {
-    let model: CalibratedModel = toml::from_str(text).context("parsing a calibrated model")?;
+pub fn from_toml(text: &str) -> Result<CalibratedModel, ModelFileError> {
+    let model: CalibratedModel = toml::from_str(text).map_err(ModelFileError::Parse)?;
     if model.model != "calibrated" {
-        bail!("`model = \"{}\"`: expected \"calibrated\"", model.model);
+        return Err(ModelFileError::NotCalibrated(model.model));
     }
     model.effects.validate()?;
     Ok(model)
 }
 
 /// Read a calibrated model from a file (`--model FILE`).
-pub fn load(path: &Path) -> anyhow::Result<CalibratedModel> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    from_toml(&text).with_context(|| format!("in {}", path.display()))
+pub fn load(path: &Path) -> Result<CalibratedModel, ModelFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ModelFileError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    from_toml(&text).map_err(|e| ModelFileError::In {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    })
 }
 
 #[cfg(test)]
@@ -63,5 +103,28 @@ mod tests {
         )
         .unwrap();
         assert!(ok.effects.is_null());
+    }
+
+    #[test]
+    fn load_errors_name_the_file_then_the_step_then_the_cause() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.toml");
+        std::fs::write(&path, "model = ").unwrap();
+        let e = load(&path).unwrap_err();
+        assert_eq!(e.to_string(), format!("in {}", path.display()));
+        let step = std::error::Error::source(&e).unwrap();
+        assert_eq!(step.to_string(), "parsing a calibrated model");
+        assert!(
+            step.source().is_some(),
+            "the TOML error is kept as the cause"
+        );
+        let missing = load(&dir.path().join("none.toml")).unwrap_err();
+        assert!(missing.to_string().starts_with("cannot read "));
+        assert!(
+            from_toml("model = \"x\"\nverdict = \"x\"\nselected_effects = []\n[effects]\n")
+                .unwrap_err()
+                .to_string()
+                .contains("expected \"calibrated\"")
+        );
     }
 }

@@ -9,6 +9,7 @@
 use super::refine::refine;
 use super::report::decimal;
 use super::search::{tip_width, Design, Objective, Problem, TIP_SLACK};
+use crate::plot::{nice_ceiling, ticks, Anchor, Area, Canvas, Label, Marker, DASHED};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 
@@ -143,92 +144,57 @@ pub fn to_csv(problem: &Problem, front: &[Design]) -> anyhow::Result<String> {
 /// marked.
 pub fn to_svg(front: &[Design], required: f64, chosen: Option<&Design>) -> String {
     let (width, height) = (640.0, 420.0);
-    let (left, right, top, bottom) = (70.0, 20.0, 20.0, 50.0);
+    let area = Area {
+        left: 70.0,
+        right: width - 20.0,
+        top: 20.0,
+        bottom: height - 50.0,
+    };
     let e_max = front.iter().map(|d| d.energy * 1e3).fold(0.0, f64::max);
     let m_max = front.iter().map(|d| d.mass * 1e6).fold(0.0, f64::max);
     let e_span = nice_ceiling(e_max.max(required * 1e3));
     let m_span = nice_ceiling(m_max);
-    let x = |e_mj: f64| left + (width - left - right) * e_mj / e_span;
-    let y = |m_mg: f64| height - bottom - (height - top - bottom) * m_mg / m_span;
-    let mut s = String::new();
-    s.push_str(&format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\" font-family=\"sans-serif\" font-size=\"12\">\n"
-    ));
-    s.push_str(&format!(
-        "<rect x=\"0\" y=\"0\" width=\"{width}\" height=\"{height}\" fill=\"white\"/>\n"
-    ));
-    // Axes and ticks.
-    s.push_str(&format!(
-        "<path d=\"M{left} {top} V{} H{}\" stroke=\"black\" fill=\"none\"/>\n",
-        height - bottom,
-        width - right
-    ));
-    for i in 0..=5 {
-        let (e, m) = (e_span * i as f64 / 5.0, m_span * i as f64 / 5.0);
-        s.push_str(&format!(
-            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
-            x(e),
-            height - bottom + 16.0,
-            decimal(e, 4)
+    let (x, y) = (area.x_scale(0.0, e_span), area.y_scale(0.0, m_span));
+    let mut c = Canvas::new(width, height, 12.0, true);
+    c.background(width, height, "white");
+    c.axes(&area, "black");
+    for (e, m) in ticks(e_span, 5).into_iter().zip(ticks(m_span, 5)) {
+        let (e_text, m_text) = (decimal(e, 4), decimal(m, 4));
+        c.label(&Label::new(
+            x.at(e),
+            area.bottom + 16.0,
+            Anchor::Middle,
+            &e_text,
         ));
-        s.push_str(&format!(
-            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>\n",
-            left - 6.0,
-            y(m) + 4.0,
-            decimal(m, 4)
+        c.label(&Label::new(
+            area.left - 6.0,
+            y.at(m) + 4.0,
+            Anchor::End,
+            &m_text,
         ));
     }
-    s.push_str(&format!(
-        "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">delivered energy U (mJ)</text>\n",
-        (left + width - right) / 2.0,
-        height - 12.0
+    c.label(&Label::new(
+        area.centre_x(),
+        height - 12.0,
+        Anchor::Middle,
+        "delivered energy U (mJ)",
     ));
-    s.push_str(&format!(
-        "<text x=\"16\" y=\"{:.1}\" text-anchor=\"middle\" transform=\"rotate(-90 16 {:.1})\">mass (mg)</text>\n",
-        (top + height - bottom) / 2.0,
-        (top + height - bottom) / 2.0
-    ));
-    // Required energy.
-    let xr = x(required * 1e3);
-    s.push_str(&format!(
-        "<path d=\"M{xr:.1} {top} V{}\" stroke=\"gray\" stroke-dasharray=\"4 3\"/>\n",
-        height - bottom
-    ));
-    // Front.
-    let points: Vec<String> = front
+    c.vertical_label(16.0, area.centre_y(), "mass (mg)");
+    c.vertical_rule(&area, x.at(required * 1e3), "gray", Some(DASHED));
+    let points: Vec<(f64, f64)> = front
         .iter()
-        .map(|d| format!("{:.1},{:.1}", x(d.energy * 1e3), y(d.mass * 1e6)))
+        .map(|d| (x.at(d.energy * 1e3), y.at(d.mass * 1e6)))
         .collect();
-    s.push_str(&format!(
-        "<polyline points=\"{}\" fill=\"none\" stroke=\"steelblue\"/>\n",
-        points.join(" ")
-    ));
-    for p in &points {
-        let (px, py) = p.split_once(',').unwrap_or(("0", "0"));
-        s.push_str(&format!(
-            "<circle cx=\"{px}\" cy=\"{py}\" r=\"2.5\" fill=\"steelblue\"/>\n"
-        ));
+    c.polyline(&points, "steelblue");
+    for &p in &points {
+        c.marker(p, &Marker::dot(2.5, "steelblue"));
     }
     if let Some(d) = chosen {
-        s.push_str(&format!(
-            "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"5\" fill=\"none\" stroke=\"crimson\" stroke-width=\"2\"/>\n",
-            x(d.energy * 1e3),
-            y(d.mass * 1e6)
-        ));
+        let ring = Marker {
+            stroke: Some(("crimson", 2.0)),
+            ..Marker::dot(5.0, "none")
+        };
+        c.marker((x.at(d.energy * 1e3), y.at(d.mass * 1e6)), &ring);
     }
-    s.push_str("</svg>\n");
-    s
-}
-
-/// Smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 x 10^k) at or above `x`.
-fn nice_ceiling(x: f64) -> f64 {
-    if x.is_nan() || x <= 0.0 {
-        return 1.0;
-    }
-    let p = 10f64.powf(x.log10().floor());
-    [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0]
-        .into_iter()
-        .map(|f| f * p)
-        .find(|v| *v >= x * (1.0 - 1e-12))
-        .unwrap_or(10.0 * p)
+    c.finish()
 }

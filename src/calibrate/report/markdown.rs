@@ -1,0 +1,249 @@
+//! report.md and the terminal summary, rendered from the same [`Report`] tree as report.json.
+
+use super::tree::{Errors, Report, SelectedEffect, VerdictDetail};
+use crate::calibrate::baseline::OutputErrors;
+use std::fmt::Write as _;
+
+fn fmt_row(label: &str, e: &Option<OutputErrors>) -> String {
+    match e {
+        None => format!("| {label} | – | – | – | – | – | – |\n"),
+        Some(e) => format!(
+            "| {label} | {:.3} ± {:.3} | {:.3} | {:.1} | {:.1} | {:.0}% | {:.0}% |\n",
+            e.k_mean,
+            e.k_std,
+            e.rmse_log,
+            e.mape,
+            e.max_error,
+            100.0 * e.within_10,
+            100.0 * e.within_20
+        ),
+    }
+}
+
+/// Markdown table of before / after (and the thesis' fits), then the cross-validated errors.
+pub fn error_tables(before: &Errors, after: &Errors, thesis: &Errors) -> String {
+    let mut s = String::new();
+    s.push_str("| output | model | k = model/measured | RMSE log | MAPE % | max % | within 10% | within 20% |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|\n");
+    for (name, pick) in [
+        ("mass", 0usize),
+        ("free deflection", 1),
+        ("blocked force", 2),
+        ("stiffness", 3),
+    ] {
+        for (label, t) in [
+            ("original", before.table),
+            ("calibrated", after.table),
+            ("thesis fits", thesis.table),
+        ] {
+            let e = [&t.mass, &t.free_deflection, &t.blocked_force, &t.stiffness][pick];
+            s.push_str(&fmt_row(&format!("{name} | {label}"), e));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nCross-validated RMSE of the log residuals (δ, F_b; whole actuators held out): original {:.3}, calibrated {:.3}.",
+        before.cv_rmse.unwrap_or(f64::NAN),
+        after.cv_rmse.unwrap_or(f64::NAN)
+    );
+    s
+}
+
+/// `verdict: NAME` and what it rests on, one line.
+pub fn verdict_line(verdict: &str, detail: &VerdictDetail) -> String {
+    let mut out = format!("verdict: {verdict}");
+    if let Some(contenders) = detail.contenders {
+        let c: Vec<String> = contenders
+            .iter()
+            .map(|c| format!("{{{}}}", c.join(", ")))
+            .collect();
+        let _ = write!(out, " ({})", c.join(" vs "));
+    }
+    if let Some(variable) = detail.follows {
+        let _ = write!(out, " (residual still follows {variable})");
+    }
+    out
+}
+
+/// Terminal summary: verdict, fitted parameters with intervals, error tables.
+pub fn summary(
+    verdict: &str,
+    detail: &VerdictDetail,
+    selected: &[SelectedEffect],
+    tables: [&Errors; 3],
+) -> String {
+    let mut out = verdict_line(verdict, detail);
+    out.push('\n');
+    for e in selected {
+        let _ = writeln!(
+            out,
+            "  {}: {} = {:.4} [{:.4}, {:.4}]",
+            e.name, e.parameter, e.estimate, e.interval.0, e.interval.1
+        );
+    }
+    out.push_str(&error_tables(tables[0], tables[1], tables[2]));
+    out
+}
+
+/// report.md.
+pub fn markdown(r: &Report) -> String {
+    let mut md = format!(
+        "# Calibration of `{}`\n\n{} actuators, {} rows.\n\n## Verdict: {}\n\n",
+        r.data.source, r.data.actuators, r.data.rows, r.verdict
+    );
+    md.push_str(&verdict_line(r.verdict, &r.verdict_detail));
+    md.push_str("\n\n## Parameters\n\n| effect | parameter | estimate | 95% interval | std. error |\n|---|---|---|---|---|\n");
+    for e in &r.selected_effects {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.5} | [{:.5}, {:.5}] | {:.5} |",
+            e.name, e.parameter, e.estimate, e.interval.0, e.interval.1, e.std_error
+        );
+    }
+    md.push_str("\n## Error before and after\n\n");
+    md.push_str(&error_tables(&r.before, &r.after, &r.thesis_adjusted));
+    md.push_str("\nThe thesis fits are eqs. 4.3-4.5 (ζ = 0.94) applied to the same data: multipliers in l_r and w_0·t_p, not physics.\n");
+    md.push_str("\n## Candidates\n\n| stage | effects | AICc | CV RMSE | accepted | note |\n|---|---|---|---|---|---|\n");
+    for c in &r.candidates {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} | {:.4} | {} | {} |",
+            if c.stage == "mass" { "mass" } else { "δ, F_b" },
+            c.label(),
+            c.aicc,
+            c.cv_rmse,
+            if c.accepted { "yes" } else { "" },
+            c.note
+        );
+    }
+    md.push_str("\n## Adequacy\n\n");
+    if let Some(l) = r.adequacy.lack_of_fit {
+        let _ = writeln!(
+            md,
+            "Lack of fit against per-actuator lines in the field: F = {:.2} ({:.0}, {:.0}), p = {:.3}; pure-error σ(log) = {:.4}.\n",
+            l.f, l.df1, l.df2, l.p, l.sigma_pure
+        );
+    } else {
+        md.push_str("No voltage sweeps of 3+ levels: no lack-of-fit test.\n\n");
+    }
+    md.push_str("| residual | variable | r | p (Holm) |\n|---|---|---|---|\n");
+    let mut tests: Vec<_> = r.adequacy.correlations.iter().collect();
+    tests.sort_by(|a, b| a.p.total_cmp(&b.p));
+    for t in tests.iter().take(8) {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.3} | {:.3} |",
+            t.residual, t.variable, t.r, t.p_holm
+        );
+    }
+    if !r.separating_designs.is_empty() {
+        md.push_str("\n## Designs that would separate the contenders\n\n| l_tot mm | l_r | w0 mm | w_r | t_p mm | layup | V | δ ratio | F ratio |\n|---|---|---|---|---|---|---|---|---|\n");
+        for d in r.separating_designs {
+            let _ = writeln!(
+                md,
+                "| {:.1} | {:.2} | {:.1} | {:.2} | {:.3} | {} | {:.0} | {:.3} | {:.3} |",
+                d.l_tot_mm,
+                d.l_r,
+                d.w0_mm,
+                d.w_r,
+                d.t_p_mm,
+                d.layup,
+                d.voltage_v,
+                d.deflection_ratio,
+                d.force_ratio
+            );
+        }
+    }
+    if !r.outliers.is_empty() {
+        md.push_str("\n## Flagged rows\n\n");
+        for o in r.outliers {
+            let _ = writeln!(
+                md,
+                "- {} (line {}), {}: studentised {:.2}, Cook's D {:.2}",
+                o.id, o.line, o.output, o.studentised, o.cooks_distance
+            );
+        }
+    }
+    for n in r.notes {
+        let _ = writeln!(md, "\nNote: {n}");
+    }
+    md.push_str("\n## Plots\n\n![parity before](parity-before.svg) ![parity after](parity-after.svg)\n\n![residuals before](residuals-before.svg) ![residuals after](residuals-after.svg)\n");
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::report::tree::tests::sample;
+
+    #[test]
+    fn verdict_line_names_contenders_or_the_followed_variable() {
+        let r = sample();
+        assert_eq!(
+            verdict_line(r.verdict, &r.verdict_detail),
+            "verdict: ambiguous ({dead-length} vs {clamp-compliance})"
+        );
+        let follows = VerdictDetail {
+            contenders: None,
+            follows: Some("l_r"),
+        };
+        assert_eq!(
+            verdict_line("not-explained", &follows),
+            "verdict: not-explained (residual still follows l_r)"
+        );
+        assert_eq!(
+            verdict_line("explained", &VerdictDetail::default()),
+            "verdict: explained"
+        );
+    }
+
+    #[test]
+    fn error_tables_list_every_output_and_model() {
+        let r = sample();
+        let t = error_tables(&r.before, &r.after, &r.thesis_adjusted);
+        assert_eq!(t.lines().filter(|l| l.starts_with("| ")).count(), 13);
+        assert!(t.contains("| mass | original | – | – | – | – | – | – |\n"));
+        assert!(t.contains(
+            "| free deflection | calibrated | 1.799 ± 0.123 | 0.050 | 4.0 | 7.9 | 100% | 100% |\n"
+        ));
+        assert!(t.contains("original 0.610, calibrated 0.052."));
+    }
+
+    #[test]
+    fn summary_lists_parameters_with_intervals() {
+        let r = sample();
+        let s = summary(
+            r.verdict,
+            &r.verdict_detail,
+            &r.selected_effects,
+            [&r.before, &r.after, &r.thesis_adjusted],
+        );
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(
+            lines[0],
+            "verdict: ambiguous ({dead-length} vs {clamp-compliance})"
+        );
+        assert_eq!(
+            lines[1],
+            "  dead-length: dead_length_mm = 2.2931 [1.9080, inf]"
+        );
+    }
+
+    #[test]
+    fn markdown_renders_every_section_from_the_tree() {
+        let md = markdown(&sample());
+        assert!(md.starts_with("# Calibration of `measured.csv`\n\n12 actuators, 40 rows.\n\n## Verdict: ambiguous\n\nverdict: ambiguous ("));
+        assert!(
+            md.contains("| dead-length | dead_length_mm | 2.29312 | [1.90800, inf] | 0.19000 |\n")
+        );
+        assert!(md.contains("| δ, F_b | {d31-scale, dead-length} | -120.50 | 0.0500 | yes |  |\n"));
+        assert!(md.contains("| δ, F_b | original | -10.00 | 0.6000 |  |  |\n"));
+        assert!(md.contains("F = 1.50 (3, 20), p = 0.250; pure-error σ(log) = 0.0400."));
+        // Correlations sorted by p: w_r (0.06) before l_r (0.4).
+        assert!(md.find("| stiffness | w_r |").unwrap() < md.find("| deflection | l_r |").unwrap());
+        assert!(!md.contains("## Designs that would separate"));
+        assert!(md.contains("- A7 (line 9), blocked_force: studentised 3.75, Cook's D 0.50\n"));
+        assert!(md.contains("\nNote: a remark\n"));
+        assert!(md.ends_with("![residuals after](residuals-after.svg)\n"));
+    }
+}

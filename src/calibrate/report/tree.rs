@@ -1,0 +1,564 @@
+//! The report of a calibration as one tree of serde structs: serialized to report.json (issue 6 keys)
+//! and read by the Markdown renderer, so the two files say the same thing.
+//!
+//! The structs keep full precision; JSON numbers are rounded to 6 significant digits on the way out
+//! ([`crate::calibrate::rounded`]). report.json's keys are written in sorted order.
+
+use crate::calibrate::baseline::{ErrorTable, ResidualCorrelation};
+use crate::calibrate::csv::Dataset;
+use crate::calibrate::library::{EffectId, Stage};
+use crate::calibrate::model_file;
+use crate::calibrate::rounded::{six_digits, six_digits_pair};
+use crate::calibrate::select::{Adequacy, Candidate, Outlier, Role, SeparatingDesign, Verdict};
+use crate::calibrate::Calibration;
+use serde::ser::SerializeMap;
+use serde::{Serialize, Serializer};
+use std::collections::BTreeMap;
+
+/// report.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report<'a> {
+    /// `no-effect`, `explained`, `ambiguous` or `not-explained`.
+    pub verdict: &'static str,
+    /// The contenders or the variable the residual follows.
+    pub verdict_detail: VerdictDetail<'a>,
+    /// Selected effects with their fitted parameter (mass stage first).
+    pub selected_effects: Vec<SelectedEffect>,
+    /// Correlations between the final actuation model's parameters.
+    pub parameter_correlations: Vec<ParameterCorrelation>,
+    /// Every fitted model, mass stage first.
+    pub candidates: Vec<CandidateRow<'a>>,
+    /// Errors of the original model.
+    pub before: Errors<'a>,
+    /// Errors of the calibrated model.
+    pub after: Errors<'a>,
+    /// Errors of the thesis' empirical corrections (eqs. 4.3-4.5).
+    pub thesis_adjusted: Errors<'a>,
+    /// Adequacy of the final model.
+    pub adequacy: &'a Adequacy,
+    /// Flagged rows.
+    pub outliers: &'a [Outlier],
+    /// Designs that would separate ambiguous contenders.
+    pub separating_designs: &'a [SeparatingDesign],
+    /// Remarks of the selection.
+    pub notes: &'a [String],
+    /// The data set.
+    pub data: DataSummary<'a>,
+    /// Name of the model file written beside the report.
+    pub model_file: &'static str,
+}
+
+/// What the verdict rests on (empty for `no-effect` and `explained`).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct VerdictDetail<'a> {
+    /// Effect sets the data cannot tell apart (`ambiguous`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contenders: Option<&'a [Vec<String>]>,
+    /// The variable the remaining residual follows (`not-explained`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub follows: Option<&'a str>,
+}
+
+/// A selected effect and its one parameter, written as
+/// `{"name", "parameters": {p: v}, "intervals": {p: [lo, hi]}, "std_errors": {p: se}}`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelectedEffect {
+    /// Effect name.
+    pub name: &'static str,
+    /// Parameter name (report units in the name).
+    pub parameter: &'static str,
+    /// Estimate.
+    pub estimate: f64,
+    /// 95% interval.
+    pub interval: (f64, f64),
+    /// Standard error.
+    pub std_error: f64,
+}
+
+/// A number rounded for report.json.
+struct Rounded(f64);
+
+impl Serialize for Rounded {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        six_digits(&self.0, s)
+    }
+}
+
+/// An interval rounded for report.json.
+struct RoundedPair((f64, f64));
+
+impl Serialize for RoundedPair {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        six_digits_pair(&self.0, s)
+    }
+}
+
+impl Serialize for SelectedEffect {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let one = |v| BTreeMap::from([(self.parameter, v)]);
+        let mut m = s.serialize_map(Some(4))?;
+        m.serialize_entry("name", self.name)?;
+        m.serialize_entry("parameters", &one(Rounded(self.estimate)))?;
+        m.serialize_entry(
+            "intervals",
+            &BTreeMap::from([(self.parameter, RoundedPair(self.interval))]),
+        )?;
+        m.serialize_entry("std_errors", &one(Rounded(self.std_error)))?;
+        m.end()
+    }
+}
+
+/// Correlation of two fitted parameters.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ParameterCorrelation {
+    /// First parameter.
+    pub a: &'static str,
+    /// Second parameter.
+    pub b: &'static str,
+    /// Correlation coefficient.
+    #[serde(serialize_with = "six_digits")]
+    pub rho: f64,
+}
+
+/// One fitted model.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateRow<'a> {
+    /// `mass` or `actuation`.
+    pub stage: &'static str,
+    /// `original`, `null` or `candidate`.
+    pub role: &'static str,
+    /// Effect names in parameter order.
+    pub effects: Vec<&'static str>,
+    /// Estimate per parameter name.
+    #[serde(serialize_with = "rounded_map")]
+    pub parameters: BTreeMap<&'static str, f64>,
+    /// AICc.
+    #[serde(serialize_with = "six_digits")]
+    pub aicc: f64,
+    /// BIC.
+    #[serde(serialize_with = "six_digits")]
+    pub bic: f64,
+    /// Grouped cross-validated RMSE of the log residuals.
+    #[serde(serialize_with = "six_digits")]
+    pub cv_rmse: f64,
+    /// Residual sum of squares.
+    #[serde(serialize_with = "six_digits")]
+    pub rss: f64,
+    /// Number of residuals.
+    pub n: usize,
+    /// Passed every acceptance test.
+    pub accepted: bool,
+    /// Why it was not accepted.
+    pub note: &'a str,
+}
+
+fn rounded_map<S: Serializer>(m: &BTreeMap<&'static str, f64>, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_map(m.iter().map(|(k, v)| (k, Rounded(*v))))
+}
+
+impl CandidateRow<'_> {
+    /// Display label like `{eta, dead-length}` (`original` for no effects).
+    pub fn label(&self) -> String {
+        if self.effects.is_empty() {
+            return "original".into();
+        }
+        format!("{{{}}}", self.effects.join(", "))
+    }
+}
+
+/// Error table of one model, with its cross-validated error and residual correlations where known.
+#[derive(Debug, Clone, Serialize)]
+pub struct Errors<'a> {
+    /// Errors per output.
+    #[serde(flatten)]
+    pub table: &'a ErrorTable,
+    /// Cross-validated RMSE of the log residuals (δ, F_b).
+    #[serde(
+        rename = "cv_rmse_log_actuation",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "rounded_opt"
+    )]
+    pub cv_rmse: Option<f64>,
+    /// Correlations of the residual with the design variables.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub residual_correlations: Option<&'a [ResidualCorrelation]>,
+}
+
+fn rounded_opt<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+    crate::calibrate::rounded::six_digits_opt(x, s)
+}
+
+/// The measured data set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DataSummary<'a> {
+    /// File name.
+    pub source: &'a str,
+    /// Number of actuators.
+    pub actuators: usize,
+    /// Number of rows.
+    pub rows: usize,
+}
+
+impl<'a> Report<'a> {
+    /// The report of a calibration of `data` read from `source`.
+    pub fn new(cal: &'a Calibration, data: &Dataset, source: &'a str) -> Self {
+        let s = &cal.selection;
+        Report {
+            verdict: s.verdict.name(),
+            verdict_detail: VerdictDetail::new(&s.verdict),
+            selected_effects: selected_effects(cal),
+            parameter_correlations: parameter_correlations(&s.candidates[s.final_index]),
+            candidates: s
+                .mass_candidates
+                .iter()
+                .chain(&s.candidates)
+                .map(CandidateRow::new)
+                .collect(),
+            before: Errors {
+                table: &cal.before,
+                cv_rmse: Some(cal.cv_rmse_before),
+                residual_correlations: Some(&cal.correlations_before),
+            },
+            after: Errors {
+                table: &cal.after,
+                cv_rmse: Some(cal.cv_rmse_after),
+                residual_correlations: Some(&cal.correlations_after),
+            },
+            thesis_adjusted: Errors {
+                table: &cal.thesis_adjusted,
+                cv_rmse: None,
+                residual_correlations: None,
+            },
+            adequacy: &s.adequacy,
+            outliers: &s.outliers,
+            separating_designs: &s.separating_designs,
+            notes: &s.notes,
+            data: DataSummary {
+                source,
+                actuators: data.actuators(),
+                rows: data.rows.len(),
+            },
+            model_file: model_file::FILE_NAME,
+        }
+    }
+
+    /// report.json's text: pretty-printed, keys sorted.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        // Through a Value so every object's keys come out sorted, whatever the field order above.
+        serde_json::to_string_pretty(&serde_json::to_value(self)?)
+    }
+}
+
+impl<'a> VerdictDetail<'a> {
+    /// The detail of a verdict.
+    pub fn new(verdict: &'a Verdict) -> Self {
+        match verdict {
+            Verdict::Ambiguous { contenders } => VerdictDetail {
+                contenders: Some(contenders),
+                follows: None,
+            },
+            Verdict::NotExplained { variable } => VerdictDetail {
+                contenders: None,
+                follows: Some(variable),
+            },
+            Verdict::NoEffect | Verdict::Explained => VerdictDetail::default(),
+        }
+    }
+}
+
+/// Each selected effect with the parameter fitted for it, from the final mass or actuation model.
+pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
+    let s = &cal.selection;
+    let mass = s.final_mass_index.map(|i| &s.mass_candidates[i]);
+    let act = &s.candidates[s.final_index];
+    s.selected
+        .iter()
+        .filter_map(|id| {
+            [mass, Some(act)]
+                .into_iter()
+                .flatten()
+                .find_map(|c| c.effects.iter().position(|e| e == id).map(|k| (*id, c, k)))
+        })
+        .map(|(id, c, k): (EffectId, &Candidate, usize)| SelectedEffect {
+            name: id.name(),
+            parameter: id.param().name,
+            estimate: c.values[k],
+            interval: c.intervals[k],
+            std_error: c.std_errors[k],
+        })
+        .collect()
+}
+
+fn parameter_correlations(c: &Candidate) -> Vec<ParameterCorrelation> {
+    let mut out = Vec::new();
+    for (a, ea) in c.effects.iter().enumerate() {
+        for (b, eb) in c.effects.iter().enumerate().skip(a + 1) {
+            out.push(ParameterCorrelation {
+                a: ea.param().name,
+                b: eb.param().name,
+                rho: c.correlation[a][b],
+            });
+        }
+    }
+    out
+}
+
+impl<'a> CandidateRow<'a> {
+    fn new(c: &'a Candidate) -> Self {
+        CandidateRow {
+            stage: match c.stage {
+                Stage::Mass => "mass",
+                Stage::Actuation => "actuation",
+            },
+            role: match c.role {
+                Role::Original => "original",
+                Role::Null => "null",
+                Role::Candidate => "candidate",
+            },
+            effects: c.effects.iter().map(|e| e.name()).collect(),
+            parameters: c
+                .effects
+                .iter()
+                .zip(&c.values)
+                .map(|(id, v)| (id.param().name, *v))
+                .collect(),
+            aicc: c.aicc,
+            bic: c.bic,
+            cv_rmse: c.cv_rmse,
+            rss: c.rss,
+            n: c.n,
+            accepted: c.accepted,
+            note: &c.note,
+        }
+    }
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+    use crate::calibrate::baseline::OutputErrors;
+    use crate::calibrate::select::{CorrelationTest, LackOfFit};
+    use std::sync::LazyLock;
+
+    fn errors(k_mean: f64) -> OutputErrors {
+        OutputErrors {
+            n: 12,
+            k_mean,
+            k_std: 0.123_456_789,
+            rmse_log: 0.05,
+            mape: 4.0,
+            max_error: 7.9,
+            within_10: 1.0,
+            within_20: 1.0,
+        }
+    }
+
+    static TABLE: LazyLock<ErrorTable> = LazyLock::new(|| ErrorTable {
+        mass: None,
+        free_deflection: Some(errors(1.799)),
+        blocked_force: Some(errors(f64::NAN)),
+        stiffness: None,
+        rmse_log_actuation: 0.589,
+    });
+    static CORRELATIONS: LazyLock<Vec<ResidualCorrelation>> = LazyLock::new(|| {
+        vec![ResidualCorrelation {
+            variable: "l_r".into(),
+            deflection: Some(0.5),
+            stiffness: None,
+            mass: Some(-0.25),
+        }]
+    });
+    static CONTENDERS: LazyLock<Vec<Vec<String>>> =
+        LazyLock::new(|| vec![vec!["dead-length".into()], vec!["clamp-compliance".into()]]);
+    static ADEQUACY: LazyLock<Adequacy> = LazyLock::new(|| Adequacy {
+        lack_of_fit: Some(LackOfFit {
+            f: 1.5,
+            df1: 3.0,
+            df2: 20.0,
+            p: 0.25,
+            sigma_pure: 0.04,
+        }),
+        correlations: vec![
+            CorrelationTest {
+                residual: "deflection",
+                variable: "l_r",
+                r: 0.3,
+                n: 10,
+                p: 0.4,
+                p_holm: 1.0,
+            },
+            CorrelationTest {
+                residual: "stiffness",
+                variable: "w_r",
+                r: -0.6,
+                n: 10,
+                p: 0.06,
+                p_holm: 0.5,
+            },
+        ],
+        passed: true,
+        worst_variable: Some("w_r (stiffness residual, r = -0.60)".into()),
+    });
+    static OUTLIERS: LazyLock<Vec<Outlier>> = LazyLock::new(|| {
+        vec![Outlier {
+            id: "A7".into(),
+            line: 9,
+            output: "blocked_force",
+            studentised: 3.75,
+            cooks_distance: 0.5,
+        }]
+    });
+    static NOTES: LazyLock<Vec<String>> = LazyLock::new(|| vec!["a remark".into()]);
+
+    /// A hand-made report: an ambiguous verdict, one selected effect, an original and a candidate model.
+    pub(in crate::calibrate::report) fn sample() -> Report<'static> {
+        let with = |cv| Errors {
+            table: &TABLE,
+            cv_rmse: cv,
+            residual_correlations: cv.map(|_| CORRELATIONS.as_slice()),
+        };
+        Report {
+            verdict: "ambiguous",
+            verdict_detail: VerdictDetail {
+                contenders: Some(&CONTENDERS),
+                follows: None,
+            },
+            selected_effects: vec![SelectedEffect {
+                name: "dead-length",
+                parameter: "dead_length_mm",
+                estimate: 2.293_123_456,
+                interval: (1.908, f64::INFINITY),
+                std_error: 0.19,
+            }],
+            parameter_correlations: vec![ParameterCorrelation {
+                a: "eta",
+                b: "dead_length_mm",
+                rho: -0.912_345_678,
+            }],
+            candidates: vec![
+                CandidateRow {
+                    stage: "actuation",
+                    role: "original",
+                    effects: vec![],
+                    parameters: BTreeMap::new(),
+                    aicc: -10.0,
+                    bic: -8.0,
+                    cv_rmse: 0.6,
+                    rss: 3.0,
+                    n: 40,
+                    accepted: false,
+                    note: "",
+                },
+                CandidateRow {
+                    stage: "actuation",
+                    role: "candidate",
+                    effects: vec!["d31-scale", "dead-length"],
+                    parameters: BTreeMap::from([("eta", 0.8), ("dead_length_mm", 2.3)]),
+                    aicc: -120.5,
+                    bic: -118.0,
+                    cv_rmse: 0.05,
+                    rss: 0.1,
+                    n: 40,
+                    accepted: true,
+                    note: "",
+                },
+            ],
+            before: with(Some(0.61)),
+            after: with(Some(0.052)),
+            thesis_adjusted: with(None),
+            adequacy: &ADEQUACY,
+            outliers: &OUTLIERS,
+            separating_designs: &[],
+            notes: &NOTES,
+            data: DataSummary {
+                source: "measured.csv",
+                actuators: 12,
+                rows: 40,
+            },
+            model_file: model_file::FILE_NAME,
+        }
+    }
+
+    fn json() -> serde_json::Value {
+        serde_json::from_str(&sample().to_json().unwrap()).unwrap()
+    }
+
+    #[test]
+    fn json_has_the_issue_6_keys_in_sorted_order() {
+        let text = sample().to_json().unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let keys: Vec<&String> = v.as_object().unwrap().keys().collect();
+        let mut sorted = keys.clone();
+        sorted.sort();
+        assert_eq!(keys, sorted);
+        for key in [
+            "verdict",
+            "verdict_detail",
+            "selected_effects",
+            "parameter_correlations",
+            "candidates",
+            "before",
+            "after",
+            "thesis_adjusted",
+            "adequacy",
+            "outliers",
+            "separating_designs",
+            "notes",
+            "data",
+            "model_file",
+        ] {
+            assert!(v.get(key).is_some(), "{key} missing");
+        }
+        // Written sorted in the text too (the struct's field order does not leak through).
+        assert!(text.find("\"adequacy\"").unwrap() < text.find("\"verdict\"").unwrap());
+    }
+
+    #[test]
+    fn selected_effects_group_values_by_parameter_and_round() {
+        let v = json();
+        let e = &v["selected_effects"][0];
+        assert_eq!(e["name"], "dead-length");
+        assert_eq!(e["parameters"]["dead_length_mm"], 2.29312);
+        assert_eq!(e["intervals"]["dead_length_mm"][0], 1.908);
+        assert!(e["intervals"]["dead_length_mm"][1].is_null());
+        assert_eq!(e["std_errors"]["dead_length_mm"], 0.19);
+        assert_eq!(v["parameter_correlations"][0]["rho"], -0.912346);
+    }
+
+    #[test]
+    fn verdict_detail_and_error_tables() {
+        let v = json();
+        assert_eq!(v["verdict"], "ambiguous");
+        assert_eq!(v["verdict_detail"]["contenders"][1][0], "clamp-compliance");
+        assert!(v["verdict_detail"].get("follows").is_none());
+        let before = &v["before"];
+        assert_eq!(before["cv_rmse_log_actuation"], 0.61);
+        assert_eq!(before["free_deflection"]["k_std"], 0.123457);
+        assert!(before["blocked_force"]["k_mean"].is_null());
+        assert!(before["mass"].is_null());
+        assert_eq!(before["residual_correlations"][0]["mass"], -0.25);
+        assert!(before["residual_correlations"][0]["stiffness"].is_null());
+        let thesis = v["thesis_adjusted"].as_object().unwrap();
+        assert!(!thesis.contains_key("cv_rmse_log_actuation"));
+        assert!(!thesis.contains_key("residual_correlations"));
+    }
+
+    #[test]
+    fn candidates_adequacy_outliers_and_data() {
+        let v = json();
+        let c = &v["candidates"][1];
+        assert_eq!(c["role"], "candidate");
+        assert_eq!(c["parameters"]["eta"], 0.8);
+        assert_eq!(c["effects"][1], "dead-length");
+        assert_eq!(v["candidates"][0]["parameters"], serde_json::json!({}));
+        let a = &v["adequacy"];
+        assert_eq!(a["lack_of_fit"]["sigma_pure_log"], 0.04);
+        assert_eq!(a["lack_of_fit"]["df1"], 3.0);
+        assert_eq!(a["correlations"][1]["p_holm"], 0.5);
+        assert_eq!(v["outliers"][0]["line"], 9);
+        assert_eq!(v["data"]["rows"], 40);
+        assert_eq!(v["model_file"], "calibrated-model.toml");
+        assert_eq!(sample().candidates[1].label(), "{d31-scale, dead-length}");
+        assert_eq!(sample().candidates[0].label(), "original");
+    }
+}

@@ -1,0 +1,111 @@
+//! Which fitted models are accepted, and which accepted models the data cannot tell apart.
+
+use super::candidate::{Candidate, Role};
+use super::settings::Settings;
+use crate::calibrate::library::EffectId;
+
+/// Mark which candidates pass: ΔAICc over every parent (the nulls for singles, both singles for a pair),
+/// better cross-validation than every parent, and intervals that exclude the null value.
+pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Settings) {
+    let snapshot: Vec<(Vec<EffectId>, f64, f64)> = candidates
+        .iter()
+        .map(|c| (c.library_effects(), c.aicc, c.cv_rmse))
+        .collect();
+    let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
+    for c in candidates.iter_mut() {
+        if c.role != Role::Candidate {
+            continue;
+        }
+        let mine = c.library_effects();
+        let mut parents: Vec<usize> = nulls.to_vec();
+        if mine.len() >= 2 {
+            parents = snapshot
+                .iter()
+                .enumerate()
+                .filter(|(_, (e, _, _))| {
+                    e.len() + 1 == mine.len() && e.iter().all(|x| mine.contains(x))
+                })
+                .map(|(i, _)| i)
+                .collect();
+            parents.extend_from_slice(nulls);
+        }
+        let mut why = Vec::new();
+        for &p in &parents {
+            let (_, aicc, cv) = snapshot[p];
+            let label = &labels[p];
+            // The stiffness null has as many parameters as a single: it must only be beaten, not by 4.
+            let margin = if mine.len() == 1 && nulls.len() > 1 && p == nulls[nulls.len() - 1] {
+                0.0
+            } else {
+                settings.min_delta_aicc
+            };
+            if c.aicc > aicc - margin {
+                why.push(format!("dAICc vs {label} {:.1}", aicc - c.aicc));
+            }
+            if c.cv_rmse >= cv {
+                why.push(format!("CV no better than {label}"));
+            }
+        }
+        for (k, id) in c.effects.iter().enumerate() {
+            if id.stage() == c.stage && *id != EffectId::D31Scale && !c.excludes_null(k) {
+                why.push(format!("{} interval includes the null value", id.name()));
+            }
+        }
+        c.accepted = why.is_empty();
+        c.note = why.join("; ");
+    }
+}
+
+/// Indices of the best accepted model and its rivals (within ΔAICc 2, not nested in it).
+pub(super) fn best_and_rivals_indices(candidates: &[Candidate], settings: &Settings) -> Vec<usize> {
+    let _ = settings;
+    let Some(best) = candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.accepted)
+        .min_by(|a, b| a.1.aicc.total_cmp(&b.1.aicc))
+        .map(|(i, _)| i)
+    else {
+        return Vec::new();
+    };
+    let best_effects = candidates[best].library_effects();
+    let mut out = vec![best];
+    for (i, c) in candidates.iter().enumerate() {
+        if i == best || c.role != Role::Candidate {
+            continue;
+        }
+        let mine = c.library_effects();
+        let nested = mine.iter().all(|e| best_effects.contains(e))
+            || best_effects.iter().all(|e| mine.contains(e));
+        let own_effects_significant = c
+            .effects
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.stage() == c.stage && **e != EffectId::D31Scale)
+            .all(|(k, _)| c.excludes_null(k));
+        if !nested && own_effects_significant && c.aicc < candidates[best].aicc + 2.0 {
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// The best accepted model and the effect sets of its rivals (within ΔAICc 2, not nested in it).
+pub(super) fn best_and_rivals(
+    candidates: &[Candidate],
+    settings: &Settings,
+) -> (Option<usize>, Vec<Vec<String>>) {
+    let idx = best_and_rivals_indices(candidates, settings);
+    let rivals = idx
+        .iter()
+        .skip(1)
+        .map(|&i| {
+            candidates[i]
+                .library_effects()
+                .iter()
+                .map(|e| e.name().to_string())
+                .collect()
+        })
+        .collect();
+    (idx.first().copied(), rivals)
+}

@@ -1,0 +1,259 @@
+//! Adequacy of the final model: a lack-of-fit test against the voltage sweeps' pure error and
+//! Holm-corrected correlations of the remaining residual with the design variables.
+
+use super::candidate::Candidate;
+use super::observations::{ActuationData, MassData, StageData};
+use super::settings::Settings;
+use crate::calibrate::csv::{Dataset, Measurement};
+use crate::calibrate::rounded::six_digits;
+use crate::calibrate::stats;
+use crate::calibrate::variables::design_variables;
+use serde::Serialize;
+
+/// Lack-of-fit F test against per-actuator lines in the field (pure error from the voltage sweeps).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LackOfFit {
+    /// F statistic.
+    #[serde(serialize_with = "six_digits")]
+    pub f: f64,
+    /// Numerator degrees of freedom.
+    pub df1: f64,
+    /// Denominator (pure-error) degrees of freedom.
+    pub df2: f64,
+    /// Upper-tail p-value.
+    #[serde(serialize_with = "six_digits")]
+    pub p: f64,
+    /// Pure-error standard deviation of the log residuals.
+    #[serde(rename = "sigma_pure_log", serialize_with = "six_digits")]
+    pub sigma_pure: f64,
+}
+
+/// Correlation of a remaining residual with a design variable.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CorrelationTest {
+    /// `deflection`, `stiffness` or `mass`.
+    pub residual: &'static str,
+    /// Variable name.
+    pub variable: &'static str,
+    /// Pearson r.
+    #[serde(serialize_with = "six_digits")]
+    pub r: f64,
+    /// Pairs used.
+    pub n: usize,
+    /// Raw p-value.
+    #[serde(serialize_with = "six_digits")]
+    pub p: f64,
+    /// Holm-adjusted p-value.
+    #[serde(serialize_with = "six_digits")]
+    pub p_holm: f64,
+}
+
+/// Adequacy of the final model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Adequacy {
+    /// Lack-of-fit test (None without sweeps of 3+ levels).
+    pub lack_of_fit: Option<LackOfFit>,
+    /// Holm-corrected correlations of the remaining residual.
+    pub correlations: Vec<CorrelationTest>,
+    /// Both tests pass at the family level.
+    pub passed: bool,
+    /// Variable the residual follows most (smallest p).
+    pub worst_variable: Option<String>,
+}
+
+/// Test the final model: lack of fit and residual correlations, at the family level `settings.alpha`.
+pub(super) fn adequacy(
+    data: &Dataset,
+    act: &ActuationData,
+    chosen: &Candidate,
+    mass_model: Option<&Candidate>,
+    mass_data: &MassData,
+    settings: &Settings,
+) -> Adequacy {
+    let mut r = Vec::new();
+    act.residuals(&chosen.model, None, &mut r);
+    let labels = act.labels();
+    // Per (group, output): (field, residual) pairs.
+    let groups = data.actuators();
+    let mut by: Vec<[Vec<(f64, f64)>; 2]> = vec![[Vec::new(), Vec::new()]; groups];
+    let mut row_res: Vec<[Option<f64>; 2]> = vec![[None, None]; act.obs.len()];
+    for (&(i, output), &res) in labels.iter().zip(&r) {
+        let o = &act.obs[i];
+        let slot = (output == "blocked_force") as usize;
+        by[o.group][slot].push((o.basis.field, res));
+        row_res[i][slot] = Some(res);
+    }
+    // Pure error: a line in the field per actuator and output.
+    let (mut rss_full, mut q) = (0.0, 0usize);
+    let mut sweeps = 0usize;
+    for pair in &by {
+        for pts in pair {
+            if pts.is_empty() {
+                continue;
+            }
+            let m = pts.len() as f64;
+            let mx = pts.iter().map(|p| p.0).sum::<f64>() / m;
+            let my = pts.iter().map(|p| p.1).sum::<f64>() / m;
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            let slope = if sxx > 1e-12 * mx * mx * m {
+                q += 2;
+                pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx
+            } else {
+                q += 1;
+                0.0
+            };
+            if pts.len() >= 3 {
+                sweeps += 1;
+            }
+            rss_full += pts
+                .iter()
+                .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
+                .sum::<f64>();
+        }
+    }
+    let n = r.len();
+    let p = chosen.values.len();
+    let df2 = n as f64 - q as f64;
+    let df1 = q as f64 - p as f64;
+    let lack_of_fit = if sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0 {
+        let f = ((chosen.fit.rss - rss_full).max(0.0) / df1) / (rss_full / df2);
+        Some(LackOfFit {
+            f,
+            df1,
+            df2,
+            p: stats::f_upper_p(f, df1, df2),
+            sigma_pure: (rss_full / df2).sqrt(),
+        })
+    } else {
+        None
+    };
+
+    // Correlations of the per-actuator mean residuals with the design variables.
+    let mut tests = Vec::new();
+    let mut per_group: Vec<(usize, [Vec<f64>; 2])> = Vec::new();
+    for (i, o) in act.obs.iter().enumerate() {
+        let entry = match per_group.iter_mut().find(|(g, _)| *g == o.group) {
+            Some(e) => e,
+            None => {
+                per_group.push((o.group, [Vec::new(), Vec::new()]));
+                per_group.last_mut().expect("just pushed")
+            }
+        };
+        if let Some(d) = row_res[i][0] {
+            entry.1[0].push(d);
+            if let Some(f) = row_res[i][1] {
+                entry.1[1].push(f - d);
+            }
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let mut mass_res = vec![None; groups];
+    if let Some(mm) = mass_model {
+        let mut out = Vec::new();
+        mass_data.residuals(&mm.model, None, &mut out);
+        for (&(g, _, _), v) in mass_data.obs.iter().zip(out) {
+            mass_res[g] = Some(v);
+        }
+    }
+    let first_row = |g: usize| &data.rows[data.groups[g][0]];
+    for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
+        let pts: Vec<(usize, f64)> = per_group
+            .iter()
+            .filter(|(_, v)| !v[slot].is_empty())
+            .map(|(g, v)| (*g, mean(&v[slot])))
+            .collect();
+        push_variable_tests(&mut tests, kind, &pts, &first_row);
+    }
+    let mass_pts: Vec<(usize, f64)> = (0..groups)
+        .filter_map(|g| mass_res[g].map(|v| (g, v)))
+        .collect();
+    push_variable_tests(&mut tests, "mass", &mass_pts, &first_row);
+    // Within-sweep trend with the field.
+    for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        for (g, _) in &per_group {
+            let pts: Vec<(f64, f64)> = act
+                .obs
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.group == *g)
+                .filter_map(|(i, o)| {
+                    let d = row_res[i][0];
+                    let v = if slot == 0 {
+                        d
+                    } else {
+                        row_res[i][1].zip(d).map(|(f, d)| f - d)
+                    };
+                    v.map(|v| (o.basis.field * 1e-6, v))
+                })
+                .collect();
+            if pts.len() < 2 {
+                continue;
+            }
+            let mx = pts.iter().map(|p| p.0).sum::<f64>() / pts.len() as f64;
+            let my = pts.iter().map(|p| p.1).sum::<f64>() / pts.len() as f64;
+            for (x, y) in pts {
+                xs.push(x - mx);
+                ys.push(y - my);
+            }
+        }
+        if let Some(r) = stats::pearson(&xs, &ys) {
+            let groups_used = per_group.len();
+            // Each actuator's centring removes one degree of freedom.
+            let n_eff = xs.len().saturating_sub(groups_used) + 2;
+            tests.push(CorrelationTest {
+                residual: kind,
+                variable: "field_V_per_um (within sweep)",
+                r,
+                n: n_eff,
+                p: stats::correlation_p(r, n_eff),
+                p_holm: 1.0,
+            });
+        }
+    }
+    let raw: Vec<f64> = tests.iter().map(|t| t.p).collect();
+    for (t, adj) in tests.iter_mut().zip(stats::holm(&raw)) {
+        t.p_holm = adj;
+    }
+    let worst = tests
+        .iter()
+        .min_by(|a, b| a.p.total_cmp(&b.p))
+        .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r));
+    let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
+    let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
+    Adequacy {
+        lack_of_fit,
+        correlations: tests,
+        passed: correlations_pass && lof_pass,
+        worst_variable: worst,
+    }
+}
+
+fn push_variable_tests<'a>(
+    tests: &mut Vec<CorrelationTest>,
+    kind: &'static str,
+    pts: &[(usize, f64)],
+    first_row: &dyn Fn(usize) -> &'a Measurement,
+) {
+    if pts.len() < 4 {
+        return;
+    }
+    let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let vars: Vec<[(&'static str, f64); 9]> = pts
+        .iter()
+        .map(|p| design_variables(first_row(p.0)))
+        .collect();
+    for k in 0..9 {
+        let xs: Vec<f64> = vars.iter().map(|v| v[k].1).collect();
+        if let Some(r) = stats::pearson(&xs, &ys) {
+            tests.push(CorrelationTest {
+                residual: kind,
+                variable: vars[0][k].0,
+                r,
+                n: xs.len(),
+                p: stats::correlation_p(r, xs.len()),
+                p_holm: 1.0,
+            });
+        }
+    }
+}

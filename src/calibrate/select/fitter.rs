@@ -1,0 +1,146 @@
+//! Fit one effect set on one stage: multi-start bounded least squares, then the information criteria,
+//! covariance intervals and the cross-validated error that the selection compares.
+
+use super::candidate::{Candidate, Role};
+use super::cross_validation;
+use super::observations::StageData;
+use crate::calibrate::fit::{least_squares, Bounds, FitResult};
+use crate::calibrate::library::{EffectId, Stage};
+use crate::calibrate::stats;
+use actuator_model::effects::Effects;
+
+/// Every combination of the parameters' start values, clamped to their bounds.
+fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
+    let mut out = vec![Vec::new()];
+    for &(lo, hi, s) in specs {
+        out = out
+            .into_iter()
+            .flat_map(|prefix| {
+                s.iter().map(move |&v| {
+                    let mut p = prefix.clone();
+                    p.push(v.clamp(lo, hi));
+                    p
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// Fits effect sets on one stage's data on top of `base` (the frozen mass effects).
+pub(super) struct Fitter<'a> {
+    pub(super) data: &'a dyn StageData,
+    pub(super) base: Effects,
+    /// Fold of each actuator, per repeat.
+    pub(super) folds: Vec<Vec<usize>>,
+    /// Upper bound of the dead length: 80% of the shortest piezo length in the data.
+    pub(super) dead_length_max_mm: f64,
+}
+
+impl Fitter<'_> {
+    fn bounds(&self, ids: &[EffectId]) -> Vec<Bounds> {
+        ids.iter()
+            .map(|id| {
+                let p = id.param();
+                let hi = if *id == EffectId::DeadLength {
+                    p.hi.min(self.dead_length_max_mm)
+                } else {
+                    p.hi
+                };
+                Bounds { lo: p.lo, hi }
+            })
+            .collect()
+    }
+
+    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> Effects {
+        let mut e = self.base;
+        for (id, v) in ids.iter().zip(theta) {
+            id.apply(&mut e, *v);
+        }
+        e
+    }
+
+    fn fit_on(
+        &self,
+        ids: &[EffectId],
+        keep: Option<&[bool]>,
+        starts_list: &[Vec<f64>],
+    ) -> FitResult {
+        let bounds = self.bounds(ids);
+        let f = |theta: &[f64], out: &mut Vec<f64>| {
+            self.data.residuals(&self.effects_at(ids, theta), keep, out)
+        };
+        least_squares(&f, &bounds, starts_list)
+    }
+
+    pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
+        let bounds = self.bounds(ids);
+        let specs: Vec<(f64, f64, &'static [f64])> = ids
+            .iter()
+            .zip(&bounds)
+            .map(|(id, b)| (b.lo, b.hi, id.param().starts))
+            .collect();
+        let fit = self.fit_on(ids, None, &starts(&specs));
+        let p = ids.len();
+        let n = fit.n;
+        let nf = n as f64;
+        let kf = p as f64;
+        let rss = fit.rss.max(1e-300);
+        let aicc = if n > p + 1 {
+            nf * (rss / nf).ln() + 2.0 * kf + 2.0 * kf * (kf + 1.0) / (nf - kf - 1.0)
+        } else {
+            f64::INFINITY
+        };
+        let bic = nf * (rss / nf).ln() + kf * nf.ln();
+        let cov = fit.covariance();
+        let t = stats::t_quantile_two_sided(0.95, (nf - kf).max(1.0));
+        let std_errors: Vec<f64> = (0..p).map(|k| cov[(k, k)].max(0.0).sqrt()).collect();
+        let intervals = fit
+            .theta
+            .iter()
+            .zip(&std_errors)
+            .map(|(v, se)| (v - t * se, v + t * se))
+            .collect();
+        let correlation = (0..p)
+            .map(|a| {
+                (0..p)
+                    .map(|b| {
+                        let d = (cov[(a, a)] * cov[(b, b)]).sqrt();
+                        if d > 0.0 {
+                            cov[(a, b)] / d
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        // Each fold starts from the full-data fit; the original model has nothing to refit.
+        let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
+            if ids.is_empty() {
+                self.base
+            } else {
+                let refit = self.fit_on(ids, Some(train), std::slice::from_ref(&fit.theta));
+                self.effects_at(ids, &refit.theta)
+            }
+        });
+        Candidate {
+            stage,
+            role,
+            effects: ids.to_vec(),
+            values: fit.theta.clone(),
+            std_errors,
+            intervals,
+            correlation,
+            rss: fit.rss,
+            n,
+            aicc,
+            bic,
+            cv_rmse,
+            accepted: false,
+            note: String::new(),
+            model: self.effects_at(ids, &fit.theta),
+            fit,
+        }
+    }
+}

@@ -1,0 +1,304 @@
+//! Model selection (docs/calibration.md §3): mass effects first, then every subset of at most two effects
+//! (+ η) against the null models {η} and {η, uniform stiffness}, by AICc and grouped cross-validation,
+//! with covariance intervals, an adequacy test and a verdict that refuses to name an effect it cannot
+//! tell apart or that leaves the residual following a design variable.
+
+mod acceptance;
+pub mod adequacy;
+pub mod candidate;
+mod cross_validation;
+mod fitter;
+mod observations;
+pub mod outliers;
+pub mod separating;
+pub mod settings;
+
+pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
+pub use candidate::{Candidate, Role};
+pub use outliers::Outlier;
+pub use separating::SeparatingDesign;
+pub use settings::{max_parameters, Settings};
+
+use crate::calibrate::csv::Dataset;
+use crate::calibrate::library::{EffectId, Stage};
+use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
+use actuator_model::effects::Effects;
+use actuator_model::ModelError;
+use adequacy::adequacy;
+use cross_validation::folds;
+use fitter::Fitter;
+use observations::{ActuationData, ActuationObs, MassData};
+use outliers::outliers;
+use rayon::prelude::*;
+use separating::separate;
+
+/// The verdict of issue 6.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    /// The original model (no significant d31 scale) fits within the noise.
+    NoEffect,
+    /// The selected effects explain the residual.
+    Explained,
+    /// Several effect sets fit equally well.
+    Ambiguous {
+        /// The competing effect sets.
+        contenders: Vec<Vec<String>>,
+    },
+    /// The residual still follows a variable no selected effect explains.
+    NotExplained {
+        /// The variable it follows most strongly.
+        variable: String,
+    },
+}
+
+impl Verdict {
+    /// The name written to report.json.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Verdict::NoEffect => "no-effect",
+            Verdict::Explained => "explained",
+            Verdict::Ambiguous { .. } => "ambiguous",
+            Verdict::NotExplained { .. } => "not-explained",
+        }
+    }
+}
+
+/// Everything the selection concluded.
+#[derive(Debug, Clone)]
+pub struct Selection {
+    /// Verdict.
+    pub verdict: Verdict,
+    /// Mass-stage models (empty without mass data).
+    pub mass_candidates: Vec<Candidate>,
+    /// Actuation-stage models.
+    pub candidates: Vec<Candidate>,
+    /// Index of the final actuation model in `candidates`.
+    pub final_index: usize,
+    /// Index of the final mass model in `mass_candidates`.
+    pub final_mass_index: Option<usize>,
+    /// The calibrated effects.
+    pub model: Effects,
+    /// Selected effects (mass stage first).
+    pub selected: Vec<EffectId>,
+    /// Adequacy of the final model.
+    pub adequacy: Adequacy,
+    /// Flagged rows.
+    pub outliers: Vec<Outlier>,
+    /// Designs that separate ambiguous contenders.
+    pub separating_designs: Vec<SeparatingDesign>,
+    /// Remarks for the report.
+    pub notes: Vec<String>,
+}
+
+/// Run the whole selection.
+pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelError> {
+    let mut notes = Vec::new();
+    let groups = data.actuators();
+    let folds_of = folds(groups, settings);
+    let l_p_min_mm = data
+        .rows
+        .iter()
+        .map(|r| r.planform.piezo_length() * 1e3)
+        .fold(f64::INFINITY, f64::min);
+    let dead_length_max_mm = 0.8 * l_p_min_mm;
+
+    // --- Stage 1: mass effects on the measured masses, then frozen.
+    let mut seen = vec![false; groups];
+    let mut mass_obs = Vec::new();
+    for (i, r) in data.rows.iter().enumerate() {
+        let g = data.group_of[i];
+        if let (false, Some(m)) = (seen[g], r.mass) {
+            seen[g] = true;
+            mass_obs.push((g, i, m.ln()));
+        }
+    }
+    let mass_data = MassData {
+        data,
+        obs: mass_obs,
+    };
+    let mut mass_candidates = Vec::new();
+    let mut base = Effects::default();
+    let mut selected = Vec::new();
+    let mut contenders: Vec<Vec<String>> = Vec::new();
+    let mut final_mass_index = None;
+    if mass_data.obs.len() >= 4 {
+        let fitter = Fitter {
+            data: &mass_data,
+            base,
+            folds: folds_of.clone(),
+            dead_length_max_mm,
+        };
+        let mass_effects = [EffectId::PlyThickness, EffectId::BondLayer];
+        let mut sets: Vec<(Vec<EffectId>, Role)> = vec![(vec![], Role::Original)];
+        for e in mass_effects {
+            sets.push((vec![e], Role::Candidate));
+        }
+        if settings.max_effects >= 2 && mass_data.obs.len() >= 8 {
+            sets.push((mass_effects.to_vec(), Role::Candidate));
+        }
+        mass_candidates = sets
+            .par_iter()
+            .map(|(ids, role)| fitter.fit(ids, Stage::Mass, *role))
+            .collect();
+        judge(&mut mass_candidates, &[0], settings);
+        let (best, rivals) = best_and_rivals(&mass_candidates, settings);
+        let chosen = best.unwrap_or(0);
+        final_mass_index = Some(chosen);
+        base = mass_candidates[chosen].model;
+        selected.extend(mass_candidates[chosen].library_effects());
+        contenders.extend(rivals);
+    } else {
+        notes.push(
+            "fewer than 4 actuators with a measured mass: mass effects (ply-thickness, bond-layer) \
+             were not fitted"
+                .into(),
+        );
+    }
+
+    // --- Stage 2: actuation and compliance effects on deflection and force.
+    let mut obs = Vec::new();
+    for (i, r) in data.rows.iter().enumerate() {
+        if r.free_deflection.is_none() && r.blocked_force.is_none() {
+            continue;
+        }
+        if r.voltage <= 0.0 {
+            continue;
+        }
+        obs.push(ActuationObs {
+            group: data.group_of[i],
+            row: i,
+            basis: base.basis(&r.actuator())?,
+            ln_delta: r.free_deflection.map(f64::ln),
+            ln_force: r.blocked_force.map(f64::ln),
+        });
+    }
+    let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
+    if act_groups.len() < max_parameters(settings) + 2 {
+        return Err(ModelError::Fit(format!(
+            "{} actuators with deflection or force data: the largest model has {} parameters and \
+             needs at least {} actuators",
+            act_groups.len(),
+            max_parameters(settings),
+            max_parameters(settings) + 2
+        )));
+    }
+    let act_data = ActuationData { obs, groups };
+    let fitter = Fitter {
+        data: &act_data,
+        base,
+        folds: folds_of,
+        dead_length_max_mm,
+    };
+    let eta = EffectId::D31Scale;
+    let library: Vec<EffectId> = EffectId::LIBRARY
+        .into_iter()
+        .filter(|e| *e != eta && e.stage() == Stage::Actuation)
+        .collect();
+    let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
+        (vec![], Role::Original),
+        (vec![eta], Role::Null),
+        (vec![eta, EffectId::StiffnessScale], Role::Null),
+    ];
+    let n_points: usize = act_data
+        .obs
+        .iter()
+        .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
+        .sum();
+    // Parameter count at most n/10 (docs/calibration.md §3).
+    let max_effects = settings.max_effects.min((n_points / 10).saturating_sub(1));
+    if max_effects < settings.max_effects {
+        notes.push(format!(
+            "{n_points} data points: models limited to {max_effects} effect(s) besides eta (parameters <= n/10)"
+        ));
+    }
+    if max_effects >= 1 {
+        for &a in &library {
+            sets.push((vec![eta, a], Role::Candidate));
+        }
+    }
+    if max_effects >= 2 {
+        for (i, &a) in library.iter().enumerate() {
+            for &b in &library[i + 1..] {
+                sets.push((vec![eta, a, b], Role::Candidate));
+            }
+        }
+    }
+    let mut candidates: Vec<Candidate> = sets
+        .par_iter()
+        .map(|(ids, role)| fitter.fit(ids, Stage::Actuation, *role))
+        .collect();
+    judge(&mut candidates, &[1, 2], settings);
+    let (best, rivals) = best_and_rivals(&candidates, settings);
+    contenders.extend(rivals);
+    let final_index = match best {
+        Some(b) => b,
+        None => {
+            let (original, null_eta) = (&candidates[0], &candidates[1]);
+            if null_eta.aicc < original.aicc - settings.min_delta_aicc
+                && null_eta.excludes_null(0)
+                && (null_eta.values[0] - 1.0).abs() >= settings.min_relevant_d31_change
+            {
+                1
+            } else {
+                0
+            }
+        }
+    };
+    let chosen = &candidates[final_index];
+    if let Some(k) = chosen.effects.iter().position(|e| *e == eta) {
+        if chosen.excludes_null(k)
+            && (chosen.values[k] - 1.0).abs() >= settings.min_relevant_d31_change
+        {
+            selected.insert(0, eta);
+        }
+    }
+    selected.extend(chosen.library_effects());
+    let model = chosen.model;
+
+    let adequacy = adequacy(
+        data,
+        &act_data,
+        chosen,
+        final_mass_index.map(|i| &mass_candidates[i]),
+        &mass_data,
+        settings,
+    );
+    let outliers = outliers(data, &act_data, chosen);
+    let mut separating_designs = Vec::new();
+    let verdict = if !adequacy.passed {
+        Verdict::NotExplained {
+            variable: adequacy
+                .worst_variable
+                .clone()
+                .unwrap_or_else(|| "(lack of fit, no single variable)".into()),
+        }
+    } else if !contenders.is_empty() {
+        let mut all = vec![selected.iter().map(|e| e.name().to_string()).collect()];
+        all.extend(contenders);
+        if let Some(&rival) = best_and_rivals_indices(&candidates, settings).get(1) {
+            separating_designs = separate(
+                data,
+                &candidates[final_index].model,
+                &candidates[rival].model,
+            );
+        }
+        Verdict::Ambiguous { contenders: all }
+    } else if selected.is_empty() {
+        Verdict::NoEffect
+    } else {
+        Verdict::Explained
+    };
+    Ok(Selection {
+        verdict,
+        mass_candidates,
+        candidates,
+        final_index,
+        final_mass_index,
+        model,
+        selected,
+        adequacy,
+        outliers,
+        separating_designs,
+        notes,
+    })
+}
