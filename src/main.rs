@@ -7,6 +7,13 @@ use std::error::Error;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // An interrupted run removes its staging folder, so it leaves nothing half-written behind. If the
+    // handler cannot be set, the next run into the same place removes the leftover instead.
+    let _ = ctrlc::set_handler(|| {
+        actuator_cam::output::remove_after_interrupt();
+        eprintln!("error: interrupted");
+        std::process::exit(130);
+    });
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => match value_error(&e) {

@@ -752,7 +752,7 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
 /// `-o` into a folder that holds other work: the run replaces only the files it writes (issue 14 item 1:
 /// the folder used to be replaced as a whole, deleting the design file and the user's notes).
 #[test]
-fn an_existing_output_folder_keeps_the_users_files() {
+fn with_force_an_existing_output_folder_keeps_the_users_files() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("project");
     std::fs::create_dir_all(out.join("photos")).unwrap();
@@ -761,7 +761,8 @@ fn an_existing_output_folder_keeps_the_users_files() {
     std::fs::write(out.join("notes.txt"), "n").unwrap();
     std::fs::write(out.join("photos/coupon.txt"), "p").unwrap();
     std::fs::write(out.join("report.md"), "stale").unwrap();
-    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+    // Without --force the folder is refused (tests/output_safety.rs); with it, the user's files stay.
+    let o = cut_sheet(design.to_str().unwrap(), &out, &["--force"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "n");
     assert_eq!(

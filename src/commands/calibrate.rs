@@ -1,7 +1,7 @@
 //! `actuator-cam calibrate measured.csv -o calibration/`: trace measured-vs-model errors to a physical
 //! effect and write `calibrated-model.toml`, the reports and the plots.
 
-use super::flags::{JsonFlag, OutputDir};
+use super::flags::{ForceFlag, JsonFlag, OutputDir};
 use crate::calibrate::{calibrate, csv, report, Settings};
 use crate::output::Output;
 use clap::Args;
@@ -18,6 +18,9 @@ pub struct CalibrateArgs {
     /// `-o`: calibrated-model.toml, report.json, report.md and the SVG plots.
     #[command(flatten)]
     pub output: OutputDir,
+    /// `--force`.
+    #[command(flatten)]
+    pub force: ForceFlag,
     /// `--json`: report.json on standard output.
     #[command(flatten)]
     pub json: JsonFlag,
@@ -51,7 +54,9 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
         .map(|(_, text)| text.clone())
         .unwrap_or_else(|| "{}".into());
     let dir = &args.output.output;
-    Output::new()
+    Output::new("calibrate")
+        .force(args.force.force)
+        .inputs([&args.measured])
         .folder(
             "-o",
             dir,

@@ -12,7 +12,7 @@ use std::sync::Arc;
 /// default sets it with `#[command(mut_arg("output", |a| a.default_value(...)))]`.
 #[derive(Debug, Clone, Args)]
 pub struct OutputDir {
-    /// Output folder. Files of the same name are replaced; everything else in it is kept.
+    /// Output folder: new, empty, or one actuator-cam wrote before (it replaces only its own files there).
     #[arg(
         short = 'o',
         long = "output",
@@ -20,6 +20,15 @@ pub struct OutputDir {
         default_value = "out"
     )]
     pub output: PathBuf,
+}
+
+/// `--force`: the user's word that a run may write into a folder that holds other files.
+#[derive(Debug, Clone, Args)]
+pub struct ForceFlag {
+    /// Write into a folder that holds files actuator-cam did not write, replacing files of the same name
+    /// (never an input of the run; nothing else in the folder is removed).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `--format svg,dxf`: which layer-file formats to write.

@@ -1,7 +1,7 @@
 //! `actuator-cam optimize spec.toml`: the lightest actuator (or the highest energy density) for a required
 //! mechanical energy, with the winning design and the Pareto front written on request.
 
-use super::flags::ModelFlag;
+use super::flags::{ForceFlag, ModelFlag};
 use crate::optimize::model::SearchModel;
 use crate::optimize::search::{Design, Objective, Problem};
 use crate::optimize::spec::Spec;
@@ -34,6 +34,9 @@ pub struct OptimizeArgs {
     /// Write the front of mass against delivered energy as CSV, and beside it an SVG plot.
     #[arg(long, value_name = "CSV")]
     pub pareto: Option<PathBuf>,
+    /// `--force`.
+    #[command(flatten)]
+    pub force: ForceFlag,
 }
 
 /// `--objective`: what the search minimises.
@@ -124,7 +127,9 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
         );
     }
     print!("{}", report::text(&spec, &file, &outcome, &perf));
-    let mut output = Output::new();
+    let mut output = Output::new("optimize")
+        .force(args.force.force)
+        .inputs([&args.spec]);
     let mut wrote = Vec::new();
     if let Some(path) = &args.output {
         output = output.file(

@@ -1,7 +1,7 @@
 //! `actuator-cam sweep factors.toml`: a full factorial over listed levels, main effects and a comparison
 //! of two models, with every design as CSV on request.
 
-use super::flags::{parse_model, ModelFlag};
+use super::flags::{parse_model, ForceFlag, ModelFlag};
 use crate::output::Output;
 use crate::sweep::analysis::{self, Comparison, MainEffects};
 use crate::sweep::spec::SweepSpec;
@@ -30,6 +30,9 @@ pub struct SweepArgs {
     /// Write every design's levels and outputs as CSV.
     #[arg(long, value_name = "CSV")]
     pub csv: Option<PathBuf>,
+    /// `--force`.
+    #[command(flatten)]
+    pub force: ForceFlag,
 }
 
 /// A built-in model: the sweep solves each laminate once and predicts from it, which a calibrated
@@ -70,7 +73,11 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.csv {
         let text = analysis::to_csv(&spec, &designs, compare, args.thesis_eq_2_36)?;
-        Output::new().file("--csv", path, text).write()?;
+        Output::new("sweep")
+            .force(args.force.force)
+            .inputs([&args.factors])
+            .file("--csv", path, text)
+            .write()?;
         println!("\nwrote {} ({} designs)", path.display(), designs.len());
     }
     Ok(())

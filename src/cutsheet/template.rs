@@ -191,14 +191,21 @@ fn read_palette(path: &Path, root: &TableReader<'_>) -> Result<Palette, InputErr
 }
 
 impl Template {
-    /// `method-1`, `method-2`, or a template file (relative paths resolved against `base_dir`).
+    /// The template file a design's `process` names, relative to the design file; `None` for the built-in
+    /// processes. (Also an input the output writer must never overwrite.)
+    pub fn file_of(process: &str, design_file: &Path) -> Option<PathBuf> {
+        process
+            .ends_with(".toml")
+            .then(|| design_file.parent().unwrap_or(Path::new(".")).join(process))
+    }
+
+    /// `method-1`, `method-2`, or a template file (relative paths resolved against the design's folder).
     pub fn resolve(process: &str, design_file: &Path) -> Result<Template, InputError> {
         match process {
             "method-1" => Self::parse(Path::new("templates/method-1.toml (built in)"), METHOD_1),
             "method-2" => Self::parse(Path::new("templates/method-2.toml (built in)"), METHOD_2),
             other if other.ends_with(".toml") => {
-                let base = design_file.parent().unwrap_or(Path::new("."));
-                let path: PathBuf = base.join(other);
+                let path = Self::file_of(other, design_file).unwrap_or_default();
                 let table = read_toml(&path)?;
                 Self::from_table(&path, &table)
             }

@@ -1,0 +1,274 @@
+//! The output policy, driven through the binary as a lab would meet it: nothing a user owns is deleted
+//! or overwritten unasked, a folder the tool wrote before is updated in place, and an interrupted run
+//! leaves nothing behind once the next run has looked.
+
+mod common;
+use common::*;
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+const MANIFEST: &str = ".actuator-cam-manifest";
+
+fn cut_sheet_into(out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+/// Hidden staging folders beside `out` (what a killed run could leave).
+fn staging_beside(out: &Path) -> Vec<String> {
+    fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.') && n.contains("staging"))
+        .collect()
+}
+
+#[test]
+fn a_folder_with_user_files_is_refused_and_left_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sb");
+    fs::create_dir(&out).unwrap();
+    fs::copy(example("thesis-C.toml"), out.join("design.toml")).unwrap();
+    fs::write(out.join("notes.txt"), "n\n").unwrap();
+    fs::create_dir(out.join("sub")).unwrap();
+    fs::write(out.join("sub/canary"), "c").unwrap();
+
+    let o = run(&[
+        "cut-sheet",
+        out.join("design.toml").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert!(!o.status.success(), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("sb") && err.contains("notes.txt") && err.contains("--force"),
+        "{err}"
+    );
+    // Untouched: the same three entries, the same bytes, nothing written.
+    let mut names: Vec<_> = fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["design.toml", "notes.txt", "sub"]);
+    assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "n\n");
+    assert_eq!(fs::read_to_string(out.join("sub/canary")).unwrap(), "c");
+    assert!(staging_beside(&out).is_empty());
+}
+
+#[test]
+fn force_writes_beside_user_files_and_spares_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("proj");
+    fs::create_dir(&out).unwrap();
+    fs::copy(example("thesis-C.toml"), out.join("design.toml")).unwrap();
+    fs::write(out.join("notes.txt"), "n\n").unwrap();
+    // A user file that has the name of an output: --force is the user's word to replace it.
+    fs::write(out.join("report.md"), "mine").unwrap();
+    let design = out.join("design.toml");
+    let design_bytes = fs::read(&design).unwrap();
+
+    let o = run(&[
+        "cut-sheet",
+        design.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(fs::read(&design).unwrap(), design_bytes);
+    assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "n\n");
+    assert!(out.join("pzt-1.svg").exists() && out.join(MANIFEST).exists());
+    assert_ne!(fs::read_to_string(out.join("report.md")).unwrap(), "mine");
+}
+
+#[test]
+fn force_never_overwrites_an_input_of_the_run() {
+    // The batch and its designs live in the output folder; an output named like an input is refused.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p");
+    fs::create_dir(&out).unwrap();
+    fs::copy(example("thesis-C.toml"), out.join("report.md")).unwrap();
+    let input = out.join("report.md");
+    let before = fs::read(&input).unwrap();
+    let o = run(&[
+        "cut-sheet",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.contains("report.md") && err.contains("input"), "{err}");
+    assert_eq!(fs::read(&input).unwrap(), before);
+}
+
+#[test]
+fn a_folder_written_before_is_updated_and_only_our_stale_files_go() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    // First run: 40 actuators need more sheets and panels than the second run's 2.
+    let o = cut_sheet_into(&out, &["--quantity", "40"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let many = files(&out).len();
+    fs::write(out.join("notes.txt"), "lab notes").unwrap();
+    let o = cut_sheet_into(&out, &["--quantity", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let now = files(&out);
+    assert!(
+        now.len() < many,
+        "stale sheets of the first run remain: {} vs {many}",
+        now.len()
+    );
+    assert_eq!(now["notes.txt"], b"lab notes");
+    // Same bytes as a run into a fresh folder (apart from nothing: the manifest lists the same files).
+    let fresh = dir.path().join("fresh");
+    assert!(cut_sheet_into(&fresh, &["--quantity", "2"])
+        .status
+        .success());
+    let mut want = files(&fresh);
+    want.insert("notes.txt".into(), b"lab notes".to_vec());
+    assert_eq!(now, want);
+}
+
+#[test]
+fn commands_share_a_folder_without_removing_each_others_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    fs::create_dir(&out).unwrap();
+    let best = out.join("best.toml");
+    let o = run(&[
+        "optimize",
+        "examples/optimize-thesis.toml",
+        "-o",
+        best.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = cut_sheet_into(&out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(best.exists(), "cut-sheet removed optimize's design");
+    // And optimize again, into the same file: replaced, cut-sheet's files still there.
+    let o = run(&[
+        "optimize",
+        "examples/optimize-rectangular.toml",
+        "-o",
+        best.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join("pzt-1.svg").exists());
+}
+
+#[test]
+fn a_single_output_file_the_user_owns_is_not_overwritten_unasked() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("designs.csv");
+    fs::write(&csv, "precious").unwrap();
+    let o = run(&[
+        "sweep",
+        "examples/sweep-table-3-2.toml",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("designs.csv") && stderr(&o).contains("--force"));
+    assert_eq!(fs::read_to_string(&csv).unwrap(), "precious");
+    let o = run(&[
+        "sweep",
+        "examples/sweep-table-3-2.toml",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(fs::read_to_string(&csv).unwrap().starts_with("design,"));
+}
+
+#[test]
+fn dot_and_dot_dot_get_a_message_that_says_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let inner = dir.path().join("a/b");
+    fs::create_dir_all(&inner).unwrap();
+    fs::write(inner.join("keep.txt"), "k").unwrap();
+    for target in [".", ".."] {
+        let o = Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+            .args(["cut-sheet", &example("thesis-C.toml"), "-o", target])
+            .current_dir(&inner)
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{target}");
+        assert!(!err.contains("os error"), "{target}: {err}");
+        assert!(err.contains("--force"), "{target}: {err}");
+    }
+    assert_eq!(fs::read_to_string(inner.join("keep.txt")).unwrap(), "k");
+}
+
+/// Start a long cut-sheet, stop it mid-way, and look beside the output folder.
+fn interrupted_run(signal: &str, after: Duration) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+        .args([
+            "cut-sheet",
+            &example("thesis-C.toml"),
+            "-o",
+            out.to_str().unwrap(),
+            "--quantity",
+            "3000",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Wait until the run has staged something (or give up after `after`).
+    let start = Instant::now();
+    while start.elapsed() < after && staging_beside(&out).is_empty() {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    child.wait().unwrap();
+    (dir, out)
+}
+
+#[test]
+fn sigint_and_sigterm_clean_up_the_staging_folder() {
+    for signal in ["-INT", "-TERM"] {
+        let (_dir, out) = interrupted_run(signal, Duration::from_secs(20));
+        assert!(
+            staging_beside(&out).is_empty(),
+            "{signal}: {:?}",
+            staging_beside(&out)
+        );
+        assert!(
+            !out.exists() || files(&out).is_empty(),
+            "{signal}: half-written output"
+        );
+    }
+}
+
+#[test]
+fn a_staging_folder_left_by_sigkill_is_removed_by_the_next_run() {
+    let (_dir, out) = interrupted_run("-KILL", Duration::from_secs(20));
+    // SIGKILL cannot be caught: whatever it left, the next run into the same place clears it.
+    let o = cut_sheet_into(&out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        staging_beside(&out).is_empty(),
+        "{:?}",
+        staging_beside(&out)
+    );
+}
