@@ -12,10 +12,11 @@ use crate::cutsheet::cut::{
 use crate::cutsheet::jobs::{check_geometry, Drawn, Job, Names};
 use crate::cutsheet::pzt::pzt_sheets;
 use crate::cutsheet::{CutSheetError, SheetDrawing};
-use crate::layout::{place_ring, Placement, SheetLayout};
+use crate::layout::{Placement, SheetLayout};
 use crate::nest::{
     nest, nest_bounding_boxes, verify, NestBin, NestError, NestItem, NestSettings, NestSolution,
 };
+use cam_geometry::place_ring;
 
 /// Settings of one nest run after the command line is read.
 #[derive(Debug, Clone, Copy, PartialEq)]

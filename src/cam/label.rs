@@ -8,7 +8,7 @@
 //! upper case), `-`, `.`, `#` and space. Any other character is drawn as a box outline of the
 //! glyph cell, so a missing glyph is visible on the part rather than silently dropped.
 
-use super::drawing::Point;
+use cam_geometry::Point;
 
 /// Glyph cell width in grid units.
 const GLYPH_WIDTH: f64 = 4.0;

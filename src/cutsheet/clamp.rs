@@ -4,13 +4,14 @@
 use super::features::Feature;
 use super::jobs::{kerfed, Drawn, Job, Names};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
-use super::parts::{PartGeometry, Point};
+use super::parts::PartGeometry;
 use super::template::Template;
 use super::CutSheetError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
 use crate::design::Design;
-use crate::layout::place_ring as place;
+use cam_geometry::place_ring;
+use cam_geometry::Point;
 
 /// What a clamp build made.
 #[derive(Debug, Clone, PartialEq)]
@@ -217,7 +218,7 @@ pub fn clamp_layers(
                         c.cavity_clearance_mm,
                         "mold cavity clearance",
                     )?;
-                    let placed = place(&grown, 0.0, *base);
+                    let placed = place_ring(&grown, 0.0, *base);
                     d.add(
                         features.op(Feature::MoldCavity),
                         Shape::Polygon(kerfed(job.design, &placed, -kerf / 2.0, "mold cavity")?),

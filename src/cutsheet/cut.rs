@@ -4,13 +4,15 @@
 
 use super::features::{Feature, FeatureMap};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
-use super::parts::{PartGeometry, Point};
+use super::parts::PartGeometry;
 use super::template::{PassiveCut, SheetSpec, Template};
 use super::CutSheetError;
-use crate::cam::drawing::polygon_area as ring_area;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
-use crate::layout::{place_point, place_ring as place, SheetLayout};
+use crate::layout::SheetLayout;
+use cam_geometry::signed_area;
+use cam_geometry::Point;
+use cam_geometry::{place_point, place_ring};
 
 /// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
 pub const REGISTRATION_HOLE_MM: f64 = 0.5;
@@ -117,7 +119,7 @@ fn axis_label(g: &PartGeometry, text: &str, height: f64, margin: f64) -> Option<
     Some(
         label_strokes(text, [0.0, 0.0], height)
             .into_iter()
-            .map(|s| place(&s, 90.0, [height / 2.0, y_start]))
+            .map(|s| place_ring(&s, 90.0, [height / 2.0, y_start]))
             .collect(),
     )
 }
@@ -236,7 +238,7 @@ pub fn passive_layers(
                 for (ply, angle) in plies.iter_mut().zip(&job.design.layup_deg) {
                     // Prepreg fibres run along the sheet's y axis; turning the part by -θ puts them at
                     // +θ (counter-clockwise) from its axis.
-                    let turned = place(&outline, -angle, [0.0, 0.0]);
+                    let turned = place_ring(&outline, -angle, [0.0, 0.0]);
                     let turned_holes: Vec<(Point, f64)> = holes
                         .iter()
                         .map(|(c, r)| (place_point(*c, -angle, [0.0, 0.0]), *r))
@@ -369,7 +371,7 @@ pub fn draw_cut_sheets(
                 for s in strokes {
                     d.add(
                         op(Feature::PartLabel),
-                        Shape::Polyline(place(&s, p.rotation_deg, p.offset)),
+                        Shape::Polyline(place_ring(&s, p.rotation_deg, p.offset)),
                     );
                 }
             }
@@ -395,7 +397,7 @@ pub fn draw_cut_sheets(
                 },
                 rotation_deg: p.rotation_deg,
                 offset: p.offset,
-                area_mm2: ring_area(&item.nominal),
+                area_mm2: signed_area(&item.nominal),
             });
         }
         drawn.sheets.push(record);

@@ -1,12 +1,13 @@
 //! What the layer builders share: a list of jobs (designs with quantities) built together, the names
 //! drawings and messages use, and what has been built so far (drawings, per-sheet records, placement map).
 
-use super::parts::{PartGeometry, Point};
+use super::parts::PartGeometry;
 use super::template::Template;
 use super::{CutSheetError, SheetDrawing};
 use crate::cam::drawing::Drawing;
-use crate::cam::kerf::offset_ring;
 use crate::design::Design;
+use cam_geometry::offset::offset_ring;
+use cam_geometry::Point;
 use std::collections::BTreeMap;
 
 /// One design's share of a build: the design as the process builds it, its plan geometry, how many.

@@ -1,9 +1,10 @@
 //! The clamp panel every clamp layer shares (CAM-NOTES §2): outline with a chamfered orientation corner,
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
-use super::parts::{PartGeometry, Point};
+use super::parts::PartGeometry;
 use super::template::ClampSpec;
-use crate::layout::place_ring as place;
+use cam_geometry::place_ring;
+use cam_geometry::Point;
 use thiserror::Error;
 
 /// Where the actuators sit on clamp panels.
@@ -136,7 +137,7 @@ pub fn rect(origin: Point, w: f64, h: f64) -> Vec<Point> {
 /// A cavity outline for one actuator placed at `base`: the part ring grown by the clearance is done by
 /// the caller (kerf module); here the nominal ring is placed.
 pub fn placed(ring: &[Point], base: Point) -> Vec<Point> {
-    place(ring, 0.0, base)
+    place_ring(ring, 0.0, base)
 }
 
 #[cfg(test)]

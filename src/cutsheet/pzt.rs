@@ -6,12 +6,12 @@ use super::jobs::{format_violations, Drawn, Job, Names, PartRecord, SheetRecord}
 use super::panel::rect;
 use super::template::SheetSpec;
 use super::CutSheetError;
-use crate::cam::drawing::polygon_area as ring_area;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::layout::{
     layout_plates, verify_break_order, verify_copies, verify_outlines, verify_sheet_edges,
     verify_snappable, PlateSpec, Sheet, Violation,
 };
+use cam_geometry::signed_area;
 
 /// Lay out two plates per actuator of every job on `spec` sheets (at most `stock`), verify each sheet
 /// and draw its score lines, each feature with the operation `features` gives it. Returns the number of
@@ -97,7 +97,7 @@ pub fn pzt_sheets(
                 part: format!("pzt-plate-{}", p.copy % 2 + 1),
                 rotation_deg: p.rotation_deg,
                 offset: p.offset,
-                area_mm2: ring_area(&nominal[p.item]),
+                area_mm2: signed_area(&nominal[p.item]),
             });
         }
         drawn.sheets.push(record);

@@ -9,14 +9,14 @@ use super::pzt::pzt_sheets;
 use super::report::LayerRow;
 use super::template::Template;
 use super::{CutSheetError, SheetDrawing};
-use crate::cam::drawing::polygon_area as ring_area;
 use crate::cam::drawing::{Drawing, Operation, Shape};
 use crate::design::Design;
-use crate::layout::place_ring as place;
 use crate::layout::{
     layout_parts, verify_copies, verify_outlines, verify_sheet, PartSpec, Sheet, SheetLayout,
     Violation,
 };
+use cam_geometry::place_ring;
+use cam_geometry::signed_area;
 
 pub use super::cut::REGISTRATION_HOLE_MM;
 
@@ -73,10 +73,10 @@ pub fn build(design: &Design, template: &Template) -> Result<Built, CutSheetErro
         material: format!("{} ({})", design.pzt.name, spec.material),
         thickness_mm: design.pzt_thickness * 1e3,
         density_kg_per_m3: design.pzt.density,
-        part_area_mm2: ring_area(&g.pzt_outline()),
+        part_area_mm2: signed_area(&g.pzt_outline()),
         parts_per_actuator: 2,
         sheets: pzt,
-        utilization: utilization(ring_area(&g.pzt_outline()), 2 * job.quantity, pzt, spec),
+        utilization: utilization(signed_area(&g.pzt_outline()), 2 * job.quantity, pzt, spec),
         mass_per_actuator_mg: 0.0,
     }));
     let mut cut_layers = passive_layers(&[(0, job)], template, &template.passive)?;
@@ -84,9 +84,9 @@ pub fn build(design: &Design, template: &Template) -> Result<Built, CutSheetErro
     for layer in &cut_layers {
         let sheets = shelf_sheets(layer, &names, &mut drawn)?;
         let item = &layer.items[0];
-        let area = ring_area(&g.passive_outline());
+        let area = signed_area(&g.passive_outline());
         let (area, parts) = if layer.layer == "pyralux" {
-            (ring_area(&item.nominal), item.per_actuator)
+            (signed_area(&item.nominal), item.per_actuator)
         } else {
             (area, 1)
         };
@@ -167,7 +167,7 @@ pub fn clamp_rows(
     layers: &mut Vec<LayerRow>,
 ) {
     let c = &template.clamp;
-    let panel_area = ring_area(&super::panel::panel_outline(c));
+    let panel_area = signed_area(&super::panel::panel_outline(c));
     for name in
         std::iter::once("mold".to_string()).chain(c.stack.iter().filter(|n| *n != "mold").cloned())
     {
@@ -209,11 +209,11 @@ fn preview(g: &PartGeometry, name: &str) -> Drawing {
     );
     d.add(
         Operation::Secondary,
-        Shape::Polygon(place(&g.passive_outline(), 0.0, origin)),
+        Shape::Polygon(place_ring(&g.passive_outline(), 0.0, origin)),
     );
     d.add(
         Operation::Cut,
-        Shape::Polygon(place(&g.pzt_outline(), 0.0, origin)),
+        Shape::Polygon(place_ring(&g.pzt_outline(), 0.0, origin)),
     );
     d
 }

@@ -12,7 +12,7 @@ pub mod plates;
 pub mod shelf;
 pub mod verify;
 
-pub use placement::{place_point, place_ring, LayoutError, Placement, Point, Sheet, SheetLayout};
+pub use placement::{LayoutError, Placement, Sheet, SheetLayout};
 pub use plates::{layout_plates, plate_outline, PlateSpec};
 pub use shelf::{layout_parts, PartSpec};
 pub use verify::{

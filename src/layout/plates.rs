@@ -22,7 +22,8 @@
 //! Strips may run either way; at each region both directions are tried (within a node budget)
 //! and the one that places more plate area is kept.
 
-use super::placement::{check_length, place_at, LayoutError, Point, Sheet, SheetLayout};
+use super::placement::{check_length, place_at, LayoutError, Sheet, SheetLayout};
+use cam_geometry::Point;
 use serde::{Deserialize, Serialize};
 
 /// One plate design: an isosceles trapezoid, `count` copies wanted.
@@ -501,11 +502,11 @@ impl Planner<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layout::placement::signed_area;
     use crate::layout::verify::{
         verify_break_order, verify_copies, verify_outlines, verify_sheet_edges, verify_snappable,
         Violation,
     };
+    use cam_geometry::signed_area;
     use proptest::prelude::*;
 
     fn plate(length_mm: f64, base_width_mm: f64, tip_width_mm: f64, count: usize) -> PlateSpec {

@@ -5,7 +5,8 @@
 //! on the sheet itself. Nothing here reuses the arithmetic of [`super::plates`] or
 //! [`super::shelf`].
 
-use super::placement::{Point, Sheet, SheetLayout};
+use super::placement::{Sheet, SheetLayout};
+use cam_geometry::Point;
 use geo::{
     Area, BooleanOps, BoundingRect, Coord, Distance, Euclidean, Length, Line, LineString,
     MultiLineString, Polygon, Rotate, Translate, Validation,
