@@ -11,5 +11,6 @@ pub mod input;
 pub mod layout;
 pub mod nest;
 pub mod optimize;
+pub mod pipeline;
 pub mod prediction;
 pub mod sweep;

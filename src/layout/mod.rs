@@ -17,5 +17,5 @@ pub use plates::{layout_plates, plate_outline, PlateSpec};
 pub use shelf::{layout_parts, PartSpec};
 pub use verify::{
     verify_break_order, verify_copies, verify_outlines, verify_sheet, verify_sheet_edges,
-    verify_snappable, PartRef, Violation,
+    verify_snappable, verify_stock, PartRef, Violation,
 };

@@ -90,6 +90,8 @@ pub enum Violation {
     PlateNotInCell { part: PartRef },
     #[error("{a} and {b} lie in the same cell: no score line separates them")]
     SharedCell { a: PartRef, b: PartRef },
+    #[error("the layout uses {used} sheets but the stock is {stock}")]
+    StockExceeded { used: usize, stock: usize },
     #[error("item {item}: copies placed {placed:?}, wanted each of 0..{wanted} once")]
     WrongCopies {
         item: usize,
@@ -329,6 +331,18 @@ pub fn verify_copies(sheets: &[SheetLayout], counts: &[usize]) -> Result<(), Vec
         }
     }
     finish(violations)
+}
+
+/// Checks that `sheets` use at most `stock` sheets.
+pub fn verify_stock(sheets: &[SheetLayout], stock: usize) -> Result<(), Vec<Violation>> {
+    if sheets.len() > stock {
+        Err(vec![Violation::StockExceeded {
+            used: sheets.len(),
+            stock,
+        }])
+    } else {
+        Ok(())
+    }
 }
 
 /// Checks that the score lines make the sheet snappable and free every plate:
@@ -804,6 +818,11 @@ mod tests {
         );
         let twice = [good(), good()];
         assert!(verify_copies(&twice, &[2]).is_err());
+        verify_stock(&twice, 2).unwrap();
+        assert_eq!(
+            verify_stock(&twice, 1).unwrap_err()[0].to_string(),
+            "the layout uses 2 sheets but the stock is 1"
+        );
     }
 
     #[test]

@@ -1,14 +1,14 @@
 //! Clamp-panel layers (mold frames with a cavity per actuator, pads and covers) for jobs that share one
 //! laminate height, so one stack of mold layers fits all of them.
 
-use super::features::Feature;
 use super::jobs::{kerfed, Drawn, Job, Names};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::PartGeometry;
-use super::template::Template;
-use super::CutSheetError;
+use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
+use crate::cutsheet::features::Feature;
+use crate::cutsheet::template::Template;
 use crate::design::Design;
 use cam_geometry::place_ring;
 use cam_geometry::Point;
@@ -89,7 +89,7 @@ pub fn clamp_layers(
     template: &Template,
     names: &Names,
     drawn: &mut Drawn,
-) -> Result<ClampBuild, CutSheetError> {
+) -> Result<ClampBuild, BuildError> {
     let Some((_, first)) = jobs.first() else {
         return Ok(ClampBuild {
             stack: Vec::new(),

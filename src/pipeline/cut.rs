@@ -2,13 +2,13 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
-use super::features::{Feature, FeatureMap};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::parts::PartGeometry;
-use super::template::{PassiveCut, SheetSpec, Template};
-use super::CutSheetError;
+use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
+use crate::cutsheet::features::{Feature, FeatureMap};
+use crate::cutsheet::template::{PassiveCut, SheetSpec, Template};
 use crate::layout::SheetLayout;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
@@ -135,7 +135,7 @@ fn item(
     per_actuator: usize,
     label: Label,
     layer: &str,
-) -> Result<CutItem, CutSheetError> {
+) -> Result<CutItem, BuildError> {
     // Parts are laid out by their cut paths (nominal outline grown by kerf/2, mitred corners included):
     // the web of material between two cuts is what must survive.
     let cut = kerfed(
@@ -175,7 +175,7 @@ pub fn passive_layers(
     jobs: &[(usize, Job<'_>)],
     template: &Template,
     spec: &SheetSpec,
-) -> Result<Vec<CutLayer>, CutSheetError> {
+) -> Result<Vec<CutLayer>, BuildError> {
     let Some((_, first)) = jobs.first() else {
         return Ok(Vec::new());
     };
@@ -264,7 +264,7 @@ pub fn passive_layers(
 
 /// Registration holes through every ply, in the passive-only base tab (clamped, so they do not touch
 /// the active part): two pins stack one actuator's plies in register.
-fn registration_holes(job: &Job<'_>, spec: &SheetSpec) -> Result<Vec<(Point, f64)>, CutSheetError> {
+fn registration_holes(job: &Job<'_>, spec: &SheetSpec) -> Result<Vec<(Point, f64)>, BuildError> {
     let g = &job.geometry;
     let d = REGISTRATION_HOLE_MM;
     let web = spec.kerf_mm.max(0.2);
@@ -296,7 +296,7 @@ pub fn pyralux_layer(
     jobs: &[Job<'_>],
     template: &Template,
     spec: Option<&SheetSpec>,
-) -> Result<Option<CutLayer>, CutSheetError> {
+) -> Result<Option<CutLayer>, BuildError> {
     let Some(bond) = template.bond.as_ref() else {
         return Ok(None);
     };
