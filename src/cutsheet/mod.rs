@@ -1,7 +1,7 @@
 //! `cut-sheet`: turn one design into laser-cut layer drawings, a build checklist and a report with the
 //! predicted mass and performance beside the geometry's own mass.
 
-pub mod features;
+mod features;
 mod layers;
 mod preview;
 mod report;
@@ -9,6 +9,7 @@ pub mod template;
 pub mod write;
 
 pub use crate::pipeline::{BuildError, SheetDrawing};
+pub use features::{Feature, FeatureMap};
 pub use layers::LayerRow;
 pub use report::{DesignSummary, Report};
 pub use template::Template;

@@ -24,7 +24,7 @@ mod pzt;
 
 pub use build::{build, Build, CutLayerSheets};
 pub use clamp::ClampBuild;
-pub use cut::{CutItem, CutLayer};
+pub use cut::CutLayer;
 pub use jobs::{Names, PartRecord, SheetRecord};
 pub use panel::panel_outline;
 pub use parts::PartGeometry;

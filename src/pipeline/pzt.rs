@@ -4,8 +4,8 @@
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::cutsheet::features::{Feature, FeatureMap};
 use crate::cutsheet::template::SheetSpec;
+use crate::cutsheet::{Feature, FeatureMap};
 use crate::layout::SheetLayout;
 use cam_geometry::signed_area;
 
