@@ -7,11 +7,12 @@
 use std::fs;
 use std::path::Path;
 
-use actuator_cam::cam::drawing::{polygon_area, Drawing, Operation, Shape};
+use actuator_cam::cam::drawing::{Drawing, Operation, Shape};
 use actuator_cam::cam::dxf::to_dxf;
-use actuator_cam::cam::kerf::offset_ring;
 use actuator_cam::cam::label::label_strokes;
 use actuator_cam::cam::svg::{read_svg_polygons, to_svg, SvgOptions};
+use cam_geometry::offset::offset_ring;
+use cam_geometry::signed_area;
 
 fn sample_panel() -> Drawing {
     let mut d = Drawing::new("sample panel #1", 72.4, 40.0);
@@ -80,8 +81,8 @@ fn sample_panel_files_are_written_and_read_back() {
     let svg = fs::read_to_string(tmp.path().join("sample_panel.svg")).unwrap();
     let polygons = read_svg_polygons(&svg).unwrap();
     assert_eq!(polygons.len(), 2, "outline and via hole");
-    let outline_area = polygon_area(&polygons[0].1);
-    let hole_area = polygon_area(&polygons[1].1);
+    let outline_area = signed_area(&polygons[0].1);
+    let hole_area = signed_area(&polygons[1].1);
     // 438 mm² part, grown by 0.015 mm along a 103.6 mm perimeter.
     assert!(
         outline_area > 439.4 && outline_area < 439.8,

@@ -5,6 +5,7 @@ pub mod file;
 pub mod plan;
 pub mod report;
 
+pub use crate::pipeline::{BaselineRow, NestOptions, WORKERS};
 pub use file::{Batch, BatchItem, SheetOverride};
-pub use plan::{plan, NestOptions, Planned, WORKERS};
+pub use plan::{plan, Planned};
 pub use report::NestReport;

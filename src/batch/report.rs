@@ -3,9 +3,7 @@
 //! `nest-report.md`.
 
 use super::file::Batch;
-use super::plan::{NestOptions, WORKERS};
-use crate::cutsheet::clamp::ClampBuild;
-use crate::cutsheet::jobs::{Drawn, Job};
+use crate::pipeline::{BaselineRow, Build, NestOptions, WORKERS};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -45,40 +43,6 @@ pub struct SheetRow {
     /// Nominal part area / sheet area.
     pub utilization: f64,
     pub parts: Vec<PartRow>,
-}
-
-/// Irregular nest against the bounding-box baseline on the same parts and sheet.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct BaselineRow {
-    pub layer: String,
-    pub material: String,
-    pub parts: usize,
-    pub sheets: usize,
-    /// Part area / area of the sheets used.
-    pub utilization: f64,
-    /// Part area / (sheet width x used length): the emptiest sheet counts up to its highest part,
-    /// the rest being a remnant (`NestSolution::used_length_utilization`).
-    pub used_length_utilization: f64,
-    pub baseline_sheets: usize,
-    pub baseline_utilization: f64,
-    pub baseline_used_length_utilization: f64,
-}
-
-impl BaselineRow {
-    /// One line: parts, sheets and utilisation of the nest and of the baseline.
-    pub fn summary(&self) -> String {
-        format!(
-            "{} {} parts: {} sheet(s) {:.1}% (used length {:.1}%), bounding boxes {} sheet(s) {:.1}% (used length {:.1}%)",
-            self.layer,
-            self.parts,
-            self.sheets,
-            self.utilization * 100.0,
-            self.used_length_utilization * 100.0,
-            self.baseline_sheets,
-            self.baseline_utilization * 100.0,
-            self.baseline_used_length_utilization * 100.0
-        )
-    }
 }
 
 /// An actuator of the batch.
@@ -144,16 +108,10 @@ fn total(rows: &mut Vec<TotalRow>, layer: &str, material: &str, sheets: usize, p
 
 impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
-    pub fn new(
-        batch: &Batch,
-        opts: &NestOptions,
-        jobs: &[Job<'_>],
-        drawn: &Drawn,
-        clamps: &[ClampBuild],
-        baseline: Vec<BaselineRow>,
-    ) -> NestReport {
+    pub fn new(batch: &Batch, opts: &NestOptions, built: &Build) -> NestReport {
         let t = &batch.template;
-        let sheets: Vec<SheetRow> = drawn
+        let design_name = |job: usize| batch.items[job].design.name.clone();
+        let sheets: Vec<SheetRow> = built
             .sheets
             .iter()
             .map(|s| SheetRow {
@@ -172,7 +130,7 @@ impl NestReport {
                     .parts
                     .iter()
                     .map(|p| PartRow {
-                        design: jobs[p.job].design.name.clone(),
+                        design: design_name(p.job),
                         actuator: p.actuator + 1,
                         part: p.part.clone(),
                         rotation_deg: p.rotation_deg,
@@ -192,7 +150,7 @@ impl NestReport {
             total(&mut totals, &s.layer, &s.material, 1, price);
         }
         let mut clamp_panels = Vec::new();
-        for c in clamps {
+        for c in &built.clamps {
             for stem in &c.stack {
                 let kind = stem.rsplit_once('-').map(|(k, _)| k).unwrap_or(stem);
                 let material = if kind == "mold" {
@@ -212,7 +170,7 @@ impl NestReport {
                     actuators: members
                         .iter()
                         .map(|(j, a)| ActuatorRef {
-                            design: jobs[*j].design.name.clone(),
+                            design: design_name(*j),
                             actuator: a + 1,
                         })
                         .collect(),
@@ -243,11 +201,15 @@ impl NestReport {
                 })
                 .collect(),
             sheets,
-            baseline,
+            baseline: built
+                .cut_layers
+                .iter()
+                .filter_map(|l| l.baseline.clone())
+                .collect(),
             clamp_panels,
             totals,
             total_cost,
-            placement_map: drawn.placement_map.clone(),
+            placement_map: built.placement_map.clone(),
             files: Vec::new(),
         }
     }

@@ -5,8 +5,7 @@
 //! operations in [`Operation`] order (engrave, score, secondary, cut) so that inner features
 //! and score lines come before the outer contours that free a part (CAM-NOTES §3).
 
-/// A point `[x, y]` in millimetres, y axis up.
-pub type Point = [f64; 2];
+use cam_geometry::Point;
 
 /// What the laser does along a shape. The derived order is the processing order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -154,20 +153,6 @@ impl Drawing {
     }
 }
 
-/// Signed area of a ring by the shoelace formula: positive when counter-clockwise (y up).
-/// The ring is implicitly closed; fewer than three points give 0.
-pub fn polygon_area(ring: &[Point]) -> f64 {
-    if ring.len() < 3 {
-        return 0.0;
-    }
-    let mut twice_area = 0.0;
-    for (i, a) in ring.iter().enumerate() {
-        let b = ring[(i + 1) % ring.len()];
-        twice_area += a[0] * b[1] - b[0] * a[1];
-    }
-    0.5 * twice_area
-}
-
 /// A drawing with one shape of every kind and every operation, for the writers' tests:
 /// a trapezoid and a circle (cut), a score line, an off-grid triangle (secondary) and a
 /// 270° arc (engrave), inserted out of processing order.
@@ -208,22 +193,6 @@ pub(crate) fn sample_drawing() -> Drawing {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn area_of_ccw_trapezoid_is_positive_and_exact() {
-        // Trapezoid with parallel sides 10 and 4, height 3: area (10 + 4) / 2 * 3 = 21.
-        let ring = [[0.0, 0.0], [10.0, 0.0], [7.0, 3.0], [3.0, 3.0]];
-        assert_eq!(polygon_area(&ring), 21.0);
-        let mut cw = ring.to_vec();
-        cw.reverse();
-        assert_eq!(polygon_area(&cw), -21.0);
-    }
-
-    #[test]
-    fn degenerate_rings_have_zero_area() {
-        assert_eq!(polygon_area(&[]), 0.0);
-        assert_eq!(polygon_area(&[[1.0, 1.0], [2.0, 2.0]]), 0.0);
-    }
 
     #[test]
     fn operations_come_out_in_processing_order() {

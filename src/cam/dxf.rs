@@ -22,8 +22,9 @@ use dxf::tables::Layer;
 use dxf::{Color, LwPolylineVertex};
 use thiserror::Error;
 
-use super::drawing::{Drawing, Operation, Point, Shape};
+use super::drawing::{Drawing, Operation, Shape};
 use super::palette::Palette;
+use cam_geometry::Point;
 
 /// Why a DXF could not be written.
 #[derive(Debug, Error)]

@@ -8,7 +8,7 @@
 //! upper case), `-`, `.`, `#` and space. Any other character is drawn as a box outline of the
 //! glyph cell, so a missing glyph is visible on the part rather than silently dropped.
 
-use super::drawing::Point;
+use cam_geometry::Point;
 
 /// Glyph cell width in grid units.
 const GLYPH_WIDTH: f64 = 4.0;
@@ -294,12 +294,10 @@ mod tests {
             && p[1] >= origin[1] - 1e-12
             && p[1] <= origin[1] + h + 1e-12));
         // The box is tight: something touches each side.
-        let min_x = pts.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min);
-        let max_x = pts.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max);
-        let max_y = pts.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
-        assert!((min_x - origin[0]).abs() < 1e-12);
-        assert!((max_x - (origin[0] + w)).abs() < 1e-12);
-        assert!((max_y - (origin[1] + h)).abs() < 1e-12);
+        let b = cam_geometry::Bounds::of(&pts);
+        assert!((b.min[0] - origin[0]).abs() < 1e-12);
+        assert!((b.max[0] - (origin[0] + w)).abs() < 1e-12);
+        assert!((b.max[1] - (origin[1] + h)).abs() < 1e-12);
     }
 
     #[test]

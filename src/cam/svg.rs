@@ -10,8 +10,9 @@ use std::fmt::Write as _;
 
 use thiserror::Error;
 
-use super::drawing::{Drawing, Operation, Point, Shape};
+use super::drawing::{Drawing, Operation, Shape};
 use super::palette::Palette;
+use cam_geometry::Point;
 
 /// Options of the SVG writer.
 #[derive(Clone, Debug, PartialEq)]
@@ -289,7 +290,8 @@ pub fn read_svg_polygons(svg_text: &str) -> Result<Vec<(Operation, Vec<Point>)>,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cam::drawing::{polygon_area, sample_drawing as sample};
+    use crate::cam::drawing::sample_drawing as sample;
+    use cam_geometry::signed_area;
 
     #[test]
     fn numbers_are_six_decimals_trimmed_without_negative_zero() {
@@ -376,7 +378,7 @@ mod tests {
             }
             // Off-grid vertices move by at most 5e-7 mm per axis, so the area moves by at most
             // perimeter * 5e-7 * sqrt(2); vertices on the 1e-6 grid come back exactly.
-            let (a0, a1) = (polygon_area(ring), polygon_area(ring_back));
+            let (a0, a1) = (signed_area(ring), signed_area(ring_back));
             assert!(a0 > 0.0, "orientation survives the y flip");
             let on_grid = ring
                 .iter()

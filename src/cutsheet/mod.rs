@@ -1,28 +1,26 @@
 //! `cut-sheet`: turn one design into laser-cut layer drawings, a build checklist and a report with the
 //! predicted mass and performance beside the geometry's own mass.
 
-pub mod clamp;
-pub mod cut;
-pub mod features;
-pub mod jobs;
-pub mod panel;
-pub mod parts;
-pub mod pzt;
-pub mod report;
-pub mod sheets;
+mod features;
+mod layers;
+mod preview;
+mod report;
 pub mod template;
 pub mod write;
 
-pub use report::{LayerRow, Report};
+pub use crate::pipeline::{BuildError, SheetDrawing};
+pub use features::{Feature, FeatureMap};
+pub use layers::LayerRow;
+pub use report::{DesignSummary, Report};
 pub use template::Template;
 
 use crate::cam::drawing::Drawing;
 use crate::cam::palette::Palette;
 use crate::design::Design;
+use crate::pipeline::{build, Names, Packing};
 use crate::prediction::Prediction;
 use actuator_model::model::ModelChoice;
 use actuator_model::Material;
-use thiserror::Error;
 
 /// Which file formats to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -48,36 +46,6 @@ pub struct CutSheetOptions {
     pub stroke_mm: f64,
 }
 
-/// A cut-sheet problem the user can fix.
-#[derive(Debug, Error)]
-pub enum CutSheetError {
-    /// A feature vanishes or is thinner than the kerf.
-    #[error("{file}: {what}")]
-    Geometry {
-        /// Design file.
-        file: String,
-        /// What is wrong, with the numbers.
-        what: String,
-    },
-    /// The model refused the design.
-    #[error("{file}: {0}", file = .1)]
-    Model(actuator_model::ModelError, String),
-    /// A drawing could not be serialised.
-    #[error("{0}")]
-    Output(String),
-}
-
-/// One named drawing (a layer on one sheet or panel).
-#[derive(Debug, Clone)]
-pub struct SheetDrawing {
-    /// File stem: `pzt-1`, `mold-2-1`, …
-    pub stem: String,
-    /// Layer name the report groups it under.
-    pub layer: String,
-    /// The geometry.
-    pub drawing: Drawing,
-}
-
 /// Everything a cut-sheet run produces, in memory, before anything is written.
 #[derive(Debug, Clone)]
 pub struct CutSheet {
@@ -93,10 +61,10 @@ pub struct CutSheet {
 
 /// The design as the process builds it: method 1 adds its Pyralux bond layers to the stack so the
 /// prediction's mass and stiffness include them.
-pub fn design_for_process(design: &Design, template: &Template) -> Result<Design, CutSheetError> {
+pub fn design_for_process(design: &Design, template: &Template) -> Result<Design, BuildError> {
     let mut d = design.clone();
     if let (Some(b), None) = (&template.bond, &design.bond) {
-        let mut m = Material::builtin(&b.bond_material).ok_or_else(|| CutSheetError::Geometry {
+        let mut m = Material::builtin(&b.bond_material).ok_or_else(|| BuildError::Geometry {
             file: design.source.display().to_string(),
             what: format!(
                 "template {}: bond material {:?} is not in the library",
@@ -114,24 +82,38 @@ pub fn plan(
     design: &Design,
     template: &Template,
     opts: &CutSheetOptions,
-) -> Result<CutSheet, CutSheetError> {
+) -> Result<CutSheet, BuildError> {
     let mut template = template.clone();
     if let Some(k) = opts.kerf_mm {
         template.override_kerf(k);
     }
+    // One design is laid out whatever the PZT stock: stock limits are a batch's concern.
+    template.pzt.stock = None;
     let mut design = design_for_process(design, &template)?;
     if let Some(q) = opts.quantity {
         design.quantity = q;
     }
     let file = design.source.display().to_string();
     let prediction = Prediction::with_model(&design, &opts.model)
-        .map_err(|e| CutSheetError::Model(e, file.clone()))?;
-    let built = sheets::build(&design, &template)?;
-    let report = report::Report::new(&design, &template, prediction, &built);
+        .map_err(|e| BuildError::Model(e, file.clone()))?;
+    // A batch of one: the same pipeline as `nest`, with the shelf packer for the cut-through layers.
+    let names = Names {
+        title: design.name.clone(),
+        file,
+        name_designs: false,
+    };
+    let built = build(
+        &[(&design, design.quantity)],
+        &template,
+        &names,
+        &Packing::Shelf,
+    )?;
+    let rows = layers::layer_rows(&design, &template, &built);
+    let report = Report::new(&design, &template, prediction, rows, &built);
     Ok(CutSheet {
+        preview: preview::preview(&built.geometry[0], &design.name),
         drawings: built.drawings,
         report,
-        preview: built.preview,
         palette: template.palette.clone(),
     })
 }

@@ -1,9 +1,10 @@
 //! The cut-sheet report: the design, its predicted performance, per-layer material use and mass, and the
 //! build checklist; as `report.json` and a readable `report.md`.
 
-use super::sheets::Built;
+use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
+use crate::pipeline::Build;
 use crate::prediction::Prediction;
 use serde::Serialize;
 use std::fmt::Write;
@@ -31,36 +32,6 @@ pub struct DesignSummary {
     pub drive_mode: String,
 }
 
-/// One layer's row (JSON `layers[]`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LayerRow {
-    pub layer: String,
-    pub material: String,
-    pub thickness_mm: f64,
-    pub density_kg_per_m3: f64,
-    pub part_area_mm2: f64,
-    pub parts_per_actuator: usize,
-    pub mass_per_actuator_mg: f64,
-    pub sheets: usize,
-    pub utilization: Option<f64>,
-}
-
-impl LayerRow {
-    /// Fill in the mass this layer adds to one actuator, mg: `area x thickness x density x parts`.
-    pub fn new(row: LayerRow) -> LayerRow {
-        // mm² x mm = 1e-9 m³; x kg/m³ = kg; x 1e6 = mg.
-        let mass = row.part_area_mm2
-            * row.thickness_mm
-            * row.density_kg_per_m3
-            * 1e-3
-            * row.parts_per_actuator as f64;
-        LayerRow {
-            mass_per_actuator_mg: mass,
-            ..row
-        }
-    }
-}
-
 /// `report.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Report {
@@ -86,10 +57,10 @@ impl Report {
         design: &Design,
         template: &Template,
         predicted: Prediction,
-        built: &Built,
+        layers: Vec<LayerRow>,
+        built: &Build,
     ) -> Report {
         let p = &design.planform;
-        let layers = built.layers.clone();
         let mass_from_geometry_mg = layers
             .iter()
             .map(|l| l.mass_per_actuator_mg)
@@ -124,7 +95,7 @@ impl Report {
             mass_from_geometry_mg,
             pzt_edge_margin_mm: template.pzt_edge_margin_mm,
             clamp_panels: built.panels,
-            stacking_order: built.stack.clone(),
+            stacking_order: built.clamps[0].stack.clone(),
             build_steps: template.cure_steps.clone(),
             placement_map: built.placement_map.clone(),
             files: Vec::new(),

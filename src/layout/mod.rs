@@ -12,10 +12,10 @@ pub mod plates;
 pub mod shelf;
 pub mod verify;
 
-pub use placement::{place_point, place_ring, LayoutError, Placement, Point, Sheet, SheetLayout};
+pub use placement::{LayoutError, Placement, Sheet, SheetLayout};
 pub use plates::{layout_plates, plate_outline, PlateSpec};
 pub use shelf::{layout_parts, PartSpec};
 pub use verify::{
     verify_break_order, verify_copies, verify_outlines, verify_sheet, verify_sheet_edges,
-    verify_snappable, PartRef, Violation,
+    verify_snappable, verify_stock, PartRef, Violation,
 };

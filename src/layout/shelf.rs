@@ -6,10 +6,8 @@
 //! interlocks with its turned copy like the PZT plates do). Items go tallest row first; a part
 //! takes the first row on the sheet that has room, else a new row, else a new sheet.
 
-use super::placement::{
-    bbox, check_length, normalize_deg, place_at, rotate_ring, signed_area, LayoutError, Point,
-    Sheet, SheetLayout,
-};
+use super::placement::{check_length, place_at, LayoutError, Sheet, SheetLayout};
+use cam_geometry::{normalize_deg, rotate, signed_area, Bounds, Point};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -170,8 +168,12 @@ impl Oriented {
         Ok(rotations
             .into_iter()
             .map(|rotation_deg| {
-                let rotated = rotate_ring(&spec.outline, rotation_deg);
-                let (lo, hi) = bbox(&rotated);
+                let rotated: Vec<Point> = spec
+                    .outline
+                    .iter()
+                    .map(|p| rotate(*p, rotation_deg))
+                    .collect();
+                let Bounds { min: lo, max: hi } = Bounds::of(&rotated);
                 Oriented {
                     rotation_deg,
                     ring: rotated

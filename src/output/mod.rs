@@ -460,11 +460,15 @@ fn stage(dest: Destination) -> Result<Staged, OutputError> {
         .map_err(|e| dest.error_stage(format!("in {}", near.display()), e))?;
     let staged = Staged { dest, staging };
     for dir in [staged.new_dir(), staged.old_dir()] {
-        fs::create_dir(&dir)
+        staged
+            .staging
+            .create_dir(&dir)
             .map_err(|e| staged.dest.error_stage(format!("in {}", dir.display()), e))?;
     }
     for (name, bytes) in &staged.dest.files {
-        fs::write(staged.new_dir().join(name), bytes)
+        staged
+            .staging
+            .write(&staged.new_dir().join(name), bytes)
             .map_err(|e| staged.dest.error_stage(name.clone(), e))?;
     }
     Ok(staged)

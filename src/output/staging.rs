@@ -41,6 +41,19 @@ impl Staging {
     pub(super) fn path(&self) -> &Path {
         self.dir.as_ref().map(|d| d.path()).unwrap_or(Path::new(""))
     }
+
+    /// Make a folder inside the staging folder. Under the lock, like every write into it: an interrupt
+    /// that is removing the folder must not race a write that adds to it.
+    pub(super) fn create_dir(&self, dir: &Path) -> std::io::Result<()> {
+        let _active = lock(&ACTIVE);
+        fs::create_dir(dir)
+    }
+
+    /// Write a file inside the staging folder (under the lock, see [`Staging::create_dir`]).
+    pub(super) fn write(&self, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+        let _active = lock(&ACTIVE);
+        fs::write(path, bytes)
+    }
 }
 
 impl Drop for Staging {
@@ -58,9 +71,12 @@ impl Drop for Staging {
 /// Waits for files being moved into place to finish (or be undone) first.
 pub fn remove_after_interrupt() {
     let _moving = lock(&MOVING);
-    for dir in lock(&ACTIVE).drain(..) {
+    // Held until the process exits: no write into a staging folder can start after this point.
+    let mut active = lock(&ACTIVE);
+    for dir in active.drain(..) {
         let _ = fs::remove_dir_all(dir);
     }
+    std::mem::forget(active);
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {

@@ -1,6 +1,8 @@
 //! The one geometry vocabulary of the workspace: points and rings in millimetres on a sheet (y up),
 //! their area and bounds, and rigid placement (a rotation about the origin, then a translation).
 //!
+//! [`offset`] grows or shrinks a ring with mitred corners (kerf compensation).
+//!
 //! A ring is a closed polygon given without its repeated closing point; counter-clockwise rings have
 //! positive signed area. Rotations by multiples of 90° are exact, so a part turned by 180° lands on
 //! exactly the coordinates one computes by hand, and axis-aligned layouts carry no 1e-17 noise.
@@ -17,6 +19,8 @@
 //! ```
 
 use serde::{Deserialize, Serialize};
+
+pub mod offset;
 
 /// A point in sheet coordinates, mm, y up.
 pub type Point = [f64; 2];

@@ -2,15 +2,17 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
-use super::features::{Feature, FeatureMap};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
-use super::parts::{PartGeometry, Point};
-use super::template::{PassiveCut, SheetSpec, Template};
-use super::CutSheetError;
-use crate::cam::drawing::polygon_area as ring_area;
+use super::parts::PartGeometry;
+use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
-use crate::layout::{place_point, place_ring as place, SheetLayout};
+use crate::cutsheet::template::{PassiveCut, SheetSpec, Template};
+use crate::cutsheet::{Feature, FeatureMap};
+use crate::layout::SheetLayout;
+use cam_geometry::signed_area;
+use cam_geometry::Point;
+use cam_geometry::{place_point, place_ring};
 
 /// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
 pub const REGISTRATION_HOLE_MM: f64 = 0.5;
@@ -117,7 +119,7 @@ fn axis_label(g: &PartGeometry, text: &str, height: f64, margin: f64) -> Option<
     Some(
         label_strokes(text, [0.0, 0.0], height)
             .into_iter()
-            .map(|s| place(&s, 90.0, [height / 2.0, y_start]))
+            .map(|s| place_ring(&s, 90.0, [height / 2.0, y_start]))
             .collect(),
     )
 }
@@ -133,7 +135,7 @@ fn item(
     per_actuator: usize,
     label: Label,
     layer: &str,
-) -> Result<CutItem, CutSheetError> {
+) -> Result<CutItem, BuildError> {
     // Parts are laid out by their cut paths (nominal outline grown by kerf/2, mitred corners included):
     // the web of material between two cuts is what must survive.
     let cut = kerfed(
@@ -173,7 +175,7 @@ pub fn passive_layers(
     jobs: &[(usize, Job<'_>)],
     template: &Template,
     spec: &SheetSpec,
-) -> Result<Vec<CutLayer>, CutSheetError> {
+) -> Result<Vec<CutLayer>, BuildError> {
     let Some((_, first)) = jobs.first() else {
         return Ok(Vec::new());
     };
@@ -236,7 +238,7 @@ pub fn passive_layers(
                 for (ply, angle) in plies.iter_mut().zip(&job.design.layup_deg) {
                     // Prepreg fibres run along the sheet's y axis; turning the part by -θ puts them at
                     // +θ (counter-clockwise) from its axis.
-                    let turned = place(&outline, -angle, [0.0, 0.0]);
+                    let turned = place_ring(&outline, -angle, [0.0, 0.0]);
                     let turned_holes: Vec<(Point, f64)> = holes
                         .iter()
                         .map(|(c, r)| (place_point(*c, -angle, [0.0, 0.0]), *r))
@@ -262,7 +264,7 @@ pub fn passive_layers(
 
 /// Registration holes through every ply, in the passive-only base tab (clamped, so they do not touch
 /// the active part): two pins stack one actuator's plies in register.
-fn registration_holes(job: &Job<'_>, spec: &SheetSpec) -> Result<Vec<(Point, f64)>, CutSheetError> {
+fn registration_holes(job: &Job<'_>, spec: &SheetSpec) -> Result<Vec<(Point, f64)>, BuildError> {
     let g = &job.geometry;
     let d = REGISTRATION_HOLE_MM;
     let web = spec.kerf_mm.max(0.2);
@@ -294,7 +296,7 @@ pub fn pyralux_layer(
     jobs: &[Job<'_>],
     template: &Template,
     spec: Option<&SheetSpec>,
-) -> Result<Option<CutLayer>, CutSheetError> {
+) -> Result<Option<CutLayer>, BuildError> {
     let Some(bond) = template.bond.as_ref() else {
         return Ok(None);
     };
@@ -369,7 +371,7 @@ pub fn draw_cut_sheets(
                 for s in strokes {
                     d.add(
                         op(Feature::PartLabel),
-                        Shape::Polyline(place(&s, p.rotation_deg, p.offset)),
+                        Shape::Polyline(place_ring(&s, p.rotation_deg, p.offset)),
                     );
                 }
             }
@@ -395,7 +397,7 @@ pub fn draw_cut_sheets(
                 },
                 rotation_deg: p.rotation_deg,
                 offset: p.offset,
-                area_mm2: ring_area(&item.nominal),
+                area_mm2: signed_area(&item.nominal),
             });
         }
         drawn.sheets.push(record);

@@ -1,9 +1,9 @@
 //! The clamp panel every clamp layer shares (CAM-NOTES §2): outline with a chamfered orientation corner,
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
-use super::parts::{PartGeometry, Point};
-use super::template::ClampSpec;
-use crate::layout::place_ring as place;
+use super::parts::PartGeometry;
+use crate::cutsheet::template::ClampSpec;
+use cam_geometry::Point;
 use thiserror::Error;
 
 /// Where the actuators sit on clamp panels.
@@ -131,12 +131,6 @@ pub fn rect(origin: Point, w: f64, h: f64) -> Vec<Point> {
         [origin[0] + w, origin[1] + h],
         [origin[0], origin[1] + h],
     ]
-}
-
-/// A cavity outline for one actuator placed at `base`: the part ring grown by the clearance is done by
-/// the caller (kerf module); here the nominal ring is placed.
-pub fn placed(ring: &[Point], base: Point) -> Vec<Point> {
-    place(ring, 0.0, base)
 }
 
 #[cfg(test)]

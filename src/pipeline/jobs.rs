@@ -1,12 +1,13 @@
 //! What the layer builders share: a list of jobs (designs with quantities) built together, the names
 //! drawings and messages use, and what has been built so far (drawings, per-sheet records, placement map).
 
-use super::parts::{PartGeometry, Point};
-use super::template::Template;
-use super::{CutSheetError, SheetDrawing};
+use super::parts::PartGeometry;
+use super::{BuildError, SheetDrawing};
 use crate::cam::drawing::Drawing;
-use crate::cam::kerf::offset_ring;
+use crate::cutsheet::template::Template;
 use crate::design::Design;
+use cam_geometry::offset::offset_ring;
+use cam_geometry::Point;
 use std::collections::BTreeMap;
 
 /// One design's share of a build: the design as the process builds it, its plan geometry, how many.
@@ -38,7 +39,9 @@ pub struct Names {
     pub title: String,
     /// File errors are reported against.
     pub file: String,
-    /// Prefix actuators with their design name in the placement map (batches of several designs).
+    /// A batch of several designs: actuators are prefixed with their design name in the placement
+    /// map, sheets are recorded under their material group (PZT thickness, layup) and messages say
+    /// which group they are about. One design has one group and needs none of it.
     pub name_designs: bool,
 }
 
@@ -52,9 +55,20 @@ impl Names {
         }
     }
 
+    /// Prefix an error's message with the group of a batch it happened in (a batch only).
+    pub fn in_group(&self, e: BuildError, group: &str) -> BuildError {
+        match e {
+            BuildError::Geometry { file, what } if self.name_designs => BuildError::Geometry {
+                file,
+                what: format!("{group}: {what}"),
+            },
+            other => other,
+        }
+    }
+
     /// A geometry or layout problem of the whole build.
-    pub fn error(&self, what: String) -> CutSheetError {
-        CutSheetError::Geometry {
+    pub fn error(&self, what: String) -> BuildError {
+        BuildError::Geometry {
             file: self.file.clone(),
             what,
         }
@@ -136,7 +150,7 @@ impl Drawn {
 }
 
 /// Process checks every design of a build must pass: the tip must survive the kerf.
-pub fn check_geometry(job: &Job<'_>, template: &Template) -> Result<(), CutSheetError> {
+pub fn check_geometry(job: &Job<'_>, template: &Template) -> Result<(), BuildError> {
     let widest_kerf = [template.pzt.kerf_mm, template.passive.kerf_mm]
         .into_iter()
         .fold(0.0, f64::max);
@@ -165,8 +179,8 @@ pub fn check_geometry(job: &Job<'_>, template: &Template) -> Result<(), CutSheet
 }
 
 /// A problem with one design's geometry, reported against its file.
-pub fn design_error(design: &Design, what: String) -> CutSheetError {
-    CutSheetError::Geometry {
+pub fn design_error(design: &Design, what: String) -> BuildError {
+    BuildError::Geometry {
         file: design.source.display().to_string(),
         what,
     }
@@ -179,7 +193,7 @@ pub fn kerfed(
     ring: &[Point],
     delta: f64,
     feature: &str,
-) -> Result<Vec<Point>, CutSheetError> {
+) -> Result<Vec<Point>, BuildError> {
     if delta == 0.0 {
         return Ok(ring.to_vec());
     }

@@ -1,16 +1,17 @@
 //! Clamp-panel layers (mold frames with a cavity per actuator, pads and covers) for jobs that share one
 //! laminate height, so one stack of mold layers fits all of them.
 
-use super::features::Feature;
 use super::jobs::{kerfed, Drawn, Job, Names};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
-use super::parts::{PartGeometry, Point};
-use super::template::Template;
-use super::CutSheetError;
+use super::parts::PartGeometry;
+use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
+use crate::cutsheet::template::Template;
+use crate::cutsheet::Feature;
 use crate::design::Design;
-use crate::layout::place_ring as place;
+use cam_geometry::place_ring;
+use cam_geometry::Point;
 
 /// What a clamp build made.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,7 +89,7 @@ pub fn clamp_layers(
     template: &Template,
     names: &Names,
     drawn: &mut Drawn,
-) -> Result<ClampBuild, CutSheetError> {
+) -> Result<ClampBuild, BuildError> {
     let Some((_, first)) = jobs.first() else {
         return Ok(ClampBuild {
             stack: Vec::new(),
@@ -217,7 +218,7 @@ pub fn clamp_layers(
                         c.cavity_clearance_mm,
                         "mold cavity clearance",
                     )?;
-                    let placed = place(&grown, 0.0, *base);
+                    let placed = place_ring(&grown, 0.0, *base);
                     d.add(
                         features.op(Feature::MoldCavity),
                         Shape::Polygon(kerfed(job.design, &placed, -kerf / 2.0, "mold cavity")?),

@@ -3,8 +3,7 @@
 
 use crate::design::Design;
 
-/// A point in mm.
-pub type Point = [f64; 2];
+use cam_geometry::Point;
 
 /// Plan dimensions of one actuator, mm.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,7 +119,7 @@ impl PartGeometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cam::drawing::polygon_area as ring_area;
+    use cam_geometry::signed_area;
 
     fn geometry(tab: f64, ext: f64) -> PartGeometry {
         PartGeometry {
@@ -138,10 +137,10 @@ mod tests {
         // Source: MODEL-NOTES §4, A_pzt = l_p w_nom, A_ext = l_ext w_tip, A_tab = l_tab w_0.
         for (tab, ext) in [(0.0, 0.0), (2.0, 0.0), (0.0, 19.0), (1.5, 19.0)] {
             let g = geometry(tab, ext);
-            assert!((ring_area(&g.pzt_outline()) - 23.0 * 3.0).abs() < 1e-12);
+            assert!((signed_area(&g.pzt_outline()) - 23.0 * 3.0).abs() < 1e-12);
             let want = 23.0 * 3.0 + ext * 1.0 + tab * 5.0;
             assert!(
-                (ring_area(&g.passive_outline()) - want).abs() < 1e-12,
+                (signed_area(&g.passive_outline()) - want).abs() < 1e-12,
                 "{tab} {ext}"
             );
         }
@@ -169,14 +168,6 @@ mod tests {
         assert_eq!(
             geometry(0.0, 0.0).pzt_outline(),
             vec![[-2.5, 0.0], [2.5, 0.0], [0.5, 23.0], [-0.5, 23.0]]
-        );
-    }
-
-    #[test]
-    fn half_turn_is_exact() {
-        assert_eq!(
-            crate::layout::place_point([1.0, 2.0], 180.0, [0.0, 0.0]),
-            [-1.0, -2.0]
         );
     }
 }

@@ -1,0 +1,144 @@
+//! Snappable layout of PZT plates (isosceles trapezoids) on a sheet.
+//!
+//! PZT is scored with the laser and snapped by hand, so a layout must be a guillotine layout:
+//! a sequence of straight breaks, each running edge to edge of the piece it splits
+//! (CAM-NOTES §4). Trapezoids tile into strips when every other plate is turned 180°:
+//!
+//! ```text
+//!  ___________________________________   <- strip top boundary (score line)
+//!   \ tip /\ base  /\     /\     /
+//!    \   /  \     /  \   /  \   /        slanted score lines, one per pair of neighbours,
+//!     \_/    \___/    \_/    \_/         each from the strip bottom to the strip top
+//!  ___________________________________   <- strip bottom boundary
+//! ```
+//!
+//! Every score line sits in the middle of a kerf-wide gap, so each plate keeps its full nominal
+//! outline. Between two neighbours the gap is the kerf measured perpendicular to the slanted
+//! edge, which is `kerf / cos θ` along the strip, with `tan θ = (base - tip) / (2 l_p)`.
+//!
+//! The sheet is split recursively into rectangular regions (a guillotine tree): a strip of one
+//! item across the region (as tall as `l_p`, plates side by side), the leftover at the end of the
+//! strip (filled with other items when they fit), and the rest of the region beyond the strip.
+//! Strips may run either way; at each region both directions are tried (within a node budget)
+//! and the one that places more plate area is kept.
+
+mod planner;
+#[cfg(test)]
+mod tests;
+
+use super::placement::{check_length, place_at, LayoutError, Sheet, SheetLayout};
+use cam_geometry::Point;
+use planner::{Planner, Region, Shape, Side, SEARCH_BUDGET};
+use serde::{Deserialize, Serialize};
+
+/// One plate design: an isosceles trapezoid, `count` copies wanted.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlateSpec {
+    /// Plate length `l_p` along the actuator axis, mm.
+    pub length_mm: f64,
+    /// Width at the base (clamped end), mm.
+    pub base_width_mm: f64,
+    /// Width at the tip (free end), mm.
+    pub tip_width_mm: f64,
+    /// How many plates.
+    pub count: usize,
+}
+
+/// The nominal plate ring: base centred on the x axis, tip at `y = length_mm`, CCW.
+///
+/// A [`Placement`](super::Placement) of a plate is this ring rotated by `rotation_deg` and translated by `offset`.
+pub fn plate_outline(spec: &PlateSpec) -> Vec<Point> {
+    let (b, t, l) = (spec.base_width_mm, spec.tip_width_mm, spec.length_mm);
+    vec![[-b / 2.0, 0.0], [b / 2.0, 0.0], [t / 2.0, l], [-t / 2.0, l]]
+}
+
+/// Lays out plates on as many sheets as needed, each sheet a snappable (guillotine) layout.
+///
+/// `kerf_mm` is the width the score removes (the gap between neighbouring outlines);
+/// `margin_mm` keeps plates away from the chipped sheet edge (a trim score line separates the
+/// margin when it is wider than half the kerf). Items are filled in order; leftovers of strips
+/// and of the sheet take later items when they fit. Errors when an item does not fit an empty
+/// sheet, or when more than `max_sheets` sheets are needed (saying how many).
+pub fn layout_plates(
+    items: &[PlateSpec],
+    sheet: &Sheet,
+    kerf_mm: f64,
+    margin_mm: f64,
+    max_sheets: Option<usize>,
+) -> Result<Vec<SheetLayout>, LayoutError> {
+    sheet.validate()?;
+    check_length("kerf_mm", kerf_mm)?;
+    check_length("margin_mm", margin_mm)?;
+    let shapes = items
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| Shape::new(i, spec, kerf_mm))
+        .collect::<Result<Vec<_>, _>>()?;
+    let planner = Planner {
+        shapes: &shapes,
+        half_kerf: kerf_mm / 2.0,
+        margin: margin_mm,
+        budget: std::cell::Cell::new(0),
+    };
+    let whole = Region {
+        lo: [0.0, 0.0],
+        hi: [sheet.width_mm, sheet.height_mm],
+        lo_side: [Side::Edge; 2],
+        hi_side: [Side::Edge; 2],
+    };
+    for (i, spec) in items.iter().enumerate() {
+        if spec.count > 0 && !(planner.fits(&whole, i, 0) || planner.fits(&whole, i, 1)) {
+            let usable = |axis: usize| {
+                let (a, b) = planner.inner(&whole, axis);
+                b - a
+            };
+            return Err(LayoutError::TooLarge {
+                item: i,
+                width_mm: shapes[i].width,
+                height_mm: shapes[i].length,
+                sheet_width_mm: sheet.width_mm,
+                sheet_height_mm: sheet.height_mm,
+                usable_width_mm: usable(0),
+                usable_height_mm: usable(1),
+            });
+        }
+    }
+
+    let mut remaining: Vec<usize> = items.iter().map(|s| s.count).collect();
+    let mut next_copy = vec![0usize; items.len()];
+    let mut sheets = Vec::new();
+    while remaining.iter().any(|&n| n > 0) {
+        planner.budget.set(SEARCH_BUDGET);
+        let mut plan = planner.fill(&whole, &mut remaining, 0);
+        plan.lines.sort_by_key(|&(depth, _)| depth);
+        // Every remaining item fits an empty sheet, so a sheet always takes at least one plate.
+        assert!(!plan.plates.is_empty(), "empty sheet plan");
+        let placements = plan
+            .plates
+            .iter()
+            .map(|p| {
+                let copy = next_copy[p.item];
+                next_copy[p.item] += 1;
+                place_at(
+                    p.item,
+                    copy,
+                    &shapes[p.item].nominal,
+                    p.rotation_deg,
+                    p.bbox_min,
+                )
+            })
+            .collect();
+        sheets.push(SheetLayout {
+            sheet_index: sheets.len(),
+            placements,
+            score_lines: plan.lines.into_iter().map(|(_, l)| l).collect(),
+        });
+    }
+    match max_sheets {
+        Some(stock) if sheets.len() > stock => Err(LayoutError::TooManySheets {
+            needed: sheets.len(),
+            stock,
+        }),
+        _ => Ok(sheets),
+    }
+}

@@ -1,0 +1,167 @@
+//! The build: every layer of a list of designs with quantities, in file order. PZT plates of one
+//! material and thickness share a snappable layout; passive parts of one layup (and the Pyralux
+//! parts) share cut sheets packed by the build's [`Packing`]; actuators of one laminate height share a
+//! stack of clamp panels. One design is a build of one job: every group then holds just it.
+
+use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
+use super::cut::{draw_cut_sheets, passive_layers, pyralux_layer, CutLayer};
+use super::jobs::{check_geometry, Drawn, Job, Names, SheetRecord};
+use super::parts::PartGeometry;
+use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
+use super::pzt::draw_pzt_sheets;
+use super::{BuildError, SheetDrawing};
+use crate::cutsheet::template::Template;
+use crate::design::Design;
+
+/// A cut-through layer as built: its parts and how many sheets they took.
+#[derive(Debug, Clone)]
+pub struct CutLayerSheets {
+    /// The layer (name, material, sheet, parts).
+    pub layer: CutLayer,
+    /// Sheets used.
+    pub sheets: usize,
+    /// The irregular nest against the bounding-box baseline ([`Packing::Irregular`] only).
+    pub baseline: Option<BaselineRow>,
+}
+
+/// Everything a build makes, in memory, before anything is written.
+#[derive(Debug, Clone)]
+pub struct Build {
+    /// Drawings in file order.
+    pub drawings: Vec<SheetDrawing>,
+    /// Cut-material sheets (PZT, passive, Pyralux) with the parts on them.
+    pub sheets: Vec<SheetRecord>,
+    /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
+    pub placement_map: Vec<String>,
+    /// Clamp panels used.
+    pub panels: usize,
+    /// Plan geometry of each design as built (PZT plates inset by the template's margin).
+    pub geometry: Vec<PartGeometry>,
+    /// PZT sheets used.
+    pub pzt_sheets: usize,
+    /// Cut-through layers in file order.
+    pub cut_layers: Vec<CutLayerSheets>,
+    /// Clamp stacks, one per laminate height.
+    pub clamps: Vec<ClampBuild>,
+}
+
+/// Jobs grouped by a key, groups in order of first appearance, each member with its job index.
+fn groups<'a, K: PartialEq>(
+    jobs: &[Job<'a>],
+    key: impl Fn(&Job<'a>) -> K,
+) -> Vec<Vec<(usize, Job<'a>)>> {
+    let mut keys: Vec<K> = Vec::new();
+    let mut out: Vec<Vec<(usize, Job<'a>)>> = Vec::new();
+    for (i, job) in jobs.iter().enumerate() {
+        let k = key(job);
+        match keys.iter().position(|x| *x == k) {
+            Some(g) => out[g].push((i, *job)),
+            None => {
+                keys.push(k);
+                out.push(vec![(i, *job)]);
+            }
+        }
+    }
+    out
+}
+
+/// Build every layer of `designs` (each with its quantity): lay out, verify, draw. Nothing is
+/// written here.
+pub fn build(
+    designs: &[(&Design, usize)],
+    template: &Template,
+    names: &Names,
+    packing: &Packing,
+) -> Result<Build, BuildError> {
+    let jobs: Vec<Job<'_>> = designs
+        .iter()
+        .map(|(design, quantity)| Job::new(design, *quantity, template))
+        .collect();
+    for job in &jobs {
+        check_geometry(job, template)?;
+    }
+    let mut drawn = Drawn::default();
+
+    // PZT: one snappable layout per plate thickness (and PZT material).
+    let mut pzt_sheets = 0;
+    for group in groups(&jobs, |j| {
+        (
+            j.design.pzt.name.clone(),
+            (j.design.pzt_thickness * 1e9).round() as i64,
+        )
+    }) {
+        let d = group[0].1.design;
+        let mut spec = template.pzt.clone();
+        if names.name_designs {
+            spec.material = format!(
+                "{} {} mm ({})",
+                d.pzt.name,
+                d.pzt_thickness * 1e3,
+                spec.material
+            );
+        }
+        let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
+        let layouts = place_plates(&members, &spec, spec.stock, names)
+            .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
+        let before = drawn.sheets.len();
+        draw_pzt_sheets(
+            &members,
+            &spec,
+            &layouts,
+            names,
+            &template.features,
+            &mut drawn,
+        );
+        for record in &mut drawn.sheets[before..] {
+            for part in &mut record.parts {
+                part.job = group[part.job].0;
+            }
+        }
+        pzt_sheets += layouts.len();
+    }
+
+    // Passive parts: one layer per layup (and per ply when plies are cut one by one), then Pyralux.
+    let mut layers: Vec<CutLayer> = Vec::new();
+    for group in groups(&jobs, |j| {
+        (
+            j.design.ply.name.clone(),
+            (j.design.ply_thickness * 1e9).round() as i64,
+            j.design.layup_text(),
+        )
+    }) {
+        let layup = group[0].1.design.layup_text();
+        for mut layer in passive_layers(&group, template, &template.passive)? {
+            if names.name_designs {
+                layer.material = format!("{}, layup {layup}", layer.material);
+            }
+            layers.push(layer);
+        }
+    }
+    layers.extend(pyralux_layer(&jobs, template, None)?);
+    let mut cut_layers = Vec::with_capacity(layers.len());
+    for layer in layers {
+        let placed = place_cut_layer(&layer, packing, &jobs, names)?;
+        draw_cut_sheets(&layer, &placed.layouts, names, &mut drawn);
+        cut_layers.push(CutLayerSheets {
+            sheets: placed.layouts.len(),
+            baseline: placed.baseline,
+            layer,
+        });
+    }
+
+    // Clamp panels: actuators of one laminate height share a stack of mold layers.
+    let mut clamps = Vec::new();
+    for group in groups(&jobs, |j| (laminate_mm(j.design) * 1e6).round() as i64) {
+        clamps.push(clamp_layers(&group, template, names, &mut drawn)?);
+    }
+    Ok(Build {
+        drawings: drawn.drawings,
+        sheets: drawn.sheets,
+        placement_map: drawn.placement_map,
+        panels: drawn.panels,
+        geometry: jobs.iter().map(|j| j.geometry).collect(),
+        pzt_sheets,
+        cut_layers,
+        clamps,
+    })
+}

@@ -1,0 +1,61 @@
+//! The one layout pipeline of `cut-sheet` and `nest`: from designs with quantities to verified,
+//! drawn layer sheets. `cut-sheet` is a build of one design, `nest` a build of a batch.
+//!
+//! [`build`] runs the stages in file order:
+//! 1. the layer builders make each layer's parts from the designs and the process template (PZT
+//!    plates, passive parts or plies, Pyralux bond layers, clamp-panel layers), kerf included;
+//! 2. one placement-and-verification step lays them out on sheets: PZT plates as a snappable layout
+//!    of score lines, cut-through parts by the build's [`Packing`] (the shelf packer or the irregular
+//!    nester), and checks every layout with the independent verifier of [`crate::layout::verify`]
+//!    before anything is drawn;
+//! 3. the drawings are made, numbered per layer across the build, with a record of every part on
+//!    every sheet and the placement map.
+//!
+//! The commands turn the [`Build`] into their reports; nothing here writes files.
+
+mod build;
+mod clamp;
+mod cut;
+mod jobs;
+mod panel;
+mod parts;
+mod place;
+mod pzt;
+
+pub use build::{build, Build, CutLayerSheets};
+pub use clamp::ClampBuild;
+pub use cut::CutLayer;
+pub use jobs::{Names, PartRecord, SheetRecord};
+pub use panel::panel_outline;
+pub use parts::PartGeometry;
+pub use place::{BaselineRow, NestOptions, Packing, WORKERS};
+
+use crate::cam::drawing::Drawing;
+use thiserror::Error;
+
+/// A build problem the user can fix.
+#[derive(Debug, Error)]
+pub enum BuildError {
+    /// A feature vanishes or is thinner than the kerf, or the parts do not fit the sheets.
+    #[error("{file}: {what}")]
+    Geometry {
+        /// Design or batch file.
+        file: String,
+        /// What is wrong, with the numbers.
+        what: String,
+    },
+    /// The model refused the design.
+    #[error("{file}: {0}", file = .1)]
+    Model(actuator_model::ModelError, String),
+}
+
+/// One named drawing (a layer on one sheet or panel).
+#[derive(Debug, Clone)]
+pub struct SheetDrawing {
+    /// File stem: `pzt-1`, `mold-2-1`, …
+    pub stem: String,
+    /// Layer name the report groups it under.
+    pub layer: String,
+    /// The geometry.
+    pub drawing: Drawing,
+}

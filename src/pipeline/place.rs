@@ -1,0 +1,351 @@
+//! The one placement-and-verification step of the pipeline: where the parts of a layer go on its
+//! sheets, checked by the independent verifier ([`crate::layout::verify`]) before anything is drawn.
+//!
+//! PZT plates always get a snappable (guillotine) layout of score lines ([`place_plates`]). A
+//! cut-through layer is packed by the [`Packing`] strategy of the build ([`place_cut_layer`]): the
+//! fast shelf packer for one design, or the irregular nester for a batch. Whichever packs the layer,
+//! the same verifier checks the result: every copy placed once, within the stock, each placed outline
+//! its part turned and moved as stated, inside the sheet and apart from the others by the clearance
+//! the strategy promised.
+
+use super::cut::{CutLayer, CUT_ROTATIONS_DEG};
+use super::jobs::{format_violations, Job, Names};
+use super::BuildError;
+use crate::cutsheet::template::SheetSpec;
+use crate::layout::{
+    layout_parts, layout_plates, verify_break_order, verify_copies, verify_outlines, verify_sheet,
+    verify_sheet_edges, verify_snappable, verify_stock, PartSpec, Placement, PlateSpec, Sheet,
+    SheetLayout, Violation,
+};
+use cam_geometry::{place_ring, Point};
+use cam_nest::{
+    nest, nest_bounding_boxes, NestBin, NestError, NestItem, NestSettings, NestSolution,
+};
+use serde::Serialize;
+
+/// Settings of the irregular nester.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NestOptions {
+    /// Seed of the irregular nester.
+    pub seed: u64,
+    /// Optimiser budget (improvement moves over all workers).
+    pub iterations: usize,
+}
+
+/// Parallel workers of the irregular nester: fixed, so the layout does not depend on the machine.
+pub const WORKERS: usize = 2;
+
+/// How a build packs its cut-through layers (passive plies, Pyralux).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Packing {
+    /// The shelf packer: fast and deterministic, cut paths (outline + kerf/2) the template's spacing
+    /// apart, no stock limit. What `cut-sheet` uses for one design.
+    Shelf,
+    /// The irregular nester: nominal outlines kerf + spacing apart within the stock, compared with
+    /// the bounding-box baseline on the same parts. What `nest` uses for a batch.
+    Irregular(NestOptions),
+}
+
+/// Irregular nest against the bounding-box baseline on the same parts and sheet.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BaselineRow {
+    pub layer: String,
+    pub material: String,
+    pub parts: usize,
+    pub sheets: usize,
+    /// Part area / area of the sheets used.
+    pub utilization: f64,
+    /// Part area / (sheet width x used length): the emptiest sheet counts up to its highest part,
+    /// the rest being a remnant (`NestSolution::used_length_utilization`).
+    pub used_length_utilization: f64,
+    pub baseline_sheets: usize,
+    pub baseline_utilization: f64,
+    pub baseline_used_length_utilization: f64,
+}
+
+impl BaselineRow {
+    /// One line: parts, sheets and utilisation of the nest and of the baseline.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} {} parts: {} sheet(s) {:.1}% (used length {:.1}%), bounding boxes {} sheet(s) {:.1}% (used length {:.1}%)",
+            self.layer,
+            self.parts,
+            self.sheets,
+            self.utilization * 100.0,
+            self.used_length_utilization * 100.0,
+            self.baseline_sheets,
+            self.baseline_utilization * 100.0,
+            self.baseline_used_length_utilization * 100.0
+        )
+    }
+}
+
+/// A cut layer placed and verified.
+#[derive(Debug, Clone)]
+pub(crate) struct PlacedLayer {
+    /// Sheet layouts of the cut paths: each placement's outline is its item's cut path placed.
+    pub layouts: Vec<SheetLayout>,
+    /// The irregular nest against the bounding-box baseline ([`Packing::Irregular`] only).
+    pub baseline: Option<BaselineRow>,
+}
+
+fn sheet_of(spec: &SheetSpec) -> Sheet {
+    Sheet {
+        width_mm: spec.width_mm,
+        height_mm: spec.height_mm,
+    }
+}
+
+/// Lay out two plates per actuator of every job on `spec` sheets (at most `stock`) as a snappable
+/// layout, and verify it: every copy once, the score lines snappable and listed in break order, each
+/// plate its nominal trapezoid placed, the kerf between plates and the margin to the sheet edge.
+pub(crate) fn place_plates(
+    jobs: &[Job<'_>],
+    spec: &SheetSpec,
+    stock: Option<usize>,
+    names: &Names,
+) -> Result<Vec<SheetLayout>, BuildError> {
+    let sheet = sheet_of(spec);
+    let items: Vec<PlateSpec> = jobs
+        .iter()
+        .map(|j| PlateSpec {
+            length_mm: j.geometry.plate_length_mm(),
+            base_width_mm: j.geometry.plate_base_width_mm(),
+            tip_width_mm: j.geometry.plate_tip_width_mm(),
+            count: 2 * j.quantity,
+        })
+        .collect();
+    let counts: Vec<usize> = items.iter().map(|i| i.count).collect();
+    let layouts = layout_plates(&items, &sheet, spec.kerf_mm, spec.edge_margin_mm, stock)
+        .map_err(|e| names.error(format!("pzt layout: {e}")))?;
+    let fail = |v: Vec<Violation>| {
+        names.error(format!("pzt (verifier) layout: {}", format_violations(&v)))
+    };
+    verify_copies(&layouts, &counts).map_err(fail)?;
+    let nominal: Vec<_> = jobs.iter().map(|j| j.geometry.pzt_outline()).collect();
+    for layout in &layouts {
+        verify_snappable(layout, &sheet).map_err(fail)?;
+        verify_break_order(layout, &sheet).map_err(fail)?;
+        verify_outlines(layout, &|item| nominal[item].clone(), 1e-9).map_err(fail)?;
+        // PZT is in-plane isotropic: strips may run either way, so any quarter turn is allowed.
+        verify_sheet_edges(
+            layout,
+            &sheet,
+            (spec.kerf_mm - 1e-9).max(0.0),
+            (spec.edge_margin_mm - 1e-9).max(0.0),
+            &|_| vec![0.0, 90.0, 180.0, 270.0],
+        )
+        .map_err(fail)?;
+    }
+    Ok(layouts)
+}
+
+/// Lay out a cut layer with the build's packing strategy and verify it.
+pub(crate) fn place_cut_layer(
+    layer: &CutLayer,
+    packing: &Packing,
+    jobs: &[Job<'_>],
+    names: &Names,
+) -> Result<PlacedLayer, BuildError> {
+    match packing {
+        Packing::Shelf => Ok(PlacedLayer {
+            layouts: shelf(layer, names)?,
+            baseline: None,
+        }),
+        Packing::Irregular(opts) => irregular(layer, opts, jobs, names),
+    }
+}
+
+/// What a packing promised for one cut layer, for the verifier.
+struct Promise<'a> {
+    sheet: Sheet,
+    /// Copies of each item.
+    counts: Vec<usize>,
+    stock: Option<usize>,
+    /// The ring of each item the packer kept apart (cut path or nominal outline).
+    packed: &'a dyn Fn(usize) -> &'a [Point],
+    /// Clearance between those rings and to the sheet edge, mm.
+    clearance_mm: f64,
+}
+
+/// Verify layouts of cut paths against what the packing promised: every copy once within the stock,
+/// every outline its item's cut path turned and moved as stated, and the packed rings (placed the
+/// same way) inside the sheet, the clearance apart, in allowed rotations.
+fn verify_cut_layouts(
+    layer: &CutLayer,
+    layouts: &[SheetLayout],
+    promise: &Promise<'_>,
+) -> Result<(), Vec<Violation>> {
+    verify_copies(layouts, &promise.counts)?;
+    if let Some(stock) = promise.stock {
+        verify_stock(layouts, stock)?;
+    }
+    for layout in layouts {
+        verify_outlines(layout, &|i| layer.items[i].cut.clone(), 1e-9)?;
+        let packed = SheetLayout {
+            sheet_index: layout.sheet_index,
+            placements: layout
+                .placements
+                .iter()
+                .map(|p| Placement {
+                    outline: place_ring((promise.packed)(p.item), p.rotation_deg, p.offset),
+                    ..p.clone()
+                })
+                .collect(),
+            score_lines: Vec::new(),
+        };
+        verify_sheet(
+            &packed,
+            &promise.sheet,
+            (promise.clearance_mm - 1e-9).max(0.0),
+            &|_| CUT_ROTATIONS_DEG.to_vec(),
+        )?;
+    }
+    Ok(())
+}
+
+/// The shelf packer on the cut paths, the template's spacing between them and to the sheet edge.
+fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<SheetLayout>, BuildError> {
+    let spec = &layer.spec;
+    let sheet = sheet_of(spec);
+    let items: Vec<PartSpec> = layer
+        .items
+        .iter()
+        .map(|i| PartSpec {
+            outline: i.cut.clone(),
+            count: i.count,
+            rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
+        })
+        .collect();
+    let layouts = layout_parts(&items, &sheet, spec.spacing_mm, None)
+        .map_err(|e| names.error(format!("{} layout: {e}", layer.layer)))?;
+    let promise = Promise {
+        sheet,
+        counts: items.iter().map(|i| i.count).collect(),
+        stock: None,
+        packed: &|i| &layer.items[i].cut,
+        clearance_mm: spec.spacing_mm,
+    };
+    verify_cut_layouts(layer, &layouts, &promise).map_err(|v| {
+        names.error(format!(
+            "{} (verifier) layout: {}",
+            layer.layer,
+            format_violations(&v)
+        ))
+    })?;
+    Ok(layouts)
+}
+
+/// The irregular nester on the nominal outlines at rotations 0° / 180°, kerf + spacing between parts
+/// and to the sheet edge; the bounding-box baseline is nested too for the report.
+fn irregular(
+    layer: &CutLayer,
+    opts: &NestOptions,
+    jobs: &[Job<'_>],
+    names: &Names,
+) -> Result<PlacedLayer, BuildError> {
+    let spec = &layer.spec;
+    let context = format!(
+        "{} sheets ({}, {} x {} mm)",
+        layer.layer, layer.material, spec.width_mm, spec.height_mm
+    );
+    let fail = |what: String| names.error(format!("{context}: {what}"));
+    let items: Vec<NestItem> = layer
+        .items
+        .iter()
+        .map(|i| NestItem {
+            outline: i.nominal.clone(),
+            demand: i.count,
+            rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
+        })
+        .collect();
+    let copies: usize = items.iter().map(|i| i.demand).sum();
+    let bin = NestBin {
+        width_mm: spec.width_mm,
+        height_mm: spec.height_mm,
+        stock: spec.stock.unwrap_or(copies.max(1)),
+    };
+    let settings = NestSettings {
+        separation_mm: spec.kerf_mm + spec.spacing_mm,
+        seed: opts.seed,
+        iterations: opts.iterations,
+        workers: WORKERS,
+    };
+    let design_of = |item: usize| &jobs[layer.items[item].job].design.name;
+    let solution = nest(&items, &bin, &settings).map_err(|e| match e {
+        NestError::PartLargerThanBin {
+            item,
+            part_width_mm,
+            part_height_mm,
+            separation_mm,
+            ..
+        } => fail(format!(
+            "the {} part of {} is {part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation: larger than the sheet, it does not fit with {separation_mm} mm (kerf + spacing) to the sheet edge",
+            layer.layer,
+            design_of(item)
+        )),
+        NestError::StockTooSmall { needed, stock } => fail(format!(
+            "stock too small: the batch needs {needed} sheets but the stock is {stock}"
+        )),
+        other => fail(other.to_string()),
+    })?;
+    let layouts = cut_layouts(layer, &solution);
+    let mut promise = Promise {
+        sheet: sheet_of(spec),
+        counts: items.iter().map(|i| i.demand).collect(),
+        stock: Some(bin.stock),
+        packed: &|i| &layer.items[i].nominal,
+        clearance_mm: settings.separation_mm,
+    };
+    verify_cut_layouts(layer, &layouts, &promise)
+        .map_err(|v| fail(format!("nest verifier: {}", format_violations(&v))))?;
+    let unlimited = NestBin {
+        stock: copies.max(1),
+        ..bin
+    };
+    let boxes: NestSolution = nest_bounding_boxes(&items, &unlimited, &settings)
+        .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
+    promise.stock = Some(unlimited.stock);
+    verify_cut_layouts(layer, &cut_layouts(layer, &boxes), &promise)
+        .map_err(|v| fail(format!("baseline verifier: {}", format_violations(&v))))?;
+    let baseline = BaselineRow {
+        layer: layer.layer.clone(),
+        material: layer.material.clone(),
+        parts: copies,
+        sheets: solution.bins_used(),
+        utilization: solution.utilization(),
+        used_length_utilization: solution.used_length_utilization(&bin, settings.separation_mm),
+        baseline_sheets: boxes.bins_used(),
+        baseline_utilization: boxes.utilization(),
+        baseline_used_length_utilization: boxes
+            .used_length_utilization(&bin, settings.separation_mm),
+    };
+    Ok(PlacedLayer {
+        layouts,
+        baseline: Some(baseline),
+    })
+}
+
+/// The sheets of a nest as layouts of the layer's cut paths, each turned and moved as its part was.
+fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<SheetLayout> {
+    solution
+        .bins
+        .iter()
+        .enumerate()
+        .map(|(index, b)| SheetLayout {
+            sheet_index: index,
+            placements: b
+                .parts
+                .iter()
+                .map(|p| Placement {
+                    item: p.item,
+                    copy: p.copy,
+                    rotation_deg: p.rotation_deg,
+                    offset: p.translation,
+                    outline: place_ring(&layer.items[p.item].cut, p.rotation_deg, p.translation),
+                })
+                .collect(),
+            score_lines: Vec::new(),
+        })
+        .collect()
+}
