@@ -617,7 +617,7 @@ fn bad_features_table_names_file_field_value_and_the_allowed() {
 
 #[test]
 fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
-    // CAM-NOTES §1: a clearance between plate edge and passive edge. With the template's margin m, every
+    // docs/cam.md §1: a clearance between plate edge and passive edge. With the template's margin m, every
     // corner of the plate (preview, kerf 0) lies inside the passive outline, exactly m from its edge.
     let dir = tempfile::tempdir().unwrap();
     let with_margin = |m: &str| {

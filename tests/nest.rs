@@ -19,7 +19,7 @@ fn nest(batch: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     run(&args)
 }
 
-/// Nominal outlines of a design, rebuilt from its file (MODEL-NOTES §4 planform): l_p = l / (1 + l_r),
+/// Nominal outlines of a design, rebuilt from its file (docs/physics.md §4 planform): l_p = l / (1 + l_r),
 /// w_nom = w_0 / w_r, w_tip = (2 - w_r) w_nom; base centred on the origin, axis along +y.
 struct Outlines {
     pzt: Vec<[f64; 2]>,

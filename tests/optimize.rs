@@ -206,7 +206,7 @@ fn example_optimum_beats_an_independent_100_grid_and_meets_every_bound() {
 
 #[test]
 fn rectangular_optimum_matches_its_closed_form_and_the_tapered_one_is_lighter() {
-    // Closed form (MODEL-NOTES §3, §4): a rectangle has U = 3 P² l w / (8 C44) and m = (μ_p + μ_c) l w,
+    // Closed form (docs/physics.md §3, §4): a rectangle has U = 3 P² l w / (8 C44) and m = (μ_p + μ_c) l w,
     // so the lightest one with U >= U_min has l w = 8 C44 U_min / (3 P²), if that area is in the box,
     // and mass U_min (μ_p + μ_c) 8 C44 / (3 P²). Ties in (l, w) go to the shortest actuator.
     let o = run(&[

@@ -15,7 +15,7 @@ fn predict_json(file: &str, extra: &[&str]) -> serde_json::Value {
 #[test]
 #[allow(clippy::approx_constant)] // 0.5236 mm is design 21's deflection, not π/6
 fn reference_predictions_of_the_example_designs() {
-    // Source: MODEL-NOTES §9 (independent derivation), within 0.1%.
+    // Source: docs/physics.md §9 (independent derivation), within 0.1%.
     let rows = [
         ("A", 0.7371, 456.00, 168.07, 1704.56),
         ("B", 0.8120, 341.37, 138.59, 933.23),

@@ -37,7 +37,7 @@ fn effects(text: &str, factor: &str) -> Vec<f64> {
 
 #[test]
 fn table_3_1_comparison_reproduces_the_blocked_force_gap_only_with_eq_2_36() {
-    // Source: MODEL-NOTES §3: an independent re-run of the 729-design factorial of thesis Table 3.1 gives
+    // Source: docs/physics.md §3: an independent re-run of the 729-design factorial of thesis Table 3.1 gives
     // a blocked-force gap of -12.1% ± 0.2% with eq. 2.36's 8/9 factor and +0.3% ± 0.2% without it
     // (thesis Table 4.1 prints -12.4% ± 0.05%).
     let spec = example("sweep-table-3-1.toml");
@@ -63,7 +63,7 @@ fn table_3_1_comparison_reproduces_the_blocked_force_gap_only_with_eq_2_36() {
 
 #[test]
 fn rectangles_scale_with_width_exactly() {
-    // Source: MODEL-NOTES §3, §4: for a rectangle F_b, U and m are proportional to w, δ does not depend on
+    // Source: docs/physics.md §3, §4: for a rectangle F_b, U and m are proportional to w, δ does not depend on
     // it, so over levels 2.5, 5, 7.5 mm the mean rises 1 : 2 : 3, +100% of the grand mean (level 2).
     let text = ok_stdout(&sweep(&[example("sweep-table-3-1.toml").to_str().unwrap()]));
     let e = effects(&text, "base_width_mm");

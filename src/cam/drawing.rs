@@ -3,7 +3,7 @@
 //!
 //! Writers ([`crate::cam::svg`], [`crate::cam::dxf`]) turn a [`Drawing`] into files; they emit
 //! operations in [`Operation`] order (engrave, score, secondary, cut) so that inner features
-//! and score lines come before the outer contours that free a part (CAM-NOTES §3).
+//! and score lines come before the outer contours that free a part (docs/cam.md §3).
 
 use cam_geometry::Point;
 
@@ -49,7 +49,7 @@ impl Operation {
         }
     }
 
-    /// Pure primary stroke colour that laser drivers map to this operation (CAM-NOTES §3).
+    /// Pure primary stroke colour that laser drivers map to this operation (docs/cam.md §3).
     pub fn svg_colour(self) -> &'static str {
         match self {
             Operation::Engrave => "#000000",

@@ -1,6 +1,6 @@
 //! DXF writer: R2000 (AC1015) through the `dxf` crate, byte-reproducible.
 //!
-//! Conventions (CAM-NOTES §3): polygons as closed LWPOLYLINE, polylines as open LWPOLYLINE,
+//! Conventions (docs/cam.md §3): polygons as closed LWPOLYLINE, polylines as open LWPOLYLINE,
 //! CIRCLE and ARC as themselves; one layer per operation with its ACI colour; entities on
 //! BYLAYER colour; `$INSUNITS = 4` (mm) and `$MEASUREMENT = 1` (metric; Inkscape's importer
 //! reads this one). Entities are written in processing order, like the SVG layers.

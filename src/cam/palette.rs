@@ -1,5 +1,5 @@
 //! Colours of the laser operations: the SVG stroke colour and DXF layer colour (ACI) that laser software
-//! maps to a process. The default is CAM-NOTES §3's pure primaries; a process template may name others
+//! maps to a process. The default is docs/cam.md §3's pure primaries; a process template may name others
 //! (`[operations.cut] colour = "#FF0000", aci = 1`) to match a lab's LightBurn or Epilog set-up.
 
 use super::drawing::Operation;

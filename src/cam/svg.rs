@@ -1,7 +1,7 @@
 //! SVG writer for laser software (LightBurn, Inkscape, LPKF via import), and a reader for
 //! our own output used by tests and verification.
 //!
-//! Conventions (CAM-NOTES §3): `width`/`height` in mm and `viewBox="0 0 W H"` so one user unit
+//! Conventions (docs/cam.md §3): `width`/`height` in mm and `viewBox="0 0 W H"` so one user unit
 //! is one millimetre; one Inkscape layer per operation in processing order; every shape a
 //! `<path>` with absolute `M`/`L`/`A`/`Z` commands, `fill="none"`, a hairline stroke in the
 //! operation's pure colour. The drawing model is y-up; SVG is y-down, so `y_svg = H - y`.

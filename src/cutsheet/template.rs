@@ -126,7 +126,7 @@ pub struct Template {
     pub mold: ClampLayerSpec,
     /// Other clamp layers by name (felt, teflon-cover, …).
     pub covers: BTreeMap<String, ClampLayerSpec>,
-    /// Colour of each laser operation in the files (`[operations]`; default CAM-NOTES §3).
+    /// Colour of each laser operation in the files (`[operations]`; default docs/cam.md §3).
     pub palette: Palette,
     /// Operation of each drawn feature (`[features]`; default the builders' long-standing mapping).
     pub features: FeatureMap,

@@ -6,7 +6,7 @@
 //! `U = l_tot · w_0 · u(l_r, w_r) · g(w_0)`,  `m = l_tot · w_0 · μ(l_r, w_r)`.
 //!
 //! - original (lamination theory): `U = 3 P² l_p w_nom G_U / (8 C44)` with `l_p = l_tot/(1 + l_r)`,
-//!   `w_nom = w_0/w_r` (MODEL-NOTES §3), and every mass term is an area `∝ l_p w_nom` (§4); `g = 1`.
+//!   `w_nom = w_0/w_r` (docs/physics.md §3), and every mass term is an area `∝ l_p w_nom` (§4); `g = 1`.
 //! - thesis-adjusted: δ scaled by a fit in `l_r`, F_b by a fit in `w_0 t_p` (`g`), passive mass by
 //!   `1 + ζ` (thesis eqs. 4.3-4.5).
 //!

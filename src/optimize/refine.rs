@@ -459,7 +459,7 @@ mod tests {
 
     /// One laminate (t_p 267 µm, [0/90/0], 800 V/mm parallel) whose passive plies weigh nothing, so the
     /// extension costs no mass: then `m = μ_p l_p w_nom` and `U = k l_p w_nom G_U` with
-    /// `k = 3 P² / (8 C44)` (MODEL-NOTES §3), and the lightest design maximises `G_U`, whose maximum 4/3 lies
+    /// `k = 3 P² / (8 C44)` (docs/physics.md §3), and the lightest design maximises `G_U`, whose maximum 4/3 lies
     /// on the ridge `w_r = 2 (1 + l_r) / (1 + 2 l_r)`. Closed-form mass: `U_min μ_p / (k 4/3)`.
     fn massless_extension_problem(extension_ratio: Range) -> (Problem, f64) {
         let pzt = Material::builtin("PZT-5H").unwrap();

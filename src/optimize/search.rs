@@ -97,7 +97,7 @@ impl Design {
     }
 }
 
-/// Tip width of a planform, `w_tip = (2 - w_r) w_nom` (MODEL-NOTES §1).
+/// Tip width of a planform, `w_tip = (2 - w_r) w_nom` (docs/physics.md §1).
 pub fn tip_width(base_width: f64, width_ratio: f64) -> f64 {
     base_width * (2.0 - width_ratio) / width_ratio
 }

@@ -1,4 +1,4 @@
-//! The clamp panel every clamp layer shares (CAM-NOTES §2): outline with a chamfered orientation corner,
+//! The clamp panel every clamp layer shares (docs/cam.md §2): outline with a chamfered orientation corner,
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
 use super::parts::PartGeometry;

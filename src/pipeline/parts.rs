@@ -19,7 +19,7 @@ pub struct PartGeometry {
     /// Passive-only tab behind the PZT.
     pub base_tab_mm: f64,
     /// How far the PZT plate's sides and tip end sit inside the passive part's edge (the template's
-    /// PZT-to-CF edge margin, CAM-NOTES §1: resin squeezed out at the CF edge cannot bridge the PZT
+    /// PZT-to-CF edge margin, docs/cam.md §1: resin squeezed out at the CF edge cannot bridge the PZT
     /// electrodes). 0: the plate is the design's trapezoid.
     pub pzt_margin_mm: f64,
 }
@@ -134,7 +134,7 @@ mod tests {
 
     #[test]
     fn outline_areas_match_the_planform_formulas() {
-        // Source: MODEL-NOTES §4, A_pzt = l_p w_nom, A_ext = l_ext w_tip, A_tab = l_tab w_0.
+        // Source: docs/physics.md §4, A_pzt = l_p w_nom, A_ext = l_ext w_tip, A_tab = l_tab w_0.
         for (tab, ext) in [(0.0, 0.0), (2.0, 0.0), (0.0, 19.0), (1.5, 19.0)] {
             let g = geometry(tab, ext);
             assert!((signed_area(&g.pzt_outline()) - 23.0 * 3.0).abs() < 1e-12);

@@ -1,4 +1,4 @@
-//! PZT score sheets: drawing the snappable layout of every job's plates (CAM-NOTES §4) once it is
+//! PZT score sheets: drawing the snappable layout of every job's plates (docs/cam.md §4) once it is
 //! verified.
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};

@@ -1,4 +1,4 @@
-//! Drive modes as per-layer fields (thesis §2.3.3, MODEL-NOTES §2).
+//! Drive modes as per-layer fields (thesis §2.3.3, docs/physics.md §2).
 
 use crate::weibull::Weibull;
 use serde::{Deserialize, Serialize};

@@ -1,5 +1,5 @@
 //! Physical effects the original model lacks, each a change to the physics with a null value
-//! (CALIBRATION-NOTES §2). [`Effects::default`] is the original model exactly.
+//! (docs/calibration.md §2). [`Effects::default`] is the original model exactly.
 //!
 //! | effect | change | moves |
 //! |---|---|---|
@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 /// Density of the epoxy that resin-rich plies carry in excess, kg/m³.
 pub const RESIN_DENSITY: f64 = 1200.0;
 
-/// Built-in material of the bond layer (acrylic sheet adhesive, MODEL-NOTES §8).
+/// Built-in material of the bond layer (acrylic sheet adhesive, docs/physics.md §8).
 pub const BOND_MATERIAL: &str = "Pyralux-LF";
 
 /// Names of the library effects, in report order.
@@ -297,7 +297,7 @@ impl Effects {
     }
 
     /// Mass by layer kind with `ply-thickness` and `bond-layer` applied, without solving the stack
-    /// (same numbers as the laminate's areal masses; MODEL-NOTES §4).
+    /// (same numbers as the laminate's areal masses; docs/physics.md §4).
     pub fn mass(&self, a: &Actuator) -> MassBreakdown {
         let (ply, t_ply) = self.ply_material(a.ply, a.ply_thickness);
         let pl = &a.planform;
@@ -438,7 +438,7 @@ mod tests {
 
     #[test]
     fn each_effect_moves_what_the_notes_say() {
-        // CALIBRATION-NOTES §1: actuation effects move δ and F_b together; series compliances only F_b.
+        // docs/calibration.md §1: actuation effects move δ and F_b together; series compliances only F_b.
         let (pzt, cf) = materials();
         let layup = [0.0, 90.0, 0.0];
         let a = actuator(&pzt, &cf, &layup);

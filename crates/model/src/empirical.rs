@@ -1,7 +1,7 @@
 //! The thesis' empirical ("adjusted") corrections, `ActuatorModelAdjusted` (thesis eqs. 4.3-4.6).
 //!
 //! These are curve fits that "did not reflect the physics" (thesis §5.2), kept to compare against.
-//! MODEL-NOTES §7: the printed mass factor ζ = 94.0 makes the carbon fibre 95x heavier with the
+//! docs/physics.md §7: the printed mass factor ζ = 94.0 makes the carbon fibre 95x heavier with the
 //! corrected ply density; ζ = 0.94 ([`ZETA`]) puts designs A/B/C within about 6% of thesis Table 4.14's masses.
 //! Table 4.14's energy densities cannot be reproduced from the printed equations: they give 0.42x (A),
 //! 0.45x (B) and 0.15x (C) of the printed D_U, and 0.026 mJ for A where §4.10 says 0.0590 mJ, so the
@@ -71,7 +71,7 @@ mod tests {
 
     #[test]
     fn masses_land_near_thesis_table_4_14_with_zeta_0_94() {
-        // Source: thesis Table 4.14 masses 1800, 972, 353 mg; MODEL-NOTES §7 says "within about 6%".
+        // Source: thesis Table 4.14 masses 1800, 972, 353 mg; docs/physics.md §7 says "within about 6%".
         let a = adjusted(191e-6, &[0.0, 0.0, 90.0, 0.0, 0.0], 50e-3, 0.0, 10e-3, 1.0);
         let b = adjusted(267e-6, &[0.0, 90.0, 0.0], 42.2e-3, 0.0, 5e-3, 1.0);
         let c = adjusted(267e-6, &[0.0, 90.0, 0.0], 42.2e-3, 0.833, 5e-3, 1.667);
@@ -84,7 +84,7 @@ mod tests {
     #[test]
     fn energy_density_gap_to_table_4_14_is_stated() {
         // Source: Table 4.14 D_U = 0.0328, 0.0606, 0.167 J/kg for A, B, C, and §4.10's 0.0590 mJ for A.
-        // The printed equations do not reproduce them (MODEL-NOTES §7). The gap this implementation
+        // The printed equations do not reproduce them (docs/physics.md §7). The gap this implementation
         // documents: D_U at 0.42x (A), 0.45x (B) and 0.15x (C) of the table; U of A 0.026 mJ, not 0.059.
         let a = adjusted(191e-6, &[0.0, 0.0, 90.0, 0.0, 0.0], 50e-3, 0.0, 10e-3, 1.0);
         let b = adjusted(267e-6, &[0.0, 90.0, 0.0], 42.2e-3, 0.0, 5e-3, 1.0);

@@ -67,7 +67,7 @@ impl BeamBimorph {
     /// eq. 2.14 (`δ = 6 E_p d31 E3 (t_m t_p + t_p²) l² / (2 E_p (…) + E_m t_m³)`) agrees with this form.
     /// Deflection `δ = κ l² / 2` (eq. 2.13); blocked force `F_b = 3 M_p / (2 l)` with
     /// `M_p = w E_p d31 E3 (t_m t_p + t_p²)` (eq. 2.15; the printed eq. 2.16 simplifies to `2 t_m t_p + t_p²`,
-    /// a typo, MODEL-NOTES §5). F_b does not depend on E_m.
+    /// a typo, docs/physics.md §5). F_b does not depend on E_m.
     pub fn response(&self, field: f64) -> BeamResponse {
         let (e_p, t_p, e_m, t_m) = (
             self.pzt_modulus,

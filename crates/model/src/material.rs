@@ -1,4 +1,4 @@
-//! Lamina materials and the built-in material library (MODEL-NOTES §8, thesis Table 3.3).
+//! Lamina materials and the built-in material library (docs/physics.md §8, thesis Table 3.3).
 
 use serde::{Deserialize, Serialize};
 
@@ -77,7 +77,7 @@ impl Material {
         }
     }
 
-    /// Look a material up in the built-in library (MODEL-NOTES §8).
+    /// Look a material up in the built-in library (docs/physics.md §8).
     pub fn builtin(name: &str) -> Option<Material> {
         builtin_library().into_iter().find(|m| m.name == name)
     }
@@ -88,7 +88,7 @@ pub fn builtin_names() -> Vec<String> {
     builtin_library().into_iter().map(|m| m.name).collect()
 }
 
-/// The built-in library: MODEL-NOTES §8.
+/// The built-in library: docs/physics.md §8.
 ///
 /// - PZT-5H (PSI-5H4E): E = 62 GPa, ν = 0.31, ρ = 7800, d31 = -320 pm/V, K33 = 3800.
 /// - PZT-5A: E = 66 GPa, d31 = -190 pm/V.

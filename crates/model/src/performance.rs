@@ -77,7 +77,7 @@ pub fn free_deflection(section: &Section, planform: &Planform) -> f64 {
 }
 
 /// Tip compliance of the tapered beam with a rigid extension,
-/// `c = C44 l_p³ G(w_r, l_r) / (3 w_nom)` (thesis eqs. 2.29-2.34, MODEL-NOTES §3), m/N.
+/// `c = C44 l_p³ G(w_r, l_r) / (3 w_nom)` (thesis eqs. 2.29-2.34, docs/physics.md §3), m/N.
 pub fn tip_compliance(section: &Section, planform: &Planform) -> f64 {
     let l_p = planform.piezo_length();
     section.bending_compliance * l_p * l_p * l_p * planform.shape_factor()
@@ -86,12 +86,12 @@ pub fn tip_compliance(section: &Section, planform: &Planform) -> f64 {
 
 /// Blocked force `F_b = δ / c = 3 P w_nom (1 + 2 l_r) / (2 C44 l_p G)` (thesis eq. 2.35), N. For a
 /// rectangle this is `3 P w / (2 C44 l_p)`: the thesis' eq. 2.36 prints 4/3 in place of 3/2 (erratum,
-/// MODEL-NOTES §3).
+/// docs/physics.md §3).
 pub fn blocked_force(section: &Section, planform: &Planform) -> f64 {
     free_deflection(section, planform) / tip_compliance(section, planform)
 }
 
-/// Mass `m = 2 ρ_p t_p A_pzt + Σ ρ_ply t_ply (A_pzt + A_ext + A_tab) + bond` (MODEL-NOTES §4).
+/// Mass `m = 2 ρ_p t_p A_pzt + Σ ρ_ply t_ply (A_pzt + A_ext + A_tab) + bond` (docs/physics.md §4).
 pub fn mass(section: &Section, planform: &Planform) -> MassBreakdown {
     let a_pzt = planform.piezo_area();
     MassBreakdown {
@@ -127,7 +127,7 @@ pub fn evaluate(section: &Section, planform: &Planform) -> Performance {
 }
 
 /// Energy and mass only: the optimizer's inner loop. `U = 3 P² l_p w_nom G_U / (8 C44)` is the same
-/// number as `½ F_b δ` (MODEL-NOTES §3).
+/// number as `½ F_b δ` (docs/physics.md §3).
 #[inline]
 pub fn energy_and_mass(section: &Section, planform: &Planform) -> (f64, f64) {
     let delta = free_deflection(section, planform);
@@ -164,7 +164,7 @@ mod tests {
     #[test]
     #[allow(clippy::approx_constant)] // 0.5236 mm is design 21's deflection, not π/6
     fn reproduces_model_notes_reference_predictions() {
-        // Source: MODEL-NOTES §9 (parallel drive, 800 V/mm, PZT-5H, thesis CF ply), within 0.1%.
+        // Source: docs/physics.md §9 (parallel drive, 800 V/mm, PZT-5H, thesis CF ply), within 0.1%.
         // design, t_p, plies, l_tot, l_r, w_0, w_r, δ mm, F_b mN, U µJ, m mg
         let rows = [
             (
@@ -208,7 +208,7 @@ mod tests {
 
     #[test]
     fn energy_shortcut_equals_half_force_times_deflection() {
-        // Source: MODEL-NOTES §3, U = 3 P² l_p w_nom G_U / (8 C44) = ½ F_b δ.
+        // Source: docs/physics.md §3, U = 3 P² l_p w_nom G_U / (8 C44) = ½ F_b δ.
         let s = thesis_section(191e-6, 5, 600e3);
         for (l_r, w_r) in [(0.0, 1.0), (0.833, 1.667), (1.2, 0.4), (0.3, 1.0 + 1e-9)] {
             let pl = Planform::new(45e-3, l_r, 8e-3, w_r, 1e-3).unwrap();

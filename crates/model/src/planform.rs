@@ -67,7 +67,7 @@ impl Planform {
     }
 
     /// Width at `x` along the piezo, `w(x) = w_nom (w_r + 2 (1 - w_r) x / l_p)` (thesis eq. 2.28 as
-    /// corrected in MODEL-NOTES §1).
+    /// corrected in docs/physics.md §1).
     pub fn width_at(&self, x: f64) -> f64 {
         self.nominal_width()
             * (self.width_ratio + 2.0 * (1.0 - self.width_ratio) * x / self.piezo_length())
@@ -104,7 +104,7 @@ const SERIES_THRESHOLD: f64 = 0.05;
 /// `K = 2 (1 + l_r) - w_r (1 + 2 l_r)`.
 ///
 /// This is the thesis' `(g_a + g_b)/g_c` (eqs. 2.32-2.34, printed `r l_r` read as `4 l_r`;
-/// MODEL-NOTES §3). The closed form divides by `(1 - w_r)³`, so for `|1 - w_r| < 0.05` a power series in
+/// docs/physics.md §3). The closed form divides by `(1 - w_r)³`, so for `|1 - w_r| < 0.05` a power series in
 /// `e = 1 - w_r` is used instead: with `s = 2u - 1`, `b = 1 + 2 l_r`,
 /// `G = (3/8) Σ_n (-e)^n ∫-1..1 (b - s)² s^n ds`, exact term by term; it gives `G(1, l_r) = 1 + 3 l_r + 3 l_r²`.
 pub fn shape_factor(width_ratio: f64, extension_ratio: f64) -> f64 {
@@ -134,7 +134,7 @@ pub fn shape_factor(width_ratio: f64, extension_ratio: f64) -> f64 {
     }
 }
 
-/// Energy shape efficiency `G_U = (1 + 2 l_r)² / G` (MODEL-NOTES §3); `G_U <= 4/3`, with equality on
+/// Energy shape efficiency `G_U = (1 + 2 l_r)² / G` (docs/physics.md §3); `G_U <= 4/3`, with equality on
 /// `w_r = 2 (1 + l_r) / (1 + 2 l_r)` (uniform strain along the piezo), and 1 for a rectangle.
 pub fn energy_shape_factor(width_ratio: f64, extension_ratio: f64) -> f64 {
     let b = 1.0 + 2.0 * extension_ratio;
@@ -177,7 +177,7 @@ mod tests {
 
     #[test]
     fn matches_the_reference_table() {
-        // Source: MODEL-NOTES §3 table of G (closed form and quadrature agree to 1e-6).
+        // Source: docs/physics.md §3 table of G (closed form and quadrature agree to 1e-6).
         let table = [
             (0.5, 0.0, 1.415633),
             (0.5, 0.5, 4.183347),
@@ -233,7 +233,7 @@ mod tests {
 
     #[test]
     fn energy_shape_factor_never_exceeds_four_thirds_and_reaches_it_on_the_ridge() {
-        // Source: MODEL-NOTES §3 (uniform-strain ridge w_r = 2(1 + l_r)/(1 + 2 l_r)).
+        // Source: docs/physics.md §3 (uniform-strain ridge w_r = 2(1 + l_r)/(1 + 2 l_r)).
         for i in 0..=60 {
             let l_r = 0.05 * i as f64;
             for j in 1..200 {

@@ -65,7 +65,7 @@ impl Weibull {
 
     /// Maximum-likelihood fit to failure values (all > 0): k solves the profile equation
     /// `1/k + mean(ln x) - Σ x^k ln x / Σ x^k = 0` (Newton with bisection safeguard), then
-    /// `λ = (Σ x^k / n)^(1/k)` (Cohen 1965; MODEL-NOTES §6: not a probability-plot regression).
+    /// `λ = (Σ x^k / n)^(1/k)` (Cohen 1965; docs/physics.md §6: not a probability-plot regression).
     pub fn fit_mle(samples: &[f64]) -> Result<Weibull, ModelError> {
         if samples.len() < 2 {
             return Err(ModelError::Fit(format!(

@@ -2,7 +2,7 @@
 //!
 //! PZT is scored with the laser and snapped by hand, so a layout must be a guillotine layout:
 //! a sequence of straight breaks, each running edge to edge of the piece it splits
-//! (CAM-NOTES §4). Trapezoids tile into strips when every other plate is turned 180°:
+//! (docs/cam.md §4). Trapezoids tile into strips when every other plate is turned 180°:
 //!
 //! ```text
 //!  ___________________________________   <- strip top boundary (score line)
