@@ -110,7 +110,7 @@ fn grid_bins(problem: &Problem, top: f64, levels: usize) -> Vec<Vec<Option<Desig
 }
 
 /// The front as CSV, SI converted to the file units in the header.
-pub fn to_csv(problem: &Problem, front: &[Design]) -> anyhow::Result<String> {
+pub fn to_csv(problem: &Problem, front: &[Design]) -> Result<String, csv::Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "energy_mJ",
@@ -137,7 +137,11 @@ pub fn to_csv(problem: &Problem, front: &[Design]) -> anyhow::Result<String> {
             format!("{:.4}", d.width_ratio),
         ])?;
     }
-    Ok(String::from_utf8(w.into_inner()?)?)
+    let bytes = w
+        .into_inner()
+        .map_err(|e| csv::Error::from(e.into_error()))?;
+    // Every field is a `String`, so the bytes are UTF-8.
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
 
 /// The front as an SVG plot: mass (mg) against energy (mJ), one marker per design, the required energy
