@@ -260,3 +260,21 @@ pub fn held_out_error(truth: Truth, designs: &[Design], model: &Effects) -> f64 
     }
     (sum / n as f64).sqrt()
 }
+
+/// The same CSV with the actuators `ids` broken: deflection and force multiplied by `factor` at every
+/// voltage (a cracked plate or failed bond), mass unchanged.
+pub fn break_actuators(csv: &str, ids: &[usize], factor: f64) -> String {
+    let names: Vec<String> = ids.iter().map(|i| format!("A{i}")).collect();
+    csv.lines()
+        .map(|line| {
+            let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+            if names.contains(&cells[0]) {
+                for k in [9, 10] {
+                    let v: f64 = cells[k].parse().unwrap();
+                    cells[k] = format!("{:.8}", v * factor);
+                }
+            }
+            cells.join(",") + "\n"
+        })
+        .collect()
+}
