@@ -28,7 +28,7 @@ use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
 use fitter::Fitter;
-use observations::{ActuationData, ActuationObs, MassData};
+use observations::{ActuationData, ActuationObs, MassData, StageData};
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
@@ -166,22 +166,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
 
     // --- Stage 2: actuation and compliance effects on deflection and force.
-    let mut obs = Vec::new();
-    for (i, r) in data.rows.iter().enumerate() {
-        if r.free_deflection.is_none() && r.blocked_force.is_none() {
-            continue;
-        }
-        if r.voltage <= 0.0 {
-            continue;
-        }
-        obs.push(ActuationObs {
-            group: data.group_of[i],
-            row: i,
-            basis: base.basis(&r.actuator())?,
-            ln_delta: r.free_deflection.map(f64::ln),
-            ln_force: r.blocked_force.map(f64::ln),
-        });
-    }
+    let obs = actuation_obs(data, &base)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
         return Err(ModelError::Fit(format!(
@@ -329,4 +314,48 @@ fn note_not_identifiable(candidates: &[Candidate], notes: &mut Vec<String>) {
             ));
         }
     }
+}
+
+/// The adequacy tests (§3) of a given model on `data`, without a selection: `effects` with `params` of
+/// them fitted to the deflections and forces (mass residuals are not tested). Used by the power study.
+pub fn adequacy_of(
+    data: &Dataset,
+    effects: &Effects,
+    params: usize,
+    settings: &Settings,
+) -> Result<Adequacy, ModelError> {
+    let obs = actuation_obs(data, effects)?;
+    let act = ActuationData {
+        obs,
+        groups: data.actuators(),
+    };
+    let mut res = Vec::new();
+    act.residuals(effects, None, &mut res);
+    let rss = res.iter().map(|x| x * x).sum();
+    Ok(adequacy::adequacy_of_fit(
+        data,
+        &act,
+        (effects, rss, params),
+        None,
+        settings,
+    ))
+}
+
+/// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
+/// stack effects of `base`.
+fn actuation_obs(data: &Dataset, base: &Effects) -> Result<Vec<ActuationObs>, ModelError> {
+    let mut obs = Vec::new();
+    for (i, r) in data.rows.iter().enumerate() {
+        if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {
+            continue;
+        }
+        obs.push(ActuationObs {
+            group: data.group_of[i],
+            row: i,
+            basis: base.basis(&r.actuator())?,
+            ln_delta: r.free_deflection.map(f64::ln),
+            ln_force: r.blocked_force.map(f64::ln),
+        });
+    }
+    Ok(obs)
 }
