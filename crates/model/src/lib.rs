@@ -12,6 +12,7 @@ pub mod error;
 pub mod euler_bernoulli;
 pub mod lamina;
 pub mod laminate;
+pub mod large_deflection;
 pub mod material;
 pub mod model;
 pub mod performance;
