@@ -17,6 +17,7 @@ pub mod material;
 pub mod model;
 pub mod performance;
 pub mod planform;
+pub mod primitives;
 pub mod section;
 pub mod weibull;
 
