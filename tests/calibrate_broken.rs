@@ -130,3 +130,29 @@ fn too_many_low_actuators_are_not_excluded_as_broken() {
         .any(|n| n.contains("too many to be broken devices")));
     assert_eq!(cal.after.free_deflection.unwrap().n, 120);
 }
+
+#[test]
+fn the_report_names_the_broken_actuators_and_the_exclusion() {
+    let mut rng = ChaCha8Rng::seed_from_u64(305);
+    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
+    let truth = Truth::Library(Effects {
+        d31_scale: 0.75,
+        ..Effects::default()
+    });
+    let csv = break_actuators(&synthetic_csv(truth, &designs, &mut rng), &[4, 17], 0.55);
+    let data = parse(&csv).unwrap();
+    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
+    let text = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();
+    let json: serde_json::Value = serde_json::from_str(&text("report.json")).unwrap();
+    let broken = json["broken_actuators"].as_array().unwrap();
+    let ids: Vec<&str> = broken.iter().map(|b| b["id"].as_str().unwrap()).collect();
+    assert_eq!(ids, ["A4", "A17"]);
+    assert!(broken.iter().all(|b| b["excluded"] == true));
+    assert_eq!(json["verdict"], "explained");
+    let md = text("report.md");
+    assert!(md.contains("## Broken actuators"));
+    assert!(md.contains("| A4 | "));
+    assert!(md.contains("cracked plate or failed bond: deflection and force"));
+    assert!(md.contains("2 of 30 actuators excluded as broken (A4, A17)"));
+}
