@@ -227,7 +227,7 @@ pub fn residual_correlations(
             .unzip();
         stats::pearson(&xs, &ys)
     };
-    (0..9)
+    (0..super::variables::COUNT)
         .map(|k| ResidualCorrelation {
             variable: vars.first().map(|v| v[k].0).unwrap_or("").to_string(),
             deflection: corr(k, &|r| r.deflection),

@@ -6,6 +6,7 @@
 //! [`select`] (mass stage, then every subset of ≤ 2 effects with [`fit`]) → [`report`].
 
 pub mod baseline;
+pub mod broken;
 pub mod csv;
 pub mod fit;
 pub mod library;
@@ -24,6 +25,7 @@ use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
 use baseline::{
     error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
 };
+use broken::BrokenActuator;
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -50,6 +52,8 @@ pub struct Calibration {
     pub predictions_before: Vec<Performance>,
     /// Calibrated predictions per row.
     pub predictions_after: Vec<Performance>,
+    /// Actuators flagged as broken (excluded from the fit and the tables unless marked otherwise).
+    pub broken: Vec<BrokenActuator>,
 }
 
 /// Predict one measured row with a calibrated model (the "after" predictions; `predict --model` must give
@@ -69,9 +73,19 @@ pub enum CalibrateError {
     Row(#[from] RowError),
 }
 
-/// Calibrate a validated data set.
+/// Calibrate a validated data set: select on every actuator, screen for broken ones against the shared
+/// model, and if any are found select again without them (docs/calibration.md §3, "Broken actuators").
 pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, CalibrateError> {
-    let selection = select::select(data, settings)?;
+    let first = select::select(data, settings)?;
+    let (selection, broken, kept) = screen_broken(data, settings, first)?;
+    let fitted_subset;
+    let fitted = match &kept {
+        Some(keep) => {
+            fitted_subset = broken::subset(data, keep);
+            &fitted_subset
+        }
+        None => data,
+    };
     let model = CalibratedModel {
         model: "calibrated".into(),
         verdict: selection.verdict.name().into(),
@@ -85,21 +99,126 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
     let predictions_after = predict_all(data, |m| predict_row(&model, m))?;
-    let thesis = predict_all(data, |m| {
+    // The tables describe the actuators the model was fitted on.
+    let (fit_before, fit_after) = if kept.is_some() {
+        (
+            predict_all(fitted, |m| original.predict(&m.actuator()))?,
+            predict_all(fitted, |m| predict_row(&model, m))?,
+        )
+    } else {
+        (predictions_before.clone(), predictions_after.clone())
+    };
+    let thesis = predict_all(fitted, |m| {
         let p = original.predict(&m.actuator())?;
         Ok(empirical::adjust(&p, &m.planform, m.pzt_thickness))
     })?;
     Ok(Calibration {
-        before: error_table(data, &predictions_before),
-        after: error_table(data, &predictions_after),
-        thesis_adjusted: error_table(data, &thesis),
+        before: error_table(fitted, &fit_before),
+        after: error_table(fitted, &fit_after),
+        thesis_adjusted: error_table(fitted, &thesis),
         cv_rmse_before: selection.candidates[0].cv_rmse,
         cv_rmse_after: selection.candidates[selection.final_index].cv_rmse,
-        correlations_before: residual_correlations(data, &predictions_before),
-        correlations_after: residual_correlations(data, &predictions_after),
+        correlations_before: residual_correlations(fitted, &fit_before),
+        correlations_after: residual_correlations(fitted, &fit_after),
         selection,
         model,
         predictions_before,
         predictions_after,
+        broken,
     })
+}
+
+/// The selection to report, the actuators flagged as broken, and which actuators the fit kept (None: all).
+type Screened = (Selection, Vec<BrokenActuator>, Option<Vec<bool>>);
+
+/// Rounds of screening: each excludes what the previous fit shows broken and selects again.
+const SCREEN_ROUNDS: usize = 3;
+
+/// Screen for broken actuators and select again without them. Returns the selection to report, the
+/// flagged actuators, and which actuators were kept (None: all of them).
+fn screen_broken(
+    data: &Dataset,
+    settings: &Settings,
+    first: Selection,
+) -> Result<Screened, CalibrateError> {
+    let groups = data.actuators();
+    let mut keep = vec![true; groups];
+    let mut flagged: Vec<BrokenActuator> = Vec::new();
+    let mut current: Option<Selection> = None;
+    for _ in 0..SCREEN_ROUNDS {
+        let sel = current.as_ref().unwrap_or(&first);
+        let kept_index: Vec<usize> = (0..groups).filter(|&g| keep[g]).collect();
+        let view;
+        let on = if flagged.is_empty() {
+            data
+        } else {
+            view = broken::subset(data, &keep);
+            &view
+        };
+        let predictions = predict_all(on, |m| sel.model.predict(&m.actuator()))?;
+        let found = broken::screen(on, &predictions);
+        if found.is_empty() {
+            break;
+        }
+        for (g, b) in found {
+            keep[kept_index[g]] = false;
+            flagged.push(b);
+        }
+        if flagged.len() as f64 > broken::MAX_SHARE * groups as f64 {
+            let note = format!(
+                    "{} of {} actuators are off at every voltage against the rest: too many to be broken devices (more than {:.0} %), so none was excluded; a shared effect the model lacks is the likelier cause",
+                flagged.len(),
+                groups,
+                100.0 * broken::MAX_SHARE
+            );
+            return Ok(keep_all(first, flagged, Some(note)));
+        }
+        match select::select(&broken::subset(data, &keep), settings) {
+            Ok(sel) => current = Some(sel),
+            Err(e) => {
+                let (mut sel, flagged, _) = keep_all(first, flagged, None);
+                sel.verdict = Verdict::InsufficientData {
+                    reason: format!(
+                        "without the {} broken actuator(s) the rest cannot be fitted: {e}",
+                        flagged.len()
+                    ),
+                };
+                return Ok((sel, flagged, None));
+            }
+        }
+    }
+    let Some(mut sel) = current else {
+        return Ok((first, flagged, None));
+    };
+    if matches!(sel.verdict, Verdict::NotExplained { .. }) {
+        // Leaving them out did not leave a model that fits the rest: they may carry a shared effect.
+        return Ok(keep_all(
+            first,
+            flagged,
+            Some("the actuators flagged as broken were kept in the fit: without them the rest is still not explained, so their offsets may belong to an effect the model lacks"
+                .into()),
+        ));
+    }
+    let names: Vec<&str> = flagged.iter().map(|b| b.id.as_str()).collect();
+    sel.notes.push(format!(
+        "{} of {} actuators excluded as broken ({}); the fit, the verdict and the error tables are on the other {}",
+        flagged.len(),
+        groups,
+        names.join(", "),
+        groups - flagged.len()
+    ));
+    Ok((sel, flagged, Some(keep)))
+}
+
+/// Report flagged actuators without excluding them.
+fn keep_all(
+    mut first: Selection,
+    mut flagged: Vec<BrokenActuator>,
+    note: Option<String>,
+) -> Screened {
+    for b in &mut flagged {
+        b.excluded = false;
+    }
+    first.notes.extend(note);
+    (first, flagged, None)
 }

@@ -43,6 +43,34 @@ pub enum Truth {
     /// Deflection and force lose a factor `exp(-a w0 / l_p)` (a width-dependent actuation loss, e.g.
     /// anticlastic stiffening of wide plates, that no library effect expresses).
     WidthLoss(f64),
+    /// Deflection and force (or the force alone) times `exp(a (x - mid) / span)`, with `x` the design
+    /// value [`design_value`] of `variable`: a trend of size `exp(a) - 1` over a range `span` (power study).
+    Trend {
+        variable: &'static str,
+        a: f64,
+        mid: f64,
+        span: f64,
+        force_only: bool,
+    },
+}
+
+/// A design variable or ratio of a design at a field (V/mm), report units.
+pub fn design_value(variable: &str, d: &Design, field: f64) -> f64 {
+    let plies = [3.0, 5.0, 7.0][d.layup];
+    let l_p = d.l_tot_mm / (1.0 + d.l_r);
+    match variable {
+        "l_tot" => d.l_tot_mm,
+        "l_r" => d.l_r,
+        "w0" => d.w0_mm,
+        "w_r" => d.w_r,
+        "t_p" => d.t_p_mm,
+        "plies" => plies,
+        "field" => field,
+        "t_p/t_passive" => d.t_p_mm / (plies * 0.0618),
+        "w0/l_p" => d.w0_mm / l_p,
+        "l_ext/l_tot" => d.l_r / (1.0 + d.l_r),
+        other => panic!("no design variable {other}"),
+    }
 }
 
 pub struct Case {
@@ -162,6 +190,18 @@ pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64
             let k = (-loss * d.w0_mm / (a.planform.piezo_length() * 1e3)).exp();
             (p.free_deflection * k, p.blocked_force * k, p.mass)
         }
+        Truth::Trend {
+            variable,
+            a: size,
+            mid,
+            span,
+            force_only,
+        } => {
+            let p = Effects::default().predict(&a).unwrap();
+            let g = (size * (design_value(variable, d, field_v_per_mm) - mid) / span).exp();
+            let gd = if force_only { 1.0 } else { g };
+            (p.free_deflection * gd, p.blocked_force * g, p.mass)
+        }
         Truth::QuadraticForceLoss(loss) => {
             let p = Effects::default().predict(&a).unwrap();
             let e = field_v_per_mm * 1e-3;
@@ -259,4 +299,22 @@ pub fn held_out_error(truth: Truth, designs: &[Design], model: &Effects) -> f64 
         }
     }
     (sum / n as f64).sqrt()
+}
+
+/// The same CSV with the actuators `ids` broken: deflection and force multiplied by `factor` at every
+/// voltage (a cracked plate or failed bond), mass unchanged.
+pub fn break_actuators(csv: &str, ids: &[usize], factor: f64) -> String {
+    let names: Vec<String> = ids.iter().map(|i| format!("A{i}")).collect();
+    csv.lines()
+        .map(|line| {
+            let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+            if names.contains(&cells[0]) {
+                for k in [9, 10] {
+                    let v: f64 = cells[k].parse().unwrap();
+                    cells[k] = format!("{:.8}", v * factor);
+                }
+            }
+            cells.join(",") + "\n"
+        })
+        .collect()
 }

@@ -12,10 +12,12 @@ pub mod error;
 pub mod euler_bernoulli;
 pub mod lamina;
 pub mod laminate;
+pub mod large_deflection;
 pub mod material;
 pub mod model;
 pub mod performance;
 pub mod planform;
+pub mod primitives;
 pub mod section;
 pub mod weibull;
 

@@ -62,6 +62,9 @@ pub fn verdict_line(verdict: &str, detail: &VerdictDetail) -> String {
     if let Some(variable) = detail.follows {
         let _ = write!(out, " (residual still follows {variable})");
     }
+    if let Some(reason) = detail.reason {
+        let _ = write!(out, " ({reason})");
+    }
     out
 }
 
@@ -154,6 +157,22 @@ pub fn markdown(r: &Report) -> String {
             );
         }
     }
+    if !r.broken_actuators.is_empty() {
+        md.push_str("\n## Broken actuators\n\n| id | deflection % | force % | robust z | likely cause | excluded |\n|---|---|---|---|---|---|\n");
+        let pct = |p: Option<f64>| p.map_or("–".to_string(), |p| format!("{p:+.0}"));
+        for b in r.broken_actuators {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.1} | {} | {} |",
+                b.id,
+                pct(b.deflection_percent),
+                pct(b.force_percent),
+                b.robust_z,
+                b.likely_cause,
+                if b.excluded { "yes" } else { "no" }
+            );
+        }
+    }
     if !r.outliers.is_empty() {
         md.push_str("\n## Flagged rows\n\n");
         for o in r.outliers {
@@ -184,8 +203,8 @@ mod tests {
             "verdict: ambiguous ({dead-length} vs {clamp-compliance})"
         );
         let follows = VerdictDetail {
-            contenders: None,
             follows: Some("l_r"),
+            ..VerdictDetail::default()
         };
         assert_eq!(
             verdict_line("not-explained", &follows),

@@ -5,6 +5,7 @@
 //! ([`crate::calibrate::rounded`]). report.json's keys are written in sorted order.
 
 use crate::calibrate::baseline::{ErrorTable, ResidualCorrelation};
+use crate::calibrate::broken::BrokenActuator;
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::model_file;
@@ -38,6 +39,9 @@ pub struct Report<'a> {
     pub adequacy: &'a Adequacy,
     /// Flagged rows.
     pub outliers: &'a [Outlier],
+    /// Actuators flagged as broken (absent when none).
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub broken_actuators: &'a [BrokenActuator],
     /// Designs that would separate ambiguous contenders.
     pub separating_designs: &'a [SeparatingDesign],
     /// Remarks of the selection.
@@ -57,6 +61,9 @@ pub struct VerdictDetail<'a> {
     /// The variable the remaining residual follows (`not-explained`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub follows: Option<&'a str>,
+    /// Why no verdict could be given (`insufficient-data`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<&'a str>,
 }
 
 /// A selected effect and its one parameter, written as
@@ -231,6 +238,7 @@ impl<'a> Report<'a> {
             },
             adequacy: &s.adequacy,
             outliers: &s.outliers,
+            broken_actuators: &cal.broken,
             separating_designs: &s.separating_designs,
             notes: &s.notes,
             data: DataSummary {
@@ -255,11 +263,15 @@ impl<'a> VerdictDetail<'a> {
         match verdict {
             Verdict::Ambiguous { contenders } => VerdictDetail {
                 contenders: Some(contenders),
-                follows: None,
+                ..VerdictDetail::default()
             },
             Verdict::NotExplained { variable } => VerdictDetail {
-                contenders: None,
                 follows: Some(variable),
+                ..VerdictDetail::default()
+            },
+            Verdict::InsufficientData { reason } => VerdictDetail {
+                reason: Some(reason),
+                ..VerdictDetail::default()
             },
             Verdict::NoEffect | Verdict::Explained => VerdictDetail::default(),
         }
@@ -421,7 +433,7 @@ pub(super) mod tests {
             verdict: "ambiguous",
             verdict_detail: VerdictDetail {
                 contenders: Some(&CONTENDERS),
-                follows: None,
+                ..VerdictDetail::default()
             },
             selected_effects: vec![SelectedEffect {
                 name: "dead-length",
@@ -468,6 +480,7 @@ pub(super) mod tests {
             thesis_adjusted: with(None),
             adequacy: &ADEQUACY,
             outliers: &OUTLIERS,
+            broken_actuators: &[],
             separating_designs: &[],
             notes: &NOTES,
             data: DataSummary {

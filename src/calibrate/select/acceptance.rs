@@ -46,7 +46,13 @@ pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Se
                 why.push(format!("CV no better than {label}"));
             }
         }
+        for (id, reason) in &c.not_identifiable {
+            why.push(format!("{} not identifiable: {reason}", id.name()));
+        }
         for (k, id) in c.effects.iter().enumerate() {
+            if c.not_identifiable.iter().any(|(e, _)| e == id) {
+                continue;
+            }
             if id.stage() == c.stage && *id != EffectId::D31Scale && !c.excludes_null(k) {
                 why.push(format!("{} interval includes the null value", id.name()));
             }

@@ -7,7 +7,8 @@ use super::settings::Settings;
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
 use crate::calibrate::stats;
-use crate::calibrate::variables::design_variables;
+use crate::calibrate::variables::{design_variables, DesignVariables, COUNT};
+use actuator_model::effects::Effects;
 use serde::Serialize;
 
 /// Lack-of-fit F test against per-actuator lines in the field (pure error from the voltage sweeps).
@@ -70,8 +71,26 @@ pub(super) fn adequacy(
     mass_data: &MassData,
     settings: &Settings,
 ) -> Adequacy {
+    adequacy_of_fit(
+        data,
+        act,
+        (&chosen.model, chosen.fit.rss, chosen.values.len()),
+        mass_model.map(|m| (&m.model, mass_data)),
+        settings,
+    )
+}
+
+/// The same for any model: (effects, RSS of its actuation fit, fitted parameter count), and the mass
+/// model with its data if masses were fitted.
+pub(super) fn adequacy_of_fit(
+    data: &Dataset,
+    act: &ActuationData,
+    (model, rss, params): (&Effects, f64, usize),
+    mass: Option<(&Effects, &MassData)>,
+    settings: &Settings,
+) -> Adequacy {
     let mut r = Vec::new();
-    act.residuals(&chosen.model, None, &mut r);
+    act.residuals(model, None, &mut r);
     let labels = act.labels();
     // Per (group, output): (field, residual) pairs.
     let groups = data.actuators();
@@ -112,11 +131,11 @@ pub(super) fn adequacy(
         }
     }
     let n = r.len();
-    let p = chosen.values.len();
+    let p = params;
     let df2 = n as f64 - q as f64;
     let df1 = q as f64 - p as f64;
     let lack_of_fit = if sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0 {
-        let f = ((chosen.fit.rss - rss_full).max(0.0) / df1) / (rss_full / df2);
+        let f = ((rss - rss_full).max(0.0) / df1) / (rss_full / df2);
         Some(LackOfFit {
             f,
             df1,
@@ -148,9 +167,9 @@ pub(super) fn adequacy(
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let mut mass_res = vec![None; groups];
-    if let Some(mm) = mass_model {
+    if let Some((mm, mass_data)) = mass {
         let mut out = Vec::new();
-        mass_data.residuals(&mm.model, None, &mut out);
+        mass_data.residuals(mm, None, &mut out);
         for (&(g, _, _), v) in mass_data.obs.iter().zip(out) {
             mass_res[g] = Some(v);
         }
@@ -239,11 +258,11 @@ fn push_variable_tests<'a>(
         return;
     }
     let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
-    let vars: Vec<[(&'static str, f64); 9]> = pts
+    let vars: Vec<DesignVariables> = pts
         .iter()
         .map(|p| design_variables(first_row(p.0)))
         .collect();
-    for k in 0..9 {
+    for k in 0..COUNT {
         let xs: Vec<f64> = vars.iter().map(|v| v[k].1).collect();
         if let Some(r) = stats::pearson(&xs, &ys) {
             tests.push(CorrelationTest {

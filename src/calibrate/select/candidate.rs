@@ -48,6 +48,8 @@ pub struct Candidate {
     pub note: String,
     /// The complete effects of this model (frozen mass effects included).
     pub model: Effects,
+    /// Library effects the data cannot determine, with the reason (never selected).
+    pub not_identifiable: Vec<(EffectId, String)>,
     /// The fit itself (residuals, Jacobian).
     pub fit: FitResult,
 }

@@ -3,6 +3,7 @@
 
 use super::candidate::{Candidate, Role};
 use super::cross_validation;
+use super::identifiability;
 use super::observations::StageData;
 use crate::calibrate::fit::{least_squares, Bounds, FitResult};
 use crate::calibrate::library::{EffectId, Stage};
@@ -35,6 +36,8 @@ pub(super) struct Fitter<'a> {
     pub(super) folds: Vec<Vec<usize>>,
     /// Upper bound of the dead length: 80% of the shortest piezo length in the data.
     pub(super) dead_length_max_mm: f64,
+    /// What all actuators share (identifiability reasons), if anything.
+    pub(super) shared: Option<String>,
 }
 
 impl Fitter<'_> {
@@ -124,7 +127,9 @@ impl Fitter<'_> {
                 self.effects_at(ids, &refit.theta)
             }
         });
+        let not_identifiable = identifiability::not_identifiable(ids, &fit, self.shared.as_deref());
         Candidate {
+            not_identifiable,
             stage,
             role,
             effects: ids.to_vec(),

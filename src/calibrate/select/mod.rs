@@ -8,6 +8,7 @@ pub mod adequacy;
 pub mod candidate;
 mod cross_validation;
 mod fitter;
+pub mod identifiability;
 mod observations;
 pub mod outliers;
 pub mod separating;
@@ -27,7 +28,7 @@ use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
 use fitter::Fitter;
-use observations::{ActuationData, ActuationObs, MassData};
+use observations::{ActuationData, ActuationObs, MassData, StageData};
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
@@ -49,6 +50,11 @@ pub enum Verdict {
         /// The variable it follows most strongly.
         variable: String,
     },
+    /// Too little data is left to support a verdict (after excluding broken actuators).
+    InsufficientData {
+        /// Why.
+        reason: String,
+    },
 }
 
 impl Verdict {
@@ -59,6 +65,7 @@ impl Verdict {
             Verdict::Explained => "explained",
             Verdict::Ambiguous { .. } => "ambiguous",
             Verdict::NotExplained { .. } => "not-explained",
+            Verdict::InsufficientData { .. } => "insufficient-data",
         }
     }
 }
@@ -101,6 +108,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         .map(|r| r.planform.piezo_length() * 1e3)
         .fold(f64::INFINITY, f64::min);
     let dead_length_max_mm = 0.8 * l_p_min_mm;
+    let shared = identifiability::shared_design(data);
 
     // --- Stage 1: mass effects on the measured masses, then frozen.
     let mut seen = vec![false; groups];
@@ -127,6 +135,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             base,
             folds: folds_of.clone(),
             dead_length_max_mm,
+            shared: shared.clone(),
         };
         let mass_effects = [EffectId::PlyThickness, EffectId::BondLayer];
         let mut sets: Vec<(Vec<EffectId>, Role)> = vec![(vec![], Role::Original)];
@@ -141,6 +150,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             .map(|(ids, role)| fitter.fit(ids, Stage::Mass, *role))
             .collect();
         judge(&mut mass_candidates, &[0], settings);
+        note_not_identifiable(&mass_candidates, &mut notes);
         let (best, rivals) = best_and_rivals(&mass_candidates, settings);
         let chosen = best.unwrap_or(0);
         final_mass_index = Some(chosen);
@@ -156,22 +166,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
 
     // --- Stage 2: actuation and compliance effects on deflection and force.
-    let mut obs = Vec::new();
-    for (i, r) in data.rows.iter().enumerate() {
-        if r.free_deflection.is_none() && r.blocked_force.is_none() {
-            continue;
-        }
-        if r.voltage <= 0.0 {
-            continue;
-        }
-        obs.push(ActuationObs {
-            group: data.group_of[i],
-            row: i,
-            basis: base.basis(&r.actuator())?,
-            ln_delta: r.free_deflection.map(f64::ln),
-            ln_force: r.blocked_force.map(f64::ln),
-        });
-    }
+    let obs = actuation_obs(data, &base)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
         return Err(ModelError::Fit(format!(
@@ -188,6 +183,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         base,
         folds: folds_of,
         dead_length_max_mm,
+        shared: shared.clone(),
     };
     let eta = EffectId::D31Scale;
     let library: Vec<EffectId> = EffectId::LIBRARY
@@ -228,6 +224,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         .map(|(ids, role)| fitter.fit(ids, Stage::Actuation, *role))
         .collect();
     judge(&mut candidates, &[1, 2], settings);
+    note_not_identifiable(&candidates, &mut notes);
     let (best, rivals) = best_and_rivals(&candidates, settings);
     contenders.extend(rivals);
     let final_index = match best {
@@ -301,4 +298,64 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         separating_designs,
         notes,
     })
+}
+
+/// One note per effect the data cannot determine, from the models that fit it alone (with η).
+fn note_not_identifiable(candidates: &[Candidate], notes: &mut Vec<String>) {
+    for c in candidates {
+        if c.library_effects().len() != 1 {
+            continue;
+        }
+        for (id, reason) in &c.not_identifiable {
+            notes.push(format!(
+                "{} ({}) is not identifiable and was not selected: {reason}",
+                id.name(),
+                id.param().name
+            ));
+        }
+    }
+}
+
+/// The adequacy tests (§3) of a given model on `data`, without a selection: `effects` with `params` of
+/// them fitted to the deflections and forces (mass residuals are not tested). Used by the power study.
+pub fn adequacy_of(
+    data: &Dataset,
+    effects: &Effects,
+    params: usize,
+    settings: &Settings,
+) -> Result<Adequacy, ModelError> {
+    let obs = actuation_obs(data, effects)?;
+    let act = ActuationData {
+        obs,
+        groups: data.actuators(),
+    };
+    let mut res = Vec::new();
+    act.residuals(effects, None, &mut res);
+    let rss = res.iter().map(|x| x * x).sum();
+    Ok(adequacy::adequacy_of_fit(
+        data,
+        &act,
+        (effects, rss, params),
+        None,
+        settings,
+    ))
+}
+
+/// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
+/// stack effects of `base`.
+fn actuation_obs(data: &Dataset, base: &Effects) -> Result<Vec<ActuationObs>, ModelError> {
+    let mut obs = Vec::new();
+    for (i, r) in data.rows.iter().enumerate() {
+        if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {
+            continue;
+        }
+        obs.push(ActuationObs {
+            group: data.group_of[i],
+            row: i,
+            basis: base.basis(&r.actuator())?,
+            ln_delta: r.free_deflection.map(f64::ln),
+            ln_force: r.blocked_force.map(f64::ln),
+        });
+    }
+    Ok(obs)
 }

@@ -1,0 +1,393 @@
+//! Physical primitives an effect is composed of (issue 17 item 3; docs/calibration.md §2, "Primitives"): each
+//! changes the inputs of the physics — a material property, a layer of the stack, a boundary condition, the
+//! field — never an output. [`compose`] applies a list of them to an actuator and predicts it with the model
+//! of [`Effects`]; the seven library effects are named compositions of them ([`library_composition`]), and a
+//! test holds each composition to the effect's own prediction.
+
+use crate::effects::{Actuator, Effects, RESIN_DENSITY};
+use crate::error::ModelError;
+use crate::material::Material;
+use crate::performance::Performance;
+use serde::{Deserialize, Serialize};
+
+/// A layer kind of the bimorph stack whose material a primitive changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Target {
+    /// Both PZT plates.
+    Pzt,
+    /// Every passive ply (and the extension made of them).
+    Passive,
+}
+
+/// A material property a primitive scales.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Property {
+    /// Longitudinal modulus E1.
+    E1,
+    /// Transverse modulus E2.
+    E2,
+    /// Shear modulus G12.
+    G12,
+    /// Major Poisson ratio ν12.
+    Nu12,
+    /// Piezoelectric coefficient d31.
+    D31,
+    /// Relative permittivity ε (no effect on δ or F_b in this model; kept for drive-power studies).
+    Permittivity,
+    /// Density.
+    Density,
+    /// Layer thickness.
+    Thickness,
+}
+
+/// One physical primitive with one parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "primitive", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Primitive {
+    /// Multiply a property of a material by the parameter (null 1).
+    Scale {
+        /// Which layers.
+        target: Target,
+        /// Which property.
+        property: Property,
+    },
+    /// Insert a bond layer (built-in `Pyralux-LF`) of the parameter's thickness, m, between each PZT and the
+    /// plies, in the CLT stack and the mass (null 0).
+    InsertedLayer,
+    /// `d31(E) = d31 (1 + β E)`, β in m/V (null 0).
+    FieldDependentD31,
+    /// An undriven root of the PZT of the parameter's length, m (no electrode there; it keeps its stiffness;
+    /// null 0).
+    ElectrodeMargin,
+    /// Rotational compliance of the clamp, rad/(N·m) (null 0).
+    ClampCompliance,
+    /// Rotational compliance of the clamp per unit clamped width: `c_θ = c_w / w_0`, rad·m/(N·m) (null 0).
+    ClampCompliancePerWidth,
+    /// Extension flexibility relative to the bare plies (null 0 = rigid).
+    CompliantExtension,
+}
+
+impl Primitive {
+    /// The parameter value that leaves the physics unchanged.
+    pub fn null(self) -> f64 {
+        match self {
+            Primitive::Scale { .. } => 1.0,
+            _ => 0.0,
+        }
+    }
+}
+
+/// How a composition's one parameter sets a primitive's value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Map {
+    /// The parameter itself.
+    Identity,
+    /// Its reciprocal (moduli of a ply spread over `s` times its thickness).
+    Reciprocal,
+    /// The passive density of a ply `s` times as thick whose excess is resin:
+    /// `(ρ + (s - 1) ρ_resin) / (s ρ)` as a factor on ρ.
+    ResinDensity,
+}
+
+/// A primitive in a composition, with how the composition's parameter sets it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Link {
+    /// The primitive.
+    pub primitive: Primitive,
+    /// How the parameter sets it.
+    pub map: Map,
+}
+
+/// A primitive at a value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Applied {
+    /// The primitive.
+    pub primitive: Primitive,
+    /// Its value (SI).
+    pub value: f64,
+}
+
+/// The primitives a one-parameter composition applies at parameter `p` on an actuator whose passive
+/// material is `ply`.
+pub fn at(links: &[Link], p: f64, ply: &Material) -> Vec<Applied> {
+    links
+        .iter()
+        .map(|l| Applied {
+            primitive: l.primitive,
+            value: match l.map {
+                Map::Identity => p,
+                Map::Reciprocal => 1.0 / p,
+                Map::ResinDensity => (ply.density + (p - 1.0) * RESIN_DENSITY) / (p * ply.density),
+            },
+        })
+        .collect()
+}
+
+fn scale(m: &mut Material, thickness: &mut f64, property: Property, v: f64) {
+    match property {
+        Property::E1 => m.e1 *= v,
+        Property::E2 => m.e2 *= v,
+        Property::G12 => m.g12 *= v,
+        Property::Nu12 => m.nu12 *= v,
+        Property::D31 => m.d31 *= v,
+        Property::Permittivity => m.relative_permittivity *= v,
+        Property::Density => m.density *= v,
+        Property::Thickness => *thickness *= v,
+    }
+}
+
+/// Predict an actuator with the primitives applied on top of `base` (the model's own effects; the
+/// original model for `Effects::default()`). Material primitives change the stack's inputs; boundary and
+/// field primitives add to the corresponding effect of `base`.
+pub fn compose(
+    applied: &[Applied],
+    base: &Effects,
+    a: &Actuator,
+) -> Result<Performance, ModelError> {
+    let (mut pzt, mut t_p) = (a.pzt.clone(), a.pzt_thickness);
+    let (mut ply, mut t_ply) = (a.ply.clone(), a.ply_thickness);
+    let mut e = *base;
+    for x in applied {
+        let v = x.value;
+        if !v.is_finite() {
+            return Err(ModelError::OutOfRange {
+                name: "primitive value",
+                value: v,
+                range: "finite",
+            });
+        }
+        match x.primitive {
+            Primitive::Scale {
+                target: Target::Pzt,
+                property,
+            } => scale(&mut pzt, &mut t_p, property, v),
+            Primitive::Scale {
+                target: Target::Passive,
+                property,
+            } => scale(&mut ply, &mut t_ply, property, v),
+            Primitive::InsertedLayer => e.bond_thickness += v,
+            Primitive::FieldDependentD31 => e.d31_field_coefficient += v,
+            Primitive::ElectrodeMargin => e.dead_length += v,
+            Primitive::ClampCompliance => e.clamp_compliance += v,
+            Primitive::ClampCompliancePerWidth => e.clamp_compliance += v / a.planform.base_width,
+            Primitive::CompliantExtension => e.extension_flexibility += v,
+        }
+    }
+    e.predict(&Actuator {
+        pzt: &pzt,
+        pzt_thickness: t_p,
+        ply: &ply,
+        ply_thickness: t_ply,
+        ..*a
+    })
+}
+
+/// The seven library effects as compositions of primitives (names as in [`crate::effects::EFFECT_NAMES`]).
+pub fn library_composition(name: &str) -> Option<Vec<Link>> {
+    let id = |primitive| Link {
+        primitive,
+        map: Map::Identity,
+    };
+    let passive = |property, map| Link {
+        primitive: Primitive::Scale {
+            target: Target::Passive,
+            property,
+        },
+        map,
+    };
+    Some(match name {
+        "d31-scale" => vec![id(Primitive::Scale {
+            target: Target::Pzt,
+            property: Property::D31,
+        })],
+        "field-dependent-d31" => vec![id(Primitive::FieldDependentD31)],
+        "dead-length" => vec![id(Primitive::ElectrodeMargin)],
+        "bond-layer" => vec![id(Primitive::InsertedLayer)],
+        "compliant-extension" => vec![id(Primitive::CompliantExtension)],
+        "clamp-compliance" => vec![id(Primitive::ClampCompliance)],
+        // Resin-rich plies: the same fibre over s times the thickness (moduli / s), the excess resin.
+        "ply-thickness" => vec![
+            passive(Property::Thickness, Map::Identity),
+            passive(Property::E1, Map::Reciprocal),
+            passive(Property::E2, Map::Reciprocal),
+            passive(Property::G12, Map::Reciprocal),
+            passive(Property::Density, Map::ResinDensity),
+        ],
+        _ => return None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::effects::EFFECT_NAMES;
+    use crate::{Drive, DriveMode, Planform};
+
+    fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
+        let pzt = Material::builtin("PZT-5H").unwrap();
+        let cf = Material::builtin("CF-thesis").unwrap();
+        let layup = [0.0, 0.0, 90.0, 0.0, 0.0];
+        let a = Actuator {
+            pzt: &pzt,
+            pzt_thickness: 191e-6,
+            ply: &cf,
+            ply_thickness: 61.8e-6,
+            layup_deg: &layup,
+            planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
+            drive: Drive {
+                mode: DriveMode::Parallel,
+                field: 600e3,
+            },
+        };
+        f(&a)
+    }
+
+    /// Each library effect at a non-null value, in SI as `Effects` holds it.
+    fn effect(name: &str) -> (f64, Effects) {
+        let e = Effects::default();
+        match name {
+            "d31-scale" => (
+                0.7,
+                Effects {
+                    d31_scale: 0.7,
+                    ..e
+                },
+            ),
+            "field-dependent-d31" => (
+                0.8e-6,
+                Effects {
+                    d31_field_coefficient: 0.8e-6,
+                    ..e
+                },
+            ),
+            "dead-length" => (
+                3e-3,
+                Effects {
+                    dead_length: 3e-3,
+                    ..e
+                },
+            ),
+            "bond-layer" => (
+                30e-6,
+                Effects {
+                    bond_thickness: 30e-6,
+                    ..e
+                },
+            ),
+            "compliant-extension" => (
+                1.5,
+                Effects {
+                    extension_flexibility: 1.5,
+                    ..e
+                },
+            ),
+            "clamp-compliance" => (
+                0.5,
+                Effects {
+                    clamp_compliance: 0.5,
+                    ..e
+                },
+            ),
+            "ply-thickness" => (
+                1.3,
+                Effects {
+                    ply_thickness_scale: 1.3,
+                    ..e
+                },
+            ),
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn every_library_effect_is_its_composition_of_primitives() {
+        with(|a| {
+            for name in EFFECT_NAMES {
+                let (p, effects) = effect(name);
+                let want = effects.predict(a).unwrap();
+                let links = library_composition(name).unwrap();
+                let got = compose(&at(&links, p, a.ply), &Effects::default(), a).unwrap();
+                for (x, y) in [
+                    (got.free_deflection, want.free_deflection),
+                    (got.blocked_force, want.blocked_force),
+                    (got.mass, want.mass),
+                ] {
+                    assert!(((x - y) / y).abs() < 1e-12, "{name}: {x} vs {y}");
+                }
+                // At the null value the composition is the original model.
+                let null = compose(
+                    &at(&links, links[0].primitive.null(), a.ply),
+                    &Effects::default(),
+                    a,
+                )
+                .unwrap();
+                let orig = Effects::default().predict(a).unwrap();
+                assert!(
+                    ((null.blocked_force - orig.blocked_force) / orig.blocked_force).abs() < 1e-12
+                );
+            }
+        });
+    }
+
+    #[test]
+    fn new_primitives_move_what_their_physics_says() {
+        with(|a| {
+            let orig = Effects::default().predict(a).unwrap();
+            // A clamp compliance per width c_w acts as c_θ = c_w / w_0.
+            let per_width = compose(
+                &[Applied {
+                    primitive: Primitive::ClampCompliancePerWidth,
+                    value: 0.5 * 8e-3,
+                }],
+                &Effects::default(),
+                a,
+            )
+            .unwrap();
+            let constant = Effects {
+                clamp_compliance: 0.5,
+                ..Effects::default()
+            }
+            .predict(a)
+            .unwrap();
+            assert!(
+                ((per_width.blocked_force - constant.blocked_force) / constant.blocked_force).abs()
+                    < 1e-12
+            );
+            // Softer passive fibres (E1 of the plies x 0.6): a more compliant beam (lower stiffness) and a
+            // larger free curvature, as CLT gives for a softer core; mass unchanged.
+            let soft = compose(
+                &[Applied {
+                    primitive: Primitive::Scale {
+                        target: Target::Passive,
+                        property: Property::E1,
+                    },
+                    value: 0.6,
+                }],
+                &Effects::default(),
+                a,
+            )
+            .unwrap();
+            assert!(soft.stiffness < orig.stiffness);
+            assert!(soft.free_deflection > orig.free_deflection);
+            assert_eq!(soft.mass, orig.mass);
+            // A denser PZT changes the mass only.
+            let dense = compose(
+                &[Applied {
+                    primitive: Primitive::Scale {
+                        target: Target::Pzt,
+                        property: Property::Density,
+                    },
+                    value: 1.1,
+                }],
+                &Effects::default(),
+                a,
+            )
+            .unwrap();
+            assert!(dense.mass > orig.mass);
+            assert_eq!(dense.free_deflection, orig.free_deflection);
+        });
+    }
+}
