@@ -7,9 +7,12 @@
 //! [`super::shelf`], nor of the irregular nester: every layout the pipeline makes, scored, shelved
 //! or nested, is checked here.
 //!
-//! - [`clearance`]: parts inside the sheet, apart from each other and the edge, in allowed rotations;
-//! - [`bookkeeping`]: each outline its part as stated, every copy once, the stock;
-//! - [`snap`]: score lines that can be snapped in order and free every plate.
+//! - `clearance` ([`verify_sheet`], [`verify_sheet_edges`]): parts inside the sheet, apart from
+//!   each other and the edge, in allowed rotations;
+//! - `bookkeeping` ([`verify_outlines`], [`verify_copies`], [`verify_stock`]): each outline its
+//!   part as stated, every copy once, the stock;
+//! - `snap` ([`verify_snappable`], [`verify_break_order`]): score lines that can be snapped in
+//!   order and free every plate.
 
 mod bookkeeping;
 mod clearance;
