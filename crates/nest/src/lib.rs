@@ -11,7 +11,9 @@
 //!   allowed rotations, outlines equal to the item moved as stated, every copy placed once.
 //!   [`verify_sheet`] checks one sheet's parts with its own [`Clearance`] (the gap to the edge
 //!   may differ from the gap between parts), for layouts made by other packers, e.g. a shelf
-//!   packer of scored plates.
+//!   packer of scored plates. Both rest on [`clearance()`], the one clearance check of placed
+//!   rings (inside the sheet, gap to the edge, gap and overlap between parts), which the app's
+//!   layout verifier uses as well.
 //!
 //! The vocabulary: an item ([`NestItem`]) is an outline with a demand and the rotations it may be
 //! cut at; a sheet ([`NestBin`]) is `[0, width_mm] x [0, height_mm]` with a stock count; a layout
@@ -48,6 +50,7 @@
 //! ```
 
 mod baseline;
+mod clearance;
 mod compress;
 pub mod irregular;
 mod job;
@@ -58,9 +61,10 @@ mod verify;
 
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
+pub use clearance::{clearance, Clearance, ClearanceViolation};
 pub use irregular::nest;
 pub use job::clean_ring;
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
-pub use verify::{verify, verify_sheet, Clearance, NestViolation};
+pub use verify::{verify, verify_sheet, NestViolation};

@@ -1,11 +1,12 @@
-//! An independent check of a finished layout: plain `geo` geometry, none of the nesters' code
-//! (no jagua-rs, no overlap measure), so a bug in a nester cannot hide in its own check.
+//! An independent check of a finished nest: plain `geo` geometry, none of the nesters' code
+//! (no jagua-rs, no overlap measure), so a bug in a nester cannot hide in its own check. The
+//! clearance part is [`clearance()`](crate::clearance()), shared with the app's layout verifier;
+//! this adds what only a nest states: outlines, rotations, copies and stock.
 
-use cam_geometry::{place_ring, Bounds};
-use geo::{Distance, Euclidean};
-use serde::{Deserialize, Serialize};
+use cam_geometry::{place_ring, Point};
 use thiserror::Error;
 
+use crate::clearance::{clearance as check_clearance, Clearance, ClearanceViolation};
 use crate::job::clean_ring;
 use crate::problem::{NestBin, NestItem, NestSettings, NestSolution, PlacedPart};
 
@@ -18,6 +19,15 @@ pub enum NestViolation {
         part: usize,
         distance_mm: f64,
         required_mm: f64,
+    },
+    #[error("sheet {bin}: part {part} lies (partly) outside the sheet")]
+    OutsideSheet { bin: usize, part: usize },
+    #[error("sheet {bin}: parts {a} and {b} overlap ({area_mm2:.6} mm²)")]
+    Overlap {
+        bin: usize,
+        a: usize,
+        b: usize,
+        area_mm2: f64,
     },
     #[error(
         "sheet {bin}: parts {a} and {b} are {distance_mm:.4} mm apart (needs {required_mm} mm)"
@@ -48,25 +58,6 @@ pub enum NestViolation {
     UnknownCopy { item: usize, copy: usize },
     #[error("{used} sheets used but only {stock} in stock")]
     StockExceeded { used: usize, stock: usize },
-}
-
-/// The gaps a sheet's parts must keep: between two parts (the kerf and web of a cut) and to the
-/// sheet edge (which may differ, e.g. scored plates keep only a margin to the edge).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Clearance {
-    pub between_parts_mm: f64,
-    pub to_edge_mm: f64,
-}
-
-impl Clearance {
-    /// The same gap between parts and to the edge, as the nesters keep it.
-    #[must_use]
-    pub fn uniform(gap_mm: f64) -> Clearance {
-        Clearance {
-            between_parts_mm: gap_mm,
-            to_edge_mm: gap_mm,
-        }
-    }
 }
 
 /// Checks a solution against the rules without trusting the nester (plain `geo` geometry, no
@@ -112,7 +103,8 @@ pub fn verify(
 /// they were laid out: every outline equal to its item's outline ([`clean_ring`]) turned by
 /// `rotation_deg` and moved by `translation`, every rotation one of the item's, every part at
 /// least `clearance.to_edge_mm` inside the sheet edge and `clearance.between_parts_mm` from every
-/// other part (so no two overlap). Copies are not counted: that needs all sheets ([`verify`]).
+/// other part (so no two overlap), as [`clearance()`](crate::clearance()) checks it; the first
+/// violation found is returned. Copies are not counted: that needs all sheets ([`verify`]).
 pub fn verify_sheet(
     items: &[NestItem],
     bin: &NestBin,
@@ -122,8 +114,6 @@ pub fn verify_sheet(
     tolerance_mm: f64,
 ) -> Result<(), NestViolation> {
     let b = sheet_index;
-    let (sep, edge_sep) = (clearance.between_parts_mm, clearance.to_edge_mm);
-    let mut polygons = Vec::with_capacity(parts.len());
     for (k, part) in parts.iter().enumerate() {
         let Some(item) = items.get(part.item) else {
             return Err(NestViolation::UnknownCopy {
@@ -151,63 +141,58 @@ pub fn verify_sheet(
         if !matches {
             return Err(NestViolation::OutlineMismatch { bin: b, part: k });
         }
-        let edge = part
-            .outline
-            .iter()
-            .map(|p| {
-                p[0].min(p[1])
-                    .min(bin.width_mm - p[0])
-                    .min(bin.height_mm - p[1])
-            })
-            .fold(f64::INFINITY, f64::min);
-        if edge < edge_sep - tolerance_mm {
-            return Err(NestViolation::TooCloseToEdge {
-                bin: b,
-                part: k,
-                distance_mm: edge,
-                required_mm: edge_sep,
-            });
-        }
-        let ring: Vec<geo::Coord> = part
-            .outline
-            .iter()
-            .map(|p| geo::Coord { x: p[0], y: p[1] })
-            .collect();
-        polygons.push((
-            Bounds::of(&part.outline),
-            geo::Polygon::new(geo::LineString::new(ring), vec![]),
-        ));
     }
-    for a in 0..polygons.len() {
-        for c in a + 1..polygons.len() {
-            let (ba, pa) = &polygons[a];
-            let (bc, pc) = &polygons[c];
-            let gap_x = (bc.min[0] - ba.max[0]).max(ba.min[0] - bc.max[0]);
-            let gap_y = (bc.min[1] - ba.max[1]).max(ba.min[1] - bc.max[1]);
-            if gap_x.max(gap_y) >= sep {
-                continue;
-            }
-            // Zero when the outlines touch, cross or one contains the other.
-            let distance = Euclidean.distance(pa, pc);
-            if distance < sep - tolerance_mm {
-                return Err(NestViolation::TooClose {
-                    bin: b,
-                    a,
-                    b: c,
-                    distance_mm: distance,
-                    required_mm: sep,
-                });
-            }
+    let rings: Vec<&[Point]> = parts.iter().map(|p| p.outline.as_slice()).collect();
+    let first = check_clearance(&rings, bin.width_mm, bin.height_mm, clearance, tolerance_mm)
+        .into_iter()
+        .next();
+    match first {
+        None => Ok(()),
+        Some(violation) => Err(NestViolation::on_sheet(b, violation)),
+    }
+}
+
+impl NestViolation {
+    /// The shared clearance check's finding on sheet `bin`, in this crate's words.
+    fn on_sheet(bin: usize, violation: ClearanceViolation) -> NestViolation {
+        match violation {
+            ClearanceViolation::OutsideSheet { part } => NestViolation::OutsideSheet { bin, part },
+            ClearanceViolation::TooCloseToEdge {
+                part,
+                distance_mm,
+                required_mm,
+            } => NestViolation::TooCloseToEdge {
+                bin,
+                part,
+                distance_mm,
+                required_mm,
+            },
+            ClearanceViolation::Overlap { a, b, area_mm2 } => NestViolation::Overlap {
+                bin,
+                a,
+                b,
+                area_mm2,
+            },
+            ClearanceViolation::TooClose {
+                a,
+                b,
+                distance_mm,
+                required_mm,
+            } => NestViolation::TooClose {
+                bin,
+                a,
+                b,
+                distance_mm,
+                required_mm,
+            },
         }
     }
-    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::problem::NestedBin;
-    use cam_geometry::Point;
 
     fn square(side: f64) -> Vec<Point> {
         vec![[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]]

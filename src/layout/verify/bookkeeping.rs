@@ -8,7 +8,7 @@ use geo::{Coord, Distance, Euclidean, LineString, Rotate, Translate};
 
 /// Checks that every placed outline is its item's nominal ring (`nominal(item)`) rotated about
 /// the origin by `rotation_deg` and translated by `offset`, vertex for vertex within `tol_mm`
-/// (any starting vertex). This makes the rotation check of [`verify_sheet`] meaningful.
+/// (any starting vertex). This makes the rotation check of [`verify_sheet`](super::verify_sheet) meaningful.
 pub fn verify_outlines(
     layout: &SheetLayout,
     nominal: &dyn Fn(usize) -> Vec<Point>,

@@ -1,9 +1,19 @@
 //! Clearance: every part inside the sheet and far enough from its edge, every pair of parts far
 //! enough apart and not overlapping, every rotation one its item allows.
+//!
+//! The distances are measured by [`cam_nest::clearance`], the one clearance check of placed rings
+//! that the nester's own verifier uses too; this adds what only a laid-out sheet states (valid
+//! outlines, allowed rotations) and names each part in the messages.
 
-use super::{finish, part_ref, polygon, sheet_polygon, Violation, ANGLE_TOL, AREA_TOL};
+use super::{finish, part_ref, polygon, Violation, ANGLE_TOL};
 use crate::layout::placement::{Sheet, SheetLayout};
-use geo::{Area, BooleanOps, BoundingRect, Distance, Euclidean, Polygon, Validation};
+use cam_geometry::Point;
+use cam_nest::{clearance, Clearance, ClearanceViolation};
+use geo::Validation;
+
+/// Rounding the check itself absorbs, mm: a part may reach this far past the sheet edge, or
+/// this much closer than required, and still pass.
+const ROUNDING_MM: f64 = 1e-9;
 
 /// Checks a layout of cut parts: every part inside the sheet at least `gap_mm` from the edge,
 /// every pair at least `gap_mm` apart and not overlapping, every rotation allowed for its item.
@@ -26,10 +36,8 @@ pub fn verify_sheet_edges(
     allowed_rotations: &dyn Fn(usize) -> Vec<f64>,
 ) -> Result<(), Vec<Violation>> {
     let mut violations = Vec::new();
-    let sheet_poly = sheet_polygon(sheet);
-    let sheet_edge = sheet_poly.exterior().clone();
-    let sheet_rect = sheet_poly.bounding_rect().expect("sheet is not empty");
-    let mut parts: Vec<Option<Polygon<f64>>> = Vec::new();
+    // Placements whose outline is a valid ring: only those can be measured.
+    let mut measurable = Vec::new();
     for (index, placement) in layout.placements.iter().enumerate() {
         let part = part_ref(layout, index);
         let allowed = allowed_rotations(placement.item);
@@ -45,86 +53,68 @@ pub fn verify_sheet_edges(
             });
         }
         let ring = &placement.outline;
-        let poly = polygon(ring);
         let reason = if ring.len() < 3 {
             Some("fewer than 3 points".to_string())
         } else if ring.iter().flatten().any(|v| !v.is_finite()) {
             Some("a coordinate is not finite".to_string())
-        } else if !poly.is_valid() {
-            Some(format!("{:?}", poly.validation_errors()))
         } else {
-            None
+            let poly = polygon(ring);
+            (!poly.is_valid()).then(|| format!("{:?}", poly.validation_errors()))
         };
-        if let Some(reason) = reason {
-            violations.push(Violation::InvalidOutline { part, reason });
-            parts.push(None);
-            continue;
+        match reason {
+            Some(reason) => violations.push(Violation::InvalidOutline { part, reason }),
+            None => measurable.push(index),
         }
-        let rect = poly.bounding_rect().expect("valid polygon");
-        let tol = 1e-9;
-        if rect.min().x < sheet_rect.min().x - tol
-            || rect.min().y < sheet_rect.min().y - tol
-            || rect.max().x > sheet_rect.max().x + tol
-            || rect.max().y > sheet_rect.max().y + tol
-        {
-            violations.push(Violation::OutsideSheet {
-                part,
-                sheet_width_mm: sheet.width_mm,
-                sheet_height_mm: sheet.height_mm,
-            });
-        } else {
-            let distance = Euclidean.distance(&poly, &sheet_edge);
-            if distance < edge_gap_mm {
-                violations.push(Violation::EdgeGap {
-                    part,
-                    distance_mm: distance,
-                    min_mm: edge_gap_mm,
-                });
-            }
-        }
-        parts.push(Some(poly));
     }
 
-    let rects: Vec<_> = parts
+    let rings: Vec<&[Point]> = measurable
         .iter()
-        .map(|p| p.as_ref().and_then(|p| p.bounding_rect()))
+        .map(|&i| layout.placements[i].outline.as_slice())
         .collect();
-    for a in 0..parts.len() {
-        for b in a + 1..parts.len() {
-            let (Some(pa), Some(pb), Some(ra), Some(rb)) =
-                (&parts[a], &parts[b], rects[a], rects[b])
-            else {
-                continue;
-            };
-            // Bounding boxes further apart than the gap: the parts are too.
-            let separation = (rb.min().x - ra.max().x)
-                .max(ra.min().x - rb.max().x)
-                .max(rb.min().y - ra.max().y)
-                .max(ra.min().y - rb.max().y);
-            if separation >= gap_mm && separation > 0.0 {
-                continue;
-            }
-            let distance = Euclidean.distance(pa, pb);
-            if distance <= 0.0 {
-                let area = pa.intersection(pb).unsigned_area();
-                if area > AREA_TOL {
-                    violations.push(Violation::Overlap {
-                        a: part_ref(layout, a),
-                        b: part_ref(layout, b),
-                        area_mm2: area,
-                    });
-                    continue;
-                }
-            }
-            if distance < gap_mm {
-                violations.push(Violation::Gap {
-                    a: part_ref(layout, a),
-                    b: part_ref(layout, b),
-                    distance_mm: distance,
-                    min_mm: gap_mm,
-                });
-            }
-        }
+    let required = Clearance {
+        between_parts_mm: gap_mm,
+        to_edge_mm: edge_gap_mm,
+    };
+    let part = |i: usize| part_ref(layout, measurable[i]);
+    for found in clearance(
+        &rings,
+        sheet.width_mm,
+        sheet.height_mm,
+        required,
+        ROUNDING_MM,
+    ) {
+        violations.push(match found {
+            ClearanceViolation::OutsideSheet { part: i } => Violation::OutsideSheet {
+                part: part(i),
+                sheet_width_mm: sheet.width_mm,
+                sheet_height_mm: sheet.height_mm,
+            },
+            ClearanceViolation::TooCloseToEdge {
+                part: i,
+                distance_mm,
+                required_mm,
+            } => Violation::EdgeGap {
+                part: part(i),
+                distance_mm,
+                min_mm: required_mm,
+            },
+            ClearanceViolation::Overlap { a, b, area_mm2 } => Violation::Overlap {
+                a: part(a),
+                b: part(b),
+                area_mm2,
+            },
+            ClearanceViolation::TooClose {
+                a,
+                b,
+                distance_mm,
+                required_mm,
+            } => Violation::Gap {
+                a: part(a),
+                b: part(b),
+                distance_mm,
+                min_mm: required_mm,
+            },
+        });
     }
     finish(violations)
 }

@@ -1,14 +1,18 @@
 //! Independent placement verifier.
 //!
 //! Checks a finished [`SheetLayout`] without trusting the code that made it: distances, overlaps
-//! and containment come from `geo` predicates and metrics, and the snap check replays the breaks
+//! and containment come from `geo` predicates and metrics (through [`cam_nest::clearance`], the
+//! one clearance check the nester's own verifier shares), and the snap check replays the breaks
 //! on the sheet itself. Nothing here reuses the arithmetic of [`super::plates`] or
 //! [`super::shelf`], nor of the irregular nester: every layout the pipeline makes, scored, shelved
 //! or nested, is checked here.
 //!
-//! - [`clearance`]: parts inside the sheet, apart from each other and the edge, in allowed rotations;
-//! - [`bookkeeping`]: each outline its part as stated, every copy once, the stock;
-//! - [`snap`]: score lines that can be snapped in order and free every plate.
+//! - `clearance` ([`verify_sheet`], [`verify_sheet_edges`]): parts inside the sheet, apart from
+//!   each other and the edge, in allowed rotations;
+//! - `bookkeeping` ([`verify_outlines`], [`verify_copies`], [`verify_stock`]): each outline its
+//!   part as stated, every copy once, the stock;
+//! - `snap` ([`verify_snappable`], [`verify_break_order`]): score lines that can be snapped in
+//!   order and free every plate.
 
 mod bookkeeping;
 mod clearance;
@@ -114,8 +118,6 @@ pub enum Violation {
 
 /// Tolerance for "lies on" in the snap check, mm (as specified for score line ends).
 const ON_TOL: f64 = 1e-6;
-/// Overlap area that still counts as touching, mm² (floating-point noise of shared edges).
-const AREA_TOL: f64 = 1e-9;
 /// Tolerance for rotations, degrees.
 const ANGLE_TOL: f64 = 1e-9;
 

@@ -206,3 +206,58 @@ fn catches_lines_listed_out_of_break_order() {
         "{v:?}"
     );
 }
+
+#[test]
+fn the_layout_and_the_nest_verifier_reject_the_same_too_close_pair() {
+    // Two squares 0.7 mm apart, 2 mm from every edge, where 1 mm is required.
+    let l = layout(
+        vec![square(0, 0, 2.0, 2.0, 0.0), square(0, 1, 12.7, 2.0, 0.0)],
+        vec![],
+    );
+    let v = verify_sheet(&l, &SHEET, 1.0, &upright).unwrap_err();
+    assert!(
+        matches!(&v[..], [Violation::Gap { a, b, distance_mm, .. }]
+            if a.index == 0 && b.index == 1 && (distance_mm - 0.7).abs() < 1e-12),
+        "{v:?}"
+    );
+    assert_eq!(
+        v[0].to_string(),
+        "part 0 (item 0 copy 0) and part 1 (item 0 copy 1) are 0.700000 mm apart, less than the required 1.000000 mm"
+    );
+
+    let items = [cam_nest::NestItem {
+        outline: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+        demand: 2,
+        rotations_deg: vec![0.0],
+    }];
+    let bin = cam_nest::NestBin {
+        width_mm: SHEET.width_mm,
+        height_mm: SHEET.height_mm,
+        stock: 1,
+    };
+    let parts: Vec<cam_nest::PlacedPart> = l
+        .placements
+        .iter()
+        .map(|p| cam_nest::PlacedPart {
+            item: p.item,
+            copy: p.copy,
+            rotation_deg: p.rotation_deg,
+            translation: p.offset,
+            outline: p.outline.clone(),
+        })
+        .collect();
+    let clearance = cam_nest::Clearance::uniform(1.0);
+    let nest = cam_nest::verify_sheet(&items, &bin, clearance, 0, &parts, 1e-9);
+    assert!(
+        matches!(nest, Err(cam_nest::NestViolation::TooClose { a: 0, b: 1, distance_mm, .. })
+            if (distance_mm - 0.7).abs() < 1e-12),
+        "{nest:?}"
+    );
+    // Half a millimetre is kept, by both.
+    verify_sheet(&l, &SHEET, 0.5, &upright).unwrap();
+    let half = cam_nest::Clearance::uniform(0.5);
+    assert_eq!(
+        cam_nest::verify_sheet(&items, &bin, half, 0, &parts, 1e-9),
+        Ok(())
+    );
+}
