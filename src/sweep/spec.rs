@@ -155,6 +155,7 @@ impl SweepSpec {
         };
         f.finish()?;
         root.finish()?;
+        spec.refuse_repeated_levels(path)?;
         let count = spec.count();
         if count > MAX_DESIGNS {
             return Err(InputError::invalid(
@@ -165,6 +166,27 @@ impl SweepSpec {
             ));
         }
         Ok(spec)
+    }
+
+    /// A level listed twice would count every design of it twice in the main effects: refuse it, naming
+    /// the factor and the repeated level as written.
+    fn refuse_repeated_levels(&self, path: &Path) -> Result<(), InputError> {
+        for factor in Factor::ALL {
+            let labels: Vec<String> = (0..self.level_count(factor))
+                .map(|i| self.level_label(factor, i))
+                .collect();
+            for (i, label) in labels.iter().enumerate() {
+                if labels[..i].contains(label) {
+                    return Err(InputError::invalid(
+                        path,
+                        &format!("factors.{}", factor.name()),
+                        format!("[{}]", labels.join(", ")),
+                        format!("level {label} is listed twice; list each level once"),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Number of levels of a factor.
@@ -265,6 +287,21 @@ layups_deg = [[0, 90, 0], [0, 0, 90, 0, 0], [0, 0, 0, 90, 0, 0, 0]]
                 "-5",
             ),
             ("ply = \"CF-thesis\"", "ply = \"balsa\"", "unknown material"),
+            (
+                "length_mm = [75, 50, 25]",
+                "length_mm = [50, 50]",
+                "s.toml: factors.length_mm = [50, 50]: level 50 is listed twice",
+            ),
+            (
+                "layups_deg = [[0, 90, 0],",
+                "layups_deg = [[0, 0, 90, 0, 0],",
+                "s.toml: factors.layups_deg = [[0/0/90/0/0], [0/0/90/0/0], [0/0/0/90/0/0/0]]: level [0/0/90/0/0] is listed twice",
+            ),
+            (
+                "length_mm = [75, 50, 25]",
+                "length_mm = [1e300]",
+                "s.toml: factors.length_mm[0] = 1e300: outside the allowed range [1, 1000] mm",
+            ),
         ] {
             let err = parse(&TABLE_3_1.replace(from, to)).unwrap_err().to_string();
             assert!(err.contains(expect) && err.starts_with("s.toml"), "{err}");
