@@ -142,4 +142,45 @@ mod tests {
             "{e}"
         );
     }
+
+    fn design_c(width_ratio: f64, base_tab_mm: f64) -> Design {
+        let text = format!(
+            "name = \"c\"\n[geometry]\nlength_mm = 42.2\nextension_ratio = 0.833\nbase_width_mm = 5\n\
+             width_ratio = {width_ratio}\nbase_tab_mm = {base_tab_mm}\n[laminate]\npzt = \"PZT-5H\"\n\
+             pzt_thickness_mm = 0.267\nply = \"CF-thesis\"\nlayup_deg = [0, 90, 0]\n[drive]\n\
+             mode = \"parallel\"\nfield_V_per_mm = 800\n"
+        );
+        let path = Path::new("c.toml");
+        Design::from_table(path, &crate::input::parse_toml(path, &text).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn cut_check_needs_two_kerfs_per_feature() {
+        // Design C: tip (2 - 1.667) 5 / 1.667 = 0.999 mm, plate 42.2 / 1.833 = 23.0 mm.
+        let c = design_c(1.667, 0.0);
+        assert!(c.check_cut(0.05, 0.0).is_ok());
+        assert!(c.check_cut(0.49, 0.0).is_ok());
+        let e = c.check_cut(0.5, 0.0).unwrap_err().to_string();
+        assert!(
+            e.starts_with("c.toml: geometry.width_ratio = length_mm = 42.2,")
+                && e.contains(
+                    "the tip width is 0.9988 mm, narrower than twice the kerf (2 x 0.5 mm)"
+                ),
+            "{e}"
+        );
+        // A 0.3 mm PZT edge margin takes 0.6 mm off the tip: 0.399 mm left, less than 2 x 0.2 mm.
+        let e = c.check_cut(0.2, 0.3).unwrap_err().to_string();
+        assert!(
+            e.contains("inside the 0.3 mm PZT edge margin is 0.3988 mm"),
+            "{e}"
+        );
+        let e = design_c(1.667, 0.05)
+            .check_cut(0.03, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "c.toml: geometry.base_tab_mm = 0.05: a base tab must be 0 or at least twice the kerf (2 x 0.03 mm)"
+        );
+    }
 }
