@@ -193,17 +193,25 @@ fn predicts_finite(design: &Design) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// A fixed number of cases, nothing persisted (CI runs from a clean tree).
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
 const DESIGN_CASES: u32 = 512;
-const TEMPLATE_CASES: u32 = 256;
-const OPTIMIZE_CASES: u32 = 256;
-const SWEEP_CASES: u32 = 256;
+/// Process templates, optimize specs and sweep factors, each.
+const SPEC_CASES: u32 = 256;
 const CSV_CASES: u32 = 512;
 const BATCH_CASES: u32 = 64;
 const WEIBULL_CASES: u32 = 64;
 const RANGE_CASES: u32 = 1024;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: DESIGN_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(DESIGN_CASES))]
     #[test]
     fn design_files(example in prop::sample::select(vec![
         "examples/thesis-C.toml", "examples/thesis-A.toml", "examples/thesis-C-method-1.toml",
@@ -217,7 +225,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: TEMPLATE_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(SPEC_CASES))]
     #[test]
     fn process_templates(example in prop::sample::select(vec![
         "templates/method-1.toml", "templates/method-2.toml",
@@ -225,10 +233,7 @@ proptest! {
         let text = mutate(&read(example), &edits);
         check_toml(Path::new("t.toml"), &text, Template::from_table)?;
     }
-}
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: OPTIMIZE_CASES, failure_persistence: None, .. ProptestConfig::default() })]
     #[test]
     fn optimize_specs(example in prop::sample::select(vec![
         "examples/optimize-thesis.toml", "examples/optimize-rectangular.toml",
@@ -236,10 +241,7 @@ proptest! {
         let text = mutate(&read(example), &edits);
         check_toml(Path::new("o.toml"), &text, Spec::from_table)?;
     }
-}
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: SWEEP_CASES, failure_persistence: None, .. ProptestConfig::default() })]
     #[test]
     fn sweep_factors(example in prop::sample::select(vec![
         "examples/sweep-table-3-1.toml", "examples/sweep-table-3-2.toml", "examples/sweep-table-4-11.toml",
@@ -342,7 +344,7 @@ fn mutate_csv(text: &str, edits: &[CsvEdit]) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: CSV_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(CSV_CASES))]
     #[test]
     fn measured_csv(edits in prop::collection::vec(csv_edit(), 1..4)) {
         let file = Path::new("m.csv");
@@ -367,7 +369,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: WEIBULL_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(WEIBULL_CASES))]
     #[test]
     fn failure_csv(edits in prop::collection::vec(csv_edit(), 1..4), named in any::<bool>()) {
         let dir = tempfile::tempdir().unwrap();
@@ -381,7 +383,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: BATCH_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(BATCH_CASES))]
     #[test]
     fn batch_files(edits in prop::collection::vec(edit(), 1..4)) {
         // The batch names designs relative to itself: copy them next to it.
@@ -409,7 +411,7 @@ fn in_range(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: RANGE_CASES, failure_persistence: None, .. ProptestConfig::default() })]
+    #![proptest_config(config(RANGE_CASES))]
     /// Every design the ranges and the geometry checks accept predicts finite numbers: the issue's
     /// NaN cases (length, width ratio, PZT thickness near zero) cannot come back through any corner of
     /// the allowed ranges.
