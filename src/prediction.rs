@@ -2,6 +2,7 @@
 //! `predict` and embedded in cut-sheet reports.
 
 use crate::design::Design;
+use crate::input::{ensure_finite, short_number, InputError};
 use actuator_model::effects::Actuator;
 use actuator_model::model::{predict, ModelChoice, ModelKind};
 use actuator_model::{ModelError, Performance};
@@ -99,6 +100,51 @@ impl Prediction {
                 bond: p.mass_breakdown.bond * 1e6,
             },
         }
+    }
+
+    /// Every number by its `--json` name, for the finite check.
+    pub fn numbers(&self) -> [(&'static str, f64); 16] {
+        [
+            ("mass_mg", self.mass_mg),
+            ("free_deflection_mm", self.free_deflection_mm),
+            ("blocked_force_N", self.blocked_force_N),
+            ("energy_mJ", self.energy_mJ),
+            ("energy_density_J_per_kg", self.energy_density_J_per_kg),
+            ("stiffness_N_per_m", self.stiffness_N_per_m),
+            ("field_V_per_mm", self.field_V_per_mm),
+            ("voltage_V", self.voltage_V),
+            ("survival", self.survival),
+            ("peak_pzt_strain", self.peak_pzt_strain),
+            ("peak_pzt_stress_MPa", self.peak_pzt_stress_MPa),
+            ("base_stress_MPa", self.base_stress_MPa),
+            ("capacitance_nF", self.capacitance_nF),
+            ("mass_breakdown_mg.pzt", self.mass_breakdown_mg.pzt),
+            ("mass_breakdown_mg.passive", self.mass_breakdown_mg.passive),
+            ("mass_breakdown_mg.bond", self.mass_breakdown_mg.bond),
+        ]
+    }
+
+    /// Refuse a prediction with a number that is not finite, naming the design fields that produced it
+    /// (no `NaN` on screen, no `null` in JSON). `predict` calls it before printing; cut-sheet's report
+    /// should call it before writing.
+    pub fn ensure_finite(&self, design: &Design) -> Result<(), InputError> {
+        let p = &design.planform;
+        let written = format!(
+            "length_mm = {}, extension_ratio = {}, base_width_mm = {}, width_ratio = {}, pzt_thickness_mm = {}, ply_thickness_mm = {}, field_V_per_mm = {}",
+            short_number(p.length * 1e3),
+            short_number(p.extension_ratio),
+            short_number(p.base_width * 1e3),
+            short_number(p.width_ratio),
+            short_number(design.pzt_thickness * 1e3),
+            short_number(design.ply_thickness * 1e3),
+            short_number(design.drive.field * 1e-3),
+        );
+        ensure_finite(
+            &design.source,
+            "geometry, laminate, drive",
+            &written,
+            self.numbers(),
+        )
     }
 
     /// A readable table, one quantity per line.

@@ -254,7 +254,7 @@ fn negative_mass_is_rejected() {
 fn geometry_outside_the_design_range_is_rejected() {
     rejects_row(
         "A9,1500,0.3,8,1.2,0.191,0/90/0,50,400,0.1,0.02",
-        &["measured.csv: line 26, column l_tot_mm = 1500: outside the allowed range (0, 1000] mm"],
+        &["measured.csv: line 26, column l_tot_mm = 1500: outside the allowed range [1, 1000] mm"],
     );
     rejects_row(
         "A9,30,25,8,1.2,0.191,0/90/0,50,400,0.1,0.02",
@@ -262,7 +262,7 @@ fn geometry_outside_the_design_range_is_rejected() {
     );
     rejects_row(
         "A9,30,0.3,8,1.2,12,0/90/0,50,400,0.1,0.02",
-        &["measured.csv: line 26, column t_p_mm = 12: outside the allowed range (0, 10] mm"],
+        &["measured.csv: line 26, column t_p_mm = 12: outside the allowed range [0.05, 2] mm"],
     );
 }
 

@@ -689,8 +689,9 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
             "process",
         ),
         (
-            design_c_with(&[("width_ratio", "width_ratio = 1.99")]),
-            vec!["--kerf-mm", "0.05"],
+            // Tip (2 - 1.96) 5 / 1.96 = 0.102 mm: above the 0.1 mm any design needs, below two kerfs.
+            design_c_with(&[("width_ratio", "width_ratio = 1.96")]),
+            vec!["--kerf-mm", "0.1"],
             "narrower than twice the kerf",
         ),
         (

@@ -409,7 +409,7 @@ fn bad_input_fails_with_a_clear_message() {
         "pzt_thickness_mm = [0.127, -0.191]",
         &[
             "search.pzt_thickness_mm[1] = -0.191",
-            "outside the allowed range (0, 10] mm",
+            "outside the allowed range [0.05, 2] mm",
         ],
     );
     // serde's own wording ("expected i64", "did not match any variant of untagged enum") never shows:
@@ -422,13 +422,13 @@ fn bad_input_fails_with_a_clear_message() {
     fails_with(
         "base_width_mm = [5, 20]",
         "base_width_mm = \"5-20\"",
-        &["bad.toml: search.base_width_mm = \"5-20\": expected a number or [min, max], each in the allowed range (0, 1000] mm"],
+        &["bad.toml: search.base_width_mm = \"5-20\": expected a number or [min, max], each in the allowed range [0.5, 1000] mm"],
     );
     // The search ranges are checked against the design file's ranges.
     fails_with(
         "length_mm = [40, 60]",
         "length_mm = [40, 1600]",
-        &["search.length_mm[1] = 1600: outside the allowed range (0, 1000] mm"],
+        &["search.length_mm[1] = 1600: outside the allowed range [1, 1000] mm"],
     );
     let o = run(&["optimize", "/nonexistent/spec.toml"]);
     assert_eq!(o.status.code(), Some(1));

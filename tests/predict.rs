@@ -111,19 +111,19 @@ fn bad_input_gives_one_clear_line_naming_file_field_value_and_range() {
     let cases: Vec<(String, &[&str])> = vec![
         (
             design_c_with(&[("width_ratio", "width_ratio = 2.5")]),
-            &["design.toml", "geometry.width_ratio", "2.5", "(0, 2)"],
+            &["design.toml", "geometry.width_ratio", "2.5", "[0.25, 2)"],
         ),
         (
             design_c_with(&[("length_mm", "length_mm = -42.2")]),
-            &["geometry.length_mm", "-42.2", "(0, 1000] mm"],
+            &["geometry.length_mm", "-42.2", "[1, 1000] mm"],
         ),
         (
             design_c_with(&[("length_mm", "length_mm = 0")]),
-            &["geometry.length_mm", "0", "(0, 1000] mm"],
+            &["geometry.length_mm", "0", "[1, 1000] mm"],
         ),
         (
             design_c_with(&[("pzt_thickness_mm", "pzt_thickness_mm = 0")]),
-            &["laminate.pzt_thickness_mm", "0", "(0, 10] mm"],
+            &["laminate.pzt_thickness_mm", "0", "[0.05, 2] mm"],
         ),
         (
             design_c_with(&[("base_width_mm", "base_width_mm = nan")]),
@@ -182,6 +182,90 @@ fn bad_input_gives_one_clear_line_naming_file_field_value_and_range() {
     }
     let out = run(&["predict", "examples/no-such-file.toml"]);
     assert!(!out.status.success() && stderr(&out).contains("no-such-file.toml"));
+}
+
+/// Issue 14, item 3: values the old ranges allowed gave NaN (`null` in `--json`) or absurd numbers with
+/// exit 0. Each is now one line naming the field the user wrote and its value in short form, and nothing
+/// reaches standard output.
+#[test]
+fn absurd_values_of_issue_14_are_refused_naming_the_field() {
+    let cases = [
+        (
+            ("length_mm", "length_mm = 1e-300"),
+            "design.toml: geometry.length_mm = 1e-300: outside the allowed range [1, 1000] mm",
+        ),
+        (
+            ("width_ratio", "width_ratio = 1e-300"),
+            "design.toml: geometry.width_ratio = 1e-300: outside the allowed range [0.25, 2)",
+        ),
+        (
+            ("pzt_thickness_mm", "pzt_thickness_mm = 1e-300"),
+            "design.toml: laminate.pzt_thickness_mm = 1e-300: outside the allowed range [0.05, 2] mm",
+        ),
+        // Shorter than the 0.03 mm kerf of the PZT layer.
+        (
+            ("length_mm", "length_mm = 0.01"),
+            "design.toml: geometry.length_mm = 0.01: outside the allowed range [1, 1000] mm",
+        ),
+        // Printed short, not as 301 digits.
+        (
+            ("length_mm", "length_mm = 1e300"),
+            "design.toml: geometry.length_mm = 1e300: outside the allowed range [1, 1000] mm",
+        ),
+        // In range, but the PZT plate l_tot / (1 + l_r) = 2 / 21 mm is not a plate.
+        (
+            ("length_mm", "length_mm = 2\nextension_ratio = 20"),
+            "design.toml: geometry.length_mm = length_mm = 2, extension_ratio = 20, base_width_mm = 5, width_ratio = 1.667: \
+             the PZT plate length_mm / (1 + extension_ratio) = 0.0952381 mm is shorter than 1 mm",
+        ),
+        // In range, but the tip (2 - 1.99) 5 / 1.99 = 0.025 mm is narrower than any laser cut.
+        (
+            ("width_ratio", "width_ratio = 1.99"),
+            "design.toml: geometry.width_ratio = length_mm = 42.2, extension_ratio = 0.833, base_width_mm = 5, \
+             width_ratio = 1.99: the tip width (2 - width_ratio) base_width_mm / width_ratio = 0.0251256 mm is \
+             narrower than 0.1 mm; lower width_ratio or widen the base",
+        ),
+        // 300 V on 0.05 mm plates in parallel is 6000 V/mm, twice the highest allowed field.
+        (
+            ("field_V_per_mm", "voltage_V = 300"),
+            "design.toml: drive.voltage_V = 300: with laminate.pzt_thickness_mm = 0.05 gives a plate field of \
+             6000 V/mm, outside the allowed range (0, 3000] V/mm",
+        ),
+    ];
+    for ((key, line), want) in cases {
+        let mut text = design_c_with(&[(key, line)]);
+        if key == "length_mm" && line.contains("extension_ratio") {
+            text = text.replace("extension_ratio = 0.833\n", "");
+        }
+        if line.starts_with("voltage_V") {
+            text = text.replace("pzt_thickness_mm = 0.267", "pzt_thickness_mm = 0.05");
+        }
+        let (_d, path) = write_temp("design.toml", &text);
+        for json in [false, true] {
+            let mut args = vec!["predict", path.to_str().unwrap()];
+            if json {
+                args.push("--json");
+            }
+            let out = run(&args);
+            let err = stderr(&out);
+            let err = err.trim_end();
+            assert!(!out.status.success(), "{line}: accepted");
+            assert_eq!(err.lines().count(), 1, "{err}");
+            assert!(err.ends_with(want), "{line}:\n got {err}\nwant {want}");
+            assert!(out.stdout.is_empty(), "{line}: printed {}", stdout(&out));
+        }
+        // cut-sheet refuses the same way and writes nothing.
+        let o = path.with_file_name("out");
+        let out = run(&[
+            "cut-sheet",
+            path.to_str().unwrap(),
+            "-o",
+            o.to_str().unwrap(),
+        ]);
+        assert!(!out.status.success(), "{line}: cut-sheet accepted");
+        assert!(stderr(&out).trim_end().ends_with(want), "{}", stderr(&out));
+        assert!(!o.exists());
+    }
 }
 
 #[test]

@@ -203,7 +203,49 @@ fn bad_sweeps_fail_with_a_clear_message() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
     assert!(
-        err.contains("bad.toml: factors.base_width_mm[2] = \"wide\": expected a number, allowed range (0, 1000] mm"),
+        err.contains("bad.toml: factors.base_width_mm[2] = \"wide\": expected a number, allowed range [0.5, 1000] mm"),
+        "{err}"
+    );
+}
+
+/// Issue 14, item 4: `length_mm = [1e300]` printed NaN/inf main effects, and `length_mm = [50, 50]`
+/// counted every design twice. Both are one line naming the file, the factor and the value; no report
+/// and no CSV are written.
+#[test]
+fn absurd_and_repeated_levels_are_refused() {
+    let text = std::fs::read_to_string(example("sweep-table-3-1.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("levels.toml");
+    let csv = dir.path().join("all.csv");
+    for (to, want) in [
+        (
+            "length_mm = [1e300]",
+            "levels.toml: factors.length_mm[0] = 1e300: outside the allowed range [1, 1000] mm",
+        ),
+        (
+            "length_mm = [50, 50]",
+            "levels.toml: factors.length_mm = [50, 50]: level 50 is listed twice; list each level once",
+        ),
+        (
+            "length_mm = [50, 50.0, 75]",
+            "levels.toml: factors.length_mm = [50, 50, 75]: level 50 is listed twice; list each level once",
+        ),
+    ] {
+        std::fs::write(&path, text.replace("length_mm = [75, 50, 25]", to)).unwrap();
+        let o = sweep(&[path.to_str().unwrap(), "--csv", csv.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{to}: accepted");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.trim_end().ends_with(want), "{to}:\n got {err}\nwant {want}");
+        assert!(o.stdout.is_empty() && !csv.exists(), "{to}: wrote output");
+    }
+    // Repeated layups too, named as the report writes them.
+    std::fs::write(&path, text.replace("[0, 0, 0, 90, 0, 0, 0]", "[0, 90, 0]")).unwrap();
+    let o = sweep(&[path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("levels.toml: factors.layups_deg = [")
+            && err.contains("level [0/90/0] is listed twice"),
         "{err}"
     );
 }

@@ -34,6 +34,9 @@ pub const REQUIRED_COLUMNS: [&str; 11] = [
     "blocked_force_N",
 ];
 
+/// The columns a file may add: `drive`, `pzt`, `ply`, `base_tab_mm` (in this order).
+pub const OPTIONAL_COLUMNS: [&str; 4] = ["drive", "pzt", "ply", "base_tab_mm"];
+
 /// One measured actuator at one drive level, validated and in SI units.
 #[derive(Debug, Clone)]
 pub struct Measurement {
@@ -93,6 +96,9 @@ pub struct Dataset {
     pub groups: Vec<Vec<usize>>,
     /// Group index of each row.
     pub group_of: Vec<usize>,
+    /// Header names that are neither required nor optional columns, in file order: read past, and named
+    /// in one warning by the command (see [`Dataset::unknown_columns_warning`]).
+    pub unknown_columns: Vec<String>,
 }
 
 impl Dataset {
@@ -177,7 +183,28 @@ impl Dataset {
             rows,
             groups,
             group_of,
+            unknown_columns: Vec::new(),
         })
+    }
+
+    /// One line naming every unknown column (`None` when there is none): the run goes on, but a misspelt
+    /// optional column (`base_tab` for `base_tab_mm`) must not be dropped without a word.
+    pub fn unknown_columns_warning(&self, file: &Path) -> Option<String> {
+        if self.unknown_columns.is_empty() {
+            return None;
+        }
+        Some(format!(
+            "{}: ignoring unknown column{} {}; known columns: {},{}",
+            file.display(),
+            if self.unknown_columns.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            self.unknown_columns.join(", "),
+            REQUIRED_COLUMNS.join(","),
+            OPTIONAL_COLUMNS.join(",")
+        ))
     }
 
     /// Number of actuators.
@@ -290,6 +317,21 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
         .headers()
         .map_err(|e| InputError::whole_file(file, format!("not valid CSV in the header: {e}")))?
         .clone();
+    for (i, name) in headers.iter().enumerate() {
+        if headers.iter().take(i).any(|h| h == name) {
+            return Err(InputError::invalid(
+                file,
+                &format!("header, column {name:?}"),
+                headers.iter().collect::<Vec<_>>().join(","),
+                "the column appears twice; keep one",
+            ));
+        }
+    }
+    let unknown_columns: Vec<String> = headers
+        .iter()
+        .filter(|h| !REQUIRED_COLUMNS.contains(h) && !OPTIONAL_COLUMNS.contains(h))
+        .map(str::to_string)
+        .collect();
     let col = |name: &str| headers.iter().position(|h| h == name);
     let mut required = [0usize; 11];
     for (slot, name) in required.iter_mut().zip(REQUIRED_COLUMNS) {
@@ -305,12 +347,11 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
             )
         })?;
     }
-    let (c_drive, c_pzt, c_ply, c_tab) = (col("drive"), col("pzt"), col("ply"), col("base_tab_mm"));
+    let [c_drive, c_pzt, c_ply, c_tab] = OPTIONAL_COLUMNS.map(col);
     let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = required;
     let mut rows = Vec::new();
     for record in reader.records() {
-        let record =
-            record.map_err(|e| InputError::whole_file(file, format!("not valid CSV: {e}")))?;
+        let record = record.map_err(|e| csv_error(file, &e))?;
         let line = record.position().map(|p| p.line()).unwrap_or(0);
         let row = Row {
             file,
@@ -383,7 +424,24 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
     if rows.is_empty() {
         return Err(InputError::whole_file(file, "the file has no data rows"));
     }
-    Dataset::new(file, rows)
+    let mut data = Dataset::new(file, rows)?;
+    data.unknown_columns = unknown_columns;
+    Ok(data)
+}
+
+/// A record the CSV reader refuses (a row with the wrong number of cells, text that is not UTF-8),
+/// named by its line when the reader knows it.
+fn csv_error(file: &Path, e: &::csv::Error) -> InputError {
+    let what = match e.kind() {
+        ::csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => format!("has {len} cells; the header has {expected_len}"),
+        _ => format!("not valid CSV: {e}"),
+    };
+    match e.position() {
+        Some(p) => InputError::invalid(file, &format!("line {}", p.line()), "(row)", what),
+        None => InputError::whole_file(file, what),
+    }
 }
 
 /// `0/90/0` → angles; `None` unless every part is an angle in the design file's ply-angle range and
@@ -418,6 +476,47 @@ mod tests {
         assert_eq!(d.rows[1].mass, Some(500e-6));
         assert_eq!(d.rows[1].blocked_force, None);
         assert!((d.rows[1].field - 100.0 / 191e-6).abs() < 1e-6);
+    }
+
+    #[test]
+    fn duplicate_column_is_refused_and_unknown_ones_are_named() {
+        let f = Path::new("m.csv");
+        let e = parse_file(
+            f,
+            &format!("{HEADER},mass_mg\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,600\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("m.csv: header, column \"mass_mg\" = id,")
+                && e.ends_with("appears twice; keep one"),
+            "{e}"
+        );
+        let d = parse_file(
+            f,
+            &format!("{HEADER},note,base_tab\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,x,1\n"),
+        )
+        .unwrap();
+        assert_eq!(d.unknown_columns, ["note", "base_tab"]);
+        let w = d.unknown_columns_warning(f).unwrap();
+        assert!(
+            w.starts_with("m.csv: ignoring unknown columns note, base_tab; known columns: id,"),
+            "{w}"
+        );
+        assert!(!w.contains('\n'));
+        let d = parse_file(
+            f,
+            &format!("{HEADER}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05\n"),
+        );
+        assert_eq!(d.unwrap().unknown_columns_warning(f), None);
+    }
+
+    #[test]
+    fn a_short_row_names_its_line() {
+        let e = parse_file(Path::new("m.csv"), &format!("{HEADER}\nA,40,0.5\n"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "m.csv: line 2 = (row): has 3 cells; the header has 11");
     }
 
     #[test]

@@ -36,6 +36,9 @@ pub struct CalibrateArgs {
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     // The input layer's error names the file already.
     let data = csv::read_path(&args.measured)?;
+    if let Some(warning) = data.unknown_columns_warning(&args.measured) {
+        eprintln!("warning: {warning}");
+    }
     let settings = Settings {
         seed: args.seed,
         max_effects: args.max_effects as usize,

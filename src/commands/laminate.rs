@@ -83,8 +83,9 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow!("--ply: {} has no standard ply thickness", ply.name))?;
     let laminate = match args.pzt_thickness_mm {
         Some(t) => {
-            if !(t.is_finite() && t > 0.0 && t <= 10.0) {
-                bail!("--pzt-thickness-mm = {t}: outside the allowed range (0, 10] mm");
+            let allowed = crate::input::limits::PZT_THICKNESS_MM;
+            if !allowed.contains(t) {
+                bail!("--pzt-thickness-mm = {t}: outside the {allowed}");
             }
             let pzt = Material::builtin(&args.pzt)
                 .ok_or_else(|| anyhow!("--pzt: unknown material {:?}", args.pzt))?;

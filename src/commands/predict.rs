@@ -31,6 +31,7 @@ pub fn run(args: &PredictArgs) -> anyhow::Result<()> {
     let design = design_for_process(&design, &template)?;
     let prediction = Prediction::with_model(&design, model)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.design.display()))?;
+    prediction.ensure_finite(&design)?;
     if args.json.json {
         println!("{}", serde_json::to_string_pretty(&prediction)?);
     } else {

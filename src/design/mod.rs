@@ -1,8 +1,10 @@
 //! The design file (`design.toml`): one place that names each field, its unit and its allowed range, and
 //! one conversion from the parsed file into a validated [`Design`] that later code trusts.
 
+mod geometry;
 mod materials;
 
+pub use geometry::check_planform;
 pub use materials::{material_from_table, resolve_material};
 
 use crate::input::library::read_drive_mode;
@@ -10,7 +12,7 @@ use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, EXTENSION_RATIO, FIELD_V_PER_MM, LENGTH_MM, MAX_PLIES,
     MAX_QUANTITY, PLY_ANGLE_DEG, PLY_THICKNESS_MM, PZT_THICKNESS_MM, VOLTAGE_V, WIDTH_RATIO,
 };
-use crate::input::{read_toml, InputError, TableReader};
+use crate::input::{read_toml, short_number, InputError, TableReader};
 use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -81,6 +83,7 @@ impl Design {
             base_tab * 1e-3,
         )
         .map_err(|e| model_error(path, "geometry", e))?;
+        check_planform(path, "geometry", &planform)?;
 
         let l = root.table("laminate")?;
         let pzt_name = l.string("pzt", "a PZT material name")?;
@@ -165,8 +168,9 @@ impl Design {
                 "drive.voltage_V",
                 voltage.unwrap_or(0.0),
                 format!(
-                    "gives a plate field of {} V/mm, outside the {FIELD_V_PER_MM}",
-                    field * 1e-3
+                    "with laminate.pzt_thickness_mm = {} gives a plate field of {} V/mm, outside the {FIELD_V_PER_MM}",
+                    short_number(pzt_thickness * 1e3),
+                    short_number(field * 1e-3)
                 ),
             ));
         }

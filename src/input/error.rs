@@ -19,13 +19,64 @@ pub struct InputError {
     pub expected: String,
 }
 
-/// Squeeze any line breaks out of a message part, so that the error stays on one line.
+/// Squeeze any line breaks out of a message part, so that the error stays on one line; a number written
+/// out at length (`1e300` printed by `{}` has 301 digits) is put in its [`short_number`] form.
 fn one_line(text: &str) -> String {
     text.split(['\n', '\r'])
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .collect::<Vec<_>>()
         .join(" ")
+        .split(' ')
+        .map(shorten_word)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A word that is a long number becomes its short form; anything else is kept as written.
+fn shorten_word(word: &str) -> String {
+    // Trailing punctuation (`1e300,` or `1e300:`) stays outside the number.
+    let body = word.trim_end_matches([',', ':', ';', ')', ']']);
+    if body.len() <= 12 {
+        return word.to_string();
+    }
+    match body.parse::<f64>() {
+        Ok(x) => format!("{}{}", short_number(x), &word[body.len()..]),
+        Err(_) => word.to_string(),
+    }
+}
+
+/// A number as error messages print it: plain when it reads well (`42.2`, `0.0003`), otherwise in
+/// scientific form with at most 6 significant digits (`1e300`, `1.23457e-300`), so that an absurd value
+/// never fills the terminal. Every [`InputError`] passes its value and message through this.
+pub fn short_number(x: f64) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    let plain = x.to_string();
+    if plain.len() <= 12 {
+        return plain;
+    }
+    if (1e-4..1e6).contains(&x.abs()) {
+        // Six significant digits in plain form: 0.30000000000000004 -> 0.3.
+        let decimals = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+        let fixed = format!("{x:.decimals$}");
+        let fixed = if fixed.contains('.') {
+            fixed.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            &fixed
+        };
+        return fixed.to_string();
+    }
+    let sci = format!("{x:.5e}");
+    // Drop the trailing zeros of the mantissa: 1.00000e300 -> 1e300.
+    match sci.split_once('e') {
+        Some((mantissa, exp)) if mantissa.contains('.') => {
+            let m = mantissa.trim_end_matches('0').trim_end_matches('.');
+            format!("{m}e{exp}")
+        }
+        _ => sci,
+    }
 }
 
 impl InputError {
@@ -139,5 +190,35 @@ mod tests {
             InputError::whole_file(f, "no data rows").to_string(),
             "m.csv: no data rows"
         );
+    }
+
+    #[test]
+    fn long_numbers_print_short() {
+        assert_eq!(short_number(1e300), "1e300");
+        assert_eq!(short_number(-1e-300), "-1e-300");
+        assert_eq!(short_number(1.234567891e-7), "1.23457e-7");
+        assert_eq!(short_number(42.2), "42.2");
+        assert_eq!(short_number(0.0003), "0.0003");
+        assert_eq!(short_number(0.1 + 0.2), "0.3");
+        assert_eq!(short_number(123456.789012), "123457");
+        assert_eq!(short_number(f64::NAN), "NaN");
+        let e = InputError::invalid(Path::new("d.toml"), "geometry.length_mm", 1e300, "too long");
+        assert_eq!(
+            e.to_string(),
+            "d.toml: geometry.length_mm = 1e300: too long"
+        );
+        let e = InputError::invalid(
+            Path::new("d.toml"),
+            "drive.voltage_V",
+            1,
+            format!("gives a plate field of {} V/mm, outside", 1e303),
+        );
+        assert_eq!(
+            e.to_string(),
+            "d.toml: drive.voltage_V = 1: gives a plate field of 1e303 V/mm, outside"
+        );
+        // Text that is not a number is kept, however long.
+        let e = InputError::invalid(Path::new("d.toml"), "name", "\"abcdefghijklmnopq\"", "x");
+        assert!(e.to_string().contains("abcdefghijklmnopq"));
     }
 }

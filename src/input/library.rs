@@ -119,6 +119,17 @@ pub fn read_drive_field(
             let field = mode.field_limit().threshold(s).map_err(|e| {
                 InputError::invalid(t.file(), &t.path("survival"), s, e.to_string())
             })?;
+            if !FIELD_V_PER_MM.contains(field * 1e-3) {
+                return Err(InputError::invalid(
+                    t.file(),
+                    &t.path("survival"),
+                    s,
+                    format!(
+                        "gives a field of {} V/mm, outside the {FIELD_V_PER_MM}",
+                        super::short_number(field * 1e-3)
+                    ),
+                ));
+            }
             Ok((field, FieldSource::Survival(s)))
         }
     }

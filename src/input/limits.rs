@@ -1,30 +1,40 @@
 //! The allowed range of every numeric user field, stated once with its unit. Every file kind checks
 //! against these: a length is a length whether it comes from a design file, an optimize search range, a
 //! sweep level or a measured-data CSV row.
+//!
+//! The ranges are what a laser can cut and a lab can handle, not what the arithmetic survives: each bound
+//! is justified in `docs/limits.md` (same order as here). Checks that combine fields (plate length, tip
+//! width, features against the kerf) are in `crate::design::geometry`.
 
 use super::Range;
 
 // Geometry (design `[geometry]`, optimize `[search]`, sweep `[factors]`, measured CSV).
 
 /// Total length l_tot = l_p + l_ext.
-pub const LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+pub const LENGTH_MM: Range = Range::closed(1.0, 1000.0, "mm");
 /// Extension ratio l_r = l_ext / l_p.
 pub const EXTENSION_RATIO: Range = Range::closed(0.0, 20.0, "");
 /// Base width w_0.
-pub const BASE_WIDTH_MM: Range = Range::positive_up_to(1000.0, "mm");
-/// Width ratio w_r = w_0 / w_nom; the tip width `(2 - w_r) w_nom` must stay positive.
-pub const WIDTH_RATIO: Range = Range::open(0.0, 2.0, "");
+pub const BASE_WIDTH_MM: Range = Range::closed(0.5, 1000.0, "mm");
+/// Width ratio w_r = w_0 / w_nom; the tip width `(2 - w_r) w_nom` must stay positive (and at least
+/// [`MIN_FEATURE_MM`], checked on the design), and the tip at most 7 times the base.
+pub const WIDTH_RATIO: Range = Range::half_open(0.25, 2.0, "");
 /// Passive-only tab behind the PZT.
 pub const BASE_TAB_MM: Range = Range::closed(0.0, 1000.0, "mm");
 /// Smallest tip width asked of the optimizer (0: unconstrained).
 pub const MIN_TIP_WIDTH_MM: Range = Range::at_least(0.0, "mm");
 
+/// Shortest PZT plate l_p = l_tot / (1 + l_r) (checked on the design).
+pub const MIN_PLATE_LENGTH_MM: f64 = 1.0;
+/// Narrowest tip `(2 - w_r) w_0 / w_r` (checked on the design); cut-sheet also asks for two kerfs.
+pub const MIN_FEATURE_MM: f64 = 0.1;
+
 // Laminate.
 
 /// One PZT plate.
-pub const PZT_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+pub const PZT_THICKNESS_MM: Range = Range::closed(0.05, 2.0, "mm");
 /// One passive ply, one bond layer, a material's standard ply.
-pub const PLY_THICKNESS_MM: Range = Range::positive_up_to(10.0, "mm");
+pub const PLY_THICKNESS_MM: Range = Range::closed(0.005, 5.0, "mm");
 /// A ply angle from the actuator axis.
 pub const PLY_ANGLE_DEG: Range = Range::closed(-180.0, 180.0, "deg");
 /// Most plies in a layup.
@@ -48,7 +58,7 @@ pub const PERMITTIVITY: Range = Range::closed(0.0, 100_000.0, "");
 // Drive.
 
 /// Peak field in a plate.
-pub const FIELD_V_PER_MM: Range = Range::positive_up_to(10_000.0, "V/mm");
+pub const FIELD_V_PER_MM: Range = Range::positive_up_to(3000.0, "V/mm");
 /// Supply voltage of a design, or the optimizer's highest supply voltage.
 pub const VOLTAGE_V: Range = Range::positive_up_to(100_000.0, "V");
 /// Applied voltage of a measurement: a reading at rest (0 V) is allowed.

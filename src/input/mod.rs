@@ -11,12 +11,14 @@
 //! can reach the user. Every problem is one [`InputError`], printed on one line.
 
 mod error;
+pub mod finite;
 pub mod library;
 pub mod limits;
 mod range;
 mod table;
 
-pub use error::InputError;
+pub use error::{short_number, InputError};
+pub use finite::ensure_finite;
 pub use library::FieldSource;
 pub use range::Range;
 pub use table::TableReader;

@@ -51,6 +51,17 @@ impl Range {
         }
     }
 
+    /// `lo <= x < hi`.
+    pub const fn half_open(lo: f64, hi: f64, unit: &'static str) -> Self {
+        Range {
+            lo,
+            lo_inclusive: true,
+            hi,
+            hi_inclusive: false,
+            unit,
+        }
+    }
+
     /// `0 < x`, no upper bound (a measured quantity that only has to be physical).
     pub const fn positive(unit: &'static str) -> Self {
         Self::open(0.0, f64::INFINITY, unit)

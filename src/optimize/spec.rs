@@ -295,7 +295,7 @@ max_peak_pzt_strain = 0.0009
             (
                 "width_ratio = [1, 1.95]",
                 "width_ratio = [1, 2.5]",
-                "search.width_ratio[1] = 2.5: outside the allowed range (0, 2)",
+                "search.width_ratio[1] = 2.5: outside the allowed range [0.25, 2)",
             ),
             (
                 "grid = 70",
@@ -306,7 +306,7 @@ max_peak_pzt_strain = 0.0009
                 "base_width_mm = [5, 20]",
                 "base_width_mm = \"5-20\"",
                 "t.toml: search.base_width_mm = \"5-20\": expected a number or [min, max], \
-                 each in the allowed range (0, 1000] mm",
+                 each in the allowed range [0.5, 1000] mm",
             ),
             ("[search]", "[serach]", "serach = (table): unknown key"),
             ("grid = 70", "grid = 1", "[2, 500]"),

@@ -1,6 +1,7 @@
 //! The sweep's factors file: one validating conversion ([`SweepSpec::from_table`]) from the parsed TOML
 //! into SI levels, through the checked reader and the shared field ranges of [`crate::input`].
 
+use crate::design::check_planform;
 use crate::input::library::{library_ply, library_pzt, read_drive_field, read_drive_mode};
 use crate::input::limits::{
     BASE_WIDTH_MM, D31_MAGNITUDE_PM_PER_V, EXTENSION_RATIO, LENGTH_MM, MAX_DESIGNS, MAX_LEVELS,
@@ -8,7 +9,7 @@ use crate::input::limits::{
 };
 use crate::input::{read_toml, FieldSource, InputError, Range, TableReader};
 use crate::optimize::report::decimal;
-use actuator_model::{DriveMode, Material};
+use actuator_model::{DriveMode, Material, Planform};
 use std::path::Path;
 
 /// One factor of the sweep.
@@ -155,6 +156,8 @@ impl SweepSpec {
         };
         f.finish()?;
         root.finish()?;
+        spec.refuse_repeated_levels(path)?;
+        spec.check_smallest_features(path)?;
         let count = spec.count();
         if count > MAX_DESIGNS {
             return Err(InputError::invalid(
@@ -165,6 +168,43 @@ impl SweepSpec {
             ));
         }
         Ok(spec)
+    }
+
+    /// A level listed twice would count every design of it twice in the main effects: refuse it, naming
+    /// the factor and the repeated level as written.
+    fn refuse_repeated_levels(&self, path: &Path) -> Result<(), InputError> {
+        for factor in Factor::ALL {
+            let labels: Vec<String> = (0..self.level_count(factor))
+                .map(|i| self.level_label(factor, i))
+                .collect();
+            for (i, label) in labels.iter().enumerate() {
+                if labels[..i].contains(label) {
+                    return Err(InputError::invalid(
+                        path,
+                        &format!("factors.{}", factor.name()),
+                        format!("[{}]", labels.join(", ")),
+                        format!("level {label} is listed twice; list each level once"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every design of the sweep is one a lab could build (`docs/limits.md` §1): the shortest PZT plate
+    /// (shortest length, longest extension) and the narrowest tip (narrowest base, largest width ratio)
+    /// pass the design file's derived-geometry check. The error names `factors.*` and the levels.
+    fn check_smallest_features(&self, path: &Path) -> Result<(), InputError> {
+        let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let worst = |length: f64, l_r: f64, w0: f64, w_r: f64| {
+            Planform::new(length, l_r, w0, w_r, 0.0)
+                .map_err(|e| InputError::invalid(path, "factors", "(levels)", e.to_string()))
+                .and_then(|p| check_planform(path, "factors", &p))
+        };
+        let (l_r, w_r) = (max(&self.extension_ratio), max(&self.width_ratio));
+        worst(min(&self.length), l_r, max(&self.base_width), 1.0)?;
+        worst(max(&self.length), 0.0, min(&self.base_width), w_r)
     }
 
     /// Number of levels of a factor.
@@ -265,6 +305,33 @@ layups_deg = [[0, 90, 0], [0, 0, 90, 0, 0], [0, 0, 0, 90, 0, 0, 0]]
                 "-5",
             ),
             ("ply = \"CF-thesis\"", "ply = \"balsa\"", "unknown material"),
+            (
+                "length_mm = [75, 50, 25]",
+                "length_mm = [50, 50]",
+                "s.toml: factors.length_mm = [50, 50]: level 50 is listed twice",
+            ),
+            (
+                "layups_deg = [[0, 90, 0],",
+                "layups_deg = [[0, 0, 90, 0, 0],",
+                "s.toml: factors.layups_deg = [[0/0/90/0/0], [0/0/90/0/0], [0/0/0/90/0/0/0]]: level [0/0/90/0/0] is listed twice",
+            ),
+            (
+                "base_width_mm = [7.5, 5, 2.5]",
+                "base_width_mm = [7.5, 5, 2.5]\nwidth_ratio = [1, 1.95]",
+                "s.toml: factors.width_ratio = length_mm = 75, extension_ratio = 0, base_width_mm = 2.5, \
+                 width_ratio = 1.95: the tip width",
+            ),
+            (
+                "length_mm = [75, 50, 25]",
+                "length_mm = [75, 50, 2]\nextension_ratio = [0, 2]",
+                "s.toml: factors.length_mm = length_mm = 2, extension_ratio = 2, base_width_mm = 7.5, \
+                 width_ratio = 1: the PZT plate",
+            ),
+            (
+                "length_mm = [75, 50, 25]",
+                "length_mm = [1e300]",
+                "s.toml: factors.length_mm[0] = 1e300: outside the allowed range [1, 1000] mm",
+            ),
         ] {
             let err = parse(&TABLE_3_1.replace(from, to)).unwrap_err().to_string();
             assert!(err.contains(expect) && err.starts_with("s.toml"), "{err}");
