@@ -235,6 +235,7 @@ pub fn subset(data: &Dataset, keep: &[bool]) -> Dataset {
         rows,
         groups,
         group_of,
+        unknown_columns: data.unknown_columns.clone(),
     }
 }
 
