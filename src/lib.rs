@@ -14,4 +14,5 @@ pub mod output;
 pub mod pipeline;
 pub mod plot;
 pub mod prediction;
+pub mod process;
 pub mod sweep;

@@ -11,11 +11,11 @@
 use actuator_cam::batch::file::Batch;
 use actuator_cam::calibrate::csv;
 use actuator_cam::commands::weibull::read_column;
-use actuator_cam::cutsheet::template::Template;
 use actuator_cam::design::Design;
 use actuator_cam::input::{parse_toml, InputError};
 use actuator_cam::optimize::spec::Spec;
 use actuator_cam::prediction::Prediction;
+use actuator_cam::process::template::Template;
 use actuator_cam::sweep::spec::SweepSpec;
 use actuator_model::model::ModelKind;
 use proptest::prelude::*;

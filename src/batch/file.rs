@@ -1,13 +1,13 @@
 //! The batch file (`batch.toml`): which designs, how many of each, the seed and optional sheet
 //! overrides; validated once into a [`Batch`] that the planner trusts.
 
-use crate::cutsheet::template::SheetSpec;
 use crate::cutsheet::{design_for_process, Template};
 use crate::design::Design;
 use crate::input::limits::{
     MAX_ITERATIONS, MAX_QUANTITY, MAX_STOCK, PRICE, SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
+use crate::process::template::SheetSpec;
 use std::path::{Path, PathBuf};
 
 /// A sheet override from `[sheets]`: size, and optionally stock and price.

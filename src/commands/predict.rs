@@ -2,9 +2,9 @@
 
 use super::flags::{JsonFlag, ModelFlag};
 use crate::cutsheet::design_for_process;
-use crate::cutsheet::template::Template;
 use crate::design::Design;
 use crate::prediction::Prediction;
+use crate::process::template::Template;
 use clap::Args;
 use std::path::PathBuf;
 

@@ -1,18 +1,16 @@
 //! `cut-sheet`: turn one design into laser-cut layer drawings, a build checklist and a report with the
 //! predicted mass and performance beside the geometry's own mass.
 
-mod features;
 mod layers;
 mod preview;
 mod report;
-pub mod template;
 pub mod write;
 
 pub use crate::pipeline::{BuildError, SheetDrawing};
-pub use features::{Feature, FeatureMap};
+pub use crate::process::{template, Template};
+pub use crate::process::{Feature, FeatureMap};
 pub use layers::LayerRow;
 pub use report::{DesignSummary, Report};
-pub use template::Template;
 
 use crate::cam::drawing::Drawing;
 use crate::cam::palette::Palette;

@@ -10,8 +10,8 @@ use super::parts::PartGeometry;
 use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
 use super::{BuildError, SheetDrawing};
-use crate::cutsheet::template::Template;
 use crate::design::Design;
+use crate::process::template::Template;
 
 /// A cut-through layer as built: its parts and how many sheets they took.
 #[derive(Debug, Clone)]

@@ -7,9 +7,9 @@ use super::parts::PartGeometry;
 use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
-use crate::cutsheet::template::Template;
 use crate::cutsheet::Feature;
 use crate::design::Design;
+use crate::process::template::Template;
 use cam_geometry::place_ring;
 use cam_geometry::Point;
 

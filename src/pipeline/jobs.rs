@@ -4,8 +4,8 @@
 use super::parts::PartGeometry;
 use super::{BuildError, SheetDrawing};
 use crate::cam::drawing::Drawing;
-use crate::cutsheet::template::Template;
 use crate::design::Design;
+use crate::process::template::Template;
 use cam_geometry::offset::offset_ring;
 use cam_geometry::Point;
 use std::collections::BTreeMap;

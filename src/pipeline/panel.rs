@@ -2,7 +2,7 @@
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
 use super::parts::PartGeometry;
-use crate::cutsheet::template::ClampSpec;
+use crate::process::template::ClampSpec;
 use cam_geometry::Point;
 use thiserror::Error;
 
@@ -136,7 +136,7 @@ pub fn rect(origin: Point, w: f64, h: f64) -> Vec<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cutsheet::template::Template;
+    use crate::process::template::Template;
     use std::path::Path;
 
     #[test]

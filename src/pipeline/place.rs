@@ -11,12 +11,12 @@
 use super::cut::{CutLayer, CUT_ROTATIONS_DEG};
 use super::jobs::{format_violations, Job, Names};
 use super::BuildError;
-use crate::cutsheet::template::SheetSpec;
 use crate::layout::{
     layout_parts, layout_plates, verify_break_order, verify_copies, verify_outlines, verify_sheet,
     verify_sheet_edges, verify_snappable, verify_stock, PartSpec, Placement, PlateSpec, Sheet,
     SheetLayout, Violation,
 };
+use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
 use cam_nest::{
     nest, nest_bounding_boxes, NestBin, NestError, NestItem, NestSettings, NestSolution,
