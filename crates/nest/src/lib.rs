@@ -54,13 +54,17 @@ mod job;
 mod overlap;
 mod placement;
 mod problem;
+mod progress;
+mod strip;
 mod verify;
 
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
-pub use irregular::nest;
+pub use irregular::{nest, nest_observed};
 pub use job::clean_ring;
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
+pub use progress::NestProgress;
+pub use strip::{nest_strip, StripLayout};
 pub use verify::{verify, verify_sheet, Clearance, NestViolation};

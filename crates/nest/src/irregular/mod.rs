@@ -70,6 +70,7 @@ mod score;
 
 use crate::job::Job;
 use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
+use crate::progress::{ignore, NestProgress};
 use model::Model;
 
 /// Nests the items on as few sheets as the budget finds, keeping `separation_mm` between parts
@@ -79,11 +80,26 @@ pub fn nest(
     bin: &NestBin,
     settings: &NestSettings,
 ) -> Result<NestSolution, NestError> {
+    nest_observed(items, bin, settings, &ignore)
+}
+
+/// [`nest`] that reports its progress to `observe` (after the greedy fill, after every epoch of
+/// the search, and once finished with the final layout's figures); see [`NestProgress`]. The
+/// layout is the same as [`nest`]'s.
+pub fn nest_observed(
+    items: &[NestItem],
+    bin: &NestBin,
+    settings: &NestSettings,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<NestSolution, NestError> {
     let job = Job::new(items, bin, settings)?;
     if job.parts.is_empty() {
         return job.solution(Vec::new());
     }
     let model = Model::new(&job)?;
-    let best = model.run()?;
+    let (best, done) = model.run(observe)?;
+    let problem = model.rebuild(&best);
+    let score = model.score(&problem);
+    observe(&model.progress(&score, done, job.iteration_budget(), true));
     job.solution(model.export(&best))
 }
