@@ -41,7 +41,7 @@ pub fn nest_strip(
     // Validates the input against the width alone (the probe is endless).
     let job = Job::new(items, &probe, settings)?;
     let gap = 2.0 * job.model_separation() + 0.01;
-    let area: f64 = job.parts.iter().map(|p| p.area * p.demand as f64).sum();
+    let area = job.part_area();
     // Per part, the shortest extent along the strip at a rotation that fits the width.
     let along: Vec<f64> = job
         .parts

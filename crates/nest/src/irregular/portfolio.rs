@@ -105,12 +105,7 @@ impl Model<'_> {
     /// Fewest sheets the part area allows.
     pub(super) fn sheets_lower_bound(&self) -> usize {
         let bin = &self.job.bin;
-        let area: f64 = self
-            .job
-            .parts
-            .iter()
-            .map(|p| p.area * p.demand as f64)
-            .sum();
+        let area = self.job.part_area();
         ((area / (bin.width_mm * bin.height_mm)) - 1e-9)
             .ceil()
             .max(1.0) as usize
@@ -118,15 +113,9 @@ impl Model<'_> {
 
     /// Stop rule, part 2 (see `LENGTH_TOLERANCE`).
     fn close_enough(&self, score: &Score) -> bool {
-        let bin = &self.job.bin;
-        let area: f64 = self
-            .job
-            .parts
-            .iter()
-            .map(|p| p.area * p.demand as f64)
-            .sum();
+        let area = self.job.part_area();
         score.sheets <= self.sheets_lower_bound()
-            && self.used_length(score) <= area / bin.width_mm * (1.0 + LENGTH_TOLERANCE)
+            && self.used_length(score) <= area / self.job.bin.width_mm * (1.0 + LENGTH_TOLERANCE)
     }
 
     /// Used length of a scored layout in sheet terms: the score's length is measured from the
@@ -144,12 +133,7 @@ impl Model<'_> {
         finished: bool,
     ) -> NestProgress {
         let bin = &self.job.bin;
-        let area: f64 = self
-            .job
-            .parts
-            .iter()
-            .map(|p| p.area * p.demand as f64)
-            .sum();
+        let area = self.job.part_area();
         let length = self.used_length(score);
         NestProgress {
             iterations_done: done,
