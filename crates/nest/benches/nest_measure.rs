@@ -6,12 +6,14 @@
 //! 0°/180°, the default settings (1000 iterations, 2 workers, seed 1). Prints our density and
 //! wall time and writes them with the parts to `target/nest-bench/measure.json`; the reference
 //! script nests the same parts with sparrow at 5 s and at our wall time of each batch and
-//! prints the three side by side. `NEST_BENCH_SEED=n` changes our seed.
+//! prints the three side by side. `NEST_BENCH_SEED=n` changes our seed,
+//! `NEST_BENCH_ITERATIONS=n` our budget (to compare at a shorter wall time).
 
+use std::cell::Cell;
 use std::path::Path;
 use std::time::Instant;
 
-use cam_nest::{nest_strip, verify, NestSettings};
+use cam_nest::{nest_strip, verify, NestProgress, NestSettings};
 
 #[path = "../tests/fixtures/mod.rs"]
 mod fixtures;
@@ -26,6 +28,10 @@ fn main() {
             .ok()
             .and_then(|v| v.parse().ok())
             .unwrap_or(1),
+        iterations: std::env::var("NEST_BENCH_ITERATIONS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(NestSettings::default().iterations),
         ..NestSettings::default()
     };
     println!(
@@ -41,12 +47,17 @@ fn main() {
     let batches = fixtures::measuring_set();
     for (name, items) in &batches {
         let started = Instant::now();
-        let strip = nest_strip(items, WIDTH_MM, &settings, &|_| {}).expect("nest");
+        let last: Cell<Option<NestProgress>> = Cell::new(None);
+        let strip = nest_strip(items, WIDTH_MM, &settings, &|p| last.set(Some(*p))).expect("nest");
+        // Iterations the search used of its budget (fewer when the stop rule ended it).
+        let used = last.get().map_or_else(String::new, |p| {
+            format!("{}/{}", p.iterations_done, p.iterations_budget)
+        });
         let seconds = started.elapsed().as_secs_f64();
         verify(items, &strip.bin, &settings, &strip.solution, 1e-9).expect("layout verifies");
         let parts: usize = items.iter().map(|i| i.demand).sum();
         println!(
-            "{name:<14} {parts:>6} {:>10.2} {seconds:>8.2}",
+            "{name:<14} {parts:>6} {:>10.2} {seconds:>8.2} {used:>12}",
             strip.density * 100.0
         );
         density_sum += strip.density;

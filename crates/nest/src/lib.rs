@@ -4,6 +4,9 @@
 //! * [`nest`] is the irregular nester: jagua-rs's bin-packing model for collision detection and
 //!   feasibility, our own greedy fill and ruin-and-recreate local search on top, and last a
 //!   compression of the final sheet through overlap; [`irregular`] explains how.
+//! * [`nest_observed`] is [`nest`] reporting a [`NestProgress`] to the caller as it goes (for a
+//!   progress bar); [`nest_strip`] nests on roll stock: fixed width, unbounded length, the used
+//!   length minimised ([`StripLayout`]).
 //! * [`nest_bounding_boxes`] is the baseline it is measured against: bounding boxes packed by
 //!   MaxRects.
 //! * [`verify()`] checks any layout, from these nesters or from elsewhere, with plain `geo`

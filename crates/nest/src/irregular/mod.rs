@@ -53,6 +53,13 @@
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
+//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (400)
+//!   iterations over all workers have brought no better layout (neither the best nor any
+//!   worker's own), or once the best uses the fewest sheets the part area allows with a used
+//!   length within `LENGTH_TOLERANCE` (5 %) of the part area over the sheet width. Both are
+//!   counted in iterations, so the stop is the same on any machine; the compression then gets
+//!   the budget of the iterations used. Progress goes to the caller's observer
+//!   ([`nest_observed`], [`crate::NestProgress`]) at the same points.
 //! * **Where it stands**: on the bench's 60-part strips about 1 point of density behind
 //!   sparrow, the state-of-the-art strip packer (README, "Nesting engine: figures").
 //!
