@@ -13,7 +13,7 @@ use std::cell::Cell;
 use std::path::Path;
 use std::time::Instant;
 
-use cam_nest::{nest_strip, verify, NestProgress, NestSettings};
+use cam_nest::{nest_strip, verify, NestProgress};
 
 #[path = "../tests/fixtures/mod.rs"]
 mod fixtures;
@@ -22,25 +22,14 @@ const WIDTH_MM: f64 = 150.0;
 const SEPARATION_MM: f64 = 0.3;
 
 fn main() {
-    let settings = NestSettings {
-        separation_mm: SEPARATION_MM,
-        seed: std::env::var("NEST_BENCH_SEED")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(1),
-        iterations: std::env::var("NEST_BENCH_ITERATIONS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(NestSettings::default().iterations),
-        ..NestSettings::default()
-    };
+    let settings = fixtures::bench_settings(SEPARATION_MM);
     println!(
         "measuring set: {WIDTH_MM} mm strip, {SEPARATION_MM} mm separation, {} iterations, {} workers, seed {}",
         settings.iterations, settings.workers, settings.seed
     );
     println!(
-        "{:<14} {:>6} {:>10} {:>8}",
-        "batch", "parts", "density %", "wall s"
+        "{:<14} {:>6} {:>10} {:>8} {:>12}",
+        "batch", "parts", "density %", "wall s", "iterations"
     );
     let mut export = Vec::new();
     let (mut density_sum, mut seconds_sum) = (0.0, 0.0);
