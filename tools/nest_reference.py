@@ -16,6 +16,14 @@ each part's orientation to the strip. Density = part area / (strip width x used 
 length = furthest part point + separation: the same definition as
 `NestSolution::used_length_utilization` on a strip.
 
+With `--measure` it reads `target/nest-bench/measure.json` (written by
+`cargo bench -p cam-nest --bench nest_measure`: the measuring set with our density and wall time)
+and nests each batch twice, for 5 s and for our wall time rounded to whole seconds (spyrrow takes
+whole seconds, at least 1), printing the three densities side by side:
+
+    cargo bench -p cam-nest --bench nest_measure
+    /tmp/nestref/bin/python tools/nest_reference.py --measure
+
 sparrow stops on wall-clock time (seeded, but not reproducible across machines); that is why
 this is a hand-run reference and not a test.
 """
@@ -100,6 +108,30 @@ def solve(batch, seconds, workers, seed):
     }
 
 
+def measure(path, workers, seed):
+    """Our figures from the measuring bench beside sparrow's at 5 s and at our wall time."""
+    batches = json.loads(Path(path).read_text())
+    print(f"{'batch':<14} {'parts':>5} {'ours %':>7} {'ours s':>7} {'sp 5s %':>8} {'sp =t %':>8} {'t s':>4}")
+    rows = []
+    for batch in batches:
+        ours = batch["ours"]
+        equal = max(1, round(ours["seconds"]))
+        five = solve(batch, 5, workers, seed)
+        same = solve(batch, equal, workers, seed)
+        parts = sum(i["demand"] for i in batch["items"])
+        rows.append((ours["density"], ours["seconds"], five["density"], same["density"]))
+        print(
+            f"{batch['name']:<14} {parts:>5} {100 * ours['density']:>7.2f} {ours['seconds']:>7.2f} "
+            f"{100 * five['density']:>8.2f} {100 * same['density']:>8.2f} {equal:>4}",
+            flush=True,
+        )
+    n = len(rows)
+    print(
+        f"{'mean':<14} {'':>5} {100 * sum(r[0] for r in rows) / n:>7.2f} {sum(r[1] for r in rows) / n:>7.2f} "
+        f"{100 * sum(r[2] for r in rows) / n:>8.2f} {100 * sum(r[3] for r in rows) / n:>8.2f}"
+    )
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--batches", default="target/nest-bench/batches.json")
@@ -107,7 +139,12 @@ def main():
     parser.add_argument("--seconds", type=int, default=30, help="time budget per batch")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--measure", nargs="?", const="target/nest-bench/measure.json",
+                        help="our figures from the measuring bench beside sparrow's")
     args = parser.parse_args()
+    if args.measure:
+        measure(args.measure, args.workers, args.seed)
+        return
     batches = json.loads(Path(args.batches).read_text())
     results = {}
     for batch in batches:

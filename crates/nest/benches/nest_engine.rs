@@ -35,18 +35,7 @@ const SHEET_MM: f64 = 150.0;
 const SEPARATION_MM: f64 = 0.3;
 
 fn settings() -> NestSettings {
-    NestSettings {
-        separation_mm: SEPARATION_MM,
-        seed: std::env::var("NEST_BENCH_SEED")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(1),
-        iterations: std::env::var("NEST_BENCH_ITERATIONS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(1000),
-        workers: 2,
-    }
+    fixtures::bench_settings(SEPARATION_MM)
 }
 
 fn part_area(items: &[NestItem]) -> f64 {

@@ -132,6 +132,11 @@ impl Job {
         Ok(())
     }
 
+    /// Total area of the copies to place, mm².
+    pub fn part_area(&self) -> f64 {
+        self.parts.iter().map(|p| p.area * p.demand as f64).sum()
+    }
+
     /// Total number of copies to place.
     pub fn copies(&self) -> usize {
         self.parts.iter().map(|p| p.demand).sum()

@@ -4,6 +4,9 @@
 //! * [`nest`] is the irregular nester: jagua-rs's bin-packing model for collision detection and
 //!   feasibility, our own greedy fill and ruin-and-recreate local search on top, and last a
 //!   compression of the final sheet through overlap; [`irregular`] explains how.
+//! * [`nest_observed`] is [`nest`] reporting a [`NestProgress`] to the caller as it goes (for a
+//!   progress bar); [`nest_strip`] nests on roll stock: fixed width, unbounded length, the used
+//!   length minimised ([`StripLayout`]).
 //! * [`nest_bounding_boxes`] is the baseline it is measured against: bounding boxes packed by
 //!   MaxRects.
 //! * [`verify()`] checks any layout, from these nesters or from elsewhere, with plain `geo`
@@ -57,14 +60,18 @@ mod job;
 mod overlap;
 mod placement;
 mod problem;
+mod progress;
+mod strip;
 mod verify;
 
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
 pub use clearance::{clearance, Clearance, ClearanceViolation};
-pub use irregular::nest;
+pub use irregular::{nest, nest_observed};
 pub use job::clean_ring;
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
+pub use progress::NestProgress;
+pub use strip::{nest_strip, StripLayout};
 pub use verify::{verify, verify_sheet, NestViolation};

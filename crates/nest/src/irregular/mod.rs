@@ -53,6 +53,13 @@
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
+//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (400)
+//!   iterations over all workers have brought no better layout (neither the best nor any
+//!   worker's own), or once the best uses the fewest sheets the part area allows with a used
+//!   length within `LENGTH_TOLERANCE` (5 %) of the part area over the sheet width. Both are
+//!   counted in iterations, so the stop is the same on any machine; the compression then gets
+//!   the budget of the iterations used. Progress goes to the caller's observer
+//!   ([`nest_observed`], [`crate::NestProgress`]) at the same points.
 //! * **Where it stands**: on the bench's 60-part strips about 1 point of density behind
 //!   sparrow, the state-of-the-art strip packer (README, "Nesting engine: figures").
 //!
@@ -70,6 +77,7 @@ mod score;
 
 use crate::job::Job;
 use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
+use crate::progress::{ignore, NestProgress};
 use model::Model;
 
 /// Nests the items on as few sheets as the budget finds, keeping `separation_mm` between parts
@@ -79,11 +87,26 @@ pub fn nest(
     bin: &NestBin,
     settings: &NestSettings,
 ) -> Result<NestSolution, NestError> {
+    nest_observed(items, bin, settings, &ignore)
+}
+
+/// [`nest`] that reports its progress to `observe` (after the greedy fill, after every epoch of
+/// the search, and once finished with the final layout's figures); see [`NestProgress`]. The
+/// layout is the same as [`nest`]'s.
+pub fn nest_observed(
+    items: &[NestItem],
+    bin: &NestBin,
+    settings: &NestSettings,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<NestSolution, NestError> {
     let job = Job::new(items, bin, settings)?;
     if job.parts.is_empty() {
         return job.solution(Vec::new());
     }
     let model = Model::new(&job)?;
-    let best = model.run()?;
+    let (best, done) = model.run(observe)?;
+    let problem = model.rebuild(&best);
+    let score = model.score(&problem);
+    observe(&model.progress(&score, done, job.iteration_budget(), true));
     job.solution(model.export(&best))
 }

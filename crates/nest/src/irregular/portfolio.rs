@@ -9,6 +9,7 @@ use super::score::Score;
 use crate::compress::compress;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
+use crate::progress::NestProgress;
 
 /// Overlap evaluations of the final compression per iteration of the budget, per worker.
 const COMPRESSION_EVALUATIONS: usize = 3000;
@@ -18,13 +19,25 @@ const MIN_EPOCH_ITERATIONS: usize = 25;
 const MAX_EPOCHS: usize = 16;
 /// Share of the epochs in which workers keep to their own starts (see `Model::run`).
 const INDEPENDENT_EPOCHS: f64 = 0.5;
+/// Stop rule, part 1: the search ends once this many iterations (over all workers, counted at
+/// epoch ends) have passed without a better layout, neither the best nor any worker's own.
+const STALL_ITERATIONS: usize = 400;
+/// Stop rule, part 2: the search ends once the layout uses the fewest sheets the part area
+/// allows and its used length is within this share of the shortest possible (the part area over
+/// the sheet width, i.e. a density of 1 / (1 + share)).
+const LENGTH_TOLERANCE: f64 = 0.05;
 
 impl Model<'_> {
     /// Greedy fill per worker, then epochs of local search; returns the best layout found. In
     /// the first `INDEPENDENT_EPOCHS` share of the epochs each worker improves its own start,
     /// so the basins of different starts are all explored; after that, every epoch starts all
-    /// workers from the best layout so far.
-    pub(super) fn run(&self) -> Result<Sheets, NestError> {
+    /// workers from the best layout so far. The search stops early by the stop rule
+    /// (`STALL_ITERATIONS`, `LENGTH_TOLERANCE`), checked between epochs, so the stop is the
+    /// same on any machine. `observe` gets a report after the fill and after every epoch.
+    pub(super) fn run(
+        &self,
+        observe: &dyn Fn(&NestProgress),
+    ) -> Result<(Sheets, usize), NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
         let mut own: Vec<(Score, Sheets)> = parallel(workers, |w| self.construct(w))
@@ -35,13 +48,24 @@ impl Model<'_> {
         let epochs = (iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
         let independent = (epochs as f64 * INDEPENDENT_EPOCHS) as usize;
         let slots = epochs * workers;
+        let mut done = 0;
+        let mut since_better = 0;
+        let mut previous: Vec<Score> = own.iter().map(|o| o.0).collect();
         for epoch in 0..=epochs {
-            for start in &own {
+            let mut improved = false;
+            for (w, start) in own.iter().enumerate() {
                 if start.0.better_than(&best.0) {
                     best = start.clone();
+                    improved = true;
                 }
+                improved |= start.0.better_than(&previous[w]);
+                previous[w] = start.0;
             }
-            if epoch == epochs {
+            if improved {
+                since_better = 0;
+            }
+            observe(&self.progress(&best.0, done, iterations, false));
+            if epoch == epochs || since_better >= STALL_ITERATIONS || self.close_enough(&best.0) {
                 break;
             }
             let incumbents: Vec<&Sheets> = (0..workers)
@@ -53,24 +77,83 @@ impl Model<'_> {
                     }
                 })
                 .collect();
+            let budgets: Vec<usize> = (0..workers)
+                .map(|w| {
+                    let slot = epoch * workers + w;
+                    iterations / slots + usize::from(slot < iterations % slots)
+                })
+                .collect();
             own = parallel(workers, |w| {
-                let slot = epoch * workers + w;
-                let budget = iterations / slots + usize::from(slot < iterations % slots);
                 self.improve(
                     incumbents[w],
-                    budget,
+                    budgets[w],
                     worker_rng(settings.seed, epoch + 1, w),
                 )
             });
+            let spent: usize = budgets.iter().sum();
+            done += spent;
+            since_better += spent;
         }
-        Ok(self.compressed(best.1, epochs + 1))
+        // The compression's budget is the iterations the search used, at least the first
+        // epoch's worth, so a job the stop rule ends early does not spend the full budget on
+        // its last sheet either.
+        let used = done.max(iterations / epochs).min(iterations);
+        let sheets = self.compressed(best.1, epochs + 1, used);
+        Ok((sheets, done))
+    }
+
+    /// Fewest sheets the part area allows.
+    pub(super) fn sheets_lower_bound(&self) -> usize {
+        let bin = &self.job.bin;
+        let area = self.job.part_area();
+        ((area / (bin.width_mm * bin.height_mm)) - 1e-9)
+            .ceil()
+            .max(1.0) as usize
+    }
+
+    /// Stop rule, part 2 (see `LENGTH_TOLERANCE`).
+    fn close_enough(&self, score: &Score) -> bool {
+        let area = self.job.part_area();
+        score.sheets <= self.sheets_lower_bound()
+            && self.used_length(score) <= area / self.job.bin.width_mm * (1.0 + LENGTH_TOLERANCE)
+    }
+
+    /// Used length of a scored layout in sheet terms: the score's length is measured from the
+    /// usable bottom to the top of the inflated shapes, which both sit half the model's
+    /// separation inside the part's; the cut along the top keeps the full separation.
+    fn used_length(&self, score: &Score) -> f64 {
+        score.length + self.job.settings.separation_mm
+    }
+
+    pub(super) fn progress(
+        &self,
+        score: &Score,
+        done: usize,
+        budget: usize,
+        finished: bool,
+    ) -> NestProgress {
+        let bin = &self.job.bin;
+        let area = self.job.part_area();
+        let length = self.used_length(score);
+        NestProgress {
+            iterations_done: done,
+            iterations_budget: budget,
+            sheets: score.sheets,
+            sheets_lower_bound: self.sheets_lower_bound(),
+            best_density: if length > 0.0 {
+                (area / (bin.width_mm * length)).min(1.0)
+            } else {
+                0.0
+            },
+            finished,
+        }
     }
 
     /// The layout with its lowest-topped sheet (the one whose used length counts) compressed
     /// through overlap ([`crate::compress`]), each worker on its own random stream with
-    /// `COMPRESSION_EVALUATIONS` per iteration of the budget; the lowest top wins (ties to the
-    /// lower worker).
-    pub(super) fn compressed(&self, mut sheets: Sheets, epoch: usize) -> Sheets {
+    /// `COMPRESSION_EVALUATIONS` per iteration the search used (`iterations`); the lowest top
+    /// wins (ties to the lower worker).
+    pub(super) fn compressed(&self, mut sheets: Sheets, epoch: usize, iterations: usize) -> Sheets {
         let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
             return sheets;
         };
@@ -95,7 +178,7 @@ impl Model<'_> {
             .position(|k| k == key)
             .expect("the lowest sheet is one of them");
         let settings = &self.job.settings;
-        let budget = self.job.iteration_budget() * COMPRESSION_EVALUATIONS;
+        let budget = iterations * COMPRESSION_EVALUATIONS;
         let candidates = parallel(settings.workers, |w| {
             let mut rng = worker_rng(settings.seed, epoch, w);
             compress(footprints, &sheets[lowest], budget, &mut rng, |items| {
