@@ -137,28 +137,34 @@ impl Shape {
                 start_deg,
                 end_deg,
             } => {
-                let at = |deg: f64| {
-                    let (s, c) = deg.to_radians().sin_cos();
-                    [center[0] + radius * c, center[1] + radius * s]
-                };
-                let sweep = crate::cam::svg::arc_sweep_deg(*start_deg, *end_deg);
-                take(at(*start_deg));
-                take(at(start_deg + sweep));
+                let sweep = arc_sweep_deg(*start_deg, *end_deg);
+                take(on_circle(*center, *radius, *start_deg));
+                take(on_circle(*center, *radius, start_deg + sweep));
                 // Axis directions 0°, 90°, 180°, 270° the counter-clockwise sweep passes.
-                for quarter in 0..4 {
-                    let axis = 90.0 * quarter as f64;
+                for axis in [0.0, 90.0, 180.0, 270.0] {
                     if (axis - start_deg).rem_euclid(360.0) <= sweep {
-                        take(match quarter {
-                            0 => [center[0] + radius, center[1]],
-                            1 => [center[0], center[1] + radius],
-                            2 => [center[0] - radius, center[1]],
-                            _ => [center[0], center[1] - radius],
-                        });
+                        take(on_circle(*center, *radius, axis));
                     }
                 }
             }
         }
         (lo, hi)
+    }
+}
+
+/// The point at `deg` degrees (counter-clockwise from +x) on a circle.
+pub(crate) fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
+    let (s, c) = deg.to_radians().sin_cos();
+    [center[0] + radius * c, center[1] + radius * s]
+}
+
+/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
+pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
+    let sweep = (end_deg - start_deg).rem_euclid(360.0);
+    if sweep == 0.0 {
+        360.0
+    } else {
+        sweep
     }
 }
 

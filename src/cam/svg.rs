@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 
 use thiserror::Error;
 
-use super::drawing::{Drawing, Operation, Shape};
+use super::drawing::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
 
@@ -138,21 +138,6 @@ impl PathData<'_> {
 
     fn close(&mut self) {
         self.d.push_str(" Z");
-    }
-}
-
-fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
-    let (s, c) = deg.to_radians().sin_cos();
-    [center[0] + radius * c, center[1] + radius * s]
-}
-
-/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
-pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
-    let sweep = (end_deg - start_deg).rem_euclid(360.0);
-    if sweep == 0.0 {
-        360.0
-    } else {
-        sweep
     }
 }
 
