@@ -632,8 +632,8 @@ fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
-    let passive = &svg_paths(&svg, "SECONDARY")[0].0;
-    let plate = &svg_paths(&svg, "CUT")[0].0;
+    let passive = &svg_paths(&svg, "preview passive part")[0].0;
+    let plate = &svg_paths(&svg, "preview PZT plate")[0].0;
     assert_eq!(plate.len(), 4);
     let outer = polygon(passive);
     for corner in plate {
@@ -795,4 +795,99 @@ fn with_force_an_existing_output_folder_keeps_the_users_files() {
         .filter(|e| e.file_name() != "project" && e.file_name() != "fresh")
         .collect();
     assert!(staged.is_empty(), "{staged:?}");
+}
+
+#[test]
+fn preview_uses_no_operation_colour_or_layer_name() {
+    // Issue 16 item 5: the preview had a CUT layer with the PZT outline in red; imported by mistake it
+    // was a cutting job.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
+    for name in ["CUT", "SCORE", "ENGRAVE", "SECONDARY", "REFERENCE"] {
+        assert!(
+            !svg.contains(&format!("label=\"{name}\"")),
+            "{name} layer in {svg}"
+        );
+    }
+    for colour in ["#FF0000", "#0000FF", "#000000", "#00FF00", "#808080"] {
+        assert!(
+            !svg.to_ascii_uppercase().contains(colour),
+            "{colour} in {svg}"
+        );
+    }
+    assert_eq!(svg.matches("<path").count(), 2, "{svg}");
+}
+
+#[test]
+fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
+    // Issue 16 items 6 and 7: kerf-offset clamp outlines ran to -0.05 ... 100.05 mm on a 100 mm page,
+    // and every DXF had $EXTMIN = $EXTMAX = (0, 0, 0).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("svg") => {
+                let vb = view_box(&text);
+                for group in text.split(" d=\"").skip(1) {
+                    let d = group.split('"').next().unwrap();
+                    // Every end point of every command (arcs: their end points; the circles here are
+                    // pin holes far inside the page).
+                    let nums: Vec<f64> = d
+                        .replace(['M', 'L', 'A', 'Z', ','], " ")
+                        .split_whitespace()
+                        .map(|t| t.parse().unwrap())
+                        .collect();
+                    let points: Vec<[f64; 2]> = if d.contains('A') {
+                        vec![]
+                    } else {
+                        nums.chunks(2).map(|c| [c[0], c[1]]).collect()
+                    };
+                    for p in points {
+                        assert!(
+                            p[0] >= vb[0]
+                                && p[0] <= vb[0] + vb[2]
+                                && p[1] >= vb[1]
+                                && p[1] <= vb[1] + vb[3],
+                            "{path:?}: {p:?} off the page {vb:?}"
+                        );
+                    }
+                }
+                checked += 1;
+            }
+            Some("dxf") => {
+                let doc = dxf::Drawing::load_file(&path).unwrap();
+                let (lo, hi) = (
+                    &doc.header.minimum_drawing_extents,
+                    &doc.header.maximum_drawing_extents,
+                );
+                assert!(
+                    hi.x > lo.x && hi.y > lo.y,
+                    "{path:?}: extents {lo:?} {hi:?}"
+                );
+                for e in doc.entities() {
+                    if let dxf::entities::EntityType::LwPolyline(p) = &e.specific {
+                        for v in &p.vertices {
+                            assert!(
+                                v.x >= lo.x && v.x <= hi.x && v.y >= lo.y && v.y <= hi.y,
+                                "{path:?}: vertex ({}, {}) outside the extents",
+                                v.x,
+                                v.y
+                            );
+                        }
+                    }
+                }
+                checked += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(checked > 10, "only {checked} files checked");
 }

@@ -8,6 +8,13 @@ Walks each directory recursively and checks
          $MEASUREMENT == 1 (metric), modelspace holds only LWPOLYLINE, CIRCLE, ARC;
   *.svg  well-formed XML, root width/height in "mm", a viewBox "0 0 W H" matching them,
          every <path d> made of absolute M, L, A, Z commands only.
+Cross-layer checks (issue 16):
+  *.svg  every drawn point (path end points; arcs by their end points and radius) lies on the page;
+         no path on the REFERENCE layer uses the stroke colour of the CUT layer or pure red;
+  *.dxf  $EXTMIN/$EXTMAX set (not both the origin) and every entity inside them; the REFERENCE
+         layer's colour is not the CUT layer's nor ACI 1 (red), and it is not plotted;
+  report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
+         tolerance below it (or the report carries its warning).
 Prints one line per failing file, then `check_outputs: N passed, M failed`.
 Exits 1 if any file failed or no file was found. Needs `pip install ezdxf`.
 """
@@ -19,9 +26,60 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 SVG_NS = "{http://www.w3.org/2000/svg}"
+INKSCAPE_LABEL = "{http://www.inkscape.org/namespaces/inkscape}label"
 ALLOWED_DXF_ENTITIES = {"LWPOLYLINE", "CIRCLE", "ARC"}
 # Path data: commands M, L, A, Z and numbers, separated by spaces or commas.
 PATH_TOKEN = re.compile(r"[A-Za-z]|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+EPS = 1e-6
+
+
+def dxf_points(entity):
+    """Extreme points of one entity (vertices; circles and arcs by centre +- radius)."""
+    kind = entity.dxftype()
+    if kind == "LWPOLYLINE":
+        return [(x, y) for x, y, *_ in entity.get_points()]
+    c, r = entity.dxf.center, entity.dxf.radius
+    if kind == "CIRCLE":
+        return [(c.x - r, c.y - r), (c.x + r, c.y + r)]
+    # ARC: its end points and the axis points its counter-clockwise sweep passes.
+    start, end = entity.dxf.start_angle, entity.dxf.end_angle
+    sweep = (end - start) % 360 or 360
+    points = [(c.x + r * math.cos(math.radians(a)), c.y + r * math.sin(math.radians(a)))
+              for a in (start, start + sweep)]
+    for axis, (dx, dy) in zip((0, 90, 180, 270), ((1, 0), (0, 1), (-1, 0), (0, -1))):
+        if (axis - start) % 360 <= sweep:
+            points.append((c.x + r * dx, c.y + r * dy))
+    return points
+
+
+def check_dxf_cross_layer(doc):
+    """Extents and reference-layer problems of one DXF document."""
+    problems = []
+    lo, hi = doc.header.get("$EXTMIN"), doc.header.get("$EXTMAX")
+    entities = list(doc.modelspace())
+    if lo is None or hi is None or (tuple(lo)[:2] == (0, 0) and tuple(hi)[:2] == (0, 0)):
+        if entities:
+            problems.append("$EXTMIN/$EXTMAX not set")
+    else:
+        outside = sum(
+            1
+            for e in entities
+            for x, y in dxf_points(e)
+            if not (lo[0] - EPS <= x <= hi[0] + EPS and lo[1] - EPS <= y <= hi[1] + EPS)
+        )
+        if outside:
+            problems.append(f"{outside} drawn point(s) outside $EXTMIN/$EXTMAX")
+    layers = {layer.dxf.name: layer for layer in doc.layers}
+    if "REFERENCE" in layers:
+        ref = layers["REFERENCE"]
+        cut_colour = layers["CUT"].color if "CUT" in layers else 1
+        if abs(ref.color) in (1, abs(cut_colour)):
+            problems.append(f"REFERENCE layer in a cut colour (ACI {ref.color})")
+        if ref.dxf.get("plot", 1) != 0:
+            problems.append("REFERENCE layer is plotted")
+    return problems
 
 
 def check_dxf(path):
@@ -45,7 +103,7 @@ def check_dxf(path):
     kinds = sorted({e.dxftype() for e in doc.modelspace()} - ALLOWED_DXF_ENTITIES)
     if kinds:
         problems.append(f"entities other than LWPOLYLINE/CIRCLE/ARC: {', '.join(kinds)}")
-    return problems
+    return problems + check_dxf_cross_layer(doc)
 
 
 def mm_length(value):
@@ -90,14 +148,87 @@ def check_svg(path):
                     f"viewBox {view_box!r} does not match {width}mm x {height}mm "
                     "(one user unit must be 1 mm)"
                 )
+    page = None
+    if view_box is not None and width is not None and height is not None:
+        try:
+            page = [float(v) for v in view_box.replace(",", " ").split()]
+        except ValueError:
+            page = None
+    cut_strokes = {"#FF0000"}
+    for group in root.iter(SVG_NS + "g"):
+        if group.get(INKSCAPE_LABEL) == "CUT":
+            cut_strokes |= {p.get("stroke", "").upper() for p in group.iter(SVG_NS + "path")}
+    for group in root.iter(SVG_NS + "g"):
+        if group.get(INKSCAPE_LABEL) == "REFERENCE":
+            for p in group.iter(SVG_NS + "path"):
+                if p.get("stroke", "").upper() in cut_strokes:
+                    problems.append(f"reference geometry in a cut colour {p.get('stroke')}")
+                    break
+    off_page = 0
     for element in root.iter(SVG_NS + "path"):
         d = element.get("d", "")
+        if page is not None:
+            off_page += path_points_off_page(d, page)
         tokens = PATH_TOKEN.findall(d)
         leftover = PATH_TOKEN.sub("", d).replace(",", "").strip()
         commands = {t for t in tokens if t.isalpha()}
         bad = sorted(commands - set("MLAZ"))
         if bad or leftover or not tokens or tokens[0] != "M":
             problems.append(f"path d uses other than absolute M/L/A/Z: {d[:60]!r}")
+    if off_page:
+        problems.append(f"{off_page} drawn point(s) off the page")
+    return problems
+
+
+def path_points_off_page(d, page):
+    """Number of points of one path off the page: the end point of every command, and for an arc
+    its end point moved out by the radius (a conservative box for the arcs the writer emits: at most
+    half circles)."""
+    x0, y0, w, h = page
+    tokens = PATH_TOKEN.findall(d)
+    count = 0
+    i = 0
+    while i < len(tokens):
+        cmd = tokens[i]
+        i += 1
+        try:
+            if cmd in ("M", "L"):
+                pts, r = [(float(tokens[i]), float(tokens[i + 1]))], 0.0
+                i += 2
+            elif cmd == "A":
+                r = float(tokens[i])
+                pts = [(float(tokens[i + 5]), float(tokens[i + 6]))]
+                i += 7
+            else:
+                continue
+        except (IndexError, ValueError):
+            return count
+        for x, y in pts:
+            if not (x0 - EPS <= x - r and x + r <= x0 + w + EPS
+                    and y0 - EPS <= y - r and y + r <= y0 + h + EPS):
+                count += 1
+    return count
+
+
+def check_report(path):
+    """Problems of one cut-sheet report.json: the mold stack against the laminate."""
+    import json
+
+    try:
+        report = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        return [f"unreadable: {exc}"]
+    mold = report.get("mold")
+    if mold is None:
+        return ["no mold section"]
+    problems = []
+    diff_um = (mold["laminate_height_mm"] - mold["mold_height_mm"]) * 1e3
+    if diff_um < -1e-3:
+        problems.append(f"mold {mold['mold_height_mm']} mm stands above the laminate {mold['laminate_height_mm']} mm")
+    if abs(sum(mold["films_mm"]) - mold["mold_height_mm"]) > 1e-6:
+        problems.append("mold height is not the sum of its films")
+    if diff_um > mold["tolerance_um"] + 1e-3 and not mold.get("warning"):
+        problems.append(f"mold {diff_um:.1f} um below the laminate, beyond {mold['tolerance_um']} um, without a warning")
     return problems
 
 
@@ -112,11 +243,17 @@ def main(argv):
             print(f"{directory}: not a directory")
             continue
         files += sorted(
-            p for p in base.rglob("*") if p.is_file() and p.suffix.lower() in (".dxf", ".svg")
+            p for p in base.rglob("*")
+            if p.is_file() and (p.suffix.lower() in (".dxf", ".svg") or p.name == "report.json")
         )
     passed = failed = 0
     for path in files:
-        problems = check_dxf(path) if path.suffix.lower() == ".dxf" else check_svg(path)
+        if path.name == "report.json":
+            problems = check_report(path)
+        elif path.suffix.lower() == ".dxf":
+            problems = check_dxf(path)
+        else:
+            problems = check_svg(path)
         if problems:
             failed += 1
             print(f"{path}: {'; '.join(problems)}")

@@ -17,8 +17,17 @@ pub struct ItemRow {
     pub layup_deg: String,
 }
 
+/// The coordinate convention of the parts' positions, as the report states it.
+pub const COORDINATES: &str = "x_mm, y_mm are where the centre of the part's base (its clamped \
+root end) lands after the rotation, in millimetres from the sheet's lower-left corner with y up, \
+as in the DXF files. In the SVG files y runs down: y_svg = page height - y_mm (the clamp-panel \
+pages, grown to hold the kerf-offset outline, add their margin to both).";
+
 /// One part on a sheet: `x_mm`, `y_mm` is where the part's origin (the centre of its base, the
-/// clamped end) lands after the rotation.
+/// clamped end, the "root centre") lands after the rotation, in sheet coordinates with the origin at
+/// the sheet's lower-left corner and y up: the DXF's coordinates. The SVG's y runs down from the top
+/// of its page: y_svg = page height - margin - y_mm, x_svg = x_mm + margin, where the margin is 0
+/// unless the page grew to hold outlines past the sheet ([`COORDINATES`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PartRow {
     pub design: String,
@@ -74,6 +83,8 @@ pub struct TotalRow {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct NestReport {
     pub name: String,
+    /// What `x_mm`/`y_mm` of the parts mean ([`COORDINATES`]).
+    pub coordinates: String,
     pub seed: u64,
     pub iterations: usize,
     pub workers: usize,
@@ -184,6 +195,7 @@ impl NestReport {
         let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
         NestReport {
             name: batch.name.clone(),
+            coordinates: COORDINATES.to_string(),
             seed: opts.seed,
             iterations: opts.iterations,
             workers: WORKERS,
@@ -324,10 +336,7 @@ impl NestReport {
             );
         }
         let _ = writeln!(s, "\n## Parts on each sheet\n");
-        let _ = writeln!(
-            s,
-            "Position: where the centre of the part's base (clamped end) lands, after the rotation.\n"
-        );
+        let _ = writeln!(s, "Position: {COORDINATES}\n");
         for sh in &self.sheets {
             let _ = writeln!(s, "### `{}` ({})\n", sh.file_stem, sh.material);
             let _ = writeln!(s, "| design | actuator | part | rotation ° | x mm | y mm |");

@@ -10,11 +10,14 @@ use cam_geometry::Point;
 /// What the laser does along a shape. The derived order is the processing order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Operation {
+    /// A guide that is never run: sheet outlines and other references to place stock by. Grey,
+    /// on its own layer, which the DXF marks not to plot (docs/cam.md §3).
+    Reference,
     /// Surface marking: labels, fiducials. Black.
     Engrave,
     /// Partial-depth line for snapping ceramic. Blue.
     Score,
-    /// A second cut pass or auxiliary process. Green.
+    /// A second cut pass: set it up to cut through. Green.
     Secondary,
     /// Cut through. Red.
     Cut,
@@ -22,7 +25,8 @@ pub enum Operation {
 
 impl Operation {
     /// All operations in processing order.
-    pub const ALL: [Operation; 4] = [
+    pub const ALL: [Operation; 5] = [
+        Operation::Reference,
         Operation::Engrave,
         Operation::Score,
         Operation::Secondary,
@@ -32,6 +36,7 @@ impl Operation {
     /// Layer name used in both SVG (`inkscape:label`) and DXF.
     pub fn layer_name(self) -> &'static str {
         match self {
+            Operation::Reference => "REFERENCE",
             Operation::Engrave => "ENGRAVE",
             Operation::Score => "SCORE",
             Operation::Secondary => "SECONDARY",
@@ -42,6 +47,7 @@ impl Operation {
     /// Name of the operation in a process template (`[operations]` keys, `[features]` values).
     pub fn template_key(self) -> &'static str {
         match self {
+            Operation::Reference => "reference",
             Operation::Engrave => "engrave",
             Operation::Score => "score",
             Operation::Secondary => "secondary",
@@ -49,9 +55,11 @@ impl Operation {
         }
     }
 
-    /// Pure primary stroke colour that laser drivers map to this operation (docs/cam.md §3).
+    /// Stroke colour that laser drivers map to this operation (docs/cam.md §3): pure primaries for the
+    /// operations that run, mid grey for the reference, which no driver maps to a cut by default.
     pub fn svg_colour(self) -> &'static str {
         match self {
+            Operation::Reference => "#808080",
             Operation::Engrave => "#000000",
             Operation::Score => "#0000FF",
             Operation::Secondary => "#00FF00",
@@ -59,9 +67,10 @@ impl Operation {
         }
     }
 
-    /// AutoCAD Colour Index of the DXF layer: 7 white/black, 5 blue, 3 green, 1 red.
+    /// AutoCAD Colour Index of the DXF layer: 8 grey, 7 white/black, 5 blue, 3 green, 1 red.
     pub fn aci(self) -> u8 {
         match self {
+            Operation::Reference => 8,
             Operation::Engrave => 7,
             Operation::Score => 5,
             Operation::Secondary => 3,
@@ -103,6 +112,62 @@ pub enum Shape {
     },
 }
 
+impl Shape {
+    /// Exact bounding box `(min, max)` of the shape: for circles and arcs the extreme points of the
+    /// curve itself (an arc reaches an axis direction only if its sweep passes it), not of its
+    /// control points, so the box is what a renderer draws.
+    pub fn bounds(&self) -> (Point, Point) {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        let mut take = |p: Point| {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        };
+        match self {
+            Shape::Polygon(pts) | Shape::Polyline(pts) => pts.iter().for_each(|p| take(*p)),
+            Shape::Circle { center, radius } => {
+                take([center[0] - radius, center[1] - radius]);
+                take([center[0] + radius, center[1] + radius]);
+            }
+            Shape::Arc {
+                center,
+                radius,
+                start_deg,
+                end_deg,
+            } => {
+                let sweep = arc_sweep_deg(*start_deg, *end_deg);
+                take(on_circle(*center, *radius, *start_deg));
+                take(on_circle(*center, *radius, start_deg + sweep));
+                // Axis directions 0°, 90°, 180°, 270° the counter-clockwise sweep passes.
+                for axis in [0.0, 90.0, 180.0, 270.0] {
+                    if (axis - start_deg).rem_euclid(360.0) <= sweep {
+                        take(on_circle(*center, *radius, axis));
+                    }
+                }
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// The point at `deg` degrees (counter-clockwise from +x) on a circle.
+pub(crate) fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
+    let (s, c) = deg.to_radians().sin_cos();
+    [center[0] + radius * c, center[1] + radius * s]
+}
+
+/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
+pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
+    let sweep = (end_deg - start_deg).rem_euclid(360.0);
+    if sweep == 0.0 {
+        360.0
+    } else {
+        sweep
+    }
+}
+
 /// A sheet of shapes: the content of one laser file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drawing {
@@ -142,6 +207,16 @@ impl Drawing {
             .into_iter()
             .filter(|op| self.items.iter().any(|(o, _)| o == op))
             .collect()
+    }
+
+    /// Bounding box `(min, max)` of everything drawn, `None` for an empty drawing.
+    pub fn extents(&self) -> Option<(Point, Point)> {
+        self.items.iter().map(|(_, s)| s.bounds()).reduce(|a, b| {
+            (
+                [a.0[0].min(b.0[0]), a.0[1].min(b.0[1])],
+                [a.1[0].max(b.1[0]), a.1[1].max(b.1[1])],
+            )
+        })
     }
 
     /// The shapes of one operation, in insertion order.
@@ -216,6 +291,30 @@ mod tests {
         assert_eq!(d.shapes_of(Operation::Cut).count(), 2);
         assert_eq!(d.items().len(), 3);
         assert_eq!(d.items()[1].0, Operation::Score);
+    }
+
+    #[test]
+    fn extents_follow_the_curves_not_their_centres() {
+        // Sample: trapezoid x 5..45, y 5..25; score line x 0..80 at y 30; circle r 0.79 at
+        // (20, 40) reaching y 40.79; 270° arc r 3 at (60, 40) from 0° to 270°, which passes
+        // 90° (y 43) and 180° (x 57) and ends at 270° (y 37).
+        let (lo, hi) = sample_drawing().extents().unwrap();
+        assert_eq!(lo, [0.0, 5.0]);
+        assert_eq!(hi, [80.0, 43.0]);
+        // A 10° arc around 45° reaches no axis: its box is its two end points.
+        let arc = Shape::Arc {
+            center: [0.0, 0.0],
+            radius: 1.0,
+            start_deg: 40.0,
+            end_deg: 50.0,
+        };
+        let (lo, hi) = arc.bounds();
+        let (s50, c50) = 50f64.to_radians().sin_cos();
+        assert!(
+            (lo[0] - c50).abs() < 1e-12 && (hi[1] - s50).abs() < 1e-12,
+            "{lo:?} {hi:?}"
+        );
+        assert_eq!(Drawing::new("empty", 1.0, 1.0).extents(), None);
     }
 
     #[test]

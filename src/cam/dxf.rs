@@ -154,10 +154,17 @@ pub fn to_dxf(drawing: &Drawing) -> Result<Vec<u8>, DxfError> {
 /// [`to_dxf`] with the layer colours of `palette`.
 pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfError> {
     let mut doc = fixed_document()?;
+    // CAM programs zoom to and place by $EXTMIN/$EXTMAX; the crate leaves them at the origin.
+    if let Some((lo, hi)) = drawing.extents() {
+        doc.header.minimum_drawing_extents = dxf::Point::new(lo[0], lo[1], 0.0);
+        doc.header.maximum_drawing_extents = dxf::Point::new(hi[0], hi[1], 0.0);
+    }
     for op in drawing.operations() {
         doc.add_layer(Layer {
             name: op.layer_name().to_string(),
             color: Color::from_index(palette.aci(op)),
+            // Group 290: a reference layer is shown but never plotted, so it is not sent to a laser.
+            is_layer_plotted: op != Operation::Reference,
             ..Default::default()
         });
         for shape in drawing.shapes_of(op) {
@@ -303,6 +310,37 @@ mod tests {
             }
             other => panic!("expected CIRCLE, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn header_extents_are_the_drawn_extents() {
+        // Sample extents, worked out by hand in drawing.rs: x 0..80, y 5..43 (the arc's top).
+        let bytes = to_dxf(&sample()).unwrap();
+        let doc = dxf::Drawing::load(&mut bytes.as_slice()).unwrap();
+        let (lo, hi) = (
+            &doc.header.minimum_drawing_extents,
+            &doc.header.maximum_drawing_extents,
+        );
+        assert_eq!((lo.x, lo.y, hi.x, hi.y), (0.0, 5.0, 80.0, 43.0));
+    }
+
+    #[test]
+    fn reference_layer_is_grey_and_not_plotted() {
+        let mut d = Drawing::new("sheet", 10.0, 10.0);
+        let square = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
+        d.add(Operation::Reference, Shape::Polygon(square.clone()));
+        d.add(Operation::Cut, Shape::Polygon(square));
+        let bytes = to_dxf(&d).unwrap();
+        let doc = dxf::Drawing::load(&mut bytes.as_slice()).unwrap();
+        let reference = doc.layers().find(|l| l.name == "REFERENCE").unwrap();
+        assert_eq!(reference.color.index(), Some(8));
+        assert!(!reference.is_layer_plotted);
+        assert!(
+            doc.layers()
+                .find(|l| l.name == "CUT")
+                .unwrap()
+                .is_layer_plotted
+        );
     }
 
     #[test]

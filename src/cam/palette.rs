@@ -16,7 +16,7 @@ pub struct OperationColour {
 /// One colour per operation, indexed in [`Operation::ALL`] order.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Palette {
-    colours: [OperationColour; 4],
+    colours: [OperationColour; 5],
 }
 
 impl Default for Palette {

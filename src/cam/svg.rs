@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 
 use thiserror::Error;
 
-use super::drawing::{Drawing, Operation, Shape};
+use super::drawing::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
 
@@ -74,15 +74,50 @@ fn xml_escape(text: &str) -> String {
     out
 }
 
-/// Builds one path's `d` string in SVG coordinates (y flipped about the sheet height).
+/// Step the page grows in, mm, so grown pages keep round sizes.
+const PAGE_STEP_MM: f64 = 0.1;
+
+/// Margin (mm) the SVG page grows by on every side so that it holds everything drawn: 0 when
+/// every shape lies on the sheet (edges included), else the overflow rounded up to
+/// [`PAGE_STEP_MM`], which also leaves room for the hairline stroke of an outline just past
+/// the sheet. Kerf-offset outlines reach past the sheet they are drawn on (a 100 mm panel cut in
+/// a 0.1 mm kerf runs from -0.05 to 100.05 mm), and a renderer clips what lies off the page.
+pub fn page_margin_mm(drawing: &Drawing) -> f64 {
+    let Some((lo, hi)) = drawing.extents() else {
+        return 0.0;
+    };
+    let overflow = [
+        -lo[0],
+        -lo[1],
+        hi[0] - drawing.width_mm,
+        hi[1] - drawing.height_mm,
+    ]
+    .into_iter()
+    .fold(f64::NEG_INFINITY, f64::max);
+    // Shapes on the sheet edge (score lines, sheet outlines) are on the page.
+    if overflow <= 1e-9 {
+        0.0
+    } else {
+        (overflow / PAGE_STEP_MM - 1e-9).ceil() * PAGE_STEP_MM
+    }
+}
+
+/// Builds one path's `d` string in SVG coordinates: shifted by the page margin and y flipped
+/// about the page height.
 struct PathData<'a> {
-    height_mm: f64,
+    margin_mm: f64,
+    page_height_mm: f64,
     d: &'a mut String,
 }
 
 impl PathData<'_> {
     fn xy(&mut self, p: Point) {
-        let _ = write!(self.d, "{} {}", fmt_mm(p[0]), fmt_mm(self.height_mm - p[1]));
+        let _ = write!(
+            self.d,
+            "{} {}",
+            fmt_mm(p[0] + self.margin_mm),
+            fmt_mm(self.page_height_mm - self.margin_mm - p[1])
+        );
     }
 
     fn command(&mut self, cmd: char, p: Point) {
@@ -106,25 +141,11 @@ impl PathData<'_> {
     }
 }
 
-fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
-    let (s, c) = deg.to_radians().sin_cos();
-    [center[0] + radius * c, center[1] + radius * s]
-}
-
-/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
-pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
-    let sweep = (end_deg - start_deg).rem_euclid(360.0);
-    if sweep == 0.0 {
-        360.0
-    } else {
-        sweep
-    }
-}
-
-fn path_data(shape: &Shape, height_mm: f64) -> String {
+fn path_data(shape: &Shape, margin_mm: f64, page_height_mm: f64) -> String {
     let mut d = String::new();
     let mut path = PathData {
-        height_mm,
+        margin_mm,
+        page_height_mm,
         d: &mut d,
     };
     match shape {
@@ -162,33 +183,67 @@ fn path_data(shape: &Shape, height_mm: f64) -> String {
     d
 }
 
+/// How one operation's Inkscape layer is written: its label and stroke colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerStyle {
+    /// `inkscape:label` of the layer (and, lower-cased, its id).
+    pub name: String,
+    /// Stroke colour, `#RRGGBB`.
+    pub colour: String,
+}
+
 /// Writes `drawing` as an SVG document (deterministic: same drawing, same bytes).
+///
+/// The page is the drawing's sheet grown by [`page_margin_mm`] on every side, so that everything
+/// drawn lies on it; the drawing's origin then sits at `(margin, margin)` from the page's lower left.
 pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
-    let w = fmt_mm(drawing.width_mm);
-    let h = fmt_mm(drawing.height_mm);
-    let stroke = fmt_mm(opts.stroke_mm);
+    write_svg(drawing, opts.stroke_mm, |op| LayerStyle {
+        name: op.layer_name().to_string(),
+        colour: opts.palette.svg_colour(op).to_string(),
+    })
+}
+
+/// [`to_svg`] with the layer names and colours of `style` instead of the operations' own: for
+/// drawings that are not laser files (the preview), which must not look like one to laser software.
+pub fn write_svg(
+    drawing: &Drawing,
+    stroke_mm: f64,
+    style: impl Fn(Operation) -> LayerStyle,
+) -> String {
+    let margin = page_margin_mm(drawing);
+    let page_height = drawing.height_mm + 2.0 * margin;
+    let w = fmt_mm(drawing.width_mm + 2.0 * margin);
+    let h = fmt_mm(page_height);
+    let stroke = fmt_mm(stroke_mm);
     let mut out = String::new();
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
     let _ = writeln!(
         out,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" \
          xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" \
+         xmlns:sodipodi=\"http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd\" \
          version=\"1.1\" width=\"{w}mm\" height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">"
     );
     let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
     for op in drawing.operations() {
-        let name = op.layer_name();
+        let LayerStyle { name, colour } = style(op);
+        // The reference layer is locked in Inkscape, so its guides are seen but not picked up.
+        let locked = if op == Operation::Reference {
+            " sodipodi:insensitive=\"true\""
+        } else {
+            ""
+        };
         let _ = writeln!(
             out,
-            "  <g inkscape:groupmode=\"layer\" inkscape:label=\"{name}\" id=\"layer-{}\">",
-            name.to_ascii_lowercase()
+            "  <g inkscape:groupmode=\"layer\" inkscape:label=\"{}\" id=\"layer-{}\"{locked}>",
+            xml_escape(&name),
+            xml_escape(&name.to_ascii_lowercase().replace(' ', "-"))
         );
         for shape in drawing.shapes_of(op) {
             let _ = writeln!(
                 out,
-                "    <path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{stroke}\"/>",
-                path_data(shape, drawing.height_mm),
-                opts.palette.svg_colour(op)
+                "    <path d=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"/>",
+                path_data(shape, margin, page_height),
             );
         }
         out.push_str("  </g>\n");
@@ -327,6 +382,29 @@ mod tests {
     }
 
     #[test]
+    fn page_grows_to_hold_outlines_past_the_sheet() {
+        // A 100 mm panel outline kerf-offset by 0.05 mm runs from -0.05 to 100.05 mm: the page
+        // grows by one 0.1 mm step per side to 100.2 mm and the outline starts at 0.1 - 0.05.
+        let mut d = Drawing::new("panel", 100.0, 100.0);
+        let (a, b) = (-0.05, 100.05);
+        d.add(
+            Operation::Cut,
+            Shape::Polygon(vec![[a, a], [b, a], [b, b], [a, b]]),
+        );
+        let svg = to_svg(&d, &SvgOptions::default());
+        assert!(
+            svg.contains("width=\"100.2mm\" height=\"100.2mm\" viewBox=\"0 0 100.2 100.2\""),
+            "{svg}"
+        );
+        assert!(
+            svg.contains("d=\"M0.05 100.15 L100.15 100.15 L100.15 0.05 L0.05 0.05 Z\""),
+            "{svg}"
+        );
+        // A drawing on its sheet (the sample's score line ends on both edges) keeps its page.
+        assert_eq!(page_margin_mm(&sample()), 0.0);
+    }
+
+    #[test]
     fn y_axis_is_flipped_about_sheet_height() {
         let mut d = Drawing::new("flip", 10.0, 20.0);
         d.add(
@@ -410,10 +488,10 @@ mod tests {
             read_svg_polygons(&rel),
             Err(ParseError::BadPathData(..))
         ));
-        let grey = format!("{head}<path d=\"M0 0 L1 1 Z\" stroke=\"#808080\"/></svg>");
+        let foreign = format!("{head}<path d=\"M0 0 L1 1 Z\" stroke=\"#123456\"/></svg>");
         assert_eq!(
-            read_svg_polygons(&grey),
-            Err(ParseError::UnknownColour("#808080".into()))
+            read_svg_polygons(&foreign),
+            Err(ParseError::UnknownColour("#123456".into()))
         );
     }
 

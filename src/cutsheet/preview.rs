@@ -1,16 +1,31 @@
 //! The preview of the assembled actuator in the cut-sheet report.
+//!
+//! The preview is a picture, not a laser file: it is written with its own layer names and colours,
+//! none of them an operation's, so laser software imported it by mistake maps nothing to a cut.
 
 use crate::cam::drawing::{Drawing, Operation, Shape};
+use crate::cam::palette::Palette;
+use crate::cam::svg::{write_svg, LayerStyle};
 use crate::pipeline::PartGeometry;
 use cam_geometry::place_ring;
 
-/// The assembled actuator: passive outline (green) under the PZT plate (red), with a 1 mm margin.
+/// Layer label and colour of the passive outline in the preview.
+const PASSIVE: (&str, &str) = ("preview passive part", "#8C6D46");
+/// Layer label and colour of the PZT plate in the preview.
+const PLATE: (&str, &str) = ("preview PZT plate", "#4F7FB0");
+/// Fallbacks should a lab's palette use one of the colours above for an operation.
+const SPARE: [&str; 2] = ["#6E8B3D", "#A05A7E"];
+
+/// The assembled actuator: passive outline under the PZT plate, with a 1 mm margin. The drawing's
+/// operations are only keys for the two layers; [`preview_svg`] writes them.
 pub fn preview(g: &PartGeometry, name: &str) -> Drawing {
     let w = g.base_width_mm.max(g.tip_width_mm) + 2.0;
     let h = g.passive_length_mm() + 2.0;
     let origin = [w / 2.0, 1.0 + g.base_tab_mm];
     let mut d = Drawing::new(
-        &format!("{name}: assembled actuator (green passive, red PZT)"),
+        &format!(
+            "{name}: assembled actuator (brown passive, blue PZT), a picture, not for cutting"
+        ),
         w,
         h,
     );
@@ -23,4 +38,20 @@ pub fn preview(g: &PartGeometry, name: &str) -> Drawing {
         Shape::Polygon(place_ring(&g.pzt_outline(), 0.0, origin)),
     );
     d
+}
+
+/// The preview as SVG, with layer names and colours no operation of `palette` uses.
+pub fn preview_svg(drawing: &Drawing, stroke_mm: f64, palette: &Palette) -> String {
+    let taken = |c: &str| Operation::ALL.iter().any(|op| palette.svg_colour(*op) == c);
+    let pick = |(name, colour): (&str, &str), spare: &str| LayerStyle {
+        name: name.to_string(),
+        colour: if taken(colour) { spare } else { colour }.to_string(),
+    };
+    write_svg(drawing, stroke_mm, |op| {
+        if op == Operation::Cut {
+            pick(PLATE, SPARE[1])
+        } else {
+            pick(PASSIVE, SPARE[0])
+        }
+    })
 }

@@ -4,7 +4,7 @@
 use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
-use crate::pipeline::Build;
+use crate::pipeline::{Build, MoldChoice};
 use crate::prediction::Prediction;
 use serde::Serialize;
 use std::fmt::Write;
@@ -32,6 +32,47 @@ pub struct DesignSummary {
     pub drive_mode: String,
 }
 
+/// The mold stack against the laminate: the mold top must sit flush with the laminate or at most the
+/// tolerance below it, so the clamp presses on the parts and not on the Teflon.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MoldReport {
+    /// Mold film thicknesses, bottom to top, mm.
+    pub films_mm: Vec<f64>,
+    pub laminate_height_mm: f64,
+    pub mold_height_mm: f64,
+    /// Laminate height minus mold height, µm.
+    pub difference_um: f64,
+    pub tolerance_um: f64,
+    pub within_tolerance: bool,
+    /// Set when no stocked combination comes within the tolerance.
+    pub warning: Option<String>,
+}
+
+impl MoldReport {
+    fn new(m: &MoldChoice, tolerance_mm: f64) -> MoldReport {
+        // Rounded to 0.1 µm and 1 nm so float noise does not reach the report.
+        let um = |v: f64| (v * 10.0).round() / 10.0;
+        let mm = |v: f64| (v * 1e6).round() / 1e6;
+        let difference_um = um(m.difference_um());
+        MoldReport {
+            films_mm: m.films_mm.clone(),
+            laminate_height_mm: mm(m.laminate_mm),
+            mold_height_mm: mm(m.mold_mm),
+            difference_um,
+            tolerance_um: um(tolerance_mm * 1e3),
+            within_tolerance: m.within_tolerance,
+            warning: (!m.within_tolerance).then(|| {
+                format!(
+                    "no combination of the stocked mold films comes within {} µm below the {} mm laminate:                      the best, {} mm, leaves {difference_um} µm; stock another film thickness or accept a                      weaker bond",
+                    um(tolerance_mm * 1e3),
+                    mm(m.laminate_mm),
+                    mm(m.mold_mm)
+                )
+            }),
+        }
+    }
+}
+
 /// `report.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Report {
@@ -45,6 +86,8 @@ pub struct Report {
     /// narrower and shorter than the design the model predicts.
     pub pzt_edge_margin_mm: f64,
     pub clamp_panels: usize,
+    /// How the mold stack meets the laminate (docs/cam.md §1, "Mold layers").
+    pub mold: MoldReport,
     pub stacking_order: Vec<String>,
     pub build_steps: Vec<String>,
     pub placement_map: Vec<String>,
@@ -95,6 +138,7 @@ impl Report {
             mass_from_geometry_mg,
             pzt_edge_margin_mm: template.pzt_edge_margin_mm,
             clamp_panels: built.panels,
+            mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
             stacking_order: built.clamps[0].stack.clone(),
             build_steps: template.cure_steps.clone(),
             placement_map: built.placement_map.clone(),
@@ -159,6 +203,20 @@ impl Report {
                 l.sheets,
                 util
             );
+        }
+        let m = &self.mold;
+        let films: Vec<String> = m.films_mm.iter().map(|t| t.to_string()).collect();
+        let _ = writeln!(
+            s,
+            "\nMold stack, bottom to top: {} mm = **{} mm** around a **{} mm** laminate: {} µm below it (tolerance {} µm).",
+            films.join(" + "),
+            m.mold_height_mm,
+            m.laminate_height_mm,
+            m.difference_um,
+            m.tolerance_um
+        );
+        if let Some(w) = &m.warning {
+            let _ = writeln!(s, "\n**Warning:** {w}.");
         }
         let _ = writeln!(s, "\n## Build checklist\n");
         let _ = writeln!(

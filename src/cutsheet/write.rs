@@ -62,7 +62,7 @@ pub fn render(
     let mut files = render_drawings(&sheet.drawings, formats, &opts)?;
     files.push((
         "preview-actuator.svg".into(),
-        to_svg(&sheet.preview, &opts).into_bytes(),
+        super::preview::preview_svg(&sheet.preview, stroke_mm, &sheet.palette).into_bytes(),
     ));
     let mut report = sheet.report.clone();
     report.files = files

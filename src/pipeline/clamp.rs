@@ -2,6 +2,7 @@
 //! laminate height, so one stack of mold layers fits all of them.
 
 use super::jobs::{kerfed, Drawn, Job, Names};
+use super::mold::{choose_mold, MoldChoice};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::PartGeometry;
 use super::BuildError;
@@ -9,7 +10,7 @@ use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
 use crate::cutsheet::Feature;
 use crate::design::Design;
-use crate::process::template::Template;
+use crate::process::template::{ClampSpec, Template};
 use cam_geometry::place_ring;
 use cam_geometry::Point;
 
@@ -23,6 +24,8 @@ pub struct ClampBuild {
     pub panels: Vec<Vec<(usize, usize)>>,
     /// Number of the first panel (1-based).
     pub first_panel: usize,
+    /// The mold films, bottom to top, and how the mold height meets the laminate height.
+    pub mold: MoldChoice,
 }
 
 /// Laminate height of a design, mm: two plates, the passive core and the bond layers.
@@ -33,26 +36,82 @@ pub fn laminate_mm(design: &Design) -> f64 {
         * 1e3
 }
 
-/// The cavity shape of mold layer `j` (height band `[j t, (j+1) t]` from the bottom of the stack): the
-/// passive outline where the band meets the passive core or bond layers, the PZT outline elsewhere.
-fn cavity_outline(
-    design: &Design,
-    g: &PartGeometry,
-    mold_thickness_mm: f64,
-    j: usize,
-) -> Vec<Point> {
+/// The cavity shape of the mold layer spanning the height band `[lo, hi]` mm from the bottom of the
+/// stack: the passive outline where the band meets the passive core or bond layers, the PZT outline
+/// elsewhere.
+fn cavity_outline(design: &Design, g: &PartGeometry, (lo, hi): (f64, f64)) -> Vec<Point> {
     let t_p = design.pzt_thickness * 1e3;
     let t_b = design.bond.as_ref().map(|(_, t)| t * 1e3).unwrap_or(0.0);
     let core = design.ply_thickness * 1e3 * design.layup_deg.len() as f64 + 2.0 * t_b;
-    let (lo, hi) = (
-        j as f64 * mold_thickness_mm,
-        (j + 1) as f64 * mold_thickness_mm,
-    );
     if lo < t_p + core && hi > t_p {
         g.passive_outline()
     } else {
         g.pzt_outline()
     }
+}
+
+/// Clearance (mm) between a window number's strokes and the cut edge of every window it is seen
+/// through, on top of half the widest kerf of the stack: the engraved line has a width of its own
+/// (about 0.1 mm on the ProtoLaser), and the window's edge is where the felt and Teflon fray.
+const NUMBER_CLEARANCE_MM: f64 = 0.2;
+
+/// Strokes of the number of stack level `level` (1-based), engraved in its own stacking window
+/// (position `level - 1`): as tall as 60 % of the window (at most 2 mm), made smaller if it would not
+/// fit within the window less `inset_mm` on each side, and centred on the window by the extent of its
+/// strokes (not of its glyph cells, which would put a narrow `1` off-centre). Nothing if even a
+/// shrunk number cannot fit.
+pub fn window_number(c: &ClampSpec, level: usize, inset_mm: f64) -> Vec<Vec<Point>> {
+    let text = level.to_string();
+    let (w, h) = (
+        c.window_width_mm - 2.0 * inset_mm,
+        c.window_height_mm - 2.0 * inset_mm,
+    );
+    if w <= 0.0 || h <= 0.0 {
+        return Vec::new();
+    }
+    let ink = |height: f64| {
+        let strokes = label_strokes(&text, [0.0, 0.0], height);
+        let (lo, hi) = strokes_extent(&strokes);
+        (strokes, lo, hi)
+    };
+    let mut height = (c.window_height_mm * 0.6).min(2.0).min(h);
+    let (_, lo, hi) = ink(height);
+    let scale = (w / (hi[0] - lo[0])).min(h / (hi[1] - lo[1])).min(1.0);
+    height *= scale;
+    let (strokes, lo, hi) = ink(height);
+    let o = window_origin(c, level - 1);
+    let centre = [
+        o[0] + c.window_width_mm / 2.0,
+        o[1] + c.window_height_mm / 2.0,
+    ];
+    let shift = [
+        centre[0] - (lo[0] + hi[0]) / 2.0,
+        centre[1] - (lo[1] + hi[1]) / 2.0,
+    ];
+    strokes
+        .into_iter()
+        .map(|s| {
+            s.iter()
+                .map(|p| [p[0] + shift[0], p[1] + shift[1]])
+                .collect()
+        })
+        .collect()
+}
+
+/// Bounding box `(min, max)` of a set of strokes.
+fn strokes_extent(strokes: &[Vec<Point>]) -> (Point, Point) {
+    strokes
+        .iter()
+        .map(|s| Shape::Polyline(s.clone()).bounds())
+        .fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(lo, hi), (a, b)| {
+                (
+                    [lo[0].min(a[0]), lo[1].min(a[1])],
+                    [hi[0].max(b[0]), hi[1].max(b[1])],
+                )
+            },
+        )
 }
 
 /// The smallest geometry whose panel cell holds every job's actuator (its own geometry for one job).
@@ -95,6 +154,7 @@ pub fn clamp_layers(
             stack: Vec::new(),
             panels: Vec::new(),
             first_panel: drawn.panels + 1,
+            mold: choose_mold(0.0, &template.mold_stock),
         });
     };
     let c = &template.clamp;
@@ -138,14 +198,22 @@ pub fn clamp_layers(
             ));
         }
     }
-    let molds = ((laminate_mm(first.design) / template.mold.thickness_mm) - 1e-9)
-        .ceil()
-        .max(1.0) as usize;
+    let mold = choose_mold(laminate_mm(first.design), &template.mold_stock);
+    // Height band of each mold layer, bottom to top.
+    let bands: Vec<(f64, f64)> = mold
+        .films_mm
+        .iter()
+        .scan(0.0, |top, t| {
+            let band = (*top, *top + t);
+            *top += t;
+            Some(band)
+        })
+        .collect();
     // Expand the stack: "mold" becomes mold-1..n; other layers are numbered by occurrence.
     let mut stack: Vec<(String, String, usize)> = Vec::new(); // (layer kind, stem prefix, index)
     for name in &c.stack {
         if name == "mold" {
-            for j in 0..molds {
+            for j in 0..bands.len() {
                 stack.push(("mold".into(), format!("mold-{}", j + 1), j));
             }
         } else {
@@ -155,6 +223,18 @@ pub fn clamp_layers(
     }
     let outline = panel_outline(c);
     let levels = stack.len();
+    // A number is seen through the windows of every layer above it: keep it clear of the widest kerf.
+    let widest_kerf = stack
+        .iter()
+        .map(|(kind, _, _)| {
+            if kind == "mold" {
+                template.mold.kerf_mm
+            } else {
+                template.covers[kind].kerf_mm
+            }
+        })
+        .fold(0.0, f64::max);
+    let number_inset = widest_kerf / 2.0 + NUMBER_CLEARANCE_MM;
     // Errors about panel features name the first design (the single design of a cut sheet).
     let design = first.design;
     let features = &template.features;
@@ -210,8 +290,7 @@ pub fn clamp_layers(
             if kind == "mold" {
                 for (m, _, base) in members {
                     let job = &jobs[*m].1;
-                    let cavity =
-                        cavity_outline(job.design, &job.geometry, template.mold.thickness_mm, *j);
+                    let cavity = cavity_outline(job.design, &job.geometry, bands[*j]);
                     let grown = kerfed(
                         job.design,
                         &cavity,
@@ -225,14 +304,7 @@ pub fn clamp_layers(
                     );
                 }
             }
-            let level = format!("{}", k + 1);
-            let h = (c.window_height_mm * 0.6).min(2.0);
-            let o = window_origin(c, k);
-            for s in label_strokes(
-                &level,
-                [o[0] + 0.5, o[1] + (c.window_height_mm - h) / 2.0],
-                h,
-            ) {
+            for s in window_number(c, k + 1, number_inset) {
                 d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
             }
             let title = format!("{} {prefix} P{number}", names.title);
@@ -266,5 +338,53 @@ pub fn clamp_layers(
             .map(|m| m.iter().map(|(k, a, _)| (jobs[*k].0, *a)).collect())
             .collect(),
         first_panel,
+        mold,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn window_numbers_fit_and_are_centred_for_1_to_20_layers() {
+        // Issue 16 item 8: "10" spanned x 53.04-55.29 mm in a window ending at 55.24 mm, and single
+        // digits sat 0.5 mm off-centre. The shipped clamp panel: 3 x 2.5 mm windows.
+        for process in ["method-1", "method-2"] {
+            let t = Template::resolve(process, Path::new("d.toml")).unwrap();
+            let c = &t.clamp;
+            let kerf = t
+                .covers
+                .values()
+                .map(|l| l.kerf_mm)
+                .fold(t.mold.kerf_mm, f64::max);
+            let inset = kerf / 2.0 + NUMBER_CLEARANCE_MM;
+            for level in 1..=20 {
+                let strokes = window_number(c, level, inset);
+                assert!(!strokes.is_empty(), "{process}: no number {level}");
+                let (lo, hi) = strokes_extent(&strokes);
+                let o = window_origin(c, level - 1);
+                let (x0, x1) = (o[0] + inset, o[0] + c.window_width_mm - inset);
+                let (y0, y1) = (o[1] + inset, o[1] + c.window_height_mm - inset);
+                assert!(
+                    lo[0] >= x0 - 1e-9
+                        && hi[0] <= x1 + 1e-9
+                        && lo[1] >= y0 - 1e-9
+                        && hi[1] <= y1 + 1e-9,
+                    "{process} {level}: ink {lo:?}..{hi:?} outside window {x0}..{x1} x {y0}..{y1}"
+                );
+                let centre = [
+                    o[0] + c.window_width_mm / 2.0,
+                    o[1] + c.window_height_mm / 2.0,
+                ];
+                for k in 0..2 {
+                    assert!(
+                        ((lo[k] + hi[k]) / 2.0 - centre[k]).abs() < 1e-9,
+                        "{process} {level}: off-centre on axis {k}"
+                    );
+                }
+            }
+        }
+    }
 }

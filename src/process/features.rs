@@ -44,8 +44,9 @@ const MARK: &[Operation] = &[Operation::Engrave, Operation::Score, Operation::Se
 /// A score line may be scored, cut through (no snapping) or given the second pass; an engraved one
 /// would be too shallow to snap along.
 const SCORE_LINE: &[Operation] = &[Operation::Score, Operation::Cut, Operation::Secondary];
-/// The sheet edge is only a reference: any operation.
-const ANY: &[Operation] = &Operation::ALL;
+/// The sheet edge is only a guide: the never-run reference, or a mark. A cut along it would trace the
+/// sheet edge with the laser.
+const GUIDE: &[Operation] = &[Operation::Reference, Operation::Engrave, Operation::Score];
 
 impl Feature {
     /// Every feature, in the order of the `[features]` table of the shipped templates.
@@ -88,7 +89,7 @@ impl Feature {
     pub fn default_operation(self) -> Operation {
         match self {
             Feature::PztScoreLine => Operation::Score,
-            Feature::PztSheetOutline => Operation::Secondary,
+            Feature::PztSheetOutline => Operation::Reference,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
@@ -101,7 +102,7 @@ impl Feature {
     pub fn allowed(self) -> &'static [Operation] {
         match self {
             Feature::PztScoreLine => SCORE_LINE,
-            Feature::PztSheetOutline => ANY,
+            Feature::PztSheetOutline => GUIDE,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
@@ -210,6 +211,22 @@ mod tests {
         keys.dedup();
         assert_eq!(keys.len(), Feature::ALL.len());
         assert_eq!(read("").unwrap(), FeatureMap::default());
+    }
+
+    #[test]
+    fn sheet_outline_is_a_reference_never_a_cut() {
+        // Issue 16 item 4: a green (secondary) sheet outline set up as a cut pass traced the sheet edge.
+        assert_eq!(
+            FeatureMap::default().op(Feature::PztSheetOutline),
+            Operation::Reference
+        );
+        for op in ["cut", "secondary"] {
+            let e = read(&format!("[features]\npzt-sheet-outline = \"{op}\"")).unwrap_err();
+            assert_eq!(e.field, "features.pzt-sheet-outline");
+        }
+        // No through-cut feature may be given the never-run reference: the part would stay in.
+        let e = read("[features]\npart-outline = \"reference\"").unwrap_err();
+        assert!(e.expected.contains("\"cut\", \"secondary\""), "{e}");
     }
 
     #[test]

@@ -48,6 +48,20 @@ pub struct ClampLayerSpec {
     pub kerf_mm: f64,
 }
 
+/// Mold films a lab stocks (`[layers.mold] stock_thicknesses_mm`, default the one `thickness_mm`) and
+/// the tolerance on the mold height (`height_tolerance_mm`): the mold top must sit flush with the
+/// laminate or at most this far below it (docs/cam.md §1, "Mold layers").
+#[derive(Debug, Clone, PartialEq)]
+pub struct MoldStock {
+    /// Film thicknesses in stock, mm.
+    pub films_mm: Vec<f64>,
+    /// Largest allowed laminate height minus mold height, mm.
+    pub tolerance_mm: f64,
+}
+
+/// Default mold height tolerance, mm: docs/cam.md §1.
+pub const DEFAULT_MOLD_TOLERANCE_MM: f64 = 0.025;
+
 /// Pyralux bond layers of method 1.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BondSpec {
@@ -124,6 +138,8 @@ pub struct Template {
     pub bond: Option<BondSpec>,
     /// Mold layers.
     pub mold: ClampLayerSpec,
+    /// Mold films the lab stocks and how far below the laminate the mold top may sit.
+    pub mold_stock: MoldStock,
     /// Other clamp layers by name (felt, teflon-cover, …).
     pub covers: BTreeMap<String, ClampLayerSpec>,
     /// Colour of each laser operation in the files (`[operations]`; default docs/cam.md §3).
@@ -303,18 +319,31 @@ impl Template {
                 Some(b)
             }
         };
-        let clamp_layer = |key: &str| -> Result<ClampLayerSpec, InputError> {
-            let t = layers.table(key)?;
-            let s = ClampLayerSpec {
+        let read_clamp_layer = |t: &TableReader<'_>| -> Result<ClampLayerSpec, InputError> {
+            Ok(ClampLayerSpec {
                 material: t.string("material", "a material description")?.to_string(),
                 thickness_mm: t.number_in("thickness_mm", THICKNESS_MM)?,
                 density_kg_per_m3: t.number_in("density_kg_per_m3", DENSITY)?,
                 kerf_mm: t.number_in("kerf_mm", KERF_MM)?,
-            };
+            })
+        };
+        let clamp_layer = |key: &str| -> Result<ClampLayerSpec, InputError> {
+            let t = layers.table(key)?;
+            let s = read_clamp_layer(&t)?;
             t.finish()?;
             Ok(s)
         };
-        let mold = clamp_layer("mold")?;
+        let mold_table = layers.table("mold")?;
+        let mold = read_clamp_layer(&mold_table)?;
+        let mold_stock = MoldStock {
+            films_mm: mold_table
+                .optional_numbers_in("stock_thicknesses_mm", THICKNESS_MM, 1, 6)?
+                .unwrap_or_else(|| vec![mold.thickness_mm]),
+            tolerance_mm: mold_table
+                .optional_number_in("height_tolerance_mm", GAP_MM)?
+                .unwrap_or(DEFAULT_MOLD_TOLERANCE_MM),
+        };
+        mold_table.finish()?;
         let mut covers = BTreeMap::new();
         for key in layers.keys() {
             if !["pzt", "passive", "pyralux", "mold"].contains(&key) {
@@ -354,6 +383,7 @@ impl Template {
             passive,
             bond,
             mold,
+            mold_stock,
             covers,
             palette,
             features,
