@@ -64,6 +64,9 @@ mod progress;
 mod strip;
 mod verify;
 
+#[cfg(test)]
+mod test_support;
+
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
 pub use clearance::{clearance, Clearance, ClearanceViolation};

@@ -194,24 +194,7 @@ mod tests {
     use super::*;
     use crate::problem::NestedBin;
 
-    fn square(side: f64) -> Vec<Point> {
-        vec![[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]]
-    }
-
-    /// `demand` 10 mm squares and a 100 mm sheet with `stock`.
-    fn squares_job(demand: usize, stock: usize) -> (Vec<NestItem>, NestBin) {
-        let items = vec![NestItem {
-            outline: square(10.0),
-            demand,
-            rotations_deg: vec![0.0],
-        }];
-        let bin = NestBin {
-            width_mm: 100.0,
-            height_mm: 100.0,
-            stock,
-        };
-        (items, bin)
-    }
+    use crate::test_support::{square, squares_job};
 
     #[test]
     fn verify_catches_parts_too_close() {
