@@ -63,6 +63,17 @@ pub fn library_pzt(file: &Path, field: &str, name: &str) -> Result<Material, Inp
     }
 }
 
+/// The `[laminate]` table of a spec (optimize, sweep): a library PZT and a library passive ply, with the
+/// ply's thickness. The design file names its own materials instead (`design::materials`).
+pub fn read_library_laminate(t: &TableReader<'_>) -> Result<(Material, Material, f64), InputError> {
+    let pzt_name = t.string("pzt", "a PZT material name from the library")?;
+    let pzt = library_pzt(t.file(), &t.path("pzt"), pzt_name)?;
+    let ply_name = t.string("ply", "a passive ply material name from the library")?;
+    let (ply, ply_thickness) = library_ply(t.file(), &t.path("ply"), ply_name)?;
+    t.finish()?;
+    Ok((pzt, ply, ply_thickness))
+}
+
 /// A passive ply from the built-in library, with its standard ply thickness (m).
 pub fn library_ply(file: &Path, field: &str, name: &str) -> Result<(Material, f64), InputError> {
     let m = library(file, field, name)?;

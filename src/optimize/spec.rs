@@ -2,7 +2,7 @@
 //! into SI settings ([`Spec`]), through the checked reader and the shared field ranges of
 //! [`crate::input`]. Everything after [`Spec::from_file`] trusts its input.
 
-use crate::input::library::{library_ply, library_pzt, read_drive_field, read_drive_mode};
+use crate::input::library::{read_drive_field, read_drive_mode, read_library_laminate};
 use crate::input::limits::{
     BASE_WIDTH_MM, ENERGY_MJ, EXTENSION_RATIO, GRID, LENGTH_MM, MAX_LEVELS, MAX_PLIES,
     MIN_TIP_WIDTH_MM, PLY_ANGLE_DEG, PZT_STRAIN, PZT_THICKNESS_MM, VOLTAGE_V, WIDTH_RATIO,
@@ -162,11 +162,7 @@ impl Spec {
         s.finish()?;
 
         let l = root.table("laminate")?;
-        let pzt_name = l.string("pzt", "a PZT material name from the library")?;
-        let pzt = library_pzt(path, &l.path("pzt"), pzt_name)?;
-        let ply_name = l.string("ply", "a passive ply material name from the library")?;
-        let (ply, ply_thickness) = library_ply(path, &l.path("ply"), ply_name)?;
-        l.finish()?;
+        let (pzt, ply, ply_thickness) = read_library_laminate(&l)?;
 
         let (min_tip_width_mm, max_peak_pzt_strain) = match root.optional_table("constraints")? {
             Some(c) => {

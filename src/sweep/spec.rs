@@ -2,7 +2,7 @@
 //! into SI levels, through the checked reader and the shared field ranges of [`crate::input`].
 
 use crate::design::check_planform;
-use crate::input::library::{library_ply, library_pzt, read_drive_field, read_drive_mode};
+use crate::input::library::{read_drive_field, read_drive_mode, read_library_laminate};
 use crate::input::limits::{
     BASE_WIDTH_MM, D31_MAGNITUDE_PM_PER_V, EXTENSION_RATIO, LENGTH_MM, MAX_DESIGNS, MAX_LEVELS,
     MAX_PLIES, MODULUS_GPA, PLY_ANGLE_DEG, PZT_THICKNESS_MM, WIDTH_RATIO,
@@ -109,11 +109,7 @@ impl SweepSpec {
         root.only_keys(&["laminate", "drive", "factors"])?;
 
         let l = root.table("laminate")?;
-        let pzt_name = l.string("pzt", "a PZT material name from the library")?;
-        let pzt = library_pzt(path, &l.path("pzt"), pzt_name)?;
-        let ply_name = l.string("ply", "a passive ply material name from the library")?;
-        let (ply, ply_thickness) = library_ply(path, &l.path("ply"), ply_name)?;
-        l.finish()?;
+        let (pzt, ply, ply_thickness) = read_library_laminate(&l)?;
 
         let d = root.table("drive")?;
         let mode = read_drive_mode(&d)?;
