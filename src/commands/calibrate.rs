@@ -1,7 +1,7 @@
 //! `actuator-cam calibrate measured.csv -o calibration/`: trace measured-vs-model errors to a physical
 //! effect and write `calibrated-model.toml`, the reports and the plots.
 
-use super::flags::{ForceFlag, JsonFlag, OutputDir};
+use super::flags::{JsonFlag, OutputDir};
 use crate::calibrate::{calibrate, csv, report, Settings};
 use crate::output::Output;
 use clap::Args;
@@ -18,9 +18,6 @@ pub struct CalibrateArgs {
     /// `-o`: calibrated-model.toml, report.json, report.md and the SVG plots.
     #[command(flatten)]
     pub output: OutputDir,
-    /// `--force`.
-    #[command(flatten)]
-    pub force: ForceFlag,
     /// `--json`: report.json on standard output.
     #[command(flatten)]
     pub json: JsonFlag,
@@ -58,7 +55,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| "{}".into());
     let dir = &args.output.output;
     Output::new("calibrate")
-        .force(args.force.force)
+        .force(args.output.force.force)
         .inputs([&args.measured])
         .folder(
             "-o",

@@ -1,6 +1,6 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
-use super::flags::{ForceFlag, FormatFlag, ModelFlag, OutputDir, StrokeFlag};
+use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
 use crate::cutsheet::{plan, write, CutSheetOptions, Template};
 use crate::design::Design;
 use crate::output::Output;
@@ -16,9 +16,6 @@ pub struct CutSheetArgs {
     /// `-o`.
     #[command(flatten)]
     pub output: OutputDir,
-    /// `--force`.
-    #[command(flatten)]
-    pub force: ForceFlag,
     /// `--format`.
     #[command(flatten)]
     pub format: FormatFlag,
@@ -65,7 +62,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
     let files = write::render(&sheet, formats, args.stroke.stroke_mm)?;
     let count = files.len();
     Output::new("cut-sheet")
-        .force(args.force.force)
+        .force(args.output.force.force)
         .inputs(
             std::iter::once(design.source.clone())
                 .chain(Template::file_of(&design.process, &design.source)),

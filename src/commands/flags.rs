@@ -20,6 +20,9 @@ pub struct OutputDir {
         default_value = "out"
     )]
     pub output: PathBuf,
+    /// `--force` goes with every output folder.
+    #[command(flatten)]
+    pub force: ForceFlag,
 }
 
 /// `--force`: the user's word that a run may write into a folder that holds other files.

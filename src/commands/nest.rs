@@ -1,6 +1,6 @@
 //! `actuator-cam nest batch.toml -o out/`: a batch of designs nested on shared sheets and clamp panels.
 
-use super::flags::{ForceFlag, FormatFlag, JsonFlag, OutputDir, StrokeFlag};
+use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
 use crate::batch::{plan, Batch, NestOptions};
 use crate::cam::svg::SvgOptions;
 use crate::cutsheet::write::render_drawings;
@@ -18,9 +18,6 @@ pub struct NestArgs {
     /// `-o`.
     #[command(flatten)]
     pub output: OutputDir,
-    /// `--force`.
-    #[command(flatten)]
-    pub force: ForceFlag,
     /// `--format`.
     #[command(flatten)]
     pub format: FormatFlag,
@@ -73,7 +70,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     files.push(("nest-report.md".into(), report.markdown().into_bytes()));
     let count = files.len();
     Output::new("nest")
-        .force(args.force.force)
+        .force(args.output.force.force)
         .inputs(
             std::iter::once(batch.source.clone())
                 .chain(batch.items.iter().map(|i| i.design.source.clone())),
