@@ -11,6 +11,7 @@ pub mod input;
 pub mod layout;
 pub mod optimize;
 pub mod output;
+pub mod parts;
 pub mod pipeline;
 pub mod plot;
 pub mod prediction;

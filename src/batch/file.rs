@@ -4,19 +4,25 @@
 use crate::cutsheet::{design_for_process, Template};
 use crate::design::Design;
 use crate::input::limits::{
-    MAX_ITERATIONS, MAX_QUANTITY, MAX_STOCK, PRICE, SHEET_SIDE_MM, SPACING_MM,
+    MAX_ITERATIONS, MAX_PLIES, MAX_QUANTITY, MAX_STOCK, PART_ROTATION_DEG, PLY_ANGLE_DEG, PRICE,
+    SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
-use crate::process::template::SheetSpec;
+use crate::parts::{import, PartOrder, PartSheet};
+use crate::process::template::{PassiveCut, SheetSpec};
+use cam_geometry::{place_ring, Bounds};
 use std::path::{Path, PathBuf};
 
-/// A sheet override from `[sheets]`: size, and optionally stock and price.
+/// A sheet override from `[sheets]`: size, and optionally stock and price; or, with
+/// `strip = true`, roll stock of a width (no height, no stock).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetOverride {
-    /// Sheet width, mm.
+    /// Sheet (or roll) width, mm.
     pub width_mm: f64,
-    /// Sheet height, mm.
-    pub height_mm: f64,
+    /// Sheet height, mm (a roll keeps the template's, unused).
+    pub height_mm: Option<f64>,
+    /// Roll stock: nest one strip and report its used length.
+    pub strip: bool,
     /// Sheets in stock.
     pub stock: Option<usize>,
     /// Price of one sheet.
@@ -28,9 +34,14 @@ impl SheetOverride {
     pub fn apply(&self, spec: &SheetSpec) -> SheetSpec {
         SheetSpec {
             width_mm: self.width_mm,
-            height_mm: self.height_mm,
-            stock: self.stock.or(spec.stock),
+            height_mm: self.height_mm.unwrap_or(spec.height_mm),
+            stock: if self.strip {
+                None
+            } else {
+                self.stock.or(spec.stock)
+            },
             price_per_sheet: self.price_per_sheet.or(spec.price_per_sheet),
+            roll: self.strip,
             ..spec.clone()
         }
     }
@@ -58,19 +69,232 @@ pub struct Batch {
     pub template: Template,
     /// Optimiser budget of the irregular nester, if given.
     pub iterations: Option<usize>,
+    /// Extra parts from drawings (`[[part]]`), in file order.
+    pub parts: Vec<PartOrder>,
     /// The batch file.
     pub source: PathBuf,
 }
 
-fn sheet_override(t: &TableReader<'_>) -> Result<SheetOverride, InputError> {
-    let s = SheetOverride {
-        width_mm: t.number_in("width_mm", SHEET_SIDE_MM)?,
-        height_mm: t.number_in("height_mm", SHEET_SIDE_MM)?,
-        stock: t.optional_count("stock", 1, MAX_STOCK)?,
-        price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+/// `{ width_mm, height_mm, stock?, price_per_sheet? }`, or `{ width_mm, strip = true, price? }`
+/// where `roll` says the material may come on a roll.
+fn sheet_override(t: &TableReader<'_>, roll: bool) -> Result<SheetOverride, InputError> {
+    let strip = t.optional_bool("strip")?.unwrap_or(false);
+    if strip && !roll {
+        return Err(InputError::invalid(
+            t.file(),
+            &t.path("strip"),
+            "true",
+            "PZT comes in plates, not on a roll: strip = true is for prepreg and pyralux",
+        ));
+    }
+    let width_mm = t.number_in("width_mm", SHEET_SIDE_MM)?;
+    let s = if strip {
+        for key in ["height_mm", "stock"] {
+            if t.has(key) {
+                return Err(InputError::invalid(
+                    t.file(),
+                    &t.path(key),
+                    "(given)",
+                    "a roll (strip = true) has a width only: the nest uses the length it needs and reports it",
+                ));
+            }
+        }
+        SheetOverride {
+            width_mm,
+            height_mm: None,
+            strip,
+            stock: None,
+            price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+        }
+    } else {
+        SheetOverride {
+            width_mm,
+            height_mm: Some(t.number_in("height_mm", SHEET_SIDE_MM)?),
+            strip,
+            stock: t.optional_count("stock", 1, MAX_STOCK)?,
+            price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+        }
     };
     t.finish()?;
     Ok(s)
+}
+
+/// Whether a part fits its sheet (or roll) at some allowed rotation with kerf + spacing to every
+/// edge; and its box at the rotation that comes closest.
+fn fits_sheet(
+    ring: &[cam_geometry::Point],
+    rotations_deg: &[f64],
+    spec: &SheetSpec,
+) -> (bool, [f64; 2]) {
+    let gap = 2.0 * (spec.kerf_mm + spec.spacing_mm);
+    let overshoot = |size: &[f64; 2]| {
+        let across = size[0] + gap - spec.width_mm;
+        if spec.roll {
+            across
+        } else {
+            across.max(size[1] + gap - spec.height_mm)
+        }
+    };
+    let size = rotations_deg
+        .iter()
+        .map(|&r| {
+            let b = Bounds::of(&place_ring(ring, r, [0.0, 0.0]));
+            [b.width(), b.height()]
+        })
+        .min_by(|a, b| overshoot(a).total_cmp(&overshoot(b)))
+        .expect("at least one rotation");
+    (overshoot(&size) < 0.0, size)
+}
+
+/// One `[[part]]`: a drawing's parts, how many of each, on which sheets, at which rotations.
+fn part_orders(
+    t: &TableReader<'_>,
+    base: &Path,
+    items: &[BatchItem],
+    template: &crate::cutsheet::Template,
+) -> Result<Vec<PartOrder>, InputError> {
+    let path = t.file();
+    let file = t.string("file", "a DXF or SVG drawing, relative to the batch file")?;
+    let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
+    let sheet_name = t
+        .optional_string("sheet", "\"prepreg\" or \"pyralux\"")?
+        .unwrap_or("prepreg");
+    let (sheet, spec, default_rotations) = match sheet_name {
+        "prepreg" => {
+            if template.passive_cut == PassiveCut::PlyByPly {
+                return Err(InputError::invalid(
+                    path,
+                    &t.path("sheet"),
+                    "\"prepreg\"",
+                    format!(
+                        "process {:?} cuts the prepreg ply by ply; extra parts are cut from the laid-up stack (passive_cut = \"stack\")",
+                        template.name
+                    ),
+                ));
+            }
+            let layup_deg = t.numbers_in("layup_deg", PLY_ANGLE_DEG, 1, MAX_PLIES)?;
+            let layups: Vec<String> = items.iter().map(|i| i.design.layup_text()).collect();
+            let like = items
+                .iter()
+                .position(|i| i.design.layup_deg == layup_deg)
+                .ok_or_else(|| {
+                    InputError::invalid(
+                        path,
+                        &t.path("layup_deg"),
+                        format!("{layup_deg:?}"),
+                        format!(
+                            "no design of the batch has this layup, so there is no such prepreg sheet; the batch's layups: {}",
+                            layups.join(", ")
+                        ),
+                    )
+                })?;
+            let d = &items[like].design;
+            if let Some(other) = items.iter().find(|i| {
+                i.design.layup_deg == layup_deg
+                    && (i.design.ply.name != d.ply.name
+                        || i.design.ply_thickness != d.ply_thickness)
+            }) {
+                return Err(InputError::invalid(
+                    path,
+                    &t.path("layup_deg"),
+                    format!("{layup_deg:?}"),
+                    format!(
+                        "two prepreg sheets have this layup ({} and {}, of different plies): the part's sheet is ambiguous",
+                        d.name, other.design.name
+                    ),
+                ));
+            }
+            (
+                PartSheet::Prepreg { layup_deg, like },
+                template.passive.clone(),
+                // Fibre direction matters: only half turns keep it.
+                vec![0.0, 180.0],
+            )
+        }
+        "pyralux" => match &template.bond {
+            Some(b) => (
+                PartSheet::Pyralux,
+                b.sheet.clone(),
+                vec![0.0, 90.0, 180.0, 270.0],
+            ),
+            None => {
+                return Err(InputError::invalid(
+                    path,
+                    &t.path("sheet"),
+                    "\"pyralux\"",
+                    format!("process {:?} has no Pyralux layer", template.name),
+                ))
+            }
+        },
+        other => {
+            return Err(InputError::invalid(
+                path,
+                &t.path("sheet"),
+                format!("{other:?}"),
+                "expected \"prepreg\" or \"pyralux\" (PZT plates are scored, not cut to shape)",
+            ))
+        }
+    };
+    let rotations_deg = t
+        .optional_numbers_in("rotations_deg", PART_ROTATION_DEG, 1, 360)?
+        .unwrap_or(default_rotations);
+    let name = t.optional_string("name", "a part name (text)")?;
+    t.finish()?;
+    let drawing = base.join(file);
+    if !drawing.is_file() {
+        return Err(InputError::invalid(
+            path,
+            &t.path("file"),
+            format!("{file:?}"),
+            format!("no such drawing ({})", drawing.display()),
+        ));
+    }
+    let imported = import(&drawing)?;
+    let stem = name.map(str::to_string).unwrap_or_else(|| {
+        drawing
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "part".into())
+    });
+    let several = imported.len() > 1;
+    imported
+        .into_iter()
+        .enumerate()
+        .map(|(k, part)| {
+            let (fits, size) = fits_sheet(&part.outer, &rotations_deg, &spec);
+            if !fits {
+                let sheet = if spec.roll {
+                    format!("the {sheet_name} roll ({} mm wide)", spec.width_mm)
+                } else {
+                    format!(
+                        "the {sheet_name} sheet ({} x {} mm)",
+                        spec.width_mm, spec.height_mm
+                    )
+                };
+                return Err(crate::parts::contours::entity_error(
+                    &drawing,
+                    &part.entity,
+                    format!(
+                        "part too large: {:.3} x {:.3} mm at its best allowed rotation does not fit {sheet} with {} mm (kerf + spacing) to every edge",
+                        size[0],
+                        size[1],
+                        spec.kerf_mm + spec.spacing_mm
+                    ),
+                ));
+            }
+            Ok(PartOrder {
+                name: if several {
+                    format!("{stem}-{}", k + 1)
+                } else {
+                    stem.clone()
+                },
+                part,
+                quantity,
+                rotations_deg: rotations_deg.clone(),
+                sheet: sheet.clone(),
+            })
+        })
+        .collect()
 }
 
 impl Batch {
@@ -123,13 +347,13 @@ impl Batch {
         let (mut template, _, _) = template.expect("tables() returns at least one item");
         if let Some(s) = root.optional_table("sheets")? {
             if let Some(t) = s.optional_table("pzt")? {
-                template.pzt = sheet_override(&t)?.apply(&template.pzt);
+                template.pzt = sheet_override(&t, false)?.apply(&template.pzt);
             }
             if let Some(t) = s.optional_table("prepreg")? {
-                template.passive = sheet_override(&t)?.apply(&template.passive);
+                template.passive = sheet_override(&t, true)?.apply(&template.passive);
             }
             if let Some(t) = s.optional_table("pyralux")? {
-                let o = sheet_override(&t)?;
+                let o = sheet_override(&t, true)?;
                 match &mut template.bond {
                     Some(b) => b.sheet = o.apply(&b.sheet),
                     None => {
@@ -150,6 +374,12 @@ impl Batch {
             }
             s.finish()?;
         }
+        let mut parts = Vec::new();
+        if root.has("part") {
+            for t in root.tables("part")? {
+                parts.extend(part_orders(&t, base, &items, &template)?);
+            }
+        }
         root.finish()?;
         Ok(Batch {
             name,
@@ -157,6 +387,7 @@ impl Batch {
             items,
             template,
             iterations,
+            parts,
             source: path.to_path_buf(),
         })
     }

@@ -7,5 +7,5 @@ pub mod report;
 
 pub use crate::pipeline::{BaselineRow, NestOptions, WORKERS};
 pub use file::{Batch, BatchItem, SheetOverride};
-pub use plan::{plan, Planned};
+pub use plan::{plan, plan_observed, Planned};
 pub use report::NestReport;

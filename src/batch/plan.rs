@@ -4,7 +4,9 @@
 
 use super::file::Batch;
 use super::report::NestReport;
-use crate::pipeline::{build, BuildError, Names, NestOptions, Packing, SheetDrawing};
+use crate::pipeline::{
+    build, BuildError, Names, NestObserver, NestOptions, Packing, SheetDrawing, Unobserved,
+};
 
 /// Everything a batch run produces, in memory, before anything is written.
 #[derive(Debug, Clone)]
@@ -17,6 +19,16 @@ pub struct Planned {
 
 /// Plan every layer of a batch.
 pub fn plan(batch: &Batch, opts: &NestOptions) -> Result<Planned, BuildError> {
+    plan_observed(batch, opts, &Unobserved)
+}
+
+/// Plan every layer of a batch, telling `observer` how the nesting goes (the same layout as
+/// [`plan`]).
+pub fn plan_observed(
+    batch: &Batch,
+    opts: &NestOptions,
+    observer: &dyn NestObserver,
+) -> Result<Planned, BuildError> {
     let names = Names {
         title: batch.name.clone(),
         file: batch.source.display().to_string(),
@@ -29,9 +41,10 @@ pub fn plan(batch: &Batch, opts: &NestOptions) -> Result<Planned, BuildError> {
         .collect();
     let built = build(
         &designs,
+        &batch.parts,
         &batch.template,
         &names,
-        &Packing::Irregular(*opts),
+        &Packing::Irregular(*opts, observer),
     )?;
     let report = NestReport::new(batch, opts, &built);
     Ok(Planned {

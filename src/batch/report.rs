@@ -3,6 +3,7 @@
 //! `nest-report.md`.
 
 use super::file::Batch;
+use crate::parts::PartSheet;
 use crate::pipeline::{BaselineRow, Build, NestOptions, WORKERS};
 use serde::Serialize;
 use std::fmt::Write;
@@ -15,6 +16,22 @@ pub struct ItemRow {
     pub quantity: usize,
     pub pzt_thickness_mm: f64,
     pub layup_deg: String,
+}
+
+/// One extra part from a drawing (`[[part]]`), as read.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PartItemRow {
+    pub name: String,
+    pub file: String,
+    /// The entity of its outline in the drawing.
+    pub entity: String,
+    pub quantity: usize,
+    /// `prepreg, layup [0/90/0]` or `pyralux`.
+    pub sheet: String,
+    pub rotations_deg: Vec<f64>,
+    /// Outline less cut-outs, as flattened (arcs within 0.01 mm), mm².
+    pub area_mm2: f64,
+    pub cutouts: usize,
 }
 
 /// The coordinate convention of the parts' positions, as the report states it.
@@ -51,6 +68,9 @@ pub struct SheetRow {
     pub height_mm: f64,
     /// Nominal part area / sheet area.
     pub utilization: f64,
+    /// A strip of roll stock: `height_mm` is the used length.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub roll: bool,
     pub parts: Vec<PartRow>,
 }
 
@@ -91,6 +111,9 @@ pub struct NestReport {
     pub process: String,
     pub batch_file: String,
     pub items: Vec<ItemRow>,
+    /// Extra parts from drawings, if any.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartItemRow>,
     pub sheets: Vec<SheetRow>,
     pub baseline: Vec<BaselineRow>,
     pub clamp_panels: Vec<PanelRow>,
@@ -121,7 +144,16 @@ impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
     pub fn new(batch: &Batch, opts: &NestOptions, built: &Build) -> NestReport {
         let t = &batch.template;
-        let design_name = |job: usize| batch.items[job].design.name.clone();
+        // Jobs after the designs are the extra parts, in batch order.
+        let design_name = |job: usize| match batch.items.get(job) {
+            Some(item) => item.design.name.clone(),
+            None => batch.parts[job - batch.items.len()].name.clone(),
+        };
+        let roll = |layer: &str| match layer {
+            "pzt" => false,
+            "pyralux" => t.bond.as_ref().is_some_and(|b| b.sheet.roll),
+            _ => t.passive.roll,
+        };
         let sheets: Vec<SheetRow> = built
             .sheets
             .iter()
@@ -137,6 +169,7 @@ impl NestReport {
                 width_mm: s.width_mm,
                 height_mm: s.height_mm,
                 utilization: s.utilization(),
+                roll: roll(&s.layer),
                 parts: s
                     .parts
                     .iter()
@@ -212,6 +245,25 @@ impl NestReport {
                     layup_deg: i.design.layup_text(),
                 })
                 .collect(),
+            parts: batch
+                .parts
+                .iter()
+                .map(|p| PartItemRow {
+                    name: p.name.clone(),
+                    file: p.part.file.display().to_string(),
+                    entity: p.part.entity.clone(),
+                    quantity: p.quantity,
+                    sheet: match &p.sheet {
+                        PartSheet::Prepreg { like, .. } => {
+                            format!("prepreg, layup {}", batch.items[*like].design.layup_text())
+                        }
+                        PartSheet::Pyralux => "pyralux".into(),
+                    },
+                    rotations_deg: p.rotations_deg.clone(),
+                    area_mm2: p.part.area_mm2(),
+                    cutouts: p.part.holes.len(),
+                })
+                .collect(),
             sheets,
             baseline: built
                 .cut_layers
@@ -257,6 +309,34 @@ impl NestReport {
                 i.design, i.quantity, i.pzt_thickness_mm, i.layup_deg, i.file
             );
         }
+        if !self.parts.is_empty() {
+            let _ = writeln!(s, "\n## Parts from drawings\n");
+            let _ = writeln!(
+                s,
+                "| part | quantity | sheet | rotations ° | area mm² | cut-outs | drawing | entity |"
+            );
+            let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+            for p in &self.parts {
+                let rotations: Vec<String> =
+                    p.rotations_deg.iter().map(|r| r.to_string()).collect();
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {} | {:.3} | {} | `{}` | {} |",
+                    p.name,
+                    p.quantity,
+                    p.sheet,
+                    rotations.join("/"),
+                    p.area_mm2,
+                    p.cutouts,
+                    p.file,
+                    p.entity
+                );
+            }
+            let _ = writeln!(
+                s,
+                "\nIn the sheet lists below an extra part's design column holds its name and the actuator column its copy number.\n"
+            );
+        }
         let _ = writeln!(s, "\n## Sheets\n");
         let _ = writeln!(
             s,
@@ -274,6 +354,13 @@ impl NestReport {
                 sh.height_mm,
                 sh.parts.len(),
                 sh.utilization * 100.0
+            );
+        }
+        for sh in self.sheets.iter().filter(|sh| sh.roll) {
+            let _ = writeln!(
+                s,
+                "\n`{}` is a strip of roll stock {} mm wide: {} mm of the roll used.",
+                sh.file_stem, sh.width_mm, sh.height_mm
             );
         }
         let _ = writeln!(s, "\n## Irregular nest against the bounding-box baseline\n");

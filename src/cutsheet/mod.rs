@@ -102,6 +102,7 @@ pub fn plan(
     };
     let built = build(
         &[(&design, design.quantity)],
+        &[],
         &template,
         &names,
         &Packing::Shelf,

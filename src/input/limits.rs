@@ -110,6 +110,8 @@ pub const SPACING_MM: Range = GAP_MM;
 pub const LAYER_THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
 /// Largest sheet stock.
 pub const MAX_STOCK: i64 = 100_000;
+/// Rotations an extra part of a batch may be cut at: any angle, written within one turn either way.
+pub const PART_ROTATION_DEG: Range = Range::closed(-360.0, 360.0, "deg");
 /// Price of one sheet.
 pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
 /// Engraved label text height.

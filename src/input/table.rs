@@ -236,6 +236,20 @@ impl<'a> TableReader<'a> {
         )
     }
 
+    /// An optional `true` / `false`.
+    pub fn optional_bool(&self, key: &str) -> Result<Option<bool>, InputError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(Value::Boolean(b)) => Ok(Some(*b)),
+            Some(v) => Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                v,
+                "expected true or false",
+            )),
+        }
+    }
+
     /// A required string.
     pub fn string(&self, key: &str, expected: &str) -> Result<&'a str, InputError> {
         match self.get(key) {

@@ -4,13 +4,14 @@
 //! stack of clamp panels. One design is a build of one job: every group then holds just it.
 
 use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
-use super::cut::{draw_cut_sheets, passive_layers, pyralux_layer, CutLayer};
+use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, CutLayer};
 use super::jobs::{check_geometry, Drawn, Job, Names, SheetRecord};
 use super::parts::PartGeometry;
 use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
 use super::{BuildError, SheetDrawing};
 use crate::design::Design;
+use crate::parts::{PartOrder, PartSheet};
 use crate::process::template::Template;
 
 /// A cut-through layer as built: its parts and how many sheets they took.
@@ -65,13 +66,15 @@ fn groups<'a, K: PartialEq>(
     out
 }
 
-/// Build every layer of `designs` (each with its quantity): lay out, verify, draw. Nothing is
+/// Build every layer of `designs` (each with its quantity) and of the extra `parts` cut beside them
+/// (numbered as jobs after the designs in the sheets' records): lay out, verify, draw. Nothing is
 /// written here.
 pub fn build(
     designs: &[(&Design, usize)],
+    parts: &[PartOrder],
     template: &Template,
     names: &Names,
-    packing: &Packing,
+    packing: &Packing<'_>,
 ) -> Result<Build, BuildError> {
     let jobs: Vec<Job<'_>> = designs
         .iter()
@@ -134,13 +137,40 @@ pub fn build(
             if names.name_designs {
                 layer.material = format!("{}, layup {layup}", layer.material);
             }
+            // Extra parts of this layup go on the same sheets (the batch allows them only when the
+            // stack is cut as one, so there is one layer per layup).
+            for (k, order) in parts.iter().enumerate() {
+                if let PartSheet::Prepreg { like, .. } = order.sheet {
+                    if group.iter().any(|(i, _)| *i == like) {
+                        let item = extra_item(jobs.len() + k, order, &layer.spec, names)?;
+                        layer.items.push(item);
+                    }
+                }
+            }
             layers.push(layer);
         }
     }
-    layers.extend(pyralux_layer(&jobs, template, None)?);
+    if let Some(mut layer) = pyralux_layer(&jobs, template, None)? {
+        for (k, order) in parts.iter().enumerate() {
+            if order.sheet == PartSheet::Pyralux {
+                let item = extra_item(jobs.len() + k, order, &layer.spec, names)?;
+                layer.items.push(item);
+            }
+        }
+        layers.push(layer);
+    }
     let mut cut_layers = Vec::with_capacity(layers.len());
-    for layer in layers {
-        let placed = place_cut_layer(&layer, packing, &jobs, names)?;
+    let count = layers.len();
+    for (index, mut layer) in layers.into_iter().enumerate() {
+        if let Packing::Irregular(_, observer) = packing {
+            let copies = layer.items.iter().map(|i| i.count).sum();
+            observer.layer(index, count, &layer.layer, copies);
+        }
+        let placed = place_cut_layer(&layer, packing, names)?;
+        if let Some(length) = placed.strip_length_mm {
+            // Roll stock: the drawing and the sheet record show the strip as used.
+            layer.spec.height_mm = length;
+        }
         draw_cut_sheets(&layer, &placed.layouts, names, &mut drawn);
         cut_layers.push(CutLayerSheets {
             sheets: placed.layouts.len(),

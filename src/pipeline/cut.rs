@@ -9,7 +9,9 @@ use crate::cam::drawing::{Drawing, Shape};
 use crate::cam::label::{label_strokes, label_width};
 use crate::cutsheet::{Feature, FeatureMap};
 use crate::layout::SheetLayout;
+use crate::parts::PartOrder;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
+use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
 use cam_geometry::{place_point, place_ring};
@@ -80,6 +82,21 @@ pub struct CutItem {
     pub count: usize,
     /// Engraved label.
     pub label: Label,
+    /// Cut-outs of the part (a flexure's slot), nominal, part coordinates; empty for actuator parts.
+    pub cutouts: Vec<Vec<Point>>,
+    /// Their cut paths: each cut-out shrunk by kerf/2, so the hole comes out as drawn.
+    pub cutout_paths: Vec<Vec<Point>>,
+    /// Rotations it may be cut at, degrees.
+    pub rotations_deg: Vec<f64>,
+    /// What errors call it: the design's name, or the extra part with its file and entity.
+    pub owner: String,
+}
+
+impl CutItem {
+    /// Nominal area of material, mm²: outline less cut-outs.
+    pub fn area_mm2(&self) -> f64 {
+        signed_area(&self.nominal) - self.cutouts.iter().map(|c| signed_area(c)).sum::<f64>()
+    }
 }
 
 /// One cut layer of a build: its name, sheet, material and parts.
@@ -166,6 +183,10 @@ fn item(
         per_actuator,
         count: per_actuator * job.quantity,
         label,
+        cutouts: Vec::new(),
+        cutout_paths: Vec::new(),
+        rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
+        owner: job.design.name.clone(),
     })
 }
 
@@ -355,6 +376,12 @@ pub fn draw_cut_sheets(
         );
         for p in &layout.placements {
             let item = &layer.items[p.item];
+            for path in &item.cutout_paths {
+                d.add(
+                    op(Feature::PartOutline),
+                    Shape::Polygon(place_ring(path, p.rotation_deg, p.offset)),
+                );
+            }
             for (centre, radius) in &item.holes {
                 d.add(
                     op(item.hole),
@@ -397,10 +424,58 @@ pub fn draw_cut_sheets(
                 },
                 rotation_deg: p.rotation_deg,
                 offset: p.offset,
-                area_mm2: signed_area(&item.nominal),
+                area_mm2: item.area_mm2(),
             });
         }
         drawn.sheets.push(record);
         drawn.push(format!("{}-{n}", layer.layer), &layer.layer, d);
     }
+}
+
+/// An extra part from a drawing as an item of a cut layer: outline and cut-outs with their cut
+/// paths (outline grown, cut-outs shrunk by kerf/2), no label. `job` numbers it after the
+/// build's designs.
+pub fn extra_item(
+    job: usize,
+    order: &PartOrder,
+    spec: &SheetSpec,
+    names: &Names,
+) -> Result<CutItem, BuildError> {
+    let part = &order.part;
+    let owner = format!(
+        "part {} ({}: {})",
+        order.name,
+        part.file.display(),
+        part.entity
+    );
+    let offset = |ring: &[Point], delta: f64, what: &str| {
+        if delta == 0.0 {
+            return Ok(ring.to_vec());
+        }
+        offset_ring(ring, delta).map_err(|e| {
+            names.error(format!(
+                "{owner}: the {what} with the {} mm kerf: {e}",
+                spec.kerf_mm
+            ))
+        })
+    };
+    Ok(CutItem {
+        job,
+        part: "part".into(),
+        nominal: part.outer.clone(),
+        cut: offset(&part.outer, spec.kerf_mm / 2.0, "outline")?,
+        holes: Vec::new(),
+        hole: Feature::RegistrationHole,
+        per_actuator: 1,
+        count: order.quantity,
+        label: Label::None,
+        cutout_paths: part
+            .holes
+            .iter()
+            .map(|h| offset(h, -spec.kerf_mm / 2.0, "cut-out"))
+            .collect::<Result<_, _>>()?,
+        cutouts: part.holes.clone(),
+        rotations_deg: order.rotations_deg.clone(),
+        owner,
+    })
 }

@@ -30,7 +30,7 @@ pub use jobs::{Names, PartRecord, SheetRecord};
 pub use mold::{choose_mold, MoldChoice};
 pub use panel::panel_outline;
 pub use parts::PartGeometry;
-pub use place::{BaselineRow, NestOptions, Packing, WORKERS};
+pub use place::{BaselineRow, NestObserver, NestOptions, Packing, Unobserved, WORKERS};
 
 use crate::cam::drawing::Drawing;
 use thiserror::Error;

@@ -8,7 +8,7 @@
 //! its part turned and moved as stated, inside the sheet and apart from the others by the clearance
 //! the strategy promised.
 
-use super::cut::{CutLayer, CUT_ROTATIONS_DEG};
+use super::cut::CutLayer;
 use super::jobs::{format_violations, Job, Names};
 use super::BuildError;
 use crate::layout::{
@@ -19,7 +19,8 @@ use crate::layout::{
 use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
 use cam_nest::{
-    nest, nest_bounding_boxes, NestBin, NestError, NestItem, NestSettings, NestSolution,
+    nest_bounding_boxes, nest_observed, nest_strip, NestBin, NestError, NestItem, NestProgress,
+    NestSettings, NestSolution,
 };
 use serde::Serialize;
 
@@ -35,15 +36,43 @@ pub struct NestOptions {
 /// Parallel workers of the irregular nester: fixed, so the layout does not depend on the machine.
 pub const WORKERS: usize = 2;
 
+/// What a build reports while the irregular nester works (a progress bar in the command layer).
+/// Calls come from the thread that runs the build; an observer never changes the layout.
+pub trait NestObserver {
+    /// Cut layer `index` (0-based) of the build's `count` starts nesting `parts` part copies.
+    fn layer(&self, index: usize, count: usize, layer: &str, parts: usize);
+    /// A snapshot of the layer being nested (sheets, best density, iterations).
+    fn progress(&self, progress: &NestProgress);
+}
+
+/// An observer that ignores every report.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Unobserved;
+
+impl NestObserver for Unobserved {
+    fn layer(&self, _: usize, _: usize, _: &str, _: usize) {}
+    fn progress(&self, _: &NestProgress) {}
+}
+
 /// How a build packs its cut-through layers (passive plies, Pyralux).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Packing {
+#[derive(Clone, Copy)]
+pub enum Packing<'a> {
     /// The shelf packer: fast and deterministic, cut paths (outline + kerf/2) the template's spacing
     /// apart, no stock limit. What `cut-sheet` uses for one design.
     Shelf,
-    /// The irregular nester: nominal outlines kerf + spacing apart within the stock, compared with
-    /// the bounding-box baseline on the same parts. What `nest` uses for a batch.
-    Irregular(NestOptions),
+    /// The irregular nester: nominal outlines kerf + spacing apart within the stock (or along a
+    /// roll, [`SheetSpec::roll`]), compared with the bounding-box baseline on the same parts,
+    /// reporting to the observer as it goes. What `nest` uses for a batch.
+    Irregular(NestOptions, &'a dyn NestObserver),
+}
+
+impl std::fmt::Debug for Packing<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Packing::Shelf => write!(f, "Shelf"),
+            Packing::Irregular(opts, _) => write!(f, "Irregular({opts:?})"),
+        }
+    }
 }
 
 /// Irregular nest against the bounding-box baseline on the same parts and sheet.
@@ -61,11 +90,26 @@ pub struct BaselineRow {
     pub baseline_sheets: usize,
     pub baseline_utilization: f64,
     pub baseline_used_length_utilization: f64,
+    /// On roll stock: the used length of the strip, mm (as drawn, rounded up to 0.1 mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strip_length_mm: Option<f64>,
+    /// On roll stock: the length the bounding-box baseline uses, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline_strip_length_mm: Option<f64>,
 }
 
 impl BaselineRow {
     /// One line: parts, sheets and utilisation of the nest and of the baseline.
     pub fn summary(&self) -> String {
+        if let (Some(length), Some(boxes)) = (self.strip_length_mm, self.baseline_strip_length_mm) {
+            return format!(
+                "{} {} parts: {length:.1} mm of roll, density {:.1}%; bounding boxes {boxes:.1} mm, {:.1}%",
+                self.layer,
+                self.parts,
+                self.used_length_utilization * 100.0,
+                self.baseline_used_length_utilization * 100.0
+            );
+        }
         format!(
             "{} {} parts: {} sheet(s) {:.1}% (used length {:.1}%), bounding boxes {} sheet(s) {:.1}% (used length {:.1}%)",
             self.layer,
@@ -87,6 +131,8 @@ pub(crate) struct PlacedLayer {
     pub layouts: Vec<SheetLayout>,
     /// The irregular nest against the bounding-box baseline ([`Packing::Irregular`] only).
     pub baseline: Option<BaselineRow>,
+    /// On roll stock: the used length, mm (the one sheet is drawn this long).
+    pub strip_length_mm: Option<f64>,
 }
 
 fn sheet_of(spec: &SheetSpec) -> Sheet {
@@ -143,16 +189,16 @@ pub(crate) fn place_plates(
 /// Lay out a cut layer with the build's packing strategy and verify it.
 pub(crate) fn place_cut_layer(
     layer: &CutLayer,
-    packing: &Packing,
-    jobs: &[Job<'_>],
+    packing: &Packing<'_>,
     names: &Names,
 ) -> Result<PlacedLayer, BuildError> {
     match packing {
         Packing::Shelf => Ok(PlacedLayer {
             layouts: shelf(layer, names)?,
             baseline: None,
+            strip_length_mm: None,
         }),
-        Packing::Irregular(opts) => irregular(layer, opts, jobs, names),
+        Packing::Irregular(opts, observer) => irregular(layer, opts, *observer, names),
     }
 }
 
@@ -198,7 +244,7 @@ fn verify_cut_layouts(
             &packed,
             &promise.sheet,
             (promise.clearance_mm - 1e-9).max(0.0),
-            &|_| CUT_ROTATIONS_DEG.to_vec(),
+            &|i| layer.items[i].rotations_deg.clone(),
         )?;
     }
     Ok(())
@@ -214,7 +260,7 @@ fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<SheetLayout>, BuildError
         .map(|i| PartSpec {
             outline: i.cut.clone(),
             count: i.count,
-            rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
+            rotations_deg: i.rotations_deg.clone(),
         })
         .collect();
     let layouts = layout_parts(&items, &sheet, spec.spacing_mm, None)
@@ -236,19 +282,28 @@ fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<SheetLayout>, BuildError
     Ok(layouts)
 }
 
-/// The irregular nester on the nominal outlines at rotations 0° / 180°, kerf + spacing between parts
-/// and to the sheet edge; the bounding-box baseline is nested too for the report.
+/// The irregular nester on the nominal outlines at each item's rotations (0° / 180° for actuator
+/// parts), kerf + spacing between parts and to the sheet edge; on sheets, or on a roll
+/// ([`SheetSpec::roll`]: one strip of the roll's width, as short as the nester finds, drawn to its
+/// used length rounded up to 0.1 mm). The bounding-box baseline is nested too for the report.
 fn irregular(
     layer: &CutLayer,
     opts: &NestOptions,
-    jobs: &[Job<'_>],
+    observer: &dyn NestObserver,
     names: &Names,
 ) -> Result<PlacedLayer, BuildError> {
     let spec = &layer.spec;
-    let context = format!(
-        "{} sheets ({}, {} x {} mm)",
-        layer.layer, layer.material, spec.width_mm, spec.height_mm
-    );
+    let context = if spec.roll {
+        format!(
+            "{} roll ({}, {} mm wide)",
+            layer.layer, layer.material, spec.width_mm
+        )
+    } else {
+        format!(
+            "{} sheets ({}, {} x {} mm)",
+            layer.layer, layer.material, spec.width_mm, spec.height_mm
+        )
+    };
     let fail = |what: String| names.error(format!("{context}: {what}"));
     let items: Vec<NestItem> = layer
         .items
@@ -256,23 +311,18 @@ fn irregular(
         .map(|i| NestItem {
             outline: i.nominal.clone(),
             demand: i.count,
-            rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
+            rotations_deg: i.rotations_deg.clone(),
         })
         .collect();
     let copies: usize = items.iter().map(|i| i.demand).sum();
-    let bin = NestBin {
-        width_mm: spec.width_mm,
-        height_mm: spec.height_mm,
-        stock: spec.stock.unwrap_or(copies.max(1)),
-    };
     let settings = NestSettings {
         separation_mm: spec.kerf_mm + spec.spacing_mm,
         seed: opts.seed,
         iterations: opts.iterations,
         workers: WORKERS,
     };
-    let design_of = |item: usize| &jobs[layer.items[item].job].design.name;
-    let solution = nest(&items, &bin, &settings).map_err(|e| match e {
+    let refused = |e: NestError| {
+        match e {
         NestError::PartLargerThanBin {
             item,
             part_width_mm,
@@ -282,16 +332,48 @@ fn irregular(
         } => fail(format!(
             "the {} part of {} is {part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation: larger than the sheet, it does not fit with {separation_mm} mm (kerf + spacing) to the sheet edge",
             layer.layer,
-            design_of(item)
+            layer.items[item].owner
         )),
         NestError::StockTooSmall { needed, stock } => fail(format!(
             "stock too small: the batch needs {needed} sheets but the stock is {stock}"
         )),
         other => fail(other.to_string()),
-    })?;
+    }
+    };
+    let observe = |p: &NestProgress| observer.progress(p);
+    // `bin` is the sheet the layout is verified and drawn on; `room` the one the baseline uses.
+    let (solution, bin, room, strip_length_mm) = if spec.roll {
+        let strip = nest_strip(&items, spec.width_mm, &settings, &observe).map_err(refused)?;
+        let length = (strip.length_mm * 10.0).ceil() / 10.0;
+        let bin = NestBin {
+            width_mm: spec.width_mm,
+            height_mm: length,
+            stock: 1,
+        };
+        let room = NestBin {
+            stock: copies.max(1),
+            ..strip.bin
+        };
+        (strip.solution, bin, room, Some(length))
+    } else {
+        let bin = NestBin {
+            width_mm: spec.width_mm,
+            height_mm: spec.height_mm,
+            stock: spec.stock.unwrap_or(copies.max(1)),
+        };
+        let solution = nest_observed(&items, &bin, &settings, &observe).map_err(refused)?;
+        let room = NestBin {
+            stock: copies.max(1),
+            ..bin
+        };
+        (solution, bin, room, None)
+    };
     let layouts = cut_layouts(layer, &solution);
     let mut promise = Promise {
-        sheet: sheet_of(spec),
+        sheet: Sheet {
+            width_mm: bin.width_mm,
+            height_mm: bin.height_mm,
+        },
         counts: items.iter().map(|i| i.demand).collect(),
         stock: Some(bin.stock),
         packed: &|i| &layer.items[i].nominal,
@@ -299,30 +381,44 @@ fn irregular(
     };
     verify_cut_layouts(layer, &layouts, &promise)
         .map_err(|v| fail(format!("nest verifier: {}", format_violations(&v))))?;
-    let unlimited = NestBin {
-        stock: copies.max(1),
-        ..bin
-    };
-    let boxes: NestSolution = nest_bounding_boxes(&items, &unlimited, &settings)
+    let boxes: NestSolution = nest_bounding_boxes(&items, &room, &settings)
         .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
-    promise.stock = Some(unlimited.stock);
+    promise.stock = Some(room.stock);
+    promise.sheet = Sheet {
+        width_mm: room.width_mm,
+        height_mm: room.height_mm,
+    };
     verify_cut_layouts(layer, &cut_layouts(layer, &boxes), &promise)
         .map_err(|v| fail(format!("baseline verifier: {}", format_violations(&v))))?;
+    let used = solution.used_length_utilization(&bin, settings.separation_mm);
+    let boxes_used = boxes.used_length_utilization(&room, settings.separation_mm);
     let baseline = BaselineRow {
         layer: layer.layer.clone(),
         material: layer.material.clone(),
         parts: copies,
         sheets: solution.bins_used(),
-        utilization: solution.utilization(),
-        used_length_utilization: solution.used_length_utilization(&bin, settings.separation_mm),
+        // On a roll the one sheet is the used strip: its utilisation is the used-length one.
+        utilization: if spec.roll {
+            used
+        } else {
+            solution.utilization()
+        },
+        used_length_utilization: used,
         baseline_sheets: boxes.bins_used(),
-        baseline_utilization: boxes.utilization(),
-        baseline_used_length_utilization: boxes
-            .used_length_utilization(&bin, settings.separation_mm),
+        baseline_utilization: if spec.roll {
+            boxes_used
+        } else {
+            boxes.utilization()
+        },
+        baseline_used_length_utilization: boxes_used,
+        strip_length_mm,
+        baseline_strip_length_mm: strip_length_mm
+            .map(|_| boxes.used_length_mm(&room, settings.separation_mm)),
     };
     Ok(PlacedLayer {
         layouts,
         baseline: Some(baseline),
+        strip_length_mm,
     })
 }
 

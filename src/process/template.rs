@@ -33,6 +33,9 @@ pub struct SheetSpec {
     pub stock: Option<usize>,
     /// Price of one sheet (any currency), if known: reports show material cost only when it is.
     pub price_per_sheet: Option<f64>,
+    /// Roll stock: `width_mm` wide, as long as the parts need (`nest` nests a strip and reports its
+    /// used length; `height_mm` is then not used). Set by a batch's `[sheets]` (`strip = true`).
+    pub roll: bool,
 }
 
 /// A clamp layer (mold, felt, Teflon, bleeder): material, thickness and kerf; cut on the clamp panel.
@@ -168,6 +171,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
             .unwrap_or(0.0),
         stock: t.optional_count("stock", 1, MAX_STOCK)?,
         price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+        roll: false,
     })
 }
 

@@ -1,0 +1,281 @@
+//! From the contours a file holds to parts, with the checks every format shares: LINE/ARC pieces
+//! chained into closed loops, each loop a simple ring (no self-intersection, no zero area), no two
+//! loops crossing, and loops nested into parts: an outer contour with the contours directly inside
+//! it as its cut-outs. Every refusal names the file and the entity.
+
+use super::ImportedPart;
+use crate::input::InputError;
+use cam_geometry::{signed_area, Point};
+use geo::{Contains, Coord, Intersects, LineString, Polygon, Validation};
+use std::path::Path;
+
+/// Ends of two pieces closer than this join, mm: CAD files store the shared end of a line and an arc
+/// twice, computed separately, so they differ in the last digits.
+pub const JOIN_MM: f64 = 1e-4;
+
+/// A closed contour as read, named by the entity (or entities) it came from.
+#[derive(Debug, Clone)]
+pub struct Contour {
+    /// `LWPOLYLINE handle 2F`, `path id="slot"`, …
+    pub entity: String,
+    /// Points in mm, y up, without the closing repeat.
+    pub ring: Vec<Point>,
+}
+
+/// An open piece (a DXF LINE or ARC): points from its start to its end, in mm.
+#[derive(Debug, Clone)]
+pub struct Piece {
+    /// `LINE handle 1F`.
+    pub entity: String,
+    /// At least two points.
+    pub points: Vec<Point>,
+}
+
+/// One line naming the file and the entity.
+pub fn entity_error(file: &Path, entity: &str, what: impl Into<String>) -> InputError {
+    InputError::invalid(file, entity, "", what)
+}
+
+fn close(a: Point, b: Point) -> bool {
+    (a[0] - b[0]).hypot(a[1] - b[1]) <= JOIN_MM
+}
+
+fn xy(p: Point) -> String {
+    format!("({:.4}, {:.4})", p[0], p[1])
+}
+
+/// Chain open pieces end to end into closed loops; a piece that cannot be closed is an open contour.
+pub fn chain(file: &Path, pieces: Vec<Piece>) -> Result<Vec<Contour>, InputError> {
+    let mut left: Vec<Option<Piece>> = pieces.into_iter().map(Some).collect();
+    let mut loops = Vec::new();
+    while let Some(start) = left.iter().position(Option::is_some) {
+        let first = left[start].take().expect("found above");
+        let head = first.points[0];
+        let mut names = vec![first.entity.clone()];
+        let mut points = first.points;
+        loop {
+            let end = *points.last().expect("pieces have points");
+            if points.len() > 2 && close(end, head) {
+                points.pop();
+                break;
+            }
+            let next = left.iter().position(|p| {
+                p.as_ref().is_some_and(|p| {
+                    close(p.points[0], end) || close(*p.points.last().expect("points"), end)
+                })
+            });
+            let Some(k) = next else {
+                return Err(entity_error(
+                    file,
+                    &names[names.len() - 1],
+                    format!(
+                        "open contour: nothing continues it at {} mm (it started at {} mm); a part outline must be closed",
+                        xy(end),
+                        xy(head)
+                    ),
+                ));
+            };
+            let mut piece = left[k].take().expect("found above");
+            if !close(piece.points[0], end) {
+                piece.points.reverse();
+            }
+            names.push(piece.entity);
+            points.extend_from_slice(&piece.points[1..]);
+        }
+        let entity = match names.len() {
+            1 => names.remove(0),
+            n => format!("{} (+{} joined entities)", names[0], n - 1),
+        };
+        loops.push(Contour {
+            entity,
+            ring: points,
+        });
+    }
+    Ok(loops)
+}
+
+fn line_string(ring: &[Point]) -> LineString<f64> {
+    let mut coords: Vec<Coord<f64>> = ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
+    coords.push(coords[0]);
+    LineString::new(coords)
+}
+
+/// A contour's ring without repeated points, counter-clockwise, checked to be a simple ring.
+fn simple_ring(file: &Path, contour: &Contour) -> Result<Vec<Point>, InputError> {
+    let mut ring = cam_nest::clean_ring(&contour.ring);
+    if ring.iter().flatten().any(|c| !c.is_finite()) {
+        return Err(entity_error(
+            file,
+            &contour.entity,
+            "a coordinate is not a finite number",
+        ));
+    }
+    let a = signed_area(&ring);
+    if ring.len() < 3 || a.abs() < 1e-9 {
+        return Err(entity_error(
+            file,
+            &contour.entity,
+            "zero area: a closed contour needs at least three points not on one line",
+        ));
+    }
+    if a < 0.0 {
+        ring.reverse();
+    }
+    let polygon = Polygon::new(line_string(&ring), Vec::new());
+    if !polygon.validation_errors().is_empty() {
+        return Err(entity_error(
+            file,
+            &contour.entity,
+            "self-intersecting contour: its edges cross or touch; a part outline must be a simple closed curve",
+        ));
+    }
+    Ok(ring)
+}
+
+/// Nest the file's closed contours into parts: each contour not inside another is a part's outline,
+/// each contour directly inside one is a cut-out of that part. File order is kept.
+pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>, InputError> {
+    if contours.is_empty() {
+        return Err(InputError::whole_file(
+            file,
+            "no closed contour: a part file needs at least one closed LWPOLYLINE/POLYLINE, CIRCLE or loop of LINE/ARC entities (DXF), or a closed path, polygon, rect, circle or ellipse (SVG)",
+        ));
+    }
+    let rings: Vec<Vec<Point>> = contours
+        .iter()
+        .map(|c| simple_ring(file, c))
+        .collect::<Result<_, _>>()?;
+    let strings: Vec<LineString<f64>> = rings.iter().map(|r| line_string(r)).collect();
+    let polygons: Vec<Polygon<f64>> = strings
+        .iter()
+        .map(|s| Polygon::new(s.clone(), Vec::new()))
+        .collect();
+    for i in 0..rings.len() {
+        for j in i + 1..rings.len() {
+            if strings[i].intersects(&strings[j]) {
+                return Err(entity_error(
+                    file,
+                    &contours[j].entity,
+                    format!(
+                        "crosses or touches {}: contours of parts and their cut-outs must not meet",
+                        contours[i].entity
+                    ),
+                ));
+            }
+        }
+    }
+    // Contours do not cross, so one is inside another exactly when one of its points is.
+    let inside = |i: usize, j: usize| {
+        i != j
+            && polygons[j].contains(&Coord {
+                x: rings[i][0][0],
+                y: rings[i][0][1],
+            })
+    };
+    let depth: Vec<usize> = (0..rings.len())
+        .map(|i| (0..rings.len()).filter(|&j| inside(i, j)).count())
+        .collect();
+    let mut parts: Vec<(usize, ImportedPart)> = Vec::new();
+    for i in 0..rings.len() {
+        match depth[i] {
+            0 => parts.push((
+                i,
+                ImportedPart {
+                    file: file.to_path_buf(),
+                    entity: contours[i].entity.clone(),
+                    outer: rings[i].clone(),
+                    holes: Vec::new(),
+                },
+            )),
+            1 => {}
+            _ => {
+                return Err(entity_error(
+                    file,
+                    &contours[i].entity,
+                    "lies inside a cut-out of another part: the nester does not place parts inside holes; draw it beside the other part",
+                ))
+            }
+        }
+    }
+    for i in (0..rings.len()).filter(|&i| depth[i] == 1) {
+        let (_, part) = parts
+            .iter_mut()
+            .find(|(o, _)| inside(i, *o))
+            .expect("a depth-1 contour lies inside one outer contour");
+        part.holes.push(rings[i].clone());
+    }
+    Ok(parts.into_iter().map(|(_, p)| p).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn piece(name: &str, points: &[Point]) -> Piece {
+        Piece {
+            entity: name.into(),
+            points: points.to_vec(),
+        }
+    }
+
+    #[test]
+    fn pieces_in_any_direction_chain_into_one_loop() {
+        let loops = chain(
+            Path::new("f.dxf"),
+            vec![
+                piece("LINE handle A", &[[0.0, 0.0], [1.0, 0.0]]),
+                piece("LINE handle B", &[[1.0, 1.0], [1.0, 0.0]]),
+                piece("LINE handle C", &[[1.0, 1.0], [0.0, 1.0]]),
+                piece("LINE handle D", &[[0.0, 1.0], [0.0, 0.00001]]),
+            ],
+        )
+        .unwrap();
+        assert_eq!(loops.len(), 1);
+        assert_eq!(loops[0].ring.len(), 4);
+        assert!(loops[0].entity.starts_with("LINE handle A"));
+    }
+
+    #[test]
+    fn a_dangling_piece_is_an_open_contour_named_by_its_entity() {
+        let err = chain(
+            Path::new("f.dxf"),
+            vec![
+                piece("LINE handle A", &[[0.0, 0.0], [1.0, 0.0]]),
+                piece("LINE handle B", &[[1.0, 0.0], [1.0, 1.0]]),
+            ],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.starts_with("f.dxf: LINE handle B: open contour"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_contour_inside_another_is_its_cut_out() {
+        let square = |s: f64, o: f64| vec![[o, o], [o + s, o], [o + s, o + s], [o, o + s]];
+        let parts = assemble(
+            Path::new("f.svg"),
+            vec![
+                Contour {
+                    entity: "hole".into(),
+                    ring: square(1.0, 1.0),
+                },
+                Contour {
+                    entity: "outer".into(),
+                    ring: square(4.0, 0.0),
+                },
+                Contour {
+                    entity: "beside".into(),
+                    ring: square(1.0, 10.0),
+                },
+            ],
+        )
+        .unwrap();
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0].entity, "outer");
+        assert_eq!(parts[0].holes.len(), 1);
+        assert!((parts[0].area_mm2() - 15.0).abs() < 1e-12);
+    }
+}

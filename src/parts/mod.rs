@@ -1,0 +1,95 @@
+//! Extra parts a batch cuts beside its actuators (wing spars, flexures, spacers), imported from
+//! DXF or SVG drawings in millimetres.
+//!
+//! What is read: closed polylines (DXF LWPOLYLINE / POLYLINE with the closed flag or a repeated
+//! first point, bulges included), circles, and loops of LINE and ARC entities joined end to end
+//! ([`dxf`]); SVG `path`, `polygon`, `rect` (rounded corners included), `circle` and `ellipse`,
+//! through their `transform`s ([`svg`]). Arcs and curves are flattened into chords within
+//! [`flatten::TOLERANCE_MM`] (10 µm). Each contour that lies inside no other is a part; contours
+//! directly inside it are its cut-outs (a flexure's slot), cut before the outline. The nester
+//! places the outline and never puts another part into a cut-out.
+//!
+//! Refused, in one line naming the file and the entity (DXF handle, SVG element id or index):
+//! open contours, self-intersecting or zero-area contours, contours that cross, a part inside a
+//! cut-out, entities that are not geometry we can cut exactly (SPLINE, ELLIPSE, INSERT, …),
+//! drawings whose units are missing or not millimetres (DXF `$INSUNITS`, SVG `width`/`height`
+//! in mm with a `viewBox`), and files without a closed contour ([`contours`]). Whether a part fits
+//! its sheet is checked by the batch, which knows the sheet.
+
+pub mod contours;
+pub mod dxf;
+pub mod flatten;
+pub mod svg;
+
+use crate::input::InputError;
+use cam_geometry::{signed_area, Point};
+use std::path::{Path, PathBuf};
+
+/// One part read from a drawing: its outline and cut-outs, in mm, y up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportedPart {
+    /// The drawing.
+    pub file: PathBuf,
+    /// The entity of the outline (`LWPOLYLINE handle 2F`, `path id="flexure"`).
+    pub entity: String,
+    /// Outline, counter-clockwise, no closing repeat.
+    pub outer: Vec<Point>,
+    /// Cut-outs, counter-clockwise.
+    pub holes: Vec<Vec<Point>>,
+}
+
+impl ImportedPart {
+    /// Area of the material: outline less cut-outs, mm².
+    pub fn area_mm2(&self) -> f64 {
+        signed_area(&self.outer) - self.holes.iter().map(|h| signed_area(h)).sum::<f64>()
+    }
+}
+
+/// Read every part of a DXF or SVG drawing (by its extension).
+pub fn import(path: &Path) -> Result<Vec<ImportedPart>, InputError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let contours = match ext.as_deref() {
+        Some("dxf") => dxf::contours(path)?,
+        Some("svg") => svg::contours(path)?,
+        _ => {
+            return Err(InputError::whole_file(
+                path,
+                "not a part drawing: extra parts are read from .dxf or .svg files",
+            ))
+        }
+    };
+    contours::assemble(path, contours)
+}
+
+/// Which sheets an extra part is cut from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PartSheet {
+    /// The prepreg (passive) sheets of the batch's designs with this layup: the same sheets as the
+    /// passive parts of design `like` (an index into the batch's items).
+    Prepreg {
+        /// Layup, degrees.
+        layup_deg: Vec<f64>,
+        /// A design of the batch laid up this way.
+        like: usize,
+    },
+    /// The Pyralux bond-layer sheets (method 1).
+    Pyralux,
+}
+
+/// An extra part of a batch: what, how many, where, at which rotations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartOrder {
+    /// Name in reports and drawings (the file stem, numbered when the file holds several parts).
+    pub name: String,
+    /// The part.
+    pub part: ImportedPart,
+    /// Copies to cut.
+    pub quantity: usize,
+    /// Rotations the part may be cut at, degrees counter-clockwise.
+    pub rotations_deg: Vec<f64>,
+    /// Its sheets.
+    pub sheet: PartSheet,
+}

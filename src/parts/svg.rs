@@ -1,0 +1,458 @@
+//! Part contours from an SVG drawing (XML through `roxmltree`, attribute syntax through
+//! `svgtypes`): `path` (every command, arcs included; each subpath a contour), `polygon`, `rect`
+//! (rounded corners too), `circle` and `ellipse`, through the `transform`s of the element and its
+//! groups. Contents of `defs`, `clipPath`, `mask`, `symbol`, `marker` and `pattern` are not drawn
+//! and are skipped, as are `text` and elements of other namespaces (editor metadata). `line`,
+//! `polyline` and unclosed subpaths are open contours; `use` and `image` are refused.
+//!
+//! Units: the root's `width` and `height` must be lengths in millimetres and a `viewBox` must map
+//! user units onto them with the same scale on both axes. Coordinates become mm with y up (the
+//! page's bottom-left corner is the origin), as every other drawing here.
+
+use super::contours::{entity_error, Contour};
+use super::flatten::{cubic, elliptical_arc, quadratic, TOLERANCE_MM};
+use crate::input::InputError;
+use cam_geometry::Point;
+use roxmltree::{Document, Node};
+use std::path::Path;
+use svgtypes::{Length, LengthUnit, PathParser, PathSegment, Transform, ViewBox};
+
+const SVG_NS: &str = "http://www.w3.org/2000/svg";
+
+/// Elements whose contents are not drawn where they stand.
+const NOT_RENDERED: [&str; 8] = [
+    "defs", "clipPath", "mask", "symbol", "marker", "pattern", "metadata", "text",
+];
+
+fn multiply(p: &Transform, c: &Transform) -> Transform {
+    Transform::new(
+        p.a * c.a + p.c * c.b,
+        p.b * c.a + p.d * c.b,
+        p.a * c.c + p.c * c.d,
+        p.b * c.c + p.d * c.d,
+        p.a * c.e + p.c * c.f + p.e,
+        p.b * c.e + p.d * c.f + p.f,
+    )
+}
+
+fn apply(t: &Transform, p: Point) -> Point {
+    [t.a * p[0] + t.c * p[1] + t.e, t.b * p[0] + t.d * p[1] + t.f]
+}
+
+/// Where the file's user units land: user → mm, y up.
+struct Page {
+    to_mm: Transform,
+}
+
+fn page(file: &Path, root: Node<'_, '_>) -> Result<Page, InputError> {
+    let allowed =
+        "parts must be drawn in millimetres: give the <svg> width and height in mm (e.g. width=\"100mm\") and a viewBox";
+    let length = |key: &str| -> Result<f64, InputError> {
+        let field = format!("<svg> {key}");
+        let Some(text) = root.attribute(key) else {
+            return Err(InputError::invalid(file, &field, "missing", allowed));
+        };
+        match text.parse::<Length>() {
+            Ok(Length {
+                number,
+                unit: LengthUnit::Mm,
+            }) if number.is_finite() && number > 0.0 => Ok(number),
+            Ok(Length {
+                unit: LengthUnit::Mm,
+                ..
+            }) => Err(InputError::invalid(
+                file,
+                &field,
+                format!("{text:?}"),
+                "must be a positive length in mm",
+            )),
+            Ok(Length {
+                unit: LengthUnit::None,
+                ..
+            }) => Err(InputError::invalid(
+                file,
+                &field,
+                format!("{text:?} (no unit)"),
+                allowed,
+            )),
+            _ => Err(InputError::invalid(
+                file,
+                &field,
+                format!("{text:?} (not mm)"),
+                allowed,
+            )),
+        }
+    };
+    let width = length("width")?;
+    let height = length("height")?;
+    let Some(text) = root.attribute("viewBox") else {
+        return Err(InputError::invalid(
+            file,
+            "<svg> viewBox",
+            "missing",
+            allowed,
+        ));
+    };
+    let vb: ViewBox = text
+        .parse()
+        .ok()
+        .filter(|v: &ViewBox| v.w > 0.0 && v.h > 0.0)
+        .ok_or_else(|| {
+            InputError::invalid(
+                file,
+                "<svg> viewBox",
+                format!("{text:?}"),
+                "expected four numbers: min-x min-y width height, width and height positive",
+            )
+        })?;
+    let (sx, sy) = (width / vb.w, height / vb.h);
+    if ((sx - sy) / sx).abs() > 1e-6 {
+        return Err(InputError::invalid(
+            file,
+            "<svg> viewBox",
+            format!("{text:?}"),
+            format!(
+                "its aspect ratio differs from width x height ({width} x {height} mm): user units would be scaled differently along x and y"
+            ),
+        ));
+    }
+    // x_mm = (x - min_x) sx; y_mm (up) = height - (y - min_y) sy.
+    Ok(Page {
+        to_mm: Transform::new(sx, 0.0, 0.0, -sy, -vb.x * sx, height + vb.y * sy),
+    })
+}
+
+/// One element's contours in its own user units (closed flag per subpath).
+type Subpaths = Vec<(Vec<Point>, bool)>;
+
+fn number(file: &Path, entity: &str, node: Node<'_, '_>, key: &str) -> Result<f64, InputError> {
+    match node.attribute(key) {
+        None => Ok(0.0),
+        Some(text) => match text.parse::<Length>() {
+            Ok(Length {
+                number,
+                unit: LengthUnit::None | LengthUnit::Mm,
+            }) if number.is_finite() => Ok(number),
+            _ => Err(entity_error(
+                file,
+                entity,
+                format!("{key} = {text:?}: expected a number in user units"),
+            )),
+        },
+    }
+}
+
+fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpaths, InputError> {
+    let mut out: Subpaths = Vec::new();
+    let mut current: Vec<Point> = Vec::new();
+    let mut pos = [0.0, 0.0];
+    let mut start = [0.0, 0.0];
+    // The last control point, for the smooth (S, T) commands.
+    let mut last_cubic: Option<Point> = None;
+    let mut last_quad: Option<Point> = None;
+    let flush = |current: &mut Vec<Point>, out: &mut Subpaths, closed: bool| {
+        if current.len() > 1 {
+            out.push((std::mem::take(current), closed));
+        } else {
+            current.clear();
+        }
+    };
+    for segment in PathParser::from(d) {
+        let segment = segment
+            .map_err(|e| entity_error(file, entity, format!("path data d is not valid: {e}")))?;
+        let abs_point = |abs: bool, x: f64, y: f64| {
+            if abs {
+                [x, y]
+            } else {
+                [pos[0] + x, pos[1] + y]
+            }
+        };
+        let mut next_cubic = None;
+        let mut next_quad = None;
+        match segment {
+            PathSegment::MoveTo { abs, x, y } => {
+                flush(&mut current, &mut out, false);
+                pos = abs_point(abs, x, y);
+                start = pos;
+                current.push(pos);
+            }
+            PathSegment::LineTo { abs, x, y } => {
+                pos = abs_point(abs, x, y);
+                current.push(pos);
+            }
+            PathSegment::HorizontalLineTo { abs, x } => {
+                pos = [if abs { x } else { pos[0] + x }, pos[1]];
+                current.push(pos);
+            }
+            PathSegment::VerticalLineTo { abs, y } => {
+                pos = [pos[0], if abs { y } else { pos[1] + y }];
+                current.push(pos);
+            }
+            PathSegment::CurveTo {
+                abs,
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+            } => {
+                let (c1, c2, to) = (
+                    abs_point(abs, x1, y1),
+                    abs_point(abs, x2, y2),
+                    abs_point(abs, x, y),
+                );
+                current.extend(cubic([pos, c1, c2, to], tol));
+                next_cubic = Some(c2);
+                pos = to;
+            }
+            PathSegment::SmoothCurveTo { abs, x2, y2, x, y } => {
+                let c1 = last_cubic.map_or(pos, |c| [2.0 * pos[0] - c[0], 2.0 * pos[1] - c[1]]);
+                let (c2, to) = (abs_point(abs, x2, y2), abs_point(abs, x, y));
+                current.extend(cubic([pos, c1, c2, to], tol));
+                next_cubic = Some(c2);
+                pos = to;
+            }
+            PathSegment::Quadratic { abs, x1, y1, x, y } => {
+                let (c, to) = (abs_point(abs, x1, y1), abs_point(abs, x, y));
+                current.extend(quadratic(pos, c, to, tol));
+                next_quad = Some(c);
+                pos = to;
+            }
+            PathSegment::SmoothQuadratic { abs, x, y } => {
+                let c = last_quad.map_or(pos, |c| [2.0 * pos[0] - c[0], 2.0 * pos[1] - c[1]]);
+                let to = abs_point(abs, x, y);
+                current.extend(quadratic(pos, c, to, tol));
+                next_quad = Some(c);
+                pos = to;
+            }
+            PathSegment::EllipticalArc {
+                abs,
+                rx,
+                ry,
+                x_axis_rotation,
+                large_arc,
+                sweep,
+                x,
+                y,
+            } => {
+                let to = abs_point(abs, x, y);
+                current.extend(elliptical_arc(
+                    pos,
+                    to,
+                    rx,
+                    ry,
+                    x_axis_rotation,
+                    large_arc,
+                    sweep,
+                    tol,
+                ));
+                pos = to;
+            }
+            PathSegment::ClosePath { .. } => {
+                flush(&mut current, &mut out, true);
+                pos = start;
+                current.push(pos);
+            }
+        }
+        last_cubic = next_cubic;
+        last_quad = next_quad;
+    }
+    flush(&mut current, &mut out, false);
+    Ok(out)
+}
+
+fn ellipse(cx: f64, cy: f64, rx: f64, ry: f64, tol: f64) -> Vec<Point> {
+    let mut ring = elliptical_arc([cx + rx, cy], [cx - rx, cy], rx, ry, 0.0, false, true, tol);
+    ring.extend(elliptical_arc(
+        [cx - rx, cy],
+        [cx + rx, cy],
+        rx,
+        ry,
+        0.0,
+        false,
+        true,
+        tol,
+    ));
+    ring
+}
+
+/// A rectangle, its corners rounded by `rx`, `ry` (SVG 1.1 §9.2: a missing one takes the other's
+/// value, each at most half the side).
+fn rect(x: f64, y: f64, w: f64, h: f64, rx: f64, ry: f64, tol: f64) -> Vec<Point> {
+    let (rx, ry) = ((rx.min(w / 2.0)).max(0.0), (ry.min(h / 2.0)).max(0.0));
+    if rx == 0.0 || ry == 0.0 {
+        return vec![[x, y], [x + w, y], [x + w, y + h], [x, y + h]];
+    }
+    let mut ring = vec![[x + rx, y]];
+    let corner = |ring: &mut Vec<Point>, to: Point| {
+        let from = *ring.last().expect("started");
+        ring.extend(elliptical_arc(from, to, rx, ry, 0.0, false, true, tol));
+    };
+    ring.push([x + w - rx, y]);
+    corner(&mut ring, [x + w, y + ry]);
+    ring.push([x + w, y + h - ry]);
+    corner(&mut ring, [x + w - rx, y + h]);
+    ring.push([x + rx, y + h]);
+    corner(&mut ring, [x, y + h - ry]);
+    ring.push([x, y + ry]);
+    corner(&mut ring, [x + rx, y]);
+    ring.pop();
+    ring
+}
+
+/// The largest factor by which `t` stretches a length (bounded by its Frobenius norm).
+fn stretch(t: &Transform) -> f64 {
+    (t.a * t.a + t.b * t.b + t.c * t.c + t.d * t.d)
+        .sqrt()
+        .max(1e-12)
+}
+
+struct Walk<'f> {
+    file: &'f Path,
+    shapes: usize,
+    contours: Vec<Contour>,
+}
+
+impl Walk<'_> {
+    fn element(&mut self, node: Node<'_, '_>, parent: &Transform) -> Result<(), InputError> {
+        if !node.is_element() || node.tag_name().namespace() != Some(SVG_NS) {
+            return Ok(());
+        }
+        let tag = node.tag_name().name();
+        if NOT_RENDERED.contains(&tag) {
+            return Ok(());
+        }
+        let is_shape = matches!(
+            tag,
+            "path"
+                | "polygon"
+                | "polyline"
+                | "line"
+                | "rect"
+                | "circle"
+                | "ellipse"
+                | "use"
+                | "image"
+        );
+        if is_shape {
+            self.shapes += 1;
+        }
+        let entity = match node.attribute("id") {
+            Some(id) => format!("<{tag} id=\"{id}\">"),
+            None => format!("<{tag}> #{} (no id)", self.shapes),
+        };
+        let own = match node.attribute("transform") {
+            None => Transform::default(),
+            Some(text) => text.parse::<Transform>().map_err(|e| {
+                entity_error(
+                    self.file,
+                    &entity,
+                    format!("transform {text:?} is not valid: {e}"),
+                )
+            })?,
+        };
+        let t = multiply(parent, &own);
+        let tol = TOLERANCE_MM / stretch(&t);
+        let file = self.file;
+        let num = |key: &str| number(file, &entity, node, key);
+        let subpaths: Subpaths = match tag {
+            "svg" | "g" | "a" | "switch" => {
+                for child in node.children() {
+                    self.element(child, &t)?;
+                }
+                return Ok(());
+            }
+            "path" => path_subpaths(file, &entity, node.attribute("d").unwrap_or(""), tol)?,
+            "polygon" | "polyline" => {
+                let points: Vec<Point> = svgtypes::PointsParser::from(
+                    node.attribute("points").unwrap_or(""),
+                )
+                .map(|(x, y)| [x, y])
+                .collect();
+                vec![(points, tag == "polygon")]
+            }
+            "line" => vec![(
+                vec![[num("x1")?, num("y1")?], [num("x2")?, num("y2")?]],
+                false,
+            )],
+            "rect" => {
+                let (w, h) = (num("width")?, num("height")?);
+                if !(w > 0.0 && h > 0.0) {
+                    return Err(entity_error(file, &entity, "zero area: width and height must be positive"));
+                }
+                let (rx, ry) = match (node.attribute("rx"), node.attribute("ry")) {
+                    (None, None) => (0.0, 0.0),
+                    (Some(_), None) => (num("rx")?, num("rx")?),
+                    (None, Some(_)) => (num("ry")?, num("ry")?),
+                    _ => (num("rx")?, num("ry")?),
+                };
+                vec![(rect(num("x")?, num("y")?, w, h, rx, ry, tol), true)]
+            }
+            "circle" | "ellipse" => {
+                let (rx, ry) = if tag == "circle" {
+                    (num("r")?, num("r")?)
+                } else {
+                    (num("rx")?, num("ry")?)
+                };
+                if !(rx > 0.0 && ry > 0.0) {
+                    return Err(entity_error(file, &entity, "zero area: the radius must be positive"));
+                }
+                vec![(ellipse(num("cx")?, num("cy")?, rx, ry, tol), true)]
+            }
+            "use" | "image" => {
+                return Err(entity_error(
+                    file,
+                    &entity,
+                    "not a supported part element: draw parts as path, polygon, rect, circle or ellipse (unlink clones, trace images)",
+                ))
+            }
+            _ => return Ok(()),
+        };
+        for (k, (points, closed)) in subpaths.into_iter().enumerate() {
+            let name = if k == 0 {
+                entity.clone()
+            } else {
+                format!("{entity} subpath {}", k + 1)
+            };
+            let first = points[0];
+            let last = points[points.len() - 1];
+            let ends_meet =
+                points.len() > 2 && (first[0] - last[0]).hypot(first[1] - last[1]) <= 1e-9;
+            if !(closed || ends_meet) {
+                return Err(entity_error(
+                    file,
+                    &name,
+                    "open contour: a part outline must be closed (end the path with Z, or use polygon instead of polyline/line)",
+                ));
+            }
+            self.contours.push(Contour {
+                entity: name,
+                ring: points.iter().map(|p| apply(&t, *p)).collect(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Every closed contour of the drawing, in mm, y up.
+pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
+    let text = std::fs::read_to_string(file).map_err(|e| InputError::io(file, &e))?;
+    let doc = Document::parse(&text)
+        .map_err(|e| InputError::whole_file(file, format!("not a readable SVG file: {e}")))?;
+    let root = doc.root_element();
+    if root.tag_name().name() != "svg" || root.tag_name().namespace() != Some(SVG_NS) {
+        return Err(InputError::whole_file(
+            file,
+            "not an SVG drawing: the root element is not <svg> in the SVG namespace",
+        ));
+    }
+    let page = page(file, root)?;
+    let mut walk = Walk {
+        file,
+        shapes: 0,
+        contours: Vec::new(),
+    };
+    walk.element(root, &page.to_mm)?;
+    Ok(walk.contours)
+}

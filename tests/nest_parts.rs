@@ -1,0 +1,817 @@
+//! Extra parts from DXF and SVG drawings nested with actuators (issue 15 item 3), roll stock
+//! (`strip = true`, item 4) and the nest progress (item 2): the layouts are checked again from the
+//! files written (areas read back against closed forms, clearance between the outlines), every
+//! kind of bad drawing is refused in one line naming the file and the entity.
+
+mod common;
+use actuator_cam::batch::{plan_observed, Batch, NestOptions};
+use actuator_cam::cam::svg::read_svg_polygons;
+use actuator_cam::parts::flatten::TOLERANCE_MM;
+use actuator_cam::pipeline::NestObserver;
+use cam_nest::{clearance, Clearance, NestProgress};
+use common::*;
+use geo::{Contains, Coord};
+use std::cell::RefCell;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+// ---- The example drawings, generated here so that they are reproducible ----------------------
+
+/// One DXF entity's group codes.
+fn codes(pairs: &[(i32, String)]) -> String {
+    pairs
+        .iter()
+        .map(|(c, v)| format!("{c:>3}\n{v}\n"))
+        .collect()
+}
+
+/// A minimal R2000 DXF: header with `$INSUNITS` (none when `None`), then the entities.
+fn dxf_text(insunits: Option<i32>, entities: &[String]) -> String {
+    let mut header = vec![
+        (0, "SECTION".to_string()),
+        (2, "HEADER".into()),
+        (9, "$ACADVER".into()),
+        (1, "AC1015".into()),
+    ];
+    if let Some(u) = insunits {
+        header.extend([(9, "$INSUNITS".to_string()), (70, u.to_string())]);
+    }
+    header.extend([
+        (0, "ENDSEC".to_string()),
+        (0, "SECTION".into()),
+        (2, "ENTITIES".into()),
+    ]);
+    let mut text = codes(&header);
+    for e in entities {
+        text.push_str(e);
+    }
+    text + &codes(&[(0, "ENDSEC".into()), (0, "EOF".into())])
+}
+
+/// A LWPOLYLINE of `(x, y, bulge)` vertices.
+fn lwpolyline(handle: &str, vertices: &[(f64, f64, f64)], closed: bool) -> String {
+    let mut pairs = vec![
+        (0, "LWPOLYLINE".to_string()),
+        (5, handle.into()),
+        (100, "AcDbEntity".into()),
+        (8, "PARTS".into()),
+        (100, "AcDbPolyline".into()),
+        (90, vertices.len().to_string()),
+        (70, if closed { "1" } else { "0" }.into()),
+    ];
+    for (x, y, b) in vertices {
+        pairs.extend([(10, x.to_string()), (20, y.to_string())]);
+        if *b != 0.0 {
+            pairs.push((42, b.to_string()));
+        }
+    }
+    codes(&pairs)
+}
+
+fn circle(handle: &str, c: [f64; 2], r: f64) -> String {
+    codes(&[
+        (0, "CIRCLE".into()),
+        (5, handle.into()),
+        (100, "AcDbEntity".into()),
+        (8, "PARTS".into()),
+        (100, "AcDbCircle".into()),
+        (10, c[0].to_string()),
+        (20, c[1].to_string()),
+        (30, "0".into()),
+        (40, r.to_string()),
+    ])
+}
+
+fn line(handle: &str, a: [f64; 2], b: [f64; 2]) -> String {
+    codes(&[
+        (0, "LINE".into()),
+        (5, handle.into()),
+        (100, "AcDbEntity".into()),
+        (8, "PARTS".into()),
+        (100, "AcDbLine".into()),
+        (10, a[0].to_string()),
+        (20, a[1].to_string()),
+        (30, "0".into()),
+        (11, b[0].to_string()),
+        (21, b[1].to_string()),
+        (31, "0".into()),
+    ])
+}
+
+fn arc(handle: &str, c: [f64; 2], r: f64, start_deg: f64, end_deg: f64) -> String {
+    codes(&[
+        (0, "ARC".into()),
+        (5, handle.into()),
+        (100, "AcDbEntity".into()),
+        (8, "PARTS".into()),
+        (100, "AcDbCircle".into()),
+        (10, c[0].to_string()),
+        (20, c[1].to_string()),
+        (30, "0".into()),
+        (40, r.to_string()),
+        (100, "AcDbArc".into()),
+        (50, start_deg.to_string()),
+        (51, end_deg.to_string()),
+    ])
+}
+
+fn text_entity(handle: &str) -> String {
+    codes(&[
+        (0, "TEXT".into()),
+        (5, handle.into()),
+        (100, "AcDbEntity".into()),
+        (8, "NOTES".into()),
+        (100, "AcDbText".into()),
+        (10, "0".into()),
+        (20, "0".into()),
+        (30, "0".into()),
+        (40, "2".into()),
+        (1, "spar".into()),
+    ])
+}
+
+/// The wing spar: 60 mm long, 4 mm wide at the root tapering to 2 mm, a round tip (a bulge of 1:
+/// a half circle of radius 1), a 1.5 mm pin hole 4 mm from the root.
+fn spar_dxf() -> String {
+    dxf_text(
+        Some(4),
+        &[
+            lwpolyline(
+                "A1",
+                &[
+                    (0.0, -2.0, 0.0),
+                    (60.0, -1.0, 1.0),
+                    (60.0, 1.0, 0.0),
+                    (0.0, 2.0, 0.0),
+                ],
+                true,
+            ),
+            circle("A2", [4.0, 0.0], 0.75),
+        ],
+    )
+}
+
+/// Closed form of the spar (independent of the importer): trapezoid 60 x (4 + 2) / 2, plus the half
+/// disc of the tip, less the hole; and the length of its arcs (what flattening may lose).
+const SPAR_AREA_MM2: f64 = 180.0 + PI / 2.0 - PI * 0.75 * 0.75;
+const SPAR_ARCS_MM: f64 = PI + 2.0 * PI * 0.75;
+
+/// The flexure: a 16 x 6 mm plate with 1 mm corner radii and a 6 x 1 mm slot with round ends,
+/// drawn in a 20 x 10 mm page whose viewBox is in tenths of a millimetre, inside a group moved
+/// by a transform.
+fn flexure_svg() -> String {
+    r#"<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" width="20mm" height="10mm" viewBox="0 0 200 100">
+  <title>flexure with a slot</title>
+  <g id="flexure-part" transform="translate(20 20) scale(10)">
+    <rect id="flexure" x="0" y="0" width="16" height="6" rx="1"/>
+    <path id="slot" d="M 5 2.5 H 11 A 0.5 0.5 0 0 1 11 3.5 H 5 A 0.5 0.5 0 0 1 5 2.5 Z"/>
+  </g>
+</svg>
+"#
+    .to_string()
+}
+
+/// Closed form of the flexure: 16 x 6 less the four corners' (1 - π/4) r², less the slot
+/// (6 x 1 plus a disc of 0.5).
+const FLEXURE_AREA_MM2: f64 = 96.0 - (4.0 - PI) - (6.0 + PI * 0.25);
+const FLEXURE_ARCS_MM: f64 = 2.0 * PI + PI;
+
+#[test]
+fn example_drawings_match_their_generator() {
+    // EXAMPLES_UPDATE=1 writes them; otherwise the shipped files must be what this file makes.
+    for (name, text) in [("spar.dxf", spar_dxf()), ("flexure.svg", flexure_svg())] {
+        let path = example_path(&format!("parts/{name}"));
+        if std::env::var_os("EXAMPLES_UPDATE").is_some() {
+            std::fs::write(&path, &text).unwrap();
+        }
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            text,
+            "{name}: regenerate with EXAMPLES_UPDATE=1"
+        );
+    }
+}
+
+#[test]
+fn imported_areas_match_the_closed_forms() {
+    let spar = actuator_cam::parts::import(&example_path("parts/spar.dxf")).unwrap();
+    assert_eq!(spar.len(), 1);
+    assert_eq!(spar[0].holes.len(), 1);
+    assert_eq!(spar[0].entity, "LWPOLYLINE handle A1");
+    let err = (spar[0].area_mm2() - SPAR_AREA_MM2).abs();
+    assert!(err <= SPAR_ARCS_MM * TOLERANCE_MM, "spar area off by {err}");
+    let flexure = actuator_cam::parts::import(&example_path("parts/flexure.svg")).unwrap();
+    assert_eq!(flexure.len(), 1);
+    assert_eq!(flexure[0].holes.len(), 1);
+    assert_eq!(flexure[0].entity, "<rect id=\"flexure\">");
+    let err = (flexure[0].area_mm2() - FLEXURE_AREA_MM2).abs();
+    assert!(
+        err <= FLEXURE_ARCS_MM * TOLERANCE_MM,
+        "flexure area off by {err}"
+    );
+    // The group's translate(20 20) in tenths of a mm and the y flip: 2 mm in, 10 - 2 mm down.
+    let xs = flexure[0].outer.iter().map(|p| p[0]);
+    let ys = flexure[0].outer.iter().map(|p| p[1]);
+    assert!((xs.clone().fold(f64::INFINITY, f64::min) - 2.0).abs() < 1e-9);
+    assert!((xs.fold(0.0, f64::max) - 18.0).abs() < 1e-9);
+    assert!((ys.fold(0.0, f64::max) - 8.0).abs() < 1e-9);
+}
+
+#[test]
+fn lines_and_arcs_chain_into_the_same_part_as_a_polyline_with_a_bulge() {
+    // The spar drawn as LINE + ARC + LINE + LINE in scrambled order and direction.
+    let text = dxf_text(
+        Some(4),
+        &[
+            line("B1", [0.0, 2.0], [60.0, 1.0]),
+            arc("B2", [60.0, 0.0], 1.0, -90.0, 90.0),
+            line("B3", [0.0, -2.0], [0.0, 2.0]),
+            line("B4", [60.0, -1.0], [0.0, -2.0]),
+            circle("B5", [4.0, 0.0], 0.75),
+            text_entity("B6"),
+        ],
+    );
+    let (_dir, path) = write_temp("chained.dxf", &text);
+    let parts = actuator_cam::parts::import(&path).unwrap();
+    assert_eq!(parts.len(), 1);
+    let err = (parts[0].area_mm2() - SPAR_AREA_MM2).abs();
+    assert!(err <= SPAR_ARCS_MM * TOLERANCE_MM, "off by {err}");
+}
+
+// ---- Batches in a scratch folder ------------------------------------------------------------
+
+/// A scratch folder with thesis C and A built by a method-2 template whose prepreg kerf is
+/// `kerf_mm`, the example drawings, and `batch.toml` = the designs plus `tail`.
+fn scratch(kerf_mm: f64, items: &str, tail: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let template = shipped_template("method-2.toml");
+    // The passive layer's kerf only: the [layers.passive] table's kerf_mm line.
+    let mut out = String::new();
+    let mut in_passive = false;
+    for l in template.lines() {
+        if l.starts_with('[') {
+            in_passive = l.trim() == "[layers.passive]";
+        }
+        if in_passive && l.starts_with("kerf_mm") {
+            out.push_str(&format!("kerf_mm = {kerf_mm}\n"));
+        } else {
+            out.push_str(l);
+            out.push('\n');
+        }
+    }
+    std::fs::write(d.join("process.toml"), out).unwrap();
+    for name in ["thesis-C", "thesis-A"] {
+        let text = std::fs::read_to_string(example_path(&format!("{name}.toml")))
+            .unwrap()
+            .replace(
+                "process = \"method-2\"",
+                &format!("process = \"{}\"", d.join("process.toml").display()),
+            );
+        std::fs::write(d.join(format!("{name}.toml")), text).unwrap();
+    }
+    std::fs::create_dir(d.join("parts")).unwrap();
+    std::fs::write(d.join("parts/spar.dxf"), spar_dxf()).unwrap();
+    std::fs::write(d.join("parts/flexure.svg"), flexure_svg()).unwrap();
+    let batch = d.join("batch.toml");
+    std::fs::write(
+        &batch,
+        format!("name = \"parts\"\nseed = 3\n{items}\n{tail}\n"),
+    )
+    .unwrap();
+    (dir, batch)
+}
+
+const ITEMS: &str = "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 6\n\n[[item]]\ndesign = \"thesis-A.toml\"\nquantity = 3\n";
+
+const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nrotations_deg = [0, 90, 180, 270]\n";
+
+fn report(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap()).unwrap()
+}
+
+/// Closed rings of the DXF's LWPOLYLINEs on the cut layer.
+fn dxf_rings(path: &Path) -> Vec<Vec<[f64; 2]>> {
+    let drawing = dxf::Drawing::load_file(path).unwrap();
+    drawing
+        .entities()
+        .filter_map(|e| match &e.specific {
+            dxf::entities::EntityType::LwPolyline(p)
+                if p.is_closed() && e.common.layer == "CUT" =>
+            {
+                Some(p.vertices.iter().map(|v| [v.x, v.y]).collect())
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// Each outer ring (inside no other) with its material area: its area less the rings inside it.
+fn net_areas(rings: &[Vec<[f64; 2]>]) -> Vec<(usize, f64)> {
+    let polys: Vec<_> = rings.iter().map(|r| polygon(r)).collect();
+    let inside = |i: usize, j: usize| {
+        i != j
+            && polys[j].contains(&Coord {
+                x: rings[i][0][0],
+                y: rings[i][0][1],
+            })
+    };
+    (0..rings.len())
+        .filter(|&i| (0..rings.len()).all(|j| !inside(i, j)))
+        .map(|i| {
+            let holes: f64 = (0..rings.len())
+                .filter(|&k| inside(k, i))
+                .map(|k| area(&rings[k]))
+                .sum();
+            (i, area(&rings[i]) - holes)
+        })
+        .collect()
+}
+
+fn count_near(areas: &[f64], target: f64, tol: f64) -> usize {
+    areas.iter().filter(|a| (*a - target).abs() <= tol).count()
+}
+
+#[test]
+fn parts_from_a_dxf_and_an_svg_nest_with_actuators_and_read_back_with_their_areas() {
+    // Kerf 0 on the prepreg: the cut paths are the drawn outlines, so the areas read back from the
+    // files are the drawings' areas (closed forms above, within the flattening tolerance).
+    let (dir, batch) = scratch(0.0, ITEMS, PARTS);
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "60",
+        "--format",
+        "svg,dxf",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    let parts = r["parts"].as_array().unwrap();
+    assert_eq!(parts.len(), 2);
+    assert_eq!(parts[0]["sheet"], "prepreg, layup 0/90/0");
+    assert_eq!(parts[1]["sheet"], "prepreg, layup 0/0/90/0/0");
+    // Every copy on a passive sheet of its layup.
+    let sheets = r["sheets"].as_array().unwrap();
+    let placed = |name: &str, layup: &str| -> usize {
+        sheets
+            .iter()
+            .filter(|s| s["material"].as_str().unwrap().contains(layup))
+            .flat_map(|s| s["parts"].as_array().unwrap())
+            .filter(|p| p["design"] == name && p["part"] == "part")
+            .count()
+    };
+    assert_eq!(placed("spar", "layup 0/90/0"), 5);
+    assert_eq!(placed("flexure", "layup 0/0/90/0/0"), 4);
+    let spar_tol = SPAR_ARCS_MM * TOLERANCE_MM + 1e-5;
+    let flexure_tol = FLEXURE_ARCS_MM * TOLERANCE_MM + 1e-5;
+    let (mut spars, mut flexures) = (0, 0);
+    for s in sheets.iter().filter(|s| s["layer"] == "passive") {
+        let stem = s["file_stem"].as_str().unwrap();
+        let (w, h) = (
+            s["width_mm"].as_f64().unwrap(),
+            s["height_mm"].as_f64().unwrap(),
+        );
+        // DXF: material areas of the outlines, and the clearance between them.
+        let rings = dxf_rings(&out.join(format!("{stem}.dxf")));
+        let nets = net_areas(&rings);
+        let areas: Vec<f64> = nets.iter().map(|(_, a)| *a).collect();
+        spars += count_near(&areas, SPAR_AREA_MM2, spar_tol);
+        flexures += count_near(&areas, FLEXURE_AREA_MM2, flexure_tol);
+        let outers: Vec<&[[f64; 2]]> = nets.iter().map(|(i, _)| rings[*i].as_slice()).collect();
+        assert_eq!(outers.len(), s["parts"].as_array().unwrap().len());
+        // Kerf 0 and the template's 0.5 mm spacing: the outlines read back keep 0.5 mm apart and
+        // from the sheet edge.
+        let violations = clearance(&outers, w, h, Clearance::uniform(0.5), 1e-6);
+        assert!(violations.is_empty(), "{stem}: {violations:?}");
+        // SVG: the same outlines, read back from the other file.
+        let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
+        let svg_rings: Vec<Vec<[f64; 2]>> = read_svg_polygons(&svg)
+            .unwrap()
+            .into_iter()
+            .map(|(_, r)| r)
+            .collect();
+        let svg_areas: Vec<f64> = net_areas(&svg_rings).iter().map(|(_, a)| *a).collect();
+        assert_eq!(
+            count_near(&svg_areas, SPAR_AREA_MM2, spar_tol + 1e-4),
+            count_near(&areas, SPAR_AREA_MM2, spar_tol),
+            "{stem}"
+        );
+        assert_eq!(
+            count_near(&svg_areas, FLEXURE_AREA_MM2, flexure_tol + 1e-4),
+            count_near(&areas, FLEXURE_AREA_MM2, flexure_tol),
+            "{stem}"
+        );
+    }
+    assert_eq!((spars, flexures), (5, 4));
+    // The markdown report lists them too.
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("## Parts from drawings"));
+    assert!(
+        md.contains("| spar | 5 | prepreg, layup 0/90/0 | 0/180 |"),
+        "{md}"
+    );
+}
+
+#[test]
+fn the_example_batch_with_parts_nests_and_is_deterministic() {
+    let dir = tempfile::tempdir().unwrap();
+    let batch = example_path("batch-with-parts.toml");
+    let a = dir.path().join("a");
+    let b = dir.path().join("b");
+    for out in [&a, &b] {
+        let o = run(&[
+            "nest",
+            batch.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--iterations",
+            "40",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let (fa, fb) = (files(&a), files(&b));
+    assert_eq!(fa.keys().collect::<Vec<_>>(), fb.keys().collect::<Vec<_>>());
+    for (k, v) in &fa {
+        if k.ends_with(".dxf") || k.ends_with(".svg") {
+            assert_eq!(v, &fb[k], "{k} differs between two runs");
+        }
+    }
+    let r = report(&a);
+    assert_eq!(r["parts"].as_array().unwrap().len(), 2);
+}
+
+#[test]
+fn a_roll_nests_one_strip_and_reports_its_used_length() {
+    let tail = "[sheets]\nprepreg = { width_mm = 80, strip = true }\n";
+    let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "60",
+        "--format",
+        "svg,dxf",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    let passive: Vec<&serde_json::Value> = r["sheets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["layer"] == "passive")
+        .collect();
+    // One strip per layup, each the roll's width, as long as it was used.
+    assert_eq!(passive.len(), 2);
+    for (s, b) in passive.iter().zip(r["baseline"].as_array().unwrap()) {
+        assert_eq!(s["roll"], true);
+        assert_eq!(s["width_mm"], 80.0);
+        let length = s["height_mm"].as_f64().unwrap();
+        assert_eq!(b["strip_length_mm"].as_f64().unwrap(), length);
+        // At least the part area over the width, at most the bounding-box baseline's length
+        // plus the 0.1 mm rounding.
+        let part_area: f64 = s["utilization"].as_f64().unwrap() * 80.0 * length;
+        assert!(length >= part_area / 80.0);
+        assert!(length <= b["baseline_strip_length_mm"].as_f64().unwrap() + 0.1);
+        // The drawing is the used strip: the SVG page and the DXF extents.
+        let stem = s["file_stem"].as_str().unwrap();
+        let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
+        assert!(
+            svg.contains(&format!(
+                "height=\"{}mm\"",
+                actuator_cam::cam::svg::fmt_mm(length)
+            )),
+            "{stem}: {}",
+            &svg[..300.min(svg.len())]
+        );
+        let rings = dxf_rings(&out.join(format!("{stem}.dxf")));
+        let top = rings.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
+        assert!(
+            top <= length && top > length - 5.0,
+            "top {top}, length {length}"
+        );
+    }
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("is a strip of roll stock 80 mm wide"), "{md}");
+    assert!(stdout(&o).contains("mm of roll"), "{}", stdout(&o));
+}
+
+// ---- Progress ---------------------------------------------------------------------------------
+
+#[derive(Default)]
+struct Recorder {
+    layers: RefCell<Vec<(usize, usize, String, usize)>>,
+    reports: RefCell<Vec<(usize, NestProgress)>>,
+}
+
+impl NestObserver for Recorder {
+    fn layer(&self, index: usize, count: usize, layer: &str, parts: usize) {
+        self.layers
+            .borrow_mut()
+            .push((index, count, layer.to_string(), parts));
+    }
+    fn progress(&self, p: &NestProgress) {
+        let layer = self.layers.borrow().len();
+        self.reports.borrow_mut().push((layer, *p));
+    }
+}
+
+#[test]
+fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
+    let batch = Batch::load(&example_path("batch.toml")).unwrap();
+    let opts = NestOptions {
+        seed: 1,
+        iterations: 100,
+    };
+    let recorder = Recorder::default();
+    let planned = plan_observed(&batch, &opts, &recorder).unwrap();
+    let layers = recorder.layers.borrow();
+    // The example batch has two layups: two passive layers, nested one after the other.
+    assert_eq!(
+        layers
+            .iter()
+            .map(|l| (l.0, l.1, l.2.as_str()))
+            .collect::<Vec<_>>(),
+        vec![(0, 2, "passive"), (1, 2, "passive")]
+    );
+    // Parts per job: one passive part per actuator of its layup (C, B: 16; A, 1: 8).
+    assert_eq!(layers.iter().map(|l| l.3).collect::<Vec<_>>(), vec![16, 8]);
+    let reports = recorder.reports.borrow();
+    for job in 1..=2 {
+        let mine: Vec<&NestProgress> = reports
+            .iter()
+            .filter(|(l, _)| *l == job)
+            .map(|(_, p)| p)
+            .collect();
+        assert!(!mine.is_empty(), "job {job} reported nothing");
+        for p in &mine {
+            assert!(p.sheets >= p.sheets_lower_bound && p.sheets_lower_bound >= 1);
+            assert!(p.best_density > 0.0 && p.best_density <= 1.0);
+        }
+        let last = mine.last().unwrap();
+        assert!(last.finished);
+        // The last report is the layout drawn: its density is the report's used-length one (to
+        // 1e-6: the engine measures its snapshot on its own copy of the placed outlines).
+        let row = &planned.report.baseline[job - 1];
+        assert!(
+            (last.best_density - row.used_length_utilization).abs() < 1e-6,
+            "{last:?} {row:?}"
+        );
+        assert_eq!(last.sheets, row.sheets);
+    }
+}
+
+#[test]
+fn a_piped_run_prints_no_progress() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        example_path("batch.toml").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "30",
+    ]);
+    assert!(o.status.success());
+    assert_eq!(stderr(&o), "", "stderr is not a terminal: nothing on it");
+}
+
+// ---- Bad drawings -----------------------------------------------------------------------------
+
+/// Run a batch of thesis C with one extra part from `name` (text `drawing`), expect a refusal.
+fn refused(name: &str, drawing: &str, part_extra: &str) -> String {
+    let (dir, batch) = scratch(
+        0.05,
+        "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 2\n",
+        &format!(
+            "[[part]]\nfile = \"parts/{name}\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n{part_extra}"
+        ),
+    );
+    std::fs::write(dir.path().join("parts").join(name), drawing).unwrap();
+    let out = dir.path().join("out");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(!out.exists(), "nothing is written");
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    let file = dir.path().join("parts").join(name);
+    assert!(err.contains(&file.display().to_string()), "{err}");
+    err
+}
+
+fn svg(width: &str, height: &str, view_box: &str, body: &str) -> String {
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\"{view_box}>{body}</svg>"
+    )
+}
+
+#[test]
+fn an_open_contour_is_refused_naming_its_entity() {
+    let open = dxf_text(
+        Some(4),
+        &[lwpolyline(
+            "2F",
+            &[(0.0, 0.0, 0.0), (10.0, 0.0, 0.0), (10.0, 5.0, 0.0)],
+            false,
+        )],
+    );
+    let err = refused("open.dxf", &open, "");
+    assert!(err.contains("LWPOLYLINE handle 2F: open contour"), "{err}");
+    let open = svg(
+        "20mm",
+        "20mm",
+        " viewBox=\"0 0 20 20\"",
+        "<path id=\"wing\" d=\"M 1 1 L 10 1 L 10 8\"/>",
+    );
+    let err = refused("open.svg", &open, "");
+    assert!(err.contains("<path id=\"wing\">: open contour"), "{err}");
+}
+
+#[test]
+fn a_self_intersecting_contour_is_refused_naming_its_entity() {
+    let bow_tie = dxf_text(
+        Some(4),
+        &[lwpolyline(
+            "3A",
+            &[
+                (0.0, 0.0, 0.0),
+                (10.0, 10.0, 0.0),
+                (10.0, 0.0, 0.0),
+                (0.0, 6.0, 0.0),
+            ],
+            true,
+        )],
+    );
+    let err = refused("bow-tie.dxf", &bow_tie, "");
+    assert!(
+        err.contains("LWPOLYLINE handle 3A: self-intersecting contour"),
+        "{err}"
+    );
+    let bow_tie = svg(
+        "20mm",
+        "20mm",
+        " viewBox=\"0 0 20 20\"",
+        "<polygon points=\"0,0 10,10 10,0 0,6\"/>",
+    );
+    let err = refused("bow-tie.svg", &bow_tie, "");
+    assert!(
+        err.contains("<polygon> #1 (no id): self-intersecting contour"),
+        "{err}"
+    );
+}
+
+#[test]
+fn missing_units_are_refused() {
+    let square = lwpolyline(
+        "10",
+        &[
+            (0.0, 0.0, 0.0),
+            (5.0, 0.0, 0.0),
+            (5.0, 5.0, 0.0),
+            (0.0, 5.0, 0.0),
+        ],
+        true,
+    );
+    let err = refused(
+        "unitless.dxf",
+        &dxf_text(None, std::slice::from_ref(&square)),
+        "",
+    );
+    assert!(
+        err.contains("header $INSUNITS = 0 or missing (unitless)"),
+        "{err}"
+    );
+    let err = refused(
+        "unitless.svg",
+        &svg(
+            "20",
+            "20mm",
+            " viewBox=\"0 0 20 20\"",
+            "<rect width=\"5\" height=\"5\"/>",
+        ),
+        "",
+    );
+    assert!(err.contains("<svg> width = \"20\" (no unit)"), "{err}");
+    let err = refused(
+        "no-viewbox.svg",
+        &svg("20mm", "20mm", "", "<rect width=\"5\" height=\"5\"/>"),
+        "",
+    );
+    assert!(err.contains("<svg> viewBox = missing"), "{err}");
+}
+
+#[test]
+fn units_other_than_mm_are_refused() {
+    let square = lwpolyline(
+        "10",
+        &[
+            (0.0, 0.0, 0.0),
+            (5.0, 0.0, 0.0),
+            (5.0, 5.0, 0.0),
+            (0.0, 5.0, 0.0),
+        ],
+        true,
+    );
+    let err = refused("inches.dxf", &dxf_text(Some(1), &[square]), "");
+    assert!(
+        err.contains("header $INSUNITS = 1 (Inches): parts must be drawn in millimetres"),
+        "{err}"
+    );
+    let err = refused(
+        "inches.svg",
+        &svg(
+            "2in",
+            "2in",
+            " viewBox=\"0 0 2 2\"",
+            "<rect width=\"1\" height=\"1\"/>",
+        ),
+        "",
+    );
+    assert!(err.contains("<svg> width = \"2in\" (not mm)"), "{err}");
+}
+
+#[test]
+fn a_part_too_large_for_the_sheet_is_refused_naming_its_entity() {
+    // The example batch's prepreg sheets are the template's; a 500 mm spar fits none of them.
+    let long = dxf_text(
+        Some(4),
+        &[lwpolyline(
+            "4B",
+            &[
+                (0.0, 0.0, 0.0),
+                (500.0, 0.0, 0.0),
+                (500.0, 3.0, 0.0),
+                (0.0, 3.0, 0.0),
+            ],
+            true,
+        )],
+    );
+    let err = refused("long.dxf", &long, "");
+    assert!(
+        err.contains("LWPOLYLINE handle 4B: part too large: 500.000 x 3.000 mm"),
+        "{err}"
+    );
+    let long = svg(
+        "600mm",
+        "20mm",
+        " viewBox=\"0 0 600 20\"",
+        "<rect id=\"beam\" width=\"500\" height=\"3\"/>",
+    );
+    let err = refused("long.svg", &long, "");
+    assert!(err.contains("<rect id=\"beam\">: part too large"), "{err}");
+}
+
+#[test]
+fn a_drawing_without_a_closed_contour_is_refused() {
+    let err = refused("empty.dxf", &dxf_text(Some(4), &[text_entity("5C")]), "");
+    assert!(err.contains("no closed contour"), "{err}");
+    let err = refused(
+        "empty.svg",
+        &svg(
+            "20mm",
+            "20mm",
+            " viewBox=\"0 0 20 20\"",
+            "<text>spar</text>",
+        ),
+        "",
+    );
+    assert!(err.contains("no closed contour"), "{err}");
+}
+
+#[test]
+fn unsupported_entities_and_crossing_contours_are_refused_naming_them() {
+    let spline = dxf_text(
+        Some(4),
+        &[codes(&[
+            (0, "SPLINE".into()),
+            (5, "6D".into()),
+            (100, "AcDbEntity".into()),
+            (8, "0".into()),
+            (100, "AcDbSpline".into()),
+        ])],
+    );
+    let err = refused("spline.dxf", &spline, "");
+    assert!(
+        err.contains("SPLINE handle 6D: not a supported part entity"),
+        "{err}"
+    );
+    let crossing = svg(
+        "20mm",
+        "20mm",
+        " viewBox=\"0 0 20 20\"",
+        "<rect id=\"a\" width=\"5\" height=\"5\"/><rect id=\"b\" x=\"3\" y=\"3\" width=\"5\" height=\"5\"/>",
+    );
+    let err = refused("crossing.svg", &crossing, "");
+    assert!(
+        err.contains("<rect id=\"b\">: crosses or touches <rect id=\"a\">"),
+        "{err}"
+    );
+}
