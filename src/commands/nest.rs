@@ -147,8 +147,14 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         print!("{json}");
     } else {
         let passive: Vec<String> = report.baseline.iter().map(|b| b.summary()).collect();
+        let extra: usize = report.parts.iter().map(|p| p.quantity).sum();
+        let extra = if extra > 0 {
+            format!(" and {extra} parts from drawings")
+        } else {
+            String::new()
+        };
         println!(
-            "{}: {} actuators, {} files in {}; {} PZT sheet(s), {}; {} clamp panel(s)",
+            "{}: {} actuators{extra}, {} files in {}; {} PZT sheet(s), {}; {} clamp panel(s)",
             report.name,
             report.actuators(),
             count,
