@@ -815,3 +815,50 @@ fn unsupported_entities_and_crossing_contours_are_refused_naming_them() {
         "{err}"
     );
 }
+
+// ---- No panic on any drawing ------------------------------------------------------------------
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+
+    /// Path data of random commands and numbers (arcs with any radii and flags, curves, NaN-free
+    /// but huge or tiny values): the importer returns parts or one error naming the file.
+    #[test]
+    fn random_svg_paths_never_panic(
+        cmds in proptest::collection::vec(
+            (proptest::sample::select(vec!["M", "L", "H", "V", "C", "S", "Q", "T", "A", "Z", "m", "l", "a", "c"]),
+             proptest::collection::vec(-1e6f64..1e6, 0..8)),
+            0..12),
+    ) {
+        let d: String = cmds
+            .iter()
+            .map(|(c, n)| {
+                let nums: Vec<String> = n.iter().map(|x| format!("{x}")).collect();
+                format!("{c} {} ", nums.join(" "))
+            })
+            .collect();
+        let text = svg("20mm", "20mm", " viewBox=\"0 0 20 20\"", &format!("<path d=\"{d}\"/>"));
+        let (_dir, path) = write_temp("random.svg", &text);
+        if let Err(e) = actuator_cam::parts::import(&path) {
+            let line = e.to_string();
+            proptest::prop_assert!(line.starts_with(&path.display().to_string()));
+            proptest::prop_assert_eq!(line.lines().count(), 1);
+        }
+    }
+
+    /// Polylines of random vertices and bulges, open or closed, with circles of any radius.
+    #[test]
+    fn random_dxf_polylines_never_panic(
+        vertices in proptest::collection::vec((-1e4f64..1e4, -1e4f64..1e4, -20f64..20.0), 0..10),
+        closed in proptest::bool::ANY,
+        r in -5f64..1e5,
+    ) {
+        let text = dxf_text(Some(4), &[lwpolyline("1", &vertices, closed), circle("2", [0.0, 0.0], r)]);
+        let (_dir, path) = write_temp("random.dxf", &text);
+        if let Err(e) = actuator_cam::parts::import(&path) {
+            let line = e.to_string();
+            proptest::prop_assert!(line.starts_with(&path.display().to_string()));
+            proptest::prop_assert_eq!(line.lines().count(), 1);
+        }
+    }
+}

@@ -415,15 +415,22 @@ impl Walk<'_> {
             } else {
                 format!("{entity} subpath {}", k + 1)
             };
-            let first = points[0];
-            let last = points[points.len() - 1];
-            let ends_meet =
-                points.len() > 2 && (first[0] - last[0]).hypot(first[1] - last[1]) <= 1e-9;
+            let ends_meet = match (points.first(), points.last()) {
+                (Some(a), Some(b)) => points.len() > 2 && (a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-9,
+                _ => false,
+            };
             if !(closed || ends_meet) {
                 return Err(entity_error(
                     file,
                     &name,
                     "open contour: a part outline must be closed (end the path with Z, or use polygon instead of polyline/line)",
+                ));
+            }
+            if points.len() < 3 {
+                return Err(entity_error(
+                    file,
+                    &name,
+                    "zero area: a closed contour needs at least three points not on one line",
                 ));
             }
             self.contours.push(Contour {
