@@ -891,3 +891,51 @@ fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
     }
     assert!(checked > 10, "only {checked} files checked");
 }
+
+/// Issue 16, item 3: the strips between the PZT sheet edges and the full-width score lines, and
+/// between neighbouring full-width lines, are either nothing (a line on the edge) or at least the
+/// narrowest snappable strip, 5 PZT thicknesses (docs/cam.md §4, "Snappable strips"; the root edge
+/// strip used to be 0.3 - 0.03/2 = 0.285 mm). Read back from the files, for every example.
+#[test]
+fn pzt_sheet_strips_between_full_width_score_lines_can_be_snapped() {
+    let dir = tempfile::tempdir().unwrap();
+    for design in EXAMPLES {
+        let out = dir.path().join(design);
+        let o = cut_sheet(&example(design), &out, &[]);
+        assert!(o.status.success(), "{design}: {}", stderr(&o));
+        let t = report(&out)["design"]["pzt_thickness_mm"].as_f64().unwrap();
+        let min_strip = 5.0 * t;
+        for (name, bytes) in files(&out) {
+            if !(name.starts_with("pzt-") && name.ends_with(".svg")) {
+                continue;
+            }
+            let svg = String::from_utf8(bytes).unwrap();
+            let vb = view_box(&svg);
+            let size = [vb[2], vb[3]];
+            let lines = svg_paths(&svg, "SCORE");
+            for axis in 0..2 {
+                // Lines across the whole sheet, square to `axis`: their position on `axis`.
+                let mut at: Vec<f64> = lines
+                    .iter()
+                    .filter(|(p, _)| {
+                        let (a, b) = (p[0], p[p.len() - 1]);
+                        (a[axis] - b[axis]).abs() < 1e-9
+                            && (a[1 - axis] - b[1 - axis]).abs() > size[1 - axis] - 1e-6
+                    })
+                    .map(|(p, _)| p[0][axis])
+                    .chain([0.0, size[axis]])
+                    .collect();
+                at.sort_by(f64::total_cmp);
+                for pair in at.windows(2) {
+                    let strip = pair[1] - pair[0];
+                    assert!(
+                        strip < 1e-6 || strip >= min_strip - 1e-6,
+                        "{design} {name}: a {strip:.4} mm strip between {:.4} and {:.4} mm (axis {axis}), narrower than {min_strip:.3} mm",
+                        pair[0],
+                        pair[1]
+                    );
+                }
+            }
+        }
+    }
+}
