@@ -15,6 +15,11 @@ Cross-layer checks (issue 16):
          layer's colour is not the CUT layer's nor ACI 1 (red), and it is not plotted;
   report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
          tolerance below it (or the report carries its warning).
+  passive-*.dxf  no label lies in a bonded zone: every open polyline (a label stroke: outlines are
+         closed, holes are circles) stays clear of every bonded zone, the closed polylines of the
+         REFERENCE layer; labelled sheets must mark one zone per part (CUT outline), and with a
+         cut-sheet report.json beside them each zone spans the design's PZT length along the part axis
+         (piezo_length_mm less pzt_edge_margin_mm), so a zone is the plate the design says.
 Prints one line per failing file, then `check_outputs: N passed, M failed`.
 Exits 1 if any file failed or no file was found. Needs `pip install ezdxf`.
 """
@@ -82,6 +87,75 @@ def check_dxf_cross_layer(doc):
     return problems
 
 
+def segment_hits_convex(a, b, ring):
+    """Whether segment a-b passes through the interior of the convex ring (either orientation),
+    by Cyrus-Beck clipping; touching the boundary does not count."""
+    n = len(ring)
+    area = sum(ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1] for i in range(n))
+    sign = 1.0 if area > 0 else -1.0
+    t0, t1 = 0.0, 1.0
+    d = (b[0] - a[0], b[1] - a[1])
+    for i in range(n):
+        p, q = ring[i], ring[(i + 1) % n]
+        e = (q[0] - p[0], q[1] - p[1])
+        length = math.hypot(*e) or 1.0
+        # Inward distance of a point from this edge, shrunk by EPS so touching is outside.
+        inside_a = sign * (e[0] * (a[1] - p[1]) - e[1] * (a[0] - p[0])) / length - EPS
+        slope = sign * (e[0] * d[1] - e[1] * d[0]) / length
+        if abs(slope) < 1e-15:
+            if inside_a < 0:
+                return False
+            continue
+        t = -inside_a / slope
+        if slope > 0:
+            t0 = max(t0, t)
+        else:
+            t1 = min(t1, t)
+        if t0 >= t1:
+            return False
+    return t1 - t0 > 1e-9
+
+
+def check_bonded_zones(path, doc):
+    """Labels against bonded zones on one passive sheet (see the module doc)."""
+    problems = []
+    labels, zones, outlines = [], [], 0
+    for e in doc.modelspace():
+        if e.dxftype() != "LWPOLYLINE":
+            continue
+        points = [(x, y) for x, y, *_ in e.get_points()]
+        if not e.closed:
+            labels.append(points)
+        elif e.dxf.layer == "REFERENCE":
+            zones.append(points)
+        else:
+            outlines += 1
+    if not labels:
+        return problems
+    if len(zones) != outlines:
+        problems.append(f"{len(labels)} label strokes but {len(zones)} bonded zones marked for {outlines} parts")
+    crossing = sum(
+        1
+        for stroke in labels
+        if any(segment_hits_convex(a, b, z) for a, b in zip(stroke, stroke[1:]) for z in zones)
+    )
+    if crossing:
+        problems.append(f"{crossing} label stroke(s) lie in a bonded zone")
+    report = path.parent / "report.json"
+    if report.exists():
+        import json
+
+        r = json.loads(report.read_text())
+        want = r["design"]["piezo_length_mm"] - r.get("pzt_edge_margin_mm", 0.0)
+        for z in zones:
+            # Parts turn by 0 or 180 degrees on a passive sheet: the axis runs along y.
+            span = max(y for _, y in z) - min(y for _, y in z)
+            if abs(span - want) > 1e-3:
+                problems.append(f"a bonded zone spans {span:.4f} mm, not the PZT length {want:.4f} mm")
+                break
+    return problems
+
+
 def check_dxf(path):
     """Problems found in one DXF file (empty list if none)."""
     import ezdxf  # imported here so an SVG-only check works without it
@@ -103,7 +177,10 @@ def check_dxf(path):
     kinds = sorted({e.dxftype() for e in doc.modelspace()} - ALLOWED_DXF_ENTITIES)
     if kinds:
         problems.append(f"entities other than LWPOLYLINE/CIRCLE/ARC: {', '.join(kinds)}")
-    return problems + check_dxf_cross_layer(doc)
+    problems += check_dxf_cross_layer(doc)
+    if Path(path).name.startswith("passive-"):
+        problems += check_bonded_zones(Path(path), doc)
+    return problems
 
 
 def mm_length(value):

@@ -4,7 +4,7 @@
 use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
-use crate::pipeline::{Build, MoldChoice};
+use crate::pipeline::{Build, Label, MoldChoice};
 use crate::prediction::Prediction;
 use serde::Serialize;
 use std::fmt::Write;
@@ -85,6 +85,8 @@ pub struct Report {
     /// The template's PZT-to-CF edge margin: the plates are this much inside the passive edge, so
     /// narrower and shorter than the design the model predicts.
     pub pzt_edge_margin_mm: f64,
+    /// Set when some passive parts carry no engraved label: no room off the bonded PZT zone.
+    pub label_note: Option<String>,
     pub clamp_panels: usize,
     /// How the mold stack meets the laminate (docs/cam.md §1, "Mold layers").
     pub mold: MoldReport,
@@ -137,6 +139,8 @@ impl Report {
             layers,
             mass_from_geometry_mg,
             pzt_edge_margin_mm: template.pzt_edge_margin_mm,
+            label_note: Label::passive(built.geometry[0], &design.name, template)
+                .note(design.quantity),
             clamp_panels: built.panels,
             mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
             stacking_order: built.clamps[0].stack.clone(),
@@ -181,6 +185,9 @@ impl Report {
                 "The process template insets the PZT plates {} mm from the passive edge (sides and tip end), so they are smaller than the design the model predicts; the geometry mass counts the plates as cut.\n",
                 self.pzt_edge_margin_mm
             );
+        }
+        if let Some(note) = &self.label_note {
+            let _ = writeln!(s, "**Labels:** {note}.\n");
         }
         let _ = writeln!(s, "## Layers\n");
         let _ = writeln!(s, "| layer | material | thickness mm | density kg/m³ | part area mm² | parts/actuator | mass/actuator mg | sheets | utilisation |");

@@ -118,6 +118,9 @@ pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
 pub const LABEL_HEIGHT_MM: Range = Range::closed(0.0, 20.0, "mm");
 /// Registration pin hole radius.
 pub const PIN_RADIUS_MM: Range = Range::positive_up_to(20.0, "mm");
+/// Narrowest snappable PZT strip, in sheet thicknesses: below one thickness a scored strip breaks
+/// off in chips rather than along its score line (docs/cam.md §4, "Snappable strips").
+pub const SNAP_STRIP_THICKNESSES: Range = Range::closed(1.0, 50.0, "thicknesses");
 /// PZT-to-CF edge margin.
 pub const PASSIVE_EDGE_MARGIN_MM: Range = Range::closed(0.0, 2.0, "mm");
 /// Via for silver epoxy, diameter.

@@ -16,6 +16,6 @@ pub use placement::{LayoutError, Placement, Sheet, SheetLayout};
 pub use plates::{layout_plates, plate_outline, PlateSpec};
 pub use shelf::{layout_parts, PartSpec};
 pub use verify::{
-    verify_break_order, verify_copies, verify_outlines, verify_sheet, verify_sheet_edges,
-    verify_snappable, verify_stock, PartRef, Violation,
+    verify_break_order, verify_copies, verify_offcuts, verify_outlines, verify_sheet,
+    verify_sheet_edges, verify_snappable, verify_stock, PartRef, Violation,
 };

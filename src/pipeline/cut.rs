@@ -3,10 +3,9 @@
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
-use super::parts::PartGeometry;
+use super::label::Label;
 use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::cam::label::{label_strokes, label_width};
 use crate::cutsheet::{Feature, FeatureMap};
 use crate::layout::SheetLayout;
 use crate::parts::PartOrder;
@@ -21,45 +20,6 @@ pub const REGISTRATION_HOLE_MM: f64 = 0.5;
 
 /// Rotations a cut-through part may take: 0° and 180° keep the fibre direction.
 pub const CUT_ROTATIONS_DEG: [f64; 2] = [0.0, 180.0];
-
-/// The engraved label of a part, if it has room for one.
-#[derive(Debug, Clone)]
-pub enum Label {
-    /// No label.
-    None,
-    /// `"{name} {n}"` (or just `n`) along the axis of the PZT trapezoid.
-    Axis {
-        /// Plan dimensions.
-        geometry: PartGeometry,
-        /// Design name.
-        name: String,
-        /// Text height, mm.
-        height_mm: f64,
-        /// Room to keep to the part edge, mm.
-        margin_mm: f64,
-    },
-}
-
-impl Label {
-    /// Strokes of the label of copy `copy` (0-based), in part coordinates.
-    pub fn strokes(&self, copy: usize) -> Option<Vec<Vec<Point>>> {
-        match self {
-            Label::None => None,
-            Label::Axis {
-                geometry,
-                name,
-                height_mm,
-                margin_mm,
-            } => axis_label(
-                geometry,
-                &format!("{name} {}", copy + 1),
-                *height_mm,
-                *margin_mm,
-            )
-            .or_else(|| axis_label(geometry, &format!("{}", copy + 1), *height_mm, *margin_mm)),
-        }
-    }
-}
 
 /// One part design of a cut layer: `per_actuator` copies for each actuator of a job.
 #[derive(Debug, Clone)]
@@ -116,29 +76,6 @@ pub struct CutLayer {
     pub items: Vec<CutItem>,
     /// Operation of each feature, from the template.
     pub features: FeatureMap,
-}
-
-/// A label along the part axis from `y_start`, if it fits inside the trapezoid with a margin.
-fn axis_label(g: &PartGeometry, text: &str, height: f64, margin: f64) -> Option<Vec<Vec<Point>>> {
-    if height <= 0.0 {
-        return None;
-    }
-    let width = label_width(text, height);
-    let y_start = 0.1 * g.piezo_length_mm;
-    let y_end = y_start + width;
-    let narrowest = g
-        .width_at_mm(y_start)
-        .min(g.width_at_mm(y_end.min(g.piezo_length_mm)));
-    if y_end > 0.9 * g.piezo_length_mm || narrowest < height + 2.0 * margin {
-        return None;
-    }
-    // Text runs along +x from the origin; turn it 90° so it reads along the axis, centred on it.
-    Some(
-        label_strokes(text, [0.0, 0.0], height)
-            .into_iter()
-            .map(|s| place_ring(&s, 90.0, [height / 2.0, y_start]))
-            .collect(),
-    )
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -207,12 +144,7 @@ pub fn passive_layers(
             let items = jobs
                 .iter()
                 .map(|(i, job)| {
-                    let label = Label::Axis {
-                        geometry: job.geometry,
-                        name: job.design.name.clone(),
-                        height_mm: template.label_height_mm,
-                        margin_mm: spec.kerf_mm.max(0.2),
-                    };
+                    let label = Label::passive(job.geometry, &job.design.name, template);
                     let outline = job.geometry.passive_outline();
                     item(
                         *i,
@@ -394,6 +326,12 @@ pub fn draw_cut_sheets(
         }
         for p in &layout.placements {
             let item = &layer.items[p.item];
+            if let Some(zone) = item.label.bonded_zone() {
+                d.add(
+                    op(Feature::BondedZone),
+                    Shape::Polygon(place_ring(&zone, p.rotation_deg, p.offset)),
+                );
+            }
             if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {
                 for s in strokes {
                     d.add(

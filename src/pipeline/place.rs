@@ -12,9 +12,9 @@ use super::cut::CutLayer;
 use super::jobs::{format_violations, Job, Names};
 use super::BuildError;
 use crate::layout::{
-    layout_parts, layout_plates, verify_break_order, verify_copies, verify_outlines, verify_sheet,
-    verify_sheet_edges, verify_snappable, verify_stock, PartSpec, Placement, PlateSpec, Sheet,
-    SheetLayout, Violation,
+    layout_parts, layout_plates, verify_break_order, verify_copies, verify_offcuts,
+    verify_outlines, verify_sheet, verify_sheet_edges, verify_snappable, verify_stock, PartSpec,
+    Placement, PlateSpec, Sheet, SheetLayout, Violation,
 };
 use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
@@ -162,8 +162,21 @@ pub(crate) fn place_plates(
         })
         .collect();
     let counts: Vec<usize> = items.iter().map(|i| i.count).collect();
-    let layouts = layout_plates(&items, &sheet, spec.kerf_mm, spec.edge_margin_mm, stock)
-        .map_err(|e| names.error(format!("pzt layout: {e}")))?;
+    // The narrowest snappable strip scales with the plate thickness (docs/cam.md §4).
+    let thickness_mm = jobs
+        .iter()
+        .map(|j| j.design.pzt_thickness * 1e3)
+        .fold(0.0, f64::max);
+    let min_strip_mm = spec.min_snap_strip_thicknesses * thickness_mm;
+    let layouts = layout_plates(
+        &items,
+        &sheet,
+        spec.kerf_mm,
+        spec.edge_margin_mm,
+        min_strip_mm,
+        stock,
+    )
+    .map_err(|e| names.error(format!("pzt layout: {e}")))?;
     let fail = |v: Vec<Violation>| {
         names.error(format!("pzt (verifier) layout: {}", format_violations(&v)))
     };
@@ -172,6 +185,7 @@ pub(crate) fn place_plates(
     for layout in &layouts {
         verify_snappable(layout, &sheet).map_err(fail)?;
         verify_break_order(layout, &sheet).map_err(fail)?;
+        verify_offcuts(layout, &sheet, min_strip_mm).map_err(fail)?;
         verify_outlines(layout, &|item| nominal[item].clone(), 1e-9).map_err(fail)?;
         // PZT is in-plane isotropic: strips may run either way, so any quarter turn is allowed.
         verify_sheet_edges(

@@ -8,7 +8,7 @@ use crate::cam::palette::Palette;
 use crate::input::limits::{
     ACI, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM, LABEL_HEIGHT_MM,
     LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE,
-    SHEET_SIDE_MM as SHEET_MM, VIA_DIAMETER_MM,
+    SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
 use crate::input::{parse_toml, read_toml, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -29,6 +29,10 @@ pub struct SheetSpec {
     pub spacing_mm: f64,
     /// Unusable border of the sheet (chipped PZT edges), mm.
     pub edge_margin_mm: f64,
+    /// Narrowest strip a score line may leave to be snapped off, in sheet thicknesses (PZT sheets:
+    /// `[layers.pzt] min_snap_strip_thicknesses`, docs/cam.md §4 "Snappable strips"); 0 for sheets
+    /// that are cut through.
+    pub min_snap_strip_thicknesses: f64,
     /// Sheets in stock, if limited.
     pub stock: Option<usize>,
     /// Price of one sheet (any currency), if known: reports show material cost only when it is.
@@ -61,6 +65,9 @@ pub struct MoldStock {
     /// Largest allowed laminate height minus mold height, mm.
     pub tolerance_mm: f64,
 }
+
+/// Default narrowest snappable PZT strip, in sheet thicknesses: docs/cam.md §4, "Snappable strips".
+pub const DEFAULT_SNAP_STRIP_THICKNESSES: f64 = 5.0;
 
 /// Default mold height tolerance, mm: docs/cam.md §1.
 pub const DEFAULT_MOLD_TOLERANCE_MM: f64 = 0.025;
@@ -172,6 +179,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         stock: t.optional_count("stock", 1, MAX_STOCK)?,
         price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
         roll: false,
+        min_snap_strip_thicknesses: 0.0,
     })
 }
 
@@ -298,7 +306,10 @@ impl Template {
         };
         let (pzt, pzt_edge_margin_mm) = {
             let t = layers.table("pzt")?;
-            let spec = read_sheet(&t)?;
+            let mut spec = read_sheet(&t)?;
+            spec.min_snap_strip_thicknesses = t
+                .optional_number_in("min_snap_strip_thicknesses", SNAP_STRIP_THICKNESSES)?
+                .unwrap_or(DEFAULT_SNAP_STRIP_THICKNESSES);
             let margin = t
                 .optional_number_in("passive_edge_margin_mm", PASSIVE_EDGE_MARGIN_MM)?
                 .unwrap_or(0.0);
@@ -424,6 +435,32 @@ mod tests {
         // The shipped [features] tables spell out the defaults.
         assert_eq!(m1.features, FeatureMap::default());
         assert_eq!(m2.features, FeatureMap::default());
+        // Both state the narrowest snappable PZT strip, and only on the PZT sheet.
+        for m in [&m1, &m2] {
+            assert_eq!(m.pzt.min_snap_strip_thicknesses, 5.0);
+            assert_eq!(m.passive.min_snap_strip_thicknesses, 0.0);
+        }
+    }
+
+    #[test]
+    fn the_snappable_strip_is_at_least_one_thickness_and_defaults_to_five() {
+        let path = Path::new("my-process.toml");
+        let read = |text: &str| Template::from_table(path, &parse_toml(path, text).unwrap());
+        let thin = METHOD_2.replacen(
+            "min_snap_strip_thicknesses = 5.0",
+            "min_snap_strip_thicknesses = 0.5",
+            1,
+        );
+        assert_ne!(thin, METHOD_2);
+        assert_eq!(
+            read(&thin).unwrap_err().to_string(),
+            "my-process.toml: layers.pzt.min_snap_strip_thicknesses = 0.5: outside the allowed range [1, 50] thicknesses"
+        );
+        let unstated = METHOD_2.replacen("min_snap_strip_thicknesses = 5.0", "", 1);
+        assert_eq!(
+            read(&unstated).unwrap().pzt.min_snap_strip_thicknesses,
+            DEFAULT_SNAP_STRIP_THICKNESSES
+        );
     }
 
     #[test]

@@ -56,19 +56,25 @@ pub fn plate_outline(spec: &PlateSpec) -> Vec<Point> {
 ///
 /// `kerf_mm` is the width the score removes (the gap between neighbouring outlines);
 /// `margin_mm` keeps plates away from the chipped sheet edge (a trim score line separates the
-/// margin when it is wider than half the kerf). Items are filled in order; leftovers of strips
-/// and of the sheet take later items when they fit. Errors when an item does not fit an empty
-/// sheet, or when more than `max_sheets` sheets are needed (saying how many).
+/// margin when it is wider than half the kerf). `min_strip_mm` is the narrowest offcut a score
+/// line may leave, between it and the sheet edge or another score line (docs/cam.md §4,
+/// "Snappable strips"): the trim margin grows to half a kerf plus it, runs start and end so that
+/// their end offcuts are at least that wide, and no strip leaves a narrower rest; 0 allows any.
+/// Items are filled in order; leftovers of strips and of the sheet take later items when they fit.
+/// Errors when an item does not fit an empty sheet, or when more than `max_sheets` sheets are
+/// needed (saying how many).
 pub fn layout_plates(
     items: &[PlateSpec],
     sheet: &Sheet,
     kerf_mm: f64,
     margin_mm: f64,
+    min_strip_mm: f64,
     max_sheets: Option<usize>,
 ) -> Result<Vec<SheetLayout>, LayoutError> {
     sheet.validate()?;
     check_length("kerf_mm", kerf_mm)?;
     check_length("margin_mm", margin_mm)?;
+    check_length("min_strip_mm", min_strip_mm)?;
     let shapes = items
         .iter()
         .enumerate()
@@ -78,6 +84,7 @@ pub fn layout_plates(
         shapes: &shapes,
         half_kerf: kerf_mm / 2.0,
         margin: margin_mm,
+        min_strip: min_strip_mm,
         budget: std::cell::Cell::new(0),
     };
     let whole = Region {

@@ -24,6 +24,8 @@ pub(super) struct Shape {
     /// Distance along the strip from a slanted plate edge to its score line:
     /// `(kerf / 2) / cos θ`, `tan θ = (base - tip) / (2 l_p)`.
     edge_to_line: f64,
+    /// `1 / cos θ` of the slanted edges.
+    sec: f64,
     /// Distance along the strip between the centres of neighbouring plates:
     /// `(base + tip) / 2 + kerf / cos θ`.
     pitch: f64,
@@ -51,6 +53,7 @@ impl Shape {
             tip: t,
             width: b.max(t),
             edge_to_line,
+            sec,
             pitch: (b + t) / 2.0 + 2.0 * edge_to_line,
             area: (b + t) / 2.0 * l,
         })
@@ -133,15 +136,138 @@ pub(super) struct Planner<'a> {
     pub(super) shapes: &'a [Shape],
     pub(super) half_kerf: f64,
     pub(super) margin: f64,
+    /// Narrowest offcut a score line may leave, mm (docs/cam.md §4, "Snappable strips"); 0: any.
+    pub(super) min_strip: f64,
     pub(super) budget: std::cell::Cell<usize>,
+}
+
+/// How a run of plates along a strip ends: how many plates, where the first one's bounding box
+/// starts, and the cross cut its far end needs (if any) so that no offcut is a sliver.
+struct Run {
+    n: usize,
+    u_start: f64,
+    end_cut: Option<f64>,
 }
 
 impl Planner<'_> {
     fn clearance(&self, side: Side) -> f64 {
         match side {
-            Side::Edge => self.margin,
+            Side::Edge => self.edge_clearance(),
             Side::Line => self.half_kerf,
         }
+    }
+
+    /// Distance from the sheet edge to the plates. A margin within half a kerf needs no trim line:
+    /// the plates' edge is the sheet edge. A wider one is trimmed off by a score line half a kerf
+    /// off the plates, and the strip it leaves must be wide enough to snap (docs/cam.md §4), so the
+    /// margin grows to half a kerf plus the narrowest snappable strip when that is more.
+    pub(super) fn edge_clearance(&self) -> f64 {
+        if self.margin <= self.half_kerf {
+            self.margin
+        } else {
+            self.margin.max(self.half_kerf + self.min_strip)
+        }
+    }
+
+    /// The offcut between the outer slanted score line of a run's end plate and the region side
+    /// `c` mm from the plate's bounding box, for a strip reaching `d0` below and `d1` above the
+    /// plates: the gap along the strip between line and side at the strip's two boundaries is
+    /// `c + a0` and `c + a1`. The same two numbers hold at the start and at the far end of a run
+    /// (the far plate mirrored); `base_low` is whether the end plate has its base on the low side.
+    fn offcut_offsets(&self, shape: &Shape, base_low: bool, d0: f64, d1: f64) -> (f64, f64) {
+        let (w, b, t, l) = (shape.width, shape.base, shape.tip, shape.length);
+        let m = (b - t) / (2.0 * l);
+        let e = shape.edge_to_line;
+        if base_low {
+            ((w - b) / 2.0 - e - d0 * m, (w - b) / 2.0 - e + (l + d1) * m)
+        } else {
+            ((w - t) / 2.0 - e + d0 * m, (w - t) / 2.0 - e - (l + d1) * m)
+        }
+    }
+
+    /// Whether the offcut at a run end `c` mm from the side can be snapped: there is none (the
+    /// score line lies on the side or outside), or it is at least `min_strip` wide square to the
+    /// score line at both its ends (docs/cam.md §4).
+    fn offcut_ok(&self, shape: &Shape, c: f64, base_low: bool, d0: f64, d1: f64) -> bool {
+        let (a0, a1) = self.offcut_offsets(shape, base_low, d0, d1);
+        let (g0, g1) = (c + a0, c + a1);
+        self.min_strip <= 0.0 || g0.max(g1) <= EPS || g0.min(g1) / shape.sec >= self.min_strip - EPS
+    }
+
+    /// The least distance `c >= base` from a run end to the region side that leaves a snappable
+    /// offcut (any larger distance leaves one too, unless `base` itself leaves none).
+    fn offcut_clearance(&self, shape: &Shape, base: f64, base_low: bool, d0: f64, d1: f64) -> f64 {
+        if self.offcut_ok(shape, base, base_low, d0, d1) {
+            return base;
+        }
+        let (a0, a1) = self.offcut_offsets(shape, base_low, d0, d1);
+        (self.min_strip * shape.sec - a0.min(a1)).max(base)
+    }
+
+    /// The run of at most `max_n` plates of `shape` along `ua` across `region`, for a strip reaching
+    /// `d0` below and `d1` above the plates: the first plate as close to the low side as a snappable
+    /// offcut allows, as many as fit, and at the far end either a snappable offcut up to the side
+    /// or a cross cut that leaves one on each side of it. `n` is 0 when none fits.
+    fn run(
+        &self,
+        region: &Region,
+        ua: usize,
+        shape: &Shape,
+        d0: f64,
+        d1: f64,
+        max_n: usize,
+    ) -> Run {
+        let (lo, hi) = (region.lo[ua], region.hi[ua]);
+        let c_lo = self.offcut_clearance(shape, self.clearance(region.lo_side[ua]), true, d0, d1);
+        let u_start = lo + c_lo;
+        let base_hi = self.clearance(region.hi_side[ua]);
+        let c_hi = [true, false]
+            .map(|base_low| self.offcut_clearance(shape, base_hi, base_low, d0, d1))
+            .into_iter()
+            .fold(base_hi, f64::max);
+        let capacity = shape.run_capacity(hi - c_hi - u_start).min(max_n);
+        for n in (1..=capacity).rev() {
+            let run_end = u_start + shape.width + (n - 1) as f64 * shape.pitch;
+            let base_low = (n - 1).is_multiple_of(2);
+            if self.offcut_ok(shape, hi - run_end, base_low, d0, d1) {
+                return Run {
+                    n,
+                    u_start,
+                    end_cut: None,
+                };
+            }
+            let cut = run_end + self.offcut_clearance(shape, self.half_kerf, base_low, d0, d1);
+            if hi - cut >= self.min_strip - EPS {
+                return Run {
+                    n,
+                    u_start,
+                    end_cut: Some(cut),
+                };
+            }
+        }
+        Run {
+            n: 0,
+            u_start,
+            end_cut: None,
+        }
+    }
+
+    /// How far a strip whose plates start at `plate_v0` reaches below and above them: half a kerf to
+    /// its boundary score lines, or less where the region side is closer (no line is drawn there).
+    fn strip_reach(&self, region: &Region, va: usize, plate_v0: f64, length: f64) -> (f64, f64) {
+        (
+            self.half_kerf.min(plate_v0 - region.lo[va]).max(0.0),
+            self.half_kerf
+                .min(region.hi[va] - plate_v0 - length)
+                .max(0.0),
+        )
+    }
+
+    /// Whether a strip whose top score line lies at `top` leaves a snappable offcut above it: the
+    /// line is on the region side (no offcut), or the rest is at least `min_strip` wide.
+    fn top_ok(&self, region: &Region, va: usize, top: f64) -> bool {
+        let rest = region.hi[va] - top;
+        rest <= EPS || rest >= self.min_strip - EPS
     }
 
     /// The range on `axis` that plate outlines may occupy inside `region`.
@@ -155,16 +281,23 @@ impl Planner<'_> {
     /// (plates per strip, strips) of item `i` in `region` with strips along `u_axis`.
     fn grid(&self, region: &Region, i: usize, u_axis: usize) -> (usize, usize) {
         let shape = &self.shapes[i];
-        let (u0, u1) = self.inner(region, u_axis);
-        let (v0, v1) = self.inner(region, 1 - u_axis);
-        let per_strip = shape.run_capacity(u1 - u0);
-        let strips = if v1 - v0 + EPS < shape.length {
+        let va = 1 - u_axis;
+        let (v0, v1) = self.inner(region, va);
+        let (d0, d1) = self.strip_reach(region, va, v0, shape.length);
+        let per_strip = self.run(region, u_axis, shape, d0, d1, usize::MAX).n;
+        let pitch = shape.length + 2.0 * self.half_kerf;
+        let fitting = if v1 - v0 + EPS < shape.length {
             0
         } else {
-            ((v1 - v0 - shape.length) / (shape.length + 2.0 * self.half_kerf) + EPS).floor()
-                as usize
-                + 1
+            ((v1 - v0 - shape.length) / pitch + EPS).floor() as usize + 1
         };
+        // Strips are laid from the low side and stop at the first that would leave a sliver.
+        let strips = (0..fitting)
+            .take_while(|&k| {
+                let top = v0 + k as f64 * pitch + shape.length + self.half_kerf;
+                self.top_ok(region, va, top)
+            })
+            .count();
         (per_strip, strips)
     }
 
@@ -223,21 +356,28 @@ impl Planner<'_> {
             if remaining[i] == 0 {
                 break;
             }
-            let (u_in0, u_in1) = self.inner(&region, ua);
             let (v_in0, v_in1) = self.inner(&region, va);
-            let capacity = shape.run_capacity(u_in1 - u_in0);
-            if capacity == 0 || v_in0 + shape.length > v_in1 + EPS {
+            if v_in0 + shape.length > v_in1 + EPS {
                 break;
             }
-            let n = capacity.min(remaining[i]);
-            remaining[i] -= n;
-
             // Strip boundaries half a kerf off the plates, unless the region side is already there
             // (a score line) or the line would fall outside the sheet (margin below half a kerf).
+            // A strip whose top line would leave a sliver of the region above it is not laid.
             let plate_v0 = v_in0;
             let plate_v1 = v_in0 + shape.length;
-            let mut strip = region;
             let (bottom, top) = (plate_v0 - self.half_kerf, plate_v1 + self.half_kerf);
+            if !self.top_ok(&region, va, top) {
+                break;
+            }
+            let (d0, d1) = self.strip_reach(&region, va, plate_v0, shape.length);
+            let run = self.run(&region, ua, shape, d0, d1, remaining[i]);
+            if run.n == 0 {
+                break;
+            }
+            let n = run.n;
+            remaining[i] -= n;
+
+            let mut strip = region;
             if bottom > region.lo[va] + EPS {
                 plan.lines.push((
                     depth,
@@ -264,8 +404,8 @@ impl Planner<'_> {
             }
 
             // The run: plate k centred at centre0 + k * pitch, every other one turned 180°.
-            let centre0 = u_in0 + shape.width / 2.0;
-            let run_end = u_in0 + shape.width + (n - 1) as f64 * shape.pitch;
+            let centre0 = run.u_start + shape.width / 2.0;
+            let run_end = run.u_start + shape.width + (n - 1) as f64 * shape.pitch;
             for k in 0..n {
                 let centre = centre0 + k as f64 * shape.pitch;
                 plan.plates.push(PlatePos {
@@ -276,16 +416,25 @@ impl Planner<'_> {
             }
             plan.area += n as f64 * shape.area;
 
-            // The leftover at the end of the strip, split off by a cross cut if anything fits.
+            // The leftover at the end of the strip, split off by a cross cut if anything fits there
+            // or if the offcut up to the region side would be a sliver (then both offcuts of the
+            // cut are snappable, `run` made sure).
             let mut run_region = strip;
             let mut slanted_depth = depth + 1;
-            let cut = run_end + self.half_kerf;
+            let last_base_low = (n - 1).is_multiple_of(2);
+            let (cut, forced) = match run.end_cut {
+                Some(cut) => (cut, true),
+                None => (
+                    run_end + self.offcut_clearance(shape, self.half_kerf, last_base_low, d0, d1),
+                    false,
+                ),
+            };
             if cut < strip.hi[ua] - EPS {
                 let mut leftover = strip;
                 leftover.lo[ua] = cut;
                 leftover.lo_side[ua] = Side::Line;
                 let sub = self.fill(&leftover, remaining, depth + 2);
-                if !sub.plates.is_empty() {
+                if forced || !sub.plates.is_empty() {
                     plan.lines.push((
                         depth + 1,
                         [point(ua, cut, strip.lo[va]), point(ua, cut, strip.hi[va])],
@@ -299,6 +448,11 @@ impl Planner<'_> {
             let slanted = self.slanted_lines(shape, &run_region, ua, centre0, plate_v0, n);
             plan.lines
                 .extend(slanted.into_iter().map(|l| (slanted_depth, l)));
+        }
+        if plan.plates.is_empty() {
+            // Nothing of this item fits after all (a run that would leave slivers): leave the region
+            // to the caller rather than filling it again with the same choice.
+            return plan;
         }
         if let Some(region) = rest {
             let more = self.fill(&region, remaining, depth + 1);

@@ -1,7 +1,7 @@
 use super::*;
 use crate::layout::verify::{
-    verify_break_order, verify_copies, verify_outlines, verify_sheet_edges, verify_snappable,
-    Violation,
+    verify_break_order, verify_copies, verify_offcuts, verify_outlines, verify_sheet_edges,
+    verify_snappable, Violation,
 };
 use cam_geometry::signed_area;
 use proptest::prelude::*;
@@ -58,7 +58,7 @@ fn check_layout(
 fn design_c_fills_a_pzt_sheet() {
     for (margin, expected) in [(0.5, 66), (0.0, 69)] {
         let items = [design_c(200)];
-        let sheets = layout_plates(&items, &PZT_SHEET, 0.03, margin, None).unwrap();
+        let sheets = layout_plates(&items, &PZT_SHEET, 0.03, margin, 0.0, None).unwrap();
         check_layout(&items, &PZT_SHEET, 0.03, margin, &sheets);
         let first = &sheets[0];
         let count = first.placements.len();
@@ -75,15 +75,15 @@ fn design_c_fills_a_pzt_sheet() {
 
 #[test]
 fn design_c_stock_limit() {
-    let ok = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, Some(1)).unwrap();
+    let ok = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
     assert_eq!(ok.len(), 1);
-    let err = layout_plates(&[design_c(133)], &PZT_SHEET, 0.03, 0.5, Some(2)).unwrap_err();
+    let err = layout_plates(&[design_c(133)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(2)).unwrap_err();
     assert_eq!(err.to_string(), "needs 3 sheets but the stock is 2");
 }
 
 #[test]
 fn design_c_score_lines_are_the_strip_pattern() {
-    let sheets = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, Some(1)).unwrap();
+    let sheets = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
     let lines = &sheets[0].score_lines;
     let horizontal = lines.iter().filter(|l| l[0][1] == l[1][1]).count();
     // Bottom trim, two strip boundaries, top trim first; then 23 slanted lines in each of
@@ -102,7 +102,7 @@ fn design_c_score_lines_are_the_strip_pattern() {
 
 #[test]
 fn verifier_catches_a_tampered_design_c_sheet() {
-    let layout = &layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, Some(1)).unwrap()[0];
+    let layout = &layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap()[0];
     let any = |_: usize| vec![0.0, 90.0, 180.0, 270.0];
     // Drop a slanted line between two neighbours: they now share a cell.
     let mut missing = layout.clone();
@@ -135,7 +135,7 @@ fn verifier_catches_a_tampered_design_c_sheet() {
 #[test]
 fn rectangular_plates() {
     let items = [plate(50.0, 10.0, 10.0, 20)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, None).unwrap();
+    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.03, 0.5, &sheets);
     // 7 upright in one 50 mm strip, 2 lying in the 21.4 mm left above it.
     assert_eq!(sheets[0].placements.len(), 9);
@@ -149,20 +149,20 @@ fn rectangular_plates() {
 #[test]
 fn mixed_items_share_a_sheet() {
     let items = [design_c(40), plate(15.0, 4.0, 2.0, 30)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, None).unwrap();
+    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.03, 0.5, &sheets);
     assert_eq!(sheets.len(), 1, "40 C plates leave room for 30 small ones");
     // Same input, same output.
     assert_eq!(
         sheets,
-        layout_plates(&items, &PZT_SHEET, 0.03, 0.5, None).unwrap()
+        layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap()
     );
 }
 
 #[test]
 fn too_large_plate_is_reported() {
     let items = [plate(80.0, 10.0, 10.0, 1)];
-    let err = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, None).unwrap_err();
+    let err = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap_err();
     assert!(matches!(err, LayoutError::TooLarge { item: 0, .. }));
     assert!(err
         .to_string()
@@ -174,11 +174,11 @@ fn invalid_input_is_reported() {
     let mut bad = design_c(1);
     bad.tip_width_mm = 0.0;
     assert!(matches!(
-        layout_plates(&[bad], &PZT_SHEET, 0.03, 0.5, None),
+        layout_plates(&[bad], &PZT_SHEET, 0.03, 0.5, 0.0, None),
         Err(LayoutError::InvalidItem { item: 0, .. })
     ));
     assert!(matches!(
-        layout_plates(&[design_c(1)], &PZT_SHEET, -0.1, 0.5, None),
+        layout_plates(&[design_c(1)], &PZT_SHEET, -0.1, 0.5, 0.0, None),
         Err(LayoutError::InvalidParameter {
             name: "kerf_mm",
             ..
@@ -189,20 +189,98 @@ fn invalid_input_is_reported() {
 #[test]
 fn kerf_zero_plates_share_edges() {
     let items = [design_c(30)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.0, 0.0, None).unwrap();
+    let sheets = layout_plates(&items, &PZT_SHEET, 0.0, 0.0, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.0, 0.0, &sheets);
 }
 
+/// 5 thicknesses of design C's 0.267 mm PZT: the shipped templates' narrowest snappable strip
+/// (docs/cam.md §4, "Snappable strips").
+const C_STRIP: f64 = 5.0 * 0.267;
+
+#[test]
+fn the_root_edge_sliver_of_the_old_layout_is_caught_and_gone() {
+    // Without the rule, a 0.3 mm margin leaves 0.3 - 0.015 = 0.285 mm between the sheet edge and
+    // the plates' root score line (issue 16): the offcut check must name it.
+    let old = &layout_plates(&[design_c(68)], &PZT_SHEET, 0.03, 0.3, 0.0, None).unwrap()[0];
+    let v = verify_offcuts(old, &PZT_SHEET, C_STRIP).unwrap_err();
+    assert!(
+        v.iter()
+            .any(|x| matches!(x, Violation::NarrowOffcut { width_mm, .. }
+            if (width_mm - 0.285).abs() < 1e-6)),
+        "{v:?}"
+    );
+    // With it, every offcut is at least the strip and the sheet still takes 2 strips of plates.
+    let items = [design_c(68)];
+    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.3, C_STRIP, None).unwrap();
+    check_layout(&items, &PZT_SHEET, 0.03, 0.3, &sheets);
+    for layout in &sheets {
+        verify_offcuts(layout, &PZT_SHEET, C_STRIP).unwrap();
+    }
+    // The trim strip along the root edge: the first full-width line is kerf/2 + strip from the edge
+    // (margin 0.3 < 0.015 + 1.335), so the plates sit 1.35 mm in.
+    let lowest = sheets[0]
+        .placements
+        .iter()
+        .flat_map(|p| p.outline.iter().map(|q| q[1]))
+        .fold(f64::INFINITY, f64::min);
+    assert!((lowest - (0.015 + C_STRIP)).abs() < 1e-9, "{lowest}");
+    let plates = sheets[0].placements.len();
+    assert!(plates >= 60, "{plates} plates on the first sheet");
+}
+
+#[test]
+fn offcut_check_measures_strips_wedges_and_triangles() {
+    // A 10 x 10 sheet, one line 0.4 from the bottom edge: a 0.4 mm strip, no plate in it.
+    let sheet = Sheet {
+        width_mm: 10.0,
+        height_mm: 10.0,
+    };
+    let mut layout = SheetLayout {
+        sheet_index: 0,
+        placements: vec![],
+        score_lines: vec![[[0.0, 0.4], [10.0, 0.4]]],
+    };
+    let width = |l: &SheetLayout, min: f64| match verify_offcuts(l, &sheet, min) {
+        Ok(()) => None,
+        Err(v) => v.iter().find_map(|x| match x {
+            Violation::NarrowOffcut { width_mm, .. } => Some(*width_mm),
+            _ => None,
+        }),
+    };
+    assert!((width(&layout, 0.5).unwrap() - 0.4).abs() < 1e-12);
+    assert_eq!(width(&layout, 0.4), None);
+    // A slanted line from (1, 0) to (2, 10): the wedge left of it is 1 mm wide at the bottom along
+    // x, so 1 * cos(atan(0.1)) = 0.995 mm square to the line.
+    layout.score_lines = vec![[[1.0, 0.0], [2.0, 10.0]]];
+    let cos = 1.0 / (1.0f64 + 0.01).sqrt();
+    assert!((width(&layout, 2.0).unwrap() - cos).abs() < 1e-12);
+    // A line from (0, 9) to (3, 10) cuts a triangle off the top-left corner: its height over the
+    // line from the corner (0, 10) is 3 / sqrt(10).
+    layout.score_lines = vec![[[0.0, 9.0], [3.0, 10.0]]];
+    assert!((width(&layout, 2.0).unwrap() - 3.0 / 10f64.sqrt()).abs() < 1e-12);
+    // A piece holding a plate is not an offcut, however narrow.
+    layout.score_lines = vec![[[0.0, 0.4], [10.0, 0.4]]];
+    layout.placements = vec![crate::layout::placement::place_at(
+        0,
+        0,
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 0.3], [0.0, 0.3]],
+        0.0,
+        [2.0, 0.05],
+    )];
+    assert_eq!(width(&layout, 0.5), None);
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(128))]
     #[test]
-    fn random_trapezoids_verify(
+    fn random_trapezoids_verify_and_leave_no_sliver(
         length in 5.0..60.0f64,
         base in 1.0..25.0f64,
         tip in 0.3..25.0f64,
         count in 1usize..40,
         kerf in 0.0..0.05f64,
         margin in 0.0..1.0f64,
+        strip in prop_oneof![Just(0.0), 0.25..2.5f64],
         side in 20.0..100.0f64,
         second in proptest::option::of((5.0..30.0f64, 1.0..10.0f64, 0.3..10.0f64, 1usize..20)),
     ) {
@@ -211,13 +289,29 @@ proptest! {
         if let Some((l, b, t, n)) = second {
             items.push(PlateSpec { length_mm: l, base_width_mm: b, tip_width_mm: t, count: n });
         }
-        match layout_plates(&items, &sheet, kerf, margin, None) {
-            Ok(sheets) => check_layout(&items, &sheet, kerf, margin, &sheets),
+        match layout_plates(&items, &sheet, kerf, margin, strip, None) {
+            Ok(sheets) => {
+                check_layout(&items, &sheet, kerf, margin, &sheets);
+                for layout in &sheets {
+                    verify_offcuts(layout, &sheet, strip)
+                        .unwrap_or_else(|v| panic!("sheet {}: {v:?}", layout.sheet_index));
+                }
+            }
             Err(LayoutError::TooLarge { item, .. }) => {
+                // Across the strip the plate needs its length inside the edge clearance; along it,
+                // its width plus at most `strip sec θ + kerf/2 sec θ + |b - t|/2 + kerf/2 |m|` at each
+                // end for a snappable wedge (the run end's offcut clearance bound).
                 let s = &items[item];
-                let room = |a: f64, b: f64| a <= side - 2.0 * margin + 1e-9 && b <= side * 0.8 - 2.0 * margin + 1e-9;
+                let edge = if margin <= kerf / 2.0 { margin } else { margin.max(kerf / 2.0 + strip) };
                 let w = s.base_width_mm.max(s.tip_width_mm);
-                prop_assert!(!room(w, s.length_mm) && !room(s.length_mm, w));
+                let slope = (s.base_width_mm - s.tip_width_mm).abs() / (2.0 * s.length_mm);
+                let sec = (1.0 + slope * slope).sqrt();
+                // Without the rule (strip 0) a run needs only the edge clearance.
+                let end = if strip == 0.0 { edge } else { edge.max((strip + kerf / 2.0) * sec + 2.0 * slope * s.length_mm / 2.0 + kerf / 2.0 * slope) };
+                let fits = |along: f64, across: f64, u: f64, v: f64| {
+                    along + 2.0 * end <= u + 1e-9 && across + 2.0 * edge <= v + 1e-9
+                };
+                prop_assert!(!fits(w, s.length_mm, side, side * 0.8) && !fits(w, s.length_mm, side * 0.8, side));
             }
             Err(e) => prop_assert!(false, "unexpected error {e}"),
         }

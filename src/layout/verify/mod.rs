@@ -11,8 +11,8 @@
 //!   each other and the edge, in allowed rotations;
 //! - `bookkeeping` ([`verify_outlines`], [`verify_copies`], [`verify_stock`]): each outline its
 //!   part as stated, every copy once, the stock;
-//! - `snap` ([`verify_snappable`], [`verify_break_order`]): score lines that can be snapped in
-//!   order and free every plate.
+//! - `snap` ([`verify_snappable`], [`verify_break_order`], [`verify_offcuts`]): score lines that
+//!   can be snapped in order, free every plate and leave no offcut too narrow to snap.
 
 mod bookkeeping;
 mod clearance;
@@ -22,7 +22,7 @@ mod tests;
 
 pub use bookkeeping::{verify_copies, verify_outlines, verify_stock};
 pub use clearance::{verify_sheet, verify_sheet_edges};
-pub use snap::{verify_break_order, verify_snappable};
+pub use snap::{verify_break_order, verify_offcuts, verify_snappable};
 
 use super::placement::{Sheet, SheetLayout};
 use cam_geometry::Point;
@@ -104,6 +104,12 @@ pub enum Violation {
     ScoreLineCrossesPlate { line: usize, part: PartRef },
     #[error("{part} does not lie inside one cell of the score lines")]
     PlateNotInCell { part: PartRef },
+    #[error("score line {line} leaves an offcut {width_mm:.3} mm wide, narrower than the {min_mm:.3} mm strip that snaps off cleanly")]
+    NarrowOffcut {
+        line: usize,
+        width_mm: f64,
+        min_mm: f64,
+    },
     #[error("{a} and {b} lie in the same cell: no score line separates them")]
     SharedCell { a: PartRef, b: PartRef },
     #[error("the layout uses {used} sheets but the stock is {stock}")]

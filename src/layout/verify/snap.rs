@@ -17,56 +17,20 @@ use geo::{
 pub fn verify_snappable(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<Violation>> {
     let mut violations = Vec::new();
     let sheet_poly = sheet_polygon(sheet);
-    let Support {
-        lines,
-        usable,
-        on_edge,
-        rests_on,
-    } = Support::new(layout, sheet, &mut violations);
+    let support = Support::new(layout, sheet, &mut violations);
 
-    // A break order: repeatedly take a line whose ends rest on the edge or on lines taken before.
-    let mut order = Vec::new();
-    let mut taken = vec![false; lines.len()];
-    loop {
-        let next = (0..lines.len()).find(|&i| {
-            usable[i]
-                && !taken[i]
-                && (0..2).all(|e| on_edge[i][e] || rests_on[i][e].iter().any(|&j| taken[j]))
-        });
-        match next {
-            Some(i) => {
-                taken[i] = true;
-                order.push(i);
-            }
-            None => break,
-        }
-    }
-    let stuck: Vec<usize> = (0..lines.len())
-        .filter(|&i| usable[i] && !taken[i])
-        .collect();
+    let (order, stuck) = support.break_order();
     if !stuck.is_empty() {
         violations.push(Violation::NotGuillotine { lines: stuck });
     }
-
-    // Replay the breaks. Pieces stay convex: each break is a full chord of the pieces it splits.
-    let mut pieces: Vec<Vec<Coord<f64>>> = vec![sheet_poly.exterior().0[..4].to_vec()];
-    for &i in &order {
-        let mut next_pieces = Vec::with_capacity(pieces.len() + 4);
-        for piece in pieces {
-            match split_piece(&piece, &lines[i]) {
-                Split::Apart(a, b) => {
-                    next_pieces.push(a);
-                    next_pieces.push(b);
-                }
-                Split::Untouched => next_pieces.push(piece),
-                Split::EndsInside => {
-                    violations.push(Violation::ScoreLineEndsInPiece { line: i });
-                    next_pieces.push(piece);
-                }
-            }
-        }
-        pieces = next_pieces;
-    }
+    let pieces = replay(
+        &support.lines,
+        &order,
+        &sheet_poly,
+        &mut violations,
+        |_, _| {},
+    );
+    let Support { lines, usable, .. } = support;
 
     // Every plate in a cell of its own; name the lines that cut through plates.
     let mut owner: Vec<Option<usize>> = vec![None; pieces.len()];
@@ -173,6 +137,132 @@ impl Support {
             rests_on,
         }
     }
+}
+
+impl Support {
+    /// A break order: repeatedly take a line whose ends rest on the edge or on lines taken
+    /// before. Also the usable lines that can never be taken (each ends on another of them).
+    fn break_order(&self) -> (Vec<usize>, Vec<usize>) {
+        let n = self.lines.len();
+        let mut order = Vec::new();
+        let mut taken = vec![false; n];
+        loop {
+            let next = (0..n).find(|&i| {
+                self.usable[i]
+                    && !taken[i]
+                    && (0..2).all(|e| {
+                        self.on_edge[i][e] || self.rests_on[i][e].iter().any(|&j| taken[j])
+                    })
+            });
+            match next {
+                Some(i) => {
+                    taken[i] = true;
+                    order.push(i);
+                }
+                None => break,
+            }
+        }
+        let stuck = (0..n).filter(|&i| self.usable[i] && !taken[i]).collect();
+        (order, stuck)
+    }
+}
+
+/// Replays the breaks in `order` on the sheet and returns the pieces. Pieces stay convex: each
+/// break is a full chord of the pieces it splits. `split(line, piece)` sees each of the two
+/// pieces every break makes; a break that ends inside a piece is a violation.
+fn replay(
+    lines: &[Line<f64>],
+    order: &[usize],
+    sheet: &Polygon<f64>,
+    violations: &mut Vec<Violation>,
+    mut split: impl FnMut(usize, &[Coord<f64>]),
+) -> Vec<Vec<Coord<f64>>> {
+    let mut pieces: Vec<Vec<Coord<f64>>> = vec![sheet.exterior().0[..4].to_vec()];
+    for &i in order {
+        let mut next_pieces = Vec::with_capacity(pieces.len() + 4);
+        for piece in pieces {
+            match split_piece(&piece, &lines[i]) {
+                Split::Apart(a, b) => {
+                    split(i, &a);
+                    split(i, &b);
+                    next_pieces.push(a);
+                    next_pieces.push(b);
+                }
+                Split::Untouched => next_pieces.push(piece),
+                Split::EndsInside => {
+                    violations.push(Violation::ScoreLineEndsInPiece { line: i });
+                    next_pieces.push(piece);
+                }
+            }
+        }
+        pieces = next_pieces;
+    }
+    pieces
+}
+
+/// Checks that no break leaves an offcut (a piece without a plate) narrower than `min_strip_mm`
+/// (docs/cam.md §4, "Snappable strips"): a strip that narrow cannot be snapped off cleanly and
+/// chips the plate beside it. An offcut's width at each end of its break is the distance, square
+/// to the break, of the offcut's corner next to that end: the strip's width for a strip, the
+/// narrow end for a wedge, the height for a triangle. The breaks are replayed in a break order
+/// as [`verify_snappable`] does; its other findings are left to it.
+pub fn verify_offcuts(
+    layout: &SheetLayout,
+    sheet: &Sheet,
+    min_strip_mm: f64,
+) -> Result<(), Vec<Violation>> {
+    let mut ignored = Vec::new();
+    let support = Support::new(layout, sheet, &mut ignored);
+    let (order, _) = support.break_order();
+    let mut violations = Vec::new();
+    replay(
+        &support.lines,
+        &order,
+        &sheet_polygon(sheet),
+        &mut ignored,
+        |line, piece| {
+            let holds_plate = layout
+                .placements
+                .iter()
+                .any(|p| p.outline.iter().all(|&v| inside_convex(piece, coord(v))));
+            if holds_plate {
+                return;
+            }
+            if let Some(width) = offcut_width(piece, &support.lines[line]) {
+                if width < min_strip_mm - ON_TOL {
+                    violations.push(Violation::NarrowOffcut {
+                        line,
+                        width_mm: width,
+                        min_mm: min_strip_mm,
+                    });
+                }
+            }
+        },
+    );
+    finish(violations)
+}
+
+/// Width of an offcut at the ends of the break that made it: for each corner on the break, the
+/// distance to the break of its neighbouring corner off the break; the smaller of them.
+fn offcut_width(piece: &[Coord<f64>], line: &Line<f64>) -> Option<f64> {
+    let carrier = geo::Line::new(line.start, line.end);
+    let d = carrier.delta();
+    let len = (d.x * d.x + d.y * d.y).sqrt();
+    // Distance to the infinite line through the break.
+    let off =
+        |p: Coord<f64>| ((p - carrier.start).x * d.y - (p - carrier.start).y * d.x).abs() / len;
+    let n = piece.len();
+    let on: Vec<bool> = piece.iter().map(|&p| off(p) <= ON_TOL).collect();
+    let mut width: Option<f64> = None;
+    for k in (0..n).filter(|&k| on[k]) {
+        for j in [(k + n - 1) % n, (k + 1) % n] {
+            if !on[j] {
+                let w = off(piece[j]);
+                width = Some(width.map_or(w, |x: f64| x.min(w)));
+            }
+        }
+    }
+    width
 }
 
 /// Checks that the score lines are listed in a break order: each line's ends rest on the sheet
