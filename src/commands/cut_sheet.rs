@@ -1,9 +1,10 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use crate::cutsheet::{plan, write, CutSheetOptions, Template};
+use crate::cutsheet::{plan_into, write, CutSheetOptions, SheetDrawing, Template};
 use crate::design::Design;
 use crate::output::Output;
+use crate::pipeline::SinkError;
 use anyhow::bail;
 use clap::Args;
 use std::path::PathBuf;
@@ -58,17 +59,30 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         model: args.model.model.clone(),
         stroke_mm: args.stroke.stroke_mm,
     };
-    let sheet = plan(&design, &template, &opts)?;
-    let files = write::render(&sheet, formats, args.stroke.stroke_mm)?;
-    let count = files.len();
-    Output::new("cut-sheet")
+    // Checked against the output policy before any work; the files then go into its staging folder one
+    // drawing at a time, so memory holds one sheet's drawing and the report, whatever the quantity.
+    let mut folder = Output::new("cut-sheet")
         .force(args.output.force.force)
         .inputs(
             std::iter::once(design.source.clone())
                 .chain(Template::file_of(&design.process, &design.source)),
         )
-        .folder("-o", &args.output.output, files)
-        .write()?;
+        .stream_folder("-o", &args.output.output)?;
+    let svg = write::svg_options(&template.palette, args.stroke.stroke_mm);
+    let mut layer_files: Vec<String> = Vec::new();
+    let mut put = |drawing: SheetDrawing| -> Result<(), SinkError> {
+        for (name, bytes) in write::render_drawing(&drawing, formats, &svg)? {
+            folder.add(&name, &bytes)?;
+            layer_files.push(name);
+        }
+        Ok(())
+    };
+    let sheet = plan_into(&design, &template, &opts, Some(&mut put))?;
+    for (name, bytes) in write::render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
+        folder.add(&name, &bytes)?;
+    }
+    let count = folder.len();
+    folder.finish()?;
     let r = &sheet.report;
     println!(
         "{} x {}: {} files in {} ({} PZT sheet(s), {} clamp panel(s)); mass {:.2} mg (geometry {:.2} mg), energy {:.4} mJ",

@@ -111,10 +111,19 @@ fn a_failed_move_puts_everything_back() {
     let o = Output::new("test")
         .folder("-o", &out, files(&[("x.txt", "new"), ("y.txt", "2")]))
         .folder("-o", &blocked, files(&[("z.txt", "3")]));
+    let run = o.run.clone();
     let mut staged: Vec<Staged> = o
         .destinations
         .into_iter()
-        .map(|d| stage(d).unwrap())
+        .map(|(mut d, files)| {
+            check_folder(&mut d).unwrap();
+            let mut s = Staged::open(d).unwrap();
+            for (name, bytes) in &files {
+                s.put(name, bytes).unwrap();
+            }
+            s.seal(&run).unwrap();
+            s
+        })
         .collect();
     let mut done = Vec::new();
     commit(&staged[0], &mut done).unwrap();

@@ -5,7 +5,7 @@
 
 use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
 use super::cut::{draw_cut_sheets, passive_layers, pyralux_layer, CutLayer};
-use super::jobs::{check_geometry, Drawn, Job, Names, SheetRecord};
+use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord};
 use super::parts::PartGeometry;
 use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
@@ -73,6 +73,19 @@ pub fn build(
     names: &Names,
     packing: &Packing,
 ) -> Result<Build, BuildError> {
+    build_into(designs, template, names, packing, None)
+}
+
+/// [`build`], handing each drawing to `sink` as soon as it is made (file order) instead of keeping it:
+/// a large build then holds one drawing at a time, and its [`Build::drawings`] is empty. A sink error
+/// ends the build at its next stage ([`BuildError::Sink`]).
+pub fn build_into<'s>(
+    designs: &[(&Design, usize)],
+    template: &Template,
+    names: &Names,
+    packing: &Packing,
+    sink: Option<&'s mut DrawingSink<'s>>,
+) -> Result<Build, BuildError> {
     let jobs: Vec<Job<'_>> = designs
         .iter()
         .map(|(design, quantity)| Job::new(design, *quantity, template))
@@ -80,7 +93,7 @@ pub fn build(
     for job in &jobs {
         check_geometry(job, template)?;
     }
-    let mut drawn = Drawn::default();
+    let mut drawn = Drawn::new(sink);
 
     // PZT: one snappable layout per plate thickness (and PZT material).
     let mut pzt_sheets = 0;
@@ -118,6 +131,7 @@ pub fn build(
             }
         }
         pzt_sheets += layouts.len();
+        drawn.check_sink()?;
     }
 
     // Passive parts: one layer per layup (and per ply when plies are cut one by one), then Pyralux.
@@ -142,6 +156,7 @@ pub fn build(
     for layer in layers {
         let placed = place_cut_layer(&layer, packing, &jobs, names)?;
         draw_cut_sheets(&layer, &placed.layouts, names, &mut drawn);
+        drawn.check_sink()?;
         cut_layers.push(CutLayerSheets {
             sheets: placed.layouts.len(),
             baseline: placed.baseline,
@@ -153,6 +168,7 @@ pub fn build(
     let mut clamps = Vec::new();
     for group in groups(&jobs, |j| (laminate_mm(j.design) * 1e6).round() as i64) {
         clamps.push(clamp_layers(&group, template, names, &mut drawn)?);
+        drawn.check_sink()?;
     }
     Ok(Build {
         drawings: drawn.drawings,
