@@ -1,10 +1,10 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use crate::cutsheet::{plan_into, write, CutSheetOptions, SheetDrawing, Template};
+use crate::cutsheet::stream::plan_and_put;
+use crate::cutsheet::{write, CutSheetOptions, Template};
 use crate::design::Design;
 use crate::output::Output;
-use crate::pipeline::SinkError;
 use anyhow::bail;
 use clap::Args;
 use std::path::PathBuf;
@@ -68,16 +68,9 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
                 .chain(Template::file_of(&design.process, &design.source)),
         )
         .stream_folder("-o", &args.output.output)?;
-    let svg = write::svg_options(&template.palette, args.stroke.stroke_mm);
-    let mut layer_files: Vec<String> = Vec::new();
-    let mut put = |drawing: SheetDrawing| -> Result<(), SinkError> {
-        for (name, bytes) in write::render_drawing(&drawing, formats, &svg)? {
-            folder.add(&name, &bytes)?;
-            layer_files.push(name);
-        }
-        Ok(())
-    };
-    let sheet = plan_into(&design, &template, &opts, Some(&mut put))?;
+    let (sheet, layer_files) = plan_and_put(&design, &template, &opts, &mut |name, bytes| {
+        folder.add(name, bytes).map_err(Into::into)
+    })?;
     for (name, bytes) in write::render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
         folder.add(&name, &bytes)?;
     }

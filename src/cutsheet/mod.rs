@@ -4,6 +4,7 @@
 mod layers;
 mod preview;
 mod report;
+pub mod stream;
 pub mod write;
 
 pub use crate::pipeline::{BuildError, SheetDrawing};
