@@ -74,7 +74,9 @@ pub fn plan_and_put(
         };
         let planned = plan_into(design, template, opts, Some(&mut sink));
         drop(job_tx);
-        let written = writer.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        let written = writer
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
         // A failed write is the cause of any failure of the sink: report it first.
         let names = written.map_err(BuildError::Sink)?;
         Ok((planned?, names))
