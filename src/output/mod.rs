@@ -201,6 +201,9 @@ impl Destination {
     }
 }
 
+/// Files of a destination as (name, bytes), in order.
+type Files = Vec<(String, Vec<u8>)>;
+
 /// What every destination of one run shares: the command that writes, `--force`, the run's inputs.
 #[derive(Debug, Clone)]
 struct Run {
@@ -214,7 +217,7 @@ struct Run {
 #[derive(Debug)]
 pub struct Output {
     run: Run,
-    destinations: Vec<(Destination, Vec<(String, Vec<u8>)>)>,
+    destinations: Vec<(Destination, Files)>,
 }
 
 impl Output {
