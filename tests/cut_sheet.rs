@@ -970,6 +970,7 @@ fn labels_on_bonded_zones(example: &str, method: &str) -> (usize, usize) {
     };
     let built = build(
         &[(&design, design.quantity)],
+        &[],
         &template,
         &names,
         &Packing::Shelf,
@@ -1030,5 +1031,123 @@ fn no_label_lies_in_a_bonded_zone_for_any_example_by_either_method() {
                 assert!(labels > 0, "{example} by {method}: labels lost");
             }
         }
+    }
+}
+
+/// Issue 14: a design whose features are narrower than two kerfs of its process is refused before
+/// anything is laid out, in one line naming the design file and the design field the user wrote.
+#[test]
+fn features_too_small_for_the_kerf_name_the_design_field() {
+    let dir = tempfile::tempdir().unwrap();
+    // Design C's tip: (2 - 1.667) x 5 / 1.667 = 0.9988 mm, less than 2 x 0.6 mm.
+    let out = dir.path().join("wide-kerf");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &["--kerf-mm", "0.6"]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert!(
+        err.contains("thesis-C.toml: geometry.width_ratio = ")
+            && err
+                .contains("the tip width is 0.9988 mm, narrower than twice the kerf (2 x 0.6 mm)"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // A 0.05 mm base tab cannot be cut with a 0.05 mm kerf (it needs 0 or at least 0.1 mm).
+    let text = design_c_with(&[("base_tab_mm", "base_tab_mm = 0.05")]);
+    let (_d, design) = write_temp("tab.toml", &text);
+    let out = dir.path().join("thin-tab");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0.05"]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert!(
+        err.contains("tab.toml: geometry.base_tab_mm = 0.05: a base tab must be 0 or at least twice the kerf (2 x 0.05 mm)"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // Two kerfs fit: the same design is cut.
+    let out = dir.path().join("fits");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &["--kerf-mm", "0.49"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// Issue 14: nothing that is not a finite number reaches report.json. A calibrated model whose d31
+/// scale is within its documented range (0, inf) but absurd (1e300) makes the energy overflow: the run
+/// is refused in one line naming the design file and the values, and writes nothing.
+#[test]
+fn a_non_finite_prediction_never_reaches_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("calibrated-model.toml");
+    std::fs::write(
+        &model,
+        "model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n[effects]\nd31_scale = 1e300\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet(
+        "examples/thesis-C.toml",
+        &out,
+        &["--model", model.to_str().unwrap()],
+    );
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert!(
+        err.contains("thesis-C.toml: geometry, laminate, drive = length_mm = 42.2")
+            && err.contains("energy_mJ = inf"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let staging: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("staging"))
+        .collect();
+    assert!(staging.is_empty(), "{staging:?}");
+}
+
+/// Issue 14, item 6: the streamed writer gives the bytes the in-memory renderer gives (the library's
+/// `plan` + `render`), for a quantity that spans several sheets of every layer.
+#[test]
+fn streamed_files_equal_the_in_memory_render() {
+    use actuator_cam::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
+    use actuator_cam::design::Design;
+    use std::collections::BTreeMap;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet(&example("thesis-C.toml"), &out, &["--quantity", "120"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let design = Design::load(&example_path("thesis-C.toml")).unwrap();
+    let template = Template::resolve(&design.process, &design.source).unwrap();
+    let opts = CutSheetOptions {
+        formats: Formats {
+            svg: true,
+            dxf: true,
+        },
+        kerf_mm: None,
+        quantity: Some(120),
+        model: actuator_model::ModelKind::Original.into(),
+        stroke_mm: 0.0254,
+    };
+    let sheet = plan(&design, &template, &opts).unwrap();
+    let expected: BTreeMap<String, Vec<u8>> = write::render(&sheet, opts.formats, opts.stroke_mm)
+        .unwrap()
+        .into_iter()
+        .collect();
+    let mut written = files(&out);
+    written.remove(".actuator-cam-manifest");
+    assert!(written.len() > 300, "{}", written.len());
+    assert_eq!(
+        written.keys().collect::<Vec<_>>(),
+        expected.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &expected {
+        assert!(written[name] == *bytes, "{name} differs");
     }
 }

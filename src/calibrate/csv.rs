@@ -317,16 +317,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
         .headers()
         .map_err(|e| InputError::whole_file(file, format!("not valid CSV in the header: {e}")))?
         .clone();
-    for (i, name) in headers.iter().enumerate() {
-        if headers.iter().take(i).any(|h| h == name) {
-            return Err(InputError::invalid(
-                file,
-                &format!("header, column {name:?}"),
-                headers.iter().collect::<Vec<_>>().join(","),
-                "the column appears twice; keep one",
-            ));
-        }
-    }
+    crate::input::refuse_repeated_columns(file, &headers)?;
     let unknown_columns: Vec<String> = headers
         .iter()
         .filter(|h| !REQUIRED_COLUMNS.contains(h) && !OPTIONAL_COLUMNS.contains(h))

@@ -52,9 +52,19 @@ const FIXED_HEADER: &str = "0\nSECTION\n2\nHEADER\n\
 9\n$VERSIONGUID\n2\n{B2D8B4F1-6F3C-4D66-8B8F-1E2A3D4C5B62}\n\
 0\nENDSEC\n0\nEOF\n";
 
+/// The header read from [`FIXED_HEADER`]: read once per process, as every file needs it.
+fn fixed_header() -> Result<&'static dxf::Header, DxfError> {
+    static FIXED: std::sync::OnceLock<dxf::Header> = std::sync::OnceLock::new();
+    if let Some(h) = FIXED.get() {
+        return Ok(h);
+    }
+    let header = dxf::Drawing::load(&mut FIXED_HEADER.as_bytes())?.header;
+    Ok(FIXED.get_or_init(|| header))
+}
+
 /// A new crate drawing, R2000, millimetres, with the fixed dates and GUIDs.
 fn fixed_document() -> Result<dxf::Drawing, DxfError> {
-    let fixed = dxf::Drawing::load(&mut FIXED_HEADER.as_bytes())?.header;
+    let fixed = fixed_header()?.clone();
     let mut doc = dxf::Drawing::new();
     let header = &mut doc.header;
     header.version = AcadVersion::R2000;
@@ -180,7 +190,8 @@ pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfE
 const EOL: &str = "\r\n";
 
 /// Inserts `5 <handle>` and `330 0` after the `0 TABLE / 2 <name>` pairs of each table head,
-/// taking handles from `$HANDSEED` and advancing it.
+/// taking handles from `$HANDSEED` and advancing it. Every other pair is copied as it is; one pass
+/// counts the table heads (for the new `$HANDSEED`), a second writes.
 fn add_table_head_handles(bytes: &[u8]) -> Result<Vec<u8>, DxfError> {
     let text = std::str::from_utf8(bytes).map_err(|_| DxfError::Malformed("not ASCII"))?;
     let lines: Vec<&str> = text.split(EOL).collect();
@@ -191,7 +202,7 @@ fn add_table_head_handles(bytes: &[u8]) -> Result<Vec<u8>, DxfError> {
         .map(|c| (c[0], c[1]))
         .collect();
     let is = |pair: (&str, &str), code: i32, value: &str| {
-        pair.0.trim().parse::<i32>() == Ok(code) && pair.1 == value
+        pair.1 == value && pair.0.trim().parse::<i32>() == Ok(code)
     };
     let seed_at = pairs
         .iter()
@@ -199,27 +210,27 @@ fn add_table_head_handles(bytes: &[u8]) -> Result<Vec<u8>, DxfError> {
         .map(|i| i + 1)
         .filter(|&i| i < pairs.len())
         .ok_or(DxfError::Malformed("no $HANDSEED"))?;
-    let mut next_handle = u64::from_str_radix(pairs[seed_at].1, 16)
+    let seed = u64::from_str_radix(pairs[seed_at].1, 16)
         .map_err(|_| DxfError::Malformed("$HANDSEED is not hexadecimal"))?;
+    let after_table_name =
+        |i: usize| i > 0 && pairs[i].0.trim() == "2" && is(pairs[i - 1], 0, "TABLE");
+    let heads = (0..pairs.len()).filter(|&i| after_table_name(i)).count() as u64;
 
-    let mut out: Vec<(String, String)> = Vec::with_capacity(pairs.len() + 32);
+    let mut fixed = String::with_capacity(text.len() + 24 * heads as usize + 16);
+    let mut next_handle = seed;
     for (i, &(code, value)) in pairs.iter().enumerate() {
-        out.push((code.to_string(), value.to_string()));
-        let after_table_name = i > 0 && is(pairs[i - 1], 0, "TABLE") && code.trim() == "2";
-        if after_table_name {
-            out.push(("  5".to_string(), format!("{next_handle:X}")));
-            out.push(("330".to_string(), "0".to_string()));
+        fixed.push_str(code);
+        fixed.push_str(EOL);
+        if i == seed_at {
+            fixed.push_str(&format!("{:X}", seed + heads));
+        } else {
+            fixed.push_str(value);
+        }
+        fixed.push_str(EOL);
+        if after_table_name(i) {
+            fixed.push_str(&format!("  5{EOL}{next_handle:X}{EOL}330{EOL}0{EOL}"));
             next_handle += 1;
         }
-    }
-    out[seed_at].1 = format!("{next_handle:X}");
-
-    let mut fixed = String::with_capacity(text.len() + 512);
-    for (code, value) in out {
-        fixed.push_str(&code);
-        fixed.push_str(EOL);
-        fixed.push_str(&value);
-        fixed.push_str(EOL);
     }
     Ok(fixed.into_bytes())
 }

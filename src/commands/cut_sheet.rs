@@ -1,7 +1,8 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use crate::cutsheet::{plan, write, CutSheetOptions, Template};
+use crate::cutsheet::stream::plan_and_put;
+use crate::cutsheet::{write, CutSheetOptions, Template};
 use crate::design::Design;
 use crate::output::Output;
 use anyhow::bail;
@@ -58,17 +59,23 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         model: args.model.model.clone(),
         stroke_mm: args.stroke.stroke_mm,
     };
-    let sheet = plan(&design, &template, &opts)?;
-    let files = write::render(&sheet, formats, args.stroke.stroke_mm)?;
-    let count = files.len();
-    Output::new("cut-sheet")
+    // Checked against the output policy before any work; the files then go into its staging folder one
+    // drawing at a time, so memory holds one sheet's drawing and the report, whatever the quantity.
+    let mut folder = Output::new("cut-sheet")
         .force(args.output.force.force)
         .inputs(
             std::iter::once(design.source.clone())
                 .chain(Template::file_of(&design.process, &design.source)),
         )
-        .folder("-o", &args.output.output, files)
-        .write()?;
+        .stream_folder("-o", &args.output.output)?;
+    let (sheet, layer_files) = plan_and_put(&design, &template, &opts, &mut |name, bytes| {
+        folder.add(name, bytes).map_err(Into::into)
+    })?;
+    for (name, bytes) in write::render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
+        folder.add(&name, &bytes)?;
+    }
+    let count = folder.len();
+    folder.finish()?;
     let r = &sheet.report;
     println!(
         "{} x {}: {} files in {} ({} PZT sheet(s), {} clamp panel(s)); mass {:.2} mg (geometry {:.2} mg), energy {:.4} mJ",

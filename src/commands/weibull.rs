@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 pub struct WeibullArgs {
     /// CSV with a header row and a column of failure values (field, strain or stress, any unit).
     pub failures: PathBuf,
-    /// Column to read (default: the first).
-    #[arg(long)]
-    pub column: Option<String>,
+    /// Column to read (default: the first). Given twice, the run is refused rather than one winning.
+    #[arg(long, action = clap::ArgAction::Append)]
+    pub column: Vec<String>,
     /// Survival rates to give thresholds for.
     #[arg(long, value_delimiter = ',', default_value = "0.9,0.75,0.5")]
     pub survival: Vec<f64>,
@@ -31,6 +31,7 @@ pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64
         .headers()
         .map_err(|e| InputError::whole_file(path, format!("not valid CSV in the header: {e}")))?
         .clone();
+    crate::input::refuse_repeated_columns(path, &headers)?;
     let index = match column {
         Some(name) => headers.iter().position(|h| h == name).ok_or_else(|| {
             InputError::invalid(
@@ -84,7 +85,16 @@ pub fn run(args: &WeibullArgs) -> anyhow::Result<()> {
             bail!("--survival {s}: outside the allowed range (0, 1)");
         }
     }
-    let (name, values) = read_column(&args.failures, args.column.as_deref())?;
+    let column = match args.column.as_slice() {
+        [] => None,
+        [one] => Some(one.as_str()),
+        many => bail!(
+            "--column given {} times ({}): name one column",
+            many.len(),
+            many.join(", ")
+        ),
+    };
+    let (name, values) = read_column(&args.failures, column)?;
     let fit = Weibull::fit_mle(&values)
         .map_err(|e| anyhow!("{}: column {name}: {e}", args.failures.display()))?;
     println!(

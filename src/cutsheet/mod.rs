@@ -4,6 +4,7 @@
 mod layers;
 mod preview;
 mod report;
+pub mod stream;
 pub mod write;
 
 pub use crate::pipeline::{BuildError, SheetDrawing};
@@ -15,7 +16,7 @@ pub use report::{DesignSummary, Report};
 use crate::cam::drawing::Drawing;
 use crate::cam::palette::Palette;
 use crate::design::Design;
-use crate::pipeline::{build, Names, Packing};
+use crate::pipeline::{build_into, DrawingSink, Names, Packing};
 use crate::prediction::Prediction;
 use actuator_model::model::ModelChoice;
 use actuator_model::Material;
@@ -81,38 +82,69 @@ pub fn plan(
     template: &Template,
     opts: &CutSheetOptions,
 ) -> Result<CutSheet, BuildError> {
-    let mut template = template.clone();
-    if let Some(k) = opts.kerf_mm {
-        template.override_kerf(k);
-    }
-    // One design is laid out whatever the PZT stock: stock limits are a batch's concern.
-    template.pzt.stock = None;
+    plan_into(design, template, opts, None)
+}
+
+/// [`plan`], handing each drawing to `sink` as soon as it is made (file order) instead of keeping it,
+/// so that a large quantity holds one sheet's drawing at a time; the returned [`CutSheet::drawings`]
+/// is then empty.
+pub fn plan_into<'s>(
+    design: &Design,
+    template: &Template,
+    opts: &CutSheetOptions,
+    sink: Option<&'s mut DrawingSink<'s>>,
+) -> Result<CutSheet, BuildError> {
+    let template = process_template(template, opts);
     let mut design = design_for_process(design, &template)?;
     if let Some(q) = opts.quantity {
         design.quantity = q;
     }
+    // Every feature against the kerf, naming the design field, before anything is laid out.
+    design.check_cut(widest_kerf_mm(&template), template.pzt_edge_margin_mm)?;
     let file = design.source.display().to_string();
     let prediction = Prediction::with_model(&design, &opts.model)
         .map_err(|e| BuildError::Model(e, file.clone()))?;
+    prediction.ensure_finite(&design)?;
     // A batch of one: the same pipeline as `nest`, with the shelf packer for the cut-through layers.
     let names = Names {
         title: design.name.clone(),
         file,
         name_designs: false,
     };
-    let built = build(
+    let built = build_into(
         &[(&design, design.quantity)],
         &[],
         &template,
         &names,
         &Packing::Shelf,
+        sink,
     )?;
     let rows = layers::layer_rows(&design, &template, &built);
     let report = Report::new(&design, &template, prediction, rows, &built);
+    report.ensure_finite(&design)?;
     Ok(CutSheet {
         preview: preview::preview(&built.geometry[0], &design.name),
         drawings: built.drawings,
         report,
         palette: template.palette.clone(),
     })
+}
+
+/// The widest kerf of the layers whose parts follow the design's outline (PZT, passive, Pyralux), mm.
+fn widest_kerf_mm(template: &Template) -> f64 {
+    [template.pzt.kerf_mm, template.passive.kerf_mm]
+        .into_iter()
+        .chain(template.bond.as_ref().map(|b| b.sheet.kerf_mm))
+        .fold(0.0, f64::max)
+}
+
+/// The template as a cut-sheet run uses it: `--kerf-mm` applied, and no PZT stock limit (one design is
+/// laid out whatever the stock: stock limits are a batch's concern).
+pub fn process_template(template: &Template, opts: &CutSheetOptions) -> Template {
+    let mut template = template.clone();
+    if let Some(k) = opts.kerf_mm {
+        template.override_kerf(k);
+    }
+    template.pzt.stock = None;
+    template
 }

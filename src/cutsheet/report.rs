@@ -4,6 +4,7 @@
 use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
+use crate::input::{ensure_finite, short_number, InputError};
 use crate::pipeline::{Build, Label, MoldChoice};
 use crate::prediction::Prediction;
 use serde::Serialize;
@@ -148,6 +149,40 @@ impl Report {
             placement_map: built.placement_map.clone(),
             files: Vec::new(),
         }
+    }
+
+    /// Refuse a report with a number that is not finite (the prediction, the geometry's mass, a layer
+    /// row), naming the design fields that produced it: no `null` in `report.json`.
+    pub fn ensure_finite(&self, design: &Design) -> Result<(), InputError> {
+        self.predicted.ensure_finite(design)?;
+        let mut numbers = vec![(
+            "mass_from_geometry_mg".to_string(),
+            self.mass_from_geometry_mg,
+        )];
+        for l in &self.layers {
+            numbers.push((format!("layers.{}.part_area_mm2", l.layer), l.part_area_mm2));
+            numbers.push((
+                format!("layers.{}.mass_per_actuator_mg", l.layer),
+                l.mass_per_actuator_mg,
+            ));
+            if let Some(u) = l.utilization {
+                numbers.push((format!("layers.{}.utilization", l.layer), u));
+            }
+        }
+        let d = &self.design;
+        ensure_finite(
+            &design.source,
+            "geometry, laminate",
+            &format!(
+                "length_mm = {}, base_width_mm = {}, width_ratio = {}, pzt_thickness_mm = {}, ply_thickness_mm = {}",
+                short_number(d.length_mm),
+                short_number(d.base_width_mm),
+                short_number(d.width_ratio),
+                short_number(d.pzt_thickness_mm),
+                short_number(d.ply_thickness_mm)
+            ),
+            numbers.iter().map(|(n, v)| (n.as_str(), *v)),
+        )
     }
 
     /// The readable report (Markdown, with the sheet SVGs as images).

@@ -1,8 +1,11 @@
-//! Rendering a cut sheet: every file as bytes in memory, named, in a fixed order. Writing them is the
-//! one output writer's job ([`crate::output`]), so nothing reaches the disk before every file rendered.
+//! Rendering a cut sheet: every file as bytes, named, in a fixed order: the layer files drawing by
+//! drawing, then the preview and the report. Writing them is the one output writer's job
+//! ([`crate::output`]); a large cut sheet hands each drawing's files to it as they are rendered, so only
+//! one drawing's bytes are held at a time.
 
 use super::{CutSheet, Formats, SheetDrawing};
 use crate::cam::dxf::{to_dxf_with, DxfError};
+use crate::cam::palette::Palette;
 use crate::cam::svg::{to_svg, SvgOptions};
 
 /// Why a drawing or report could not be rendered.
@@ -21,8 +24,32 @@ pub enum RenderError {
     Json(#[from] serde_json::Error),
 }
 
-/// File names and bytes of layer drawings (SVG and/or DXF per drawing, colours from `opts.palette`), in
-/// drawing order.
+/// File names and bytes of one layer drawing (SVG and/or DXF, colours from `opts.palette`).
+pub fn render_drawing(
+    d: &SheetDrawing,
+    formats: Formats,
+    opts: &SvgOptions,
+) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
+    let mut files = Vec::with_capacity(2);
+    if formats.svg {
+        files.push((
+            format!("{}.svg", d.stem),
+            to_svg(&d.drawing, opts).into_bytes(),
+        ));
+    }
+    if formats.dxf {
+        files.push((
+            format!("{}.dxf", d.stem),
+            to_dxf_with(&d.drawing, &opts.palette).map_err(|reason| RenderError::Dxf {
+                stem: d.stem.clone(),
+                reason,
+            })?,
+        ));
+    }
+    Ok(files)
+}
+
+/// File names and bytes of layer drawings, in drawing order.
 pub fn render_drawings(
     drawings: &[SheetDrawing],
     formats: Formats,
@@ -30,50 +57,56 @@ pub fn render_drawings(
 ) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
     let mut files = Vec::new();
     for d in drawings {
-        if formats.svg {
-            files.push((
-                format!("{}.svg", d.stem),
-                to_svg(&d.drawing, opts).into_bytes(),
-            ));
-        }
-        if formats.dxf {
-            files.push((
-                format!("{}.dxf", d.stem),
-                to_dxf_with(&d.drawing, &opts.palette).map_err(|reason| RenderError::Dxf {
-                    stem: d.stem.clone(),
-                    reason,
-                })?,
-            ));
-        }
+        files.extend(render_drawing(d, formats, opts)?);
     }
     Ok(files)
 }
 
-/// File names and bytes of a cut sheet, in a fixed order.
+/// The layer files' SVG settings of a cut sheet.
+pub fn svg_options(palette: &Palette, stroke_mm: f64) -> SvgOptions {
+    SvgOptions {
+        stroke_mm,
+        palette: palette.clone(),
+    }
+}
+
+/// The files after the layer files: the preview, `report.json` (listing `layer_files`, the names of
+/// the layer files written before, then these three) and `report.md`.
+pub fn render_report(
+    sheet: &CutSheet,
+    layer_files: &[String],
+    stroke_mm: f64,
+) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
+    let preview = "preview-actuator.svg";
+    let mut report = sheet.report.clone();
+    report.files = layer_files
+        .iter()
+        .map(String::as_str)
+        .chain([preview, "report.json", "report.md"])
+        .map(str::to_string)
+        .collect();
+    Ok(vec![
+        (
+            preview.into(),
+            super::preview::preview_svg(&sheet.preview, stroke_mm, &sheet.palette).into_bytes(),
+        ),
+        (
+            "report.json".into(),
+            (serde_json::to_string_pretty(&report)? + "\n").into_bytes(),
+        ),
+        ("report.md".into(), report.markdown().into_bytes()),
+    ])
+}
+
+/// File names and bytes of a cut sheet held in memory ([`super::plan`]), in a fixed order.
 pub fn render(
     sheet: &CutSheet,
     formats: Formats,
     stroke_mm: f64,
 ) -> Result<Vec<(String, Vec<u8>)>, RenderError> {
-    let opts = SvgOptions {
-        stroke_mm,
-        palette: sheet.palette.clone(),
-    };
+    let opts = svg_options(&sheet.palette, stroke_mm);
     let mut files = render_drawings(&sheet.drawings, formats, &opts)?;
-    files.push((
-        "preview-actuator.svg".into(),
-        super::preview::preview_svg(&sheet.preview, stroke_mm, &sheet.palette).into_bytes(),
-    ));
-    let mut report = sheet.report.clone();
-    report.files = files
-        .iter()
-        .map(|(n, _)| n.clone())
-        .chain(["report.json".into(), "report.md".into()])
-        .collect();
-    files.push((
-        "report.json".into(),
-        (serde_json::to_string_pretty(&report)? + "\n").into_bytes(),
-    ));
-    files.push(("report.md".into(), report.markdown().into_bytes()));
+    let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+    files.extend(render_report(sheet, &names, stroke_mm)?);
     Ok(files)
 }

@@ -33,6 +33,18 @@ fn one_line(text: &str) -> String {
         .join(" ")
 }
 
+/// Characters of a value an error prints: a header that swallowed the whole file (an unclosed quote)
+/// is cut, so the message stays a line a terminal shows.
+const MAX_VALUE_CHARS: usize = 300;
+
+/// `text` cut to `max` characters, with `…` where it was cut.
+fn at_most(text: String, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        Some((end, _)) => format!("{}…", &text[..end]),
+        None => text,
+    }
+}
+
 /// A word that is a long number becomes its short form; anything else is kept as written.
 fn shorten_word(word: &str) -> String {
     // Trailing punctuation (`1e300,` or `1e300:`) stays outside the number.
@@ -90,7 +102,7 @@ impl InputError {
         InputError {
             file: file.display().to_string(),
             field: field.to_string(),
-            value: one_line(&value.to_string()),
+            value: at_most(one_line(&value.to_string()), MAX_VALUE_CHARS),
             expected: one_line(&expected.into()),
         }
     }
@@ -220,5 +232,18 @@ mod tests {
         // Text that is not a number is kept, however long.
         let e = InputError::invalid(Path::new("d.toml"), "name", "\"abcdefghijklmnopq\"", "x");
         assert!(e.to_string().contains("abcdefghijklmnopq"));
+    }
+
+    #[test]
+    fn a_value_that_swallowed_the_file_is_cut() {
+        // An unclosed quote in a CSV header makes every later line part of it.
+        let header = format!("\"id,{}", "A0,29.7,0.07,6.1\n".repeat(400));
+        let e = InputError::invalid(Path::new("m.csv"), "header", &header, "missing column `id`");
+        let text = e.to_string();
+        assert_eq!(text.lines().count(), 1);
+        assert!(
+            text.len() < 400 && text.contains("…: missing column `id`"),
+            "{text}"
+        );
     }
 }

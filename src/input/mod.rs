@@ -10,6 +10,7 @@
 //! from those facts instead of being translated back from a deserializer's text, and no serde message
 //! can reach the user. Every problem is one [`InputError`], printed on one line.
 
+mod columns;
 mod error;
 pub mod finite;
 pub mod library;
@@ -17,6 +18,7 @@ pub mod limits;
 mod range;
 mod table;
 
+pub use columns::refuse_repeated_columns;
 pub use error::{short_number, InputError};
 pub use finite::ensure_finite;
 pub use library::FieldSource;

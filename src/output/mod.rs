@@ -157,19 +157,31 @@ enum Kind {
     Files,
 }
 
-/// One destination folder and the files this run puts into it.
+/// One destination folder: where it is, how it was named, and what the policy found there.
 #[derive(Debug)]
 struct Destination {
     flag: String,
     shown: String,
     dir: PathBuf,
     kind: Kind,
-    files: Vec<(String, Vec<u8>)>,
-    /// Files the same command wrote here before and does not write now, found by the policy check.
+    /// The folder's manifest as the run found it.
+    manifest: Option<Manifest>,
+    /// Files the same command wrote here before and does not write now, found when the run is sealed.
     stale: Vec<String>,
 }
 
 impl Destination {
+    fn new(flag: &str, shown: String, dir: PathBuf, kind: Kind) -> Destination {
+        Destination {
+            flag: flag.into(),
+            shown,
+            dir,
+            kind,
+            manifest: None,
+            stale: Vec::new(),
+        }
+    }
+
     fn error_stage(&self, what: impl Into<String>, source: io::Error) -> OutputError {
         OutputError::Stage {
             flag: self.flag.clone(),
@@ -189,22 +201,34 @@ impl Destination {
     }
 }
 
-/// Every file one run writes, gathered first and written together by [`Output::write`].
-#[derive(Debug)]
-pub struct Output {
+/// Files of a destination as (name, bytes), in order.
+type Files = Vec<(String, Vec<u8>)>;
+
+/// What every destination of one run shares: the command that writes, `--force`, the run's inputs.
+#[derive(Debug, Clone)]
+struct Run {
     command: String,
     force: bool,
     inputs: Vec<PathBuf>,
-    destinations: Vec<Destination>,
+}
+
+/// Every file one run writes, gathered first and written together by [`Output::write`]; or, for a run
+/// too large to hold in memory, one folder written file by file ([`Output::stream_folder`]).
+#[derive(Debug)]
+pub struct Output {
+    run: Run,
+    destinations: Vec<(Destination, Files)>,
 }
 
 impl Output {
     /// Nothing to write yet, for a run of `command` (the name the manifest records).
     pub fn new(command: &str) -> Output {
         Output {
-            command: command.into(),
-            force: false,
-            inputs: Vec::new(),
+            run: Run {
+                command: command.into(),
+                force: false,
+                inputs: Vec::new(),
+            },
             destinations: Vec::new(),
         }
     }
@@ -212,13 +236,13 @@ impl Output {
     /// `--force`: write into a folder that holds other files, and replace files of the same name the tool
     /// did not write. Never an input, never a file the run does not write.
     pub fn force(mut self, force: bool) -> Output {
-        self.force = force;
+        self.run.force = force;
         self
     }
 
     /// Files this run reads: never overwritten, never removed, whatever the flags.
     pub fn inputs<P: AsRef<Path>>(mut self, paths: impl IntoIterator<Item = P>) -> Output {
-        self.inputs.extend(
+        self.run.inputs.extend(
             paths
                 .into_iter()
                 .filter_map(|p| p.as_ref().canonicalize().ok()),
@@ -228,14 +252,11 @@ impl Output {
 
     /// `files` (name, bytes) into the folder `dir`, named on the command line by `flag` (e.g. `-o`).
     pub fn folder(mut self, flag: &str, dir: &Path, files: Vec<(String, Vec<u8>)>) -> Output {
-        self.destinations.push(Destination {
-            flag: flag.into(),
-            shown: dir.display().to_string(),
-            dir: dir.to_path_buf(),
-            kind: Kind::Folder,
+        let shown = dir.display().to_string();
+        self.destinations.push((
+            Destination::new(flag, shown, dir.to_path_buf(), Kind::Folder),
             files,
-            stale: Vec::new(),
-        });
+        ));
         self
     }
 
@@ -254,150 +275,231 @@ impl Output {
         match self
             .destinations
             .iter_mut()
-            .find(|d| d.kind == Kind::Files && d.dir == dir)
+            .find(|(d, _)| d.kind == Kind::Files && d.dir == dir)
         {
-            Some(d) => d.files.push(file),
-            None => self.destinations.push(Destination {
-                flag: flag.into(),
-                shown: path.display().to_string(),
-                dir,
-                kind: Kind::Files,
-                files: vec![file],
-                stale: Vec::new(),
-            }),
+            Some((_, files)) => files.push(file),
+            None => self.destinations.push((
+                Destination::new(flag, path.display().to_string(), dir, Kind::Files),
+                vec![file],
+            )),
         }
         self
     }
 
     /// Write everything: check every destination against the policy, stage every file (with the updated
     /// manifest), then move them all into place. On an error nothing of this run is left anywhere.
-    pub fn write(mut self) -> Result<(), OutputError> {
-        for d in &mut self.destinations {
-            check_destination(d, &self.command, &self.inputs, self.force)?;
-            let manifest = manifest_after(d, &self.command);
-            d.files.push((MANIFEST.to_string(), manifest));
-        }
-        let staged = self
-            .destinations
-            .into_iter()
-            .map(stage)
-            .collect::<Result<Vec<_>, _>>()?;
-        let _moving = MOVING.lock().unwrap_or_else(|e| e.into_inner());
-        let mut done: Vec<Undo> = Vec::new();
-        for s in &staged {
-            if let Err(source) = commit(s, &mut done) {
-                for undo in done.into_iter().rev() {
-                    undo.apply();
-                }
-                return Err(OutputError::Commit {
-                    flag: s.dest.flag.clone(),
-                    shown: s.dest.shown.clone(),
-                    source,
-                });
+    pub fn write(self) -> Result<(), OutputError> {
+        let run = self.run;
+        let mut checked = Vec::with_capacity(self.destinations.len());
+        for (mut d, files) in self.destinations {
+            check_folder(&mut d)?;
+            for (name, _) in &files {
+                check_target(&d, name, &run.inputs)?;
             }
+            check_occupied(&d, run.force)?;
+            for (name, _) in &files {
+                check_replace(&d, name, run.force)?;
+            }
+            checked.push((d, files));
         }
-        // Dropping the staging folders removes them with the replaced and stale files they hold.
-        drop(staged);
-        Ok(())
+        let mut staged = Vec::with_capacity(checked.len());
+        for (d, files) in checked {
+            let mut s = Staged::open(d)?;
+            for (name, bytes) in &files {
+                s.put(name, bytes)?;
+            }
+            staged.push(s);
+        }
+        for s in &mut staged {
+            s.seal(&run)?;
+        }
+        commit_all(&mut staged)
+    }
+
+    /// Write the folder `dir` (named by `flag`) file by file, for a run whose files together would not
+    /// fit in memory: each file goes into the staging folder as it is added, and nothing moves into place
+    /// before [`FolderStream::finish`]. The folder is checked against the policy now, before any work;
+    /// each file's name when it is added. Dropping the stream unfinished (an error half-way) removes
+    /// everything it staged. Destinations added with [`Output::folder`] or [`Output::file`] are not
+    /// written by a stream.
+    pub fn stream_folder(self, flag: &str, dir: &Path) -> Result<FolderStream, OutputError> {
+        let mut d = Destination::new(
+            flag,
+            dir.display().to_string(),
+            dir.to_path_buf(),
+            Kind::Folder,
+        );
+        check_folder(&mut d)?;
+        check_occupied(&d, self.run.force)?;
+        Ok(FolderStream {
+            run: self.run,
+            dest: Some(d),
+            staged: None,
+        })
     }
 }
 
-/// The policy: what may be written where. Runs for every destination before anything is staged, and
-/// records the stale files a folder run will remove.
-fn check_destination(
-    d: &mut Destination,
-    command: &str,
-    inputs: &[PathBuf],
-    force: bool,
-) -> Result<(), OutputError> {
-    let refuse = |make: fn(String, String, String) -> OutputError, what: String| {
-        Err(make(d.flag.clone(), d.shown.clone(), what))
-    };
+/// A folder being written file by file ([`Output::stream_folder`]).
+#[derive(Debug)]
+pub struct FolderStream {
+    run: Run,
+    /// The destination until the first file is added, which makes its staging folder.
+    dest: Option<Destination>,
+    staged: Option<Staged>,
+}
+
+impl FolderStream {
+    /// Check `name` against the policy and write `bytes` into the staging folder; the caller may drop
+    /// its bytes afterwards.
+    pub fn add(&mut self, name: &str, bytes: &[u8]) -> Result<(), OutputError> {
+        let d = match (&self.staged, &self.dest) {
+            (Some(s), _) => &s.dest,
+            (None, Some(d)) => d,
+            (None, None) => unreachable!("a stream holds its destination until it finishes"),
+        };
+        check_target(d, name, &self.run.inputs)?;
+        check_replace(d, name, self.run.force)?;
+        if self.staged.is_none() {
+            let d = self.dest.take().expect("checked above");
+            self.staged = Some(Staged::open(d)?);
+        }
+        self.staged.as_mut().expect("opened above").put(name, bytes)
+    }
+
+    /// Files added so far.
+    pub fn len(&self) -> usize {
+        self.staged.as_ref().map_or(0, |s| s.written.len())
+    }
+
+    /// True before the first file is added.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Move every added file into place (with the updated manifest), removing the same command's stale
+    /// files; on an error nothing of this run is left.
+    pub fn finish(mut self) -> Result<(), OutputError> {
+        let mut staged = match (self.staged.take(), self.dest.take()) {
+            (Some(s), _) => s,
+            (None, Some(d)) => Staged::open(d)?,
+            (None, None) => unreachable!("a stream holds its destination until it finishes"),
+        };
+        staged.seal(&self.run)?;
+        commit_all(std::slice::from_mut(&mut staged))
+    }
+}
+
+/// Move every staged destination into place; if one move fails, undo all moves made.
+fn commit_all(staged: &mut [Staged]) -> Result<(), OutputError> {
+    let _moving = MOVING.lock().unwrap_or_else(|e| e.into_inner());
+    let mut done: Vec<Undo> = Vec::new();
+    for s in staged.iter() {
+        if let Err(source) = commit(s, &mut done) {
+            for undo in done.into_iter().rev() {
+                undo.apply();
+            }
+            return Err(OutputError::Commit {
+                flag: s.dest.flag.clone(),
+                shown: s.dest.shown.clone(),
+                source,
+            });
+        }
+    }
+    // Made folders now hold the output: they stay. Dropping the staging folders (by the caller) removes
+    // them with the replaced and stale files they hold.
+    for s in staged.iter_mut() {
+        s.created.clear();
+    }
+    Ok(())
+}
+
+/// The policy, first step: the destination is a folder (or nothing yet); read its manifest.
+fn check_folder(d: &mut Destination) -> Result<(), OutputError> {
     if d.dir.exists() && !d.dir.is_dir() {
         return Err(OutputError::NotADirectory {
             flag: d.flag.clone(),
             shown: d.shown.clone(),
         });
     }
-    for (name, _) in &d.files {
-        if !is_plain_file_name(name) || name == MANIFEST {
-            return Err(OutputError::NotAFileName {
-                flag: d.flag.clone(),
-                shown: d.shown.clone(),
-            });
-        }
-        let target = d.dir.join(name);
-        if target.is_dir() {
-            return refuse(
-                |flag, shown, name| OutputError::FolderInTheWay { flag, shown, name },
-                name.clone(),
-            );
-        }
-        if is_input(&target, inputs) {
-            return refuse(
-                |flag, shown, name| OutputError::InputInTheWay { flag, shown, name },
-                name.clone(),
-            );
-        }
-    }
-    if !d.dir.exists() {
-        return Ok(());
-    }
-    let manifest = Manifest::read(&d.dir);
-    if d.kind == Kind::Folder && manifest.is_none() && !force {
-        let foreign = foreign_entries(&d.dir, None).map_err(|source| OutputError::Unreadable {
+    d.manifest = Manifest::read(&d.dir);
+    Ok(())
+}
+
+/// The policy for one file name: a plain name, not a folder, not an input of the run.
+fn check_target(d: &Destination, name: &str, inputs: &[PathBuf]) -> Result<(), OutputError> {
+    if !is_plain_file_name(name) || name == MANIFEST {
+        return Err(OutputError::NotAFileName {
             flag: d.flag.clone(),
             shown: d.shown.clone(),
-            source,
-        })?;
-        if !foreign.is_empty() {
-            return refuse(
-                |flag, shown, listing| OutputError::Occupied {
-                    flag,
-                    shown,
-                    listing,
-                },
-                listing(&foreign),
-            );
-        }
+        });
     }
-    if !force {
-        let ours = |name: &str| manifest.as_ref().is_some_and(|m| m.lists(name));
-        if let Some((name, _)) = d
-            .files
-            .iter()
-            .find(|(name, _)| fs::symlink_metadata(d.dir.join(name)).is_ok() && !ours(name))
-        {
-            return refuse(
-                |flag, shown, name| OutputError::WouldReplace { flag, shown, name },
-                name.clone(),
-            );
-        }
+    let target = d.dir.join(name);
+    if target.is_dir() {
+        return Err(OutputError::FolderInTheWay {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        });
     }
-    if d.kind == Kind::Folder {
-        if let Some(m) = &manifest {
-            let now: BTreeSet<&str> = d.files.iter().map(|(n, _)| n.as_str()).collect();
-            d.stale = m
-                .stale(command, &now)
-                .filter(|n| is_plain_file_name(n))
-                .filter(|n| {
-                    let p = d.dir.join(n);
-                    p.is_file() && !is_input(&p, inputs)
-                })
-                .map(str::to_string)
-                .collect();
-        }
+    if is_input(&target, inputs) {
+        return Err(OutputError::InputInTheWay {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        });
     }
     Ok(())
 }
 
-/// The bytes of the destination's manifest after this run.
-fn manifest_after(d: &Destination, command: &str) -> Vec<u8> {
-    let written: BTreeSet<&str> = d.files.iter().map(|(n, _)| n.as_str()).collect();
-    Manifest::read(&d.dir)
-        .unwrap_or_default()
-        .after(&d.dir, command, &written, d.kind == Kind::Folder)
-        .to_bytes()
+/// The policy for an `-o` folder: one the tool did not write, holding anything, is refused unless
+/// `--force`.
+fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputError> {
+    if d.kind != Kind::Folder || !d.dir.exists() || d.manifest.is_some() || force {
+        return Ok(());
+    }
+    let foreign = foreign_entries(&d.dir, None).map_err(|source| OutputError::Unreadable {
+        flag: d.flag.clone(),
+        shown: d.shown.clone(),
+        source,
+    })?;
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    Err(OutputError::Occupied {
+        flag: d.flag.clone(),
+        shown: d.shown.clone(),
+        listing: listing(&foreign),
+    })
+}
+
+/// The policy for replacing a file: only one the tool wrote, unless `--force`.
+fn check_replace(d: &Destination, name: &str, force: bool) -> Result<(), OutputError> {
+    let ours = d.manifest.as_ref().is_some_and(|m| m.lists(name));
+    if force || ours || fs::symlink_metadata(d.dir.join(name)).is_err() {
+        return Ok(());
+    }
+    Err(OutputError::WouldReplace {
+        flag: d.flag.clone(),
+        shown: d.shown.clone(),
+        name: name.into(),
+    })
+}
+
+/// Files the same command wrote in an `-o` folder before and does not write now: to be removed (never
+/// an input, never anything but a plain file the manifest lists).
+fn stale_files(d: &Destination, run: &Run, written: &BTreeSet<&str>) -> Vec<String> {
+    match (&d.manifest, d.kind) {
+        (Some(m), Kind::Folder) => m
+            .stale(&run.command, written)
+            .filter(|n| is_plain_file_name(n))
+            .filter(|n| {
+                let p = d.dir.join(n);
+                p.is_file() && !is_input(&p, &run.inputs)
+            })
+            .map(str::to_string)
+            .collect(),
+        _ => Vec::new(),
+    }
 }
 
 /// The first few names, for an error line.
@@ -431,47 +533,109 @@ fn is_plain_file_name(name: &str) -> bool {
 
 /// A destination whose files are written into `staging/new`; replaced and stale files go to
 /// `staging/old`, and vanish with it.
+#[derive(Debug)]
 struct Staged {
     dest: Destination,
-    staging: Staging,
+    staging: Option<Staging>,
+    /// Names written into `staging/new`, in order.
+    written: Vec<String>,
+    /// Folders made to hold the staging folder, outermost first: removed again unless the run commits.
+    created: Vec<PathBuf>,
 }
 
 impl Staged {
+    /// A fresh staging folder beside the destination (making the folders that hold it).
+    fn open(dest: Destination) -> Result<Staged, OutputError> {
+        let near = match dest.kind {
+            Kind::Files => dest.dir.clone(),
+            Kind::Folder => match dest.dir.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => PathBuf::from("."),
+            },
+        };
+        let created = missing_folders(&near);
+        fs::create_dir_all(&near).map_err(|e| dest.error_create(&near, e))?;
+        let mut staged = Staged {
+            dest,
+            staging: None,
+            written: Vec::new(),
+            created,
+        };
+        let staging = Staging::new_in(&near)
+            .map_err(|e| staged.dest.error_stage(format!("in {}", near.display()), e))?;
+        staged.staging = Some(staging);
+        for dir in [staged.new_dir(), staged.old_dir()] {
+            staged
+                .staging()
+                .create_dir(&dir)
+                .map_err(|e| staged.dest.error_stage(format!("in {}", dir.display()), e))?;
+        }
+        Ok(staged)
+    }
+
+    fn staging(&self) -> &Staging {
+        self.staging
+            .as_ref()
+            .expect("a staged destination has its staging folder")
+    }
+
     fn new_dir(&self) -> PathBuf {
-        self.staging.path().join("new")
+        self.staging().path().join("new")
     }
 
     fn old_dir(&self) -> PathBuf {
-        self.staging.path().join("old")
+        self.staging().path().join("old")
+    }
+
+    /// Write one file into the staging folder.
+    fn put(&mut self, name: &str, bytes: &[u8]) -> Result<(), OutputError> {
+        self.staging()
+            .write(&self.new_dir().join(name), bytes)
+            .map_err(|e| self.dest.error_stage(name, e))?;
+        self.written.push(name.to_string());
+        Ok(())
+    }
+
+    /// After the last file: find the stale files and write the manifest after this run.
+    fn seal(&mut self, run: &Run) -> Result<(), OutputError> {
+        let written: BTreeSet<&str> = self.written.iter().map(String::as_str).collect();
+        self.dest.stale = stale_files(&self.dest, run, &written);
+        let manifest = self
+            .dest
+            .manifest
+            .clone()
+            .unwrap_or_default()
+            .after(
+                &self.dest.dir,
+                &run.command,
+                &written,
+                self.dest.kind == Kind::Folder,
+            )
+            .to_bytes();
+        self.put(MANIFEST, &manifest)
     }
 }
 
-/// Write a destination's files into a fresh staging folder beside it.
-fn stage(dest: Destination) -> Result<Staged, OutputError> {
-    let near = match dest.kind {
-        Kind::Files => dest.dir.clone(),
-        Kind::Folder => match dest.dir.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        },
-    };
-    fs::create_dir_all(&near).map_err(|e| dest.error_create(&near, e))?;
-    let staging = Staging::new_in(&near)
-        .map_err(|e| dest.error_stage(format!("in {}", near.display()), e))?;
-    let staged = Staged { dest, staging };
-    for dir in [staged.new_dir(), staged.old_dir()] {
-        staged
-            .staging
-            .create_dir(&dir)
-            .map_err(|e| staged.dest.error_stage(format!("in {}", dir.display()), e))?;
+impl Drop for Staged {
+    fn drop(&mut self) {
+        // The staging folder first, then the folders made to hold it (empty unless a user filled them
+        // meanwhile, and then `remove_dir` leaves them).
+        drop(self.staging.take());
+        for dir in self.created.iter().rev() {
+            let _ = fs::remove_dir(dir);
+        }
     }
-    for (name, bytes) in &staged.dest.files {
-        staged
-            .staging
-            .write(&staged.new_dir().join(name), bytes)
-            .map_err(|e| staged.dest.error_stage(name.clone(), e))?;
-    }
-    Ok(staged)
+}
+
+/// The folders `create_dir_all(dir)` would make, outermost first.
+fn missing_folders(dir: &Path) -> Vec<PathBuf> {
+    let mut missing: Vec<PathBuf> = dir
+        .ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_err())
+        .map(Path::to_path_buf)
+        .collect();
+    missing.reverse();
+    missing
 }
 
 /// One move made into a destination, and how to take it back.
@@ -521,7 +685,7 @@ fn commit(s: &Staged, done: &mut Vec<Undo>) -> io::Result<()> {
             previous: Some(old),
         });
     }
-    for (name, _) in &s.dest.files {
+    for name in &s.written {
         let target = dir.join(name);
         let previous = if fs::symlink_metadata(&target).is_ok() {
             let old = s.old_dir().join(name);

@@ -20,6 +20,7 @@ static ACTIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 pub(super) static MOVING: Mutex<()> = Mutex::new(());
 
 /// A staging folder of this run; removed with everything in it when dropped.
+#[derive(Debug)]
 pub(super) struct Staging {
     dir: Option<tempfile::TempDir>,
 }

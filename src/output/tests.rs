@@ -111,10 +111,19 @@ fn a_failed_move_puts_everything_back() {
     let o = Output::new("test")
         .folder("-o", &out, files(&[("x.txt", "new"), ("y.txt", "2")]))
         .folder("-o", &blocked, files(&[("z.txt", "3")]));
+    let run = o.run.clone();
     let mut staged: Vec<Staged> = o
         .destinations
         .into_iter()
-        .map(|d| stage(d).unwrap())
+        .map(|(mut d, files)| {
+            check_folder(&mut d).unwrap();
+            let mut s = Staged::open(d).unwrap();
+            for (name, bytes) in &files {
+                s.put(name, bytes).unwrap();
+            }
+            s.seal(&run).unwrap();
+            s
+        })
         .collect();
     let mut done = Vec::new();
     commit(&staged[0], &mut done).unwrap();
@@ -203,4 +212,68 @@ fn inputs_are_never_replaced_even_with_force() {
         "input"
     );
     assert_eq!(listing(&out), ["design.toml"]);
+}
+
+#[test]
+fn a_stream_writes_what_a_batch_writes_and_an_unfinished_one_leaves_nothing() {
+    let root = tempfile::tempdir().unwrap();
+    let batch = root.path().join("batch");
+    let some = files(&[("a.svg", "1"), ("b.dxf", "2"), ("report.md", "r")]);
+    Output::new("cut-sheet")
+        .folder("-o", &batch, some.clone())
+        .write()
+        .unwrap();
+    let streamed = root.path().join("new/deep/streamed");
+    let mut s = Output::new("cut-sheet")
+        .stream_folder("-o", &streamed)
+        .unwrap();
+    for (name, bytes) in &some {
+        s.add(name, bytes).unwrap();
+    }
+    assert_eq!(s.len(), 3);
+    s.finish().unwrap();
+    assert_eq!(listing(&streamed), listing(&batch));
+    for name in listing(&batch) {
+        assert_eq!(
+            fs::read(streamed.join(&name)).unwrap(),
+            fs::read(batch.join(&name)).unwrap(),
+            "{name}"
+        );
+    }
+    // Dropped half-way (an error in the run): no staging folder, no output, and the folders made to
+    // hold it are gone again.
+    let other = root.path().join("made/for/other");
+    let mut s = Output::new("cut-sheet")
+        .stream_folder("-o", &other)
+        .unwrap();
+    s.add("a.svg", b"1").unwrap();
+    assert!(root.path().join("made/for").is_dir());
+    drop(s);
+    assert_eq!(listing(root.path()), ["batch", "new"]);
+}
+
+#[test]
+fn a_stream_checks_the_folder_first_and_each_name_as_it_comes() {
+    let root = tempfile::tempdir().unwrap();
+    let out = root.path().join("out");
+    fs::create_dir(&out).unwrap();
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    // A folder the tool did not write: refused before any work.
+    let e = Output::new("cut-sheet")
+        .stream_folder("-o", &out)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("did not write (notes.txt)"), "{e}");
+    // With --force, a file of the same name as an input is refused when it comes; nothing is left.
+    let mut s = Output::new("cut-sheet")
+        .force(true)
+        .inputs([out.join("notes.txt")])
+        .stream_folder("-o", &out)
+        .unwrap();
+    s.add("a.svg", b"1").unwrap();
+    let e = s.add("notes.txt", b"x").unwrap_err().to_string();
+    assert!(e.contains("notes.txt is an input of this run"), "{e}");
+    drop(s);
+    assert_eq!(listing(&out), ["notes.txt"]);
+    assert_eq!(listing(root.path()), ["out"]);
 }

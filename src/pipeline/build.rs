@@ -5,7 +5,7 @@
 
 use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
 use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, CutLayer};
-use super::jobs::{check_geometry, Drawn, Job, Names, SheetRecord};
+use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord};
 use super::parts::PartGeometry;
 use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
@@ -76,6 +76,20 @@ pub fn build(
     names: &Names,
     packing: &Packing<'_>,
 ) -> Result<Build, BuildError> {
+    build_into(designs, parts, template, names, packing, None)
+}
+
+/// [`build`], handing each drawing to `sink` as soon as it is made (file order) instead of keeping it:
+/// a large build then holds one drawing at a time, and its [`Build::drawings`] is empty. A sink error
+/// ends the build at its next stage ([`BuildError::Sink`]).
+pub fn build_into<'s>(
+    designs: &[(&Design, usize)],
+    parts: &[PartOrder],
+    template: &Template,
+    names: &Names,
+    packing: &Packing<'_>,
+    sink: Option<&'s mut DrawingSink<'s>>,
+) -> Result<Build, BuildError> {
     let jobs: Vec<Job<'_>> = designs
         .iter()
         .map(|(design, quantity)| Job::new(design, *quantity, template))
@@ -83,7 +97,7 @@ pub fn build(
     for job in &jobs {
         check_geometry(job, template)?;
     }
-    let mut drawn = Drawn::default();
+    let mut drawn = Drawn::new(sink);
 
     // PZT: one snappable layout per plate thickness (and PZT material).
     let mut pzt_sheets = 0;
@@ -121,6 +135,7 @@ pub fn build(
             }
         }
         pzt_sheets += layouts.len();
+        drawn.check_sink()?;
     }
 
     // Passive parts: one layer per layup (and per ply when plies are cut one by one), then Pyralux.
@@ -172,6 +187,7 @@ pub fn build(
             layer.spec.height_mm = length;
         }
         draw_cut_sheets(&layer, &placed.layouts, names, &mut drawn);
+        drawn.check_sink()?;
         cut_layers.push(CutLayerSheets {
             sheets: placed.layouts.len(),
             baseline: placed.baseline,
@@ -183,6 +199,7 @@ pub fn build(
     let mut clamps = Vec::new();
     for group in groups(&jobs, |j| (laminate_mm(j.design) * 1e6).round() as i64) {
         clamps.push(clamp_layers(&group, template, names, &mut drawn)?);
+        drawn.check_sink()?;
     }
     Ok(Build {
         drawings: drawn.drawings,

@@ -13,6 +13,39 @@ use crate::design::Design;
 use crate::process::template::{ClampSpec, Template};
 use cam_geometry::place_ring;
 use cam_geometry::Point;
+use std::collections::HashMap;
+
+/// Offsets repeat on every panel of a clamp layer (the same windows, outline and cavity slots): each is
+/// computed once, keyed by its exact input, so every panel gets bit for bit what it would compute,
+/// and a large quantity does not offset the same ring thousands of times.
+#[derive(Default)]
+struct Offsets {
+    done: HashMap<(Vec<[u64; 2]>, u64), Vec<Point>>,
+}
+
+impl Offsets {
+    /// [`kerfed`], remembered. Errors are not remembered (they end the build).
+    fn kerfed(
+        &mut self,
+        design: &Design,
+        ring: &[Point],
+        delta: f64,
+        feature: &str,
+    ) -> Result<Vec<Point>, BuildError> {
+        let key = (
+            ring.iter()
+                .map(|p| [p[0].to_bits(), p[1].to_bits()])
+                .collect(),
+            delta.to_bits(),
+        );
+        if let Some(done) = self.done.get(&key) {
+            return Ok(done.clone());
+        }
+        let ring = kerfed(design, ring, delta, feature)?;
+        self.done.insert(key, ring.clone());
+        Ok(ring)
+    }
+}
 
 /// What a clamp build made.
 #[derive(Debug, Clone, PartialEq)]
@@ -238,6 +271,7 @@ pub fn clamp_layers(
     // Errors about panel features name the first design (the single design of a cut sheet).
     let design = first.design;
     let features = &template.features;
+    let mut offsets = Offsets::default();
     for (k, (kind, prefix, j)) in stack.iter().enumerate() {
         let spec = if kind == "mold" {
             &template.mold
@@ -284,14 +318,14 @@ pub fn clamp_layers(
                 );
                 d.add(
                     features.op(Feature::StackingWindow),
-                    Shape::Polygon(kerfed(design, &w, -kerf / 2.0, "stacking window")?),
+                    Shape::Polygon(offsets.kerfed(design, &w, -kerf / 2.0, "stacking window")?),
                 );
             }
             if kind == "mold" {
                 for (m, _, base) in members {
                     let job = &jobs[*m].1;
                     let cavity = cavity_outline(job.design, &job.geometry, bands[*j]);
-                    let grown = kerfed(
+                    let grown = offsets.kerfed(
                         job.design,
                         &cavity,
                         c.cavity_clearance_mm,
@@ -300,7 +334,12 @@ pub fn clamp_layers(
                     let placed = place_ring(&grown, 0.0, *base);
                     d.add(
                         features.op(Feature::MoldCavity),
-                        Shape::Polygon(kerfed(job.design, &placed, -kerf / 2.0, "mold cavity")?),
+                        Shape::Polygon(offsets.kerfed(
+                            job.design,
+                            &placed,
+                            -kerf / 2.0,
+                            "mold cavity",
+                        )?),
                     );
                 }
             }
@@ -326,7 +365,7 @@ pub fn clamp_layers(
             }
             d.add(
                 features.op(Feature::PanelOutline),
-                Shape::Polygon(kerfed(design, &outline, kerf / 2.0, "panel outline")?),
+                Shape::Polygon(offsets.kerfed(design, &outline, kerf / 2.0, "panel outline")?),
             );
             drawn.push(format!("{prefix}-{number}"), kind, d);
         }

@@ -116,10 +116,16 @@ impl SheetRecord {
     }
 }
 
+/// Why a drawing could not be handed on as it was made (rendering or writing it); the sink's own error.
+pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Where a streamed build hands each drawing as soon as it is made (file order), instead of keeping it.
+pub type DrawingSink<'s> = dyn FnMut(SheetDrawing) -> Result<(), SinkError> + 's;
+
 /// Everything the layer builders make, in file order.
-#[derive(Debug, Clone, Default)]
-pub struct Drawn {
-    /// Drawings in file order.
+#[derive(Default)]
+pub struct Drawn<'s> {
+    /// Drawings in file order (empty when a sink takes them).
     pub drawings: Vec<SheetDrawing>,
     /// Cut-material sheets with the parts on them.
     pub sheets: Vec<SheetRecord>,
@@ -129,9 +135,21 @@ pub struct Drawn {
     pub placement_map: Vec<String>,
     /// Next sheet number of each layer (stems are numbered per layer across the whole build).
     numbers: BTreeMap<String, usize>,
+    /// Takes each drawing as it is made, so a large build never holds them all.
+    sink: Option<&'s mut DrawingSink<'s>>,
+    /// The sink's first error: later drawings are dropped, and the build stops at its next stage.
+    failed: Option<SinkError>,
 }
 
-impl Drawn {
+impl<'s> Drawn<'s> {
+    /// Nothing drawn yet; every drawing goes to `sink` if there is one, else is kept in `drawings`.
+    pub fn new(sink: Option<&'s mut DrawingSink<'s>>) -> Self {
+        Drawn {
+            sink,
+            ..Drawn::default()
+        }
+    }
+
     /// The next 1-based sheet number of `layer`.
     pub fn next_number(&mut self, layer: &str) -> usize {
         let n = self.numbers.entry(layer.to_string()).or_insert(0);
@@ -139,13 +157,29 @@ impl Drawn {
         *n
     }
 
-    /// Add a drawing.
+    /// Add a drawing: to the sink if there is one (nothing more after it failed), else to `drawings`.
     pub fn push(&mut self, stem: String, layer: &str, drawing: Drawing) {
-        self.drawings.push(SheetDrawing {
+        let drawing = SheetDrawing {
             stem,
             layer: layer.into(),
             drawing,
-        });
+        };
+        match &mut self.sink {
+            None => self.drawings.push(drawing),
+            Some(sink) if self.failed.is_none() => {
+                if let Err(e) = sink(drawing) {
+                    self.failed = Some(e);
+                }
+            }
+            Some(_) => {}
+        }
+    }
+
+    /// The sink's error, if it failed: the build ends with it.
+    pub fn check_sink(&mut self) -> Result<(), BuildError> {
+        self.failed
+            .take()
+            .map_or(Ok(()), |e| Err(BuildError::Sink(e)))
     }
 }
 

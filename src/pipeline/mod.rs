@@ -24,10 +24,10 @@ mod parts;
 mod place;
 mod pzt;
 
-pub use build::{build, Build, CutLayerSheets};
+pub use build::{build, build_into, Build, CutLayerSheets};
 pub use clamp::ClampBuild;
 pub use cut::CutLayer;
-pub use jobs::{Names, PartRecord, SheetRecord};
+pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError};
 pub use label::Label;
 pub use mold::{choose_mold, MoldChoice};
 pub use panel::panel_outline;
@@ -51,6 +51,12 @@ pub enum BuildError {
     /// The model refused the design.
     #[error("{file}: {0}", file = .1)]
     Model(actuator_model::ModelError, String),
+    /// A design or process value a build cannot use, named as the user wrote it.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
+    /// A streamed build's drawing sink failed (a drawing could not be rendered or written).
+    #[error(transparent)]
+    Sink(SinkError),
 }
 
 /// One named drawing (a layer on one sheet or panel).
