@@ -44,11 +44,7 @@ fn cpu_seconds() -> f64 {
 fn timed<T>(f: impl FnOnce() -> T) -> (T, f64, f64) {
     let (wall, cpu) = (Instant::now(), cpu_seconds());
     let result = f();
-    (
-        result,
-        wall.elapsed().as_secs_f64(),
-        cpu_seconds() - cpu,
-    )
+    (result, wall.elapsed().as_secs_f64(), cpu_seconds() - cpu)
 }
 
 fn env(name: &str) -> Option<String> {
@@ -87,9 +83,8 @@ fn strips(settings: &cam_nest::NestSettings) {
     let batches = fixtures::batches_from(base);
     for (name, items) in &batches {
         let last: Cell<Option<NestProgress>> = Cell::new(None);
-        let (strip, seconds, cpu) = timed(|| {
-            nest_strip(items, WIDTH_MM, settings, &|p| last.set(Some(*p))).expect("nest")
-        });
+        let (strip, seconds, cpu) =
+            timed(|| nest_strip(items, WIDTH_MM, settings, &|p| last.set(Some(*p))).expect("nest"));
         // Iterations the search used of its budget (fewer when the stop rule ended it).
         let used = last.get().map_or_else(String::new, |p| {
             format!("{}/{}", p.iterations_done, p.iterations_budget)
@@ -146,7 +141,10 @@ fn sheet_jobs(settings: &cam_nest::NestSettings) {
     );
     for (name, items) in [
         ("60 actuators (sixty_mixed)", fixtures::sixty_mixed()),
-        ("300 parts (10 x 30)", fixtures::random_designs(2024, 10, 30)),
+        (
+            "300 parts (10 x 30)",
+            fixtures::random_designs(2024, 10, 30),
+        ),
     ] {
         let bin = sheet(&items);
         let (layout, seconds, cpu) = timed(|| nest(&items, &bin, settings).expect("nest"));
