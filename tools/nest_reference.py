@@ -18,11 +18,14 @@ length = furthest part point + separation: the same definition as
 
 With `--measure` it reads `target/nest-bench/measure.json` (written by
 `cargo bench -p cam-nest --bench nest_measure`: the measuring set with our density and wall time)
-and nests each batch twice, for 5 s and for our wall time rounded to whole seconds (spyrrow takes
-whole seconds, at least 1), printing the three densities side by side:
+and nests each batch for 5 s, for our wall time and for our CPU time, rounded to whole seconds
+(spyrrow takes whole seconds, at least 1; the equal-CPU budget is our CPU time over sparrow's
+CPU-to-wall ratio in its 5 s run), printing the densities and CPU times side by side:
 
     cargo bench -p cam-nest --bench nest_measure
     /tmp/nestref/bin/python tools/nest_reference.py --measure
+    NEST_MEASURE_SEEDS=9100 cargo bench -p cam-nest --bench nest_measure   # the fresh set
+    /tmp/nestref/bin/python tools/nest_reference.py --measure target/nest-bench/measure-9100.json
 
 sparrow stops on wall-clock time (seeded, but not reproducible across machines); that is why
 this is a hand-run reference and not a test.
@@ -31,6 +34,7 @@ this is a hand-run reference and not a test.
 import argparse
 import json
 import math
+import resource
 import sys
 import time
 from pathlib import Path
@@ -47,6 +51,12 @@ def area(ring):
         )
         / 2.0
     )
+
+
+def cpu_seconds():
+    """User + system CPU seconds of this process (sparrow's workers are its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def solve(batch, seconds, workers, seed):
@@ -76,9 +86,9 @@ def solve(batch, seconds, workers, seed):
         num_workers=workers,
         seed=seed,
     )
-    started = time.time()
+    started, cpu_started = time.time(), cpu_seconds()
     solution = instance.solve(config)
-    elapsed = time.time() - started
+    elapsed, cpu = time.time() - started, cpu_seconds() - cpu_started
     xs, ys, part_area = [], [], 0.0
     for placed in solution.placed_items:
         c, s = math.cos(math.radians(placed.rotation)), math.sin(math.radians(placed.rotation))
@@ -101,6 +111,7 @@ def solve(batch, seconds, workers, seed):
         "length_mm": length,
         "sparrow_density": solution.density,
         "seconds": elapsed,
+        "cpu_seconds": cpu,
         "time_budget_s": seconds,
         "workers": workers,
         "seed": seed,
@@ -109,26 +120,38 @@ def solve(batch, seconds, workers, seed):
 
 
 def measure(path, workers, seed):
-    """Our figures from the measuring bench beside sparrow's at 5 s and at our wall time."""
+    """Our figures from the measuring bench beside sparrow's at 5 s, at our wall time and at our
+    CPU time (sparrow's wall budget set so that its CPU time, at the CPU-to-wall ratio of its 5 s
+    run, matches ours)."""
     batches = json.loads(Path(path).read_text())
-    print(f"{'batch':<14} {'parts':>5} {'ours %':>7} {'ours s':>7} {'sp 5s %':>8} {'sp =t %':>8} {'t s':>4}")
+    print(
+        f"{'batch':<14} {'parts':>5} {'ours %':>7} {'ours s':>7} {'cpu s':>6} "
+        f"{'sp 5s %':>8} {'cpu s':>6} {'sp =t %':>8} {'t s':>4} {'sp =c %':>8} {'c s':>4}"
+    )
     rows = []
     for batch in batches:
         ours = batch["ours"]
         equal = max(1, round(ours["seconds"]))
         five = solve(batch, 5, workers, seed)
         same = solve(batch, equal, workers, seed)
+        ratio = five["cpu_seconds"] / five["seconds"]
+        ours_cpu = ours.get("cpu_seconds", ours["seconds"])
+        equal_cpu = max(1, round(ours_cpu / ratio))
+        cpu = same if equal_cpu == equal else solve(batch, equal_cpu, workers, seed)
         parts = sum(i["demand"] for i in batch["items"])
-        rows.append((ours["density"], ours["seconds"], five["density"], same["density"]))
+        rows.append((ours["density"], ours["seconds"], five["density"], same["density"], cpu["density"]))
         print(
             f"{batch['name']:<14} {parts:>5} {100 * ours['density']:>7.2f} {ours['seconds']:>7.2f} "
-            f"{100 * five['density']:>8.2f} {100 * same['density']:>8.2f} {equal:>4}",
+            f"{ours_cpu:>6.2f} {100 * five['density']:>8.2f} {five['cpu_seconds']:>6.2f} "
+            f"{100 * same['density']:>8.2f} {equal:>4} {100 * cpu['density']:>8.2f} {equal_cpu:>4}",
             flush=True,
         )
     n = len(rows)
+    mean = [100 * sum(r[k] for r in rows) / n for k in range(5)]
+    mean[1] /= 100
     print(
-        f"{'mean':<14} {'':>5} {100 * sum(r[0] for r in rows) / n:>7.2f} {sum(r[1] for r in rows) / n:>7.2f} "
-        f"{100 * sum(r[2] for r in rows) / n:>8.2f} {100 * sum(r[3] for r in rows) / n:>8.2f}"
+        f"{'mean':<14} {'':>5} {mean[0]:>7.2f} {mean[1]:>7.2f} {'':>6} {mean[2]:>8.2f} {'':>6} "
+        f"{mean[3]:>8.2f} {'':>4} {mean[4]:>8.2f}"
     )
 
 

@@ -9,6 +9,8 @@
 //! heavier weights, so the search stops trading the same collision back and forth. If the
 //! overlap does not reach zero within a few rounds the attempt fails and the ceiling is lowered
 //! by less next time; a layout that comes out clear is checked by jagua-rs before it is kept.
+//! Compression ends when its budget is spent or after `STALL_ATTEMPTS` failures in a row at the
+//! smallest step.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.
@@ -42,6 +44,11 @@ impl Footprint {
 /// `SHRINK_LAST`.
 const SHRINK_FIRST: f32 = 0.01;
 const SHRINK_LAST: f32 = 0.001;
+/// Failed attempts in a row at the smallest step after which compression stops: the layout is
+/// taken as one it can no longer improve (counted in attempts, so the stop is deterministic).
+/// The compression now gets the job's whole budget however early the search stopped, and this
+/// rule keeps it from spending that budget on a sheet it cannot lower.
+const STALL_ATTEMPTS: usize = 10;
 /// Random positions anywhere on the sheet, and near the part, tried per move.
 const GLOBAL_SAMPLES: usize = 20;
 const LOCAL_SAMPLES: usize = 10;
@@ -91,7 +98,8 @@ pub(crate) fn compress(
     let length = best_top - bottom;
     let mut step = SHRINK_FIRST * length;
     let mut spent = 0;
-    while spent < budget {
+    let mut failed_at_last = 0;
+    while spent < budget && failed_at_last < STALL_ATTEMPTS {
         let ceiling = best_top - step;
         // Parts reaching above the ceiling go down into their neighbours (turned to a rotation
         // that fits under it if theirs does not).
@@ -117,6 +125,9 @@ pub(crate) fn compress(
             best = separation.items;
             best_top = top(&best);
         } else {
+            if step <= SHRINK_LAST * length {
+                failed_at_last += 1;
+            }
             step = (step * 0.5).max(SHRINK_LAST * length);
         }
     }

@@ -11,6 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use super::model::{collision_free, slide_bottom_left, Model, NUDGE_MM};
 use super::random::{blink_shuffle, worker_rng};
 use super::score::Score;
+use super::threads::shared_out;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 
@@ -71,31 +72,40 @@ impl Search<'_> {
 }
 
 impl Model<'_> {
-    /// The starts of one worker: recipes `worker`, `worker + workers`, ... (`STARTS_PER_WORKER`
-    /// of them on jobs of up to `PORTFOLIO_MAX_COPIES` copies, else one); the best is kept. The
-    /// local search rarely leaves the basin of its start, so several kinds of start buy more
-    /// than more iterations.
-    pub(super) fn construct(&self, worker: usize) -> Result<(Score, Sheets), NestError> {
+    /// The starts of every worker: worker `w` builds recipes `w`, `w + workers`, ...
+    /// (`STARTS_PER_WORKER` of them on jobs of up to `PORTFOLIO_MAX_COPIES` copies, else one)
+    /// and keeps the best. The local search rarely leaves the basin of its start, so several
+    /// kinds of start buy more than more iterations. The recipes are shared out to the threads
+    /// as they come free (best-fit recipes cost several times a size order, and with two
+    /// workers they would all fall to the second one); which thread builds a recipe does not
+    /// change what it builds, so the starts are the same as built in worker order.
+    pub(super) fn construct_all(&self) -> Result<Vec<(Score, Sheets)>, NestError> {
         let workers = self.job.settings.workers;
         let starts = if self.job.copies() <= PORTFOLIO_MAX_COPIES {
             STARTS_PER_WORKER
         } else {
             1
         };
-        let mut best: Option<(Score, Sheets)> = None;
-        for k in 0..starts {
-            let recipe = worker + k * workers;
-            let start = if recipe % 2 == 1 {
+        let built = shared_out(workers, starts * workers, |recipe| {
+            if recipe % 2 == 1 {
                 let ties = BEST_FIT_TIES_MM;
-                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])?
+                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])
             } else {
-                self.construct_in_order(recipe)?
-            };
-            if best.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
-                best = Some(start);
+                self.construct_in_order(recipe)
+            }
+        });
+        let mut best: Vec<Option<(Score, Sheets)>> = vec![None; workers];
+        for (recipe, start) in built.into_iter().enumerate() {
+            let start = start?;
+            let own = &mut best[recipe % workers];
+            if own.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
+                *own = Some(start);
             }
         }
-        Ok(best.expect("at least one start"))
+        Ok(best
+            .into_iter()
+            .map(|b| b.expect("at least one start per worker"))
+            .collect())
     }
 
     /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from

@@ -44,22 +44,27 @@
 //! * **Compression** (`Model::compressed`, module `compress`): the moves above only place parts
 //!   where they are clear, so the parts under a sheet's top seldom get past one another. Last,
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
-//!   ceiling, push the parts above it into their neighbours, and move parts to where they overlap
-//!   least until none do (guided local search on the penetration of convex pieces,
+//!   ceiling, push the parts above it into their neighbours, and move parts to where they
+//!   overlap least until none do (guided local search on the penetration of convex pieces,
 //!   module `overlap`); jagua-rs checks every layout it keeps. Each worker compresses on its
-//!   own stream for `COMPRESSION_EVALUATIONS` overlap evaluations per iteration; the lowest top
-//!   wins. On the bench's strips it took the density from 75.4 to 77.9 % (seed 1).
+//!   own stream for `COMPRESSION_EVALUATIONS` overlap evaluations per iteration of the job's
+//!   budget (the sheet with the lowest top decides the used length, so it gets the budget the
+//!   search did not use) and stops early after `STALL_ATTEMPTS` failures in a row at the
+//!   smallest step; the lowest top wins.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
 //! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (400)
-//!   iterations over all workers have brought no better layout (neither the best nor any
-//!   worker's own), or once the best uses the fewest sheets the part area allows with a used
+//!   iterations over all workers have brought no shorter layout (fewer sheets or a used length
+//!   shorter by more than 1 µm, neither the best nor any worker's own; the score's lower terms
+//!   do not count), or once the best uses the fewest sheets the part area allows with a used
 //!   length within `LENGTH_TOLERANCE` (5 %) of the part area over the sheet width. Both are
-//!   counted in iterations, so the stop is the same on any machine; the compression then gets
-//!   the budget of the iterations used. Progress goes to the caller's observer
-//!   ([`nest_observed`], [`crate::NestProgress`]) at the same points.
+//!   counted in iterations, so the stop is the same on any machine. Progress goes to the
+//!   caller's observer ([`nest_observed`], [`crate::NestProgress`]) at the same points.
+//! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
+//!   start costs several times a size-order one), and each start is a function of its recipe
+//!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands**: on the bench's 60-part strips about 1 point of density behind
 //!   sparrow, the state-of-the-art strip packer (README, "Nesting engine: figures").
 //!
@@ -74,6 +79,7 @@ mod moves;
 mod portfolio;
 mod random;
 mod score;
+mod threads;
 
 use crate::job::Job;
 use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};

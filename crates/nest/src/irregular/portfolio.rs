@@ -6,6 +6,7 @@
 use super::model::Model;
 use super::random::worker_rng;
 use super::score::Score;
+use super::threads::parallel;
 use crate::compress::compress;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
@@ -20,7 +21,10 @@ const MAX_EPOCHS: usize = 16;
 /// Share of the epochs in which workers keep to their own starts (see `Model::run`).
 const INDEPENDENT_EPOCHS: f64 = 0.5;
 /// Stop rule, part 1: the search ends once this many iterations (over all workers, counted at
-/// epoch ends) have passed without a better layout, neither the best nor any worker's own.
+/// epoch ends) have passed without a better layout, neither the best nor any worker's own,
+/// where better means fewer sheets or a used length shorter by more than the score's
+/// tolerance (`Score::shorter_than`): the score's lower terms (fills, heights) keep changing
+/// while the length stands still, and counting them kept every job running to its budget.
 const STALL_ITERATIONS: usize = 400;
 /// Stop rule, part 2: the search ends once the layout uses the fewest sheets the part area
 /// allows and its used length is within this share of the shortest possible (the part area over
@@ -40,9 +44,7 @@ impl Model<'_> {
     ) -> Result<(Sheets, usize), NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
-        let mut own: Vec<(Score, Sheets)> = parallel(workers, |w| self.construct(w))
-            .into_iter()
-            .collect::<Result<_, _>>()?;
+        let mut own: Vec<(Score, Sheets)> = self.construct_all()?;
         let mut best = own[0].clone();
         let iterations = self.job.iteration_budget();
         let epochs = (iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
@@ -55,11 +57,13 @@ impl Model<'_> {
             let mut improved = false;
             for (w, start) in own.iter().enumerate() {
                 if start.0.better_than(&best.0) {
+                    improved |= start.0.shorter_than(&best.0);
                     best = start.clone();
-                    improved = true;
                 }
-                improved |= start.0.better_than(&previous[w]);
-                previous[w] = start.0;
+                if start.0.shorter_than(&previous[w]) {
+                    improved = true;
+                    previous[w] = start.0;
+                }
             }
             if improved {
                 since_better = 0;
@@ -94,11 +98,11 @@ impl Model<'_> {
             done += spent;
             since_better += spent;
         }
-        // The compression's budget is the iterations the search used, at least the first
-        // epoch's worth, so a job the stop rule ends early does not spend the full budget on
-        // its last sheet either.
-        let used = done.max(iterations / epochs).min(iterations);
-        let sheets = self.compressed(best.1, epochs + 1, used);
+        // The used length is decided on the sheet with the lowest top, so that is where the
+        // rest of the budget goes: the compression gets the whole budget's worth of
+        // evaluations, however early the search stopped, and stops by its own rule when it
+        // can no longer lower the top (`compress`, `STALL_ATTEMPTS`).
+        let sheets = self.compressed(best.1, epochs + 1, iterations);
         Ok((sheets, done))
     }
 
@@ -151,8 +155,8 @@ impl Model<'_> {
 
     /// The layout with its lowest-topped sheet (the one whose used length counts) compressed
     /// through overlap ([`crate::compress`]), each worker on its own random stream with
-    /// `COMPRESSION_EVALUATIONS` per iteration the search used (`iterations`); the lowest top
-    /// wins (ties to the lower worker).
+    /// `COMPRESSION_EVALUATIONS` per iteration of `iterations`; the lowest top wins (ties to the
+    /// lower worker).
     pub(super) fn compressed(&self, mut sheets: Sheets, epoch: usize, iterations: usize) -> Sheets {
         let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
             return sheets;
@@ -194,26 +198,4 @@ impl Model<'_> {
         }
         sheets
     }
-}
-
-/// Runs `job(w)` for `w in 0..workers` on that many threads; results in worker order.
-fn parallel<T: Send>(workers: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    if workers == 1 {
-        return vec![job(0)];
-    }
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (1..workers)
-            .map(|w| {
-                let job = &job;
-                scope.spawn(move || job(w))
-            })
-            .collect();
-        let mut results = vec![job(0)];
-        results.extend(
-            handles
-                .into_iter()
-                .map(|h| h.join().expect("nesting worker panicked")),
-        );
-        results
-    })
 }

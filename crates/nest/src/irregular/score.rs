@@ -49,6 +49,13 @@ impl Score {
         self.height <= other.height + 1e-9
     }
 
+    /// Fewer sheets, or a used length shorter by more than the tolerance: an improvement of
+    /// what the layout is judged by (the other terms only steer the search).
+    pub(super) fn shorter_than(&self, other: &Score) -> bool {
+        self.sheets < other.sheets
+            || (self.sheets == other.sheets && self.length < other.length - LENGTH_TOLERANCE_MM)
+    }
+
     pub(super) fn better_than(&self, other: &Score) -> bool {
         !other.at_least_as_good_as(self)
     }
