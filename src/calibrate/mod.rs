@@ -21,11 +21,12 @@ pub use self::csv::{Dataset, Measurement};
 pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
-use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
+use actuator_model::{CalibratedModel, DeclaredEffect, Effects, ModelError, Performance};
 use baseline::{
     error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
 };
 use broken::BrokenActuator;
+use library::EffectId;
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -94,7 +95,8 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
             .iter()
             .map(|e| e.name().to_string())
             .collect(),
-        effects: selection.model,
+        effects: selection.model.effects,
+        declared: declared_records(&selection),
     };
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
@@ -126,6 +128,23 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         predictions_after,
         broken,
     })
+}
+
+/// The declared effects of the final models (mass stage, then actuation) at their fitted values, in the
+/// order their primitives were applied, so the file rebuilds `selection.model` exactly.
+fn declared_records(selection: &Selection) -> Vec<DeclaredEffect> {
+    let mass = selection
+        .final_mass_index
+        .map(|i| &selection.mass_candidates[i]);
+    let actuation = &selection.candidates[selection.final_index];
+    mass.into_iter()
+        .chain([actuation])
+        .flat_map(|c| c.effects.iter().zip(&c.values))
+        .filter_map(|(id, &v)| match id {
+            EffectId::Declared(d) => Some(d.spec().record(v)),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The selection to report, the actuators flagged as broken, and which actuators the fit kept (None: all).

@@ -4,6 +4,7 @@
 
 use actuator_cam::calibrate;
 use actuator_model::effects::{drive_at_voltage, Actuator};
+use actuator_model::primitives::{compose, Applied};
 use actuator_model::{DriveMode, Effects, Material, Planform};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -43,6 +44,9 @@ pub enum Truth {
     /// Deflection and force lose a factor `exp(-a w0 / l_p)` (a width-dependent actuation loss, e.g.
     /// anticlastic stiffening of wide plates, that no library effect expresses).
     WidthLoss(f64),
+    /// Library effects with one primitive on top (an effect outside the library built from the model's
+    /// own physics, e.g. a clamp compliance per unit clamped width).
+    Composed(Effects, Applied),
     /// Deflection and force (or the force alone) times `exp(a (x - mid) / span)`, with `x` the design
     /// value [`design_value`] of `variable`: a trend of size `exp(a) - 1` over a range `span` (power study).
     Trend {
@@ -183,6 +187,10 @@ pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64
     match truth {
         Truth::Library(e) => {
             let p = e.predict(&a).unwrap();
+            (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::Composed(e, applied) => {
+            let p = compose(&[applied], &e, &a).unwrap();
             (p.free_deflection, p.blocked_force, p.mass)
         }
         Truth::WidthLoss(loss) => {

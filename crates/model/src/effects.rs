@@ -338,28 +338,6 @@ impl Effects {
     }
 }
 
-/// A calibrated model: the effects found in measured data and what the calibration concluded.
-/// Written as `calibrated-model.toml` by `actuator-cam calibrate`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CalibratedModel {
-    /// Always "calibrated"; lets a reader reject other files.
-    pub model: String,
-    /// The calibration verdict (`no-effect`, `explained`, `ambiguous`, `not-explained`).
-    pub verdict: String,
-    /// Names of the effects the calibration selected.
-    pub selected_effects: Vec<String>,
-    /// Parameters of every effect (null values where not selected).
-    pub effects: Effects,
-}
-
-impl CalibratedModel {
-    /// Predict one actuator.
-    pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
-        self.effects.predict(a)
-    }
-}
-
 /// Helper for callers with a drive given as a voltage.
 pub fn drive_at_voltage(mode: DriveMode, voltage: f64, pzt_thickness: f64) -> Drive {
     Drive {

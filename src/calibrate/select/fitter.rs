@@ -8,7 +8,7 @@ use super::observations::StageData;
 use crate::calibrate::fit::{least_squares, Bounds, FitResult};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
-use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 
 /// Every combination of the parameters' start values, clamped to their bounds.
 fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
@@ -31,7 +31,7 @@ fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
 /// Fits effect sets on one stage's data on top of `base` (the frozen mass effects).
 pub(super) struct Fitter<'a> {
     pub(super) data: &'a dyn StageData,
-    pub(super) base: Effects,
+    pub(super) base: EffectModel,
     /// Fold of each actuator, per repeat.
     pub(super) folds: Vec<Vec<usize>>,
     /// Upper bound of the dead length: 80% of the shortest piezo length in the data.
@@ -55,8 +55,8 @@ impl Fitter<'_> {
             .collect()
     }
 
-    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> Effects {
-        let mut e = self.base;
+    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> EffectModel {
+        let mut e = self.base.clone();
         for (id, v) in ids.iter().zip(theta) {
             id.apply(&mut e, *v);
         }
@@ -121,7 +121,7 @@ impl Fitter<'_> {
         // Each fold starts from the full-data fit; the original model has nothing to refit.
         let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
             if ids.is_empty() {
-                self.base
+                self.base.clone()
             } else {
                 let refit = self.fit_on(ids, Some(train), std::slice::from_ref(&fit.theta));
                 self.effects_at(ids, &refit.theta)

@@ -24,6 +24,7 @@ use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{EffectId, Stage};
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
@@ -84,7 +85,7 @@ pub struct Selection {
     /// Index of the final mass model in `mass_candidates`.
     pub final_mass_index: Option<usize>,
     /// The calibrated effects.
-    pub model: Effects,
+    pub model: EffectModel,
     /// Selected effects (mass stage first).
     pub selected: Vec<EffectId>,
     /// Adequacy of the final model.
@@ -125,25 +126,32 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         obs: mass_obs,
     };
     let mut mass_candidates = Vec::new();
-    let mut base = Effects::default();
+    let mut base = EffectModel::default();
     let mut selected = Vec::new();
     let mut contenders: Vec<Vec<String>> = Vec::new();
     let mut final_mass_index = None;
     if mass_data.obs.len() >= 4 {
         let fitter = Fitter {
             data: &mass_data,
-            base,
+            base: base.clone(),
             folds: folds_of.clone(),
             dead_length_max_mm,
             shared: shared.clone(),
         };
-        let mass_effects = [EffectId::PlyThickness, EffectId::BondLayer];
+        let mass_effects: Vec<EffectId> = [EffectId::PlyThickness, EffectId::BondLayer]
+            .into_iter()
+            .chain(declared_in(settings, Stage::Mass))
+            .collect();
         let mut sets: Vec<(Vec<EffectId>, Role)> = vec![(vec![], Role::Original)];
-        for e in mass_effects {
+        for &e in &mass_effects {
             sets.push((vec![e], Role::Candidate));
         }
         if settings.max_effects >= 2 && mass_data.obs.len() >= 8 {
-            sets.push((mass_effects.to_vec(), Role::Candidate));
+            for (i, &a) in mass_effects.iter().enumerate() {
+                for &b in &mass_effects[i + 1..] {
+                    sets.push((vec![a, b], Role::Candidate));
+                }
+            }
         }
         mass_candidates = sets
             .par_iter()
@@ -154,7 +162,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         let (best, rivals) = best_and_rivals(&mass_candidates, settings);
         let chosen = best.unwrap_or(0);
         final_mass_index = Some(chosen);
-        base = mass_candidates[chosen].model;
+        base = mass_candidates[chosen].model.clone();
         selected.extend(mass_candidates[chosen].library_effects());
         contenders.extend(rivals);
     } else {
@@ -167,6 +175,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
 
     // --- Stage 2: actuation and compliance effects on deflection and force.
     let obs = actuation_obs(data, &base)?;
+    let frozen_primitives = base.primitives.len();
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
         return Err(ModelError::Fit(format!(
@@ -177,7 +186,12 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             max_parameters(settings) + 2
         )));
     }
-    let act_data = ActuationData { obs, groups };
+    let act_data = ActuationData {
+        data,
+        obs,
+        groups,
+        frozen_primitives,
+    };
     let fitter = Fitter {
         data: &act_data,
         base,
@@ -189,6 +203,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     let library: Vec<EffectId> = EffectId::LIBRARY
         .into_iter()
         .filter(|e| *e != eta && e.stage() == Stage::Actuation)
+        .chain(declared_in(settings, Stage::Actuation))
         .collect();
     let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
         (vec![], Role::Original),
@@ -250,7 +265,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         }
     }
     selected.extend(chosen.library_effects());
-    let model = chosen.model;
+    let model = chosen.model.clone();
 
     let adequacy = adequacy(
         data,
@@ -300,6 +315,15 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     })
 }
 
+/// The declared effects fitted on one stage's data.
+fn declared_in(settings: &Settings, stage: Stage) -> impl Iterator<Item = EffectId> + '_ {
+    settings
+        .declared
+        .iter()
+        .map(|&d| EffectId::Declared(d))
+        .filter(move |e| e.stage() == stage)
+}
+
 /// One note per effect the data cannot determine, from the models that fit it alone (with η).
 fn note_not_identifiable(candidates: &[Candidate], notes: &mut Vec<String>) {
     for c in candidates {
@@ -324,18 +348,21 @@ pub fn adequacy_of(
     params: usize,
     settings: &Settings,
 ) -> Result<Adequacy, ModelError> {
-    let obs = actuation_obs(data, effects)?;
+    let effects = EffectModel::from(*effects);
+    let obs = actuation_obs(data, &effects)?;
     let act = ActuationData {
+        data,
         obs,
         groups: data.actuators(),
+        frozen_primitives: 0,
     };
     let mut res = Vec::new();
-    act.residuals(effects, None, &mut res);
+    act.residuals(&effects, None, &mut res);
     let rss = res.iter().map(|x| x * x).sum();
     Ok(adequacy::adequacy_of_fit(
         data,
         &act,
-        (effects, rss, params),
+        (&effects, rss, params),
         None,
         settings,
     ))
@@ -343,7 +370,7 @@ pub fn adequacy_of(
 
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
 /// stack effects of `base`.
-fn actuation_obs(data: &Dataset, base: &Effects) -> Result<Vec<ActuationObs>, ModelError> {
+fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>, ModelError> {
     let mut obs = Vec::new();
     for (i, r) in data.rows.iter().enumerate() {
         if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {

@@ -2,11 +2,13 @@
 //! deflections and forces (actuation stage), with whole actuators maskable for cross-validation.
 
 use crate::calibrate::csv::Dataset;
-use actuator_model::effects::{Effects, StackBasis};
+use actuator_model::effects::StackBasis;
+use actuator_model::EffectModel;
 
-/// Residuals of one stage under given effects, optionally on a subset of actuators.
+/// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
+/// cannot evaluate (a declared primitive driven out of range) gives NaN residuals, which the fit refuses.
 pub(super) trait StageData: Sync {
-    fn residuals(&self, effects: &Effects, keep: Option<&[bool]>, out: &mut Vec<f64>);
+    fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>);
     fn groups(&self) -> usize;
 }
 
@@ -17,13 +19,15 @@ pub(super) struct MassData<'a> {
 }
 
 impl StageData for MassData<'_> {
-    fn residuals(&self, effects: &Effects, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+    fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
         out.clear();
         for &(g, row, ln_m) in &self.obs {
             if keep.is_some_and(|k| !k[g]) {
                 continue;
             }
-            let m = effects.mass(&self.data.rows[row].actuator()).total();
+            let m = effects
+                .mass(&self.data.rows[row].actuator())
+                .map_or(f64::NAN, |m| m.total());
             out.push(ln_m - m.ln());
         }
     }
@@ -42,19 +46,34 @@ pub(super) struct ActuationObs {
     pub(super) ln_force: Option<f64>,
 }
 
-pub(super) struct ActuationData {
+pub(super) struct ActuationData<'a> {
+    pub(super) data: &'a Dataset,
     pub(super) obs: Vec<ActuationObs>,
     pub(super) groups: usize,
+    /// How many declared primitives the bases were solved with (the frozen mass stage's): a model
+    /// whose further primitives change the stack needs its bases solved again.
+    pub(super) frozen_primitives: usize,
 }
 
-impl StageData for ActuationData {
-    fn residuals(&self, effects: &Effects, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+impl StageData for ActuationData<'_> {
+    fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
         out.clear();
+        let resolve = effects
+            .primitives
+            .iter()
+            .skip(self.frozen_primitives)
+            .any(|x| x.primitive.changes_stack());
         for o in &self.obs {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
             }
-            let (delta, force) = effects.outputs(&o.basis);
+            let (delta, force) = if resolve {
+                effects
+                    .basis(&self.data.rows[o.row].actuator())
+                    .map_or((f64::NAN, f64::NAN), |b| effects.outputs(&b))
+            } else {
+                effects.outputs(&o.basis)
+            };
             if let Some(d) = o.ln_delta {
                 out.push(d - delta.ln());
             }
@@ -68,7 +87,7 @@ impl StageData for ActuationData {
     }
 }
 
-impl ActuationData {
+impl ActuationData<'_> {
     /// (obs index, output name) of each residual in the unmasked order.
     pub(super) fn labels(&self) -> Vec<(usize, &'static str)> {
         let mut labels = Vec::new();

@@ -3,7 +3,8 @@
 
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
-use actuator_model::effects::{Actuator, Effects};
+use actuator_model::effects::Actuator;
+use actuator_model::EffectModel;
 use actuator_model::{Drive, Planform};
 use serde::Serialize;
 
@@ -39,7 +40,7 @@ pub struct SeparatingDesign {
 }
 
 /// Designs in the span of the data where two fitted models disagree most.
-pub(super) fn separate(data: &Dataset, a: &Effects, b: &Effects) -> Vec<SeparatingDesign> {
+pub(super) fn separate(data: &Dataset, a: &EffectModel, b: &EffectModel) -> Vec<SeparatingDesign> {
     let range = |f: &dyn Fn(&Measurement) -> f64| {
         let v: Vec<f64> = data.rows.iter().map(f).collect();
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
