@@ -265,27 +265,8 @@ impl ModelChoice {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::DriveMode;
-    use crate::material::Material;
+    use crate::primitives::tests::with;
     use crate::primitives::{Map, Primitive, Property, Target};
-
-    fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
-        let pzt = Material::builtin("PZT-5H").unwrap();
-        let cf = Material::builtin("CF-thesis").unwrap();
-        let layup = [0.0, 0.0, 90.0, 0.0, 0.0];
-        f(&Actuator {
-            pzt: &pzt,
-            pzt_thickness: 191e-6,
-            ply: &cf,
-            ply_thickness: 61.8e-6,
-            layup_deg: &layup,
-            planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
-            drive: Drive {
-                mode: DriveMode::Parallel,
-                field: 600e3,
-            },
-        })
-    }
 
     fn declared(name: &str, value: f64, null: f64, links: &[(Primitive, Map)]) -> DeclaredEffect {
         DeclaredEffect {

@@ -334,12 +334,13 @@ pub fn library_composition(name: &str) -> Option<Vec<Link>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::effects::EFFECT_NAMES;
     use crate::{Drive, DriveMode, Planform};
 
-    fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
+    /// A thesis-like actuator (also the model module's test fixture).
+    pub(crate) fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
         let pzt = Material::builtin("PZT-5H").unwrap();
         let cf = Material::builtin("CF-thesis").unwrap();
         let layup = [0.0, 0.0, 90.0, 0.0, 0.0];

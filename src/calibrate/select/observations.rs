@@ -63,14 +63,25 @@ impl StageData for ActuationData<'_> {
             .iter()
             .skip(self.frozen_primitives)
             .any(|x| x.primitive.changes_stack());
+        // Re-solved bases, one stack solve per actuator: its other voltages move the basis to their
+        // field (same drive mode).
+        let mut solved: Vec<Option<(usize, StackBasis)>> =
+            vec![None; if resolve { self.groups } else { 0 }];
         for o in &self.obs {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
             }
             let (delta, force) = if resolve {
-                effects
-                    .basis(&self.data.rows[o.row].actuator())
-                    .map_or((f64::NAN, f64::NAN), |b| effects.outputs(&b))
+                let rows = &self.data.rows;
+                let basis = match solved[o.group] {
+                    Some((row, b)) if rows[row].drive_mode == rows[o.row].drive_mode => {
+                        Ok(b.at_field(o.basis.field))
+                    }
+                    _ => effects.basis(&rows[o.row].actuator()).inspect(|b| {
+                        solved[o.group] = Some((o.row, *b));
+                    }),
+                };
+                basis.map_or((f64::NAN, f64::NAN), |b| effects.outputs(&b))
             } else {
                 effects.outputs(&o.basis)
             };
