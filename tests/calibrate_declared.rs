@@ -201,6 +201,22 @@ fn predict_json(design: &std::path::Path, model: &std::path::Path) -> serde_json
     serde_json::from_slice(&run.stdout).unwrap()
 }
 
+/// The same model without its declared effects, written into `dir`.
+fn library_only(
+    model: &actuator_model::CalibratedModel,
+    dir: &std::path::Path,
+) -> std::path::PathBuf {
+    let mut library = model.clone();
+    library.declared.clear();
+    let path = dir.join("library-only.toml");
+    std::fs::write(
+        &path,
+        actuator_cam::calibrate::model_file::to_toml(&library).unwrap(),
+    )
+    .unwrap();
+    path
+}
+
 /// Round trip: `calibrate --effects` writes the declared effect into calibrated-model.toml, and
 /// `predict --model` applies it: its blocked force against the same model without the declared effect
 /// changes by the ratio the primitive gives when applied directly in the model crate.
@@ -232,15 +248,7 @@ fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
         .find(|d| d.name == "wide-clamp")
         .unwrap_or_else(|| panic!("{:?}", model.selected_effects));
     assert!(model.selected_effects.iter().any(|e| e == "wide-clamp"));
-    // The same model without its declared effects.
-    let mut library_only = model.clone();
-    library_only.declared.clear();
-    let library_path = dir.path().join("library-only.toml");
-    std::fs::write(
-        &library_path,
-        actuator_cam::calibrate::model_file::to_toml(&library_only).unwrap(),
-    )
-    .unwrap();
+    let library_path = library_only(&model, dir.path());
 
     let data = parse(&csv_text).unwrap();
     for row in [0, 41, 97] {
@@ -331,14 +339,7 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
         "{energy} vs {energy_mj} mJ"
     );
     assert!((p["mass_mg"].as_f64().unwrap() - mass_mg).abs() <= 1e-3);
-    let mut library_only = model.clone();
-    library_only.declared.clear();
-    let library_path = dir.path().join("library-only.toml");
-    std::fs::write(
-        &library_path,
-        actuator_cam::calibrate::model_file::to_toml(&library_only).unwrap(),
-    )
-    .unwrap();
+    let library_path = library_only(&model, dir.path());
     let without = predict_json(&best, &library_path)["energy_mJ"]
         .as_f64()
         .unwrap();
