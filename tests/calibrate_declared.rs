@@ -218,7 +218,7 @@ fn library_only(
 }
 
 /// Round trip: `calibrate --effects` writes the declared effect into calibrated-model.toml, and
-/// `predict --model` applies it: its blocked force against the same model without the declared effect
+/// `predict --model` (and `cut-sheet --model`) applies it: its blocked force against the same model without the declared effect
 /// changes by the ratio the primitive gives when applied directly in the model crate.
 #[test]
 fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
@@ -274,6 +274,24 @@ fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
         let want = direct.blocked_force / bare.blocked_force;
         assert!(want < 0.97, "the declared clamp must matter here: {want}");
         assert!((cli / want - 1.0).abs() < 1e-5, "{cli} vs {want}");
+        if row == 0 {
+            // cut-sheet reports the same calibrated prediction.
+            let sheet = dir.path().join("sheet");
+            common::run_ok(&[
+                "cut-sheet",
+                design.to_str().unwrap(),
+                "--model",
+                model_path.to_str().unwrap(),
+                "-o",
+                sheet.to_str().unwrap(),
+            ]);
+            let report: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(sheet.join("report.json")).unwrap()).unwrap();
+            assert_eq!(
+                report["predicted"]["blocked_force_N"],
+                with["blocked_force_N"]
+            );
+        }
         // A series compliance leaves the free deflection alone (docs/calibration.md §1).
         assert!(
             (ratio(&with, "free_deflection_mm") / ratio(&without, "free_deflection_mm") - 1.0)
