@@ -7,9 +7,9 @@ mod acceptance;
 pub mod adequacy;
 pub mod candidate;
 mod cross_validation;
-mod fitter;
+pub(crate) mod fitter;
 pub mod identifiability;
-mod observations;
+pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
@@ -95,6 +95,9 @@ pub struct Selection {
     pub separating_designs: Vec<SeparatingDesign>,
     /// Remarks for the report.
     pub notes: Vec<String>,
+    /// What the residual looks like and what could cause it, when not explained (filled by
+    /// [`crate::calibrate::calibrate`] on the data of the final fit).
+    pub discovery: Option<crate::calibrate::discover::Discovery>,
 }
 
 /// Run the whole selection.
@@ -297,6 +300,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         outliers,
         separating_designs,
         notes,
+        discovery: None,
     })
 }
 
@@ -339,6 +343,14 @@ pub fn adequacy_of(
         None,
         settings,
     ))
+}
+
+/// The actuation stage's data on top of `base` (its stack effects solved once per row).
+pub(crate) fn actuation_data(data: &Dataset, base: &Effects) -> Result<ActuationData, ModelError> {
+    Ok(ActuationData {
+        obs: actuation_obs(data, base)?,
+        groups: data.actuators(),
+    })
 }
 
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the

@@ -5,15 +5,15 @@ use crate::calibrate::csv::Dataset;
 use actuator_model::effects::{Effects, StackBasis};
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators.
-pub(super) trait StageData: Sync {
+pub(crate) trait StageData: Sync {
     fn residuals(&self, effects: &Effects, keep: Option<&[bool]>, out: &mut Vec<f64>);
     fn groups(&self) -> usize;
 }
 
-pub(super) struct MassData<'a> {
-    pub(super) data: &'a Dataset,
+pub(crate) struct MassData<'a> {
+    pub(crate) data: &'a Dataset,
     /// (group, row, ln measured mass)
-    pub(super) obs: Vec<(usize, usize, f64)>,
+    pub(crate) obs: Vec<(usize, usize, f64)>,
 }
 
 impl StageData for MassData<'_> {
@@ -34,17 +34,17 @@ impl StageData for MassData<'_> {
 
 /// One row of the actuation stage.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct ActuationObs {
-    pub(super) group: usize,
-    pub(super) row: usize,
-    pub(super) basis: StackBasis,
-    pub(super) ln_delta: Option<f64>,
-    pub(super) ln_force: Option<f64>,
+pub(crate) struct ActuationObs {
+    pub(crate) group: usize,
+    pub(crate) row: usize,
+    pub(crate) basis: StackBasis,
+    pub(crate) ln_delta: Option<f64>,
+    pub(crate) ln_force: Option<f64>,
 }
 
-pub(super) struct ActuationData {
-    pub(super) obs: Vec<ActuationObs>,
-    pub(super) groups: usize,
+pub(crate) struct ActuationData {
+    pub(crate) obs: Vec<ActuationObs>,
+    pub(crate) groups: usize,
 }
 
 impl StageData for ActuationData {
@@ -69,8 +69,20 @@ impl StageData for ActuationData {
 }
 
 impl ActuationData {
+    /// The log residuals of each observation under `effects`: `[deflection, force]`, None where not
+    /// measured.
+    pub(crate) fn row_residuals(&self, effects: &Effects) -> Vec<[Option<f64>; 2]> {
+        let mut r = Vec::new();
+        self.residuals(effects, None, &mut r);
+        let mut rows = vec![[None, None]; self.obs.len()];
+        for (&(i, output), &res) in self.labels().iter().zip(&r) {
+            rows[i][(output == "blocked_force") as usize] = Some(res);
+        }
+        rows
+    }
+
     /// (obs index, output name) of each residual in the unmasked order.
-    pub(super) fn labels(&self) -> Vec<(usize, &'static str)> {
+    pub(crate) fn labels(&self) -> Vec<(usize, &'static str)> {
         let mut labels = Vec::new();
         for (i, o) in self.obs.iter().enumerate() {
             if o.ln_delta.is_some() {
