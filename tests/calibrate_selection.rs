@@ -145,6 +145,7 @@ fn studies() -> Vec<Study> {
 struct Outcome {
     verdict: String,
     selected: Vec<String>,
+    detail: String,
 }
 
 fn run(study: &Study, data_seed: u64) -> Outcome {
@@ -152,9 +153,15 @@ fn run(study: &Study, data_seed: u64) -> Outcome {
     let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
     let data = parse(&synthetic_csv(study.truth, &designs, &mut rng)).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let detail = format!(
+        "{:?} broken {:?}",
+        cal.selection.verdict,
+        cal.broken.iter().map(|b| &b.id).collect::<Vec<_>>()
+    );
     Outcome {
         verdict: cal.model.verdict,
         selected: cal.model.selected_effects,
+        detail,
     }
 }
 
@@ -204,8 +211,8 @@ fn selection_names_what_is_there_and_nothing_else() {
             count("not-explained")
         );
         if std::env::var("CALIBRATE_VERBOSE").is_ok() {
-            for o in &outcomes {
-                println!("    {} {:?}", o.verdict, o.selected);
+            for (s, o) in seeds.iter().zip(&outcomes) {
+                println!("    data seed {s}: {} {:?} {}", o.verdict, o.selected, o.detail);
             }
         }
         match study.kind {
