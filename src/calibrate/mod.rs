@@ -8,6 +8,7 @@
 pub mod baseline;
 pub mod broken;
 pub mod csv;
+pub mod discover;
 pub mod fit;
 pub mod library;
 pub mod model_file;
@@ -78,7 +79,7 @@ pub enum CalibrateError {
 /// model, and if any are found select again without them (docs/calibration.md §3, "Broken actuators").
 pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, CalibrateError> {
     let first = select::select(data, settings)?;
-    let (selection, broken, kept) = screen_broken(data, settings, first)?;
+    let (mut selection, broken, kept) = screen_broken(data, settings, first)?;
     let fitted_subset;
     let fitted = match &kept {
         Some(keep) => {
@@ -87,6 +88,9 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         }
         None => data,
     };
+    if matches!(selection.verdict, Verdict::NotExplained { .. }) {
+        selection.discovery = Some(discover::discover(fitted, &selection)?);
+    }
     let model = CalibratedModel {
         model: "calibrated".into(),
         verdict: selection.verdict.name().into(),

@@ -7,15 +7,15 @@ use actuator_model::EffectModel;
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
 /// cannot evaluate (a declared primitive driven out of range) gives NaN residuals, which the fit refuses.
-pub(super) trait StageData: Sync {
+pub(crate) trait StageData: Sync {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>);
     fn groups(&self) -> usize;
 }
 
-pub(super) struct MassData<'a> {
-    pub(super) data: &'a Dataset,
+pub(crate) struct MassData<'a> {
+    pub(crate) data: &'a Dataset,
     /// (group, row, ln measured mass)
-    pub(super) obs: Vec<(usize, usize, f64)>,
+    pub(crate) obs: Vec<(usize, usize, f64)>,
 }
 
 impl StageData for MassData<'_> {
@@ -38,21 +38,21 @@ impl StageData for MassData<'_> {
 
 /// One row of the actuation stage.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct ActuationObs {
-    pub(super) group: usize,
-    pub(super) row: usize,
-    pub(super) basis: StackBasis,
-    pub(super) ln_delta: Option<f64>,
-    pub(super) ln_force: Option<f64>,
+pub(crate) struct ActuationObs {
+    pub(crate) group: usize,
+    pub(crate) row: usize,
+    pub(crate) basis: StackBasis,
+    pub(crate) ln_delta: Option<f64>,
+    pub(crate) ln_force: Option<f64>,
 }
 
-pub(super) struct ActuationData<'a> {
-    pub(super) data: &'a Dataset,
-    pub(super) obs: Vec<ActuationObs>,
-    pub(super) groups: usize,
+pub(crate) struct ActuationData<'a> {
+    pub(crate) data: &'a Dataset,
+    pub(crate) obs: Vec<ActuationObs>,
+    pub(crate) groups: usize,
     /// How many declared primitives the bases were solved with (the frozen mass stage's): a model
     /// whose further primitives change the stack needs its bases solved again.
-    pub(super) frozen_primitives: usize,
+    pub(crate) frozen_primitives: usize,
 }
 
 impl StageData for ActuationData<'_> {
@@ -99,8 +99,20 @@ impl StageData for ActuationData<'_> {
 }
 
 impl ActuationData<'_> {
+    /// The log residuals of each observation under `effects`: `[deflection, force]`, None where not
+    /// measured.
+    pub(crate) fn row_residuals(&self, effects: &EffectModel) -> Vec<[Option<f64>; 2]> {
+        let mut r = Vec::new();
+        self.residuals(effects, None, &mut r);
+        let mut rows = vec![[None, None]; self.obs.len()];
+        for (&(i, output), &res) in self.labels().iter().zip(&r) {
+            rows[i][(output == "blocked_force") as usize] = Some(res);
+        }
+        rows
+    }
+
     /// (obs index, output name) of each residual in the unmasked order.
-    pub(super) fn labels(&self) -> Vec<(usize, &'static str)> {
+    pub(crate) fn labels(&self) -> Vec<(usize, &'static str)> {
         let mut labels = Vec::new();
         for (i, o) in self.obs.iter().enumerate() {
             if o.ln_delta.is_some() {
