@@ -1,9 +1,143 @@
 //! The candidate effects as the fit sees them: named parameters in report units, their bounds, null values
-//! and starting points, and how each sets the SI [`Effects`] of the model crate.
+//! and starting points, and how each sets the SI [`EffectModel`] of the model crate. The library's seven
+//! are built in; a lab adds its own compositions of primitives (`calibrate --effects FILE`,
+//! [`DeclaredSpec`], read by `crate::input::effects`), which the selection treats as it treats the seven.
 
-use actuator_model::Effects;
+use actuator_model::primitives::{Applied, Link};
+use actuator_model::{DeclaredEffect, EffectModel};
+use std::cmp::Ordering;
+use std::hash::{Hash, Hasher};
+use std::sync::Mutex;
 
-/// One library effect (plus the thesis-style stiffness null).
+/// An effect a lab declared: a composition of primitives driven by one parameter, with its bounds and
+/// null value (validated by the input layer: `lo < null` or `null < hi`, `lo <= null <= hi`, every
+/// primitive value inside its physical range over the bounds).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeclaredSpec {
+    /// Name (not a library effect's name).
+    pub name: String,
+    /// Parameter name with its unit, as report.json shows it.
+    pub parameter: String,
+    /// Value that switches the effect off.
+    pub null: f64,
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+    /// The primitives and how the parameter sets each (identity or reciprocal).
+    pub primitives: Vec<Link>,
+}
+
+impl DeclaredSpec {
+    /// Its primitives at parameter value `p`.
+    pub fn applied(&self, p: f64) -> impl Iterator<Item = Applied> + '_ {
+        self.primitives.iter().map(move |l| Applied {
+            primitive: l.primitive,
+            // The input layer admits only the maps that need no ply.
+            value: l.map.of(p).unwrap_or(f64::NAN),
+        })
+    }
+
+    /// Fitted on the measured masses (like `ply-thickness`) when any primitive changes the mass.
+    pub fn stage(&self) -> Stage {
+        if self.primitives.iter().any(|l| l.primitive.changes_mass()) {
+            Stage::Mass
+        } else {
+            Stage::Actuation
+        }
+    }
+
+    /// As the calibrated model records it, at value `value`.
+    pub fn record(&self, value: f64) -> DeclaredEffect {
+        DeclaredEffect {
+            name: self.name.clone(),
+            parameter: self.parameter.clone(),
+            value,
+            null: self.null,
+            primitives: self.primitives.clone(),
+        }
+    }
+}
+
+/// A declared effect as the selection holds it: `Copy` like the library's effects, so a candidate's
+/// effect list stays a list of ids. The specs are interned for the life of the process (a handful, read
+/// once per run; the same declaration read twice is the same id), which gives the `&'static` names the
+/// reports borrow.
+#[derive(Debug, Clone, Copy)]
+pub struct Declared {
+    index: usize,
+    spec: &'static Interned,
+}
+
+#[derive(Debug)]
+struct Interned {
+    spec: DeclaredSpec,
+    name: &'static str,
+    parameter: &'static str,
+    starts: &'static [f64],
+}
+
+static DECLARED: Mutex<Vec<&'static Interned>> = Mutex::new(Vec::new());
+
+impl Declared {
+    /// The id of a declared effect.
+    pub fn new(spec: DeclaredSpec) -> Declared {
+        let mut all = DECLARED.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(index) = all.iter().position(|i| i.spec == spec) {
+            return Declared {
+                index,
+                spec: all[index],
+            };
+        }
+        // Starts: the null value and the midpoints towards each bound.
+        let mut starts = vec![spec.null];
+        for x in [0.5 * (spec.lo + spec.null), 0.5 * (spec.null + spec.hi)] {
+            if !starts.contains(&x) {
+                starts.push(x);
+            }
+        }
+        let interned: &'static Interned = Box::leak(Box::new(Interned {
+            name: Box::leak(spec.name.clone().into_boxed_str()),
+            parameter: Box::leak(spec.parameter.clone().into_boxed_str()),
+            starts: Box::leak(starts.into_boxed_slice()),
+            spec,
+        }));
+        all.push(interned);
+        Declared {
+            index: all.len() - 1,
+            spec: interned,
+        }
+    }
+
+    /// The declaration.
+    pub fn spec(&self) -> &'static DeclaredSpec {
+        &self.spec.spec
+    }
+}
+
+impl PartialEq for Declared {
+    fn eq(&self, other: &Self) -> bool {
+        self.index == other.index
+    }
+}
+impl Eq for Declared {}
+impl PartialOrd for Declared {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Declared {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.index.cmp(&other.index)
+    }
+}
+impl Hash for Declared {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.index.hash(state);
+    }
+}
+
+/// One library effect (plus the thesis-style stiffness null), or a declared one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum EffectId {
     /// `d31-scale` η.
@@ -22,6 +156,8 @@ pub enum EffectId {
     PlyThickness,
     /// Uniform stiffness scale s_k: only in the thesis-style null model.
     StiffnessScale,
+    /// An effect a lab declared.
+    Declared(Declared),
 }
 
 /// Which data identify an effect.
@@ -71,10 +207,11 @@ impl EffectId {
             EffectId::ClampCompliance => "clamp-compliance",
             EffectId::PlyThickness => "ply-thickness",
             EffectId::StiffnessScale => "stiffness-scale",
+            EffectId::Declared(d) => d.spec.name,
         }
     }
 
-    /// Look an effect up by name.
+    /// Look a library effect up by name.
     pub fn from_name(name: &str) -> Option<EffectId> {
         Self::LIBRARY
             .into_iter()
@@ -86,6 +223,7 @@ impl EffectId {
     pub fn stage(self) -> Stage {
         match self {
             EffectId::BondLayer | EffectId::PlyThickness => Stage::Mass,
+            EffectId::Declared(d) => d.spec().stage(),
             _ => Stage::Actuation,
         }
     }
@@ -149,11 +287,20 @@ impl EffectId {
                 hi: 20.0,
                 starts: &[1.0, 0.3],
             },
+            EffectId::Declared(d) => ParamSpec {
+                name: d.spec.parameter,
+                null: d.spec.spec.null,
+                lo: d.spec.spec.lo,
+                hi: d.spec.spec.hi,
+                starts: d.spec.starts,
+            },
         }
     }
 
-    /// Set the effect's SI parameter from its report-unit value.
-    pub fn apply(self, effects: &mut Effects, value: f64) {
+    /// Set the effect's SI parameter from its report-unit value (a declared effect adds its primitives:
+    /// apply each id once).
+    pub fn apply(self, model: &mut EffectModel, value: f64) {
+        let effects = &mut model.effects;
         match self {
             EffectId::D31Scale => effects.d31_scale = value,
             EffectId::FieldDependentD31 => effects.d31_field_coefficient = value * 1e-6,
@@ -163,12 +310,15 @@ impl EffectId {
             EffectId::ClampCompliance => effects.clamp_compliance = value,
             EffectId::PlyThickness => effects.ply_thickness_scale = value,
             EffectId::StiffnessScale => effects.stiffness_scale = value,
+            EffectId::Declared(d) => model.primitives.extend(d.spec().applied(value)),
         }
     }
 
-    /// Read the effect's parameter back in report units.
-    pub fn value(self, effects: &Effects) -> f64 {
-        match self {
+    /// Read a library effect's parameter back in report units (`None` for a declared one, whose
+    /// primitives do not name it).
+    pub fn value(self, model: &EffectModel) -> Option<f64> {
+        let effects = &model.effects;
+        Some(match self {
             EffectId::D31Scale => effects.d31_scale,
             EffectId::FieldDependentD31 => effects.d31_field_coefficient * 1e6,
             EffectId::DeadLength => effects.dead_length * 1e3,
@@ -177,7 +327,8 @@ impl EffectId {
             EffectId::ClampCompliance => effects.clamp_compliance,
             EffectId::PlyThickness => effects.ply_thickness_scale,
             EffectId::StiffnessScale => effects.stiffness_scale,
-        }
+            EffectId::Declared(_) => return None,
+        })
     }
 }
 
@@ -193,11 +344,11 @@ mod tests {
         {
             assert_eq!(id.name(), name);
             assert_eq!(EffectId::from_name(name), Some(*id));
-            let mut e = Effects::default();
+            let mut e = EffectModel::default();
             id.apply(&mut e, id.param().null);
-            assert!(e.is_null());
+            assert!(e.effects.is_null() && e.primitives.is_empty());
             id.apply(&mut e, 1.7);
-            assert!((id.value(&e) - 1.7).abs() < 1e-12);
+            assert!((id.value(&e).unwrap() - 1.7).abs() < 1e-12);
         }
     }
 }

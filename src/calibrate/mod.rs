@@ -8,6 +8,7 @@
 pub mod baseline;
 pub mod broken;
 pub mod csv;
+pub mod discover;
 pub mod fit;
 pub mod library;
 pub mod model_file;
@@ -21,11 +22,12 @@ pub use self::csv::{Dataset, Measurement};
 pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
-use actuator_model::{CalibratedModel, Effects, ModelError, Performance};
+use actuator_model::{CalibratedModel, DeclaredEffect, Effects, ModelError, Performance};
 use baseline::{
     error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
 };
 use broken::BrokenActuator;
+use library::EffectId;
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -77,7 +79,7 @@ pub enum CalibrateError {
 /// model, and if any are found select again without them (docs/calibration.md §3, "Broken actuators").
 pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, CalibrateError> {
     let first = select::select(data, settings)?;
-    let (selection, broken, kept) = screen_broken(data, settings, first)?;
+    let (mut selection, broken, kept) = screen_broken(data, settings, first)?;
     let fitted_subset;
     let fitted = match &kept {
         Some(keep) => {
@@ -86,6 +88,9 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         }
         None => data,
     };
+    if matches!(selection.verdict, Verdict::NotExplained { .. }) {
+        selection.discovery = Some(discover::discover(fitted, &selection)?);
+    }
     let model = CalibratedModel {
         model: "calibrated".into(),
         verdict: selection.verdict.name().into(),
@@ -94,7 +99,8 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
             .iter()
             .map(|e| e.name().to_string())
             .collect(),
-        effects: selection.model,
+        effects: selection.model.effects,
+        declared: declared_records(&selection),
     };
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
@@ -126,6 +132,23 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         predictions_after,
         broken,
     })
+}
+
+/// The declared effects of the final models (mass stage, then actuation) at their fitted values, in the
+/// order their primitives were applied, so the file rebuilds `selection.model` exactly.
+fn declared_records(selection: &Selection) -> Vec<DeclaredEffect> {
+    let mass = selection
+        .final_mass_index
+        .map(|i| &selection.mass_candidates[i]);
+    let actuation = &selection.candidates[selection.final_index];
+    mass.into_iter()
+        .chain([actuation])
+        .flat_map(|c| c.effects.iter().zip(&c.values))
+        .filter_map(|(id, &v)| match id {
+            EffectId::Declared(d) => Some(d.spec().record(v)),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The selection to report, the actuators flagged as broken, and which actuators the fit kept (None: all).

@@ -57,7 +57,7 @@ pub fn from_toml(text: &str) -> Result<CalibratedModel, ModelFileError> {
     if model.model != "calibrated" {
         return Err(ModelFileError::NotCalibrated(model.model));
     }
-    model.effects.validate()?;
+    model.validate()?;
     Ok(model)
 }
 
@@ -89,6 +89,7 @@ mod tests {
                 d31_scale: 0.812_345_678_9,
                 ..Effects::default()
             },
+            declared: vec![],
         };
         let back = from_toml(&to_toml(&model).unwrap()).unwrap();
         assert_eq!(back, model);

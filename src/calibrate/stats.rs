@@ -146,6 +146,17 @@ pub fn pearson(x: &[f64], y: &[f64]) -> Option<f64> {
     Some(sxy / (sxx * syy).sqrt())
 }
 
+/// Corrected Akaike information criterion of a least-squares fit with `k` parameters, `n` residuals and
+/// residual sum of squares `rss` (docs/calibration.md §3): `n ln(RSS/n) + 2k + 2k(k+1)/(n-k-1)`; infinite
+/// when `n <= k + 1`.
+pub fn aicc(n: usize, k: usize, rss: f64) -> f64 {
+    if n <= k + 1 {
+        return f64::INFINITY;
+    }
+    let (nf, kf) = (n as f64, k as f64);
+    nf * (rss.max(1e-300) / nf).ln() + 2.0 * kf + 2.0 * kf * (kf + 1.0) / (nf - kf - 1.0)
+}
+
 /// Holm step-down adjusted p-values, in the input order.
 pub fn holm(p: &[f64]) -> Vec<f64> {
     let m = p.len();

@@ -2,7 +2,9 @@
 //! effect and write `calibrated-model.toml`, the reports and the plots.
 
 use super::flags::{JsonFlag, OutputDir};
+use crate::calibrate::library::Declared;
 use crate::calibrate::{calibrate, csv, report, Settings};
+use crate::input;
 use crate::output::Output;
 use clap::Args;
 use std::path::PathBuf;
@@ -27,6 +29,10 @@ pub struct CalibrateArgs {
     /// Largest number of effects (besides the d31 scale) combined in one model.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=2))]
     pub max_effects: u64,
+    /// Effects this lab declares (effects.toml: compositions of the model's primitives with a
+    /// parameter, bounds and a null value), fitted as candidates beside the library's.
+    #[arg(long, value_name = "FILE")]
+    pub effects: Option<PathBuf>,
 }
 
 /// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
@@ -36,9 +42,17 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     if let Some(warning) = data.unknown_columns_warning(&args.measured) {
         eprintln!("warning: {warning}");
     }
+    let declared = match &args.effects {
+        Some(path) => input::effects::read_path(path)?
+            .into_iter()
+            .map(Declared::new)
+            .collect(),
+        None => Vec::new(),
+    };
     let settings = Settings {
         seed: args.seed,
         max_effects: args.max_effects as usize,
+        declared,
         ..Settings::default()
     };
     let calibration = calibrate(&data, &settings)?;
@@ -56,7 +70,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     let dir = &args.output.output;
     Output::new("calibrate")
         .force(args.output.force.force)
-        .inputs([&args.measured])
+        .inputs(std::iter::once(&args.measured).chain(&args.effects))
         .folder(
             "-o",
             dir,

@@ -13,6 +13,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Grids above this many designs show a progress bar (on a terminal only).
 const PROGRESS_ABOVE: u64 = 20_000_000;
@@ -60,7 +61,7 @@ impl From<ObjectiveArg> for Objective {
 /// The search model for `--model`: a built-in name or a `calibrated-model.toml`.
 fn search_model(choice: &ModelChoice) -> anyhow::Result<SearchModel> {
     match choice {
-        ModelChoice::Calibrated(m) => Ok(SearchModel::Calibrated(m.clone())),
+        ModelChoice::Calibrated(m) => Ok(SearchModel::Calibrated(Arc::new(m.effect_model()?))),
         ModelChoice::Kind(kind) => SearchModel::from_kind(*kind).with_context(|| {
             format!(
                 "--model {}: the Euler-Bernoulli beam covers rectangles only and has no taper or extension to optimise; use original, thesis-adjusted or a calibrated-model.toml",

@@ -1,5 +1,5 @@
 //! Reading user files, one layer for every file kind (design, process template, batch, optimize spec,
-//! sweep factors, measured-data CSV, failure CSV).
+//! sweep factors, measured-data CSV, failure CSV, declared effects).
 //!
 //! Each kind is read in two steps. The raw representation is the parsed file itself (a TOML table, or a
 //! CSV record with its header); one validating conversion per kind (`Design::from_table`,
@@ -11,6 +11,7 @@
 //! can reach the user. Every problem is one [`InputError`], printed on one line.
 
 mod columns;
+pub mod effects;
 mod error;
 pub mod finite;
 pub mod library;

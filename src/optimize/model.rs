@@ -17,12 +17,18 @@
 //! clamp compliance (both bring a length of their own), so its energy is not linear in `l_tot`. It keeps
 //! the other half of the structure: both beam compliances scale as `l_tot³ / w_0` and the mass as
 //! `l_tot w_0`, so one [`StackBasis`] per shape, from the model crate at the unit planform, gives every
-//! `(l_tot, w_0)` of that shape exactly through [`Effects::outputs`].
+//! `(l_tot, w_0)` of that shape exactly through [`EffectModel::outputs`].
+//!
+//! Effects a lab declared (`calibrate --effects`) keep that structure too: their stack primitives are
+//! solved into the unit basis, and their boundary primitives are added at each `(l_tot, w_0)` by
+//! [`EffectModel::outputs`] (a clamp compliance per width is `c_w / w_0` there), the function
+//! [`EffectModel::predict`] is held to. Nothing is dropped: a test compares every primitive kind with the
+//! exact prediction, and `tests/calibrate_declared.rs` the optimizer's chosen design with `predict`.
 
 use actuator_model::effects::StackBasis;
 use actuator_model::performance::{energy_and_mass, evaluate};
 use actuator_model::{
-    empirical, Actuator, CalibratedModel, ModelError, ModelKind, Performance, Planform, Section,
+    empirical, Actuator, EffectModel, ModelError, ModelKind, Performance, Planform, Section,
 };
 use std::sync::Arc;
 
@@ -33,8 +39,9 @@ pub enum SearchModel {
     Original,
     /// The thesis' empirical corrections on top of the original.
     ThesisAdjusted,
-    /// The original model with the physical effects a calibration found (`--model calibrated-model.toml`).
-    Calibrated(Arc<CalibratedModel>),
+    /// The original model with the physical effects a calibration found (`--model calibrated-model.toml`),
+    /// library and declared.
+    Calibrated(Arc<EffectModel>),
 }
 
 /// The stack a calibrated model needs to rebuild each laminate (the effects change the materials and
@@ -91,8 +98,12 @@ impl SearchModel {
     pub fn is_separable(&self) -> bool {
         match self {
             SearchModel::Original | SearchModel::ThesisAdjusted => true,
+            // A declared primitive may bring a length or a width of its own (a margin, a clamp
+            // compliance per width): such models take the general path.
             SearchModel::Calibrated(m) => {
-                m.effects.dead_length == 0.0 && m.effects.clamp_compliance == 0.0
+                m.effects.dead_length == 0.0
+                    && m.effects.clamp_compliance == 0.0
+                    && m.primitives.is_empty()
             }
         }
     }
@@ -130,11 +141,11 @@ impl SearchModel {
             }
             SearchModel::Calibrated(m) => {
                 let a = at_planform(stack, unit);
-                let basis = m.effects.basis(&a)?;
-                let (delta, force) = m.effects.outputs(&basis);
+                let basis = m.basis(&a)?;
+                let (delta, force) = m.outputs(&basis);
                 ShapeRates {
                     energy: 0.5 * delta * force,
-                    mass: m.effects.mass(&a).total(),
+                    mass: m.mass(&a)?.total(),
                     basis: Some(basis),
                 }
             }
@@ -144,8 +155,8 @@ impl SearchModel {
     /// Energy of the shape `rates` at `(l_tot, w_0)`, J.
     ///
     /// Separable models: `l_tot w_0 u g(w_0)`. Calibrated: the unit basis scaled (curvature unchanged,
-    /// both compliances `× l_tot³ / w_0`) and passed through [`actuator_model::Effects::outputs`], the
-    /// same function [`actuator_model::Effects::predict`] uses.
+    /// both compliances `× l_tot³ / w_0`) and passed through [`EffectModel::outputs`], which adds the
+    /// boundary effects for this planform and is held to [`EffectModel::predict`].
     pub fn energy(
         &self,
         section: &Section,
@@ -166,7 +177,7 @@ impl SearchModel {
                     },
                     ..*unit
                 };
-                let (delta, force) = m.effects.outputs(&basis);
+                let (delta, force) = m.outputs(&basis);
                 0.5 * delta * force
             }
             _ => length * base_width * rates.energy * self.width_factor(section, base_width),
@@ -232,6 +243,7 @@ fn unit_planform(extension_ratio: f64, width_ratio: f64) -> Planform {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use actuator_model::primitives::{Applied, Primitive, Property, Target};
     use actuator_model::{model, Drive, DriveMode, Laminate, Material};
 
     const SHAPES: [(f64, f64, f64, f64); 4] = [
@@ -287,11 +299,10 @@ mod tests {
 
     #[test]
     fn calibrated_scaling_matches_the_calibrated_model() {
-        // One unit basis per shape, scaled to (l_tot, w_0), against CalibratedModel::predict, which
+        // One unit basis per shape, scaled to (l_tot, w_0), against EffectModel::predict, which
         // rebuilds the stack for every actuator: every effect on, including the two with a length of
-        // their own that break the linear-in-l_tot form.
-        let pzt = Material::builtin("PZT-5H").unwrap();
-        let cf = Material::builtin("CF-thesis").unwrap();
+        // their own that break the linear-in-l_tot form; then the same with one declared primitive of
+        // every kind on top.
         let effects = actuator_model::Effects {
             d31_scale: 0.8,
             d31_field_coefficient: 2e-7,
@@ -302,12 +313,50 @@ mod tests {
             ply_thickness_scale: 1.1,
             stiffness_scale: 1.0,
         };
-        let model = SearchModel::Calibrated(Arc::new(CalibratedModel {
-            model: "calibrated".into(),
-            verdict: "explained".into(),
-            selected_effects: vec!["dead-length".into(), "clamp-compliance".into()],
-            effects,
-        }));
+        let energies: Vec<f64> = [vec![], every_declared_primitive()]
+            .into_iter()
+            .map(|primitives| {
+                let model = SearchModel::Calibrated(Arc::new(EffectModel {
+                    effects,
+                    primitives,
+                }));
+                scaled_energy_is_the_prediction(&model)
+            })
+            .collect();
+        // The declared primitives do change the answer (the fast path could not ignore them unseen).
+        assert!(
+            (energies[1] / energies[0] - 1.0).abs() > 0.05,
+            "{energies:?}"
+        );
+    }
+
+    /// One of each primitive kind, at values that move the outputs by several per cent.
+    fn every_declared_primitive() -> Vec<Applied> {
+        use Primitive::*;
+        let scale = |target, property, value| Applied {
+            primitive: Scale { target, property },
+            value,
+        };
+        let at = |primitive, value| Applied { primitive, value };
+        vec![
+            scale(Target::Passive, Property::E1, 0.7),
+            scale(Target::Pzt, Property::E1, 0.9),
+            scale(Target::Passive, Property::Thickness, 1.1),
+            scale(Target::Pzt, Property::Density, 1.05),
+            at(InsertedLayer, 10e-6),
+            at(FieldDependentD31, 1e-7),
+            at(ElectrodeMargin, 0.5e-3),
+            at(ClampCompliance, 0.1),
+            at(ClampCompliancePerWidth, 2e-3),
+            at(CompliantExtension, 0.3),
+        ]
+    }
+
+    /// The fast path (one unit basis per shape, scaled) against the exact prediction, which rebuilds the
+    /// stack for every actuator. Returns the energy of the first shape.
+    fn scaled_energy_is_the_prediction(model: &SearchModel) -> f64 {
+        let pzt = Material::builtin("PZT-5H").unwrap();
+        let cf = Material::builtin("CF-thesis").unwrap();
         assert!(!model.is_separable());
         let layup = [0.0, 90.0, 0.0];
         let st = stack(&pzt, &cf, 191e-6, &layup);
@@ -328,6 +377,9 @@ mod tests {
             let original = model::predict(ModelKind::Original, &lam, &pl, st.drive).unwrap();
             assert!((want.energy / original.energy - 1.0).abs() > 0.05);
         }
+        let (l, l_r, w0, w_r) = SHAPES[0];
+        let r = model.shape_rates(&section, &st, l_r, w_r).unwrap();
+        model.energy(&section, &r, l, w0)
     }
 
     #[test]

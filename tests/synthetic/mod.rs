@@ -4,6 +4,7 @@
 
 use actuator_cam::calibrate;
 use actuator_model::effects::{drive_at_voltage, Actuator};
+use actuator_model::primitives::{compose, Applied, Primitive};
 use actuator_model::{DriveMode, Effects, Material, Planform};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -43,6 +44,22 @@ pub enum Truth {
     /// Deflection and force lose a factor `exp(-a w0 / l_p)` (a width-dependent actuation loss, e.g.
     /// anticlastic stiffening of wide plates, that no library effect expresses).
     WidthLoss(f64),
+    /// Library effects with one primitive on top (an effect outside the library built from the model's
+    /// own physics, e.g. a clamp compliance per unit clamped width).
+    Composed(Effects, Applied),
+    /// One physical primitive of the model crate at a value, on the original model (issue 17: effects
+    /// outside the library that discovery must point at).
+    Primitive(Primitive, f64),
+    /// A root length held rigidly inside the clamp (m): the clamped part neither bends nor drives, so
+    /// the free deflection is that of an undriven root of this length and the tip compliance shrinks as
+    /// the cube of the free length (exact for a rectangle; the test's approximation for a taper).
+    RigidRoot(f64),
+    /// An inactive surface layer of each PZT plate (m): the actuation moment shrinks by the inactive share
+    /// of the plate, `1 - t_s / t_p` on δ and F_b (first order in t_s, the stiffness unchanged).
+    InactiveSurface(f64),
+    /// Unelectroded edge margins (m) along both long edges: the driven width shrinks by `2 m` of the mean
+    /// width, a factor `1 - 2 m / w_mean` on δ and F_b.
+    EdgeMargin(f64),
     /// Deflection and force (or the force alone) times `exp(a (x - mid) / span)`, with `x` the design
     /// value [`design_value`] of `variable`: a trend of size `exp(a) - 1` over a range `span` (power study).
     Trend {
@@ -184,6 +201,40 @@ pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64
         Truth::Library(e) => {
             let p = e.predict(&a).unwrap();
             (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::Composed(e, applied) => {
+            let p = compose(&[applied], &e, &a).unwrap();
+            (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::Primitive(primitive, value) => {
+            let p = compose(&[Applied { primitive, value }], &Effects::default(), &a).unwrap();
+            (p.free_deflection, p.blocked_force, p.mass)
+        }
+        Truth::RigidRoot(held) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let undriven = Effects {
+                dead_length: held,
+                ..Effects::default()
+            }
+            .predict(&a)
+            .unwrap();
+            let l = a.planform.length;
+            let compliance = p.free_deflection / p.blocked_force * ((l - held) / l).powi(3);
+            (
+                undriven.free_deflection,
+                undriven.free_deflection / compliance,
+                p.mass,
+            )
+        }
+        Truth::InactiveSurface(t_s) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let k = 1.0 - t_s / a.pzt_thickness;
+            (p.free_deflection * k, p.blocked_force * k, p.mass)
+        }
+        Truth::EdgeMargin(m) => {
+            let p = Effects::default().predict(&a).unwrap();
+            let k = 1.0 - 2.0 * m / a.planform.nominal_width();
+            (p.free_deflection * k, p.blocked_force * k, p.mass)
         }
         Truth::WidthLoss(loss) => {
             let p = Effects::default().predict(&a).unwrap();

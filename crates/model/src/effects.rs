@@ -117,6 +117,19 @@ pub struct StackBasis {
     pub planform: Planform,
 }
 
+impl StackBasis {
+    /// The same stack driven at another (positive) field of the same mode: the CLT free curvature is
+    /// linear in the layer fields (`DriveMode::layer_fields`, thesis eq. 2.20's piezoelectric moment
+    /// `∝ d31 E`) and the compliances do not depend on the field. Saves a stack solve per voltage.
+    pub fn at_field(&self, field: f64) -> StackBasis {
+        StackBasis {
+            free_curvature: self.free_curvature * field / self.field,
+            field,
+            ..*self
+        }
+    }
+}
+
 impl Effects {
     /// The original model.
     pub fn null() -> Self {
@@ -338,28 +351,6 @@ impl Effects {
     }
 }
 
-/// A calibrated model: the effects found in measured data and what the calibration concluded.
-/// Written as `calibrated-model.toml` by `actuator-cam calibrate`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CalibratedModel {
-    /// Always "calibrated"; lets a reader reject other files.
-    pub model: String,
-    /// The calibration verdict (`no-effect`, `explained`, `ambiguous`, `not-explained`).
-    pub verdict: String,
-    /// Names of the effects the calibration selected.
-    pub selected_effects: Vec<String>,
-    /// Parameters of every effect (null values where not selected).
-    pub effects: Effects,
-}
-
-impl CalibratedModel {
-    /// Predict one actuator.
-    pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
-        self.effects.predict(a)
-    }
-}
-
 /// Helper for callers with a drive given as a voltage.
 pub fn drive_at_voltage(mode: DriveMode, voltage: f64, pzt_thickness: f64) -> Drive {
     Drive {
@@ -434,6 +425,30 @@ mod tests {
         let m = e.mass(&a);
         assert!(((m.total() - p.mass) / p.mass).abs() < 1e-12);
         assert!((m.bond - p.mass_breakdown.bond).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_basis_moves_to_another_field_exactly() {
+        let (pzt, cf) = materials();
+        let layup = [0.0, 90.0, 0.0];
+        let e = Effects {
+            bond_thickness: 20e-6,
+            ply_thickness_scale: 1.2,
+            ..Effects::null()
+        };
+        for mode in DriveMode::ALL {
+            let mut a = actuator(&pzt, &cf, &layup);
+            a.drive.mode = mode;
+            let b = e.basis(&a).unwrap();
+            a.drive.field = 250e3;
+            let want = e.basis(&a).unwrap();
+            let got = b.at_field(250e3);
+            assert!(
+                ((got.free_curvature - want.free_curvature) / want.free_curvature).abs() < 1e-12
+            );
+            assert_eq!(got.beam_compliance, want.beam_compliance);
+            assert_eq!(got.field, want.field);
+        }
     }
 
     #[test]

@@ -22,11 +22,11 @@ pub mod section;
 pub mod weibull;
 
 pub use drive::{Drive, DriveMode};
-pub use effects::{Actuator, CalibratedModel, Effects};
+pub use effects::{Actuator, Effects};
 pub use error::ModelError;
 pub use laminate::{Laminate, Layer, LayerRole};
 pub use material::Material;
-pub use model::{ModelChoice, ModelKind};
+pub use model::{CalibratedModel, DeclaredEffect, EffectModel, ModelChoice, ModelKind};
 pub use performance::{MassBreakdown, Performance};
 pub use planform::Planform;
 pub use section::Section;

@@ -2,14 +2,16 @@
 //! Euler-Bernoulli beam.
 
 use crate::drive::Drive;
-use crate::effects::{Actuator, CalibratedModel};
+use crate::effects::{Actuator, Effects, StackBasis};
 use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
 use crate::laminate::Laminate;
-use crate::performance::{evaluate, Performance};
+use crate::performance::{evaluate, MassBreakdown, Performance};
 use crate::planform::Planform;
+use crate::primitives::{self, Applied, Link};
 use crate::section::Section;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Which model predicts.
@@ -74,6 +76,147 @@ pub fn predict(
     }
 }
 
+/// The original model with effects applied as physics: the library's [`Effects`] and any primitives a
+/// lab declared, at their values (docs/calibration.md §2). The primitives sit on top of the effects:
+/// stack primitives change the materials and layers before the stack is solved, boundary and field
+/// primitives add to the effects ([`primitives::compose`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EffectModel {
+    /// The library effects.
+    pub effects: Effects,
+    /// Declared primitives at their values.
+    pub primitives: Vec<Applied>,
+}
+
+impl From<Effects> for EffectModel {
+    fn from(effects: Effects) -> Self {
+        EffectModel {
+            effects,
+            primitives: Vec::new(),
+        }
+    }
+}
+
+impl EffectModel {
+    /// Predict one actuator.
+    pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
+        primitives::compose(&self.primitives, &self.effects, a)
+    }
+
+    /// True when a declared primitive changes the stack, so a [`StackBasis`] must be solved per
+    /// parameter value rather than once.
+    pub fn changes_stack(&self) -> bool {
+        self.primitives.iter().any(|x| x.primitive.changes_stack())
+    }
+
+    /// The stack basis of an actuator with the stack effects and stack primitives applied (η, β and the
+    /// boundary primitives are left to [`EffectModel::outputs`]).
+    pub fn basis(&self, a: &Actuator) -> Result<StackBasis, ModelError> {
+        let s = primitives::stack(&self.primitives, &self.effects, a)?;
+        s.effects.basis(&s.actuator(a))
+    }
+
+    /// Free deflection and blocked force from a basis of [`EffectModel::basis`] (the same numbers as
+    /// [`EffectModel::predict`]; a test holds them together). The boundary primitives use the basis'
+    /// planform (clamp compliance per width).
+    pub fn outputs(&self, b: &StackBasis) -> (f64, f64) {
+        self.boundary_effects(&b.planform).outputs(b)
+    }
+
+    /// The effects with the declared boundary and field primitives added for this planform (stack
+    /// primitives need [`EffectModel::basis`]).
+    pub fn boundary_effects(&self, planform: &Planform) -> Effects {
+        primitives::boundary(&self.primitives, &self.effects, planform)
+    }
+
+    /// Mass by layer kind.
+    pub fn mass(&self, a: &Actuator) -> Result<MassBreakdown, ModelError> {
+        primitives::mass(&self.primitives, &self.effects, a)
+    }
+}
+
+/// An effect a lab declared (`calibrate --effects FILE`) as the calibrated model records it: its
+/// composition of primitives and the fitted value of its one parameter.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DeclaredEffect {
+    /// The name it was declared under.
+    pub name: String,
+    /// Its parameter's name.
+    pub parameter: String,
+    /// The fitted value (the primitives' unit, SI).
+    pub value: f64,
+    /// The value that switches it off.
+    pub null: f64,
+    /// The primitives it drives and how the parameter sets each.
+    pub primitives: Vec<Link>,
+}
+
+impl DeclaredEffect {
+    /// Its primitives at its value. Fails on a map that needs the ply ([`primitives::Map::ResinDensity`],
+    /// library-only) or a non-finite value.
+    pub fn applied(&self) -> Result<Vec<Applied>, ModelError> {
+        self.primitives
+            .iter()
+            .map(|l| match l.map.of(self.value) {
+                Some(value) if l.primitive.allows(value) => Ok(Applied {
+                    primitive: l.primitive,
+                    value,
+                }),
+                _ => Err(ModelError::OutOfRange {
+                    name: "declared effect value",
+                    value: self.value,
+                    range:
+                        "inside its primitive's physical range, with an identity or reciprocal map",
+                }),
+            })
+            .collect()
+    }
+}
+
+/// A calibrated model: the effects found in measured data and what the calibration concluded.
+/// Written as `calibrated-model.toml` by `actuator-cam calibrate`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibratedModel {
+    /// Always "calibrated"; lets a reader reject other files.
+    pub model: String,
+    /// The calibration verdict (`no-effect`, `explained`, `ambiguous`, `not-explained`).
+    pub verdict: String,
+    /// Names of the effects the calibration selected.
+    pub selected_effects: Vec<String>,
+    /// Parameters of every library effect (null values where not selected).
+    pub effects: Effects,
+    /// Declared effects the calibration selected, with their compositions and fitted values.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub declared: Vec<DeclaredEffect>,
+}
+
+impl CalibratedModel {
+    /// The physics of this model: library effects and the declared effects' primitives.
+    pub fn effect_model(&self) -> Result<EffectModel, ModelError> {
+        let mut primitives = Vec::new();
+        for d in &self.declared {
+            primitives.extend(d.applied()?);
+        }
+        Ok(EffectModel {
+            effects: self.effects,
+            primitives,
+        })
+    }
+
+    /// Check every value is physical.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        self.effects.validate()?;
+        self.effect_model().map(|_| ())
+    }
+
+    /// Predict one actuator.
+    pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
+        self.effect_model()?.predict(a)
+    }
+}
+
 /// A model as the command line chooses it: one of the built-in kinds, or a calibrated model read from
 /// `calibrated-model.toml` (`--model FILE`). [`ModelKind`] stays `Copy`; this carries the parameters.
 #[derive(Debug, Clone)]
@@ -115,6 +258,112 @@ impl ModelChoice {
                 predict(*kind, &lam, &a.planform, a.drive)
             }
             ModelChoice::Calibrated(model) => model.predict(a),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives::tests::with;
+    use crate::primitives::{Map, Primitive, Property, Target};
+
+    fn declared(name: &str, value: f64, null: f64, links: &[(Primitive, Map)]) -> DeclaredEffect {
+        DeclaredEffect {
+            name: name.into(),
+            parameter: "p".into(),
+            value,
+            null,
+            primitives: links
+                .iter()
+                .map(|&(primitive, map)| Link { primitive, map })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_basis_path_of_declared_primitives_is_the_prediction() {
+        // EffectModel::basis + outputs (what the fit and the optimizer use) against EffectModel::predict
+        // (the stack rebuilt with every primitive), with library effects underneath.
+        with(|a| {
+            let soft = Primitive::Scale {
+                target: Target::Passive,
+                property: Property::E1,
+            };
+            let model = CalibratedModel {
+                model: "calibrated".into(),
+                verdict: "explained".into(),
+                selected_effects: vec![],
+                effects: Effects {
+                    d31_scale: 0.85,
+                    dead_length: 1e-3,
+                    clamp_compliance: 0.2,
+                    ..Effects::default()
+                },
+                declared: vec![
+                    declared("soft", 0.7, 1.0, &[(soft, Map::Identity)]),
+                    declared(
+                        "resin",
+                        1.2,
+                        1.0,
+                        &[(
+                            Primitive::Scale {
+                                target: Target::Passive,
+                                property: Property::G12,
+                            },
+                            Map::Reciprocal,
+                        )],
+                    ),
+                    declared(
+                        "clamp",
+                        4e-3,
+                        0.0,
+                        &[
+                            (Primitive::ClampCompliancePerWidth, Map::Identity),
+                            (Primitive::InsertedLayer, Map::Identity),
+                        ],
+                    ),
+                ],
+            };
+            let m = model.effect_model().unwrap();
+            assert_eq!(m.primitives.len(), 4);
+            assert!((m.primitives[1].value - 1.0 / 1.2).abs() < 1e-15);
+            let p = model.predict(a).unwrap();
+            let (d, f) = m.outputs(&m.basis(a).unwrap());
+            assert!(
+                ((d - p.free_deflection) / d).abs() < 1e-10,
+                "{d} vs {}",
+                p.free_deflection
+            );
+            assert!(
+                ((f - p.blocked_force) / f).abs() < 1e-10,
+                "{f} vs {}",
+                p.blocked_force
+            );
+            let mass = m.mass(a).unwrap().total();
+            assert!(((mass - p.mass) / mass).abs() < 1e-12);
+            // Without the declared effects the numbers differ (the check above is not vacuous).
+            let library_only = model.effects.predict(a).unwrap();
+            assert!((library_only.blocked_force / p.blocked_force - 1.0).abs() > 0.05);
+            assert!(library_only.mass < p.mass, "the inserted layer has mass");
+        });
+    }
+
+    #[test]
+    fn a_declared_value_outside_its_primitive_is_refused() {
+        let soft = Primitive::Scale {
+            target: Target::Passive,
+            property: Property::E1,
+        };
+        for bad in [0.0, -0.5, f64::NAN] {
+            let model = CalibratedModel {
+                model: "calibrated".into(),
+                verdict: "explained".into(),
+                selected_effects: vec![],
+                effects: Effects::default(),
+                declared: vec![declared("soft", bad, 1.0, &[(soft, Map::Identity)])],
+            };
+            assert!(model.validate().is_err(), "{bad}");
         }
     }
 }

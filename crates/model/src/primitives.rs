@@ -7,7 +7,8 @@
 use crate::effects::{Actuator, Effects, RESIN_DENSITY};
 use crate::error::ModelError;
 use crate::material::Material;
-use crate::performance::Performance;
+use crate::performance::{MassBreakdown, Performance};
+use crate::planform::Planform;
 use serde::{Deserialize, Serialize};
 
 /// A layer kind of the bimorph stack whose material a primitive changes.
@@ -44,7 +45,7 @@ pub enum Property {
 
 /// One physical primitive with one parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "primitive", rename_all = "kebab-case", deny_unknown_fields)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Primitive {
     /// Multiply a property of a material by the parameter (null 1).
     Scale {
@@ -77,12 +78,48 @@ impl Primitive {
             _ => 0.0,
         }
     }
+
+    /// True when the primitive changes the CLT stack (a material or an inserted layer), so a
+    /// [`crate::effects::StackBasis`] solved without it no longer holds. Boundary and field primitives
+    /// act on a solved stack.
+    pub fn changes_stack(self) -> bool {
+        matches!(self, Primitive::Scale { .. } | Primitive::InsertedLayer)
+    }
+
+    /// True when the primitive changes the mass (a density, a thickness or an inserted layer).
+    pub fn changes_mass(self) -> bool {
+        matches!(
+            self,
+            Primitive::Scale {
+                property: Property::Density | Property::Thickness,
+                ..
+            } | Primitive::InsertedLayer
+        )
+    }
+
+    /// The values the parameter may physically take, as (lower, lower inclusive, upper): scales and
+    /// thicknesses are positive, lengths and compliances non-negative, the field coefficient any finite
+    /// number. A declared effect's bounds must lie inside.
+    pub fn physical_range(self) -> (f64, bool, f64) {
+        match self {
+            Primitive::Scale { .. } => (0.0, false, f64::INFINITY),
+            Primitive::FieldDependentD31 => (f64::NEG_INFINITY, false, f64::INFINITY),
+            _ => (0.0, true, f64::INFINITY),
+        }
+    }
+
+    /// True when `v` is finite and inside [`Primitive::physical_range`].
+    pub fn allows(self, v: f64) -> bool {
+        let (lo, lo_inclusive, hi) = self.physical_range();
+        v.is_finite() && v < hi && (v > lo || (lo_inclusive && v == lo))
+    }
 }
 
 /// How a composition's one parameter sets a primitive's value.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Map {
+    #[default]
     /// The parameter itself.
     Identity,
     /// Its reciprocal (moduli of a ply spread over `s` times its thickness).
@@ -92,12 +129,26 @@ pub enum Map {
     ResinDensity,
 }
 
+impl Map {
+    /// The primitive's value at parameter `p`; `None` for [`Map::ResinDensity`], which needs the ply
+    /// ([`at`]) and is the library's `ply-thickness` alone.
+    pub fn of(self, p: f64) -> Option<f64> {
+        match self {
+            Map::Identity => Some(p),
+            Map::Reciprocal => Some(1.0 / p),
+            Map::ResinDensity => None,
+        }
+    }
+}
+
 /// A primitive in a composition, with how the composition's parameter sets it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Link {
     /// The primitive.
     pub primitive: Primitive,
     /// How the parameter sets it.
+    #[serde(default)]
     pub map: Map,
 }
 
@@ -139,17 +190,45 @@ fn scale(m: &mut Material, thickness: &mut f64, property: Property, v: f64) {
     }
 }
 
-/// Predict an actuator with the primitives applied on top of `base` (the model's own effects; the
-/// original model for `Effects::default()`). Material primitives change the stack's inputs; boundary and
-/// field primitives add to the corresponding effect of `base`.
-pub fn compose(
-    applied: &[Applied],
-    base: &Effects,
-    a: &Actuator,
-) -> Result<Performance, ModelError> {
-    let (mut pzt, mut t_p) = (a.pzt.clone(), a.pzt_thickness);
-    let (mut ply, mut t_ply) = (a.ply.clone(), a.ply_thickness);
-    let mut e = *base;
+/// An actuator's stack with the stack primitives applied ([`Primitive::changes_stack`]): its materials
+/// and thicknesses, and the effects with an inserted layer added.
+#[derive(Debug, Clone)]
+pub struct Stacked {
+    /// `base` with the inserted layers added.
+    pub effects: Effects,
+    /// The PZT material.
+    pub pzt: Material,
+    /// PZT plate thickness, m.
+    pub pzt_thickness: f64,
+    /// The passive ply material.
+    pub ply: Material,
+    /// Ply thickness, m.
+    pub ply_thickness: f64,
+}
+
+impl Stacked {
+    /// `a` with this stack.
+    pub fn actuator<'s>(&'s self, a: &Actuator<'s>) -> Actuator<'s> {
+        Actuator {
+            pzt: &self.pzt,
+            pzt_thickness: self.pzt_thickness,
+            ply: &self.ply,
+            ply_thickness: self.ply_thickness,
+            ..*a
+        }
+    }
+}
+
+/// Apply the stack primitives of `applied` to an actuator's stack on top of `base`; every value must be
+/// finite.
+pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacked, ModelError> {
+    let mut s = Stacked {
+        effects: *base,
+        pzt: a.pzt.clone(),
+        pzt_thickness: a.pzt_thickness,
+        ply: a.ply.clone(),
+        ply_thickness: a.ply_thickness,
+    };
     for x in applied {
         let v = x.value;
         if !v.is_finite() {
@@ -163,26 +242,60 @@ pub fn compose(
             Primitive::Scale {
                 target: Target::Pzt,
                 property,
-            } => scale(&mut pzt, &mut t_p, property, v),
+            } => scale(&mut s.pzt, &mut s.pzt_thickness, property, v),
             Primitive::Scale {
                 target: Target::Passive,
                 property,
-            } => scale(&mut ply, &mut t_ply, property, v),
-            Primitive::InsertedLayer => e.bond_thickness += v,
+            } => scale(&mut s.ply, &mut s.ply_thickness, property, v),
+            Primitive::InsertedLayer => s.effects.bond_thickness += v,
+            _ => {}
+        }
+    }
+    Ok(s)
+}
+
+/// Add the boundary and field primitives of `applied` to `effects` for an actuator of this planform
+/// (the clamp compliance per width becomes `c_w / w_0` here). Stack primitives are left to [`stack`].
+pub fn boundary<'x>(
+    applied: impl IntoIterator<Item = &'x Applied>,
+    effects: &Effects,
+    planform: &Planform,
+) -> Effects {
+    let mut e = *effects;
+    for x in applied {
+        let v = x.value;
+        match x.primitive {
             Primitive::FieldDependentD31 => e.d31_field_coefficient += v,
             Primitive::ElectrodeMargin => e.dead_length += v,
             Primitive::ClampCompliance => e.clamp_compliance += v,
-            Primitive::ClampCompliancePerWidth => e.clamp_compliance += v / a.planform.base_width,
+            Primitive::ClampCompliancePerWidth => e.clamp_compliance += v / planform.base_width,
             Primitive::CompliantExtension => e.extension_flexibility += v,
+            Primitive::Scale { .. } | Primitive::InsertedLayer => {}
         }
     }
-    e.predict(&Actuator {
-        pzt: &pzt,
-        pzt_thickness: t_p,
-        ply: &ply,
-        ply_thickness: t_ply,
-        ..*a
-    })
+    e
+}
+
+/// Predict an actuator with the primitives applied on top of `base` (the model's own effects; the
+/// original model for `Effects::default()`). Material primitives change the stack's inputs; boundary and
+/// field primitives add to the corresponding effect of `base`.
+pub fn compose(
+    applied: &[Applied],
+    base: &Effects,
+    a: &Actuator,
+) -> Result<Performance, ModelError> {
+    let s = stack(applied, base, a)?;
+    boundary(applied, &s.effects, &a.planform).predict(&s.actuator(a))
+}
+
+/// Mass by layer kind with the primitives applied on top of `base`.
+pub fn mass(
+    applied: &[Applied],
+    base: &Effects,
+    a: &Actuator,
+) -> Result<MassBreakdown, ModelError> {
+    let s = stack(applied, base, a)?;
+    Ok(s.effects.mass(&s.actuator(a)))
 }
 
 /// The seven library effects as compositions of primitives (names as in [`crate::effects::EFFECT_NAMES`]).
@@ -221,12 +334,13 @@ pub fn library_composition(name: &str) -> Option<Vec<Link>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::effects::EFFECT_NAMES;
     use crate::{Drive, DriveMode, Planform};
 
-    fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
+    /// A thesis-like actuator (also the model module's test fixture).
+    pub(crate) fn with<R>(f: impl FnOnce(&Actuator) -> R) -> R {
         let pzt = Material::builtin("PZT-5H").unwrap();
         let cf = Material::builtin("CF-thesis").unwrap();
         let layup = [0.0, 0.0, 90.0, 0.0, 0.0];

@@ -2,6 +2,8 @@
 
 use super::tree::{Errors, Report, SelectedEffect, VerdictDetail};
 use crate::calibrate::baseline::OutputErrors;
+use crate::calibrate::discover::Discovery;
+use crate::calibrate::select::separating::DesignPoint;
 use std::fmt::Write as _;
 
 fn fmt_row(label: &str, e: &Option<OutputErrors>) -> String {
@@ -47,6 +49,107 @@ pub fn error_tables(before: &Errors, after: &Errors, thesis: &Errors) -> String 
         after.cv_rmse.unwrap_or(f64::NAN)
     );
     s
+}
+
+/// The discovery section: power laws, the leading trends, the ranked candidates, the separating designs.
+fn discovery(d: &Discovery) -> String {
+    let mut md = String::from("\n## Discovery: what the residual looks like\n\n");
+    if let Some(v) = &d.leading_variable {
+        let _ = writeln!(md, "The residual follows {v} most.\n");
+    }
+    md.push_str("Power law of each residual factor (measured/model) in the design variables together, exponent [95% interval]:\n\n| residual | n | R² | exponents |\n|---|---|---|---|\n");
+    for law in &d.power_laws {
+        let terms: Vec<String> = law
+            .exponents
+            .iter()
+            .map(|e| {
+                format!(
+                    "{} {:+.3} [{:+.3}, {:+.3}]",
+                    e.variable, e.estimate, e.interval.0, e.interval.1
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.3} | {} |",
+            law.residual,
+            law.n,
+            law.r_squared,
+            terms.join("; ")
+        );
+    }
+    md.push_str("\nStrongest one-variable power laws:\n\n| residual | variable | exponent | 95% interval | R² | p |\n|---|---|---|---|---|---|\n");
+    for t in d.trends.iter().take(6) {
+        let e = &t.exponent;
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:+.3} | [{:+.3}, {:+.3}] | {:.3} | {:.2e} |",
+            t.residual, e.variable, e.estimate, e.interval.0, e.interval.1, t.r_squared, e.p
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nSingle effects that would produce it, ranked by {}:\n\n| rank | effect or primitive | library | parameter | estimate | 95% interval | η | ΔAICc | gain over {{η}} | RMSE log |\n|---|---|---|---|---|---|---|---|---|---|",
+        d.ranked_by
+    );
+    for (i, c) in d.candidates.iter().take(8).enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.4e} | [{:.4e}, {:.4e}] | {:.3} | {:.1} | {:.1} | {:.4} |",
+            i + 1,
+            c.name,
+            if c.library { "yes" } else { "no" },
+            c.parameter,
+            c.estimate,
+            c.interval.0,
+            c.interval.1,
+            c.eta,
+            c.delta_aicc,
+            c.gain_over_eta,
+            c.rmse_log
+        );
+    }
+    if !d.designs.is_empty() {
+        let names: Vec<&str> = d.designs[0]
+            .predictions
+            .iter()
+            .map(|p| p.candidate.as_str())
+            .collect();
+        let _ = writeln!(
+            md,
+            "\nDesigns whose measurement would separate {} (predicted δ mm / F_b N of each):\n\n| l_tot mm | l_r | w0 mm | w_r | t_p mm | layup | V | separation (log) | predictions |\n|---|---|---|---|---|---|---|---|---|",
+            names.join(", ")
+        );
+        for x in &d.designs {
+            let preds: Vec<String> = x
+                .predictions
+                .iter()
+                .map(|p| {
+                    format!(
+                        "{}: {:.4} / {:.4}",
+                        p.candidate, p.free_deflection_mm, p.blocked_force_n
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                md,
+                "| {} | {:.3} | {} |",
+                design_cells(&x.design),
+                x.separation_log,
+                preds.join("; ")
+            );
+        }
+    }
+    md.push_str("\nDeclare the leading candidate as an effect (`calibrate --effects effects.toml`) and run again.\n");
+    md
+}
+
+/// The cells `l_tot mm | l_r | w0 mm | w_r | t_p mm | layup | V` of a design to build.
+fn design_cells(d: &DesignPoint) -> String {
+    format!(
+        "{:.1} | {:.2} | {:.1} | {:.2} | {:.3} | {} | {:.0}",
+        d.l_tot_mm, d.l_r, d.w0_mm, d.w_r, d.t_p_mm, d.layup, d.voltage_v
+    )
 }
 
 /// `verdict: NAME` and what it rests on, one line.
@@ -144,18 +247,15 @@ pub fn markdown(r: &Report) -> String {
         for d in r.separating_designs {
             let _ = writeln!(
                 md,
-                "| {:.1} | {:.2} | {:.1} | {:.2} | {:.3} | {} | {:.0} | {:.3} | {:.3} |",
-                d.l_tot_mm,
-                d.l_r,
-                d.w0_mm,
-                d.w_r,
-                d.t_p_mm,
-                d.layup,
-                d.voltage_v,
+                "| {} | {:.3} | {:.3} |",
+                design_cells(&d.design),
                 d.deflection_ratio,
                 d.force_ratio
             );
         }
+    }
+    if let Some(d) = r.discovery {
+        md.push_str(&discovery(d));
     }
     if !r.broken_actuators.is_empty() {
         md.push_str("\n## Broken actuators\n\n| id | deflection % | force % | robust z | likely cause | excluded |\n|---|---|---|---|---|---|\n");

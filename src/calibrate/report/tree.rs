@@ -7,6 +7,7 @@
 use crate::calibrate::baseline::{ErrorTable, ResidualCorrelation};
 use crate::calibrate::broken::BrokenActuator;
 use crate::calibrate::csv::Dataset;
+use crate::calibrate::discover::Discovery;
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::model_file;
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
@@ -46,6 +47,10 @@ pub struct Report<'a> {
     pub separating_designs: &'a [SeparatingDesign],
     /// Remarks of the selection.
     pub notes: &'a [String],
+    /// Discovery, when not explained: the residual's power laws, the primitives that would produce it,
+    /// designs that separate the leading ones (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub discovery: Option<&'a Discovery>,
     /// The data set.
     pub data: DataSummary<'a>,
     /// Name of the model file written beside the report.
@@ -241,6 +246,7 @@ impl<'a> Report<'a> {
             broken_actuators: &cal.broken,
             separating_designs: &s.separating_designs,
             notes: &s.notes,
+            discovery: s.discovery.as_ref(),
             data: DataSummary {
                 source,
                 actuators: data.actuators(),
@@ -483,6 +489,7 @@ pub(super) mod tests {
             broken_actuators: &[],
             separating_designs: &[],
             notes: &NOTES,
+            discovery: None,
             data: DataSummary {
                 source: "measured.csv",
                 actuators: 12,

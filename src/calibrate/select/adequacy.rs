@@ -8,7 +8,7 @@ use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
 use crate::calibrate::stats;
 use crate::calibrate::variables::{design_variables, DesignVariables, COUNT};
-use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 use serde::Serialize;
 
 /// Lack-of-fit F test against per-actuator lines in the field (pure error from the voltage sweeps).
@@ -85,8 +85,8 @@ pub(super) fn adequacy(
 pub(super) fn adequacy_of_fit(
     data: &Dataset,
     act: &ActuationData,
-    (model, rss, params): (&Effects, f64, usize),
-    mass: Option<(&Effects, &MassData)>,
+    (model, rss, params): (&EffectModel, f64, usize),
+    mass: Option<(&EffectModel, &MassData)>,
     settings: &Settings,
 ) -> Adequacy {
     let mut r = Vec::new();

@@ -2,7 +2,7 @@
 
 use crate::calibrate::fit::FitResult;
 use crate::calibrate::library::{EffectId, Stage};
-use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 
 /// Role of a fitted model in the selection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,7 +47,7 @@ pub struct Candidate {
     /// Why it was not accepted (empty if accepted or a null model).
     pub note: String,
     /// The complete effects of this model (frozen mass effects included).
-    pub model: Effects,
+    pub model: EffectModel,
     /// Library effects the data cannot determine, with the reason (never selected).
     pub not_identifiable: Vec<(EffectId, String)>,
     /// The fit itself (residuals, Jacobian).

@@ -3,7 +3,7 @@
 
 use super::observations::StageData;
 use super::settings::Settings;
-use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -31,7 +31,7 @@ pub(super) fn folds(groups: usize, settings: &Settings) -> Vec<Vec<usize>> {
 pub(super) fn rmse(
     data: &dyn StageData,
     folds: &[Vec<usize>],
-    fit_train: impl Fn(&[bool]) -> Effects,
+    fit_train: impl Fn(&[bool]) -> EffectModel,
 ) -> f64 {
     let groups = data.groups();
     let (mut sum, mut count) = (0.0, 0usize);
@@ -74,7 +74,7 @@ mod tests {
         assert_ne!(a[0], a[1], "repeats shuffle differently");
         let other = Settings {
             seed: 2,
-            ..settings
+            ..settings.clone()
         };
         assert_ne!(a, folds(23, &other), "the seed changes the folds");
     }

@@ -8,7 +8,8 @@ use super::observations::StageData;
 use crate::calibrate::fit::{least_squares, Bounds, FitResult};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
-use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
+use nalgebra::DMatrix;
 
 /// Every combination of the parameters' start values, clamped to their bounds.
 fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
@@ -28,10 +29,25 @@ fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
     out
 }
 
+/// Standard errors and 95% intervals (estimate ± t_{0.975, n-p} · SE) of a fit's parameters, from its
+/// covariance `cov` (docs/calibration.md §3, "Intervals and identifiability").
+pub(crate) fn intervals(fit: &FitResult, cov: &DMatrix<f64>) -> (Vec<f64>, Vec<(f64, f64)>) {
+    let p = fit.theta.len();
+    let t = stats::t_quantile_two_sided(0.95, (fit.n as f64 - p as f64).max(1.0));
+    let std_errors: Vec<f64> = (0..p).map(|k| cov[(k, k)].max(0.0).sqrt()).collect();
+    let intervals = fit
+        .theta
+        .iter()
+        .zip(&std_errors)
+        .map(|(v, se)| (v - t * se, v + t * se))
+        .collect();
+    (std_errors, intervals)
+}
+
 /// Fits effect sets on one stage's data on top of `base` (the frozen mass effects).
 pub(super) struct Fitter<'a> {
     pub(super) data: &'a dyn StageData,
-    pub(super) base: Effects,
+    pub(super) base: EffectModel,
     /// Fold of each actuator, per repeat.
     pub(super) folds: Vec<Vec<usize>>,
     /// Upper bound of the dead length: 80% of the shortest piezo length in the data.
@@ -55,8 +71,8 @@ impl Fitter<'_> {
             .collect()
     }
 
-    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> Effects {
-        let mut e = self.base;
+    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> EffectModel {
+        let mut e = self.base.clone();
         for (id, v) in ids.iter().zip(theta) {
             id.apply(&mut e, *v);
         }
@@ -86,24 +102,10 @@ impl Fitter<'_> {
         let fit = self.fit_on(ids, None, &starts(&specs));
         let p = ids.len();
         let n = fit.n;
-        let nf = n as f64;
-        let kf = p as f64;
-        let rss = fit.rss.max(1e-300);
-        let aicc = if n > p + 1 {
-            nf * (rss / nf).ln() + 2.0 * kf + 2.0 * kf * (kf + 1.0) / (nf - kf - 1.0)
-        } else {
-            f64::INFINITY
-        };
-        let bic = nf * (rss / nf).ln() + kf * nf.ln();
+        let aicc = stats::aicc(n, p, fit.rss);
+        let bic = n as f64 * (fit.rss.max(1e-300) / n as f64).ln() + p as f64 * (n as f64).ln();
         let cov = fit.covariance();
-        let t = stats::t_quantile_two_sided(0.95, (nf - kf).max(1.0));
-        let std_errors: Vec<f64> = (0..p).map(|k| cov[(k, k)].max(0.0).sqrt()).collect();
-        let intervals = fit
-            .theta
-            .iter()
-            .zip(&std_errors)
-            .map(|(v, se)| (v - t * se, v + t * se))
-            .collect();
+        let (std_errors, intervals) = intervals(&fit, &cov);
         let correlation = (0..p)
             .map(|a| {
                 (0..p)
@@ -121,7 +123,7 @@ impl Fitter<'_> {
         // Each fold starts from the full-data fit; the original model has nothing to refit.
         let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
             if ids.is_empty() {
-                self.base
+                self.base.clone()
             } else {
                 let refit = self.fit_on(ids, Some(train), std::slice::from_ref(&fit.theta));
                 self.effects_at(ids, &refit.theta)

@@ -7,9 +7,9 @@ mod acceptance;
 pub mod adequacy;
 pub mod candidate;
 mod cross_validation;
-mod fitter;
+pub(crate) mod fitter;
 pub mod identifiability;
-mod observations;
+pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
@@ -24,6 +24,7 @@ use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{EffectId, Stage};
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
+use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
@@ -84,7 +85,7 @@ pub struct Selection {
     /// Index of the final mass model in `mass_candidates`.
     pub final_mass_index: Option<usize>,
     /// The calibrated effects.
-    pub model: Effects,
+    pub model: EffectModel,
     /// Selected effects (mass stage first).
     pub selected: Vec<EffectId>,
     /// Adequacy of the final model.
@@ -95,6 +96,9 @@ pub struct Selection {
     pub separating_designs: Vec<SeparatingDesign>,
     /// Remarks for the report.
     pub notes: Vec<String>,
+    /// What the residual looks like and what could cause it, when not explained (filled by
+    /// [`crate::calibrate::calibrate`] on the data of the final fit).
+    pub discovery: Option<crate::calibrate::discover::Discovery>,
 }
 
 /// Run the whole selection.
@@ -125,25 +129,35 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         obs: mass_obs,
     };
     let mut mass_candidates = Vec::new();
-    let mut base = Effects::default();
     let mut selected = Vec::new();
     let mut contenders: Vec<Vec<String>> = Vec::new();
     let mut final_mass_index = None;
+    // Mass models to carry into the actuation stage: the one the masses choose, and every other whose own
+    // effects are significant on the masses (docs/calibration.md §3, "Mass effects on all the data").
+    let mut bases: Vec<Option<usize>> = vec![None];
+    let mut mass_ranking: Vec<usize> = Vec::new();
     if mass_data.obs.len() >= 4 {
         let fitter = Fitter {
             data: &mass_data,
-            base,
+            base: EffectModel::default(),
             folds: folds_of.clone(),
             dead_length_max_mm,
             shared: shared.clone(),
         };
-        let mass_effects = [EffectId::PlyThickness, EffectId::BondLayer];
+        let mass_effects: Vec<EffectId> = [EffectId::PlyThickness, EffectId::BondLayer]
+            .into_iter()
+            .chain(declared_in(settings, Stage::Mass))
+            .collect();
         let mut sets: Vec<(Vec<EffectId>, Role)> = vec![(vec![], Role::Original)];
-        for e in mass_effects {
+        for &e in &mass_effects {
             sets.push((vec![e], Role::Candidate));
         }
         if settings.max_effects >= 2 && mass_data.obs.len() >= 8 {
-            sets.push((mass_effects.to_vec(), Role::Candidate));
+            for (i, &a) in mass_effects.iter().enumerate() {
+                for &b in &mass_effects[i + 1..] {
+                    sets.push((vec![a, b], Role::Candidate));
+                }
+            }
         }
         mass_candidates = sets
             .par_iter()
@@ -151,12 +165,17 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             .collect();
         judge(&mut mass_candidates, &[0], settings);
         note_not_identifiable(&mass_candidates, &mut notes);
-        let (best, rivals) = best_and_rivals(&mass_candidates, settings);
-        let chosen = best.unwrap_or(0);
-        final_mass_index = Some(chosen);
-        base = mass_candidates[chosen].model;
-        selected.extend(mass_candidates[chosen].library_effects());
-        contenders.extend(rivals);
+        mass_ranking = best_and_rivals_indices(&mass_candidates, settings);
+        let chosen = mass_ranking.first().copied().unwrap_or(0);
+        bases = vec![Some(chosen)];
+        for (i, c) in mass_candidates.iter().enumerate() {
+            if i != chosen && c.role == Role::Candidate && c.not_identifiable.is_empty() {
+                let significant = (0..c.effects.len()).all(|k| c.excludes_null(k));
+                if significant {
+                    bases.push(Some(i));
+                }
+            }
+        }
     } else {
         notes.push(
             "fewer than 4 actuators with a measured mass: mass effects (ply-thickness, bond-layer) \
@@ -165,82 +184,76 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         );
     }
 
-    // --- Stage 2: actuation and compliance effects on deflection and force.
-    let obs = actuation_obs(data, &base)?;
-    let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
-    if act_groups.len() < max_parameters(settings) + 2 {
-        return Err(ModelError::Fit(format!(
-            "{} actuators with deflection or force data: the largest model has {} parameters and \
-             needs at least {} actuators",
-            act_groups.len(),
-            max_parameters(settings),
-            max_parameters(settings) + 2
-        )));
+    // --- Stage 2: actuation and compliance effects on deflection and force, on each mass model carried.
+    let mut stages = Vec::with_capacity(bases.len());
+    for b in &bases {
+        let base = b.map_or_else(EffectModel::default, |i| mass_candidates[i].model.clone());
+        stages.push(actuation_stage(
+            data,
+            base,
+            settings,
+            &folds_of,
+            dead_length_max_mm,
+            &shared,
+        )?);
     }
-    let act_data = ActuationData { obs, groups };
-    let fitter = Fitter {
-        data: &act_data,
-        base,
-        folds: folds_of,
-        dead_length_max_mm,
-        shared: shared.clone(),
-    };
-    let eta = EffectId::D31Scale;
-    let library: Vec<EffectId> = EffectId::LIBRARY
-        .into_iter()
-        .filter(|e| *e != eta && e.stage() == Stage::Actuation)
-        .collect();
-    let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
-        (vec![], Role::Original),
-        (vec![eta], Role::Null),
-        (vec![eta, EffectId::StiffnessScale], Role::Null),
-    ];
-    let n_points: usize = act_data
-        .obs
+    // The mass model the masses chose stands unless another fits masses, deflections and forces together
+    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add).
+    let joint: Vec<f64> = bases
         .iter()
-        .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
-        .sum();
-    // Parameter count at most n/10 (docs/calibration.md §3).
-    let max_effects = settings.max_effects.min((n_points / 10).saturating_sub(1));
-    if max_effects < settings.max_effects {
-        notes.push(format!(
-            "{n_points} data points: models limited to {max_effects} effect(s) besides eta (parameters <= n/10)"
-        ));
-    }
-    if max_effects >= 1 {
-        for &a in &library {
-            sets.push((vec![eta, a], Role::Candidate));
-        }
-    }
-    if max_effects >= 2 {
-        for (i, &a) in library.iter().enumerate() {
-            for &b in &library[i + 1..] {
-                sets.push((vec![eta, a, b], Role::Candidate));
-            }
-        }
-    }
-    let mut candidates: Vec<Candidate> = sets
-        .par_iter()
-        .map(|(ids, role)| fitter.fit(ids, Stage::Actuation, *role))
+        .zip(&stages)
+        .map(|(b, st)| {
+            b.map_or(0.0, |i| mass_candidates[i].aicc) + st.candidates[st.final_index].aicc
+        })
         .collect();
-    judge(&mut candidates, &[1, 2], settings);
-    note_not_identifiable(&candidates, &mut notes);
-    let (best, rivals) = best_and_rivals(&candidates, settings);
-    contenders.extend(rivals);
-    let final_index = match best {
-        Some(b) => b,
-        None => {
-            let (original, null_eta) = (&candidates[0], &candidates[1]);
-            if null_eta.aicc < original.aicc - settings.min_delta_aicc
-                && null_eta.excludes_null(0)
-                && (null_eta.values[0] - 1.0).abs() >= settings.min_relevant_d31_change
-            {
-                1
-            } else {
-                0
+    let mut pick = 0;
+    for j in 1..bases.len() {
+        if joint[j] < joint[0] - settings.min_delta_aicc && joint[j] < joint[pick] {
+            pick = j;
+        }
+    }
+    if let Some(i) = bases[pick] {
+        final_mass_index = Some(i);
+        selected.extend(mass_candidates[i].library_effects());
+        if pick != 0 {
+            let label = |k: usize| mass_candidates[k].label();
+            notes.push(format!(
+                "the masses alone chose {}; {} fits the masses, deflections and forces together better (joint AICc {:.1} lower), so it was kept",
+                bases[0].map_or("original".into(), label),
+                label(i),
+                joint[0] - joint[pick]
+            ));
+        }
+        // Mass rivals stay contenders only if the joint fit cannot tell them apart either.
+        for &r in mass_ranking.iter() {
+            if r == i {
+                continue;
+            }
+            let close = bases
+                .iter()
+                .position(|b| *b == Some(r))
+                .is_none_or(|j| joint[j] < joint[pick] + 2.0);
+            if close {
+                contenders.push(
+                    mass_candidates[r]
+                        .library_effects()
+                        .iter()
+                        .map(|e| e.name().to_string())
+                        .collect(),
+                );
             }
         }
-    };
+    }
+    let ActuationStage {
+        act_data,
+        candidates,
+        rivals,
+        final_index,
+        notes: stage_notes,
+    } = stages.swap_remove(pick);
+    notes.extend(stage_notes);
+    contenders.extend(rivals);
+    let eta = EffectId::D31Scale;
     let chosen = &candidates[final_index];
     if let Some(k) = chosen.effects.iter().position(|e| *e == eta) {
         if chosen.excludes_null(k)
@@ -250,7 +263,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         }
     }
     selected.extend(chosen.library_effects());
-    let model = chosen.model;
+    let model = chosen.model.clone();
 
     let adequacy = adequacy(
         data,
@@ -297,7 +310,129 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         outliers,
         separating_designs,
         notes,
+        discovery: None,
     })
+}
+
+/// What the actuation stage concluded on one mass model.
+struct ActuationStage<'a> {
+    act_data: ActuationData<'a>,
+    candidates: Vec<Candidate>,
+    /// Effect sets of the rivals of the best accepted model.
+    rivals: Vec<Vec<String>>,
+    final_index: usize,
+    notes: Vec<String>,
+}
+
+/// Stage 2 on top of the mass model `base`: the nulls and every subset of at most two library effects
+/// with η, judged; the final model is the best accepted one, else {η} if it beats the original, else
+/// the original.
+fn actuation_stage<'a>(
+    data: &'a Dataset,
+    base: EffectModel,
+    settings: &Settings,
+    folds_of: &[Vec<usize>],
+    dead_length_max_mm: f64,
+    shared: &Option<String>,
+) -> Result<ActuationStage<'a>, ModelError> {
+    let mut notes = Vec::new();
+    let groups = data.actuators();
+    let obs = actuation_obs(data, &base)?;
+    let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
+    if act_groups.len() < max_parameters(settings) + 2 {
+        return Err(ModelError::Fit(format!(
+            "{} actuators with deflection or force data: the largest model has {} parameters and \
+             needs at least {} actuators",
+            act_groups.len(),
+            max_parameters(settings),
+            max_parameters(settings) + 2
+        )));
+    }
+    let act_data = ActuationData {
+        data,
+        obs,
+        groups,
+        frozen_primitives: base.primitives.len(),
+    };
+    let fitter = Fitter {
+        data: &act_data,
+        base,
+        folds: folds_of.to_vec(),
+        dead_length_max_mm,
+        shared: shared.clone(),
+    };
+    let eta = EffectId::D31Scale;
+    let library: Vec<EffectId> = EffectId::LIBRARY
+        .into_iter()
+        .filter(|e| *e != eta && e.stage() == Stage::Actuation)
+        .chain(declared_in(settings, Stage::Actuation))
+        .collect();
+    let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
+        (vec![], Role::Original),
+        (vec![eta], Role::Null),
+        (vec![eta, EffectId::StiffnessScale], Role::Null),
+    ];
+    let n_points: usize = act_data
+        .obs
+        .iter()
+        .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
+        .sum();
+    // Parameter count at most n/10 (docs/calibration.md §3).
+    let max_effects = settings.max_effects.min((n_points / 10).saturating_sub(1));
+    if max_effects < settings.max_effects {
+        notes.push(format!(
+            "{n_points} data points: models limited to {max_effects} effect(s) besides eta (parameters <= n/10)"
+        ));
+    }
+    if max_effects >= 1 {
+        for &a in &library {
+            sets.push((vec![eta, a], Role::Candidate));
+        }
+    }
+    if max_effects >= 2 {
+        for (i, &a) in library.iter().enumerate() {
+            for &b in &library[i + 1..] {
+                sets.push((vec![eta, a, b], Role::Candidate));
+            }
+        }
+    }
+    let mut candidates: Vec<Candidate> = sets
+        .par_iter()
+        .map(|(ids, role)| fitter.fit(ids, Stage::Actuation, *role))
+        .collect();
+    judge(&mut candidates, &[1, 2], settings);
+    note_not_identifiable(&candidates, &mut notes);
+    let (best, rivals) = best_and_rivals(&candidates, settings);
+    let final_index = match best {
+        Some(b) => b,
+        None => {
+            let (original, null_eta) = (&candidates[0], &candidates[1]);
+            if null_eta.aicc < original.aicc - settings.min_delta_aicc
+                && null_eta.excludes_null(0)
+                && (null_eta.values[0] - 1.0).abs() >= settings.min_relevant_d31_change
+            {
+                1
+            } else {
+                0
+            }
+        }
+    };
+    Ok(ActuationStage {
+        act_data,
+        candidates,
+        rivals,
+        final_index,
+        notes,
+    })
+}
+
+/// The declared effects fitted on one stage's data.
+fn declared_in(settings: &Settings, stage: Stage) -> impl Iterator<Item = EffectId> + '_ {
+    settings
+        .declared
+        .iter()
+        .map(|&d| EffectId::Declared(d))
+        .filter(move |e| e.stage() == stage)
 }
 
 /// One note per effect the data cannot determine, from the models that fit it alone (with η).
@@ -324,26 +459,36 @@ pub fn adequacy_of(
     params: usize,
     settings: &Settings,
 ) -> Result<Adequacy, ModelError> {
-    let obs = actuation_obs(data, effects)?;
-    let act = ActuationData {
-        obs,
-        groups: data.actuators(),
-    };
+    let effects = EffectModel::from(*effects);
+    let act = actuation_data(data, &effects)?;
     let mut res = Vec::new();
-    act.residuals(effects, None, &mut res);
+    act.residuals(&effects, None, &mut res);
     let rss = res.iter().map(|x| x * x).sum();
     Ok(adequacy::adequacy_of_fit(
         data,
         &act,
-        (effects, rss, params),
+        (&effects, rss, params),
         None,
         settings,
     ))
 }
 
+/// The actuation stage's data on top of `base` (its stack effects solved once per row).
+pub(crate) fn actuation_data<'a>(
+    data: &'a Dataset,
+    base: &EffectModel,
+) -> Result<ActuationData<'a>, ModelError> {
+    Ok(ActuationData {
+        data,
+        obs: actuation_obs(data, base)?,
+        groups: data.actuators(),
+        frozen_primitives: base.primitives.len(),
+    })
+}
+
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
 /// stack effects of `base`.
-fn actuation_obs(data: &Dataset, base: &Effects) -> Result<Vec<ActuationObs>, ModelError> {
+fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>, ModelError> {
     let mut obs = Vec::new();
     for (i, r) in data.rows.iter().enumerate() {
         if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {

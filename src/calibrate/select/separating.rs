@@ -1,15 +1,17 @@
-//! Designs that would tell two contending models apart: corners of the data's span where their
-//! predictions differ most.
+//! Designs that would tell contending models apart: corners of the data's span where their predictions
+//! differ most. [`probes`] lists the corners; [`separate`] scores them for two fitted models, and
+//! discovery scores them for its leading candidates with the same probes.
 
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
-use actuator_model::effects::{Actuator, Effects};
+use actuator_model::effects::Actuator;
+use actuator_model::EffectModel;
 use actuator_model::{Drive, Planform};
 use serde::Serialize;
 
-/// A design that would tell two contenders apart.
+/// A design and drive to build and measure, report units.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SeparatingDesign {
+pub struct DesignPoint {
     /// l_tot, mm.
     #[serde(serialize_with = "six_digits")]
     pub l_tot_mm: f64,
@@ -30,6 +32,14 @@ pub struct SeparatingDesign {
     /// Voltage, V.
     #[serde(rename = "voltage_V", serialize_with = "six_digits")]
     pub voltage_v: f64,
+}
+
+/// A design that would tell two contenders apart.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SeparatingDesign {
+    /// The design.
+    #[serde(flatten)]
+    pub design: DesignPoint,
     /// Predicted ratio of deflections (contender 1 / contender 2).
     #[serde(serialize_with = "six_digits")]
     pub deflection_ratio: f64,
@@ -38,8 +48,59 @@ pub struct SeparatingDesign {
     pub force_ratio: f64,
 }
 
-/// Designs in the span of the data where two fitted models disagree most.
-pub(super) fn separate(data: &Dataset, a: &Effects, b: &Effects) -> Vec<SeparatingDesign> {
+/// A corner of the data's span: a planform, the materials and layup of one row, a PZT thickness and a
+/// field that occur in the data.
+#[derive(Debug, Clone, Copy)]
+pub struct Probe<'a> {
+    /// The row whose materials, layup and drive mode the probe uses.
+    pub row: &'a Measurement,
+    /// PZT thickness, m.
+    pub pzt_thickness: f64,
+    /// Planform.
+    pub planform: Planform,
+    /// Drive field, V/m.
+    pub field: f64,
+}
+
+impl Probe<'_> {
+    /// The model's view of the probe.
+    pub fn actuator(&self) -> Actuator<'_> {
+        Actuator {
+            pzt: &self.row.pzt,
+            pzt_thickness: self.pzt_thickness,
+            ply: &self.row.ply,
+            ply_thickness: self.row.ply_thickness,
+            layup_deg: &self.row.layup_deg,
+            planform: self.planform,
+            drive: Drive {
+                mode: self.row.drive_mode,
+                field: self.field,
+            },
+        }
+    }
+
+    /// The probe in report units.
+    pub fn design(&self) -> DesignPoint {
+        let pl = &self.planform;
+        DesignPoint {
+            l_tot_mm: pl.length * 1e3,
+            l_r: pl.extension_ratio,
+            w0_mm: pl.base_width * 1e3,
+            w_r: pl.width_ratio,
+            t_p_mm: self.pzt_thickness * 1e3,
+            layup: self.row.layup.clone(),
+            voltage_v: self
+                .row
+                .drive_mode
+                .voltage_from_field(self.field, self.pzt_thickness),
+        }
+    }
+}
+
+/// Every corner of the data's span: shortest and longest length, lowest and highest `l_r` and `w_0`,
+/// lowest, 1 (if within) and highest `w_r`, each layup and PZT thickness in the data, lowest and highest
+/// field. Within the span only: a design outside what was built would be an extrapolation of both models.
+pub fn probes(data: &Dataset) -> Vec<Probe<'_>> {
     let range = |f: &dyn Fn(&Measurement) -> f64| {
         let v: Vec<f64> = data.rows.iter().map(f).collect();
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
@@ -64,7 +125,7 @@ pub(super) fn separate(data: &Dataset, a: &Effects, b: &Effects) -> Vec<Separati
             thick.push(i);
         }
     }
-    let mut scored = Vec::new();
+    let mut out = Vec::new();
     for l in [l_lo, l_hi] {
         for lr in [lr_lo, lr_hi] {
             for w in [w_lo, w_hi] {
@@ -72,49 +133,44 @@ pub(super) fn separate(data: &Dataset, a: &Effects, b: &Effects) -> Vec<Separati
                     for &li in &layups {
                         for &ti in &thick {
                             for e in [e_lo.max(1.0), e_hi] {
-                                let lay = &data.rows[li];
-                                let t_p = data.rows[ti].pzt_thickness;
-                                let Ok(pl) = Planform::new(l, lr, w, wr, 0.0) else {
+                                let Ok(planform) = Planform::new(l, lr, w, wr, 0.0) else {
                                     continue;
                                 };
-                                let act = Actuator {
-                                    pzt: &lay.pzt,
-                                    pzt_thickness: t_p,
-                                    ply: &lay.ply,
-                                    ply_thickness: lay.ply_thickness,
-                                    layup_deg: &lay.layup_deg,
-                                    planform: pl,
-                                    drive: Drive {
-                                        mode: lay.drive_mode,
-                                        field: e,
-                                    },
-                                };
-                                let (Ok(pa), Ok(pb)) = (a.predict(&act), b.predict(&act)) else {
-                                    continue;
-                                };
-                                let rd = pa.free_deflection / pb.free_deflection;
-                                let rf = pa.blocked_force / pb.blocked_force;
-                                let score = rd.ln().abs().max(rf.ln().abs());
-                                scored.push((
-                                    score,
-                                    SeparatingDesign {
-                                        l_tot_mm: l * 1e3,
-                                        l_r: lr,
-                                        w0_mm: w * 1e3,
-                                        w_r: wr,
-                                        t_p_mm: t_p * 1e3,
-                                        layup: lay.layup.clone(),
-                                        voltage_v: lay.drive_mode.voltage_from_field(e, t_p),
-                                        deflection_ratio: rd,
-                                        force_ratio: rf,
-                                    },
-                                ));
+                                out.push(Probe {
+                                    row: &data.rows[li],
+                                    pzt_thickness: data.rows[ti].pzt_thickness,
+                                    planform,
+                                    field: e,
+                                });
                             }
                         }
                     }
                 }
             }
         }
+    }
+    out
+}
+
+/// Designs in the span of the data where two fitted models disagree most.
+pub(super) fn separate(data: &Dataset, a: &EffectModel, b: &EffectModel) -> Vec<SeparatingDesign> {
+    let mut scored = Vec::new();
+    for probe in probes(data) {
+        let act = probe.actuator();
+        let (Ok(pa), Ok(pb)) = (a.predict(&act), b.predict(&act)) else {
+            continue;
+        };
+        let rd = pa.free_deflection / pb.free_deflection;
+        let rf = pa.blocked_force / pb.blocked_force;
+        let score = rd.ln().abs().max(rf.ln().abs());
+        scored.push((
+            score,
+            SeparatingDesign {
+                design: probe.design(),
+                deflection_ratio: rd,
+                force_ratio: rf,
+            },
+        ));
     }
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     scored.into_iter().take(3).map(|(_, d)| d).collect()

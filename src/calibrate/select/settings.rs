@@ -1,7 +1,9 @@
 //! The knobs of the selection (docs/calibration.md §3); the defaults are the documented procedure.
 
+use crate::calibrate::library::Declared;
+
 /// Knobs of the selection; the defaults are the documented procedure.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     /// Seed of the cross-validation folds.
     pub seed: u64,
@@ -18,6 +20,8 @@ pub struct Settings {
     /// Smallest |η - 1| reported as a d31 scale: below it the change is immaterial to a design and a
     /// 5%-noise data set flags it by chance more often than the 1-in-10 the null case allows.
     pub min_relevant_d31_change: f64,
+    /// Effects a lab declared (`--effects FILE`): candidates beside the library's, on the same terms.
+    pub declared: Vec<Declared>,
 }
 
 impl Default for Settings {
@@ -30,6 +34,7 @@ impl Default for Settings {
             min_delta_aicc: 4.0,
             alpha: 0.01,
             min_relevant_d31_change: 0.02,
+            declared: Vec::new(),
         }
     }
 }

@@ -1,0 +1,221 @@
+//! Fit one primitive as a one-parameter effect, with the d31 scale η beside it as every library
+//! candidate has it: `{η, P}` on the deflections and forces, by the same bounded least squares as the
+//! library ([`least_squares`]), scored by the same AICc.
+//!
+//! Speed: every primitive tried changes the stack or the compliance, so it is solved by
+//! [`primitives::compose`] once per actuator and parameter value; η scales δ and F_b by itself, and δ
+//! and F_b are proportional to the field at a field-independent d31 (CLT curvature is linear in the
+//! piezoelectric strain `d31 E`), so the other voltages of an actuator follow by ratio (a unit test
+//! holds this to the model).
+
+use super::catalogue::Tried;
+use crate::calibrate::csv::Dataset;
+use crate::calibrate::fit::{least_squares, Bounds, FitResult};
+use crate::calibrate::library::EffectId;
+use crate::calibrate::select::fitter::intervals;
+use crate::calibrate::select::observations::ActuationData;
+use crate::calibrate::stats;
+use actuator_model::effects::Effects;
+use actuator_model::primitives::{compose, Applied, Primitive};
+use actuator_model::EffectModel;
+use std::cell::RefCell;
+
+/// A fitted `{η, P}`.
+#[derive(Debug, Clone)]
+pub struct PrimitiveFit {
+    /// The primitive.
+    pub primitive: Primitive,
+    /// η and the primitive's value (SI).
+    pub theta: [f64; 2],
+    /// 95% interval of the primitive's value.
+    pub interval: (f64, f64),
+    /// Residual sum of squares.
+    pub rss: f64,
+    /// Residuals.
+    pub n: usize,
+    /// AICc (2 parameters).
+    pub aicc: f64,
+}
+
+/// Whether δ and F_b of the primitive stay proportional to the field (true for everything but a
+/// field-dependent d31).
+fn field_linear(p: Primitive) -> bool {
+    !matches!(p, Primitive::FieldDependentD31)
+}
+
+/// Where one observation's prediction comes from: the solve at an evaluation point (an actuator's first
+/// row, or the row itself), times the field ratio.
+struct Point {
+    row: usize,
+}
+
+/// ln δ and ln F_b at each evaluation point.
+type LogOutputs = Vec<(f64, f64)>;
+
+/// Fit `{η, P}` on top of `base` (the frozen mass-stage effects).
+pub(crate) fn fit(
+    data: &Dataset,
+    act: &ActuationData,
+    base: &EffectModel,
+    tried: &Tried,
+) -> Option<PrimitiveFit> {
+    let linear = field_linear(tried.primitive);
+    // Evaluation points and, per observation, (point, ln field ratio).
+    let mut points: Vec<Point> = Vec::new();
+    let mut first_of_group: Vec<Option<usize>> = vec![None; act.groups];
+    let mut map: Vec<(usize, f64)> = Vec::with_capacity(act.obs.len());
+    for o in &act.obs {
+        let k = match (linear, first_of_group[o.group]) {
+            (true, Some(k)) => k,
+            _ => {
+                points.push(Point { row: o.row });
+                first_of_group[o.group] = Some(points.len() - 1);
+                points.len() - 1
+            }
+        };
+        let ratio = (o.basis.field / data.rows[points[k].row].field).ln();
+        map.push((k, ratio));
+    }
+    // (value, ln δ and ln F at each point) of the last few values asked for: the Jacobian's η column and
+    // the steps of η alone reuse the solve.
+    let cache: RefCell<Vec<(f64, LogOutputs)>> = RefCell::new(Vec::new());
+    let solve = |v: f64| -> Vec<(f64, f64)> {
+        if let Some((_, s)) = cache.borrow().iter().find(|(x, _)| *x == v) {
+            return s.clone();
+        }
+        // On top of the frozen mass model's declared primitives, if any.
+        let mut applied = base.primitives.clone();
+        applied.push(Applied {
+            primitive: tried.primitive,
+            value: v,
+        });
+        let s: Vec<(f64, f64)> = points
+            .iter()
+            .map(|p| {
+                match compose(&applied, &base.effects, &data.rows[p.row].actuator()) {
+                    Ok(perf) if perf.free_deflection > 0.0 && perf.blocked_force > 0.0 => {
+                        (perf.free_deflection.ln(), perf.blocked_force.ln())
+                    }
+                    // A value the model refuses (a layer thinned to nothing): no fit there.
+                    _ => (f64::NAN, f64::NAN),
+                }
+            })
+            .collect();
+        let mut c = cache.borrow_mut();
+        if c.len() >= 4 {
+            c.remove(0);
+        }
+        c.push((v, s.clone()));
+        s
+    };
+    let residuals = |theta: &[f64], out: &mut Vec<f64>| {
+        out.clear();
+        let ln_eta = theta[0].ln();
+        let s = solve(theta[1]);
+        for (o, &(k, ratio)) in act.obs.iter().zip(&map) {
+            let (ld, lf) = s[k];
+            let bad = |x: f64| if x.is_finite() { x } else { 1e3 };
+            if let Some(d) = o.ln_delta {
+                out.push(bad(d - ln_eta - ld - ratio));
+            }
+            if let Some(f) = o.ln_force {
+                out.push(bad(f - ln_eta - lf - ratio));
+            }
+        }
+    };
+    let eta = EffectId::D31Scale.param();
+    let bounds = [
+        Bounds {
+            lo: eta.lo,
+            hi: eta.hi,
+        },
+        Bounds {
+            lo: tried.lo,
+            hi: tried.hi,
+        },
+    ];
+    let starts: Vec<Vec<f64>> = tried.starts.iter().map(|&v| vec![1.0, v]).collect();
+    let fit: FitResult = least_squares(&residuals, &bounds, &starts);
+    // A fit stuck where the model refuses every value has nothing to say.
+    if !fit.rss.is_finite() || fit.residuals.iter().any(|r| r.abs() >= 1e3) {
+        return None;
+    }
+    let cov = fit.covariance();
+    let (_, iv) = intervals(&fit, &cov);
+    Some(PrimitiveFit {
+        primitive: tried.primitive,
+        theta: [fit.theta[0], fit.theta[1]],
+        interval: iv[1],
+        rss: fit.rss,
+        n: fit.n,
+        aicc: stats::aicc(fit.n, 2, fit.rss),
+    })
+}
+
+impl PrimitiveFit {
+    /// The fitted model's prediction of an actuator: the primitive at its value on top of `base` with η.
+    pub fn predict(
+        &self,
+        base: &EffectModel,
+        a: &actuator_model::effects::Actuator,
+    ) -> Result<actuator_model::Performance, actuator_model::ModelError> {
+        let with_eta = Effects {
+            d31_scale: base.effects.d31_scale * self.theta[0],
+            ..base.effects
+        };
+        let mut applied = base.primitives.clone();
+        applied.push(Applied {
+            primitive: self.primitive,
+            value: self.theta[1],
+        });
+        compose(&applied, &with_eta, a)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use actuator_model::effects::{drive_at_voltage, Actuator};
+    use actuator_model::primitives::{compose, Applied, Primitive, Property, Target};
+    use actuator_model::{DriveMode, Effects, Material, Planform};
+
+    #[test]
+    fn deflection_and_force_are_proportional_to_field_and_to_eta() {
+        // The shortcut of this module: δ, F_b ∝ E at a field-independent d31, and ∝ η.
+        let pzt = Material::builtin("PZT-5H").unwrap();
+        let cf = Material::builtin("CF-thesis").unwrap();
+        let layup = [0.0, 90.0, 0.0, 0.0];
+        let at = |volts: f64, eta: f64| {
+            let a = Actuator {
+                pzt: &pzt,
+                pzt_thickness: 127e-6,
+                ply: &cf,
+                ply_thickness: 61.8e-6,
+                layup_deg: &layup,
+                planform: Planform::new(30e-3, 0.5, 6e-3, 0.7, 0.0).unwrap(),
+                drive: drive_at_voltage(DriveMode::Parallel, volts, 127e-6),
+            };
+            let base = Effects {
+                d31_scale: eta,
+                bond_thickness: 10e-6,
+                ..Effects::default()
+            };
+            compose(
+                &[Applied {
+                    primitive: Primitive::Scale {
+                        target: Target::Passive,
+                        property: Property::E1,
+                    },
+                    value: 0.6,
+                }],
+                &base,
+                &a,
+            )
+            .unwrap()
+        };
+        let (a, b, c) = (at(50.0, 1.0), at(100.0, 1.0), at(50.0, 0.7));
+        assert!((b.free_deflection / a.free_deflection - 2.0).abs() < 1e-12);
+        assert!((b.blocked_force / a.blocked_force - 2.0).abs() < 1e-12);
+        assert!((c.free_deflection / a.free_deflection - 0.7).abs() < 1e-12);
+        assert!((c.blocked_force / a.blocked_force - 0.7).abs() < 1e-12);
+    }
+}
