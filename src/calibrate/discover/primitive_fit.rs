@@ -42,6 +42,9 @@ fn field_linear(p: Primitive) -> bool {
     !matches!(p, Primitive::FieldDependentD31)
 }
 
+/// A parameter value and (ln δ, ln F_b) at each evaluation point there.
+type Solved = (f64, Vec<(f64, f64)>);
+
 /// Where one observation's prediction comes from: the solve at an evaluation point (an actuator's first
 /// row, or the row itself), times the field ratio.
 struct Point {
@@ -74,7 +77,7 @@ pub(crate) fn fit(
     }
     // (value, ln δ and ln F at each point) of the last few values asked for: the Jacobian's η column and
     // the steps of η alone reuse the solve.
-    let cache: RefCell<Vec<(f64, Vec<(f64, f64)>)>> = RefCell::new(Vec::new());
+    let cache: RefCell<Vec<Solved>> = RefCell::new(Vec::new());
     let solve = |v: f64| -> Vec<(f64, f64)> {
         if let Some((_, s)) = cache.borrow().iter().find(|(x, _)| *x == v) {
             return s.clone();
