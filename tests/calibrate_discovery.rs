@@ -173,3 +173,44 @@ fn discovery_points_at_the_variable_and_the_primitive() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// report.json and report.md carry the discovery when not explained, and only then.
+#[test]
+fn the_report_carries_the_discovery_only_when_not_explained() {
+    let render = |truth: Truth| {
+        let mut rng = ChaCha8Rng::seed_from_u64(7001);
+        let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
+        let data = parse(&synthetic_csv(truth, &designs, &mut rng)).unwrap();
+        let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+        let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
+        let get = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();
+        let json: serde_json::Value = serde_json::from_str(&get("report.json")).unwrap();
+        (json, get("report.md"))
+    };
+    let (json, md) = render(hidden()[1].truth);
+    assert_eq!(json["verdict"], "not-explained");
+    let d = &json["discovery"];
+    assert_eq!(d["candidates"][0]["name"], "clamp-compliance-per-width");
+    assert_eq!(d["candidates"][0]["library"], false);
+    assert_eq!(d["designs"].as_array().unwrap().len(), 3);
+    assert_eq!(
+        d["designs"][0]["predictions"].as_array().unwrap().len(),
+        3,
+        "the three leading candidates' predictions"
+    );
+    let law = &d["power_laws"][1];
+    assert_eq!(law["residual"], "stiffness");
+    assert!(
+        law["exponents"][0]["interval"][0].as_f64().unwrap()
+            <= law["exponents"][0]["estimate"].as_f64().unwrap()
+    );
+    assert!(md.contains("## Discovery: what the residual looks like"));
+    assert!(md.contains("| 1 | clamp-compliance-per-width | no |"));
+    let (json, md) = render(Truth::Library(actuator_model::Effects {
+        dead_length: 3e-3,
+        ..actuator_model::Effects::default()
+    }));
+    assert_eq!(json["verdict"], "explained");
+    assert!(json.get("discovery").is_none());
+    assert!(!md.contains("## Discovery"));
+}

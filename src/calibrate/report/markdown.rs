@@ -51,6 +51,23 @@ pub fn error_tables(before: &Errors, after: &Errors, thesis: &Errors) -> String 
     s
 }
 
+/// One line for the terminal: the variable the residual follows and the leading candidates.
+pub fn discovery_line(d: &Discovery) -> String {
+    let lead: Vec<&str> = d
+        .candidates
+        .iter()
+        .take(3)
+        .map(|c| c.name.as_str())
+        .collect();
+    format!(
+        "discovery: the residual follows {}; leading candidates {} (report.md, \"Discovery\")\n",
+        d.leading_variable
+            .as_deref()
+            .unwrap_or("no single variable"),
+        lead.join(", ")
+    )
+}
+
 /// The discovery section: power laws, the leading trends, the ranked candidates, the separating designs.
 fn discovery(d: &Discovery) -> String {
     let mut md = String::from("\n## Discovery: what the residual looks like\n\n");

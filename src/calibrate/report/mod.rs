@@ -32,7 +32,7 @@ pub fn summary(cal: &Calibration) -> String {
         cv_rmse: cv,
         residual_correlations: None,
     };
-    markdown::summary(
+    let mut out = markdown::summary(
         s.verdict.name(),
         &VerdictDetail::new(&s.verdict),
         &selected_effects(cal),
@@ -41,7 +41,11 @@ pub fn summary(cal: &Calibration) -> String {
             &table(&cal.after, Some(cal.cv_rmse_after)),
             &table(&cal.thesis_adjusted, None),
         ],
-    )
+    );
+    if let Some(d) = &s.discovery {
+        out.push_str(&markdown::discovery_line(d));
+    }
+    out
 }
 
 /// Every output file, name and text.
