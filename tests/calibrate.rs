@@ -135,19 +135,7 @@ fn predict_cli_reproduces_after_predictions() {
     let data = csv::read_path(&example()).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let m = &data.rows[3];
-    // Design-file format of main's src/design (examples/thesis-B.toml).
-    let design = format!(
-        "name = \"row-3\"\n[geometry]\nlength_mm = {}\nextension_ratio = {}\nbase_width_mm = {}\nwidth_ratio = {}\nbase_tab_mm = 0.0\n\
-         [laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {:?}\n\
-         [drive]\nmode = \"parallel\"\nfield_V_per_mm = {}\n",
-        m.planform.length * 1e3,
-        m.planform.extension_ratio,
-        m.planform.base_width * 1e3,
-        m.planform.width_ratio,
-        m.pzt_thickness * 1e3,
-        m.layup_deg,
-        m.field * 1e-3
-    );
+    let design = common::design_of(m);
     let design_path = dir.path().join("design.toml");
     std::fs::write(&design_path, design).unwrap();
     let run = cam_ok(&[

@@ -174,22 +174,6 @@ fn write_worked_example() {
     .unwrap();
 }
 
-/// A design file (the format of examples/thesis-B.toml) for one measured row.
-fn design_of(m: &actuator_cam::calibrate::Measurement) -> String {
-    format!(
-        "name = \"row\"\n[geometry]\nlength_mm = {}\nextension_ratio = {}\nbase_width_mm = {}\nwidth_ratio = {}\nbase_tab_mm = 0.0\n\
-         [laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {:?}\n\
-         [drive]\nmode = \"parallel\"\nfield_V_per_mm = {}\n",
-        m.planform.length * 1e3,
-        m.planform.extension_ratio,
-        m.planform.base_width * 1e3,
-        m.planform.width_ratio,
-        m.pzt_thickness * 1e3,
-        m.layup_deg,
-        m.field * 1e-3
-    )
-}
-
 fn predict_json(design: &std::path::Path, model: &std::path::Path) -> serde_json::Value {
     let run = common::run_ok(&[
         "predict",
@@ -254,7 +238,7 @@ fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
     for row in [0, 41, 97] {
         let m = &data.rows[row];
         let design = dir.path().join(format!("row-{row}.toml"));
-        std::fs::write(&design, design_of(m)).unwrap();
+        std::fs::write(&design, common::design_of(m)).unwrap();
         let with = predict_json(&design, &model_path);
         let without = predict_json(&design, &library_path);
         // The primitive applied directly: compose() on the library effects.

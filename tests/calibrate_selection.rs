@@ -168,16 +168,7 @@ fn run(study: &Study, data_seed: u64) -> Outcome {
 }
 
 fn named(study: &Study, o: &Outcome) -> bool {
-    if o.verdict != "explained" {
-        return false;
-    }
-    let relevant: Vec<&str> = o
-        .selected
-        .iter()
-        .map(String::as_str)
-        .filter(|s| *s != "d31-scale" || study.hidden.contains(&"d31-scale"))
-        .collect();
-    study.hidden.iter().all(|h| relevant.contains(h)) && relevant.len() == study.hidden.len()
+    names_exactly(&study.hidden, &o.verdict, &o.selected)
 }
 
 /// CI: the null case, each library effect alone and every effect outside the library, 20 measuring seeds.

@@ -45,16 +45,7 @@ fn is_hit(case: &Case, o: &Outcome) -> bool {
     if case.name.starts_with("out-of-library") {
         return o.verdict != "explained";
     }
-    if o.verdict != "explained" {
-        return false;
-    }
-    let relevant: Vec<&str> = o
-        .selected
-        .iter()
-        .map(String::as_str)
-        .filter(|s| *s != "d31-scale" || case.hidden.contains(&"d31-scale"))
-        .collect();
-    case.hidden.iter().all(|h| relevant.contains(h)) && relevant.len() == case.hidden.len()
+    names_exactly(case.hidden, &o.verdict, &o.selected)
 }
 
 /// The study saturates the cores; the timed test must not overlap it.

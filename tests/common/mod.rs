@@ -100,3 +100,19 @@ pub fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
         vec![],
     )
 }
+
+/// A design file (the format of examples/thesis-B.toml) for one measured row.
+pub fn design_of(m: &actuator_cam::calibrate::Measurement) -> String {
+    format!(
+        "name = \"row\"\n[geometry]\nlength_mm = {}\nextension_ratio = {}\nbase_width_mm = {}\nwidth_ratio = {}\nbase_tab_mm = 0.0\n\
+         [laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {:?}\n\
+         [drive]\nmode = \"parallel\"\nfield_V_per_mm = {}\n",
+        m.planform.length * 1e3,
+        m.planform.extension_ratio,
+        m.planform.base_width * 1e3,
+        m.planform.width_ratio,
+        m.pzt_thickness * 1e3,
+        m.layup_deg,
+        m.field * 1e-3
+    )
+}

@@ -369,3 +369,17 @@ pub fn break_actuators(csv: &str, ids: &[usize], factor: f64) -> String {
         })
         .collect()
 }
+
+/// Whether a calibration named exactly the hidden effects: verdict `explained` and the selected effects equal
+/// to the hidden ones (d31-scale aside, which both null models contain, unless it is a hidden one).
+pub fn names_exactly(hidden: &[&str], verdict: &str, selected: &[String]) -> bool {
+    if verdict != "explained" {
+        return false;
+    }
+    let relevant: Vec<&str> = selected
+        .iter()
+        .map(String::as_str)
+        .filter(|s| *s != "d31-scale" || hidden.contains(&"d31-scale"))
+        .collect();
+    hidden.iter().all(|h| relevant.contains(h)) && relevant.len() == hidden.len()
+}
