@@ -146,6 +146,28 @@ fn fits_sheet(
     (overshoot(&size) < 0.0, size)
 }
 
+/// A file the batch names at `key`, relative to the batch file's folder; refused (naming the key, the value as
+/// written and the path looked for) when it is not there.
+fn existing_file(
+    t: &TableReader<'_>,
+    key: &str,
+    base: &Path,
+    file: &str,
+    missing: &str,
+) -> Result<PathBuf, InputError> {
+    let found = base.join(file);
+    if found.is_file() {
+        Ok(found)
+    } else {
+        Err(InputError::invalid(
+            t.file(),
+            &t.path(key),
+            format!("{file:?}"),
+            format!("{missing} ({})", found.display()),
+        ))
+    }
+}
+
 /// One `[[part]]`: a drawing's parts, how many of each, on which sheets, at which rotations.
 fn part_orders(
     t: &TableReader<'_>,
@@ -240,15 +262,7 @@ fn part_orders(
         .unwrap_or(default_rotations);
     let name = t.optional_string("name", "a part name (text)")?;
     t.finish()?;
-    let drawing = base.join(file);
-    if !drawing.is_file() {
-        return Err(InputError::invalid(
-            path,
-            &t.path("file"),
-            format!("{file:?}"),
-            format!("no such drawing ({})", drawing.display()),
-        ));
-    }
+    let drawing = existing_file(t, "file", base, file, "no such drawing")?;
     let imported = import(&drawing)?;
     let stem = name.map(str::to_string).unwrap_or_else(|| {
         drawing
@@ -312,15 +326,7 @@ impl Batch {
             let file = t.string("design", "a design file path, relative to the batch file")?;
             let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
             t.finish()?;
-            let design_path = base.join(file);
-            if !design_path.is_file() {
-                return Err(InputError::invalid(
-                    path,
-                    &t.path("design"),
-                    format!("{file:?}"),
-                    format!("no such design file ({})", design_path.display()),
-                ));
-            }
+            let design_path = existing_file(&t, "design", base, file, "no such design file")?;
             let design = Design::load(&design_path)?;
             let this = Template::resolve(&design.process, &design.source)?;
             match &template {
