@@ -503,6 +503,205 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
     assert!(stdout(&o).contains("mm of roll"), "{}", stdout(&o));
 }
 
+// ---- Ply-by-ply cutting ----------------------------------------------------------------------
+
+/// [`scratch`] with the prepreg cut ply by ply, and 2 mm base tabs on the designs (room for the
+/// actuators' registration holes).
+fn scratch_ply_by_ply(kerf_mm: f64, items: &str, tail: &str) -> (tempfile::TempDir, PathBuf) {
+    let (dir, batch) = scratch(kerf_mm, items, tail);
+    let d = dir.path();
+    let edit = |name: &str, from: &str, to: &str| {
+        let text = std::fs::read_to_string(d.join(name)).unwrap();
+        assert!(text.contains(from), "{name}: {from}");
+        std::fs::write(d.join(name), text.replace(from, to)).unwrap();
+    };
+    edit(
+        "process.toml",
+        "passive_cut = \"stack\"",
+        "passive_cut = \"ply-by-ply\"",
+    );
+    for name in ["thesis-C.toml", "thesis-A.toml"] {
+        edit(name, "base_tab_mm = 0.0", "base_tab_mm = 2.0");
+    }
+    (dir, batch)
+}
+
+/// The box of a ring: width, height.
+fn box_size(ring: &[[f64; 2]]) -> [f64; 2] {
+    let (xs, ys) = (ring.iter().map(|p| p[0]), ring.iter().map(|p| p[1]));
+    [
+        xs.clone().fold(f64::MIN, f64::max) - xs.fold(f64::MAX, f64::min),
+        ys.clone().fold(f64::MIN, f64::max) - ys.fold(f64::MAX, f64::min),
+    ]
+}
+
+#[test]
+fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
+    // Spars (60 x 4 mm, drawn along x) on C's 0/90/0 and flexures (16 x 6 mm, along x) on A's
+    // 0/0/90/0/0, both allowed 0/180 only. Kerf 0: the outlines read back are the drawn ones.
+    let parts = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 3\nlayup_deg = [0, 90, 0]\n\n\
+                 [[part]]\nfile = \"parts/flexure.svg\"\nquantity = 2\nlayup_deg = [0, 0, 90, 0, 0]\n";
+    let (dir, batch) = scratch_ply_by_ply(0.0, ITEMS, parts);
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "40",
+        "--format",
+        "svg,dxf",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    let rows = r["parts"].as_array().unwrap();
+    assert_eq!(rows[0]["sheet"], "prepreg, layup 0/90/0, cut ply by ply");
+    assert_eq!(rows[0]["pieces_per_part"], 3);
+    assert_eq!(rows[1]["pieces_per_part"], 5);
+    let spar_tol = SPAR_ARCS_MM * TOLERANCE_MM + 1e-5;
+    let flexure_tol = FLEXURE_ARCS_MM * TOLERANCE_MM + 1e-5;
+    // Per ply sheet of each layup (the material names the layup): spars and flexures read back
+    // from the DXF, each with its long side along the sheet's x axis on a 0° ply (fibres along
+    // the part) and along y on a 90° ply (fibres across it).
+    let mut seen: Vec<(String, String, usize, usize)> = Vec::new();
+    for s in r["sheets"].as_array().unwrap() {
+        let layer = s["layer"].as_str().unwrap();
+        if !layer.starts_with("passive-ply") {
+            continue;
+        }
+        let across = layer.ends_with("-90deg");
+        assert!(across || layer.ends_with("-0deg"), "{layer}");
+        let stem = s["file_stem"].as_str().unwrap();
+        let rings = dxf_rings(&out.join(format!("{stem}.dxf")));
+        let nets = net_areas(&rings);
+        let (mut spars, mut flexures) = (0, 0);
+        for (i, a) in &nets {
+            let [w, h] = box_size(&rings[*i]);
+            let (long, short) = if across { (h, w) } else { (w, h) };
+            if (a - SPAR_AREA_MM2).abs() <= spar_tol {
+                spars += 1;
+                assert!(
+                    (long - 61.0).abs() < 1e-3 && (short - 4.0).abs() < 1e-3,
+                    "{stem}: spar box {w} x {h}"
+                );
+            } else if (a - FLEXURE_AREA_MM2).abs() <= flexure_tol {
+                flexures += 1;
+                assert!(
+                    (long - 16.0).abs() < 1e-3 && (short - 6.0).abs() < 1e-3,
+                    "{stem}: flexure box {w} x {h}"
+                );
+            }
+        }
+        // Every outline read back is a part of the report, the clearance kept (kerf 0, 0.5 mm
+        // spacing).
+        let outers: Vec<&[[f64; 2]]> = nets.iter().map(|(i, _)| rings[*i].as_slice()).collect();
+        assert_eq!(outers.len(), s["parts"].as_array().unwrap().len(), "{stem}");
+        let (w, h) = (
+            s["width_mm"].as_f64().unwrap(),
+            s["height_mm"].as_f64().unwrap(),
+        );
+        let violations = clearance(&outers, w, h, Clearance::uniform(0.5), 1e-6);
+        assert!(violations.is_empty(), "{stem}: {violations:?}");
+        let listed = |name: &str| {
+            s["parts"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|p| p["design"] == name && p["part"] == "part")
+                .count()
+        };
+        assert_eq!(
+            (listed("spar"), listed("flexure")),
+            (spars, flexures),
+            "{stem}"
+        );
+        // Half turns only: the part's own rotations, on top of the ply's turn.
+        for p in s["parts"].as_array().unwrap() {
+            if p["part"] == "part" {
+                let rot = p["rotation_deg"].as_f64().unwrap();
+                assert!(rot == 0.0 || rot == 180.0, "{stem}: {rot}");
+            }
+        }
+        seen.push((
+            layer.to_string(),
+            s["material"].as_str().unwrap().to_string(),
+            spars,
+            flexures,
+        ));
+    }
+    // Each part on every ply of its layup, all its copies, and on no other sheet.
+    let count = |layer: &str, layup: &str, which: usize| -> usize {
+        seen.iter()
+            .filter(|(l, m, _, _)| l == layer && m.contains(&format!("layup {layup}")))
+            .map(|(_, _, s, f)| if which == 0 { *s } else { *f })
+            .sum()
+    };
+    for layer in [
+        "passive-ply1-0deg",
+        "passive-ply2-90deg",
+        "passive-ply3-0deg",
+    ] {
+        assert_eq!(count(layer, "0/90/0", 0), 3, "{layer}");
+    }
+    for layer in [
+        "passive-ply1-0deg",
+        "passive-ply2-0deg",
+        "passive-ply3-90deg",
+        "passive-ply4-0deg",
+        "passive-ply5-0deg",
+    ] {
+        assert_eq!(count(layer, "0/0/90/0/0", 1), 2, "{layer}");
+    }
+    let total = |which: usize| -> usize {
+        seen.iter()
+            .map(|(_, _, s, f)| if which == 0 { *s } else { *f })
+            .sum()
+    };
+    assert_eq!((total(0), total(1)), (3 * 3, 2 * 5));
+}
+
+#[test]
+fn ply_by_ply_refuses_part_rotations_that_turn_the_fibres() {
+    // PARTS lets the flexure take quarter turns: pieces of one ply could then come out with their
+    // fibres turned and another ply's not.
+    let (dir, batch) = scratch_ply_by_ply(0.05, ITEMS, PARTS);
+    let out = dir.path().join("out");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(!out.exists(), "nothing is written");
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(
+        err.contains(&batch.display().to_string())
+            && err.contains("part[2].rotations_deg = [0.0, 90.0, 180.0, 270.0]")
+            && err.contains("all equal modulo 180 degrees"),
+        "{err}"
+    );
+    // A part drawn across its fibres may say so: [90, 270] is one fibre direction.
+    let sideways = PARTS.replace("[0, 90, 180, 270]", "[90, 270]");
+    let (dir, batch) = scratch_ply_by_ply(0.05, ITEMS, &sideways);
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "20",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&out);
+    for s in r["sheets"].as_array().unwrap() {
+        for p in s["parts"].as_array().unwrap() {
+            if p["design"] == "flexure" {
+                let rot = p["rotation_deg"].as_f64().unwrap();
+                assert!(rot == 90.0 || rot == 270.0, "{rot}");
+            }
+        }
+    }
+}
+
 // ---- Progress ---------------------------------------------------------------------------------
 
 #[derive(Default)]

@@ -168,6 +168,33 @@ fn existing_file(
     }
 }
 
+/// Ply-by-ply cutting cuts each ply of a prepreg part on its own sheet, and the lab stacks any piece
+/// of ply 1 on any piece of ply 2: the pieces come out in the layup only if every rotation the part
+/// may take leaves the fibres where they were, that is if the rotations differ by half turns (fibres
+/// have an axis, not a sense). A quarter turn allowed beside 0° would let one ply's pieces come out
+/// with their fibres turned and another's not.
+fn one_fibre_direction(
+    t: &TableReader<'_>,
+    rotations_deg: &[f64],
+    process: &str,
+) -> Result<(), InputError> {
+    let first = rotations_deg[0];
+    if rotations_deg
+        .iter()
+        .all(|r| ((r - first).rem_euclid(180.0)).min(180.0 - (r - first).rem_euclid(180.0)) < 1e-9)
+    {
+        return Ok(());
+    }
+    Err(InputError::invalid(
+        t.file(),
+        &t.path("rotations_deg"),
+        format!("{rotations_deg:?}"),
+        format!(
+            "process {process:?} cuts the prepreg ply by ply, so the rotations of a prepreg part must keep its fibre direction: all equal modulo 180 degrees (e.g. [0, 180])"
+        ),
+    ))
+}
+
 /// One `[[part]]`: a drawing's parts, how many of each, on which sheets, at which rotations.
 fn part_orders(
     t: &TableReader<'_>,
@@ -183,17 +210,6 @@ fn part_orders(
         .unwrap_or("prepreg");
     let (sheet, spec, default_rotations) = match sheet_name {
         "prepreg" => {
-            if template.passive_cut == PassiveCut::PlyByPly {
-                return Err(InputError::invalid(
-                    path,
-                    &t.path("sheet"),
-                    "\"prepreg\"",
-                    format!(
-                        "process {:?} cuts the prepreg ply by ply; extra parts are cut from the laid-up stack (passive_cut = \"stack\")",
-                        template.name
-                    ),
-                ));
-            }
             let layup_deg = t.numbers_in("layup_deg", PLY_ANGLE_DEG, 1, MAX_PLIES)?;
             let layups: Vec<String> = items.iter().map(|i| i.design.layup_text()).collect();
             let like = items
@@ -260,6 +276,17 @@ fn part_orders(
     let rotations_deg = t
         .optional_numbers_in("rotations_deg", PART_ROTATION_DEG, 1, 360)?
         .unwrap_or(default_rotations);
+    // The turn of each sheet the part is cut from: none on the laid-up stack, -θ on the sheet of a
+    // ply at θ (ply-by-ply cutting, as the actuators' plies).
+    let by_ply =
+        matches!(sheet, PartSheet::Prepreg { .. }) && template.passive_cut == PassiveCut::PlyByPly;
+    let ply_turns_deg: Vec<f64> = match &sheet {
+        PartSheet::Prepreg { layup_deg, .. } if by_ply => {
+            one_fibre_direction(t, &rotations_deg, &template.name)?;
+            layup_deg.iter().map(|a| -a).collect()
+        }
+        _ => vec![0.0],
+    };
     let name = t.optional_string("name", "a part name (text)")?;
     t.finish()?;
     let drawing = existing_file(t, "file", base, file, "no such drawing")?;
@@ -275,8 +302,12 @@ fn part_orders(
         .into_iter()
         .enumerate()
         .map(|(k, part)| {
-            let (fits, size) = fits_sheet(&part.outer, &rotations_deg, &spec);
-            if !fits {
+            for (ply, turn) in ply_turns_deg.iter().enumerate() {
+                let turned: Vec<f64> = rotations_deg.iter().map(|r| r + turn).collect();
+                let (fits, size) = fits_sheet(&part.outer, &turned, &spec);
+                if fits {
+                    continue;
+                }
                 let sheet = if spec.roll {
                     format!("the {sheet_name} roll ({} mm wide)", spec.width_mm)
                 } else {
@@ -289,9 +320,14 @@ fn part_orders(
                     &drawing,
                     &part.entity,
                     format!(
-                        "part too large: {:.3} x {:.3} mm at its best allowed rotation does not fit {sheet} with {} mm (kerf + spacing) to every edge",
+                        "part too large: {:.3} x {:.3} mm at its best allowed rotation{} does not fit {sheet} with {} mm (kerf + spacing) to every edge",
                         size[0],
                         size[1],
+                        if by_ply {
+                            format!(" for ply {} (turned by {turn} deg to its fibre angle)", ply + 1)
+                        } else {
+                            String::new()
+                        },
                         spec.kerf_mm + spec.spacing_mm
                     ),
                 ));

@@ -5,6 +5,7 @@
 use super::file::Batch;
 use crate::parts::PartSheet;
 use crate::pipeline::{BaselineRow, Build, NestOptions, WORKERS};
+use crate::process::template::PassiveCut;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -29,6 +30,10 @@ pub struct PartItemRow {
     /// `prepreg, layup [0/90/0]` or `pyralux`.
     pub sheet: String,
     pub rotations_deg: Vec<f64>,
+    /// Ply-by-ply cutting: the pieces cut of each part, one per ply of its layup, each on its ply's
+    /// sheet turned to the ply's fibre angle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pieces_per_part: Option<usize>,
     /// Outline less cut-outs, as flattened (arcs within 0.01 mm), mm².
     pub area_mm2: f64,
     pub cutouts: usize,
@@ -144,6 +149,7 @@ impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
     pub fn new(batch: &Batch, opts: &NestOptions, built: &Build) -> NestReport {
         let t = &batch.template;
+        let by_ply = t.passive_cut == PassiveCut::PlyByPly;
         // Jobs after the designs are the extra parts, in batch order.
         let design_name = |job: usize| match batch.items.get(job) {
             Some(item) => item.design.name.clone(),
@@ -254,12 +260,20 @@ impl NestReport {
                     entity: p.part.entity.clone(),
                     quantity: p.quantity,
                     sheet: match &p.sheet {
+                        PartSheet::Prepreg { like, .. } if by_ply => format!(
+                            "prepreg, layup {}, cut ply by ply",
+                            batch.items[*like].design.layup_text()
+                        ),
                         PartSheet::Prepreg { like, .. } => {
                             format!("prepreg, layup {}", batch.items[*like].design.layup_text())
                         }
                         PartSheet::Pyralux => "pyralux".into(),
                     },
                     rotations_deg: p.rotations_deg.clone(),
+                    pieces_per_part: match &p.sheet {
+                        PartSheet::Prepreg { layup_deg, .. } if by_ply => Some(layup_deg.len()),
+                        _ => None,
+                    },
                     area_mm2: p.part.area_mm2(),
                     cutouts: p.part.holes.len(),
                 })

@@ -152,12 +152,12 @@ pub fn build_into<'s>(
             if names.name_designs {
                 layer.material = format!("{}, layup {layup}", layer.material);
             }
-            // Extra parts of this layup go on the same sheets (the batch allows them only when the
-            // stack is cut as one, so there is one layer per layup).
+            // Extra parts of this layup go on the same sheets: on the stack's one layer, or on
+            // every ply's layer, turned to that ply's angle (ply-by-ply cutting).
             for (k, order) in parts.iter().enumerate() {
                 if let PartSheet::Prepreg { like, .. } = order.sheet {
                     if group.iter().any(|(i, _)| *i == like) {
-                        let item = extra_item(jobs.len() + k, order, &layer.spec, names)?;
+                        let item = extra_item(jobs.len() + k, order, &layer, names)?;
                         layer.items.push(item);
                     }
                 }
@@ -168,7 +168,7 @@ pub fn build_into<'s>(
     if let Some(mut layer) = pyralux_layer(&jobs, template, None)? {
         for (k, order) in parts.iter().enumerate() {
             if order.sheet == PartSheet::Pyralux {
-                let item = extra_item(jobs.len() + k, order, &layer.spec, names)?;
+                let item = extra_item(jobs.len() + k, order, &layer, names)?;
                 layer.items.push(item);
             }
         }

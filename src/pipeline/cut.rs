@@ -76,6 +76,9 @@ pub struct CutLayer {
     pub items: Vec<CutItem>,
     /// Operation of each feature, from the template.
     pub features: FeatureMap,
+    /// The fibre angle of the one ply this layer cuts (ply-by-ply cutting), degrees CCW from a
+    /// part's axis; `None` for a layer cut from the laid-up stack or with no fibres.
+    pub ply_deg: Option<f64>,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -167,6 +170,7 @@ pub fn passive_layers(
                 spec: spec.clone(),
                 items,
                 features: template.features,
+                ply_deg: None,
             }])
         }
         PassiveCut::PlyByPly => {
@@ -182,6 +186,7 @@ pub fn passive_layers(
                     spec: spec.clone(),
                     items: Vec::new(),
                     features: template.features,
+                    ply_deg: Some(*angle),
                 })
                 .collect();
             for (i, job) in jobs {
@@ -285,6 +290,7 @@ pub fn pyralux_layer(
         spec: spec.clone(),
         items,
         features: template.features,
+        ply_deg: None,
     }))
 }
 
@@ -372,13 +378,16 @@ pub fn draw_cut_sheets(
 
 /// An extra part from a drawing as an item of a cut layer: outline and cut-outs with their cut
 /// paths (outline grown, cut-outs shrunk by kerf/2), no label. `job` numbers it after the
-/// build's designs.
+/// build's designs. On a layer that cuts one ply of the layup ([`CutLayer::ply_deg`]) the part is
+/// turned by -θ first, as the actuators' plies are: the sheet's fibres, along its y axis, then run
+/// at +θ from the part's drawn x-y frame, and the part's own rotations come on top of that turn.
 pub fn extra_item(
     job: usize,
     order: &PartOrder,
-    spec: &SheetSpec,
+    layer: &CutLayer,
     names: &Names,
 ) -> Result<CutItem, BuildError> {
+    let spec = &layer.spec;
     let part = &order.part;
     let owner = format!(
         "part {} ({}: {})",
@@ -386,6 +395,16 @@ pub fn extra_item(
         part.file.display(),
         part.entity
     );
+    let turn = -layer.ply_deg.unwrap_or(0.0);
+    let turned = |ring: &[Point]| {
+        if turn == 0.0 {
+            ring.to_vec()
+        } else {
+            place_ring(ring, turn, [0.0, 0.0])
+        }
+    };
+    let outer = turned(&part.outer);
+    let cutouts: Vec<Vec<Point>> = part.holes.iter().map(|h| turned(h)).collect();
     let offset = |ring: &[Point], delta: f64, what: &str| {
         if delta == 0.0 {
             return Ok(ring.to_vec());
@@ -400,19 +419,18 @@ pub fn extra_item(
     Ok(CutItem {
         job,
         part: "part".into(),
-        nominal: part.outer.clone(),
-        cut: offset(&part.outer, spec.kerf_mm / 2.0, "outline")?,
+        cut: offset(&outer, spec.kerf_mm / 2.0, "outline")?,
+        nominal: outer,
         holes: Vec::new(),
         hole: Feature::RegistrationHole,
         per_actuator: 1,
         count: order.quantity,
         label: Label::None,
-        cutout_paths: part
-            .holes
+        cutout_paths: cutouts
             .iter()
             .map(|h| offset(h, -spec.kerf_mm / 2.0, "cut-out"))
             .collect::<Result<_, _>>()?,
-        cutouts: part.holes.clone(),
+        cutouts,
         rotations_deg: order.rotations_deg.clone(),
         owner,
     })
