@@ -287,6 +287,22 @@ const ITEMS: &str = "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 6\n\n[[ite
 
 const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nrotations_deg = [0, 90, 180, 270]\n";
 
+/// Nest `batch` into `out` with an iteration budget, writing SVG and DXF; it must succeed.
+fn nest_ok(batch: &Path, out: &Path, iterations: &str) -> std::process::Output {
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        iterations,
+        "--format",
+        "svg,dxf",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    o
+}
+
 fn report(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap()).unwrap()
 }
@@ -339,17 +355,7 @@ fn parts_from_a_dxf_and_an_svg_nest_with_actuators_and_read_back_with_their_area
     // files are the drawings' areas (closed forms above, within the flattening tolerance).
     let (dir, batch) = scratch(0.0, ITEMS, PARTS);
     let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        batch.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "60",
-        "--format",
-        "svg,dxf",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    nest_ok(&batch, &out, "60");
     let r = report(&out);
     let parts = r["parts"].as_array().unwrap();
     assert_eq!(parts.len(), 2);
@@ -450,17 +456,7 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
     let tail = "[sheets]\nprepreg = { width_mm = 80, strip = true }\n";
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        batch.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "60",
-        "--format",
-        "svg,dxf",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = nest_ok(&batch, &out, "60");
     let r = report(&out);
     let passive: Vec<&serde_json::Value> = r["sheets"]
         .as_array()
@@ -503,6 +499,159 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
     assert!(stdout(&o).contains("mm of roll"), "{}", stdout(&o));
 }
 
+#[test]
+fn a_priced_roll_reports_its_cost_beside_the_same_parts_on_cut_sheets() {
+    // 80 mm roll at 47.5 per metre, compared with 80 x 60 mm sheets at 3.25 each.
+    let tail = "[sheets]\nprepreg = { width_mm = 80, strip = true, price_per_m = 47.5, \
+                compare_with = { width_mm = 80, height_mm = 60, price_per_sheet = 3.25 } }\n";
+    let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
+    let out = dir.path().join("out");
+    nest_ok(&batch, &out, "40");
+    let r = report(&out);
+    let sheets = r["sheets"].as_array().unwrap();
+    let rolls = r["rolls"].as_array().unwrap();
+    assert_eq!(rolls.len(), 2, "one strip per layup");
+    let mut roll_total = 0.0;
+    for roll in rolls {
+        let stem = roll["file_stem"].as_str().unwrap();
+        let sheet = sheets.iter().find(|s| s["file_stem"] == stem).unwrap();
+        // The length priced is the strip as drawn: the sheet row and the SVG page.
+        let length = roll["length_mm"].as_f64().unwrap();
+        assert_eq!(sheet["height_mm"].as_f64().unwrap(), length);
+        let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
+        assert!(svg.contains(&format!(
+            "height=\"{}mm\"",
+            actuator_cam::cam::svg::fmt_mm(length)
+        )));
+        assert_eq!(roll["width_mm"], 80.0);
+        assert_eq!(roll["price_per_m"], 47.5);
+        let cost = roll["cost"].as_f64().unwrap();
+        assert!(
+            (cost - length / 1000.0 * 47.5).abs() < 1e-12,
+            "{cost} for {length} mm"
+        );
+        roll_total += cost;
+        // The same parts on 80 x 60 mm sheets: at least their area's worth of sheets (part area
+        // from the strip's utilisation), at most one sheet per part.
+        let alt = &roll["on_sheets"];
+        assert_eq!(
+            (alt["width_mm"].as_f64(), alt["height_mm"].as_f64()),
+            (Some(80.0), Some(60.0))
+        );
+        let n = alt["sheets"].as_u64().unwrap() as f64;
+        let part_area = sheet["utilization"].as_f64().unwrap() * 80.0 * length;
+        assert!(n >= (part_area / (80.0 * 60.0)).ceil(), "{n} sheets");
+        assert!(n <= sheet["parts"].as_array().unwrap().len() as f64);
+        assert_eq!(alt["cost"].as_f64().unwrap(), 3.25 * n);
+        // The material the roll's strip is of, in the totals.
+        let total = r["totals"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["material"] == roll["material"])
+            .unwrap();
+        assert_eq!(total["roll_length_mm"].as_f64().unwrap(), length);
+        assert_eq!(total["cost"].as_f64().unwrap(), cost);
+    }
+    // Nothing else is priced: the batch's cost is the roll's.
+    assert!((r["total_cost"].as_f64().unwrap() - roll_total).abs() < 1e-12);
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("## Roll stock against cut sheets"), "{md}");
+    let first = &rolls[0];
+    assert!(
+        md.contains(&format!(
+            "| `{}` | {} | 80 | {:.1} | 47.50 | {:.2} | 80 x 60 mm: {} | {:.2} |",
+            first["file_stem"].as_str().unwrap(),
+            first["material"].as_str().unwrap(),
+            first["length_mm"].as_f64().unwrap(),
+            first["cost"].as_f64().unwrap(),
+            first["on_sheets"]["sheets"],
+            first["on_sheets"]["cost"].as_f64().unwrap()
+        )),
+        "{md}"
+    );
+}
+
+#[test]
+fn a_roll_without_compare_with_is_compared_with_the_template_sheet() {
+    // The scratch template's prepreg sheet is 150 x 150 mm with no price: the sheets are counted,
+    // their cost is unknown. An unpriced roll has no comparison and no cost.
+    let tail = "[sheets]\nprepreg = { width_mm = 80, strip = true, price_per_m = 40 }\n";
+    let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
+    let out = dir.path().join("out");
+    nest_ok(&batch, &out, "20");
+    let r = report(&out);
+    for roll in r["rolls"].as_array().unwrap() {
+        let alt = &roll["on_sheets"];
+        assert_eq!(
+            (alt["width_mm"].as_f64(), alt["height_mm"].as_f64()),
+            (Some(150.0), Some(150.0))
+        );
+        assert!(alt["sheets"].as_u64().unwrap() >= 1);
+        assert!(alt["cost"].is_null() && alt["price_per_sheet"].is_null());
+    }
+    let tail = "[sheets]\nprepreg = { width_mm = 80, strip = true }\n";
+    let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
+    let out = dir.path().join("out");
+    nest_ok(&batch, &out, "20");
+    let r = report(&out);
+    for roll in r["rolls"].as_array().unwrap() {
+        assert!(
+            roll["cost"].is_null() && roll["on_sheets"].is_null(),
+            "{roll}"
+        );
+        assert!(roll["length_mm"].as_f64().unwrap() > 0.0);
+    }
+    assert!(r["total_cost"].is_null());
+}
+
+#[test]
+fn bad_roll_prices_are_refused_in_one_line() {
+    let cases = [
+        (
+            "prepreg = { width_mm = 80, strip = true, price_per_m = -1 }",
+            "sheets.prepreg.price_per_m = -1: outside the allowed range [0, 1000000000] per m",
+        ),
+        (
+            "prepreg = { width_mm = 80, strip = true, price_per_m = nan }",
+            "sheets.prepreg.price_per_m = NaN: outside the allowed range [0, 1000000000] per m",
+        ),
+        (
+            "prepreg = { width_mm = 80, strip = true, price_per_sheet = 3 }",
+            "sheets.prepreg.price_per_sheet = (given): a roll (strip = true) is priced by its length: price_per_m",
+        ),
+        (
+            "prepreg = { width_mm = 80, strip = true, compare_with = { width_mm = 80, height_mm = 60 } }",
+            "sheets.prepreg.compare_with = (given): the sheet comparison is of costs: give the roll's price_per_m too",
+        ),
+        (
+            "prepreg = { width_mm = 80, height_mm = 80, price_per_m = 3 }",
+            "sheets.prepreg.price_per_m = (given): only roll stock (strip = true) is priced by the metre",
+        ),
+        (
+            "prepreg = { width_mm = 80, strip = true, price_per_m = 3, compare_with = { width_mm = 80, height_mm = 0 } }",
+            "sheets.prepreg.compare_with.height_mm = 0: outside the allowed range (0, 2000] mm",
+        ),
+        (
+            "prepreg = { width_mm = 80, strip = true, price_per_m = 3, compare_with = { width_mm = 80, height_mm = 60, price_per_m = 2 } }",
+            "sheets.prepreg.compare_with.price_per_m = 2: unknown key",
+        ),
+    ];
+    for (line, want) in cases {
+        let (dir, batch) = scratch(0.05, ITEMS, &format!("[sheets]\n{line}\n"));
+        let out = dir.path().join("out");
+        let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert!(!o.status.success(), "{line}");
+        assert!(!out.exists(), "{line}: nothing is written");
+        let err = stderr(&o);
+        assert_eq!(err.trim_end().lines().count(), 1, "{line}: {err}");
+        assert!(
+            err.starts_with(&format!("error: {}: {want}", batch.display())),
+            "{line}: {err}"
+        );
+    }
+}
+
 // ---- Ply-by-ply cutting ----------------------------------------------------------------------
 
 /// [`scratch`] with the prepreg cut ply by ply, and 2 mm base tabs on the designs (room for the
@@ -543,17 +692,7 @@ fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
                  [[part]]\nfile = \"parts/flexure.svg\"\nquantity = 2\nlayup_deg = [0, 0, 90, 0, 0]\n";
     let (dir, batch) = scratch_ply_by_ply(0.0, ITEMS, parts);
     let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        batch.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "40",
-        "--format",
-        "svg,dxf",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    nest_ok(&batch, &out, "40");
     let r = report(&out);
     let rows = r["parts"].as_array().unwrap();
     assert_eq!(rows[0]["sheet"], "prepreg, layup 0/90/0, cut ply by ply");

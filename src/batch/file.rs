@@ -5,7 +5,7 @@ use crate::cutsheet::{design_for_process, Template};
 use crate::design::Design;
 use crate::input::limits::{
     MAX_ITERATIONS, MAX_PLIES, MAX_QUANTITY, MAX_STOCK, PART_ROTATION_DEG, PLY_ANGLE_DEG, PRICE,
-    SHEET_SIDE_MM, SPACING_MM,
+    PRICE_PER_M, SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
 use crate::parts::{import, PartOrder, PartSheet};
@@ -14,7 +14,7 @@ use cam_geometry::{place_ring, Bounds};
 use std::path::{Path, PathBuf};
 
 /// A sheet override from `[sheets]`: size, and optionally stock and price; or, with
-/// `strip = true`, roll stock of a width (no height, no stock).
+/// `strip = true`, roll stock of a width (no height, no stock), optionally priced by the metre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetOverride {
     /// Sheet (or roll) width, mm.
@@ -27,10 +27,28 @@ pub struct SheetOverride {
     pub stock: Option<usize>,
     /// Price of one sheet.
     pub price_per_sheet: Option<f64>,
+    /// Roll stock: its price per metre and the sheets it is compared with.
+    pub roll_price: Option<RollPrice>,
+}
+
+/// What a metre of roll stock costs, and the cut sheets a lab would buy instead (`compare_with`,
+/// by default the process template's sheet): the report nests the roll's parts on those sheets
+/// too and sets the two costs side by side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RollPrice {
+    /// Price of one metre of the roll (at its width), any currency.
+    pub price_per_m: f64,
+    /// The sheet alternative: width, mm.
+    pub sheet_width_mm: f64,
+    /// The sheet alternative: height, mm.
+    pub sheet_height_mm: f64,
+    /// The sheet alternative: price of one sheet, if known.
+    pub price_per_sheet: Option<f64>,
 }
 
 impl SheetOverride {
-    /// The template's sheet with this size, stock and price.
+    /// The template's sheet with this size, stock and price (a roll has no sheet price: it is
+    /// priced by the metre, [`RollPrice`]).
     pub fn apply(&self, spec: &SheetSpec) -> SheetSpec {
         SheetSpec {
             width_mm: self.width_mm,
@@ -40,7 +58,11 @@ impl SheetOverride {
             } else {
                 self.stock.or(spec.stock)
             },
-            price_per_sheet: self.price_per_sheet.or(spec.price_per_sheet),
+            price_per_sheet: if self.strip {
+                None
+            } else {
+                self.price_per_sheet.or(spec.price_per_sheet)
+            },
             roll: self.strip,
             ..spec.clone()
         }
@@ -71,13 +93,22 @@ pub struct Batch {
     pub iterations: Option<usize>,
     /// Extra parts from drawings (`[[part]]`), in file order.
     pub parts: Vec<PartOrder>,
+    /// Prices of the prepreg roll (`[sheets] prepreg = { strip = true, price_per_m }`).
+    pub prepreg_roll: Option<RollPrice>,
+    /// Prices of the Pyralux roll.
+    pub pyralux_roll: Option<RollPrice>,
     /// The batch file.
     pub source: PathBuf,
 }
 
-/// `{ width_mm, height_mm, stock?, price_per_sheet? }`, or `{ width_mm, strip = true, price? }`
-/// where `roll` says the material may come on a roll.
-fn sheet_override(t: &TableReader<'_>, roll: bool) -> Result<SheetOverride, InputError> {
+/// `{ width_mm, height_mm, stock?, price_per_sheet? }`, or `{ width_mm, strip = true, price_per_m?,
+/// compare_with? }` where `roll` says the material may come on a roll; `template` is the sheet the
+/// template gives (a roll's default `compare_with`).
+fn sheet_override(
+    t: &TableReader<'_>,
+    roll: bool,
+    template: &SheetSpec,
+) -> Result<SheetOverride, InputError> {
     let strip = t.optional_bool("strip")?.unwrap_or(false);
     if strip && !roll {
         return Err(InputError::invalid(
@@ -89,30 +120,70 @@ fn sheet_override(t: &TableReader<'_>, roll: bool) -> Result<SheetOverride, Inpu
     }
     let width_mm = t.number_in("width_mm", SHEET_SIDE_MM)?;
     let s = if strip {
-        for key in ["height_mm", "stock"] {
+        for (key, why) in [
+            ("height_mm", "a roll (strip = true) has a width only: the nest uses the length it needs and reports it"),
+            ("stock", "a roll (strip = true) has a width only: the nest uses the length it needs and reports it"),
+            ("price_per_sheet", "a roll (strip = true) is priced by its length: price_per_m (the sheets it is compared with go in compare_with = { width_mm, height_mm, price_per_sheet })"),
+        ] {
             if t.has(key) {
-                return Err(InputError::invalid(
-                    t.file(),
-                    &t.path(key),
-                    "(given)",
-                    "a roll (strip = true) has a width only: the nest uses the length it needs and reports it",
-                ));
+                return Err(InputError::invalid(t.file(), &t.path(key), "(given)", why));
             }
         }
+        let price_per_m = t.optional_number_in("price_per_m", PRICE_PER_M)?;
+        let compare = t.optional_table("compare_with")?;
+        if compare.is_some() && price_per_m.is_none() {
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path("compare_with"),
+                "(given)",
+                "the sheet comparison is of costs: give the roll's price_per_m too",
+            ));
+        }
+        let roll_price = match (price_per_m, compare) {
+            (None, _) => None,
+            (Some(price_per_m), None) => Some(RollPrice {
+                price_per_m,
+                sheet_width_mm: template.width_mm,
+                sheet_height_mm: template.height_mm,
+                price_per_sheet: template.price_per_sheet,
+            }),
+            (Some(price_per_m), Some(c)) => {
+                let r = RollPrice {
+                    price_per_m,
+                    sheet_width_mm: c.number_in("width_mm", SHEET_SIDE_MM)?,
+                    sheet_height_mm: c.number_in("height_mm", SHEET_SIDE_MM)?,
+                    price_per_sheet: c.optional_number_in("price_per_sheet", PRICE)?,
+                };
+                c.finish()?;
+                Some(r)
+            }
+        };
         SheetOverride {
             width_mm,
             height_mm: None,
             strip,
             stock: None,
-            price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+            price_per_sheet: None,
+            roll_price,
         }
     } else {
+        for key in ["price_per_m", "compare_with"] {
+            if t.has(key) {
+                return Err(InputError::invalid(
+                    t.file(),
+                    &t.path(key),
+                    "(given)",
+                    "only roll stock (strip = true) is priced by the metre; a sheet has price_per_sheet",
+                ));
+            }
+        }
         SheetOverride {
             width_mm,
             height_mm: Some(t.number_in("height_mm", SHEET_SIDE_MM)?),
             strip,
             stock: t.optional_count("stock", 1, MAX_STOCK)?,
             price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
+            roll_price: None,
         }
     };
     t.finish()?;
@@ -348,6 +419,15 @@ fn part_orders(
 }
 
 impl Batch {
+    /// The price of the roll a cut layer (`passive…` or `pyralux`) is nested on, if it is priced.
+    pub fn roll_price(&self, layer: &str) -> Option<RollPrice> {
+        if layer == "pyralux" {
+            self.pyralux_roll
+        } else {
+            self.prepreg_roll
+        }
+    }
+
     /// Read and validate a batch file and every design it names.
     pub fn load(path: &Path) -> Result<Batch, InputError> {
         let table = read_toml(path)?;
@@ -387,26 +467,28 @@ impl Batch {
             items.push(BatchItem { design, quantity });
         }
         let (mut template, _, _) = template.expect("tables() returns at least one item");
+        let (mut prepreg_roll, mut pyralux_roll) = (None, None);
         if let Some(s) = root.optional_table("sheets")? {
             if let Some(t) = s.optional_table("pzt")? {
-                template.pzt = sheet_override(&t, false)?.apply(&template.pzt);
+                template.pzt = sheet_override(&t, false, &template.pzt)?.apply(&template.pzt);
             }
             if let Some(t) = s.optional_table("prepreg")? {
-                template.passive = sheet_override(&t, true)?.apply(&template.passive);
+                let o = sheet_override(&t, true, &template.passive)?;
+                template.passive = o.apply(&template.passive);
+                prepreg_roll = o.roll_price;
             }
             if let Some(t) = s.optional_table("pyralux")? {
-                let o = sheet_override(&t, true)?;
-                match &mut template.bond {
-                    Some(b) => b.sheet = o.apply(&b.sheet),
-                    None => {
-                        return Err(InputError::invalid(
-                            path,
-                            &t.path("width_mm").replace(".width_mm", ""),
-                            "(table)",
-                            format!("process {:?} has no Pyralux layer", template.name),
-                        ))
-                    }
-                }
+                let Some(b) = &mut template.bond else {
+                    return Err(InputError::invalid(
+                        path,
+                        &t.path("width_mm").replace(".width_mm", ""),
+                        "(table)",
+                        format!("process {:?} has no Pyralux layer", template.name),
+                    ));
+                };
+                let o = sheet_override(&t, true, &b.sheet)?;
+                pyralux_roll = o.roll_price;
+                b.sheet = o.apply(&b.sheet);
             }
             if let Some(spacing) = s.optional_number_in("spacing_mm", SPACING_MM)? {
                 template.passive.spacing_mm = spacing;
@@ -430,6 +512,8 @@ impl Batch {
             template,
             iterations,
             parts,
+            prepreg_roll,
+            pyralux_roll,
             source: path.to_path_buf(),
         })
     }

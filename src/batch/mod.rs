@@ -6,6 +6,6 @@ pub mod plan;
 pub mod report;
 
 pub use crate::pipeline::{BaselineRow, NestOptions, WORKERS};
-pub use file::{Batch, BatchItem, SheetOverride};
+pub use file::{Batch, BatchItem, RollPrice, SheetOverride};
 pub use plan::{plan, plan_observed, Planned};
 pub use report::NestReport;

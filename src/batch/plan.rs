@@ -3,9 +3,11 @@
 //! Nothing is written here.
 
 use super::file::Batch;
+use super::file::RollPrice;
 use super::report::NestReport;
 use crate::pipeline::{
-    build, BuildError, Names, NestObserver, NestOptions, Packing, SheetDrawing, Unobserved,
+    build, sheets_instead_of_roll, BuildError, Names, NestObserver, NestOptions, Packing,
+    SheetDrawing, Unobserved,
 };
 
 /// Everything a batch run produces, in memory, before anything is written.
@@ -46,7 +48,44 @@ pub fn plan_observed(
         &names,
         &Packing::Irregular(*opts, observer),
     )?;
-    let report = NestReport::new(batch, opts, &built);
+    // A priced roll is compared with the cut sheets a lab would buy instead: its parts are nested
+    // on those too (one more job per roll layer).
+    let priced: Vec<(usize, RollPrice)> = built
+        .cut_layers
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.layer.spec.roll)
+        .filter_map(|(i, l)| batch.roll_price(&l.layer.layer).map(|p| (i, p)))
+        .collect();
+    let mut on_sheets = vec![None; built.cut_layers.len()];
+    for (k, (i, price)) in priced.iter().enumerate() {
+        let layer = &built.cut_layers[*i].layer;
+        let label = format!(
+            "{} on {} x {} mm sheets instead of the roll",
+            layer.layer, price.sheet_width_mm, price.sheet_height_mm
+        );
+        let copies = layer.items.iter().map(|i| i.count).sum();
+        observer.layer(k, priced.len(), &label, copies);
+        let sheets = sheets_instead_of_roll(
+            layer,
+            price.sheet_width_mm,
+            price.sheet_height_mm,
+            opts,
+            observer,
+            &names,
+        )
+        .map_err(|e| match e {
+            BuildError::Geometry { file, what } => BuildError::Geometry {
+                file,
+                what: format!(
+                    "the sheets a roll is compared with (compare_with, default the process template's sheet): {what}"
+                ),
+            },
+            other => other,
+        })?;
+        on_sheets[*i] = Some(sheets);
+    }
+    let report = NestReport::new(batch, opts, &built, &on_sheets);
     Ok(Planned {
         drawings: built.drawings,
         report,

@@ -94,14 +94,49 @@ pub struct PanelRow {
     pub actuators: Vec<ActuatorRef>,
 }
 
-/// Sheets of one material.
+/// Sheets of one material (a roll's strips: their length and price per metre too).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TotalRow {
     pub layer: String,
     pub material: String,
     pub sheets: usize,
     pub price_per_sheet: Option<f64>,
+    /// Roll stock: the length of roll used by these strips, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub roll_length_mm: Option<f64>,
+    /// Roll stock: the price of a metre of roll.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub price_per_m: Option<f64>,
     pub cost: Option<f64>,
+}
+
+/// The cut sheets a priced roll is compared with: the same parts nested on them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SheetAlternativeRow {
+    pub width_mm: f64,
+    pub height_mm: f64,
+    /// Sheets the parts take.
+    pub sheets: usize,
+    pub price_per_sheet: Option<f64>,
+    /// Sheets x price per sheet, when the sheet has a price.
+    pub cost: Option<f64>,
+}
+
+/// One strip of roll stock: the length used, its cost when the roll is priced, and the cut sheets
+/// it is compared with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RollRow {
+    pub layer: String,
+    pub material: String,
+    pub file_stem: String,
+    pub width_mm: f64,
+    /// Roll used, as drawn (the nest's used length rounded up to 0.1 mm), mm.
+    pub length_mm: f64,
+    pub price_per_m: Option<f64>,
+    /// Length in metres x price per metre.
+    pub cost: Option<f64>,
+    /// The same parts on cut sheets (priced rolls only).
+    pub on_sheets: Option<SheetAlternativeRow>,
 }
 
 /// `nest-report.json`.
@@ -125,29 +160,60 @@ pub struct NestReport {
     pub totals: Vec<TotalRow>,
     /// Sum of the costs, when every cut material has a price.
     pub total_cost: Option<f64>,
+    /// Strips of roll stock: length used, cost, and the cut sheets compared (only with a roll).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub rolls: Vec<RollRow>,
     pub placement_map: Vec<String>,
     pub files: Vec<String>,
 }
 
-fn total(rows: &mut Vec<TotalRow>, layer: &str, material: &str, sheets: usize, price: Option<f64>) {
+/// Add `sheets` of a material to the totals; `roll`: the length of roll they use, mm, and the price
+/// per metre.
+fn total(
+    rows: &mut Vec<TotalRow>,
+    layer: &str,
+    material: &str,
+    sheets: usize,
+    price: Option<f64>,
+    roll: Option<(f64, Option<f64>)>,
+) {
     match rows
         .iter_mut()
         .find(|r| r.layer == layer && r.material == material)
     {
-        Some(r) => r.sheets += sheets,
+        Some(r) => {
+            r.sheets += sheets;
+            if let (Some(total), Some((length, _))) = (&mut r.roll_length_mm, roll) {
+                *total += length;
+            }
+        }
         None => rows.push(TotalRow {
             layer: layer.into(),
             material: material.into(),
             sheets,
             price_per_sheet: price,
+            roll_length_mm: roll.map(|(length, _)| length),
+            price_per_m: roll.and_then(|(_, p)| p),
             cost: None,
         }),
     }
 }
 
+/// The cost of `length_mm` of roll at `price_per_m`.
+fn roll_cost(length_mm: f64, price_per_m: f64) -> f64 {
+    length_mm * price_per_m / 1000.0
+}
+
 impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
-    pub fn new(batch: &Batch, opts: &NestOptions, built: &Build) -> NestReport {
+    /// `on_sheets[i]`: the sheets the parts of cut layer `i`, nested on a priced roll, take on the
+    /// roll's compared sheets (`None` for the other layers).
+    pub fn new(
+        batch: &Batch,
+        opts: &NestOptions,
+        built: &Build,
+        on_sheets: &[Option<usize>],
+    ) -> NestReport {
         let t = &batch.template;
         let by_ply = t.passive_cut == PassiveCut::PlyByPly;
         // Jobs after the designs are the extra parts, in batch order.
@@ -197,7 +263,44 @@ impl NestReport {
                 "pyralux" => t.bond.as_ref().and_then(|b| b.sheet.price_per_sheet),
                 _ => t.passive.price_per_sheet,
             };
-            total(&mut totals, &s.layer, &s.material, 1, price);
+            let roll = s.roll.then(|| {
+                (
+                    s.height_mm,
+                    batch.roll_price(&s.layer).map(|p| p.price_per_m),
+                )
+            });
+            total(&mut totals, &s.layer, &s.material, 1, price, roll);
+        }
+        // Each cut layer on a roll is one strip: its sheet row follows the sheets of the layers
+        // before it.
+        let mut rolls = Vec::new();
+        let mut first_sheet = built.pzt_sheets;
+        for (i, l) in built.cut_layers.iter().enumerate() {
+            let sheet = &sheets[first_sheet];
+            first_sheet += l.sheets;
+            if !l.layer.spec.roll {
+                continue;
+            }
+            let price = batch.roll_price(&l.layer.layer);
+            let length_mm = sheet.height_mm;
+            rolls.push(RollRow {
+                layer: sheet.layer.clone(),
+                material: sheet.material.clone(),
+                file_stem: sheet.file_stem.clone(),
+                width_mm: sheet.width_mm,
+                length_mm,
+                price_per_m: price.map(|p| p.price_per_m),
+                cost: price.map(|p| roll_cost(length_mm, p.price_per_m)),
+                on_sheets: price
+                    .zip(on_sheets.get(i).copied().flatten())
+                    .map(|(p, n)| SheetAlternativeRow {
+                        width_mm: p.sheet_width_mm,
+                        height_mm: p.sheet_height_mm,
+                        sheets: n,
+                        price_per_sheet: p.price_per_sheet,
+                        cost: p.price_per_sheet.map(|c| c * n as f64),
+                    }),
+            });
         }
         let mut clamp_panels = Vec::new();
         for c in &built.clamps {
@@ -211,7 +314,7 @@ impl NestReport {
                         .map(|s| &s.material)
                         .unwrap_or(&t.mold.material)
                 };
-                total(&mut totals, kind, material, c.panels.len(), None);
+                total(&mut totals, kind, material, c.panels.len(), None, None);
             }
             for (p, members) in c.panels.iter().enumerate() {
                 clamp_panels.push(PanelRow {
@@ -228,7 +331,11 @@ impl NestReport {
             }
         }
         for r in &mut totals {
-            r.cost = r.price_per_sheet.map(|p| p * r.sheets as f64);
+            r.cost = match (r.roll_length_mm, r.price_per_m) {
+                (Some(length), Some(p)) => Some(roll_cost(length, p)),
+                (Some(_), None) => None,
+                _ => r.price_per_sheet.map(|p| p * r.sheets as f64),
+            };
         }
         let priced: Vec<&TotalRow> = totals.iter().filter(|r| r.cost.is_some()).collect();
         let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
@@ -287,6 +394,7 @@ impl NestReport {
             clamp_panels,
             totals,
             total_cost,
+            rolls,
             placement_map: built.placement_map.clone(),
             files: Vec::new(),
         }
@@ -407,18 +515,55 @@ impl NestReport {
         let _ = writeln!(s, "|---|---|---|---|---|");
         let money = |x: Option<f64>| x.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
         for r in &self.totals {
+            let (sheets, price) = match r.roll_length_mm {
+                Some(length) => (
+                    format!("{} strip(s), {length:.1} mm of roll", r.sheets),
+                    r.price_per_m
+                        .map(|p| format!("{p:.2}/m"))
+                        .unwrap_or_else(|| "-".into()),
+                ),
+                None => (r.sheets.to_string(), money(r.price_per_sheet)),
+            };
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} |",
+                "| {} | {} | {sheets} | {price} | {} |",
                 r.layer,
                 r.material,
-                r.sheets,
-                money(r.price_per_sheet),
                 money(r.cost)
             );
         }
         if let Some(c) = self.total_cost {
             let _ = writeln!(s, "\nMaterial cost of the priced sheets: **{c:.2}**.");
+        }
+        if !self.rolls.is_empty() {
+            let _ = writeln!(s, "\n## Roll stock against cut sheets\n");
+            let _ = writeln!(
+                s,
+                "| strip | material | width mm | roll used mm | price/m | roll cost | same parts on sheets | sheet cost |"
+            );
+            let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+            for r in &self.rolls {
+                let sheets = r
+                    .on_sheets
+                    .as_ref()
+                    .map(|a| format!("{} x {} mm: {}", a.width_mm, a.height_mm, a.sheets))
+                    .unwrap_or_else(|| "-".into());
+                let _ = writeln!(
+                    s,
+                    "| `{}` | {} | {} | {:.1} | {} | {} | {sheets} | {} |",
+                    r.file_stem,
+                    r.material,
+                    r.width_mm,
+                    r.length_mm,
+                    money(r.price_per_m),
+                    money(r.cost),
+                    money(r.on_sheets.as_ref().and_then(|a| a.cost))
+                );
+            }
+            let _ = writeln!(
+                s,
+                "\nA roll is priced by the length used as drawn (the nest's used length rounded up to 0.1 mm); the sheets are the same parts nested on the sheets the batch compares the roll with (`compare_with`, by default the process template's sheet), each sheet counted whole (its unused rest may be kept as a remnant)."
+            );
         }
         let _ = writeln!(s, "\n## Clamp panels\n");
         for p in &self.clamp_panels {

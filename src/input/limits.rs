@@ -114,6 +114,8 @@ pub const MAX_STOCK: i64 = 100_000;
 pub const PART_ROTATION_DEG: Range = Range::closed(-360.0, 360.0, "deg");
 /// Price of one sheet.
 pub const PRICE: Range = Range::closed(0.0, 1e9, "per sheet");
+/// Price of one metre of roll stock (its length, at the roll's width).
+pub const PRICE_PER_M: Range = Range::closed(0.0, 1e9, "per m");
 /// Engraved label text height.
 pub const LABEL_HEIGHT_MM: Range = Range::closed(0.0, 20.0, "mm");
 /// Registration pin hole radius.

@@ -32,7 +32,9 @@ pub use label::Label;
 pub use mold::{choose_mold, MoldChoice};
 pub use panel::panel_outline;
 pub use parts::PartGeometry;
-pub use place::{BaselineRow, NestObserver, NestOptions, Packing, Unobserved, WORKERS};
+pub use place::{
+    sheets_instead_of_roll, BaselineRow, NestObserver, NestOptions, Packing, Unobserved, WORKERS,
+};
 
 use crate::cam::drawing::Drawing;
 use thiserror::Error;

@@ -436,6 +436,26 @@ fn irregular(
     })
 }
 
+/// How many sheets of `width_mm` x `height_mm` (no stock limit) the parts of a layer nested on a
+/// roll would take instead: the irregular nester on the same parts, separation, seed and budget,
+/// checked by the same verifier. What a roll's cost is compared with.
+pub fn sheets_instead_of_roll(
+    layer: &CutLayer,
+    width_mm: f64,
+    height_mm: f64,
+    opts: &NestOptions,
+    observer: &dyn NestObserver,
+    names: &Names,
+) -> Result<usize, BuildError> {
+    let mut on_sheets = layer.clone();
+    on_sheets.spec.roll = false;
+    on_sheets.spec.stock = None;
+    on_sheets.spec.width_mm = width_mm;
+    on_sheets.spec.height_mm = height_mm;
+    let placed = irregular(&on_sheets, opts, observer, names)?;
+    Ok(placed.layouts.len())
+}
+
 /// The sheets of a nest as layouts of the layer's cut paths, each turned and moved as its part was.
 fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<SheetLayout> {
     solution
