@@ -424,31 +424,27 @@ fn parts_from_a_dxf_and_an_svg_nest_with_actuators_and_read_back_with_their_area
 }
 
 #[test]
-fn the_example_batch_with_parts_nests_and_is_deterministic() {
-    let dir = tempfile::tempdir().unwrap();
-    let batch = example_path("batch-with-parts.toml");
-    let a = dir.path().join("a");
-    let b = dir.path().join("b");
-    for out in [&a, &b] {
-        let o = run(&[
-            "nest",
-            batch.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--iterations",
-            "40",
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-    }
-    let (fa, fb) = (files(&a), files(&b));
-    assert_eq!(fa.keys().collect::<Vec<_>>(), fb.keys().collect::<Vec<_>>());
-    for (k, v) in &fa {
-        if k.ends_with(".dxf") || k.ends_with(".svg") {
-            assert_eq!(v, &fb[k], "{k} differs between two runs");
+fn the_example_batches_with_parts_nest_and_are_deterministic() {
+    // On sheets, and on a priced roll (the roll example: two layups, one strip each).
+    for (name, rolls) in [("batch-with-parts.toml", 0), ("batch-roll.toml", 2)] {
+        let dir = tempfile::tempdir().unwrap();
+        let batch = example_path(name);
+        let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+        for out in [&a, &b] {
+            nest_ok(&batch, out, "40");
         }
+        let (fa, fb) = (files(&a), files(&b));
+        assert_eq!(fa.keys().collect::<Vec<_>>(), fb.keys().collect::<Vec<_>>());
+        for (k, v) in &fa {
+            if k.ends_with(".dxf") || k.ends_with(".svg") {
+                assert_eq!(v, &fb[k], "{name}: {k} differs between two runs");
+            }
+        }
+        let r = report(&a);
+        assert_eq!(r["parts"].as_array().unwrap().len(), 2, "{name}");
+        let listed = r["rolls"].as_array().map_or(0, |v| v.len());
+        assert_eq!(listed, rolls, "{name}");
     }
-    let r = report(&a);
-    assert_eq!(r["parts"].as_array().unwrap().len(), 2);
 }
 
 #[test]

@@ -15,6 +15,11 @@ Cross-layer checks (issue 16):
          layer's colour is not the CUT layer's nor ACI 1 (red), and it is not plotted;
   report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
          tolerance below it (or the report carries its warning).
+  nest-report.json  every strip of roll stock (sheets[].roll): its DXF entities lie within the roll
+         width and the reported length, the highest cut outline ends within 2 mm below that length
+         (the separation and the 0.1 mm rounding), the SVG page is the roll width by that length, and
+         the rolls[] row's length is that sheet's; with a price, cost = length / 1000 x price_per_m,
+         and the cut sheets compared cost sheets x price_per_sheet.
   passive-*.dxf  no label lies in a bonded zone: every open polyline (a label stroke: outlines are
          closed, holes are circles) stays clear of every bonded zone, the closed polylines of the
          REFERENCE layer; labelled sheets must mark one zone per part (CUT outline), and with a
@@ -309,6 +314,63 @@ def check_report(path):
     return problems
 
 
+# How far below the reported strip length the highest cut outline may end: the separation (kerf +
+# spacing) above the last part plus the 0.1 mm rounding of the length. The examples' separation is
+# under 1 mm; 2 mm still catches a length that does not match the drawing.
+STRIP_SLACK_MM = 2.0
+
+
+def check_nest_report(path):
+    """Problems of one nest-report.json: each roll strip against its drawing, and its cost."""
+    import json
+
+    try:
+        report = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        return [f"unreadable: {exc}"]
+    problems = []
+    strips = {s["file_stem"]: s for s in report.get("sheets", []) if s.get("roll")}
+    rolls = {r["file_stem"]: r for r in report.get("rolls", [])}
+    if set(rolls) != set(strips):
+        problems.append(f"rolls[] lists {sorted(rolls)}, the sheets' strips are {sorted(strips)}")
+    for stem, sheet in strips.items():
+        width, length = sheet["width_mm"], sheet["height_mm"]
+        dxf_path = path.parent / f"{stem}.dxf"
+        if dxf_path.exists():
+            import ezdxf  # as in check_dxf: an SVG-only run works without it
+
+            doc = ezdxf.readfile(dxf_path)
+            points = [p for e in doc.modelspace() for p in dxf_points(e)]
+            outside = [p for p in points
+                       if not (-EPS <= p[0] <= width + EPS and -EPS <= p[1] <= length + EPS)]
+            if outside:
+                problems.append(f"{stem}: {len(outside)} point(s) outside the {width} mm roll by {length} mm")
+            cut_tops = [y for e in doc.modelspace() if e.dxf.layer == "CUT" and e.dxftype() == "LWPOLYLINE"
+                        for _, y, *_ in e.get_points()]
+            if not cut_tops:
+                problems.append(f"{stem}: no cut outline")
+            elif length - max(cut_tops) > STRIP_SLACK_MM:
+                problems.append(f"{stem}: reported length {length} mm, but the parts end at {max(cut_tops):.3f} mm")
+        svg_path = path.parent / f"{stem}.svg"
+        if svg_path.exists():
+            root = ET.parse(svg_path).getroot()
+            page = (mm_length(root.get("width", "")), mm_length(root.get("height", "")))
+            if page[0] is None or page[1] is None or abs(page[0] - width) > 1e-6 or abs(page[1] - length) > 1e-6:
+                problems.append(f"{stem}.svg: page {page}, the strip is {width} x {length} mm")
+        roll = rolls.get(stem)
+        if roll is None:
+            continue
+        if abs(roll["length_mm"] - length) > 1e-9 or abs(roll["width_mm"] - width) > 1e-9:
+            problems.append(f"{stem}: rolls[] says {roll['width_mm']} x {roll['length_mm']} mm, the sheet {width} x {length}")
+        price = roll.get("price_per_m")
+        if price is not None and abs(roll["cost"] - length / 1000.0 * price) > 1e-9:
+            problems.append(f"{stem}: roll cost {roll['cost']} is not {length} mm at {price}/m")
+        alt = roll.get("on_sheets")
+        if alt and alt.get("price_per_sheet") is not None and abs(alt["cost"] - alt["sheets"] * alt["price_per_sheet"]) > 1e-9:
+            problems.append(f"{stem}: the compared sheets' cost {alt['cost']} is not {alt['sheets']} x {alt['price_per_sheet']}")
+    return problems
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
@@ -321,12 +383,15 @@ def main(argv):
             continue
         files += sorted(
             p for p in base.rglob("*")
-            if p.is_file() and (p.suffix.lower() in (".dxf", ".svg") or p.name == "report.json")
+            if p.is_file()
+            and (p.suffix.lower() in (".dxf", ".svg") or p.name in ("report.json", "nest-report.json"))
         )
     passed = failed = 0
     for path in files:
         if path.name == "report.json":
             problems = check_report(path)
+        elif path.name == "nest-report.json":
+            problems = check_nest_report(path)
         elif path.suffix.lower() == ".dxf":
             problems = check_dxf(path)
         else:
