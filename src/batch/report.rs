@@ -276,11 +276,11 @@ impl NestReport {
         let mut rolls = Vec::new();
         let mut first_sheet = built.pzt_sheets;
         for (i, l) in built.cut_layers.iter().enumerate() {
-            let sheet = &sheets[first_sheet];
+            let sheet = sheets.get(first_sheet);
             first_sheet += l.sheets;
-            if !l.layer.spec.roll {
+            let Some(sheet) = sheet.filter(|s| s.roll && l.layer.spec.roll) else {
                 continue;
-            }
+            };
             let price = batch.roll_price(&l.layer.layer);
             let length_mm = sheet.height_mm;
             rolls.push(RollRow {
