@@ -21,11 +21,16 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: u32) {
             if v.is_sign_negative() {
                 out.push('-');
             }
-            let unit = 10u128.pow(decimals);
-            push_u128(out, q / unit);
+            let unit = 10u64.pow(decimals);
+            // Sheet coordinates scale to well under 2^64: 64-bit division is much cheaper than 128-bit.
+            let (whole, frac) = match u64::try_from(q) {
+                Ok(q) => (u128::from(q / unit), q % unit),
+                // The remainder is below `unit` < 2^40.
+                Err(_) => (q / u128::from(unit), (q % u128::from(unit)) as u64),
+            };
+            push_u128(out, whole);
             if decimals > 0 {
                 out.push('.');
-                let frac = q % unit;
                 let mut digits = [b'0'; MAX_DECIMALS as usize];
                 let digits = &mut digits[..decimals as usize];
                 let mut rest = frac;
@@ -72,8 +77,18 @@ fn scaled(v: f64, decimals: u32) -> Option<u128> {
     Some(q + u128::from(round_up))
 }
 
-fn push_u128(out: &mut String, mut n: u128) {
-    let mut digits = [0u8; 40];
+fn push_u128(out: &mut String, n: u128) {
+    match u64::try_from(n) {
+        Ok(n) => push_u64(out, n),
+        Err(_) => {
+            let _ = write!(out, "{n}");
+        }
+    }
+}
+
+/// Appends the decimal digits of `n`.
+fn push_u64(out: &mut String, mut n: u64) {
+    let mut digits = [0u8; 20];
     let mut at = digits.len();
     loop {
         at -= 1;
