@@ -1076,10 +1076,11 @@ fn features_too_small_for_the_kerf_name_the_design_field() {
 }
 
 /// Issue 14: nothing that is not a finite number reaches report.json. A calibrated model whose d31
-/// scale is within its documented range (0, inf) but absurd (1e300) makes the energy overflow: the run
-/// is refused in one line naming the design file and the values, and writes nothing.
+/// scale is positive, as the model allows, but absurd (1e300) made the energy overflow. It is refused
+/// when the model file is read, in one line naming the model file, its field, the value and the bounds
+/// calibrate fits d31_scale in; nothing is written and no staging is left.
 #[test]
-fn a_non_finite_prediction_never_reaches_the_report() {
+fn a_model_file_value_outside_the_fit_bounds_is_refused_naming_the_file_and_field() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("calibrated-model.toml");
     std::fs::write(
@@ -1098,10 +1099,22 @@ fn a_non_finite_prediction_never_reaches_the_report() {
         !o.status.success() && err.trim().lines().count() == 1,
         "{err}"
     );
+    let named = format!(
+        "{}: effects.d31_scale = 1e300: outside the allowed range [0.05, 3]",
+        model.display()
+    );
+    assert!(err.contains(&named), "{err}");
+    // predict reads the model file the same way.
+    let p = run(&[
+        "predict",
+        "examples/thesis-C.toml",
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    let perr = stderr(&p);
     assert!(
-        err.contains("thesis-C.toml: geometry, laminate, drive = length_mm = 42.2")
-            && err.contains("energy_mJ = inf"),
-        "{err}"
+        !p.status.success() && perr.trim().lines().count() == 1 && perr.contains(&named),
+        "{perr}"
     );
     assert!(!out.exists());
     let staging: Vec<_> = std::fs::read_dir(dir.path())

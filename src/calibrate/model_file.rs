@@ -1,45 +1,26 @@
-//! `calibrated-model.toml`: the TOML text of [`CalibratedModel`] (the model crate knows serde, not TOML).
+//! `calibrated-model.toml`: the TOML text of [`CalibratedModel`] (the model crate knows serde, not TOML),
+//! and its reading for `--model FILE`.
+//!
+//! Reading validates the file once, as the input layer does every file: each refusal is one
+//! [`InputError`] naming the file, the field, the value and what is allowed. A library effect's value
+//! must lie inside the bounds `calibrate` fits it in ([`EffectId::param`], in the file's SI units): a
+//! file `calibrate` wrote always does, and a hand-edited `d31_scale = 1e300` is refused here, where the
+//! field can be named, instead of as a non-finite prediction for the design (issue 14).
 
-use actuator_model::{CalibratedModel, ModelError};
-use std::path::{Path, PathBuf};
+use crate::calibrate::library::EffectId;
+use crate::input::{parse_toml, InputError, Range, TableReader};
+use actuator_model::{CalibratedModel, EffectModel, Effects};
+use std::path::Path;
 
 /// Name of the file `calibrate` writes.
 pub const FILE_NAME: &str = "calibrated-model.toml";
 
-/// A model file that cannot be written, read or used. Each layer names its own step and keeps the cause
-/// as its source, so the command line prints the whole chain.
+/// A calibrated model that cannot be written.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelFileError {
     /// The model does not serialise (not expected for a valid model).
     #[error("serialising the calibrated model")]
     Serialise(#[source] toml::ser::Error),
-    /// Not TOML of a calibrated model.
-    #[error("parsing a calibrated model")]
-    Parse(#[source] toml::de::Error),
-    /// `model = "..."` names another model.
-    #[error("`model = \"{0}\"`: expected \"calibrated\"")]
-    NotCalibrated(String),
-    /// An effect value out of its physical range.
-    #[error(transparent)]
-    Invalid(#[from] ModelError),
-    /// The file cannot be read.
-    #[error("cannot read {}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        #[source]
-        source: std::io::Error,
-    },
-    /// The file's content is not a valid model.
-    #[error("in {}", path.display())]
-    In {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong with it.
-        #[source]
-        source: Box<ModelFileError>,
-    },
 }
 
 /// TOML text of a calibrated model, with a header saying what it is.
@@ -51,81 +32,282 @@ pub fn to_toml(model: &CalibratedModel) -> Result<String, ModelFileError> {
     ))
 }
 
-/// Parse and validate a calibrated model.
-pub fn from_toml(text: &str) -> Result<CalibratedModel, ModelFileError> {
-    let model: CalibratedModel = toml::from_str(text).map_err(ModelFileError::Parse)?;
-    if model.model != "calibrated" {
-        return Err(ModelFileError::NotCalibrated(model.model));
+/// A library effect's field in `[effects]`: the effect, the key, the value's unit and the field itself.
+struct LibraryField {
+    effect: EffectId,
+    key: &'static str,
+    unit: &'static str,
+    get: fn(&Effects) -> f64,
+}
+
+/// Every library effect's field, with the effect whose fit bounds are its allowed range.
+const LIBRARY_FIELDS: [LibraryField; 8] = [
+    LibraryField {
+        effect: EffectId::D31Scale,
+        key: "d31_scale",
+        unit: "",
+        get: |e| e.d31_scale,
+    },
+    LibraryField {
+        effect: EffectId::FieldDependentD31,
+        key: "d31_field_coefficient_m_per_V",
+        unit: "m/V",
+        get: |e| e.d31_field_coefficient,
+    },
+    LibraryField {
+        effect: EffectId::DeadLength,
+        key: "dead_length_m",
+        unit: "m",
+        get: |e| e.dead_length,
+    },
+    LibraryField {
+        effect: EffectId::BondLayer,
+        key: "bond_thickness_m",
+        unit: "m",
+        get: |e| e.bond_thickness,
+    },
+    LibraryField {
+        effect: EffectId::CompliantExtension,
+        key: "extension_flexibility",
+        unit: "",
+        get: |e| e.extension_flexibility,
+    },
+    LibraryField {
+        effect: EffectId::ClampCompliance,
+        key: "clamp_compliance_rad_per_N_m",
+        unit: "rad/(N m)",
+        get: |e| e.clamp_compliance,
+    },
+    LibraryField {
+        effect: EffectId::PlyThickness,
+        key: "ply_thickness_scale",
+        unit: "",
+        get: |e| e.ply_thickness_scale,
+    },
+    LibraryField {
+        effect: EffectId::StiffnessScale,
+        key: "stiffness_scale",
+        unit: "",
+        get: |e| e.stiffness_scale,
+    },
+];
+
+impl LibraryField {
+    /// The fit bounds in the file's unit, converted as the fit converts its values (so a bound the fit
+    /// reached is written as exactly this number).
+    fn bounds(&self) -> (f64, f64) {
+        let param = self.effect.param();
+        let si = |x: f64| {
+            let mut model = EffectModel::default();
+            self.effect.apply(&mut model, x);
+            (self.get)(&model.effects)
+        };
+        (si(param.lo), si(param.hi))
     }
-    model.validate()?;
+
+    /// The field's value in `[effects]`, if given, checked against the fit bounds.
+    fn check(&self, effects: &TableReader<'_>) -> Result<(), InputError> {
+        let (lo, hi) = self.bounds();
+        effects
+            .optional_number_in(self.key, Range::closed(lo, hi, self.unit))
+            .map(|_| ())
+    }
+}
+
+/// Parse and validate a calibrated model (named [`FILE_NAME`] in errors).
+pub fn from_toml(text: &str) -> Result<CalibratedModel, InputError> {
+    parse(Path::new(FILE_NAME), text)
+}
+
+/// Parse and validate the calibrated model in `text`, read from `path`.
+fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
+    let table = parse_toml(path, text)?;
+    let root = TableReader::new(path, "", &table);
+    let kind = root.string("model", "\"calibrated\"")?;
+    if kind != "calibrated" {
+        return Err(InputError::invalid(
+            path,
+            "model",
+            format!("{kind:?}"),
+            "expected \"calibrated\"",
+        ));
+    }
+    if let Some(effects) = root.optional_table("effects")? {
+        for field in &LIBRARY_FIELDS {
+            field.check(&effects)?;
+        }
+    }
+    // The structure (verdict, selected effects, declared effects, no unknown key) is serde's.
+    let model: CalibratedModel = toml::from_str(text).map_err(|e| {
+        // Lines before the span's start, plus its own (a span may start a line).
+        let line = e
+            .span()
+            .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1)
+            .unwrap_or(0);
+        InputError::invalid(
+            path,
+            &format!("line {line}"),
+            "",
+            format!("not a calibrated model: {}", e.message()),
+        )
+    })?;
+    model
+        .validate()
+        .map_err(|e| InputError::whole_file(path, e.to_string()))?;
     Ok(model)
 }
 
 /// Read a calibrated model from a file (`--model FILE`).
-pub fn load(path: &Path) -> Result<CalibratedModel, ModelFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ModelFileError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    from_toml(&text).map_err(|e| ModelFileError::In {
-        path: path.to_path_buf(),
-        source: Box::new(e),
-    })
+pub fn load(path: &Path) -> Result<CalibratedModel, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    parse(path, &text)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use actuator_model::Effects;
 
-    #[test]
-    fn round_trips_exactly() {
-        let model = CalibratedModel {
+    const HEAD: &str = "model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n";
+
+    fn model(effects: Effects) -> CalibratedModel {
+        CalibratedModel {
             model: "calibrated".into(),
             verdict: "explained".into(),
             selected_effects: vec!["dead-length".into()],
-            effects: Effects {
-                dead_length: 2.345_678_9e-3,
-                d31_scale: 0.812_345_678_9,
-                ..Effects::default()
-            },
+            effects,
             declared: vec![],
-        };
+        }
+    }
+
+    #[test]
+    fn round_trips_exactly() {
+        let model = model(Effects {
+            dead_length: 2.345_678_9e-3,
+            d31_scale: 0.812_345_678_9,
+            ..Effects::default()
+        });
         let back = from_toml(&to_toml(&model).unwrap()).unwrap();
         assert_eq!(back, model);
     }
 
     #[test]
-    fn rejects_unknown_keys_and_unphysical_values() {
-        assert!(from_toml("model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n[effects]\nwarp = 1.0\n").is_err());
-        assert!(from_toml("model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n[effects]\ndead_length_m = -1.0\n").is_err());
-        let ok = from_toml(
-            "model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n[effects]\n",
-        )
-        .unwrap();
-        assert!(ok.effects.is_null());
+    fn the_field_keys_are_the_serialised_names() {
+        // Each field's key and getter against the model crate's own serde names: a key that does not
+        // serialise, or a getter that reads another field, fails here.
+        for field in &LIBRARY_FIELDS {
+            let mut model = EffectModel::default();
+            field.effect.apply(&mut model, field.effect.param().hi);
+            let table = toml::Table::try_from(model.effects).unwrap();
+            assert_eq!(
+                table[field.key].as_float(),
+                Some((field.get)(&model.effects)),
+                "{}",
+                field.key
+            );
+            assert_ne!(
+                (field.get)(&model.effects),
+                (field.get)(&Effects::default())
+            );
+        }
+        assert_eq!(
+            LIBRARY_FIELDS.len(),
+            toml::Table::try_from(Effects::default()).unwrap().len(),
+            "every library field is checked"
+        );
     }
 
     #[test]
-    fn load_errors_name_the_file_then_the_step_then_the_cause() {
+    fn a_model_at_the_fit_bounds_is_read_back() {
+        // calibrate writes a parameter the fit left at a bound as apply(bound): it must load.
+        for field in &LIBRARY_FIELDS {
+            let param = field.effect.param();
+            for bound in [param.lo, param.hi] {
+                let mut m = EffectModel::default();
+                field.effect.apply(&mut m, bound);
+                let written = model(m.effects);
+                let back = from_toml(&to_toml(&written).unwrap());
+                assert_eq!(
+                    back.as_ref().ok(),
+                    Some(&written),
+                    "{} = {bound}: {back:?}",
+                    field.key
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_file_the_field_the_value_and_the_bounds() {
+        let refused = |line: &str| {
+            from_toml(&format!("{HEAD}[effects]\n{line}\n"))
+                .unwrap_err()
+                .to_string()
+        };
+        // Bounds: calibrate's fit bounds (src/calibrate/library.rs) in SI: eta [0.05, 3],
+        // dead length [0, 20] mm, bond layer [0, 200] um, beta [-0.4, 3] per V/um.
+        assert_eq!(
+            refused("d31_scale = 1e300"),
+            "calibrated-model.toml: effects.d31_scale = 1e300: outside the allowed range [0.05, 3]"
+        );
+        assert_eq!(
+            refused("dead_length_m = -1.0"),
+            "calibrated-model.toml: effects.dead_length_m = -1: outside the allowed range [0, 0.02] m"
+        );
+        assert_eq!(
+            refused("bond_thickness_m = 0.001"),
+            "calibrated-model.toml: effects.bond_thickness_m = 0.001: outside the allowed range [0, 0.0002] m"
+        );
+        assert_eq!(
+            refused("d31_field_coefficient_m_per_V = nan"),
+            "calibrated-model.toml: effects.d31_field_coefficient_m_per_V = NaN: outside the allowed range [-0.0000004, 0.000003] m/V"
+        );
+        assert_eq!(
+            refused("d31_scale = \"big\""),
+            "calibrated-model.toml: effects.d31_scale = \"big\": expected a number, allowed range [0.05, 3]"
+        );
+        // Unknown keys are serde's refusal, with the line.
+        let e = refused("warp = 1.0");
+        assert!(
+            e.starts_with("calibrated-model.toml: line 5: not a calibrated model: "),
+            "{e}"
+        );
+        assert!(e.contains("warp"), "{e}");
+        assert!(!e.contains('\n'), "{e}");
+        assert!(from_toml(&format!("{HEAD}[effects]\n"))
+            .unwrap()
+            .effects
+            .is_null());
+    }
+
+    #[test]
+    fn load_errors_are_one_line_naming_the_file() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("m.toml");
         std::fs::write(&path, "model = ").unwrap();
-        let e = load(&path).unwrap_err();
-        assert_eq!(e.to_string(), format!("in {}", path.display()));
-        let step = std::error::Error::source(&e).unwrap();
-        assert_eq!(step.to_string(), "parsing a calibrated model");
+        let e = load(&path).unwrap_err().to_string();
         assert!(
-            step.source().is_some(),
-            "the TOML error is kept as the cause"
+            e.starts_with(&format!("{}: line 1: not valid TOML", path.display())),
+            "{e}"
         );
-        let missing = load(&dir.path().join("none.toml")).unwrap_err();
-        assert!(missing.to_string().starts_with("cannot read "));
-        assert!(
+        std::fs::write(
+            &path,
+            format!("{HEAD}[effects]\nply_thickness_scale = 0.1\n"),
+        )
+        .unwrap();
+        assert_eq!(
+            load(&path).unwrap_err().to_string(),
+            format!(
+                "{}: effects.ply_thickness_scale = 0.1: outside the allowed range [0.5, 3]",
+                path.display()
+            )
+        );
+        let missing = load(&dir.path().join("none.toml")).unwrap_err().to_string();
+        assert!(missing.contains("none.toml"), "{missing}");
+        assert_eq!(
             from_toml("model = \"x\"\nverdict = \"x\"\nselected_effects = []\n[effects]\n")
                 .unwrap_err()
-                .to_string()
-                .contains("expected \"calibrated\"")
+                .to_string(),
+            "calibrated-model.toml: model = \"x\": expected \"calibrated\""
         );
     }
 }

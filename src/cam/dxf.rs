@@ -1,27 +1,29 @@
-//! DXF writer: R2000 (AC1015) through the `dxf` crate, byte-reproducible.
+//! DXF writer: R2000 (AC1015), byte-reproducible, with the bytes the `dxf` crate writes.
 //!
 //! Conventions (docs/cam.md §3): polygons as closed LWPOLYLINE, polylines as open LWPOLYLINE,
 //! CIRCLE and ARC as themselves; one layer per operation with its ACI colour; entities on
 //! BYLAYER colour; `$INSUNITS = 4` (mm) and `$MEASUREMENT = 1` (metric; Inkscape's importer
 //! reads this one). Entities are written in processing order, like the SVG layers.
 //!
-//! The `dxf` crate stamps the header with the current time and random GUIDs. We replace them
-//! with fixed values so two runs give the same bytes. The crate's date fields are `chrono`
-//! local-time values; rather than depend on `chrono` (and on the machine's time zone), we read
-//! the fixed values through the crate's own header parser, whose local-time conversion is the
-//! exact inverse of its writer, so the written numbers are the ones below on any machine.
-//!
-//! The crate also writes the `TABLE` heads of the TABLES section without a handle, which
-//! ezdxf's audit has to repair ("invalid table head handle"); [`add_table_head_handles`]
-//! gives each head a handle from `$HANDSEED` and owner 0, as AutoCAD writes them, so the
-//! audit finds nothing to fix.
+//! Why our own emitter: a cut sheet of 20 000 actuators writes about 28 000 DXF files, and the
+//! crate built, formatted and re-parsed its full 9 kB header for every one of them (issue 14).
+//! The header and tables here are the crate's own R2000 output, kept in `dxf/r2000_head.txt` with
+//! the few values that vary per drawing left as slots; the tests hold every file to the crate's
+//! bytes (the crate stays: src/parts reads DXF with it). What the crate writes, and what we
+//! therefore write:
+//! - fixed dates and GUIDs instead of the clock and random ones, so that two runs give the same
+//!   bytes: `$TDCREATE` and friends are 2460676.5 (2025-01-01 00:00);
+//! - handles in the crate's order: 1-F for the default table records, then each operation's layer
+//!   followed by its entities, then the seven TABLE heads;
+//! - a handle and owner 0 on every TABLE head, as AutoCAD writes them (the crate itself leaves them
+//!   out, which ezdxf's audit has to repair: "invalid table head handle");
+//! - numbers with up to 12 decimals, trailing zeros trimmed but one kept after the point.
 
-use dxf::entities::{Arc, Circle, Entity, EntityType, LwPolyline};
-use dxf::enums::{AcadVersion, DrawingUnits, Units};
-use dxf::tables::Layer;
-use dxf::{Color, LwPolylineVertex};
+use std::sync::OnceLock;
+
 use thiserror::Error;
 
+use super::decimal::push_fixed;
 use super::drawing::{Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
@@ -29,75 +31,228 @@ use cam_geometry::Point;
 /// Why a DXF could not be written.
 #[derive(Debug, Error)]
 pub enum DxfError {
-    #[error("dxf library error: {0}")]
-    Library(#[from] dxf::DxfError),
     #[error("{op:?} polyline with {count} vertices: a polygon needs at least 3, a polyline 2")]
     TooFewVertices { op: Operation, count: usize },
     #[error("non-finite coordinate in a {0:?} shape")]
     NonFinite(Operation),
-    #[error("unexpected output from the dxf library: {0}")]
-    Malformed(&'static str),
 }
 
-/// Header values the crate would otherwise take from the clock and the random generator.
-/// Dates are Julian days; the GUIDs are arbitrary constants. The crate's reader truncates to
-/// whole seconds and adds one second that its writer does not remove, so 2460676.49999
-/// (2025-01-01 00:00 less 0.86 s) is written back as exactly 2460676.5 = 2025-01-01 00:00.
-const FIXED_HEADER: &str = "0\nSECTION\n2\nHEADER\n\
-9\n$TDCREATE\n40\n2460676.49999\n\
-9\n$TDUCREATE\n40\n2460676.49999\n\
-9\n$TDUPDATE\n40\n2460676.49999\n\
-9\n$TDUUPDATE\n40\n2460676.49999\n\
-9\n$FINGERPRINTGUID\n2\n{A1C7A3E0-5E2B-4C55-9A7E-0D1F2C3B4A51}\n\
-9\n$VERSIONGUID\n2\n{B2D8B4F1-6F3C-4D66-8B8F-1E2A3D4C5B62}\n\
-0\nENDSEC\n0\nEOF\n";
+/// The crate's R2000 file from `SECTION HEADER` to the end of `TABLES`, one line per line with
+/// `\n` endings, and a slot line `@NAME@` for each value that depends on the drawing.
+const HEAD_TEMPLATE: &str = include_str!("dxf/r2000_head.txt");
 
-/// The header read from [`FIXED_HEADER`]: read once per process, as every file needs it.
-fn fixed_header() -> Result<&'static dxf::Header, DxfError> {
-    static FIXED: std::sync::OnceLock<dxf::Header> = std::sync::OnceLock::new();
-    if let Some(h) = FIXED.get() {
-        return Ok(h);
+/// Line ending of the crate's ASCII writer.
+const EOL: &str = "\r\n";
+
+/// First handle after the default table records (1-F).
+const FIRST_HANDLE: u64 = 0x10;
+
+/// Number of TABLE heads in the template, each given a handle after all items.
+const TABLE_HEADS: u64 = 7;
+
+/// A value of the head that depends on the drawing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Slot {
+    ExtMinX,
+    ExtMinY,
+    ExtMaxX,
+    ExtMaxY,
+    HandSeed,
+    TableHandle,
+    Layers,
+}
+
+/// The head as fixed text (with CRLF line endings) between slots.
+enum Piece {
+    Text(String),
+    Slot(Slot),
+}
+
+/// [`HEAD_TEMPLATE`] cut at its slots: done once per process, as every file needs it.
+fn head() -> &'static [Piece] {
+    static HEAD: OnceLock<Vec<Piece>> = OnceLock::new();
+    HEAD.get_or_init(|| {
+        let mut pieces = Vec::new();
+        let mut text = String::new();
+        for line in HEAD_TEMPLATE.lines() {
+            let slot = match line {
+                "@EXTMIN_X@" => Some(Slot::ExtMinX),
+                "@EXTMIN_Y@" => Some(Slot::ExtMinY),
+                "@EXTMAX_X@" => Some(Slot::ExtMaxX),
+                "@EXTMAX_Y@" => Some(Slot::ExtMaxY),
+                "@HANDSEED@" => Some(Slot::HandSeed),
+                "@TABLE@" => Some(Slot::TableHandle),
+                "@LAYERS@" => Some(Slot::Layers),
+                _ => None,
+            };
+            match slot {
+                Some(slot) => {
+                    pieces.push(Piece::Text(std::mem::take(&mut text)));
+                    pieces.push(Piece::Slot(slot));
+                }
+                None => {
+                    text.push_str(line);
+                    text.push_str(EOL);
+                }
+            }
+        }
+        pieces.push(Piece::Text(text));
+        pieces
+    })
+}
+
+/// The file being written: code/value pairs as the crate formats them.
+struct Writer {
+    out: String,
+}
+
+impl Writer {
+    /// Group code, right-aligned in three columns.
+    fn code(&mut self, code: u16) {
+        self.padded(i64::from(code), 3);
     }
-    let header = dxf::Drawing::load(&mut FIXED_HEADER.as_bytes())?.header;
-    Ok(FIXED.get_or_init(|| header))
-}
 
-/// A new crate drawing, R2000, millimetres, with the fixed dates and GUIDs.
-fn fixed_document() -> Result<dxf::Drawing, DxfError> {
-    let fixed = fixed_header()?.clone();
-    let mut doc = dxf::Drawing::new();
-    let header = &mut doc.header;
-    header.version = AcadVersion::R2000;
-    header.creation_date = fixed.creation_date;
-    header.creation_date_universal = fixed.creation_date_universal;
-    header.update_date = fixed.update_date;
-    header.update_date_universal = fixed.update_date_universal;
-    header.fingerprint_guid = fixed.fingerprint_guid;
-    header.version_guid = fixed.version_guid;
-    header.drawing_units = DrawingUnits::Metric;
-    header.default_drawing_units = Units::Millimeters;
-    Ok(doc)
-}
-
-fn vertices(
-    op: Operation,
-    points: &[Point],
-    min: usize,
-) -> Result<Vec<LwPolylineVertex>, DxfError> {
-    if points.len() < min {
-        return Err(DxfError::TooFewVertices {
-            op,
-            count: points.len(),
-        });
+    /// `value` right-aligned in `width` columns, as `format!("{value: >width$}")`, and the line end
+    /// (by hand: the formatting machinery was a tenth of the writer's time).
+    fn padded(&mut self, value: i64, width: usize) {
+        let mut line = [b' '; 24];
+        let mut at = digits(&mut line, value.unsigned_abs(), 10);
+        if value < 0 {
+            at -= 1;
+            line[at] = b'-';
+        }
+        let start = at.min(line.len() - width);
+        self.out
+            .push_str(std::str::from_utf8(&line[start..]).expect("ASCII"));
+        self.out.push_str(EOL);
     }
-    Ok(points
-        .iter()
-        .map(|p| LwPolylineVertex {
-            x: p[0],
-            y: p[1],
-            ..Default::default()
-        })
-        .collect())
+
+    fn text(&mut self, code: u16, value: &str) {
+        self.code(code);
+        self.out.push_str(value);
+        self.out.push_str(EOL);
+    }
+
+    /// A 16-bit integer value, right-aligned in six columns.
+    fn short(&mut self, code: u16, value: i16) {
+        self.code(code);
+        self.padded(i64::from(value), 6);
+    }
+
+    /// A 32-bit integer value, right-aligned in nine columns.
+    fn int(&mut self, code: u16, value: i32) {
+        self.code(code);
+        self.padded(i64::from(value), 9);
+    }
+
+    fn handle(&mut self, value: u64) {
+        self.code(5);
+        self.handle_value(value);
+    }
+
+    /// A handle: upper-case hexadecimal, as `format!("{value:X}")`.
+    fn handle_value(&mut self, value: u64) {
+        let mut line = [0u8; 16];
+        let at = digits(&mut line, value, 16);
+        self.out
+            .push_str(std::str::from_utf8(&line[at..]).expect("ASCII"));
+        self.out.push_str(EOL);
+    }
+
+    fn real(&mut self, code: u16, value: f64) {
+        self.code(code);
+        self.real_value(value);
+    }
+
+    /// Up to 12 decimals, trailing zeros trimmed, at least one digit after the point.
+    fn real_value(&mut self, value: f64) {
+        let start = self.out.len();
+        push_fixed(&mut self.out, value, 12);
+        let trimmed = self.out[start..].trim_end_matches('0').len();
+        self.out.truncate(start + trimmed);
+        if self.out.ends_with('.') {
+            self.out.push('0');
+        }
+        self.out.push_str(EOL);
+    }
+
+    fn point(&mut self, p: Point) {
+        self.real(10, p[0]);
+        self.real(20, p[1]);
+        self.real(30, 0.0);
+    }
+
+    fn layer(&mut self, op: Operation, handle: u64, aci: u8) {
+        self.text(0, "LAYER");
+        self.handle(handle);
+        self.text(100, "AcDbSymbolTableRecord");
+        self.text(100, "AcDbLayerTableRecord");
+        self.text(2, op.layer_name());
+        self.short(70, 0);
+        self.short(62, i16::from(aci));
+        self.text(6, "CONTINUOUS");
+        // Group 290: a reference layer is shown but never plotted, so it is not sent to a laser.
+        self.text(290, if op == Operation::Reference { "0" } else { "1" });
+        self.short(370, 0);
+        self.text(390, "0");
+    }
+
+    fn entity(&mut self, op: Operation, handle: u64, shape: &Shape) {
+        let kind = match shape {
+            Shape::Polygon(_) | Shape::Polyline(_) => "LWPOLYLINE",
+            Shape::Circle { .. } => "CIRCLE",
+            Shape::Arc { .. } => "ARC",
+        };
+        self.text(0, kind);
+        self.handle(handle);
+        self.text(100, "AcDbEntity");
+        self.text(8, op.layer_name());
+        self.short(370, 0);
+        match shape {
+            Shape::Polygon(points) | Shape::Polyline(points) => {
+                self.text(100, "AcDbPolyline");
+                self.int(90, points.len() as i32);
+                self.short(70, i16::from(matches!(shape, Shape::Polygon(_))));
+                for p in points {
+                    self.real(10, p[0]);
+                    self.real(20, p[1]);
+                }
+            }
+            Shape::Circle { center, radius } => {
+                self.text(100, "AcDbCircle");
+                self.point(*center);
+                self.real(40, *radius);
+            }
+            // DXF arcs also run counter-clockwise from start to end angle, in degrees.
+            Shape::Arc {
+                center,
+                radius,
+                start_deg,
+                end_deg,
+            } => {
+                self.text(100, "AcDbCircle");
+                self.point(*center);
+                self.real(40, *radius);
+                self.text(100, "AcDbArc");
+                self.real(50, *start_deg);
+                self.real(51, *end_deg);
+            }
+        }
+    }
+}
+
+/// Writes the digits of `n` in `base` (10 or 16, upper case) at the end of `buf`; returns where they
+/// start.
+fn digits(buf: &mut [u8], mut n: u64, base: u64) -> usize {
+    let mut at = buf.len();
+    loop {
+        at -= 1;
+        buf[at] = b"0123456789ABCDEF"[(n % base) as usize];
+        n /= base;
+        if n == 0 {
+            return at;
+        }
+    }
 }
 
 fn is_finite(shape: &Shape) -> bool {
@@ -116,43 +271,20 @@ fn is_finite(shape: &Shape) -> bool {
     }
 }
 
-fn entity(op: Operation, shape: &Shape) -> Result<Entity, DxfError> {
+/// A shape the writer can write: finite, with enough vertices for its kind.
+fn check(op: Operation, shape: &Shape) -> Result<(), DxfError> {
     if !is_finite(shape) {
         return Err(DxfError::NonFinite(op));
     }
-    let specific = match shape {
-        Shape::Polygon(ring) => {
-            let mut poly = LwPolyline {
-                vertices: vertices(op, ring, 3)?,
-                ..Default::default()
-            };
-            poly.set_is_closed(true);
-            EntityType::LwPolyline(poly)
-        }
-        Shape::Polyline(path) => EntityType::LwPolyline(LwPolyline {
-            vertices: vertices(op, path, 2)?,
-            ..Default::default()
-        }),
-        Shape::Circle { center, radius } => EntityType::Circle(Circle::new(
-            dxf::Point::new(center[0], center[1], 0.0),
-            *radius,
-        )),
-        // DXF arcs also run counter-clockwise from start to end angle, in degrees.
-        Shape::Arc {
-            center,
-            radius,
-            start_deg,
-            end_deg,
-        } => EntityType::Arc(Arc::new(
-            dxf::Point::new(center[0], center[1], 0.0),
-            *radius,
-            *start_deg,
-            *end_deg,
-        )),
+    let (count, min) = match shape {
+        Shape::Polygon(ring) => (ring.len(), 3),
+        Shape::Polyline(path) => (path.len(), 2),
+        Shape::Circle { .. } | Shape::Arc { .. } => return Ok(()),
     };
-    let mut entity = Entity::new(specific);
-    entity.common.layer = op.layer_name().to_string();
-    Ok(entity)
+    if count < min {
+        return Err(DxfError::TooFewVertices { op, count });
+    }
+    Ok(())
 }
 
 /// Writes `drawing` as an ASCII DXF R2000 file with the default colours (deterministic: same drawing,
@@ -163,82 +295,154 @@ pub fn to_dxf(drawing: &Drawing) -> Result<Vec<u8>, DxfError> {
 
 /// [`to_dxf`] with the layer colours of `palette`.
 pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfError> {
-    let mut doc = fixed_document()?;
-    // CAM programs zoom to and place by $EXTMIN/$EXTMAX; the crate leaves them at the origin.
-    if let Some((lo, hi)) = drawing.extents() {
-        doc.header.minimum_drawing_extents = dxf::Point::new(lo[0], lo[1], 0.0);
-        doc.header.maximum_drawing_extents = dxf::Point::new(hi[0], hi[1], 0.0);
-    }
-    for op in drawing.operations() {
-        doc.add_layer(Layer {
-            name: op.layer_name().to_string(),
-            color: Color::from_index(palette.aci(op)),
-            // Group 290: a reference layer is shown but never plotted, so it is not sent to a laser.
-            is_layer_plotted: op != Operation::Reference,
-            ..Default::default()
-        });
+    let ops = drawing.operations();
+    // Handles in the crate's order: each layer, then its entities; the table heads after all.
+    let mut layer_handles = Vec::with_capacity(ops.len());
+    let mut next = FIRST_HANDLE;
+    for &op in &ops {
+        layer_handles.push(next);
+        next += 1;
         for shape in drawing.shapes_of(op) {
-            doc.add_entity(entity(op, shape)?);
+            check(op, shape)?;
+            next += 1;
         }
     }
-    let mut bytes = Vec::new();
-    doc.save(&mut bytes)?;
-    add_table_head_handles(&bytes)
-}
+    let first_table_handle = next;
+    // CAM programs zoom to and place by $EXTMIN/$EXTMAX; an empty drawing keeps the origin.
+    let (lo, hi) = drawing.extents().unwrap_or(([0.0; 2], [0.0; 2]));
 
-/// Line ending of the crate's ASCII writer.
-const EOL: &str = "\r\n";
-
-/// Inserts `5 <handle>` and `330 0` after the `0 TABLE / 2 <name>` pairs of each table head,
-/// taking handles from `$HANDSEED` and advancing it. Every other pair is copied as it is; one pass
-/// counts the table heads (for the new `$HANDSEED`), a second writes.
-fn add_table_head_handles(bytes: &[u8]) -> Result<Vec<u8>, DxfError> {
-    let text = std::str::from_utf8(bytes).map_err(|_| DxfError::Malformed("not ASCII"))?;
-    let lines: Vec<&str> = text.split(EOL).collect();
-    // Code/value pairs; the split leaves one empty string after the final line ending.
-    let pairs: Vec<(&str, &str)> = lines
-        .chunks(2)
-        .filter(|c| c.len() == 2)
-        .map(|c| (c[0], c[1]))
-        .collect();
-    let is = |pair: (&str, &str), code: i32, value: &str| {
-        pair.1 == value && pair.0.trim().parse::<i32>() == Ok(code)
+    let mut w = Writer {
+        out: String::with_capacity(HEAD_TEMPLATE.len() + 256 + 160 * drawing.items().len()),
     };
-    let seed_at = pairs
-        .iter()
-        .position(|&p| is(p, 9, "$HANDSEED"))
-        .map(|i| i + 1)
-        .filter(|&i| i < pairs.len())
-        .ok_or(DxfError::Malformed("no $HANDSEED"))?;
-    let seed = u64::from_str_radix(pairs[seed_at].1, 16)
-        .map_err(|_| DxfError::Malformed("$HANDSEED is not hexadecimal"))?;
-    let after_table_name =
-        |i: usize| i > 0 && pairs[i].0.trim() == "2" && is(pairs[i - 1], 0, "TABLE");
-    let heads = (0..pairs.len()).filter(|&i| after_table_name(i)).count() as u64;
-
-    let mut fixed = String::with_capacity(text.len() + 24 * heads as usize + 16);
-    let mut next_handle = seed;
-    for (i, &(code, value)) in pairs.iter().enumerate() {
-        fixed.push_str(code);
-        fixed.push_str(EOL);
-        if i == seed_at {
-            fixed.push_str(&format!("{:X}", seed + heads));
-        } else {
-            fixed.push_str(value);
-        }
-        fixed.push_str(EOL);
-        if after_table_name(i) {
-            fixed.push_str(&format!("  5{EOL}{next_handle:X}{EOL}330{EOL}0{EOL}"));
-            next_handle += 1;
+    let mut table = first_table_handle;
+    for piece in head() {
+        match piece {
+            Piece::Text(text) => w.out.push_str(text),
+            Piece::Slot(Slot::ExtMinX) => w.real_value(lo[0]),
+            Piece::Slot(Slot::ExtMinY) => w.real_value(lo[1]),
+            Piece::Slot(Slot::ExtMaxX) => w.real_value(hi[0]),
+            Piece::Slot(Slot::ExtMaxY) => w.real_value(hi[1]),
+            Piece::Slot(Slot::HandSeed) => w.handle_value(first_table_handle + TABLE_HEADS),
+            Piece::Slot(Slot::TableHandle) => {
+                w.handle_value(table);
+                table += 1;
+            }
+            Piece::Slot(Slot::Layers) => {
+                for (&op, &handle) in ops.iter().zip(&layer_handles) {
+                    w.layer(op, handle, palette.aci(op));
+                }
+            }
         }
     }
-    Ok(fixed.into_bytes())
+    w.text(0, "SECTION");
+    w.text(2, "ENTITIES");
+    for (&op, &layer_handle) in ops.iter().zip(&layer_handles) {
+        for (k, shape) in drawing.shapes_of(op).enumerate() {
+            w.entity(op, layer_handle + 1 + k as u64, shape);
+        }
+    }
+    w.text(0, "ENDSEC");
+    w.text(0, "SECTION");
+    w.text(2, "OBJECTS");
+    w.text(0, "ENDSEC");
+    w.text(0, "EOF");
+    Ok(w.out.into_bytes())
 }
+
+#[cfg(test)]
+mod crate_reference;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::cam::drawing::sample_drawing as sample;
+    use dxf::entities::{Entity, EntityType};
+    use dxf::enums::{DrawingUnits, Units};
+    use proptest::prelude::*;
+
+    /// Byte for byte what the `dxf` crate writes for the same drawing (an independent
+    /// implementation of the format); on a difference, the first differing line is shown.
+    fn assert_same_as_crate(drawing: &Drawing, palette: &Palette) {
+        let ours = to_dxf_with(drawing, palette).unwrap();
+        let theirs = crate_reference::crate_dxf(drawing, palette);
+        if ours != theirs {
+            let (a, b) = (
+                String::from_utf8_lossy(&ours),
+                String::from_utf8_lossy(&theirs),
+            );
+            let at = a.lines().zip(b.lines()).position(|(x, y)| x != y);
+            panic!(
+                "differs at line {at:?}: ours {:?}, crate {:?} ({} vs {} bytes)",
+                at.and_then(|i| a.lines().nth(i)),
+                at.and_then(|i| b.lines().nth(i)),
+                ours.len(),
+                theirs.len()
+            );
+        }
+    }
+
+    #[test]
+    fn same_bytes_as_the_dxf_crate() {
+        assert_same_as_crate(&sample(), &Palette::default());
+        assert_same_as_crate(&Drawing::new("empty", 10.0, 10.0), &Palette::default());
+        // Every operation, the reference layer not plotted, colours from a template's palette.
+        let mut d = Drawing::new("all", 300.0, 200.0);
+        for (k, op) in Operation::ALL.into_iter().enumerate() {
+            let x = 10.0 * k as f64;
+            d.add(op, Shape::Polyline(vec![[x, -0.0], [x + 1.0 / 3.0, 1e-13]]));
+            d.add(
+                op,
+                Shape::Polygon(vec![[-x, 0.1], [x + 0.2, 0.3], [x, 2.0f64.sqrt()]]),
+            );
+        }
+        assert_same_as_crate(&d, &Palette::default());
+        let mut palette = Palette::default();
+        palette.set(Operation::Cut, "#FF0000", 255).unwrap();
+        palette.set(Operation::Engrave, "#000000", 250).unwrap();
+        assert_same_as_crate(&d, &palette);
+    }
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            -2000.0f64..2000.0,
+            (-200_000i64..200_000).prop_map(|k| k as f64 / 100.0),
+            Just(-0.0),
+            Just(1e20),
+            Just(-1e-7),
+        ]
+    }
+
+    fn shape() -> impl Strategy<Value = Shape> {
+        let point = || [coordinate(), coordinate()];
+        prop_oneof![
+            prop::collection::vec(point(), 3..12).prop_map(Shape::Polygon),
+            prop::collection::vec(point(), 2..12).prop_map(Shape::Polyline),
+            (point(), 0.01f64..50.0).prop_map(|(center, radius)| Shape::Circle { center, radius }),
+            (point(), 0.01f64..50.0, -360.0f64..360.0, -360.0f64..360.0).prop_map(
+                |(center, radius, start_deg, end_deg)| Shape::Arc {
+                    center,
+                    radius,
+                    start_deg,
+                    end_deg,
+                }
+            ),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+
+        #[test]
+        fn any_drawing_has_the_crates_bytes(
+            items in prop::collection::vec((0usize..5, shape()), 0..40),
+        ) {
+            let mut d = Drawing::new("random", 500.0, 400.0);
+            for (op, shape) in items {
+                d.add(Operation::ALL[op], shape);
+            }
+            assert_same_as_crate(&d, &Palette::default());
+        }
+    }
 
     fn header_value<'a>(text: &'a str, var: &str) -> Option<&'a str> {
         let mut lines = text.lines().map(str::trim);

@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 
 use thiserror::Error;
 
+use super::decimal::push_fixed;
 use super::drawing::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
@@ -48,15 +49,26 @@ pub enum ParseError {
 
 /// Formats a length with 6 decimals, trailing zeros trimmed, never `-0`.
 pub fn fmt_mm(v: f64) -> String {
-    let mut s = format!("{v:.6}");
-    if s.contains('.') {
-        let trimmed = s.trim_end_matches('0').trim_end_matches('.').len();
-        s.truncate(trimmed);
-    }
-    if s == "-0" {
-        s = "0".to_string();
-    }
+    let mut s = String::new();
+    push_mm(&mut s, v);
     s
+}
+
+/// Appends `v` as [`fmt_mm`] formats it, without a string of its own: the writers' inner loop.
+fn push_mm(out: &mut String, v: f64) {
+    let start = out.len();
+    push_fixed(out, v, 6);
+    if out[start..].contains('.') {
+        let trimmed = out[start..]
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .len();
+        out.truncate(start + trimmed);
+    }
+    if &out[start..] == "-0" {
+        out.truncate(start);
+        out.push('0');
+    }
 }
 
 /// Escapes text for XML content and double-quoted attributes.
@@ -108,22 +120,22 @@ struct PathData<'a> {
     margin_mm: f64,
     page_height_mm: f64,
     d: &'a mut String,
+    /// Whether a command has been written: the next one is set off by a space.
+    started: bool,
 }
 
 impl PathData<'_> {
     fn xy(&mut self, p: Point) {
-        let _ = write!(
-            self.d,
-            "{} {}",
-            fmt_mm(p[0] + self.margin_mm),
-            fmt_mm(self.page_height_mm - self.margin_mm - p[1])
-        );
+        push_mm(self.d, p[0] + self.margin_mm);
+        self.d.push(' ');
+        push_mm(self.d, self.page_height_mm - self.margin_mm - p[1]);
     }
 
     fn command(&mut self, cmd: char, p: Point) {
-        if !self.d.is_empty() {
+        if self.started {
             self.d.push(' ');
         }
+        self.started = true;
         self.d.push(cmd);
         self.xy(p);
     }
@@ -131,8 +143,11 @@ impl PathData<'_> {
     /// Counter-clockwise arc (y up) of at most 180° to `to`. Mirroring y turns it clockwise on
     /// screen, which is SVG's sweep-flag 0; large-arc-flag is 0 because the sweep is ≤ 180°.
     fn arc_to(&mut self, radius: f64, to: Point) {
-        let r = fmt_mm(radius);
-        let _ = write!(self.d, " A{r} {r} 0 0 0 ");
+        self.d.push_str(" A");
+        push_mm(self.d, radius);
+        self.d.push(' ');
+        push_mm(self.d, radius);
+        self.d.push_str(" 0 0 0 ");
         self.xy(to);
     }
 
@@ -141,12 +156,13 @@ impl PathData<'_> {
     }
 }
 
-fn path_data(shape: &Shape, margin_mm: f64, page_height_mm: f64) -> String {
-    let mut d = String::new();
+/// Appends one path's `d` string to `d`, which holds nothing of this path yet.
+fn path_data(d: &mut String, shape: &Shape, margin_mm: f64, page_height_mm: f64) {
     let mut path = PathData {
         margin_mm,
         page_height_mm,
-        d: &mut d,
+        d,
+        started: false,
     };
     match shape {
         Shape::Polygon(ring) | Shape::Polyline(ring) => {
@@ -180,7 +196,6 @@ fn path_data(shape: &Shape, margin_mm: f64, page_height_mm: f64) -> String {
             path.arc_to(*radius, on_circle(*center, *radius, start_deg + sweep));
         }
     }
-    d
 }
 
 /// How one operation's Inkscape layer is written: its label and stroke colour.
@@ -215,7 +230,7 @@ pub fn write_svg(
     let w = fmt_mm(drawing.width_mm + 2.0 * margin);
     let h = fmt_mm(page_height);
     let stroke = fmt_mm(stroke_mm);
-    let mut out = String::new();
+    let mut out = String::with_capacity(512 + 128 * drawing.items().len());
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
     let _ = writeln!(
         out,
@@ -240,10 +255,11 @@ pub fn write_svg(
             xml_escape(&name.to_ascii_lowercase().replace(' ', "-"))
         );
         for shape in drawing.shapes_of(op) {
+            out.push_str("    <path d=\"");
+            path_data(&mut out, shape, margin, page_height);
             let _ = writeln!(
                 out,
-                "    <path d=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"/>",
-                path_data(shape, margin, page_height),
+                "\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"/>"
             );
         }
         out.push_str("  </g>\n");
