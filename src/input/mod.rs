@@ -37,10 +37,33 @@ pub fn read_toml(path: &Path) -> Result<toml::Table, InputError> {
 /// Parse TOML text (named `path` in errors).
 pub fn parse_toml(path: &Path, text: &str) -> Result<toml::Table, InputError> {
     text.parse::<toml::Table>().map_err(|e| {
+        // The line number is one more than the newlines before the error; counting `lines()` of the
+        // text before it is one short when the error starts a line.
         let line = e
             .span()
-            .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
+            .map(|s| {
+                let before = &text.as_bytes()[..s.start.min(text.len())];
+                before.iter().filter(|&&b| b == b'\n').count() + 1
+            })
             .unwrap_or(0);
         InputError::syntax(path, line, e.message())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_toml;
+    use std::path::Path;
+
+    #[test]
+    fn a_syntax_error_names_the_line_it_is_on() {
+        // The bad key starts line 3, at the first byte of the line.
+        let e = parse_toml(Path::new("d.toml"), "a = 1\nb = 2\n= 3\n").unwrap_err();
+        assert!(e.to_string().contains("line 3"), "{e}");
+        // Mid-line error on line 2.
+        let e = parse_toml(Path::new("d.toml"), "a = 1\nb = @\n").unwrap_err();
+        assert!(e.to_string().contains("line 2"), "{e}");
+        let e = parse_toml(Path::new("d.toml"), "x = [\n").unwrap_err();
+        assert!(e.to_string().contains("line "), "{e}");
+    }
 }
