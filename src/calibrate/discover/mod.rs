@@ -190,20 +190,29 @@ pub fn discover(
             }
         })
         .collect();
-    // The partner of the combinations: the library effect that fits best alone with η.
+    // The partners of the combinations: the library effects of the best library model with one effect
+    // and of the best with two (a library effect the data hold may fit worse alone than another that
+    // mimics part of the unexplained effect, as a constant clamp compliance mimics one per width).
     let l_p_min_mm = data
         .rows
         .iter()
         .map(|r| r.planform.piezo_length() * 1e3)
         .fold(f64::INFINITY, f64::min);
-    let partner = selection
-        .candidates
-        .iter()
-        .filter(|c| c.role == Role::Candidate && c.effects.len() == 2 && c.effects[0] == eta_id)
-        .filter(|c| EffectId::LIBRARY.contains(&c.effects[1]))
-        .min_by(|a, b| a.aicc.total_cmp(&b.aicc))
-        .map(|c| {
-            let id = c.effects[1];
+    let best_library = |size: usize| {
+        selection
+            .candidates
+            .iter()
+            .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
+            .filter(|c| c.effects.len() == size + 1)
+            .filter(|c| c.effects[1..].iter().all(|e| EffectId::LIBRARY.contains(e)))
+            .min_by(|a, b| a.aicc.total_cmp(&b.aicc))
+    };
+    let mut partners: Vec<Partner> = Vec::new();
+    for c in [best_library(1), best_library(2)].into_iter().flatten() {
+        for (k, &id) in c.effects.iter().enumerate().skip(1) {
+            if partners.iter().any(|x| x.id == id) {
+                continue;
+            }
             let p = id.param();
             // The selection's own cap on the dead length (docs/calibration.md §3).
             let hi = if id == EffectId::DeadLength {
@@ -211,19 +220,20 @@ pub fn discover(
             } else {
                 p.hi
             };
-            Partner {
+            partners.push(Partner {
                 id,
                 lo: p.lo,
                 hi,
-                start: c.values[1],
-            }
-        });
+                start: c.values[k],
+            });
+        }
+    }
     let tried = catalogue::catalogue();
     let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
         .iter()
         .map(|t| (t, None))
         .chain(
-            partner
+            partners
                 .iter()
                 .flat_map(|&x| tried.iter().map(move |t| (t, Some(x)))),
         )
