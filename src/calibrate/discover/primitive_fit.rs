@@ -4,8 +4,9 @@
 //! beside it, `{η, P, A}`: the residual of data where a library effect and an effect outside the library
 //! are both present.
 //!
-//! Speed: every primitive tried changes the stack or the compliance, so it is solved by
-//! [`EffectModel::predict`] once per actuator and parameter value; η scales δ and F_b by itself, and δ
+//! Speed: the stack is solved ([`EffectModel::basis`]) once per actuator and value of the primitive, and
+//! η, the partner and the primitive's boundary part act on it ([`EffectModel::outputs`], held to
+//! [`EffectModel::predict`] by the model crate's tests); η scales δ and F_b by itself, and δ
 //! and F_b are proportional to the field at a field-independent d31 (CLT curvature is linear in the
 //! piezoelectric strain `d31 E`), so the other voltages of an actuator follow by ratio (a unit test
 //! holds this to the model).
@@ -17,6 +18,7 @@ use crate::calibrate::library::EffectId;
 use crate::calibrate::select::fitter::intervals;
 use crate::calibrate::select::observations::ActuationData;
 use crate::calibrate::stats;
+use actuator_model::effects::StackBasis;
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::EffectModel;
 use std::cell::RefCell;
@@ -109,30 +111,36 @@ pub(crate) fn fit(
         let ratio = (o.basis.field / data.rows[points[k]].field).ln();
         map.push((k, ratio));
     }
-    // ((p, a), ln δ and ln F at each point) of the last few values asked for: the Jacobian's η column
-    // and the steps of η alone reuse the solve.
-    let cache: RefCell<Vec<((f64, f64), LogOutputs)>> = RefCell::new(Vec::new());
-    let solve = |p: f64, a: f64| -> LogOutputs {
-        if let Some((_, s)) = cache.borrow().iter().find(|(x, _)| *x == (p, a)) {
-            return s.clone();
+    // The stack depends on the primitive's value alone (η and the library partners act on a solved
+    // stack: field, boundary and compliance effects), so the stack bases of the last few values are
+    // kept; each (p, a) then costs one `outputs` per point.
+    let bases: RefCell<Vec<(f64, Vec<Option<StackBasis>>)>> = RefCell::new(Vec::new());
+    let basis_at = |p: f64| -> Vec<Option<StackBasis>> {
+        if let Some((_, b)) = bases.borrow().iter().find(|(x, _)| *x == p) {
+            return b.clone();
         }
-        let model = model_at(base, tried.primitive, partner_id, p, a);
-        let s: LogOutputs = points
+        let model = model_at(base, tried.primitive, None, p, 0.0);
+        let b: Vec<Option<StackBasis>> = points
             .iter()
-            .map(|&row| match model.predict(&data.rows[row].actuator()) {
-                Ok(perf) if perf.free_deflection > 0.0 && perf.blocked_force > 0.0 => {
-                    (perf.free_deflection.ln(), perf.blocked_force.ln())
-                }
-                // A value the model refuses (a layer thinned to nothing): no fit there.
-                _ => (f64::NAN, f64::NAN),
-            })
+            .map(|&row| model.basis(&data.rows[row].actuator()).ok())
             .collect();
-        let mut c = cache.borrow_mut();
+        let mut c = bases.borrow_mut();
         if c.len() >= 4 {
             c.remove(0);
         }
-        c.push(((p, a), s.clone()));
-        s
+        c.push((p, b.clone()));
+        b
+    };
+    let solve = |p: f64, a: f64| -> LogOutputs {
+        let model = model_at(base, tried.primitive, partner_id, p, a);
+        basis_at(p)
+            .iter()
+            .map(|b| match b.as_ref().map(|b| model.outputs(b)) {
+                Some((d, f)) if d > 0.0 && f > 0.0 => (d.ln(), f.ln()),
+                // A value the model refuses (a layer thinned to nothing): no fit there.
+                _ => (f64::NAN, f64::NAN),
+            })
+            .collect()
     };
     let residuals = |theta: &[f64], out: &mut Vec<f64>| {
         out.clear();
