@@ -9,16 +9,14 @@ use std::cmp::Ordering;
 use std::hash::{Hash, Hasher};
 use std::sync::Mutex;
 
-/// An effect a lab declared: a composition of primitives driven by one parameter, with its bounds and
-/// null value (validated by the input layer: `lo < null` or `null < hi`, `lo <= null <= hi`, every
-/// primitive value inside its physical range over the bounds).
+/// One parameter of a declared effect: the primitives it drives, its bounds and null value (validated
+/// by the input layer: `lo < hi`, `lo <= null <= hi`, every primitive value inside its physical range
+/// over the bounds, every primitive at its own null value at `null`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct DeclaredSpec {
-    /// Name (not a library effect's name).
-    pub name: String,
+pub struct DeclaredParameter {
     /// Parameter name with its unit, as report.json shows it.
-    pub parameter: String,
-    /// Value that switches the effect off.
+    pub name: String,
+    /// Value that switches its primitives off.
     pub null: f64,
     /// Lower bound.
     pub lo: f64,
@@ -28,7 +26,7 @@ pub struct DeclaredSpec {
     pub primitives: Vec<Link>,
 }
 
-impl DeclaredSpec {
+impl DeclaredParameter {
     /// Its primitives at parameter value `p`.
     pub fn applied(&self, p: f64) -> impl Iterator<Item = Applied> + '_ {
         self.primitives.iter().map(move |l| Applied {
@@ -38,7 +36,7 @@ impl DeclaredSpec {
         })
     }
 
-    /// Fitted on the measured masses (like `ply-thickness`) when any primitive changes the mass.
+    /// Fitted on the measured masses (like `ply-thickness`) when any of its primitives changes the mass.
     pub fn stage(&self) -> Stage {
         if self.primitives.iter().any(|l| l.primitive.changes_mass()) {
             Stage::Mass
@@ -46,22 +44,23 @@ impl DeclaredSpec {
             Stage::Actuation
         }
     }
-
-    /// As the calibrated model records it, at value `value`.
-    pub fn record(&self, value: f64) -> DeclaredEffect {
-        DeclaredEffect {
-            name: self.name.clone(),
-            parameter: self.parameter.clone(),
-            value,
-            null: self.null,
-            primitives: self.primitives.clone(),
-        }
-    }
 }
 
-/// A declared effect as the selection holds it: `Copy` like the library's effects, so a candidate's
-/// effect list stays a list of ids. The specs are interned for the life of the process (a handful, read
-/// once per run; the same declaration read twice is the same id), which gives the `&'static` names the
+/// An effect a lab declared: a composition of primitives driven by one or more parameters, each with its
+/// own bounds and null value. Each parameter is fitted on the data that identify it ([`Stage`]): the
+/// parameters of one effect on the same stage are fitted together, as one candidate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeclaredSpec {
+    /// Name (not a library effect's name).
+    pub name: String,
+    /// Its parameters, in the declared order.
+    pub parameters: Vec<DeclaredParameter>,
+}
+
+/// A declared effect's parameter as the selection holds it: `Copy` like the library's effects, so a
+/// candidate's effect list stays a list of ids with one parameter each (an effect with two parameters is
+/// two ids under one name). The specs are interned for the life of the process (a handful, read once
+/// per run; the same declaration read twice gives the same ids), which gives the `&'static` names the
 /// reports borrow.
 #[derive(Debug, Clone, Copy)]
 pub struct Declared {
@@ -72,6 +71,8 @@ pub struct Declared {
 #[derive(Debug)]
 struct Interned {
     spec: DeclaredSpec,
+    /// Which of its parameters.
+    k: usize,
     name: &'static str,
     parameter: &'static str,
     starts: &'static [f64],
@@ -80,39 +81,75 @@ struct Interned {
 static DECLARED: Mutex<Vec<&'static Interned>> = Mutex::new(Vec::new());
 
 impl Declared {
-    /// The id of a declared effect.
-    pub fn new(spec: DeclaredSpec) -> Declared {
+    /// The ids of a declared effect's parameters, in the declared order.
+    pub fn all(spec: DeclaredSpec) -> Vec<Declared> {
         let mut all = DECLARED.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(index) = all.iter().position(|i| i.spec == spec) {
-            return Declared {
-                index,
-                spec: all[index],
-            };
-        }
-        // Starts: the null value and the midpoints towards each bound.
-        let mut starts = vec![spec.null];
-        for x in [0.5 * (spec.lo + spec.null), 0.5 * (spec.null + spec.hi)] {
-            if !starts.contains(&x) {
-                starts.push(x);
-            }
-        }
-        let interned: &'static Interned = Box::leak(Box::new(Interned {
-            name: Box::leak(spec.name.clone().into_boxed_str()),
-            parameter: Box::leak(spec.parameter.clone().into_boxed_str()),
-            starts: Box::leak(starts.into_boxed_slice()),
-            spec,
-        }));
-        all.push(interned);
-        Declared {
-            index: all.len() - 1,
-            spec: interned,
-        }
+        (0..spec.parameters.len())
+            .map(|k| {
+                if let Some(index) = all.iter().position(|i| i.spec == spec && i.k == k) {
+                    return Declared {
+                        index,
+                        spec: all[index],
+                    };
+                }
+                let p = &spec.parameters[k];
+                // Starts: the null value and the midpoints towards each bound.
+                let mut starts = vec![p.null];
+                for x in [0.5 * (p.lo + p.null), 0.5 * (p.null + p.hi)] {
+                    if !starts.contains(&x) {
+                        starts.push(x);
+                    }
+                }
+                let interned: &'static Interned = Box::leak(Box::new(Interned {
+                    name: Box::leak(spec.name.clone().into_boxed_str()),
+                    parameter: Box::leak(p.name.clone().into_boxed_str()),
+                    starts: Box::leak(starts.into_boxed_slice()),
+                    k,
+                    spec: spec.clone(),
+                }));
+                all.push(interned);
+                Declared {
+                    index: all.len() - 1,
+                    spec: interned,
+                }
+            })
+            .collect()
     }
 
-    /// The declaration.
+    /// The declaration this parameter belongs to.
     pub fn spec(&self) -> &'static DeclaredSpec {
         &self.spec.spec
     }
+
+    /// The parameter.
+    pub fn parameter(&self) -> &'static DeclaredParameter {
+        &self.spec.spec.parameters[self.spec.k]
+    }
+
+    /// As the calibrated model records it, at value `value`: one entry per parameter, under the
+    /// effect's name.
+    pub fn record(&self, value: f64) -> DeclaredEffect {
+        let p = self.parameter();
+        DeclaredEffect {
+            name: self.spec.spec.name.clone(),
+            parameter: p.name.clone(),
+            value,
+            null: p.null,
+            primitives: p.primitives.clone(),
+        }
+    }
+}
+
+/// The effect names of a list of ids, in order, each once (the parameters of one declared effect share
+/// its name).
+pub fn effect_names(ids: &[EffectId]) -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for id in ids {
+        if !names.contains(&id.name()) {
+            names.push(id.name());
+        }
+    }
+    names
 }
 
 impl PartialEq for Declared {
@@ -223,7 +260,7 @@ impl EffectId {
     pub fn stage(self) -> Stage {
         match self {
             EffectId::BondLayer | EffectId::PlyThickness => Stage::Mass,
-            EffectId::Declared(d) => d.spec().stage(),
+            EffectId::Declared(d) => d.parameter().stage(),
             _ => Stage::Actuation,
         }
     }
@@ -287,18 +324,21 @@ impl EffectId {
                 hi: 20.0,
                 starts: &[1.0, 0.3],
             },
-            EffectId::Declared(d) => ParamSpec {
-                name: d.spec.parameter,
-                null: d.spec.spec.null,
-                lo: d.spec.spec.lo,
-                hi: d.spec.spec.hi,
-                starts: d.spec.starts,
-            },
+            EffectId::Declared(d) => {
+                let p = d.parameter();
+                ParamSpec {
+                    name: d.spec.parameter,
+                    null: p.null,
+                    lo: p.lo,
+                    hi: p.hi,
+                    starts: d.spec.starts,
+                }
+            }
         }
     }
 
-    /// Set the effect's SI parameter from its report-unit value (a declared effect adds its primitives:
-    /// apply each id once).
+    /// Set the effect's SI parameter from its report-unit value (a declared parameter adds its
+    /// primitives: apply each id once).
     pub fn apply(self, model: &mut EffectModel, value: f64) {
         let effects = &mut model.effects;
         match self {
@@ -310,7 +350,7 @@ impl EffectId {
             EffectId::ClampCompliance => effects.clamp_compliance = value,
             EffectId::PlyThickness => effects.ply_thickness_scale = value,
             EffectId::StiffnessScale => effects.stiffness_scale = value,
-            EffectId::Declared(d) => model.primitives.extend(d.spec().applied(value)),
+            EffectId::Declared(d) => model.primitives.extend(d.parameter().applied(value)),
         }
     }
 

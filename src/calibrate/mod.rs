@@ -27,7 +27,7 @@ use baseline::{
     error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
 };
 use broken::BrokenActuator;
-use library::EffectId;
+use library::{effect_names, EffectId};
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -89,15 +89,15 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         None => data,
     };
     if matches!(selection.verdict, Verdict::NotExplained { .. }) {
-        selection.discovery = Some(discover::discover(fitted, &selection)?);
+        selection.discovery = Some(discover::discover(fitted, &selection, settings)?);
     }
     let model = CalibratedModel {
         model: "calibrated".into(),
         verdict: selection.verdict.name().into(),
-        selected_effects: selection
-            .selected
-            .iter()
-            .map(|e| e.name().to_string())
+        // A declared effect with several parameters is one name.
+        selected_effects: effect_names(&selection.selected)
+            .into_iter()
+            .map(String::from)
             .collect(),
         effects: selection.model.effects,
         declared: declared_records(&selection),
@@ -145,7 +145,7 @@ fn declared_records(selection: &Selection) -> Vec<DeclaredEffect> {
         .chain([actuation])
         .flat_map(|c| c.effects.iter().zip(&c.values))
         .filter_map(|(id, &v)| match id {
-            EffectId::Declared(d) => Some(d.spec().record(v)),
+            EffectId::Declared(d) => Some(d.record(v)),
             _ => None,
         })
         .collect()

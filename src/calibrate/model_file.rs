@@ -216,6 +216,46 @@ mod tests {
         );
     }
 
+    /// A declared scale on the bond layer round-trips; one on a property the bond lacks (an edited file)
+    /// is refused on reading.
+    #[test]
+    fn a_bond_scale_round_trips_and_a_property_the_bond_lacks_is_refused() {
+        use actuator_model::primitives::{Link, Map, Primitive, Property, Target};
+        let bond = |property| actuator_model::DeclaredEffect {
+            name: "stiff-glue".into(),
+            parameter: "bond_e_scale".into(),
+            value: 1.5,
+            null: 1.0,
+            primitives: vec![Link {
+                primitive: Primitive::Scale {
+                    target: Target::Bond,
+                    property,
+                },
+                map: Map::Identity,
+            }],
+        };
+        let model = |property| CalibratedModel {
+            model: "calibrated".into(),
+            verdict: "explained".into(),
+            selected_effects: vec!["stiff-glue".into()],
+            effects: Effects {
+                bond_thickness: 20e-6,
+                ..Effects::default()
+            },
+            declared: vec![bond(property)],
+        };
+        let good = model(Property::E1);
+        let text = to_toml(&good).unwrap();
+        assert!(text.contains("target = \"bond\""), "{text}");
+        assert_eq!(from_toml(&text).unwrap(), good);
+        let bad = to_toml(&model(Property::E1))
+            .unwrap()
+            .replace("property = \"e1\"", "property = \"d31\"");
+        assert!(bad.contains("\"d31\""), "{bad}");
+        let e = from_toml(&bad).unwrap_err().to_string();
+        assert!(e.contains("bond"), "{e}");
+    }
+
     #[test]
     fn a_model_at_the_fit_bounds_is_read_back() {
         // calibrate writes a parameter the fit left at a bound as apply(bound): it must load.

@@ -45,7 +45,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     let declared = match &args.effects {
         Some(path) => input::effects::read_path(path)?
             .into_iter()
-            .map(Declared::new)
+            .flat_map(Declared::all)
             .collect(),
         None => Vec::new(),
     };

@@ -1,6 +1,8 @@
 //! `effects.toml` (`calibrate --effects FILE`): effects a lab declares as compositions of the model's
-//! physical primitives (docs/calibration.md, "Effects a lab declares"), each with one parameter, its
-//! bounds and its null value.
+//! physical primitives (docs/calibration.md, "Effects a lab declares"), each with its parameters, their
+//! bounds and null values.
+//!
+//! One parameter for the whole effect (it drives every primitive, each through its `map`):
 //!
 //! ```toml
 //! [[effect]]
@@ -11,11 +13,22 @@
 //! primitives = [{ kind = "scale", target = "passive", property = "E1" }]
 //! ```
 //!
+//! Or one parameter per primitive, fitted jointly (the effect has no `null` or `bounds` of its own):
+//!
+//! ```toml
+//! [[effect]]
+//! name = "held-root"
+//! primitives = [
+//!   { kind = "electrode-margin", parameter = "root_length_m", null = 0.0, bounds = [0.0, 5e-3] },
+//!   { kind = "clamp-compliance-per-width", parameter = "c_w_rad_m_per_N_m", null = 0.0, bounds = [0.0, 0.05] },
+//! ]
+//! ```
+//!
 //! Values are in the primitives' SI units (a length in m, a compliance in rad/(N·m)). Every refusal is
 //! one [`InputError`] naming the file, the field, the value and what is allowed.
 
 use super::{InputError, Range, TableReader};
-use crate::calibrate::library::{DeclaredSpec, EffectId};
+use crate::calibrate::library::{DeclaredParameter, DeclaredSpec, EffectId};
 use actuator_model::effects::EFFECT_NAMES;
 use actuator_model::primitives::{Link, Map, Primitive, Property, Target};
 use std::path::Path;
@@ -37,7 +50,11 @@ const KINDS: [(&str, Option<Primitive>); 7] = [
     ("compliant-extension", Some(Primitive::CompliantExtension)),
 ];
 
-const TARGETS: [(&str, Target); 2] = [("pzt", Target::Pzt), ("passive", Target::Passive)];
+const TARGETS: [(&str, Target); 3] = [
+    ("pzt", Target::Pzt),
+    ("passive", Target::Passive),
+    ("bond", Target::Bond),
+];
 
 const PROPERTIES: [(&str, Property); 8] = [
     ("E1", Property::E1),
@@ -112,20 +129,83 @@ pub fn parse(file: &Path, table: &toml::Table) -> Result<Vec<DeclaredSpec>, Inpu
     Ok(specs)
 }
 
+/// The keys a primitive takes when it has its own parameter.
+const OWN_PARAMETER: [&str; 3] = ["parameter", "null", "bounds"];
+
 fn effect(t: &TableReader<'_>) -> Result<DeclaredSpec, InputError> {
     let name = t.name("name", "the effect's name")?;
-    let parameter = match t.optional_string("parameter", "the parameter's name")? {
-        Some(p) if !p.trim().is_empty() && p.len() <= 64 => p.to_string(),
-        Some(p) => {
+    let readers = t.tables("primitives")?;
+    // One parameter for the effect when it has bounds of its own; else one per primitive.
+    let shared = t
+        .keys()
+        .iter()
+        .any(|k| ["null", "bounds", "parameter"].contains(k));
+    let parameters = if shared {
+        if let Some((p, key)) = readers.iter().find_map(|p| {
+            let keys = p.keys();
+            OWN_PARAMETER
+                .into_iter()
+                .find(|k| keys.contains(k))
+                .map(|k| (p, k))
+        }) {
             return Err(InputError::invalid(
                 t.file(),
-                &t.path("parameter"),
-                format!("{p:?}"),
-                "expected 1 to 64 characters",
-            ))
+                &p.path(key),
+                "(given)",
+                format!(
+                    "{} has one parameter ({}); give parameter, null and bounds on every primitive or on none",
+                    t.prefix_or("effect"),
+                    t.path("bounds")
+                ),
+            ));
         }
-        None => name.replace('-', "_"),
+        let parameter = parameter_name(t, name.replace('-', "_"))?;
+        let links = readers.iter().map(link).collect::<Result<Vec<_>, _>>()?;
+        vec![parameter_of(t, parameter, links, false)?]
+    } else {
+        let mut parameters: Vec<DeclaredParameter> = Vec::new();
+        for (k, p) in readers.iter().enumerate() {
+            let parameter = parameter_name(p, format!("{}_{}", name.replace('-', "_"), k + 1))?;
+            if parameters.iter().any(|q| q.name == parameter) {
+                return Err(InputError::invalid(
+                    t.file(),
+                    &p.path("parameter"),
+                    format!("{parameter:?}"),
+                    "named twice in this effect; each parameter needs its own name",
+                ));
+            }
+            let l = link(p)?;
+            parameters.push(parameter_of(p, parameter, vec![l], true)?);
+        }
+        parameters
     };
+    t.finish()?;
+    Ok(DeclaredSpec { name, parameters })
+}
+
+/// The optional `parameter` name of `t`, else `default`.
+fn parameter_name(t: &TableReader<'_>, default: String) -> Result<String, InputError> {
+    match t.optional_string("parameter", "the parameter's name")? {
+        Some(p) if !p.trim().is_empty() && p.len() <= 64 => Ok(p.to_string()),
+        Some(p) => Err(InputError::invalid(
+            t.file(),
+            &t.path("parameter"),
+            format!("{p:?}"),
+            "expected 1 to 64 characters",
+        )),
+        None => Ok(default),
+    }
+}
+
+/// The parameter whose `null` and `bounds` are keys of `t` (the effect's table, or the primitive's own
+/// when `own`), driving `primitives`; refused when the null value does not switch every primitive off
+/// or the bounds take one outside its physical range.
+fn parameter_of(
+    t: &TableReader<'_>,
+    name: String,
+    primitives: Vec<Link>,
+    own: bool,
+) -> Result<DeclaredParameter, InputError> {
     let null = t.number_in("null", FINITE)?;
     let bounds = t.numbers_in("bounds", FINITE, 2, 2)?;
     let (lo, hi) = (bounds[0], bounds[1]);
@@ -140,10 +220,14 @@ fn effect(t: &TableReader<'_>) -> Result<DeclaredSpec, InputError> {
             "expected bounds that contain the null value {null}"
         )));
     }
-    let primitives = primitives(t)?;
     for (i, link) in primitives.iter().enumerate() {
-        // Numbered from 1, as the reader names `[[tables]]`.
-        let field = t.path(&format!("primitives[{}]", i + 1));
+        // The primitive's own table when it has its own parameter; numbered from 1, as the reader
+        // names `[[tables]]`.
+        let field = if own {
+            t.prefix_or("primitive")
+        } else {
+            t.path(&format!("primitives[{}]", i + 1))
+        };
         let at_null = link.map.of(null).unwrap_or(f64::NAN);
         let want = link.primitive.null();
         if (at_null - want).abs() > 1e-12 * want.abs().max(1.0) {
@@ -170,10 +254,8 @@ fn effect(t: &TableReader<'_>) -> Result<DeclaredSpec, InputError> {
             }
         }
     }
-    t.finish()?;
-    Ok(DeclaredSpec {
+    Ok(DeclaredParameter {
         name,
-        parameter,
         null,
         lo,
         hi,
@@ -181,27 +263,38 @@ fn effect(t: &TableReader<'_>) -> Result<DeclaredSpec, InputError> {
     })
 }
 
-fn primitives(t: &TableReader<'_>) -> Result<Vec<Link>, InputError> {
-    t.tables("primitives")?
-        .iter()
-        .map(|p| {
-            // `scale` alone takes a target and a property.
-            let primitive = match one_of(p, "kind", "primitive", &KINDS)? {
-                Some(primitive) => primitive,
-                None => Primitive::Scale {
-                    target: one_of(p, "target", "material target", &TARGETS)?,
-                    property: one_of(p, "property", "material property", &PROPERTIES)?,
-                },
-            };
-            let map = if p.has("map") {
-                one_of(p, "map", "map from the parameter", &MAPS)?
-            } else {
-                Map::Identity
-            };
-            p.finish()?;
-            Ok(Link { primitive, map })
-        })
-        .collect()
+/// One entry of `primitives`: its kind (with target and property for `scale`) and map. Keys of its own
+/// parameter are read by [`parameter_of`], so `finish` is left to the caller's table when shared.
+fn link(p: &TableReader<'_>) -> Result<Link, InputError> {
+    // `scale` alone takes a target and a property.
+    let primitive = match one_of(p, "kind", "primitive", &KINDS)? {
+        Some(primitive) => primitive,
+        None => {
+            let target = one_of(p, "target", "material target", &TARGETS)?;
+            let property = one_of(p, "property", "material property", &PROPERTIES)?;
+            if let Err(why) = target.scalable(property) {
+                let given = p.string("property", "")?;
+                return Err(InputError::invalid(
+                    p.file(),
+                    &p.path("property"),
+                    format!("{given:?}"),
+                    why,
+                ));
+            }
+            Primitive::Scale { target, property }
+        }
+    };
+    let map = if p.has("map") {
+        one_of(p, "map", "map from the parameter", &MAPS)?
+    } else {
+        Map::Identity
+    };
+    // Its own parameter's keys, when it has one, are checked by the caller.
+    for k in OWN_PARAMETER {
+        p.has(k);
+    }
+    p.finish()?;
+    Ok(Link { primitive, map })
 }
 
 #[cfg(test)]
@@ -229,12 +322,14 @@ primitives = [{ kind = "scale", target = "passive", property = "E1" }]
         .unwrap();
         assert_eq!(specs.len(), 2);
         let s = &specs[0];
+        assert_eq!(s.name, "soft-fibre");
+        let p = &s.parameters[0];
         assert_eq!(
-            (s.name.as_str(), s.parameter.as_str(), s.null, s.lo, s.hi),
-            ("soft-fibre", "soft_fibre", 1.0, 0.3, 1.2)
+            (p.name.as_str(), p.null, p.lo, p.hi),
+            ("soft_fibre", 1.0, 0.3, 1.2)
         );
         assert_eq!(
-            s.primitives,
+            p.primitives,
             vec![Link {
                 primitive: Primitive::Scale {
                     target: Target::Passive,
@@ -244,10 +339,93 @@ primitives = [{ kind = "scale", target = "passive", property = "E1" }]
             }]
         );
         assert_eq!(
-            specs[1].primitives[0].primitive,
+            specs[1].parameters[0].primitives[0].primitive,
             Primitive::ClampCompliancePerWidth
         );
-        assert_eq!(specs[1].parameter, "c_w_rad_m_per_N_m");
+        assert_eq!(specs[1].parameters[0].name, "c_w_rad_m_per_N_m");
+    }
+
+    const HELD_ROOT: &str = r#"
+[[effect]]
+name = "held-root"
+primitives = [
+  { kind = "electrode-margin", parameter = "root_length_m", null = 0.0, bounds = [0.0, 5e-3] },
+  { kind = "clamp-compliance-per-width", null = 0.0, bounds = [0.0, 0.05] },
+  { kind = "scale", target = "bond", property = "E1", null = 1.0, bounds = [0.2, 2.0] },
+]
+"#;
+
+    #[test]
+    fn an_effect_with_a_parameter_per_primitive_reads_into_its_parameters() {
+        let specs = read(HELD_ROOT).unwrap();
+        let p = &specs[0].parameters;
+        assert_eq!(p.len(), 3);
+        assert_eq!(
+            (p[0].name.as_str(), p[0].null, p[0].lo, p[0].hi),
+            ("root_length_m", 0.0, 0.0, 5e-3)
+        );
+        // Unnamed: the effect's name and the primitive's position.
+        assert_eq!(p[1].name, "held_root_2");
+        assert_eq!(
+            p[1].primitives[0].primitive,
+            Primitive::ClampCompliancePerWidth
+        );
+        assert_eq!(
+            p[2].primitives[0].primitive,
+            Primitive::Scale {
+                target: Target::Bond,
+                property: Property::E1
+            }
+        );
+    }
+
+    /// The refusals of the one-parameter-per-primitive form name the primitive's own field.
+    #[test]
+    fn bad_parameters_of_a_primitive_are_refused_at_their_index_path() {
+        let held = |from: &str, to: &str| HELD_ROOT.replace(from, to);
+        let cases = [
+            (
+                held("bounds = [0.0, 0.05]", "bounds = [0.05, 0.0]"),
+                "effects.toml: effect[1].primitives[2].bounds = [0.05, 0]: expected [lo, hi] with lo < hi",
+            ),
+            (
+                held("null = 0.0, bounds = [0.0, 0.05]", "null = 0.1, bounds = [0.0, 0.05]"),
+                "effects.toml: effect[1].primitives[2].bounds = [0, 0.05]: expected bounds that contain the null value 0.1",
+            ),
+            (
+                held("bounds = [0.0, 5e-3]", "bounds = [-1e-3, 5e-3]"),
+                "effects.toml: effect[1].primitives[1].bounds = [-0.001, 0.005]: effect[1].primitives[1] would take the value -0.001 at -0.001; its physical range is [0, inf)",
+            ),
+            (
+                held(", null = 0.0, bounds = [0.0, 0.05]", ""),
+                "effects.toml: effect[1].primitives[2].null: missing",
+            ),
+            (
+                held("parameter = \"root_length_m\"", "parameter = \"held_root_2\""),
+                "effects.toml: effect[1].primitives[2].parameter = \"held_root_2\": named twice in this effect",
+            ),
+            (
+                held("name = \"held-root\"", "name = \"held-root\"\nnull = 0.0\nbounds = [0.0, 1.0]"),
+                "effects.toml: effect[1].primitives[1].parameter = (given): effect[1] has one parameter (effect[1].bounds); give parameter, null and bounds on every primitive or on none",
+            ),
+            (
+                held("property = \"E1\"", "property = \"d31\""),
+                "effects.toml: effect[1].primitives[3].property = \"d31\": the model's bond layer has no such property (it is not piezoelectric); allowed for the bond: E1, nu12, density, thickness",
+            ),
+            (
+                held("property = \"E1\"", "property = \"G12\""),
+                "effects.toml: effect[1].primitives[3].property = \"G12\": the bond layer is isotropic",
+            ),
+            (
+                held("kind = \"electrode-margin\",", "kind = \"electrode-margin\", lo = 0,"),
+                "effects.toml: effect[1].primitives[1].lo = 0: unknown key",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = read(&text).unwrap_err().to_string();
+            assert!(e.starts_with(want), "{e}\n  expected to start with\n{want}");
+            assert!(!e.contains('\n'), "{e}");
+        }
     }
 
     /// Each kind of bad declaration, with the one line it gets (file, field, value, what is allowed).
@@ -280,8 +458,8 @@ primitives = [{ kind = "scale", target = "passive", property = "E1" }]
                 "effects.toml: effect[1].bounds[1] = NaN: outside the allowed range (-inf, inf)",
             ),
             (
-                soft("target = \"passive\"", "target = \"bond\""),
-                "effects.toml: effect[1].primitives[1].target = \"bond\": unknown material target: one of pzt, passive",
+                soft("target = \"passive\"", "target = \"glue\""),
+                "effects.toml: effect[1].primitives[1].target = \"glue\": unknown material target: one of pzt, passive, bond",
             ),
             (
                 soft("property = \"E1\"", "property = \"E3\""),

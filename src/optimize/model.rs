@@ -312,6 +312,7 @@ mod tests {
             clamp_compliance: 0.4,
             ply_thickness_scale: 1.1,
             stiffness_scale: 1.0,
+            ..Default::default()
         };
         let energies: Vec<f64> = [vec![], every_declared_primitive()]
             .into_iter()
@@ -344,6 +345,8 @@ mod tests {
             scale(Target::Passive, Property::Thickness, 1.1),
             scale(Target::Pzt, Property::Density, 1.05),
             at(InsertedLayer, 10e-6),
+            scale(Target::Bond, Property::E1, 1.5),
+            scale(Target::Bond, Property::Thickness, 1.2),
             at(FieldDependentD31, 1e-7),
             at(ElectrodeMargin, 0.5e-3),
             at(ClampCompliance, 0.1),

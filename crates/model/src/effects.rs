@@ -64,6 +64,33 @@ pub struct Effects {
     pub ply_thickness_scale: f64,
     /// s_k: uniform beam-stiffness factor, compliance `/ s_k` (null 1; the thesis-style null model).
     pub stiffness_scale: f64,
+    /// Scales on the bond layer's material, set by declared `scale` primitives with target `bond`
+    /// ([`crate::primitives::stack`]). Not a library effect: a calibrated model records them as its
+    /// declared primitives, so they are not written under `[effects]`.
+    #[serde(skip)]
+    pub bond_scale: BondScale,
+}
+
+/// Factors on the bond layer's isotropic material (null 1 each): its modulus E (E1 = E2, with G12 kept
+/// at `E / (2 (1 + ν))`), its Poisson ratio and its density.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BondScale {
+    /// Factor on E.
+    pub modulus: f64,
+    /// Factor on ν.
+    pub poisson: f64,
+    /// Factor on the density.
+    pub density: f64,
+}
+
+impl Default for BondScale {
+    fn default() -> Self {
+        BondScale {
+            modulus: 1.0,
+            poisson: 1.0,
+            density: 1.0,
+        }
+    }
 }
 
 impl Default for Effects {
@@ -77,6 +104,7 @@ impl Default for Effects {
             clamp_compliance: 0.0,
             ply_thickness_scale: 1.0,
             stiffness_scale: 1.0,
+            bond_scale: BondScale::default(),
         }
     }
 }
@@ -231,8 +259,20 @@ impl Effects {
         (material, s * ply_thickness)
     }
 
-    fn bond_material() -> Material {
-        Material::builtin(BOND_MATERIAL).expect("the bond material is built in")
+    /// The bond layer's material: the built-in one with [`Effects::bond_scale`] applied (isotropic, so
+    /// G12 follows E and ν as in `Material::isotropic`).
+    fn bond_material(&self) -> Material {
+        let m = Material::builtin(BOND_MATERIAL).expect("the bond material is built in");
+        let k = self.bond_scale;
+        let (e, nu) = (m.e1 * k.modulus, m.nu12 * k.poisson);
+        Material {
+            e1: e,
+            e2: e,
+            g12: e / (2.0 * (1.0 + nu)),
+            nu12: nu,
+            density: m.density * k.density,
+            ..m
+        }
     }
 
     /// The CLT stack with the stack effects (d31, plies, bond layer) applied.
@@ -240,7 +280,7 @@ impl Effects {
         self.validate()?;
         let pzt = self.pzt_material(a.pzt, a.drive.field);
         let (ply, t_ply) = self.ply_material(a.ply, a.ply_thickness);
-        let bond = Self::bond_material();
+        let bond = self.bond_material();
         let bond = (self.bond_thickness > 0.0).then_some((&bond, self.bond_thickness));
         Laminate::bimorph(&pzt, a.pzt_thickness, &ply, t_ply, a.layup_deg, bond)
     }
@@ -321,7 +361,7 @@ impl Effects {
                 * ply.density
                 * t_ply
                 * (a_pzt + pl.extension_area() + pl.tab_area()),
-            bond: 2.0 * Self::bond_material().density * self.bond_thickness * a_pzt,
+            bond: 2.0 * self.bond_material().density * self.bond_thickness * a_pzt,
         }
     }
 
@@ -417,6 +457,11 @@ mod tests {
             clamp_compliance: 0.3,
             ply_thickness_scale: 1.2,
             stiffness_scale: 0.9,
+            bond_scale: BondScale {
+                modulus: 1.3,
+                poisson: 0.9,
+                density: 1.1,
+            },
         };
         let p = e.predict(&a).unwrap();
         let (d, f) = e.outputs(&e.basis(&a).unwrap());

@@ -135,8 +135,9 @@ impl EffectModel {
     }
 }
 
-/// An effect a lab declared (`calibrate --effects FILE`) as the calibrated model records it: its
-/// composition of primitives and the fitted value of its one parameter.
+/// One parameter of an effect a lab declared (`calibrate --effects FILE`) as the calibrated model
+/// records it: the primitives it drives and its fitted value. An effect with several parameters is
+/// recorded as one entry per parameter under the effect's name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DeclaredEffect {
@@ -159,6 +160,12 @@ impl DeclaredEffect {
         self.primitives
             .iter()
             .map(|l| match l.map.of(self.value) {
+                // A scale on a property its target lacks (a bond's d31) is refused by the stack.
+                _ if !l.primitive.is_defined() => Err(ModelError::OutOfRange {
+                    name: "declared bond scale",
+                    value: self.value,
+                    range: "a property the bond layer has: E1, nu12, density or thickness",
+                }),
                 Some(value) if l.primitive.allows(value) => Ok(Applied {
                     primitive: l.primitive,
                     value,

@@ -19,6 +19,31 @@ pub enum Target {
     Pzt,
     /// Every passive ply (and the extension made of them).
     Passive,
+    /// The bond layer between each PZT and the plies, where the model has one (the library's
+    /// `bond-layer` or an inserted layer applied before this primitive); isotropic, so it scales E1
+    /// (its modulus E), ν12, density and thickness ([`Target::scalable`]).
+    Bond,
+}
+
+impl Target {
+    /// Whether a `scale` primitive on this target can act on `property`: every property for the PZT
+    /// and the plies; for the bond layer E1 (its one modulus), ν12, density and thickness. `Err` says
+    /// why not and what is allowed.
+    pub fn scalable(self, property: Property) -> Result<(), &'static str> {
+        match (self, property) {
+            (Target::Pzt | Target::Passive, _) => Ok(()),
+            (
+                Target::Bond,
+                Property::E1 | Property::Nu12 | Property::Density | Property::Thickness,
+            ) => Ok(()),
+            (Target::Bond, Property::E2 | Property::G12) => Err(
+                "the bond layer is isotropic: scale its modulus as E1 (E2 and G12 follow); allowed for the bond: E1, nu12, density, thickness",
+            ),
+            (Target::Bond, Property::D31 | Property::Permittivity) => Err(
+                "the model's bond layer has no such property (it is not piezoelectric); allowed for the bond: E1, nu12, density, thickness",
+            ),
+        }
+    }
 }
 
 /// A material property a primitive scales.
@@ -71,6 +96,14 @@ pub enum Primitive {
 }
 
 impl Primitive {
+    /// False for a scale on a property its target does not have ([`Target::scalable`]).
+    pub fn is_defined(self) -> bool {
+        match self {
+            Primitive::Scale { target, property } => target.scalable(property).is_ok(),
+            _ => true,
+        }
+    }
+
     /// The parameter value that leaves the physics unchanged.
     pub fn null(self) -> f64 {
         match self {
@@ -247,6 +280,25 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
                 target: Target::Passive,
                 property,
             } => scale(&mut s.ply, &mut s.ply_thickness, property, v),
+            Primitive::Scale {
+                target: Target::Bond,
+                property,
+            } => {
+                if let Err(range) = Target::Bond.scalable(property) {
+                    return Err(ModelError::OutOfRange {
+                        name: "bond scale primitive",
+                        value: v,
+                        range,
+                    });
+                }
+                let k = &mut s.effects.bond_scale;
+                match property {
+                    Property::Thickness => s.effects.bond_thickness *= v,
+                    Property::Density => k.density *= v,
+                    Property::Nu12 => k.poisson *= v,
+                    _ => k.modulus *= v,
+                }
+            }
             Primitive::InsertedLayer => s.effects.bond_thickness += v,
             _ => {}
         }
@@ -443,6 +495,84 @@ pub(crate) mod tests {
                     ((null.blocked_force - orig.blocked_force) / orig.blocked_force).abs() < 1e-12
                 );
             }
+        });
+    }
+
+    /// A scale on the bond layer acts on the bond the model has: its thickness as an inserted layer of
+    /// the scaled thickness, its modulus as a laminate built by hand with the stiffer isotropic bond
+    /// (`Laminate::bimorph`, independent of the primitive code); a property the bond lacks is refused.
+    #[test]
+    fn bond_scales_act_on_the_models_bond_layer() {
+        use crate::laminate::Laminate;
+        use crate::section::Section;
+        with(|a| {
+            let bonded = Effects {
+                bond_thickness: 20e-6,
+                ..Effects::default()
+            };
+            let bond = |property, value| Applied {
+                primitive: Primitive::Scale {
+                    target: Target::Bond,
+                    property,
+                },
+                value,
+            };
+            let thicker = compose(&[bond(Property::Thickness, 1.5)], &bonded, a).unwrap();
+            let want = Effects {
+                bond_thickness: 30e-6,
+                ..Effects::default()
+            }
+            .predict(a)
+            .unwrap();
+            for (x, y) in [
+                (thicker.free_deflection, want.free_deflection),
+                (thicker.blocked_force, want.blocked_force),
+                (thicker.mass, want.mass),
+            ] {
+                assert!(((x - y) / y).abs() < 1e-12, "{x} vs {y}");
+            }
+            // A stiffer bond: the free curvature of the hand-built stack.
+            let stiff = compose(&[bond(Property::E1, 2.0)], &bonded, a).unwrap();
+            let glue = Material::builtin(crate::effects::BOND_MATERIAL).unwrap();
+            let e = 2.0 * glue.e1;
+            let glue = Material {
+                e1: e,
+                e2: e,
+                g12: e / (2.0 * (1.0 + glue.nu12)),
+                ..glue
+            };
+            let lam = Laminate::bimorph(
+                a.pzt,
+                a.pzt_thickness,
+                a.ply,
+                a.ply_thickness,
+                a.layup_deg,
+                Some((&glue, 20e-6)),
+            )
+            .unwrap();
+            let plain = bonded.predict(a).unwrap();
+            let section = Section::new(&lam, a.drive).unwrap();
+            let plain_section = Section::new(&bonded.laminate(a).unwrap(), a.drive).unwrap();
+            let ratio = section.free_curvature / plain_section.free_curvature;
+            assert!((ratio - 1.0).abs() > 1e-4, "the bond modulus must matter");
+            assert!(
+                (stiff.free_deflection / plain.free_deflection - ratio).abs() < 1e-12,
+                "{} vs {ratio}",
+                stiff.free_deflection / plain.free_deflection
+            );
+            assert_eq!(stiff.mass, plain.mass);
+            // Without a bond layer the bond's modulus changes nothing.
+            let none = compose(&[bond(Property::E1, 2.0)], &Effects::default(), a).unwrap();
+            assert_eq!(
+                none.blocked_force,
+                Effects::default().predict(a).unwrap().blocked_force
+            );
+            assert!(compose(&[bond(Property::D31, 0.5)], &bonded, a).is_err());
+            assert!(!Primitive::Scale {
+                target: Target::Bond,
+                property: Property::G12
+            }
+            .is_defined());
         });
     }
 

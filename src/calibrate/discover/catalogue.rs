@@ -103,6 +103,7 @@ pub fn name(p: Primitive) -> String {
             let t = match target {
                 Target::Pzt => "pzt",
                 Target::Passive => "passive",
+                Target::Bond => "bond",
             };
             let q = match property {
                 Property::E1 => "E1",

@@ -6,9 +6,13 @@
 //! - [`pattern`]: per residual (deflection, stiffness, mass), a power law in the design variables
 //!   together and in each variable or ratio alone, with intervals ([`power_law`]).
 //! - [`catalogue`] and [`primitive_fit`]: each primitive of the model crate that is not a library effect,
-//!   fitted as a one-parameter effect `{η, P}`; ranked with the library's own single-effect fits
-//!   `{η, A}` by AICc (every one has two parameters, on the same residuals: AICc orders them as the
-//!   residual sum of squares does; the cross-validated error would cost ten refits each).
+//!   fitted as a one-parameter effect `{η, P}`, and again beside the best library effect A, `{η, A, P}`
+//!   (data where a library effect and one outside it are both present). Ranked by AICc, on the same
+//!   residuals, with the selection's own fits: the library's and the declared effects `{η, A}` and the
+//!   library pairs `{η, A, B}` (the cross-validated error would cost ten refits each). A combination is
+//!   listed only when it gains at least the selection's margin (ΔAICc 4) over each of its parts, the rule
+//!   the selection applies to an added effect: a part that only fits noise does not push the single
+//!   effect down the table.
 //! - [`designs`]: the designs in the data's span where the two or three leading candidates disagree most.
 
 pub mod catalogue;
@@ -18,15 +22,15 @@ pub mod power_law;
 pub mod primitive_fit;
 
 use crate::calibrate::csv::Dataset;
-use crate::calibrate::library::EffectId;
+use crate::calibrate::library::{effect_names, EffectId};
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
-use crate::calibrate::select::{actuation_data, Role, Selection};
+use crate::calibrate::select::{actuation_data, Role, Selection, Settings};
 use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use designs::{discriminate, DiscriminatingDesign, Predictor};
 use pattern::Trend;
 use power_law::PowerLaw;
-use primitive_fit::PrimitiveFit;
+use primitive_fit::{Partner, PrimitiveFit};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -42,7 +46,7 @@ pub struct Discovery {
     pub trends: Vec<Trend>,
     /// The variable the residual follows most (the first trend), as `variable (residual)`.
     pub leading_variable: Option<String>,
-    /// Single-effect explanations, best first.
+    /// Explanations (single effects, and combinations that gain over their parts), best first.
     pub candidates: Vec<RankedCandidate>,
     /// What the ranking is by.
     pub ranked_by: &'static str,
@@ -50,14 +54,16 @@ pub struct Discovery {
     pub designs: Vec<DiscriminatingDesign>,
 }
 
-/// One single-effect explanation `{η, X}`, X a library effect or a primitive.
+/// One explanation: `{η, X}` with X a library effect, a declared effect or a primitive, or a combination
+/// `{η, A, X}` (named `A + X`).
 #[derive(Debug, Clone, Serialize)]
 pub struct RankedCandidate {
-    /// Effect or primitive name.
+    /// Effect or primitive name; `A + X` for a combination.
     pub name: String,
-    /// A library effect (its fit from the selection) rather than a primitive outside the library.
+    /// Library effects only (fits from the selection), rather than a declared effect or a primitive
+    /// outside the library.
     pub library: bool,
-    /// Its parameter, with the unit (library: report units; primitive: SI).
+    /// The parameter of X, with the unit (library and declared: report units; primitive: SI).
     pub parameter: String,
     /// Estimate.
     #[serde(serialize_with = "six_digits")]
@@ -80,8 +86,27 @@ pub struct RankedCandidate {
     /// RMSE of the log residuals of δ and F_b.
     #[serde(serialize_with = "six_digits")]
     pub rmse_log: f64,
+    /// The other parameters fitted with it (A's in a combination, a declared effect's further ones).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<AlsoFitted>,
     #[serde(skip)]
     source: Source,
+    /// The single explanations it combines (empty for a single one).
+    #[serde(skip)]
+    parts: Vec<String>,
+}
+
+/// A further parameter of a ranked candidate.
+#[derive(Debug, Clone, Serialize)]
+pub struct AlsoFitted {
+    /// Name with unit.
+    pub parameter: String,
+    /// Estimate.
+    #[serde(serialize_with = "six_digits")]
+    pub estimate: f64,
+    /// 95% interval.
+    #[serde(serialize_with = "six_digits_pair")]
+    pub interval: (f64, f64),
 }
 
 #[derive(Debug, Clone)]
@@ -91,7 +116,11 @@ enum Source {
 }
 
 /// Discovery on the data a not-explained `selection` was made on.
-pub fn discover(data: &Dataset, selection: &Selection) -> Result<Discovery, ModelError> {
+pub fn discover(
+    data: &Dataset,
+    selection: &Selection,
+    settings: &Settings,
+) -> Result<Discovery, ModelError> {
     // The frozen mass-stage effects: what every actuation candidate was fitted on top of.
     let base = selection
         .final_mass_index
@@ -120,47 +149,146 @@ pub fn discover(data: &Dataset, selection: &Selection) -> Result<Discovery, Mode
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| c.aicc);
+    let eta_id = EffectId::D31Scale;
     let mut ranked: Vec<RankedCandidate> = selection
         .candidates
         .iter()
-        .filter(|c| c.role == Role::Candidate && c.effects.len() == 2)
-        .filter_map(|c| {
-            let id = *c.library_effects().first()?;
-            let k = c.effects.iter().position(|e| *e == id)?;
-            let eta = c.values[c.effects.iter().position(|e| *e != id)?];
-            Some(RankedCandidate {
-                name: id.name().into(),
+        .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
+        .map(|c| {
+            let ids = c.library_effects();
+            let names = effect_names(&ids);
+            // X: the last effect's first parameter; the rest are reported beside it.
+            let last = names[names.len() - 1];
+            let k = c.effects.iter().position(|e| e.name() == last).unwrap_or(1);
+            let also = (1..c.effects.len())
+                .filter(|&j| j != k)
+                .map(|j| AlsoFitted {
+                    parameter: c.effects[j].param().name.into(),
+                    estimate: c.values[j],
+                    interval: c.intervals[j],
+                })
+                .collect();
+            RankedCandidate {
+                name: names.join(" + "),
                 // A declared effect ranks with the library's, and says it is declared.
-                library: !matches!(id, EffectId::Declared(_)),
-                parameter: id.param().name.into(),
+                library: !ids.iter().any(|id| matches!(id, EffectId::Declared(_))),
+                parameter: c.effects[k].param().name.into(),
                 estimate: c.values[k],
                 interval: c.intervals[k],
-                eta,
+                eta: c.values[0],
                 aicc: c.aicc,
                 delta_aicc: 0.0,
                 gain_over_eta: eta_aicc - c.aicc,
                 rmse_log: (c.rss / c.n.max(1) as f64).sqrt(),
+                also,
                 source: Source::Library(c.model.clone()),
-            })
+                parts: if names.len() > 1 {
+                    names.iter().map(|n| n.to_string()).collect()
+                } else {
+                    Vec::new()
+                },
+            }
         })
         .collect();
-    let fits: Vec<PrimitiveFit> = catalogue::catalogue()
-        .par_iter()
-        .filter_map(|t| primitive_fit::fit(data, &act, &base, t))
+    // The partners of the combinations: the library effects of the best library model with one effect
+    // and of the best with two (a library effect the data hold may fit worse alone than another that
+    // mimics part of the unexplained effect, as a constant clamp compliance mimics one per width).
+    let l_p_min_mm = data
+        .rows
+        .iter()
+        .map(|r| r.planform.piezo_length() * 1e3)
+        .fold(f64::INFINITY, f64::min);
+    let best_library = |size: usize| {
+        selection
+            .candidates
+            .iter()
+            .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
+            .filter(|c| c.effects.len() == size + 1)
+            .filter(|c| c.effects[1..].iter().all(|e| EffectId::LIBRARY.contains(e)))
+            .min_by(|a, b| a.aicc.total_cmp(&b.aicc))
+    };
+    let mut partners: Vec<Partner> = Vec::new();
+    for c in [best_library(1), best_library(2)].into_iter().flatten() {
+        for (k, &id) in c.effects.iter().enumerate().skip(1) {
+            if partners.iter().any(|x| x.id == id) {
+                continue;
+            }
+            let p = id.param();
+            // The selection's own cap on the dead length (docs/calibration.md §3).
+            let hi = if id == EffectId::DeadLength {
+                p.hi.min(0.8 * l_p_min_mm)
+            } else {
+                p.hi
+            };
+            partners.push(Partner {
+                id,
+                lo: p.lo,
+                hi,
+                start: c.values[k],
+            });
+        }
+    }
+    let tried = catalogue::catalogue();
+    let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
+        .iter()
+        .map(|t| (t, None))
+        .chain(
+            partners
+                .iter()
+                .flat_map(|&x| tried.iter().map(move |t| (t, Some(x)))),
+        )
         .collect();
-    ranked.extend(fits.into_iter().map(|f| RankedCandidate {
-        name: catalogue::name(f.primitive),
-        library: false,
-        parameter: catalogue::parameter(f.primitive).into(),
-        estimate: f.theta[1],
-        interval: f.interval,
-        eta: f.theta[0],
-        aicc: f.aicc,
-        delta_aicc: 0.0,
-        gain_over_eta: eta_aicc - f.aicc,
-        rmse_log: (f.rss / f.n.max(1) as f64).sqrt(),
-        source: Source::Primitive(f),
+    let fits: Vec<PrimitiveFit> = jobs
+        .par_iter()
+        .filter_map(|&(t, x)| primitive_fit::fit(data, &act, &base, t, x))
+        .collect();
+    ranked.extend(fits.into_iter().map(|f| {
+        let single = catalogue::name(f.primitive);
+        let (name, parts, also) = match f.partner {
+            Some(id) => (
+                format!("{} + {single}", id.name()),
+                vec![id.name().to_string(), single.clone()],
+                vec![AlsoFitted {
+                    parameter: id.param().name.into(),
+                    estimate: f.theta[2],
+                    interval: f.intervals[2],
+                }],
+            ),
+            None => (single, Vec::new(), Vec::new()),
+        };
+        RankedCandidate {
+            name,
+            library: false,
+            parameter: catalogue::parameter(f.primitive).into(),
+            estimate: f.theta[1],
+            interval: f.intervals[1],
+            eta: f.theta[0],
+            aicc: f.aicc,
+            delta_aicc: 0.0,
+            gain_over_eta: eta_aicc - f.aicc,
+            rmse_log: (f.rss / f.n.max(1) as f64).sqrt(),
+            also,
+            source: Source::Primitive(f),
+            parts,
+        }
     }));
+    // A combination stays only when it gains the selection's margin over each of its parts.
+    let single_aicc = |name: &str| {
+        ranked
+            .iter()
+            .find(|c| c.parts.is_empty() && c.name == name)
+            .map_or(f64::INFINITY, |c| c.aicc)
+    };
+    let keep: Vec<bool> = ranked
+        .iter()
+        .map(|c| {
+            c.parts
+                .iter()
+                .all(|p| c.aicc <= single_aicc(p) - settings.min_delta_aicc)
+        })
+        .collect();
+    let mut keep = keep.into_iter();
+    ranked.retain(|_| keep.next().unwrap_or(false));
     ranked.sort_by(|a, b| a.aicc.total_cmp(&b.aicc).then(a.name.cmp(&b.name)));
     let best = ranked.first().map_or(0.0, |c| c.aicc);
     for c in &mut ranked {
@@ -189,7 +317,7 @@ pub fn discover(data: &Dataset, selection: &Selection) -> Result<Discovery, Mode
         trends,
         leading_variable,
         candidates: ranked,
-        ranked_by: "AICc of {eta, X} (two parameters each, same residuals)",
+        ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
         designs,
     })
 }

@@ -106,7 +106,7 @@ fn discovery(d: &Discovery) -> String {
     }
     let _ = writeln!(
         md,
-        "\nSingle effects that would produce it, ranked by {}:\n\n| rank | effect or primitive | library | parameter | estimate | 95% interval | η | ΔAICc | gain over {{η}} | RMSE log |\n|---|---|---|---|---|---|---|---|---|---|",
+        "\nEffects and combinations that would produce it, ranked by {}:\n\n| rank | effect or primitive | library | parameter | estimate | 95% interval | η | ΔAICc | gain over {{η}} | RMSE log |\n|---|---|---|---|---|---|---|---|---|---|",
         d.ranked_by
     );
     for (i, c) in d.candidates.iter().take(8).enumerate() {

@@ -2,21 +2,22 @@
 
 use super::candidate::{Candidate, Role};
 use super::settings::Settings;
-use crate::calibrate::library::EffectId;
+use crate::calibrate::library::{effect_names, EffectId};
 
 /// Mark which candidates pass: ΔAICc over every parent (the nulls for singles, both singles for a pair),
 /// better cross-validation than every parent, and intervals that exclude the null value.
 pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Settings) {
-    let snapshot: Vec<(Vec<EffectId>, f64, f64)> = candidates
+    // Parents by effect, not by parameter: a declared effect with two parameters is one effect.
+    let snapshot: Vec<(Vec<&str>, f64, f64)> = candidates
         .iter()
-        .map(|c| (c.library_effects(), c.aicc, c.cv_rmse))
+        .map(|c| (effect_names(&c.library_effects()), c.aicc, c.cv_rmse))
         .collect();
     let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
     for c in candidates.iter_mut() {
         if c.role != Role::Candidate {
             continue;
         }
-        let mine = c.library_effects();
+        let mine = effect_names(&c.library_effects());
         let mut parents: Vec<usize> = nulls.to_vec();
         if mine.len() >= 2 {
             parents = snapshot

@@ -21,7 +21,7 @@ pub use separating::SeparatingDesign;
 pub use settings::{max_parameters, Settings};
 
 use crate::calibrate::csv::Dataset;
-use crate::calibrate::library::{EffectId, Stage};
+use crate::calibrate::library::{effect_names, EffectId, Stage};
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
 use actuator_model::EffectModel;
@@ -144,18 +144,20 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             dead_length_max_mm,
             shared: shared.clone(),
         };
-        let mass_effects: Vec<EffectId> = [EffectId::PlyThickness, EffectId::BondLayer]
+        // Each effect with its parameters (a declared effect may have several).
+        let mass_effects: Vec<Vec<EffectId>> = [EffectId::PlyThickness, EffectId::BondLayer]
             .into_iter()
+            .map(|e| vec![e])
             .chain(declared_in(settings, Stage::Mass))
             .collect();
         let mut sets: Vec<(Vec<EffectId>, Role)> = vec![(vec![], Role::Original)];
-        for &e in &mass_effects {
-            sets.push((vec![e], Role::Candidate));
+        for e in &mass_effects {
+            sets.push((e.clone(), Role::Candidate));
         }
         if settings.max_effects >= 2 && mass_data.obs.len() >= 8 {
-            for (i, &a) in mass_effects.iter().enumerate() {
-                for &b in &mass_effects[i + 1..] {
-                    sets.push((vec![a, b], Role::Candidate));
+            for (i, a) in mass_effects.iter().enumerate() {
+                for b in &mass_effects[i + 1..] {
+                    sets.push(([a.as_slice(), b].concat(), Role::Candidate));
                 }
             }
         }
@@ -283,7 +285,10 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
                 .unwrap_or_else(|| "(lack of fit, no single variable)".into()),
         }
     } else if !contenders.is_empty() {
-        let mut all = vec![selected.iter().map(|e| e.name().to_string()).collect()];
+        let mut all = vec![effect_names(&selected)
+            .into_iter()
+            .map(String::from)
+            .collect()];
         all.extend(contenders);
         if let Some(&rival) = best_and_rivals_indices(&candidates, settings).get(1) {
             separating_designs = separate(
@@ -362,9 +367,11 @@ fn actuation_stage<'a>(
         shared: shared.clone(),
     };
     let eta = EffectId::D31Scale;
-    let library: Vec<EffectId> = EffectId::LIBRARY
+    // Each effect with its parameters (a declared effect may have several).
+    let library: Vec<Vec<EffectId>> = EffectId::LIBRARY
         .into_iter()
         .filter(|e| *e != eta && e.stage() == Stage::Actuation)
+        .map(|e| vec![e])
         .chain(declared_in(settings, Stage::Actuation))
         .collect();
     let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
@@ -384,18 +391,21 @@ fn actuation_stage<'a>(
             "{n_points} data points: models limited to {max_effects} effect(s) besides eta (parameters <= n/10)"
         ));
     }
+    // An effect with several parameters counts them all against the n/10 rule.
+    let max_params = n_points / 10;
     if max_effects >= 1 {
-        for &a in &library {
-            sets.push((vec![eta, a], Role::Candidate));
+        for a in &library {
+            sets.push(([&[eta], a.as_slice()].concat(), Role::Candidate));
         }
     }
     if max_effects >= 2 {
-        for (i, &a) in library.iter().enumerate() {
-            for &b in &library[i + 1..] {
-                sets.push((vec![eta, a, b], Role::Candidate));
+        for (i, a) in library.iter().enumerate() {
+            for b in &library[i + 1..] {
+                sets.push(([&[eta], a.as_slice(), b].concat(), Role::Candidate));
             }
         }
     }
+    sets.retain(|(ids, role)| *role != Role::Candidate || ids.len() <= max_params);
     let mut candidates: Vec<Candidate> = sets
         .par_iter()
         .map(|(ids, role)| fitter.fit(ids, Stage::Actuation, *role))
@@ -426,19 +436,27 @@ fn actuation_stage<'a>(
     })
 }
 
-/// The declared effects fitted on one stage's data.
-fn declared_in(settings: &Settings, stage: Stage) -> impl Iterator<Item = EffectId> + '_ {
-    settings
-        .declared
-        .iter()
-        .map(|&d| EffectId::Declared(d))
-        .filter(move |e| e.stage() == stage)
+/// The declared effects fitted on one stage's data, each as the list of its parameters on that stage
+/// (fitted together).
+fn declared_in(settings: &Settings, stage: Stage) -> Vec<Vec<EffectId>> {
+    let mut groups: Vec<Vec<EffectId>> = Vec::new();
+    for &d in &settings.declared {
+        let id = EffectId::Declared(d);
+        if id.stage() != stage {
+            continue;
+        }
+        match groups.last_mut() {
+            Some(g) if g[0].name() == id.name() => g.push(id),
+            _ => groups.push(vec![id]),
+        }
+    }
+    groups
 }
 
 /// One note per effect the data cannot determine, from the models that fit it alone (with η).
 fn note_not_identifiable(candidates: &[Candidate], notes: &mut Vec<String>) {
     for c in candidates {
-        if c.library_effects().len() != 1 {
+        if effect_names(&c.library_effects()).len() != 1 {
             continue;
         }
         for (id, reason) in &c.not_identifiable {
