@@ -118,16 +118,16 @@ pub fn discover(data: &Dataset, selection: &Selection) -> Result<Discovery, Mode
     let eta_aicc = selection
         .candidates
         .iter()
-        .find(|c| c.role == Role::Null && c.effects.len() == 1)
+        .find(|c| c.role == Role::Null && c.effects.len() - c.carried == 1)
         .map_or(f64::INFINITY, |c| c.aicc);
     let mut ranked: Vec<RankedCandidate> = selection
         .candidates
         .iter()
-        .filter(|c| c.role == Role::Candidate && c.effects.len() == 2)
+        .filter(|c| c.role == Role::Candidate && c.effects.len() - c.carried == 2)
         .filter_map(|c| {
-            let id = *c.library_effects().first()?;
+            let id = *c.own_effects().first()?;
             let k = c.effects.iter().position(|e| *e == id)?;
-            let eta = c.values[c.effects.iter().position(|e| *e != id)?];
+            let eta = c.values[c.effects.iter().position(|e| *e == EffectId::D31Scale)?];
             Some(RankedCandidate {
                 name: id.name().into(),
                 // A declared effect ranks with the library's, and says it is declared.
