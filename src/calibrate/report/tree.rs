@@ -292,7 +292,8 @@ pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
     s.selected
         .iter()
         .filter_map(|id| {
-            [mass, Some(act)]
+            // The actuation model first: it holds the mass effects refitted on all the data.
+            [Some(act), mass]
                 .into_iter()
                 .flatten()
                 .find_map(|c| c.effects.iter().position(|e| e == id).map(|k| (*id, c, k)))
