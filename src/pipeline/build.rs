@@ -7,7 +7,7 @@ use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
 use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, CutLayer};
 use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord};
 use super::parts::PartGeometry;
-use super::place::{place_cut_layer, place_plates, BaselineRow, Packing};
+use super::place::{place_cut_layers, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
 use super::{BuildError, SheetDrawing};
 use crate::design::Design;
@@ -175,13 +175,9 @@ pub fn build_into<'s>(
         layers.push(layer);
     }
     let mut cut_layers = Vec::with_capacity(layers.len());
-    let count = layers.len();
-    for (index, mut layer) in layers.into_iter().enumerate() {
-        if let Packing::Irregular(_, observer) = packing {
-            let copies = layer.items.iter().map(|i| i.count).sum();
-            observer.layer(index, count, &layer.layer, copies);
-        }
-        let placed = place_cut_layer(&layer, packing, names)?;
+    let placed = place_cut_layers(&layers, packing, names);
+    for (mut layer, placed) in layers.into_iter().zip(placed) {
+        let placed = placed?;
         if let Some(length) = placed.strip_length_mm {
             // Roll stock: the drawing and the sheet record show the strip as used.
             layer.spec.height_mm = length;

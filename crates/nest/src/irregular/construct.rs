@@ -8,7 +8,7 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::model::{collision_free, slide_bottom_left, Model, NUDGE_MM};
+use super::model::{collision_free, slide, Model, COARSE_SLIDE, FINISH_SLIDE, NUDGE_MM};
 use super::random::{blink_shuffle, worker_rng};
 use super::score::Score;
 use super::threads::shared_out;
@@ -339,13 +339,21 @@ impl Model<'_> {
                 if !collision_free(cde, shape, &mut buffer, start) {
                     continue;
                 }
-                let t = slide_bottom_left(cde, shape, &mut buffer, start);
+                let t = slide(cde, shape, &mut buffer, start, COARSE_SLIDE);
                 let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
                 if best.as_ref().is_none_or(|(c, _)| cost < *c) {
                     best = Some((cost, Placement { part, rot, t }));
                 }
             }
         }
-        best.map(|(_, spot)| spot)
+        // Candidates are ranked after the coarse steps; the winner takes the fine ones.
+        best.map(|(_, spot)| {
+            let shape = &self.shapes[part][spot.rot];
+            let mut buffer = shape.plain.clone();
+            Placement {
+                t: slide(cde, shape, &mut buffer, spot.t, FINISH_SLIDE),
+                ..spot
+            }
+        })
     }
 }

@@ -8,7 +8,9 @@
 //! * **Placement** (`Model::find_spot`): start positions at the sheet corner, next to and above
 //!   placed parts, where parts of the same design sat before a ruin, and at random; each is
 //!   pushed down and left in halving steps (a bottom-left slide) while it stays collision-free,
-//!   and the end position with the lowest `top + λ·right` wins. The slide drops a part turned by
+//!   and the end position with the lowest `top + λ·right` wins. Candidates stop at 1/8 mm steps
+//!   and only the winner slides on to 0.01 mm: the fine steps, where a part nearly touches its
+//!   neighbours, cost the most collision tests. The slide drops a part turned by
 //!   180° into the slanted gap its neighbour leaves, which is where trapezoids gain over their
 //!   bounding boxes.
 //! * **Greedy fills** (`Model::construct`): each worker builds several starts (five on jobs of
@@ -46,16 +48,17 @@
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they
 //!   overlap least until none do (guided local search on the penetration of convex pieces,
-//!   module `overlap`); jagua-rs checks every layout it keeps. Each worker compresses on its
-//!   own stream for `COMPRESSION_EVALUATIONS` overlap evaluations per iteration of the job's
+//!   module `overlap`); jagua-rs checks every layout it keeps. Two chains per worker compress
+//!   on their own streams, shared out to the threads as they come free, each with half of
+//!   `COMPRESSION_EVALUATIONS` overlap evaluations per worker and iteration of the job's
 //!   budget (the sheet with the lowest top decides the used length, so it gets the budget the
-//!   search did not use) and stops early after `STALL_ATTEMPTS` failures in a row at the
-//!   smallest step; the lowest top wins.
+//!   search did not use); a chain stops early after `STALL_ATTEMPTS` failures in a row at the
+//!   smallest step, and the lowest top wins.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
-//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (400)
+//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (200)
 //!   iterations over all workers have brought no shorter layout (fewer sheets or a used length
 //!   shorter by more than 1 µm, neither the best nor any worker's own; the score's lower terms
 //!   do not count), or once the best uses the fewest sheets the part area allows with a used

@@ -32,6 +32,11 @@ pub(super) const NUDGE_MM: f32 = 1e-3;
 /// First and last step of the bottom-left slide.
 const SLIDE_FIRST_STEP_MM: f32 = 16.0;
 const SLIDE_LAST_STEP_MM: f32 = 0.01;
+/// Last step of a candidate's slide in a spot search (`COARSE_SLIDE`); only the winner slides
+/// on to `SLIDE_LAST_STEP_MM` (`FINISH_SLIDE`). The fine steps are the dear ones: a part that
+/// nearly touches a neighbour passes the cheap surrogate test and needs the polygon test, and
+/// candidates that end a fraction of a millimetre apart rarely swap ranks.
+const SLIDE_COARSE_LAST_STEP_MM: f32 = 0.125;
 /// Area the collision shape may grow by (as a fraction of its own area) when jagua-rs replaces
 /// the many-vertex round joins of its separation offset by fewer, outward edges. The shape stays
 /// a superset, so the separation still holds; fewer edges make every collision query cheaper.
@@ -351,10 +356,35 @@ pub(super) fn slide_bottom_left(
     cde: &CDEngine,
     shape: &RotatedShape,
     buffer: &mut SPolygon,
-    mut t: (f32, f32),
+    t: (f32, f32),
 ) -> (f32, f32) {
-    let mut step = SLIDE_FIRST_STEP_MM;
-    while step >= SLIDE_LAST_STEP_MM {
+    slide(
+        cde,
+        shape,
+        buffer,
+        t,
+        (SLIDE_FIRST_STEP_MM, SLIDE_LAST_STEP_MM),
+    )
+}
+
+/// Steps (first, last) of a candidate's slide in a spot search, stopped after the
+/// `SLIDE_COARSE_LAST_STEP_MM` steps: a spot search ranks its candidates by where this leaves
+/// them.
+pub(super) const COARSE_SLIDE: (f32, f32) = (SLIDE_FIRST_STEP_MM, SLIDE_COARSE_LAST_STEP_MM);
+/// The rest of the slide after [`COARSE_SLIDE`] (the winner's): coarse then finish is exactly
+/// [`slide_bottom_left`].
+pub(super) const FINISH_SLIDE: (f32, f32) = (SLIDE_COARSE_LAST_STEP_MM / 2.0, SLIDE_LAST_STEP_MM);
+
+/// The slide with steps halving from `first` while they are at least `last`.
+pub(super) fn slide(
+    cde: &CDEngine,
+    shape: &RotatedShape,
+    buffer: &mut SPolygon,
+    mut t: (f32, f32),
+    (first, last): (f32, f32),
+) -> (f32, f32) {
+    let mut step = first;
+    while step >= last {
         let mut moved = false;
         loop {
             let next = (t.0, (t.1 - step).max(shape.y.0));
