@@ -265,19 +265,6 @@ impl EffectId {
         }
     }
 
-    /// It changes the laminate (so every stack is solved again when it moves).
-    pub fn changes_stack(self) -> bool {
-        match self {
-            EffectId::BondLayer | EffectId::PlyThickness => true,
-            EffectId::Declared(d) => d
-                .parameter()
-                .primitives
-                .iter()
-                .any(|l| l.primitive.changes_stack()),
-            _ => false,
-        }
-    }
-
     /// Its parameter (every library effect has one).
     pub fn param(self) -> ParamSpec {
         match self {

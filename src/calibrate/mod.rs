@@ -137,12 +137,10 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
 /// The declared effects of the final models (mass stage, then actuation) at their fitted values, in the
 /// order their primitives were applied, so the file rebuilds `selection.model` exactly.
 fn declared_records(selection: &Selection) -> Vec<DeclaredEffect> {
-    let actuation = &selection.candidates[selection.final_index];
-    // A mass model carried into the actuation stage is recorded at its values refitted there.
     let mass = selection
         .final_mass_index
-        .map(|i| &selection.mass_candidates[i])
-        .filter(|_| actuation.carried == 0);
+        .map(|i| &selection.mass_candidates[i]);
+    let actuation = &selection.candidates[selection.final_index];
     mass.into_iter()
         .chain([actuation])
         .flat_map(|c| c.effects.iter().zip(&c.values))

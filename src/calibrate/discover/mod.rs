@@ -147,24 +147,20 @@ pub fn discover(
     let eta_aicc = selection
         .candidates
         .iter()
-        .find(|c| c.role == Role::Null && c.effects.len() - c.carried == 1)
+        .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| c.aicc);
     let eta_id = EffectId::D31Scale;
     let mut ranked: Vec<RankedCandidate> = selection
         .candidates
         .iter()
-        // The carried mass effects come first; η starts this stage's own effects.
-        .filter(|c| c.role == Role::Candidate && c.effects.get(c.carried) == Some(&eta_id))
+        .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
         .map(|c| {
-            let ids = c.own_effects();
+            let ids = c.library_effects();
             let names = effect_names(&ids);
             // X: the last effect's first parameter; the rest are reported beside it.
             let last = names[names.len() - 1];
-            let own = c.carried + 1;
-            let k = (own..c.effects.len())
-                .find(|&j| c.effects[j].name() == last)
-                .unwrap_or(own);
-            let also = (own..c.effects.len())
+            let k = c.effects.iter().position(|e| e.name() == last).unwrap_or(1);
+            let also = (1..c.effects.len())
                 .filter(|&j| j != k)
                 .map(|j| AlsoFitted {
                     parameter: c.effects[j].param().name.into(),
@@ -179,7 +175,7 @@ pub fn discover(
                 parameter: c.effects[k].param().name.into(),
                 estimate: c.values[k],
                 interval: c.intervals[k],
-                eta: c.values[c.carried],
+                eta: c.values[0],
                 aicc: c.aicc,
                 delta_aicc: 0.0,
                 gain_over_eta: eta_aicc - c.aicc,

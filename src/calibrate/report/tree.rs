@@ -292,8 +292,7 @@ pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
     s.selected
         .iter()
         .filter_map(|id| {
-            // The actuation model first: it holds the mass effects refitted on all the data.
-            [Some(act), mass]
+            [mass, Some(act)]
                 .into_iter()
                 .flatten()
                 .find_map(|c| c.effects.iter().position(|e| e == id).map(|k| (*id, c, k)))

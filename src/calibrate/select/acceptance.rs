@@ -10,14 +10,14 @@ pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Se
     // Parents by effect, not by parameter: a declared effect with two parameters is one effect.
     let snapshot: Vec<(Vec<&str>, f64, f64)> = candidates
         .iter()
-        .map(|c| (effect_names(&c.own_effects()), c.aicc, c.cv_rmse))
+        .map(|c| (effect_names(&c.library_effects()), c.aicc, c.cv_rmse))
         .collect();
     let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
     for c in candidates.iter_mut() {
         if c.role != Role::Candidate {
             continue;
         }
-        let mine = effect_names(&c.own_effects());
+        let mine = effect_names(&c.library_effects());
         let mut parents: Vec<usize> = nulls.to_vec();
         if mine.len() >= 2 {
             parents = snapshot
@@ -75,13 +75,13 @@ pub(super) fn best_and_rivals_indices(candidates: &[Candidate], settings: &Setti
     else {
         return Vec::new();
     };
-    let best_effects = candidates[best].own_effects();
+    let best_effects = candidates[best].library_effects();
     let mut out = vec![best];
     for (i, c) in candidates.iter().enumerate() {
         if i == best || c.role != Role::Candidate {
             continue;
         }
-        let mine = c.own_effects();
+        let mine = c.library_effects();
         let nested = mine.iter().all(|e| best_effects.contains(e))
             || best_effects.iter().all(|e| mine.contains(e));
         let own_effects_significant = c
@@ -108,7 +108,7 @@ pub(super) fn best_and_rivals(
         .skip(1)
         .map(|&i| {
             candidates[i]
-                .own_effects()
+                .library_effects()
                 .iter()
                 .map(|e| e.name().to_string())
                 .collect()

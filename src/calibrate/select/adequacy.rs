@@ -74,19 +74,18 @@ pub(super) fn adequacy(
     adequacy_of_fit(
         data,
         act,
-        (&chosen.model, chosen.values.len()),
-        // The final model holds the mass effects (refitted on all the data when carried).
-        mass_model.map(|_| (&chosen.model, mass_data)),
+        (&chosen.model, chosen.fit.rss, chosen.values.len()),
+        mass_model.map(|m| (&m.model, mass_data)),
         settings,
     )
 }
 
-/// The same for any model: (effects, fitted parameter count), and the mass model with its data if
-/// masses were fitted.
+/// The same for any model: (effects, RSS of its actuation fit, fitted parameter count), and the mass
+/// model with its data if masses were fitted.
 pub(super) fn adequacy_of_fit(
     data: &Dataset,
     act: &ActuationData,
-    (model, params): (&EffectModel, usize),
+    (model, rss, params): (&EffectModel, f64, usize),
     mass: Option<(&EffectModel, &MassData)>,
     settings: &Settings,
 ) -> Adequacy {
@@ -103,15 +102,36 @@ pub(super) fn adequacy_of_fit(
         by[o.group][slot].push((o.basis.field, res));
         row_res[i][slot] = Some(res);
     }
-    let PureError {
-        rss: rss_full,
-        lines: q,
-        sweeps,
-    } = pure_error(&by);
+    // Pure error: a line in the field per actuator and output.
+    let (mut rss_full, mut q) = (0.0, 0usize);
+    let mut sweeps = 0usize;
+    for pair in &by {
+        for pts in pair {
+            if pts.is_empty() {
+                continue;
+            }
+            let m = pts.len() as f64;
+            let mx = pts.iter().map(|p| p.0).sum::<f64>() / m;
+            let my = pts.iter().map(|p| p.1).sum::<f64>() / m;
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            let slope = if sxx > 1e-12 * mx * mx * m {
+                q += 2;
+                pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx
+            } else {
+                q += 1;
+                0.0
+            };
+            if pts.len() >= 3 {
+                sweeps += 1;
+            }
+            rss_full += pts
+                .iter()
+                .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
+                .sum::<f64>();
+        }
+    }
     let n = r.len();
     let p = params;
-    // The actuation residuals' own RSS (a joint fit's RSS also holds the weighted masses).
-    let rss: f64 = r.iter().map(|x| x * x).sum();
     let df2 = n as f64 - q as f64;
     let df1 = q as f64 - p as f64;
     let lack_of_fit = if sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0 {
@@ -255,64 +275,4 @@ fn push_variable_tests<'a>(
             });
         }
     }
-}
-
-/// Pure error of log residuals grouped by (actuator, output) as (field, residual) pairs: the residual sum
-/// of squares about a line in the field per group (a constant where the group has one field).
-struct PureError {
-    rss: f64,
-    /// Parameters of the lines (2 per sweep of two or more fields, 1 otherwise).
-    lines: usize,
-    /// Groups with three or more points.
-    sweeps: usize,
-}
-
-fn pure_error(by: &[[Vec<(f64, f64)>; 2]]) -> PureError {
-    let (mut rss_full, mut q) = (0.0, 0usize);
-    let mut sweeps = 0usize;
-    for pair in by {
-        for pts in pair {
-            if pts.is_empty() {
-                continue;
-            }
-            let m = pts.len() as f64;
-            let mx = pts.iter().map(|p| p.0).sum::<f64>() / m;
-            let my = pts.iter().map(|p| p.1).sum::<f64>() / m;
-            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-            let slope = if sxx > 1e-12 * mx * mx * m {
-                q += 2;
-                pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx
-            } else {
-                q += 1;
-                0.0
-            };
-            if pts.len() >= 3 {
-                sweeps += 1;
-            }
-            rss_full += pts
-                .iter()
-                .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
-                .sum::<f64>();
-        }
-    }
-    PureError {
-        rss: rss_full,
-        lines: q,
-        sweeps,
-    }
-}
-
-/// The noise variance of the log deflection and force residuals from the voltage sweeps' pure error,
-/// when at least three actuators are swept and five degrees of freedom remain (None otherwise).
-pub(super) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
-    let mut r = Vec::new();
-    act.residuals(model, None, &mut r);
-    let mut by: Vec<[Vec<(f64, f64)>; 2]> = vec![[Vec::new(), Vec::new()]; act.groups];
-    for (&(i, output), &res) in act.labels().iter().zip(&r) {
-        let o = &act.obs[i];
-        by[o.group][(output == "blocked_force") as usize].push((o.basis.field, res));
-    }
-    let pe = pure_error(&by);
-    let dof = r.len() as f64 - pe.lines as f64;
-    (pe.sweeps >= 3 && dof >= 5.0 && pe.rss > 0.0).then(|| pe.rss / dof)
 }

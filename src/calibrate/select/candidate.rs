@@ -22,11 +22,8 @@ pub struct Candidate {
     pub stage: Stage,
     /// Role in the selection.
     pub role: Role,
-    /// Fitted effects, in parameter order: the carried mass effects first.
+    /// Fitted effects, in parameter order.
     pub effects: Vec<EffectId>,
-    /// How many leading `effects` are the mass model's, refitted here on all the data (0 on the mass
-    /// stage): the selection judges only the effects after them.
-    pub carried: usize,
     /// Estimates in report units.
     pub values: Vec<f64>,
     /// Standard errors.
@@ -61,15 +58,6 @@ impl Candidate {
     /// Effects other than η and stiffness-scale.
     pub fn library_effects(&self) -> Vec<EffectId> {
         self.effects
-            .iter()
-            .copied()
-            .filter(|e| !matches!(e, EffectId::D31Scale | EffectId::StiffnessScale))
-            .collect()
-    }
-
-    /// The library effects this stage adds (the carried mass effects left out).
-    pub fn own_effects(&self) -> Vec<EffectId> {
-        self.effects[self.carried..]
             .iter()
             .copied()
             .filter(|e| !matches!(e, EffectId::D31Scale | EffectId::StiffnessScale))

@@ -4,16 +4,15 @@
 use super::candidate::{Candidate, Role};
 use super::cross_validation;
 use super::identifiability;
-use super::observations::{StackCache, StageData};
+use super::observations::StageData;
 use crate::calibrate::fit::{least_squares, Bounds, FitResult};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
 use nalgebra::DMatrix;
-use std::cell::RefCell;
 
 /// Every combination of the parameters' start values, clamped to their bounds.
-fn starts(specs: &[(f64, f64, &[f64])]) -> Vec<Vec<f64>> {
+fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
     let mut out = vec![Vec::new()];
     for &(lo, hi, s) in specs {
         out = out
@@ -55,9 +54,6 @@ pub(super) struct Fitter<'a> {
     pub(super) dead_length_max_mm: f64,
     /// What all actuators share (identifiability reasons), if anything.
     pub(super) shared: Option<String>,
-    /// Mass effects refitted with every effect set, each with its masses-only estimate as the start
-    /// (empty on the mass stage, or when the masses chose the original model).
-    pub(super) carried: Vec<(EffectId, f64)>,
 }
 
 impl Fitter<'_> {
@@ -83,57 +79,31 @@ impl Fitter<'_> {
         e
     }
 
-    /// Fit `ids` after the first `held.len()`, which stay at `held`, on the actuators `keep`.
     fn fit_on(
         &self,
         ids: &[EffectId],
-        held: &[f64],
         keep: Option<&[bool]>,
         starts_list: &[Vec<f64>],
     ) -> FitResult {
-        let bounds = self.bounds(&ids[held.len()..]);
-        // The stacks are solved again only when a parameter that changes them moves.
-        let stack: Vec<bool> = ids.iter().map(|id| id.changes_stack()).collect();
-        let cache = RefCell::new(StackCache::default());
+        let bounds = self.bounds(ids);
         let f = |theta: &[f64], out: &mut Vec<f64>| {
-            let all: Vec<f64> = held.iter().chain(theta).copied().collect();
-            let mut cache = cache.borrow_mut();
-            cache.key.clear();
-            cache
-                .key
-                .extend(all.iter().zip(&stack).filter(|(_, s)| **s).map(|(v, _)| *v));
-            self.data
-                .residuals_cached(&self.effects_at(ids, &all), keep, out, &mut cache)
+            self.data.residuals(&self.effects_at(ids, theta), keep, out)
         };
         least_squares(&f, &bounds, starts_list)
     }
 
-    pub(super) fn fit(&self, own: &[EffectId], stage: Stage, role: Role) -> Candidate {
-        let carried_starts: Vec<[f64; 1]> = self.carried.iter().map(|c| [c.1]).collect();
-        let ids: Vec<EffectId> = self
-            .carried
-            .iter()
-            .map(|c| c.0)
-            .chain(own.iter().copied())
-            .collect();
-        let ids = &ids[..];
+    pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
         let bounds = self.bounds(ids);
-        let specs: Vec<(f64, f64, &[f64])> = ids
+        let specs: Vec<(f64, f64, &'static [f64])> = ids
             .iter()
             .zip(&bounds)
-            .enumerate()
-            .map(|(k, (id, b))| {
-                let s: &[f64] = carried_starts.get(k).map_or(id.param().starts, |s| &s[..]);
-                (b.lo, b.hi, s)
-            })
+            .map(|(id, b)| (b.lo, b.hi, id.param().starts))
             .collect();
-        let fit = self.fit_on(ids, &[], None, &starts(&specs));
+        let fit = self.fit_on(ids, None, &starts(&specs));
         let p = ids.len();
-        // Scores on the stage's own outputs; on the joint data the weighted masses only steer the fit.
-        let n = self.data.scored_rows().unwrap_or(fit.n).min(fit.n);
-        let rss: f64 = fit.residuals[..n].iter().map(|r| r * r).sum();
-        let aicc = stats::aicc(n, p, rss);
-        let bic = n as f64 * (rss.max(1e-300) / n as f64).ln() + p as f64 * (n as f64).ln();
+        let n = fit.n;
+        let aicc = stats::aicc(n, p, fit.rss);
+        let bic = n as f64 * (fit.rss.max(1e-300) / n as f64).ln() + p as f64 * (n as f64).ln();
         let cov = fit.covariance();
         let (std_errors, intervals) = intervals(&fit, &cov);
         let correlation = (0..p)
@@ -150,30 +120,17 @@ impl Fitter<'_> {
                     .collect()
             })
             .collect();
-        // Each fold starts from the full-data fit; the original model has nothing to refit. The carried
-        // mass parameters stay at their full-data values (as the masses-only values did when they were
-        // frozen): the folds compare the effects this stage adds.
-        let c = self.carried.len();
+        // Each fold starts from the full-data fit; the original model has nothing to refit.
         let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
-            if ids.len() == c {
-                self.effects_at(ids, &fit.theta)
+            if ids.is_empty() {
+                self.base.clone()
             } else {
-                let (held, own) = fit.theta.split_at(c);
-                let refit = self.fit_on(ids, held, Some(train), &[own.to_vec()]);
-                let all: Vec<f64> = held.iter().chain(&refit.theta).copied().collect();
-                self.effects_at(ids, &all)
+                let refit = self.fit_on(ids, Some(train), std::slice::from_ref(&fit.theta));
+                self.effects_at(ids, &refit.theta)
             }
         });
-        // The carried mass effects were judged on the masses; only this stage's own are checked.
-        let not_identifiable = identifiability::not_identifiable(
-            ids,
-            self.carried.len(),
-            &fit,
-            self.data.scored_rows(),
-            self.shared.as_deref(),
-        );
+        let not_identifiable = identifiability::not_identifiable(ids, &fit, self.shared.as_deref());
         Candidate {
-            carried: self.carried.len(),
             not_identifiable,
             stage,
             role,
@@ -182,7 +139,7 @@ impl Fitter<'_> {
             std_errors,
             intervals,
             correlation,
-            rss,
+            rss: fit.rss,
             n,
             aicc,
             bic,

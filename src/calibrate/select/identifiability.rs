@@ -46,22 +46,16 @@ pub fn shared_design(data: &Dataset) -> Option<String> {
 
 /// The library effects of a fit the data cannot determine, each with the reason. Every column is tested
 /// against a uniform scale too: in the mass stage, which has no scale parameter of its own, a uniform
-/// change could as well be a density or thickness off its nominal value. The first `skip` effects (mass
-/// effects judged on the masses, refitted beside the actuation effects) are not tested but stay in the
-/// comparison; the uniform scale acts on the first `scored_rows` residuals (None: all), so that on
-/// the joint data it is the d31 scale of deflection and force, which leaves the masses alone.
+/// change could as well be a density or thickness off its nominal value.
 pub fn not_identifiable(
     effects: &[EffectId],
-    skip: usize,
     fit: &FitResult,
-    scored_rows: Option<usize>,
     shared: Option<&str>,
 ) -> Vec<(EffectId, String)> {
     let j = &fit.jacobian;
     let (n, p) = (j.nrows(), j.ncols());
-    let scaled_rows = scored_rows.unwrap_or(n);
     let mut out = Vec::new();
-    for (k, id) in effects.iter().enumerate().skip(skip) {
+    for (k, id) in effects.iter().enumerate() {
         if matches!(id, EffectId::D31Scale | EffectId::StiffnessScale) {
             continue;
         }
@@ -79,17 +73,17 @@ pub fn not_identifiable(
         }
         // The other columns and a uniform scale.
         let rest_of: Vec<usize> = (0..p).filter(|&m| m != k).collect();
-        let others = DMatrix::from_fn(n, p, |i, c| {
-            if c == 0 {
-                if i < scaled_rows {
+        let others = DMatrix::from_fn(
+            n,
+            p,
+            |i, c| {
+                if c == 0 {
                     1.0
                 } else {
-                    0.0
+                    j[(i, rest_of[c - 1])]
                 }
-            } else {
-                j[(i, rest_of[c - 1])]
-            }
-        });
+            },
+        );
         let svd = others.clone().svd(true, true);
         let rest = match svd.solve(&col.clone_owned(), 1e-12) {
             Ok(coef) => (col - &others * coef).norm(),

@@ -22,7 +22,6 @@ pub use settings::{max_parameters, Settings};
 
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId, Stage};
-use crate::calibrate::stats;
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
 use actuator_model::EffectModel;
@@ -30,7 +29,7 @@ use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
 use fitter::Fitter;
-use observations::{ActuationData, ActuationObs, JointData, MassData, StageData};
+use observations::{ActuationData, ActuationObs, MassData, StageData};
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
@@ -144,7 +143,6 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             folds: folds_of.clone(),
             dead_length_max_mm,
             shared: shared.clone(),
-            carried: Vec::new(),
         };
         // Each effect with its parameters (a declared effect may have several).
         let mass_effects: Vec<Vec<EffectId>> = [EffectId::PlyThickness, EffectId::BondLayer]
@@ -189,31 +187,12 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
 
     // --- Stage 2: actuation and compliance effects on deflection and force, on each mass model carried.
-    // The mass model's parameters are fitted again with every actuation effect set, on the masses,
-    // deflections and forces together, each weighted by its noise (docs/calibration.md §3).
-    let carries = |b: &Option<usize>| b.is_some_and(|i| !mass_candidates[i].effects.is_empty());
-    let mass_weight = if bases.iter().any(carries) {
-        joint_mass_weight(data, &mass_candidates)?
-    } else {
-        1.0
-    };
     let mut stages = Vec::with_capacity(bases.len());
     for b in &bases {
-        let carried = b.map_or_else(Vec::new, |i| {
-            let m = &mass_candidates[i];
-            m.effects
-                .iter()
-                .copied()
-                .zip(m.values.iter().copied())
-                .collect()
-        });
+        let base = b.map_or_else(EffectModel::default, |i| mass_candidates[i].model.clone());
         stages.push(actuation_stage(
             data,
-            Joint {
-                carried,
-                mass: (mass_data.obs.len() >= 4).then_some(&mass_data),
-                mass_weight,
-            },
+            base,
             settings,
             &folds_of,
             dead_length_max_mm,
@@ -221,19 +200,12 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         )?);
     }
     // The mass model the masses chose stands unless another fits masses, deflections and forces together
-    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add; the masses' at the
-    // final model's mass parameters, which were fitted on all the data).
+    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add).
     let joint: Vec<f64> = bases
         .iter()
         .zip(&stages)
         .map(|(b, st)| {
-            let fin = &st.candidates[st.final_index];
-            b.map_or(0.0, |i| {
-                let mut r = Vec::new();
-                mass_data.residuals(&fin.model, None, &mut r);
-                let rss = r.iter().map(|x| x * x).sum();
-                stats::aicc(r.len(), mass_candidates[i].effects.len(), rss)
-            }) + fin.aicc
+            b.map_or(0.0, |i| mass_candidates[i].aicc) + st.candidates[st.final_index].aicc
         })
         .collect();
     let mut pick = 0;
@@ -292,7 +264,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             selected.insert(0, eta);
         }
     }
-    selected.extend(chosen.own_effects());
+    selected.extend(chosen.library_effects());
     let model = chosen.model.clone();
 
     let adequacy = adequacy(
@@ -357,49 +329,12 @@ struct ActuationStage<'a> {
     notes: Vec<String>,
 }
 
-/// The mass model an actuation stage refits beside its own effects, and the masses it refits them on.
-struct Joint<'a> {
-    /// The mass model's effects with their masses-only estimates (empty: the original mass model).
-    carried: Vec<(EffectId, f64)>,
-    /// The measured masses (None with fewer than 4).
-    mass: Option<&'a MassData<'a>>,
-    /// σ_actuation / σ_mass.
-    mass_weight: f64,
-}
-
-/// The weight of a log mass residual beside the log deflection and force residuals: σ_act / σ_mass.
-/// σ_mass² is the smallest residual variance RSS/(n - p) of the mass models (the largest model that
-/// fits within the noise sets it); σ_act² is the voltage sweeps' pure error, which no effect in the
-/// library moves (a trend within a sweep is a line in the field), or without sweeps the variance of
-/// the original model's residuals (an upper bound, so the masses then weigh at least as they did
-/// alone). σ_mass is held above 1e-4 (0.01 %, below any balance's repeatability) so noise-free masses
-/// do not pin the fit.
-fn joint_mass_weight(data: &Dataset, mass_candidates: &[Candidate]) -> Result<f64, ModelError> {
-    let sigma_mass2 = mass_candidates
-        .iter()
-        .filter(|c| c.n > c.values.len())
-        .map(|c| c.rss / (c.n - c.values.len()) as f64)
-        .fold(f64::INFINITY, f64::min)
-        .max(1e-8);
-    let original = EffectModel::default();
-    let act = actuation_data(data, &original)?;
-    let sigma_act2 = adequacy::pure_error_variance(&act, &original).unwrap_or_else(|| {
-        let mut r = Vec::new();
-        act.residuals(&original, None, &mut r);
-        let n = r.len().max(2) as f64;
-        let mean = r.iter().sum::<f64>() / n;
-        r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    });
-    let w = (sigma_act2 / sigma_mass2).sqrt();
-    Ok(if w.is_finite() { w } else { 1.0 })
-}
-
-/// Stage 2 with the mass model of `joint`: the nulls and every subset of at most two library effects
-/// with η, each fitted with the mass model's parameters on all the data, judged; the final model is the
-/// best accepted one, else {η} if it beats the original, else the original.
+/// Stage 2 on top of the mass model `base`: the nulls and every subset of at most two library effects
+/// with η, judged; the final model is the best accepted one, else {η} if it beats the original, else
+/// the original.
 fn actuation_stage<'a>(
     data: &'a Dataset,
-    joint: Joint<'a>,
+    base: EffectModel,
     settings: &Settings,
     folds_of: &[Vec<usize>],
     dead_length_max_mm: f64,
@@ -407,8 +342,6 @@ fn actuation_stage<'a>(
 ) -> Result<ActuationStage<'a>, ModelError> {
     let mut notes = Vec::new();
     let groups = data.actuators();
-    // Every model starts from the original: the mass effects are fitted with it.
-    let base = EffectModel::default();
     let obs = actuation_obs(data, &base)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
@@ -420,24 +353,18 @@ fn actuation_stage<'a>(
             max_parameters(settings) + 2
         )));
     }
-    let joint_data = JointData {
-        act: ActuationData {
-            data,
-            obs,
-            groups,
-            frozen_primitives: base.primitives.len(),
-            resolve_stack: !joint.carried.is_empty(),
-        },
-        mass: joint.mass,
-        mass_weight: joint.mass_weight,
+    let act_data = ActuationData {
+        data,
+        obs,
+        groups,
+        frozen_primitives: base.primitives.len(),
     };
     let fitter = Fitter {
-        data: &joint_data,
+        data: &act_data,
         base,
         folds: folds_of.to_vec(),
         dead_length_max_mm,
         shared: shared.clone(),
-        carried: joint.carried,
     };
     let eta = EffectId::D31Scale;
     // Each effect with its parameters (a declared effect may have several).
@@ -452,7 +379,11 @@ fn actuation_stage<'a>(
         (vec![eta], Role::Null),
         (vec![eta, EffectId::StiffnessScale], Role::Null),
     ];
-    let n_points = joint_data.actuation_len();
+    let n_points: usize = act_data
+        .obs
+        .iter()
+        .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
+        .sum();
     // Parameter count at most n/10 (docs/calibration.md §3).
     let max_effects = settings.max_effects.min((n_points / 10).saturating_sub(1));
     if max_effects < settings.max_effects {
@@ -496,9 +427,8 @@ fn actuation_stage<'a>(
             }
         }
     };
-    drop(fitter);
     Ok(ActuationStage {
-        act_data: joint_data.act,
+        act_data,
         candidates,
         rivals,
         final_index,
@@ -526,7 +456,7 @@ fn declared_in(settings: &Settings, stage: Stage) -> Vec<Vec<EffectId>> {
 /// One note per effect the data cannot determine, from the models that fit it alone (with η).
 fn note_not_identifiable(candidates: &[Candidate], notes: &mut Vec<String>) {
     for c in candidates {
-        if effect_names(&c.own_effects()).len() != 1 {
+        if effect_names(&c.library_effects()).len() != 1 {
             continue;
         }
         for (id, reason) in &c.not_identifiable {
@@ -549,10 +479,13 @@ pub fn adequacy_of(
 ) -> Result<Adequacy, ModelError> {
     let effects = EffectModel::from(*effects);
     let act = actuation_data(data, &effects)?;
+    let mut res = Vec::new();
+    act.residuals(&effects, None, &mut res);
+    let rss = res.iter().map(|x| x * x).sum();
     Ok(adequacy::adequacy_of_fit(
         data,
         &act,
-        (&effects, params),
+        (&effects, rss, params),
         None,
         settings,
     ))
@@ -568,7 +501,6 @@ pub(crate) fn actuation_data<'a>(
         obs: actuation_obs(data, base)?,
         groups: data.actuators(),
         frozen_primitives: base.primitives.len(),
-        resolve_stack: false,
     })
 }
 
