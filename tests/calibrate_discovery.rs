@@ -88,6 +88,29 @@ struct Outcome {
     top: Vec<String>,
 }
 
+/// How often, over the seeds: discovery ran, it named one of the right variables, the truth ranked first,
+/// and in the top two.
+struct Tally {
+    discovered: usize,
+    right: usize,
+    first: usize,
+    top2: usize,
+}
+
+fn tally(outcomes: &[Outcome], variables: &[&str]) -> Tally {
+    let count = |keep: &dyn Fn(&Outcome) -> bool| outcomes.iter().filter(|o| keep(o)).count();
+    Tally {
+        discovered: count(&|o| o.verdict == "not-explained"),
+        right: count(&|o| {
+            o.variable
+                .as_deref()
+                .is_some_and(|v| variables.contains(&v))
+        }),
+        first: count(&|o| o.rank == Some(0)),
+        top2: count(&|o| o.rank.is_some_and(|r| r < 2)),
+    }
+}
+
 fn run(h: &Hidden, seed: u64) -> Outcome {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
@@ -127,23 +150,12 @@ fn discovery_points_at_the_variable_and_the_primitive() {
     );
     for h in hidden() {
         let outcomes: Vec<Outcome> = seeds.par_iter().map(|&s| run(&h, s)).collect();
-        let discovered = outcomes
-            .iter()
-            .filter(|o| o.verdict == "not-explained")
-            .count();
-        let right = outcomes
-            .iter()
-            .filter(|o| {
-                o.variable
-                    .as_deref()
-                    .is_some_and(|v| h.variables.contains(&v))
-            })
-            .count();
-        let first = outcomes.iter().filter(|o| o.rank == Some(0)).count();
-        let top2 = outcomes
-            .iter()
-            .filter(|o| o.rank.is_some_and(|r| r < 2))
-            .count();
+        let Tally {
+            discovered,
+            right,
+            first,
+            top2,
+        } = tally(&outcomes, h.variables);
         let rank_cells = if h.primitive.is_some() {
             (format!("{first}/{n}"), format!("{top2}/{n}"))
         } else {
@@ -276,19 +288,12 @@ fn discovery_ranks_a_library_effect_with_a_primitive_first() {
             primitive: Some(combination),
         };
         let outcomes: Vec<Outcome> = seeds.par_iter().map(|&s| run(&h, s)).collect();
-        let discovered = outcomes
-            .iter()
-            .filter(|o| o.verdict == "not-explained")
-            .count();
-        let right = outcomes
-            .iter()
-            .filter(|o| {
-                o.variable
-                    .as_deref()
-                    .is_some_and(|v| variables.contains(&v))
-            })
-            .count();
-        let first = outcomes.iter().filter(|o| o.rank == Some(0)).count();
+        let Tally {
+            discovered,
+            right,
+            first,
+            ..
+        } = tally(&outcomes, variables);
         println!("{label:<36} {discovered:>10}/{n:<2} {right:>11}/{n:<2} {first:>7}/{n:<2}");
         if std::env::var("CALIBRATE_VERBOSE").is_ok() {
             for o in &outcomes {
