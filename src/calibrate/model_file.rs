@@ -8,7 +8,7 @@
 //! field can be named, instead of as a non-finite prediction for the design (issue 14).
 
 use crate::calibrate::library::EffectId;
-use crate::input::{parse_toml, InputError, Range, TableReader};
+use crate::input::{parse_toml, toml_error_line, InputError, Range, TableReader};
 use actuator_model::{CalibratedModel, EffectModel, Effects};
 use std::path::Path;
 
@@ -139,11 +139,7 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
     }
     // The structure (verdict, selected effects, declared effects, no unknown key) is serde's.
     let model: CalibratedModel = toml::from_str(text).map_err(|e| {
-        // Lines before the span's start, plus its own (a span may start a line).
-        let line = e
-            .span()
-            .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1)
-            .unwrap_or(0);
+        let line = toml_error_line(text, &e);
         InputError::invalid(
             path,
             &format!("line {line}"),

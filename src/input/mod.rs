@@ -36,17 +36,16 @@ pub fn read_toml(path: &Path) -> Result<toml::Table, InputError> {
 
 /// Parse TOML text (named `path` in errors).
 pub fn parse_toml(path: &Path, text: &str) -> Result<toml::Table, InputError> {
-    text.parse::<toml::Table>().map_err(|e| {
-        // The line number is one more than the newlines before the error; counting `lines()` of the
-        // text before it is one short when the error starts a line.
-        let line = e
-            .span()
-            .map(|s| {
-                let before = &text.as_bytes()[..s.start.min(text.len())];
-                before.iter().filter(|&&b| b == b'\n').count() + 1
-            })
-            .unwrap_or(0);
-        InputError::syntax(path, line, e.message())
+    text.parse::<toml::Table>()
+        .map_err(|e| InputError::syntax(path, toml_error_line(text, &e), e.message()))
+}
+
+/// The line a TOML error starts on (0 if it has no place): one more than the newlines before it. Counting
+/// `lines()` of the text before it would be one short when the error starts a line.
+pub fn toml_error_line(text: &str, error: &toml::de::Error) -> usize {
+    error.span().map_or(0, |s| {
+        let before = &text.as_bytes()[..s.start.min(text.len())];
+        before.iter().filter(|&&b| b == b'\n').count() + 1
     })
 }
 
