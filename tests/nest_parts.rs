@@ -4,7 +4,7 @@
 //! kind of bad drawing is refused in one line naming the file and the entity.
 
 mod common;
-use actuator_cam::batch::{plan_observed, Batch, NestOptions};
+use actuator_cam::batch::{plan_observed, Batch, NestOptions, Planned};
 use actuator_cam::cam::svg::read_svg_polygons;
 use actuator_cam::parts::flatten::TOLERANCE_MM;
 use actuator_cam::pipeline::NestObserver;
@@ -502,11 +502,24 @@ fn a_priced_roll_reports_its_cost_beside_the_same_parts_on_cut_sheets() {
                 compare_with = { width_mm = 80, height_mm = 60, price_per_sheet = 3.25 } }\n";
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
-    nest_ok(&batch, &out, "40");
+    let o = nest_ok(&batch, &out, "40");
     let r = report(&out);
     let sheets = r["sheets"].as_array().unwrap();
     let rolls = r["rolls"].as_array().unwrap();
     assert_eq!(rolls.len(), 2, "one strip per layup");
+    // The summary line on stdout gives each roll's cost (its length times the batch's 47.5 per
+    // metre, recomputed here) beside the sheets it is compared with and their cost (3.25 each).
+    let line = stdout(&o);
+    for roll in rolls {
+        let length = roll["length_mm"].as_f64().unwrap();
+        let n = roll["on_sheets"]["sheets"].as_u64().unwrap();
+        let expected = format!(
+            "passive roll {length:.1} mm at 47.50/m costs {:.2} (instead {n} sheet(s) of 80 x 60 mm, {:.2})",
+            length / 1000.0 * 47.5,
+            3.25 * n as f64
+        );
+        assert!(line.contains(&expected), "{expected:?} not in {line}");
+    }
     let mut roll_total = 0.0;
     for roll in rolls {
         let stem = roll["file_stem"].as_str().unwrap();
@@ -857,15 +870,21 @@ impl NestObserver for Recorder {
     }
 }
 
-#[test]
-fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
-    let batch = Batch::load(&example_path("batch.toml")).unwrap();
+/// An example batch planned (seed 1, `iterations`) with a recorder listening.
+fn observed(example: &str, iterations: usize) -> (Planned, Recorder) {
+    let batch = Batch::load(&example_path(example)).unwrap();
     let opts = NestOptions {
         seed: 1,
-        iterations: 100,
+        iterations,
     };
     let recorder = Recorder::default();
     let planned = plan_observed(&batch, &opts, &recorder).unwrap();
+    (planned, recorder)
+}
+
+#[test]
+fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
+    let (planned, recorder) = observed("batch.toml", 100);
     let layers = recorder.layers.borrow();
     // The example batch has two layups: two passive layers, nested one after the other.
     assert_eq!(
@@ -903,19 +922,49 @@ fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
 }
 
 #[test]
+fn the_cost_comparison_nests_count_on_after_the_roll_jobs() {
+    // examples/batch-roll.toml: two layups on a priced roll, each compared with cut sheets; the
+    // comparison nests are jobs 3 and 4 of 4, not a second count from 1.
+    let (planned, recorder) = observed("batch-roll.toml", 20);
+    let layers = recorder.layers.borrow();
+    let jobs: Vec<(usize, usize)> = layers.iter().map(|l| (l.0, l.1)).collect();
+    assert_eq!(jobs, vec![(0, 2), (1, 2), (2, 4), (3, 4)]);
+    assert_eq!(planned.report.rolls.len(), 2);
+    for (l, roll) in layers[2..].iter().zip(&planned.report.rolls) {
+        assert_eq!(
+            l.2,
+            format!("{} on 150 x 150 mm sheets instead of the roll", roll.layer)
+        );
+    }
+    // Each comparison job reports its own nest, ending finished.
+    let reports = recorder.reports.borrow();
+    for job in 3..=4 {
+        let last = reports.iter().rev().find(|(l, _)| *l == job).unwrap().1;
+        assert!(last.finished, "{last:?}");
+    }
+}
+
+#[test]
 fn a_piped_run_prints_no_progress() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        example_path("batch.toml").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "30",
-    ]);
-    assert!(o.status.success());
-    assert_eq!(stderr(&o), "", "stderr is not a terminal: nothing on it");
+    // The roll batch too: its cost comparison nests are jobs of the same (silent) run.
+    for example in ["batch.toml", "batch-roll.toml"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(&[
+            "nest",
+            example_path(example).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--iterations",
+            "30",
+        ]);
+        assert!(o.status.success(), "{example}: {}", stderr(&o));
+        assert_eq!(
+            stderr(&o),
+            "",
+            "{example}: stderr is not a terminal: nothing on it"
+        );
+    }
 }
 
 // ---- Bad drawings -----------------------------------------------------------------------------
