@@ -287,6 +287,18 @@ const ITEMS: &str = "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 6\n\n[[ite
 
 const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nrotations_deg = [0, 90, 180, 270]\n";
 
+/// Run `nest` on `batch` into a new folder beside it; it must be refused in one line with nothing
+/// written. Returns the line.
+fn refusal(batch: &Path) -> String {
+    let out = batch.with_file_name("out");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(!out.exists(), "nothing is written");
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    err
+}
+
 /// Nest `batch` into `out` with an iteration budget, writing SVG and DXF; it must succeed.
 fn nest_ok(batch: &Path, out: &Path, iterations: &str) -> std::process::Output {
     let o = run(&[
@@ -647,13 +659,8 @@ fn bad_roll_prices_are_refused_in_one_line() {
         ),
     ];
     for (line, want) in cases {
-        let (dir, batch) = scratch(0.05, ITEMS, &format!("[sheets]\n{line}\n"));
-        let out = dir.path().join("out");
-        let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-        assert!(!o.status.success(), "{line}");
-        assert!(!out.exists(), "{line}: nothing is written");
-        let err = stderr(&o);
-        assert_eq!(err.trim_end().lines().count(), 1, "{line}: {err}");
+        let (_dir, batch) = scratch(0.05, ITEMS, &format!("[sheets]\n{line}\n"));
+        let err = refusal(&batch);
         assert!(
             err.starts_with(&format!("error: {}: {want}", batch.display())),
             "{line}: {err}"
@@ -813,13 +820,8 @@ fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
 fn ply_by_ply_refuses_part_rotations_that_turn_the_fibres() {
     // PARTS lets the flexure take quarter turns: pieces of one ply could then come out with their
     // fibres turned and another ply's not.
-    let (dir, batch) = scratch_ply_by_ply(0.05, ITEMS, PARTS);
-    let out = dir.path().join("out");
-    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(!o.status.success());
-    assert!(!out.exists(), "nothing is written");
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    let (_dir, batch) = scratch_ply_by_ply(0.05, ITEMS, PARTS);
+    let err = refusal(&batch);
     assert!(
         err.contains(&batch.display().to_string())
             && err.contains("part[2].rotations_deg = [0.0, 90.0, 180.0, 270.0]")
@@ -979,12 +981,7 @@ fn refused(name: &str, drawing: &str, part_extra: &str) -> String {
         ),
     );
     std::fs::write(dir.path().join("parts").join(name), drawing).unwrap();
-    let out = dir.path().join("out");
-    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(!o.status.success());
-    assert!(!out.exists(), "nothing is written");
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    let err = refusal(&batch);
     let file = dir.path().join("parts").join(name);
     assert!(err.contains(&file.display().to_string()), "{err}");
     err
@@ -1119,6 +1116,105 @@ fn units_other_than_mm_are_refused() {
         "",
     );
     assert!(err.contains("<svg> width = \"2in\" (not mm)"), "{err}");
+}
+
+#[test]
+fn a_part_the_nester_would_refuse_is_refused_by_the_batch_reader_naming_its_entity() {
+    // 0.35 mm separation (kerf 0.05 + spacing 0.3) on an 80 mm roll: a 79.29 mm part leaves
+    // 0.355 mm to each edge, more than the separation, but not the nester's working gap (its
+    // model keeps 1 % more plus 2 µm, and 10 µm of start clearance, cam_nest::fits_empty_sheet).
+    // The reader applies the nester's own check, so the refusal names the entity before any
+    // nesting, rather than the nester refusing it later without the drawing's entity.
+    let (dir, batch) = scratch(
+        0.05,
+        "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 2\n",
+        "[[part]]\nfile = \"parts/bar.dxf\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n\n\
+         [sheets]\nprepreg = { width_mm = 80, strip = true }\nspacing_mm = 0.3\n",
+    );
+    let bar = |width: f64| {
+        dxf_text(
+            Some(4),
+            &[lwpolyline(
+                "5C",
+                &[
+                    (0.0, 0.0, 0.0),
+                    (width, 0.0, 0.0),
+                    (width, 3.0, 0.0),
+                    (0.0, 3.0, 0.0),
+                ],
+                true,
+            )],
+        )
+    };
+    let file = dir.path().join("parts/bar.dxf");
+    std::fs::write(&file, bar(79.29)).unwrap();
+    let err = refusal(&batch);
+    assert!(
+        err.contains(&file.display().to_string())
+            && err.contains("LWPOLYLINE handle 5C: part too large: 79.290 x 3.000 mm"),
+        "{err}"
+    );
+    // 0.03 mm narrower fits the nester's gap too, and nests.
+    std::fs::write(&file, bar(79.26)).unwrap();
+    nest_ok(&batch, &dir.path().join("out"), "20");
+}
+
+#[test]
+fn the_readers_size_check_is_the_nesters() {
+    // Bars 79.20-79.35 mm long across an 80 mm strip and on 80 x 20 mm sheets, 0.35 mm apart:
+    // cam_nest::fits_empty_sheet says yes exactly when the nester takes the bar.
+    let settings = cam_nest::NestSettings {
+        separation_mm: 0.35,
+        seed: 1,
+        iterations: 0,
+        workers: 1,
+    };
+    let (mut yes, mut no) = (0, 0);
+    for k in 0..=15 {
+        let w = 79.20 + 0.01 * k as f64;
+        let item = cam_nest::NestItem {
+            outline: vec![[0.0, 0.0], [w, 0.0], [w, 3.0], [0.0, 3.0]],
+            demand: 1,
+            rotations_deg: vec![0.0, 180.0],
+        };
+        let items = [item.clone()];
+        let strip = cam_nest::fits_empty_sheet(
+            &item.outline,
+            &item.rotations_deg,
+            80.0,
+            f64::INFINITY,
+            0.35,
+        );
+        let nested = cam_nest::nest_strip(&items, 80.0, &settings, &|_| {});
+        assert_eq!(strip.fits, nested.is_ok(), "{w} mm: {nested:?}");
+        if let Err(e) = nested {
+            assert!(
+                matches!(e, cam_nest::NestError::PartLargerThanBin { .. }),
+                "{e:?}"
+            );
+        }
+        let sheet =
+            cam_nest::fits_empty_sheet(&item.outline, &item.rotations_deg, 80.0, 20.0, 0.35);
+        let bin = cam_nest::NestBin {
+            width_mm: 80.0,
+            height_mm: 20.0,
+            stock: 1,
+        };
+        assert_eq!(
+            sheet.fits,
+            cam_nest::nest(&items, &bin, &settings).is_ok(),
+            "{w} mm"
+        );
+        if strip.fits {
+            yes += 1
+        } else {
+            no += 1
+        }
+    }
+    assert!(
+        yes > 0 && no > 0,
+        "the range straddles the limit: {yes} fit, {no} do not"
+    );
 }
 
 #[test]
