@@ -4,7 +4,7 @@
 //! kind of bad drawing is refused in one line naming the file and the entity.
 
 mod common;
-use actuator_cam::batch::{plan_observed, Batch, NestOptions};
+use actuator_cam::batch::{plan_observed, Batch, NestOptions, Planned};
 use actuator_cam::cam::svg::read_svg_polygons;
 use actuator_cam::parts::flatten::TOLERANCE_MM;
 use actuator_cam::pipeline::NestObserver;
@@ -287,6 +287,18 @@ const ITEMS: &str = "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 6\n\n[[ite
 
 const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nrotations_deg = [0, 90, 180, 270]\n";
 
+/// Run `nest` on `batch` into a new folder beside it; it must be refused in one line with nothing
+/// written. Returns the line.
+fn refusal(batch: &Path) -> String {
+    let out = batch.with_file_name("out");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(!out.exists(), "nothing is written");
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    err
+}
+
 /// Nest `batch` into `out` with an iteration budget, writing SVG and DXF; it must succeed.
 fn nest_ok(batch: &Path, out: &Path, iterations: &str) -> std::process::Output {
     let o = run(&[
@@ -502,11 +514,24 @@ fn a_priced_roll_reports_its_cost_beside_the_same_parts_on_cut_sheets() {
                 compare_with = { width_mm = 80, height_mm = 60, price_per_sheet = 3.25 } }\n";
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
-    nest_ok(&batch, &out, "40");
+    let o = nest_ok(&batch, &out, "40");
     let r = report(&out);
     let sheets = r["sheets"].as_array().unwrap();
     let rolls = r["rolls"].as_array().unwrap();
     assert_eq!(rolls.len(), 2, "one strip per layup");
+    // The summary line on stdout gives each roll's cost (its length times the batch's 47.5 per
+    // metre, recomputed here) beside the sheets it is compared with and their cost (3.25 each).
+    let line = stdout(&o);
+    for roll in rolls {
+        let length = roll["length_mm"].as_f64().unwrap();
+        let n = roll["on_sheets"]["sheets"].as_u64().unwrap();
+        let expected = format!(
+            "passive roll {length:.1} mm at 47.50/m costs {:.2} (instead {n} sheet(s) of 80 x 60 mm, {:.2})",
+            length / 1000.0 * 47.5,
+            3.25 * n as f64
+        );
+        assert!(line.contains(&expected), "{expected:?} not in {line}");
+    }
     let mut roll_total = 0.0;
     for roll in rolls {
         let stem = roll["file_stem"].as_str().unwrap();
@@ -634,13 +659,8 @@ fn bad_roll_prices_are_refused_in_one_line() {
         ),
     ];
     for (line, want) in cases {
-        let (dir, batch) = scratch(0.05, ITEMS, &format!("[sheets]\n{line}\n"));
-        let out = dir.path().join("out");
-        let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-        assert!(!o.status.success(), "{line}");
-        assert!(!out.exists(), "{line}: nothing is written");
-        let err = stderr(&o);
-        assert_eq!(err.trim_end().lines().count(), 1, "{line}: {err}");
+        let (_dir, batch) = scratch(0.05, ITEMS, &format!("[sheets]\n{line}\n"));
+        let err = refusal(&batch);
         assert!(
             err.starts_with(&format!("error: {}: {want}", batch.display())),
             "{line}: {err}"
@@ -800,13 +820,8 @@ fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
 fn ply_by_ply_refuses_part_rotations_that_turn_the_fibres() {
     // PARTS lets the flexure take quarter turns: pieces of one ply could then come out with their
     // fibres turned and another ply's not.
-    let (dir, batch) = scratch_ply_by_ply(0.05, ITEMS, PARTS);
-    let out = dir.path().join("out");
-    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(!o.status.success());
-    assert!(!out.exists(), "nothing is written");
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    let (_dir, batch) = scratch_ply_by_ply(0.05, ITEMS, PARTS);
+    let err = refusal(&batch);
     assert!(
         err.contains(&batch.display().to_string())
             && err.contains("part[2].rotations_deg = [0.0, 90.0, 180.0, 270.0]")
@@ -857,15 +872,21 @@ impl NestObserver for Recorder {
     }
 }
 
-#[test]
-fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
-    let batch = Batch::load(&example_path("batch.toml")).unwrap();
+/// An example batch planned (seed 1, `iterations`) with a recorder listening.
+fn observed(example: &str, iterations: usize) -> (Planned, Recorder) {
+    let batch = Batch::load(&example_path(example)).unwrap();
     let opts = NestOptions {
         seed: 1,
-        iterations: 100,
+        iterations,
     };
     let recorder = Recorder::default();
     let planned = plan_observed(&batch, &opts, &recorder).unwrap();
+    (planned, recorder)
+}
+
+#[test]
+fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
+    let (planned, recorder) = observed("batch.toml", 100);
     let layers = recorder.layers.borrow();
     // The example batch has two layups: two passive layers, nested one after the other.
     assert_eq!(
@@ -903,19 +924,49 @@ fn the_observer_sees_every_job_its_sheets_and_the_best_density() {
 }
 
 #[test]
+fn the_cost_comparison_nests_count_on_after_the_roll_jobs() {
+    // examples/batch-roll.toml: two layups on a priced roll, each compared with cut sheets; the
+    // comparison nests are jobs 3 and 4 of 4, not a second count from 1.
+    let (planned, recorder) = observed("batch-roll.toml", 20);
+    let layers = recorder.layers.borrow();
+    let jobs: Vec<(usize, usize)> = layers.iter().map(|l| (l.0, l.1)).collect();
+    assert_eq!(jobs, vec![(0, 2), (1, 2), (2, 4), (3, 4)]);
+    assert_eq!(planned.report.rolls.len(), 2);
+    for (l, roll) in layers[2..].iter().zip(&planned.report.rolls) {
+        assert_eq!(
+            l.2,
+            format!("{} on 150 x 150 mm sheets instead of the roll", roll.layer)
+        );
+    }
+    // Each comparison job reports its own nest, ending finished.
+    let reports = recorder.reports.borrow();
+    for job in 3..=4 {
+        let last = reports.iter().rev().find(|(l, _)| *l == job).unwrap().1;
+        assert!(last.finished, "{last:?}");
+    }
+}
+
+#[test]
 fn a_piped_run_prints_no_progress() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        example_path("batch.toml").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "30",
-    ]);
-    assert!(o.status.success());
-    assert_eq!(stderr(&o), "", "stderr is not a terminal: nothing on it");
+    // The roll batch too: its cost comparison nests are jobs of the same (silent) run.
+    for example in ["batch.toml", "batch-roll.toml"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(&[
+            "nest",
+            example_path(example).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--iterations",
+            "30",
+        ]);
+        assert!(o.status.success(), "{example}: {}", stderr(&o));
+        assert_eq!(
+            stderr(&o),
+            "",
+            "{example}: stderr is not a terminal: nothing on it"
+        );
+    }
 }
 
 // ---- Bad drawings -----------------------------------------------------------------------------
@@ -930,12 +981,7 @@ fn refused(name: &str, drawing: &str, part_extra: &str) -> String {
         ),
     );
     std::fs::write(dir.path().join("parts").join(name), drawing).unwrap();
-    let out = dir.path().join("out");
-    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(!o.status.success());
-    assert!(!out.exists(), "nothing is written");
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    let err = refusal(&batch);
     let file = dir.path().join("parts").join(name);
     assert!(err.contains(&file.display().to_string()), "{err}");
     err
@@ -1070,6 +1116,105 @@ fn units_other_than_mm_are_refused() {
         "",
     );
     assert!(err.contains("<svg> width = \"2in\" (not mm)"), "{err}");
+}
+
+#[test]
+fn a_part_the_nester_would_refuse_is_refused_by_the_batch_reader_naming_its_entity() {
+    // 0.35 mm separation (kerf 0.05 + spacing 0.3) on an 80 mm roll: a 79.29 mm part leaves
+    // 0.355 mm to each edge, more than the separation, but not the nester's working gap (its
+    // model keeps 1 % more plus 2 µm, and 10 µm of start clearance, cam_nest::fits_empty_sheet).
+    // The reader applies the nester's own check, so the refusal names the entity before any
+    // nesting, rather than the nester refusing it later without the drawing's entity.
+    let (dir, batch) = scratch(
+        0.05,
+        "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 2\n",
+        "[[part]]\nfile = \"parts/bar.dxf\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n\n\
+         [sheets]\nprepreg = { width_mm = 80, strip = true }\nspacing_mm = 0.3\n",
+    );
+    let bar = |width: f64| {
+        dxf_text(
+            Some(4),
+            &[lwpolyline(
+                "5C",
+                &[
+                    (0.0, 0.0, 0.0),
+                    (width, 0.0, 0.0),
+                    (width, 3.0, 0.0),
+                    (0.0, 3.0, 0.0),
+                ],
+                true,
+            )],
+        )
+    };
+    let file = dir.path().join("parts/bar.dxf");
+    std::fs::write(&file, bar(79.29)).unwrap();
+    let err = refusal(&batch);
+    assert!(
+        err.contains(&file.display().to_string())
+            && err.contains("LWPOLYLINE handle 5C: part too large: 79.290 x 3.000 mm"),
+        "{err}"
+    );
+    // 0.03 mm narrower fits the nester's gap too, and nests.
+    std::fs::write(&file, bar(79.26)).unwrap();
+    nest_ok(&batch, &dir.path().join("out"), "20");
+}
+
+#[test]
+fn the_readers_size_check_is_the_nesters() {
+    // Bars 79.20-79.35 mm long across an 80 mm strip and on 80 x 20 mm sheets, 0.35 mm apart:
+    // cam_nest::fits_empty_sheet says yes exactly when the nester takes the bar.
+    let settings = cam_nest::NestSettings {
+        separation_mm: 0.35,
+        seed: 1,
+        iterations: 0,
+        workers: 1,
+    };
+    let (mut yes, mut no) = (0, 0);
+    for k in 0..=15 {
+        let w = 79.20 + 0.01 * k as f64;
+        let item = cam_nest::NestItem {
+            outline: vec![[0.0, 0.0], [w, 0.0], [w, 3.0], [0.0, 3.0]],
+            demand: 1,
+            rotations_deg: vec![0.0, 180.0],
+        };
+        let items = [item.clone()];
+        let strip = cam_nest::fits_empty_sheet(
+            &item.outline,
+            &item.rotations_deg,
+            80.0,
+            f64::INFINITY,
+            0.35,
+        );
+        let nested = cam_nest::nest_strip(&items, 80.0, &settings, &|_| {});
+        assert_eq!(strip.fits, nested.is_ok(), "{w} mm: {nested:?}");
+        if let Err(e) = nested {
+            assert!(
+                matches!(e, cam_nest::NestError::PartLargerThanBin { .. }),
+                "{e:?}"
+            );
+        }
+        let sheet =
+            cam_nest::fits_empty_sheet(&item.outline, &item.rotations_deg, 80.0, 20.0, 0.35);
+        let bin = cam_nest::NestBin {
+            width_mm: 80.0,
+            height_mm: 20.0,
+            stock: 1,
+        };
+        assert_eq!(
+            sheet.fits,
+            cam_nest::nest(&items, &bin, &settings).is_ok(),
+            "{w} mm"
+        );
+        if strip.fits {
+            yes += 1
+        } else {
+            no += 1
+        }
+    }
+    assert!(
+        yes > 0 && no > 0,
+        "the range straddles the limit: {yes} fit, {no} do not"
+    );
 }
 
 #[test]

@@ -17,10 +17,12 @@ length = furthest part point + separation: the same definition as
 `NestSolution::used_length_utilization` on a strip.
 
 With `--measure` it reads `target/nest-bench/measure.json` (written by
-`cargo bench -p cam-nest --bench nest_measure`: the measuring set with our density and wall time)
-and nests each batch for 5 s, for our wall time and for our CPU time, rounded to whole seconds
-(spyrrow takes whole seconds, at least 1; the equal-CPU budget is our CPU time over sparrow's
-CPU-to-wall ratio in its 5 s run), printing the densities and CPU times side by side:
+`cargo bench -p cam-nest --bench nest_measure`: the measuring set with our density and wall time,
+and `ours_at_5s`, our best layout as of 5 s of wall time in the same run) and nests each batch for
+5 s (beside ours at 5 s), for our CPU time of those 5 s, for our full wall time and for our full
+CPU time, rounded to whole seconds (spyrrow takes whole seconds, at least 1; an equal-CPU budget
+is our CPU time over sparrow's CPU-to-wall ratio in its 5 s run; equal budgets run once), printing
+the densities and CPU times side by side and the four mean gaps:
 
     cargo bench -p cam-nest --bench nest_measure
     /tmp/nestref/bin/python tools/nest_reference.py --measure
@@ -120,39 +122,73 @@ def solve(batch, seconds, workers, seed):
 
 
 def measure(path, workers, seed):
-    """Our figures from the measuring bench beside sparrow's at 5 s, at our wall time and at our
-    CPU time (sparrow's wall budget set so that its CPU time, at the CPU-to-wall ratio of its 5 s
-    run, matches ours)."""
+    """Our figures from the measuring bench beside sparrow's: ours as of 5 s of wall time (the last
+    layout the engine reported within 5 s, `ours_at_5s`) beside sparrow after 5 s (equal wall) and
+    beside sparrow given our CPU time of those 5 s (equal CPU); then our full run beside sparrow at
+    our wall time and at our CPU time. Sparrow's wall budget for an equal CPU time is that CPU time
+    over the CPU-to-wall ratio of its 5 s run."""
     batches = json.loads(Path(path).read_text())
     print(
-        f"{'batch':<14} {'parts':>5} {'ours %':>7} {'ours s':>7} {'cpu s':>6} "
-        f"{'sp 5s %':>8} {'cpu s':>6} {'sp =t %':>8} {'t s':>4} {'sp =c %':>8} {'c s':>4}"
+        f"{'batch':<14} {'parts':>5} {'ours5 %':>7} {'at s':>5} {'cpu s':>6} {'sp 5s %':>8} {'cpu s':>6} "
+        f"{'sp =c5 %':>8} {'c5 s':>4} | {'ours %':>7} {'ours s':>7} {'cpu s':>6} "
+        f"{'sp =t %':>8} {'t s':>4} {'sp =c %':>8} {'c s':>4}"
     )
     rows = []
+    runs = {}
+
+    def sparrow(batch, seconds):
+        # One run per batch and budget: the equal-time budgets often round to the same seconds.
+        key = (batch["name"], seconds)
+        if key not in runs:
+            runs[key] = solve(batch, seconds, workers, seed)
+        return runs[key]
+
     for batch in batches:
         ours = batch["ours"]
-        equal = max(1, round(ours["seconds"]))
-        five = solve(batch, 5, workers, seed)
-        same = solve(batch, equal, workers, seed)
+        at5 = batch.get("ours_at_5s")
+        if at5 is None:
+            sys.exit(f"{path}: no ours_at_5s (written by an older nest_measure); run the bench again")
+        if at5["wall_limit_s"] != 5:
+            sys.exit(f"{path}: ours_at_5s is as of {at5['wall_limit_s']} s, sparrow runs 5 s")
+        five = sparrow(batch, 5)
         ratio = five["cpu_seconds"] / five["seconds"]
+        # No layout within 5 s: density 0, and sparrow's 5 s stand at equal CPU too.
+        at5_cpu = at5.get("cpu_seconds")
+        equal_cpu5 = 5 if at5_cpu is None else max(1, round(at5_cpu / ratio))
+        cpu5 = sparrow(batch, equal_cpu5)
+        equal = max(1, round(ours["seconds"]))
+        same = sparrow(batch, equal)
         ours_cpu = ours.get("cpu_seconds", ours["seconds"])
         equal_cpu = max(1, round(ours_cpu / ratio))
-        cpu = same if equal_cpu == equal else solve(batch, equal_cpu, workers, seed)
+        cpu = sparrow(batch, equal_cpu)
         parts = sum(i["demand"] for i in batch["items"])
-        rows.append((ours["density"], ours["seconds"], five["density"], same["density"], cpu["density"]))
+        rows.append(
+            (at5["density"], five["density"], cpu5["density"], ours["density"], ours["seconds"],
+             same["density"], cpu["density"])
+        )
+        known = at5["known_at_seconds"]
         print(
-            f"{batch['name']:<14} {parts:>5} {100 * ours['density']:>7.2f} {ours['seconds']:>7.2f} "
-            f"{ours_cpu:>6.2f} {100 * five['density']:>8.2f} {five['cpu_seconds']:>6.2f} "
+            f"{batch['name']:<14} {parts:>5} {100 * at5['density']:>7.2f} "
+            f"{'-' if known is None else f'{known:.2f}':>5} "
+            f"{'-' if at5_cpu is None else f'{at5_cpu:.2f}':>6} "
+            f"{100 * five['density']:>8.2f} {five['cpu_seconds']:>6.2f} "
+            f"{100 * cpu5['density']:>8.2f} {equal_cpu5:>4} | "
+            f"{100 * ours['density']:>7.2f} {ours['seconds']:>7.2f} {ours_cpu:>6.2f} "
             f"{100 * same['density']:>8.2f} {equal:>4} {100 * cpu['density']:>8.2f} {equal_cpu:>4}",
             flush=True,
         )
     n = len(rows)
-    mean = [100 * sum(r[k] for r in rows) / n for k in range(5)]
-    mean[1] /= 100
+    mean = [sum(r[k] for r in rows) / n for k in range(7)]
     print(
-        f"{'mean':<14} {'':>5} {mean[0]:>7.2f} {mean[1]:>7.2f} {'':>6} {mean[2]:>8.2f} {'':>6} "
-        f"{mean[3]:>8.2f} {'':>4} {mean[4]:>8.2f}"
+        f"{'mean':<14} {'':>5} {100 * mean[0]:>7.2f} {'':>5} {'':>6} {100 * mean[1]:>8.2f} {'':>6} "
+        f"{100 * mean[2]:>8.2f} {'':>4} | {100 * mean[3]:>7.2f} {mean[4]:>7.2f} {'':>6} "
+        f"{100 * mean[5]:>8.2f} {'':>4} {100 * mean[6]:>8.2f}"
     )
+    gap = lambda a, b: f"{100 * (a - b):+.2f} points"
+    print(f"at 5 s wall:           ours {100 * mean[0]:.2f} %, sparrow {100 * mean[1]:.2f} % ({gap(mean[0], mean[1])})")
+    print(f"at ours' 5 s CPU:      ours {100 * mean[0]:.2f} %, sparrow {100 * mean[2]:.2f} % ({gap(mean[0], mean[2])})")
+    print(f"at our full wall time: ours {100 * mean[3]:.2f} %, sparrow {100 * mean[5]:.2f} % ({gap(mean[3], mean[5])})")
+    print(f"at our full CPU time:  ours {100 * mean[3]:.2f} %, sparrow {100 * mean[6]:.2f} % ({gap(mean[3], mean[6])})")
 
 
 def main():

@@ -10,7 +10,6 @@ use crate::input::limits::{
 use crate::input::{read_toml, InputError, TableReader};
 use crate::parts::{import, PartOrder, PartSheet};
 use crate::process::template::{PassiveCut, SheetSpec};
-use cam_geometry::{place_ring, Bounds};
 use std::path::{Path, PathBuf};
 
 /// A sheet override from `[sheets]`: size, and optionally stock and price; or, with
@@ -190,33 +189,6 @@ fn sheet_override(
     Ok(s)
 }
 
-/// Whether a part fits its sheet (or roll) at some allowed rotation with kerf + spacing to every
-/// edge; and its box at the rotation that comes closest.
-fn fits_sheet(
-    ring: &[cam_geometry::Point],
-    rotations_deg: &[f64],
-    spec: &SheetSpec,
-) -> (bool, [f64; 2]) {
-    let gap = 2.0 * (spec.kerf_mm + spec.spacing_mm);
-    let overshoot = |size: &[f64; 2]| {
-        let across = size[0] + gap - spec.width_mm;
-        if spec.roll {
-            across
-        } else {
-            across.max(size[1] + gap - spec.height_mm)
-        }
-    };
-    let size = rotations_deg
-        .iter()
-        .map(|&r| {
-            let b = Bounds::of(&place_ring(ring, r, [0.0, 0.0]));
-            [b.width(), b.height()]
-        })
-        .min_by(|a, b| overshoot(a).total_cmp(&overshoot(b)))
-        .expect("at least one rotation");
-    (overshoot(&size) < 0.0, size)
-}
-
 /// A file the batch names at `key`, relative to the batch file's folder; refused (naming the key, the value as
 /// written and the path looked for) when it is not there.
 fn existing_file(
@@ -375,10 +347,19 @@ fn part_orders(
         .map(|(k, part)| {
             for (ply, turn) in ply_turns_deg.iter().enumerate() {
                 let turned: Vec<f64> = rotations_deg.iter().map(|r| r + turn).collect();
-                let (fits, size) = fits_sheet(&part.outer, &turned, &spec);
-                if fits {
+                // The nester's own check (kerf + spacing apart, as the pipeline nests a part), so
+                // that what passes here also passes there, refused here naming the entity.
+                let fit = cam_nest::fits_empty_sheet(
+                    &part.outer,
+                    &turned,
+                    spec.width_mm,
+                    if spec.roll { f64::INFINITY } else { spec.height_mm },
+                    spec.kerf_mm + spec.spacing_mm,
+                );
+                if fit.fits {
                     continue;
                 }
+                let size = fit.size_mm;
                 let sheet = if spec.roll {
                     format!("the {sheet_name} roll ({} mm wide)", spec.width_mm)
                 } else {
@@ -391,7 +372,7 @@ fn part_orders(
                     &drawing,
                     &part.entity,
                     format!(
-                        "part too large: {:.3} x {:.3} mm at its best allowed rotation{} does not fit {sheet} with {} mm (kerf + spacing) to every edge",
+                        "part too large: {:.3} x {:.3} mm at its best allowed rotation{} does not fit {sheet} with {} mm (kerf + spacing) to every edge ({:.3} mm with the nester's working margin)",
                         size[0],
                         size[1],
                         if by_ply {
@@ -399,7 +380,8 @@ fn part_orders(
                         } else {
                             String::new()
                         },
-                        spec.kerf_mm + spec.spacing_mm
+                        spec.kerf_mm + spec.spacing_mm,
+                        fit.edge_gap_mm
                     ),
                 ));
             }

@@ -49,7 +49,9 @@ pub fn plan_observed(
         &Packing::Irregular(*opts, observer),
     )?;
     // A priced roll is compared with the cut sheets a lab would buy instead: its parts are nested
-    // on those too (one more job per roll layer).
+    // on those too (one more job per roll layer, numbered after the build's jobs: the bar counts
+    // on rather than starting again at 1; its total grows by these jobs when they start, as the
+    // build cannot tell which of its layers are priced rolls before it has made them).
     let priced: Vec<(usize, RollPrice)> = built
         .cut_layers
         .iter()
@@ -65,7 +67,8 @@ pub fn plan_observed(
             layer.layer, price.sheet_width_mm, price.sheet_height_mm
         );
         let copies = layer.items.iter().map(|i| i.count).sum();
-        observer.layer(k, priced.len(), &label, copies);
+        let jobs = built.cut_layers.len();
+        observer.layer(jobs + k, jobs + priced.len(), &label, copies);
         let sheets = sheets_instead_of_roll(
             layer,
             price.sheet_width_mm,

@@ -204,6 +204,32 @@ fn roll_cost(length_mm: f64, price_per_m: f64) -> f64 {
     length_mm * price_per_m / 1000.0
 }
 
+impl RollRow {
+    /// The roll's cost for the `nest` summary line, beside the cut sheets it is compared with:
+    /// `passive roll 43.0 mm at 60.00/m costs 2.58 (instead 1 sheet(s) of 150 x 150 mm, 12.00)`.
+    /// `None` for an unpriced roll (its length is in the layer's summary already).
+    pub fn summary(&self) -> Option<String> {
+        let (cost, per_m) = self.cost.zip(self.price_per_m)?;
+        let instead = self
+            .on_sheets
+            .as_ref()
+            .map(|a| {
+                format!(
+                    " (instead {} sheet(s) of {} x {} mm{})",
+                    a.sheets,
+                    a.width_mm,
+                    a.height_mm,
+                    a.cost.map(|c| format!(", {c:.2}")).unwrap_or_default()
+                )
+            })
+            .unwrap_or_default();
+        Some(format!(
+            "{} roll {:.1} mm at {per_m:.2}/m costs {cost:.2}{instead}",
+            self.layer, self.length_mm
+        ))
+    }
+}
+
 impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
     /// `on_sheets[i]`: the sheets the parts of cut layer `i`, nested on a priced roll, take on the

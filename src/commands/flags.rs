@@ -3,6 +3,7 @@
 
 use crate::calibrate::model_file;
 use crate::cutsheet::Formats;
+use crate::input::InputError;
 use actuator_model::model::{ModelChoice, ModelKind};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -128,8 +129,20 @@ pub fn parse_model(text: &str) -> Result<ModelChoice, String> {
             "unknown model; expected one of {BUILT_IN}, or a calibrated-model.toml file"
         ));
     }
-    let model = model_file::load(path).map_err(|e| format!("{e:#}"))?;
+    let model = model_file::load(path).map_err(|e| without_the_file(&e, text))?;
     Ok(ModelChoice::Calibrated(Arc::new(model)))
+}
+
+/// A refusal of the file the flag names, without the file: a refused value is printed after the
+/// flag and the value (`--model "F": reason`, src/main.rs), which names the file once already.
+fn without_the_file(e: &InputError, text: &str) -> String {
+    let message = e.to_string();
+    if e.file != text {
+        return message;
+    }
+    message
+        .strip_prefix(&format!("{}: ", e.file))
+        .map_or(message.clone(), str::to_string)
 }
 
 #[cfg(test)]
@@ -143,6 +156,23 @@ mod tests {
         }
         let e = parse_model("no-such-model").unwrap_err();
         assert!(e.contains("unknown model") && e.contains(BUILT_IN), "{e}");
+    }
+
+    #[test]
+    fn a_refused_model_file_is_named_by_the_flag_alone() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("calibrated-model.toml");
+        std::fs::write(
+            &file,
+            "model = \"calibrated\"\nverdict = \"x\"\nselected_effects = []\n[effects]\nd31_scale = 9\n",
+        )
+        .unwrap();
+        let text = file.to_str().unwrap();
+        // The field, its value and what is allowed; the file is left to the flag's `--model "F":`.
+        assert_eq!(
+            parse_model(text).unwrap_err(),
+            "effects.d31_scale = 9: outside the allowed range [0.05, 3]"
+        );
     }
 
     #[test]

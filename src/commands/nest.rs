@@ -146,7 +146,13 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     if args.json.json {
         print!("{json}");
     } else {
-        let passive: Vec<String> = report.baseline.iter().map(|b| b.summary()).collect();
+        // Each layer's nest, then each priced roll's cost beside its cut sheets.
+        let passive: Vec<String> = report
+            .baseline
+            .iter()
+            .map(|b| b.summary())
+            .chain(report.rolls.iter().filter_map(|r| r.summary()))
+            .collect();
         let extra: usize = report.parts.iter().map(|p| p.quantity).sum();
         let extra = if extra > 0 {
             format!(" and {extra} parts from drawings")

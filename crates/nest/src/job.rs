@@ -27,8 +27,7 @@ pub(crate) struct Part {
 impl Part {
     /// Width and height of the axis-aligned bounding box at a rotation.
     pub fn bbox_size(&self, rotation_deg: f64) -> [f64; 2] {
-        let b = Bounds::of(&place_ring(&self.outline, rotation_deg, [0.0, 0.0]));
-        [b.width(), b.height()]
+        box_size(&self.outline, rotation_deg)
     }
 }
 
@@ -93,36 +92,24 @@ impl Job {
     /// Gap the jagua-rs model keeps: the requested separation plus a margin that covers its f32
     /// coordinates and the chords of its round offset joins (<= 0.125 % of the offset).
     pub fn model_separation(&self) -> f64 {
-        self.settings.separation_mm * 1.01 + 2e-3
+        model_separation(self.settings.separation_mm)
     }
 
     /// Every part must fit an empty sheet at some allowed rotation.
     fn check_sizes(&self) -> Result<(), NestError> {
-        // The engine also keeps 1 µm start clearances; 0.01 mm covers them.
-        let gap = 2.0 * self.model_separation() + 0.01;
         for part in &self.parts {
-            let fits =
-                |s: &[f64; 2]| s[0] + gap < self.bin.width_mm && s[1] + gap < self.bin.height_mm;
-            let sizes: Vec<[f64; 2]> = part
-                .rotations_deg
-                .iter()
-                .map(|&r| part.bbox_size(r))
-                .collect();
-            if !sizes.iter().any(fits) {
-                let best = sizes
-                    .iter()
-                    .copied()
-                    .min_by(|a, b| {
-                        let over = |s: &[f64; 2]| {
-                            (s[0] - self.bin.width_mm).max(s[1] - self.bin.height_mm)
-                        };
-                        over(a).total_cmp(&over(b))
-                    })
-                    .unwrap_or([0.0, 0.0]);
+            let fit = fits_empty_sheet(
+                &part.outline,
+                &part.rotations_deg,
+                self.bin.width_mm,
+                self.bin.height_mm,
+                self.settings.separation_mm,
+            );
+            if !fit.fits {
                 return Err(NestError::PartLargerThanBin {
                     item: part.item,
-                    part_width_mm: best[0],
-                    part_height_mm: best[1],
+                    part_width_mm: fit.size_mm[0],
+                    part_height_mm: fit.size_mm[1],
                     bin_width_mm: self.bin.width_mm,
                     bin_height_mm: self.bin.height_mm,
                     separation_mm: self.settings.separation_mm,
@@ -215,6 +202,57 @@ impl Job {
             })
             .collect();
         Ok(NestSolution { bins })
+    }
+}
+
+/// Width and height of the axis-aligned bounding box of `outline` turned by `rotation_deg`.
+fn box_size(outline: &[Point], rotation_deg: f64) -> [f64; 2] {
+    let b = Bounds::of(&place_ring(outline, rotation_deg, [0.0, 0.0]));
+    [b.width(), b.height()]
+}
+
+/// See [`Job::model_separation`].
+fn model_separation(separation_mm: f64) -> f64 {
+    separation_mm * 1.01 + 2e-3
+}
+
+/// Whether a part fits an empty sheet, as the nesters decide it ([`fits_empty_sheet`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EmptySheetFit {
+    /// Fits at some allowed rotation.
+    pub fits: bool,
+    /// Its bounding box (width, height) at the allowed rotation that comes closest to fitting, mm.
+    pub size_mm: [f64; 2],
+    /// Gap it needs to each edge, mm: the separation plus the nester's working margin.
+    pub edge_gap_mm: f64,
+}
+
+/// The size check every nest starts with ([`crate::nest`] and [`crate::nest_strip`] refuse an
+/// item with [`NestError::PartLargerThanBin`] when it fails), for a caller that wants to refuse a
+/// part in its own terms before nesting: whether `outline` fits an empty `width_mm` x
+/// `height_mm` sheet (`height_mm` infinite for a strip) at one of `rotations_deg`, with
+/// `separation_mm` to every edge plus the margin the nester's model works with.
+#[must_use]
+pub fn fits_empty_sheet(
+    outline: &[Point],
+    rotations_deg: &[f64],
+    width_mm: f64,
+    height_mm: f64,
+    separation_mm: f64,
+) -> EmptySheetFit {
+    // The engine also keeps 1 µm start clearances; 0.01 mm (0.005 mm to each edge) covers them.
+    let edge_gap_mm = model_separation(separation_mm) + 0.005;
+    let gap = 2.0 * edge_gap_mm;
+    let overshoot = |s: &[f64; 2]| (s[0] + gap - width_mm).max(s[1] + gap - height_mm);
+    let size_mm = rotations_deg
+        .iter()
+        .map(|&r| box_size(outline, r))
+        .min_by(|a, b| overshoot(a).total_cmp(&overshoot(b)))
+        .unwrap_or([0.0, 0.0]);
+    EmptySheetFit {
+        fits: !rotations_deg.is_empty() && overshoot(&size_mm) < 0.0,
+        size_mm,
+        edge_gap_mm,
     }
 }
 

@@ -71,7 +71,7 @@ pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
 pub use clearance::{clearance, Clearance, ClearanceViolation};
 pub use irregular::{nest, nest_observed};
-pub use job::clean_ring;
+pub use job::{clean_ring, fits_empty_sheet, EmptySheetFit};
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
