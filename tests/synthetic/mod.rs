@@ -370,6 +370,20 @@ pub fn break_actuators(csv: &str, ids: &[usize], factor: f64) -> String {
         .collect()
 }
 
+/// The same CSV with no mass measured (the `mass_mg` cells left empty).
+pub fn without_masses(csv: String) -> String {
+    csv.lines()
+        .enumerate()
+        .map(|(i, line)| {
+            let mut cells: Vec<&str> = line.split(',').collect();
+            if i > 0 {
+                cells[8] = "";
+            }
+            cells.join(",") + "\n"
+        })
+        .collect()
+}
+
 /// Whether a calibration named exactly the hidden effects: verdict `explained` and the selected effects equal
 /// to the hidden ones (d31-scale aside, which both null models contain, unless it is a hidden one).
 pub fn names_exactly(hidden: &[&str], verdict: &str, selected: &[String]) -> bool {

@@ -228,7 +228,7 @@ pub fn discover(
             });
         }
     }
-    let tried = catalogue::catalogue();
+    let tried = catalogue::catalogue(catalogue::Stack::of(data, &base));
     let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
         .iter()
         .map(|t| (t, None))
