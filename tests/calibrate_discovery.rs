@@ -26,8 +26,6 @@ mod synthetic;
 
 use actuator_cam::calibrate::{self, csv::parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use synthetic::*;
 
@@ -122,9 +120,7 @@ fn as_measured(csv: String) -> String {
 
 /// [`run`] on the data as `measured` leaves them (e.g. with the masses not measured).
 fn run_on(h: &Hidden, seed: u64, measured: Measured) -> Outcome {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let data = parse(&measured(synthetic_csv(h.truth, &designs, &mut rng))).unwrap();
+    let data = parse(&measured(random_csv(h.truth, seed))).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let d = cal.selection.discovery.as_ref();
     Outcome {
@@ -213,9 +209,7 @@ fn discovery_points_at_the_variable_and_the_primitive() {
 #[test]
 fn the_report_carries_the_discovery_only_when_not_explained() {
     let render = |truth: Truth| {
-        let mut rng = ChaCha8Rng::seed_from_u64(7001);
-        let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-        let data = parse(&synthetic_csv(truth, &designs, &mut rng)).unwrap();
+        let data = parse(&random_csv(truth, 7001)).unwrap();
         let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
         let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
         let get = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();

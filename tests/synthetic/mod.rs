@@ -6,7 +6,7 @@ use actuator_cam::calibrate;
 use actuator_model::effects::{drive_at_voltage, Actuator};
 use actuator_model::primitives::{compose, Applied, Primitive};
 use actuator_model::{DriveMode, Effects, Material, Planform};
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 pub const LAYUPS: [&str; 3] = ["0/90/0", "0/0/90/0/0", "0/0/0/90/0/0/0"];
@@ -269,6 +269,14 @@ pub fn normal(rng: &mut ChaCha8Rng) -> f64 {
     let u1: f64 = rng.gen_range(1e-12..1.0);
     let u2: f64 = rng.gen_range(0.0..1.0);
     (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+/// The studies' data set: 30 random designs drawn from `seed`, then [`synthetic_csv`] of them with the
+/// same random stream (4 voltages, 5 % noise on δ and F_b, 1 % on the mass).
+pub fn random_csv(truth: Truth, seed: u64) -> String {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
+    synthetic_csv(truth, &designs, &mut rng)
 }
 
 /// Synthetic CSV: n actuators x 4 voltages, log-normal noise 5% (δ, F) and 1% (mass, given once per id).
