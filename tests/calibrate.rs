@@ -171,9 +171,7 @@ fn rejects(text: &str, needles: &[&str]) {
         "-o",
         out.to_str().unwrap(),
     ]);
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(!run.status.success(), "accepted: {text}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
+    let stderr = common::refused_in_one_line(&run);
     for n in needles {
         assert!(stderr.contains(n), "`{n}` not in: {stderr}");
     }
@@ -296,8 +294,7 @@ fn cut_sheet_takes_the_calibrated_model() {
         "--model",
         model.to_str().unwrap(),
     ]);
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = common::report_json(&out);
     let predicted = cam_ok(&[
         "predict",
         design.to_str().unwrap(),

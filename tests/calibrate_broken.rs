@@ -23,9 +23,7 @@ fn parameters(cal: &Calibration) -> Vec<(String, f64, (f64, f64))> {
 }
 
 fn check(truth: Truth, seed: u64) {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let csv = synthetic_csv(truth, &designs, &mut rng);
+    let csv = random_csv(truth, seed);
     let clean = run(&csv);
     assert!(
         clean.broken.is_empty(),
@@ -116,9 +114,7 @@ fn null_data_with_cracked_actuators_is_still_no_effect() {
 #[test]
 fn too_many_low_actuators_are_not_excluded_as_broken() {
     // 9 of 30 (30 %) low by 45 %: more than the 20 % that can be device faults; nothing is excluded.
-    let mut rng = ChaCha8Rng::seed_from_u64(304);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let csv = synthetic_csv(Truth::Library(Effects::default()), &designs, &mut rng);
+    let csv = random_csv(Truth::Library(Effects::default()), 304);
     let ids: Vec<usize> = (0..30).step_by(3).take(9).collect();
     let cal = run(&break_actuators(&csv, &ids, 0.55));
     assert!(!cal.broken.is_empty());
@@ -133,13 +129,11 @@ fn too_many_low_actuators_are_not_excluded_as_broken() {
 
 #[test]
 fn the_report_names_the_broken_actuators_and_the_exclusion() {
-    let mut rng = ChaCha8Rng::seed_from_u64(305);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
     let truth = Truth::Library(Effects {
         d31_scale: 0.75,
         ..Effects::default()
     });
-    let csv = break_actuators(&synthetic_csv(truth, &designs, &mut rng), &[4, 17], 0.55);
+    let csv = break_actuators(&random_csv(truth, 305), &[4, 17], 0.55);
     let data = parse(&csv).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();

@@ -26,8 +26,6 @@ mod synthetic;
 
 use actuator_cam::calibrate::{self, csv::parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use synthetic::*;
 
@@ -112,9 +110,17 @@ fn tally(outcomes: &[Outcome], variables: &[&str]) -> Tally {
 }
 
 fn run(h: &Hidden, seed: u64) -> Outcome {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let data = parse(&synthetic_csv(h.truth, &designs, &mut rng)).unwrap();
+    run_on(h, seed, as_measured)
+}
+
+/// The synthetic data as they are, every column measured.
+fn as_measured(csv: String) -> String {
+    csv
+}
+
+/// [`run`] on the data as `measured` leaves them (e.g. with the masses not measured).
+fn run_on(h: &Hidden, seed: u64, measured: Measured) -> Outcome {
+    let data = parse(&measured(random_csv(h.truth, seed))).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let d = cal.selection.discovery.as_ref();
     Outcome {
@@ -134,22 +140,19 @@ fn run(h: &Hidden, seed: u64) -> Outcome {
     }
 }
 
-#[test]
-fn discovery_points_at_the_variable_and_the_primitive() {
-    let tuning = std::env::var("CALIBRATE_SEED_BASE").is_ok_and(|v| v == "tuning");
-    let seeds: Vec<u64> = if tuning {
-        (0..10).map(|s| s * 7919 + 17).collect()
-    } else {
-        (6000..6010).map(|s| s * 104_723 + 31).collect()
-    };
+/// Run each case on each seed and print the table (`CALIBRATE_VERBOSE` adds each run); the failures,
+/// where discovery ran, named a right variable or (for a primitive) ranked it in the top two in fewer than
+/// `share` = (k, of) of the seeds.
+fn study(cases: Vec<(Hidden, Measured)>, seeds: &[u64], share: (usize, usize)) -> Vec<String> {
     let n = seeds.len();
+    let short = |k: usize| k * share.1 < share.0 * n;
     let mut failures = Vec::new();
     println!(
-        "{:<26} {:>13} {:>14} {:>10} {:>10}",
+        "{:<28} {:>13} {:>14} {:>10} {:>10}",
         "hidden effect", "not-explained", "right variable", "rank 1", "rank <= 2"
     );
-    for h in hidden() {
-        let outcomes: Vec<Outcome> = seeds.par_iter().map(|&s| run(&h, s)).collect();
+    for (h, measured) in cases {
+        let outcomes: Vec<Outcome> = seeds.par_iter().map(|&s| run_on(&h, s, measured)).collect();
         let Tally {
             discovered,
             right,
@@ -162,27 +165,43 @@ fn discovery_points_at_the_variable_and_the_primitive() {
             ("-".into(), "-".into())
         };
         println!(
-            "{:<26} {:>10}/{:<2} {:>11}/{:<2} {:>10} {:>10}",
+            "{:<28} {:>10}/{:<2} {:>11}/{:<2} {:>10} {:>10}",
             h.name, discovered, n, right, n, rank_cells.0, rank_cells.1
         );
-        for o in &outcomes {
-            if std::env::var("CALIBRATE_VERBOSE").is_ok() {
+        if std::env::var("CALIBRATE_VERBOSE").is_ok() {
+            for o in &outcomes {
                 println!(
                     "    {} {:?} rank {:?} top {:?}",
                     o.verdict, o.variable, o.rank, o.top
                 );
             }
         }
-        if discovered * 10 < 8 * n {
+        if short(discovered) {
             failures.push(format!("{}: discovery ran {discovered}/{n}", h.name));
         }
-        if right * 10 < 8 * n {
+        if short(right) {
             failures.push(format!("{}: right variable {right}/{n}", h.name));
         }
-        if h.primitive.is_some() && top2 * 10 < 8 * n {
-            failures.push(format!("{}: primitive in the top two {top2}/{n}", h.name));
+        if let Some(p) = h.primitive.filter(|_| short(top2)) {
+            failures.push(format!("{}: {p} in the top two {top2}/{n}", h.name));
         }
     }
+    failures
+}
+
+#[test]
+fn discovery_points_at_the_variable_and_the_primitive() {
+    let tuning = std::env::var("CALIBRATE_SEED_BASE").is_ok_and(|v| v == "tuning");
+    let seeds: Vec<u64> = if tuning {
+        (0..10).map(|s| s * 7919 + 17).collect()
+    } else {
+        (6000..6010).map(|s| s * 104_723 + 31).collect()
+    };
+    let cases = hidden()
+        .into_iter()
+        .map(|h| (h, as_measured as Measured))
+        .collect();
+    let failures = study(cases, &seeds, (8, 10));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -190,9 +209,7 @@ fn discovery_points_at_the_variable_and_the_primitive() {
 #[test]
 fn the_report_carries_the_discovery_only_when_not_explained() {
     let render = |truth: Truth| {
-        let mut rng = ChaCha8Rng::seed_from_u64(7001);
-        let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-        let data = parse(&synthetic_csv(truth, &designs, &mut rng)).unwrap();
+        let data = parse(&random_csv(truth, 7001)).unwrap();
         let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
         let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
         let get = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();
@@ -310,5 +327,89 @@ fn discovery_ranks_a_library_effect_with_a_primitive_first() {
             failures.push(format!("{label}: {combination} first {first}/{n}"));
         }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A bond layer the library cannot fit, pointed at by discovery's bond primitives:
+/// - a 60 µm bond of an adhesive at half its datasheet density: the masses show a 30 µm bond (the
+///   library's `bond-layer`, fitted on them), the stack holds twice that; `bond-thickness-scale` must
+///   rank first or second;
+/// - a 30 µm bond on data without measured masses: the library fits `bond-layer` on the masses only, so
+///   nothing in it adds the bond; `inserted-layer` must rank first or second.
+///
+/// The right variables follow from the physics before any run: the bond is a larger share of a thin
+/// stack, so its residual follows the ply count (and the share of 0° plies, which the test's layups tie
+/// to it one to one), the PZT thickness and their ratio.
+///
+/// A bond's modulus is not a case: in the model's perfectly bonded stack, E × 0.2 to × 3 moves δ and F_b
+/// by under 1 % (docs/calibration.md §3, "Discovery"), far below the 5 % noise, and discovery does not
+/// try it.
+///
+/// Seeds of the stream `seed * 104_723 + 31`: set up on 7500-7509 (`CALIBRATE_SEED_BASE=tuning`),
+/// measured on 7000-7019, which the tuning never saw ([`bond_study`], ignored: about 60 CPU-seconds).
+/// The CI check below runs the first three measuring seeds, to keep the discovery tests' time.
+/// The variables that count for a bond (see above).
+const BOND_VARIABLES: &[&str] = &["plies", "zero_ply_share", "t_p_mm", "t_p/t_passive"];
+
+/// What is measured of synthetic data (e.g. [`without_masses`]).
+type Measured = fn(String) -> String;
+
+/// Each hidden bond, with what is measured of its data.
+fn bond_cases() -> [(Hidden, Measured); 2] {
+    let light_bond = actuator_model::Effects {
+        bond_thickness: 60e-6,
+        bond_scale: actuator_model::effects::BondScale {
+            density: 0.5,
+            ..Default::default()
+        },
+        ..actuator_model::Effects::default()
+    };
+    let bond = actuator_model::Effects {
+        bond_thickness: 30e-6,
+        ..actuator_model::Effects::default()
+    };
+    [
+        (
+            Hidden {
+                name: "bond 60 um at half density",
+                truth: Truth::Library(light_bond),
+                variables: BOND_VARIABLES,
+                primitive: Some("bond-thickness-scale"),
+            },
+            as_measured,
+        ),
+        (
+            Hidden {
+                name: "bond 30 um, no masses",
+                truth: Truth::Library(bond),
+                variables: BOND_VARIABLES,
+                primitive: Some("inserted-layer"),
+            },
+            without_masses,
+        ),
+    ]
+}
+
+/// The bond study's seeds: tuning 7500-7509, measuring 7000-7019 (the first `take` of them).
+fn bond_seeds(take: usize) -> Vec<u64> {
+    let tuning = std::env::var("CALIBRATE_SEED_BASE").is_ok_and(|v| v == "tuning");
+    let range = if tuning { 7500..7510 } else { 7000..7020 };
+    range.take(take).map(|s: u64| s * 104_723 + 31).collect()
+}
+
+/// CI: discovery run, a right variable and the bond primitive in the top two on each of the first three
+/// measuring seeds.
+#[test]
+fn discovery_points_at_a_bond_the_library_cannot_fit() {
+    let failures = study(bond_cases().into(), &bond_seeds(3), (1, 1));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The measured study: on the 20 measuring seeds, discovery run, a right variable and the bond primitive
+/// in the top two in at least 16 of 20 each (figures in docs/calibration.md §3).
+#[test]
+#[ignore = "bond discovery study: about 60 CPU-seconds"]
+fn bond_study() {
+    let failures = study(bond_cases().into(), &bond_seeds(20), (4, 5));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

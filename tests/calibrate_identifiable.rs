@@ -81,9 +81,7 @@ fn one_design_eight_times_does_not_select_ply_thickness() {
 #[test]
 fn varied_designs_still_identify_ply_thickness() {
     // The same truth over 30 random designs: identifiable, selected.
-    let mut rng = ChaCha8Rng::seed_from_u64(42);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let data = parse(&synthetic_csv(truth(), &designs, &mut rng)).unwrap();
+    let data = parse(&random_csv(truth(), 42)).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     assert!(cal
         .selection

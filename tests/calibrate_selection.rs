@@ -22,8 +22,6 @@ mod synthetic;
 use actuator_cam::calibrate::{self, csv::parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
 use actuator_model::Effects;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use synthetic::*;
 
@@ -153,9 +151,7 @@ struct Outcome {
 }
 
 fn run(study: &Study, data_seed: u64) -> Outcome {
-    let mut rng = ChaCha8Rng::seed_from_u64(data_seed);
-    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
-    let data = parse(&synthetic_csv(study.truth, &designs, &mut rng)).unwrap();
+    let data = parse(&random_csv(study.truth, data_seed)).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let detail = format!(
         "{:?} broken {:?}",

@@ -24,16 +24,6 @@ const EXAMPLES: [&str; 7] = [
     "thesis-C-method-1.toml",
 ];
 
-fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec!["cut-sheet", design, "-o", out.to_str().unwrap()];
-    args.extend_from_slice(extra);
-    run(&args)
-}
-
-fn report(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
-}
-
 /// The four numbers of an SVG's `viewBox`: x, y, width, height (mm).
 fn view_box(svg: &str) -> Vec<f64> {
     svg.split("viewBox=\"")
@@ -156,7 +146,7 @@ fn geometry_mass_equals_model_mass_and_svg_areas_read_back() {
         let out = dir.path().join(format!("out{i}"));
         let o = cut_sheet(design, &out, &["--kerf-mm", "0"]);
         assert!(o.status.success(), "{design}: {}", stderr(&o));
-        let r = report(&out);
+        let r = report_json(&out);
         let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
         let model = r["predicted"]["mass_mg"].as_f64().unwrap();
         assert!(
@@ -213,7 +203,7 @@ fn kerf_grows_every_cut_outline_by_at_least_half_the_kerf() {
     let kerf = 0.1;
     let o = cut_sheet(&example("thesis-C.toml"), &out, &["--kerf-mm", "0.1"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let r = report(&out);
+    let r = report_json(&out);
     let nominal = r["layers"]
         .as_array()
         .unwrap()
@@ -375,7 +365,7 @@ fn outputs_have_the_layer_files_the_process_needs() {
     assert!(
         names.contains(&"pyralux-1.svg".to_string()) && !names.iter().any(|n| n.ends_with(".dxf"))
     );
-    let r = report(&out1);
+    let r = report_json(&out1);
     assert!(
         r["predicted"]["mass_breakdown_mg"]["bond"]
             .as_f64()
@@ -402,7 +392,7 @@ fn ply_by_ply_template_turns_each_ply_and_registers_it() {
     let out = dir.path().join("out");
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let r = report(&out);
+    let r = report_json(&out);
     let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
     let model = r["predicted"]["mass_mg"].as_f64().unwrap();
     assert!(
@@ -652,7 +642,7 @@ fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
             "{corner:?} is {d} mm from the edge"
         );
     }
-    let r = report(&out);
+    let r = report_json(&out);
     let pzt_area = r["layers"][0]["part_area_mm2"].as_f64().unwrap();
     // The SVG holds 6 decimals: each corner within 5e-7 mm, so the area within perimeter x 5e-7.
     let bound = perimeter(plate) * 5e-7;
@@ -745,16 +735,8 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
         .success());
     assert!(nested.join("report.json").exists());
     // Nothing staged was left behind.
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .filter(|e| {
-            e.file_name()
-                .to_string_lossy()
-                .starts_with(actuator_cam::output::STAGING_PREFIX)
-        })
-        .collect();
-    assert!(leftovers.is_empty());
+    let leftovers = staging_left(dir.path());
+    assert!(leftovers.is_empty(), "{leftovers:?}");
 }
 
 /// `-o` into a folder that holds other work: the run replaces only the files it writes (issue 14 item 1:
@@ -910,7 +892,9 @@ fn pzt_sheet_strips_between_full_width_score_lines_can_be_snapped() {
         let out = dir.path().join(design);
         let o = cut_sheet(&example(design), &out, &[]);
         assert!(o.status.success(), "{design}: {}", stderr(&o));
-        let t = report(&out)["design"]["pzt_thickness_mm"].as_f64().unwrap();
+        let t = report_json(&out)["design"]["pzt_thickness_mm"]
+            .as_f64()
+            .unwrap();
         let min_strip = 5.0 * t;
         for (name, bytes) in files(&out) {
             if !(name.starts_with("pzt-") && name.ends_with(".svg")) {
@@ -1042,11 +1026,7 @@ fn features_too_small_for_the_kerf_name_the_design_field() {
     // Design C's tip: (2 - 1.667) x 5 / 1.667 = 0.9988 mm, less than 2 x 0.6 mm.
     let out = dir.path().join("wide-kerf");
     let o = cut_sheet("examples/thesis-C.toml", &out, &["--kerf-mm", "0.6"]);
-    let err = stderr(&o);
-    assert!(
-        !o.status.success() && err.trim().lines().count() == 1,
-        "{err}"
-    );
+    let err = refused_in_one_line(&o);
     assert!(
         err.contains("thesis-C.toml: geometry.width_ratio = ")
             && err
@@ -1059,11 +1039,7 @@ fn features_too_small_for_the_kerf_name_the_design_field() {
     let (_d, design) = write_temp("tab.toml", &text);
     let out = dir.path().join("thin-tab");
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0.05"]);
-    let err = stderr(&o);
-    assert!(
-        !o.status.success() && err.trim().lines().count() == 1,
-        "{err}"
-    );
+    let err = refused_in_one_line(&o);
     assert!(
         err.contains("tab.toml: geometry.base_tab_mm = 0.05: a base tab must be 0 or at least twice the kerf (2 x 0.05 mm)"),
         "{err}"
@@ -1094,11 +1070,7 @@ fn a_model_file_value_outside_the_fit_bounds_is_refused_naming_the_file_and_fiel
         &out,
         &["--model", model.to_str().unwrap()],
     );
-    let err = stderr(&o);
-    assert!(
-        !o.status.success() && err.trim().lines().count() == 1,
-        "{err}"
-    );
+    let err = refused_in_one_line(&o);
     // The flag, the file (once), the field, the value and what is allowed.
     let named = format!(
         "error: --model {:?}: effects.d31_scale = 1e300: outside the allowed range [0.05, 3]",
@@ -1112,14 +1084,10 @@ fn a_model_file_value_outside_the_fit_bounds_is_refused_naming_the_file_and_fiel
         "--model",
         model.to_str().unwrap(),
     ]);
-    let perr = stderr(&p);
-    assert!(!p.status.success() && perr.trim_end() == named, "{perr}");
+    let perr = refused_in_one_line(&p);
+    assert_eq!(perr.trim_end(), named);
     assert!(!out.exists());
-    let staging: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.contains("staging"))
-        .collect();
+    let staging = staging_left(dir.path());
     assert!(staging.is_empty(), "{staging:?}");
 }
 

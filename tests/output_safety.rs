@@ -11,24 +11,14 @@ use std::time::{Duration, Instant};
 
 const MANIFEST: &str = ".actuator-cam-manifest";
 
+/// Design C's cut sheet into `out`.
 fn cut_sheet_into(out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "cut-sheet",
-        "examples/thesis-C.toml",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    run(&args)
+    cut_sheet("examples/thesis-C.toml", out, extra)
 }
 
-/// Hidden staging folders beside `out` (what a killed run could leave).
+/// Staging folders beside `out` (what a killed run could leave).
 fn staging_beside(out: &Path) -> Vec<String> {
-    fs::read_dir(out.parent().unwrap())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.') && n.contains("staging"))
-        .collect()
+    staging_left(out.parent().unwrap())
 }
 
 #[test]
@@ -47,9 +37,7 @@ fn a_folder_with_user_files_is_refused_and_left_as_it_was() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    let err = stderr(&o);
-    assert!(!o.status.success(), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let err = refused_in_one_line(&o);
     assert!(
         err.contains("sb") && err.contains("notes.txt") && err.contains("--force"),
         "{err}"

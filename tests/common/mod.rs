@@ -46,6 +46,38 @@ pub fn ok_stdout(o: &Output) -> String {
     stdout(o)
 }
 
+/// `actuator-cam cut-sheet DESIGN -o OUT EXTRA…`, from the crate root.
+pub fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["cut-sheet", design, "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+/// The `report.json` a command wrote into `out`.
+pub fn report_json(out: &Path) -> serde_json::Value {
+    let path = out.join("report.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path:?}: {e}"))
+}
+
+/// stderr of a run that must have been refused with one line (the project's rule for bad input); the
+/// caller checks what the line names.
+pub fn refused_in_one_line(o: &Output) -> String {
+    let err = stderr(o);
+    assert!(!o.status.success(), "accepted: {}", stdout(o));
+    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    err
+}
+
+/// The staging folders of the output writer left in `dir` (what a failed or killed run could leave).
+pub fn staging_left(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(actuator_cam::output::STAGING_PREFIX))
+        .collect()
+}
+
 /// A valid design (thesis design C) as TOML text with one line replaced: `(key prefix, new line)`.
 pub fn design_c_with(replace: &[(&str, &str)]) -> String {
     let base = std::fs::read_to_string(example("thesis-C.toml")).unwrap();

@@ -6,7 +6,7 @@ use actuator_cam::calibrate;
 use actuator_model::effects::{drive_at_voltage, Actuator};
 use actuator_model::primitives::{compose, Applied, Primitive};
 use actuator_model::{DriveMode, Effects, Material, Planform};
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 pub const LAYUPS: [&str; 3] = ["0/90/0", "0/0/90/0/0", "0/0/0/90/0/0/0"];
@@ -271,6 +271,14 @@ pub fn normal(rng: &mut ChaCha8Rng) -> f64 {
     (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
 }
 
+/// The studies' data set: 30 random designs drawn from `seed`, then [`synthetic_csv`] of them with the
+/// same random stream (4 voltages, 5 % noise on δ and F_b, 1 % on the mass).
+pub fn random_csv(truth: Truth, seed: u64) -> String {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
+    synthetic_csv(truth, &designs, &mut rng)
+}
+
 /// Synthetic CSV: n actuators x 4 voltages, log-normal noise 5% (δ, F) and 1% (mass, given once per id).
 pub fn synthetic_csv(truth: Truth, designs: &[Design], rng: &mut ChaCha8Rng) -> String {
     synthetic_csv_at(truth, designs, &FIELDS_V_PER_MM, rng)
@@ -364,6 +372,20 @@ pub fn break_actuators(csv: &str, ids: &[usize], factor: f64) -> String {
                     let v: f64 = cells[k].parse().unwrap();
                     cells[k] = format!("{:.8}", v * factor);
                 }
+            }
+            cells.join(",") + "\n"
+        })
+        .collect()
+}
+
+/// The same CSV with no mass measured (the `mass_mg` cells left empty).
+pub fn without_masses(csv: String) -> String {
+    csv.lines()
+        .enumerate()
+        .map(|(i, line)| {
+            let mut cells: Vec<&str> = line.split(',').collect();
+            if i > 0 {
+                cells[8] = "";
             }
             cells.join(",") + "\n"
         })

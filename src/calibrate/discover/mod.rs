@@ -228,7 +228,8 @@ pub fn discover(
             });
         }
     }
-    let tried = catalogue::catalogue();
+    let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
+    let tried = catalogue::catalogue(stack);
     let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
         .iter()
         .map(|t| (t, None))
