@@ -15,7 +15,7 @@
 //!   bounding boxes.
 //! * **Greedy fills** (`Model::construct`): each worker builds two starts (on jobs of
 //!   up to 150 copies, else one) and keeps the better. Even recipes place copies in decreasing
-//!   size (area, length or box area; later ones slightly shuffled), each on the first sheet
+//!   size (area or length with two workers; box area, then shuffled, with more), each on the first sheet
 //!   that takes it. Odd recipes fill *best fit*: each step finds a spot for every design still
 //!   to place and takes the lowest (ties within a recipe's width: the largest part), so low
 //!   gaps get whatever fits them and rows mix designs whose lengths add up to the sheet width,
