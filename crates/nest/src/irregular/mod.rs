@@ -13,9 +13,9 @@
 //!   neighbours, cost the most collision tests. The slide drops a part turned by
 //!   180° into the slanted gap its neighbour leaves, which is where trapezoids gain over their
 //!   bounding boxes.
-//! * **Greedy fills** (`Model::construct`): each worker builds several starts (five on jobs of
-//!   up to 150 copies, else one) and keeps the best. Even recipes place copies in decreasing
-//!   size (area, length or box area; later ones slightly shuffled), each on the first sheet
+//! * **Greedy fills** (`Model::construct`): each worker builds two starts (on jobs of
+//!   up to 150 copies, else one) and keeps the better. Even recipes place copies in decreasing
+//!   size (area or length with two workers; box area, then shuffled, with more), each on the first sheet
 //!   that takes it. Odd recipes fill *best fit*: each step finds a spot for every design still
 //!   to place and takes the lowest (ties within a recipe's width: the largest part), so low
 //!   gaps get whatever fits them and rows mix designs whose lengths add up to the sheet width,
@@ -58,7 +58,7 @@
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
 //!   worker index) seeds all workers. Thread timing never enters a decision.
-//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (200)
+//! * **Stop rule** (`portfolio`): between epochs the search ends once `STALL_ITERATIONS` (50)
 //!   iterations over all workers have brought no shorter layout (fewer sheets or a used length
 //!   shorter by more than 1 µm, neither the best nor any worker's own; the score's lower terms
 //!   do not count), or once the best uses the fewest sheets the part area allows with a used
