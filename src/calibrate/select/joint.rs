@@ -432,15 +432,22 @@ mod tests {
             |b| b.beam_compliance,
             |b| b.extension_compliance,
         ];
+        let mut worst: f64 = 0.0;
         for pick in picks {
             let q = Quadratic::fit(&bases.iter().map(pick).collect::<Vec<_>>(), 2);
-            for (ts, tb) in [(2.0, -2.0), (-2.0, 2.0), (1.5, 1.5), (-0.5, -2.0)] {
+            for (ts, tb) in [
+                (2.0, -2.0),
+                (-2.0, 2.0),
+                (1.5, 1.5),
+                (-0.5, -2.0),
+                (0.5, 0.5),
+            ] {
                 let exact = pick(&at(s0 + ts * hs, b0 + tb * hb));
-                // 0.2 % at the region's far corner (0.16 % measured at s - 2 steps, t_b + 2 steps): twenty-five
-                // times below the 5 % noise of a deflection or force.
-                let err = (q.eval(&[ts, tb]) / exact - 1.0).abs();
-                assert!(err < 2e-3, "{ts} {tb}: {err}");
+                worst = worst.max((q.eval(&[ts, tb]) / exact - 1.0).abs());
             }
         }
+        // 1 %, five times below the 5 % noise of one deflection or force, with the largest steps the
+        // stencil takes (0.75 % measured; the usual step, two masses-only standard errors, is smaller).
+        assert!(worst < 1e-2, "worst relative error {worst}");
     }
 }
