@@ -8,7 +8,7 @@ use crate::calibrate::baseline::{ErrorTable, ResidualCorrelation};
 use crate::calibrate::broken::BrokenActuator;
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::discover::Discovery;
-use crate::calibrate::library::{EffectId, Stage};
+use crate::calibrate::library::Stage;
 use crate::calibrate::model_file;
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
 use crate::calibrate::select::{Adequacy, Candidate, Outlier, Role, SeparatingDesign, Verdict};
@@ -292,17 +292,27 @@ pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
     s.selected
         .iter()
         .filter_map(|id| {
+            // A mass effect refitted on all the data beside the actuation model reports that fit.
+            if let Some(c) = act.carried.iter().find(|c| c.id == *id) {
+                return Some(SelectedEffect {
+                    name: id.name(),
+                    parameter: id.param().name,
+                    estimate: c.value,
+                    interval: c.interval,
+                    std_error: c.std_error,
+                });
+            }
             [mass, Some(act)]
                 .into_iter()
                 .flatten()
-                .find_map(|c| c.effects.iter().position(|e| e == id).map(|k| (*id, c, k)))
-        })
-        .map(|(id, c, k): (EffectId, &Candidate, usize)| SelectedEffect {
-            name: id.name(),
-            parameter: id.param().name,
-            estimate: c.values[k],
-            interval: c.intervals[k],
-            std_error: c.std_errors[k],
+                .find_map(|c| c.effects.iter().position(|e| e == id).map(|k| (c, k)))
+                .map(|(c, k): (&Candidate, usize)| SelectedEffect {
+                    name: id.name(),
+                    parameter: id.param().name,
+                    estimate: c.values[k],
+                    interval: c.intervals[k],
+                    std_error: c.std_errors[k],
+                })
         })
         .collect()
 }

@@ -67,42 +67,28 @@ pub(super) fn adequacy(
     data: &Dataset,
     act: &ActuationData,
     chosen: &Candidate,
-    mass_model: Option<&Candidate>,
+    mass_model: Option<&EffectModel>,
     mass_data: &MassData,
     settings: &Settings,
 ) -> Adequacy {
     adequacy_of_fit(
         data,
         act,
-        (&chosen.model, chosen.fit.rss, chosen.values.len()),
-        mass_model.map(|m| (&m.model, mass_data)),
+        (&chosen.model, chosen.values.len()),
+        mass_model.map(|m| (m, mass_data)),
         settings,
     )
 }
 
-/// The same for any model: (effects, RSS of its actuation fit, fitted parameter count), and the mass
-/// model with its data if masses were fitted.
-pub(super) fn adequacy_of_fit(
-    data: &Dataset,
-    act: &ActuationData,
-    (model, rss, params): (&EffectModel, f64, usize),
-    mass: Option<(&EffectModel, &MassData)>,
-    settings: &Settings,
-) -> Adequacy {
-    let mut r = Vec::new();
-    act.residuals(model, None, &mut r);
-    let labels = act.labels();
-    // Per (group, output): (field, residual) pairs.
-    let groups = data.actuators();
-    let mut by: Vec<[Vec<(f64, f64)>; 2]> = vec![[Vec::new(), Vec::new()]; groups];
-    let mut row_res: Vec<[Option<f64>; 2]> = vec![[None, None]; act.obs.len()];
-    for (&(i, output), &res) in labels.iter().zip(&r) {
+/// The pure error of the voltage sweeps: the RSS of per-actuator, per-output lines in the field through
+/// the residuals `r` of `act` (in [`ActuationData::labels`] order), the parameters those lines take,
+/// and how many sweeps have 3 or more levels.
+fn sweep_lines(act: &ActuationData, r: &[f64]) -> (f64, usize, usize) {
+    let mut by: Vec<[Vec<(f64, f64)>; 2]> = vec![[Vec::new(), Vec::new()]; act.groups];
+    for (&(i, output), &res) in act.labels().iter().zip(r) {
         let o = &act.obs[i];
-        let slot = (output == "blocked_force") as usize;
-        by[o.group][slot].push((o.basis.field, res));
-        row_res[i][slot] = Some(res);
+        by[o.group][(output == "blocked_force") as usize].push((o.basis.field, res));
     }
-    // Pure error: a line in the field per actuator and output.
     let (mut rss_full, mut q) = (0.0, 0usize);
     let mut sweeps = 0usize;
     for pair in &by {
@@ -130,6 +116,40 @@ pub(super) fn adequacy_of_fit(
                 .sum::<f64>();
         }
     }
+    (rss_full, q, sweeps)
+}
+
+/// The variance of a log deflection or force measurement from the sweeps' pure error under `model`
+/// (None without enough repeated levels): a line in the field per actuator and output absorbs every
+/// library effect, so what is left is the noise.
+pub(super) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
+    let mut r = Vec::new();
+    act.residuals(model, None, &mut r);
+    let (rss_full, q, sweeps) = sweep_lines(act, &r);
+    let df = r.len() as f64 - q as f64;
+    (sweeps >= 3 && df >= 5.0 && rss_full > 0.0).then(|| rss_full / df)
+}
+
+/// The same for any model: (effects, fitted parameter count), and the mass model with its data if
+/// masses were fitted. The RSS is that of `act`'s residuals under `model`.
+pub(super) fn adequacy_of_fit(
+    data: &Dataset,
+    act: &ActuationData,
+    (model, params): (&EffectModel, usize),
+    mass: Option<(&EffectModel, &MassData)>,
+    settings: &Settings,
+) -> Adequacy {
+    let mut r = Vec::new();
+    act.residuals(model, None, &mut r);
+    let rss: f64 = r.iter().map(|x| x * x).sum();
+    let labels = act.labels();
+    let groups = data.actuators();
+    let mut row_res: Vec<[Option<f64>; 2]> = vec![[None, None]; act.obs.len()];
+    for (&(i, output), &res) in labels.iter().zip(&r) {
+        row_res[i][(output == "blocked_force") as usize] = Some(res);
+    }
+    // Pure error: a line in the field per actuator and output.
+    let (rss_full, q, sweeps) = sweep_lines(act, &r);
     let n = r.len();
     let p = params;
     let df2 = n as f64 - q as f64;

@@ -22,8 +22,12 @@ pub struct Candidate {
     pub stage: Stage,
     /// Role in the selection.
     pub role: Role,
-    /// Fitted effects, in parameter order.
+    /// Fitted effects, in parameter order (the carried mass effects not among them).
     pub effects: Vec<EffectId>,
+    /// The mass model's parameters, fitted again with these effects on the masses, deflections and
+    /// forces together (empty when the mass model was frozen: the mass stage, the original mass model,
+    /// or a declared mass effect). `model` holds them.
+    pub carried: Vec<CarriedValue>,
     /// Estimates in report units.
     pub values: Vec<f64>,
     /// Standard errors.
@@ -52,6 +56,19 @@ pub struct Candidate {
     pub not_identifiable: Vec<(EffectId, String)>,
     /// The fit itself (residuals, Jacobian).
     pub fit: FitResult,
+}
+
+/// A mass parameter refitted beside an actuation model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CarriedValue {
+    /// The mass effect.
+    pub id: EffectId,
+    /// Its estimate on all the data.
+    pub value: f64,
+    /// Standard error (from the joint fit's covariance).
+    pub std_error: f64,
+    /// 95% interval.
+    pub interval: (f64, f64),
 }
 
 impl Candidate {

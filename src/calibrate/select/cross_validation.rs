@@ -42,7 +42,7 @@ pub(super) fn rmse(
             let test: Vec<bool> = (0..groups).map(|g| fold_of[g] == fold).collect();
             let train: Vec<bool> = test.iter().map(|t| !t).collect();
             let e = fit_train(&train);
-            data.residuals(&e, Some(&test), &mut out);
+            data.held_out(&e, Some(&test), &mut out);
             sum += out.iter().map(|r| r * r).sum::<f64>();
             count += out.len();
         }

@@ -1,9 +1,10 @@
 //! Fit one effect set on one stage: multi-start bounded least squares, then the information criteria,
 //! covariance intervals and the cross-validated error that the selection compares.
 
-use super::candidate::{Candidate, Role};
+use super::candidate::{Candidate, CarriedValue, Role};
 use super::cross_validation;
 use super::identifiability;
+use super::joint::CarriedParameter;
 use super::observations::StageData;
 use crate::calibrate::fit::{least_squares, Bounds, FitResult};
 use crate::calibrate::library::{EffectId, Stage};
@@ -12,7 +13,7 @@ use actuator_model::EffectModel;
 use nalgebra::DMatrix;
 
 /// Every combination of the parameters' start values, clamped to their bounds.
-fn starts(specs: &[(f64, f64, &'static [f64])]) -> Vec<Vec<f64>> {
+fn starts(specs: &[(f64, f64, &[f64])]) -> Vec<Vec<f64>> {
     let mut out = vec![Vec::new()];
     for &(lo, hi, s) in specs {
         out = out
@@ -54,6 +55,9 @@ pub(super) struct Fitter<'a> {
     pub(super) dead_length_max_mm: f64,
     /// What all actuators share (identifiability reasons), if anything.
     pub(super) shared: Option<String>,
+    /// Mass parameters fitted again with every effect set (the joint data's; empty: the mass model in
+    /// `base` stays frozen).
+    pub(super) carried: Vec<CarriedParameter>,
 }
 
 impl Fitter<'_> {
@@ -71,35 +75,76 @@ impl Fitter<'_> {
             .collect()
     }
 
-    fn effects_at(&self, ids: &[EffectId], theta: &[f64]) -> EffectModel {
+    /// The model with the carried mass parameters at `held` and `ids` at `theta`.
+    fn model_at(&self, held: &[f64], ids: &[EffectId], theta: &[f64]) -> EffectModel {
         let mut e = self.base.clone();
+        for (c, v) in self.carried.iter().zip(held) {
+            c.id.apply(&mut e, *v);
+        }
         for (id, v) in ids.iter().zip(theta) {
             id.apply(&mut e, *v);
         }
         e
     }
 
+    /// Fit `ids` (after the carried mass parameters, held at `held` unless it is empty, when they are
+    /// fitted too: then `theta` starts with them).
     fn fit_on(
         &self,
         ids: &[EffectId],
+        held: &[f64],
         keep: Option<&[bool]>,
         starts_list: &[Vec<f64>],
     ) -> FitResult {
-        let bounds = self.bounds(ids);
+        let c = if held.is_empty() {
+            self.carried.len()
+        } else {
+            0
+        };
+        let mut bounds: Vec<Bounds> = self.carried[..c].iter().map(|p| p.bounds).collect();
+        bounds.extend(self.bounds(ids));
+        // The carried parameters held: their stacks once, and the masses, which only they move, left out.
+        let held_data = (c == 0)
+            .then(|| self.data.held_at(&self.model_at(held, &[], &[])))
+            .flatten();
         let f = |theta: &[f64], out: &mut Vec<f64>| {
-            self.data.residuals(&self.effects_at(ids, theta), keep, out)
+            if c > 0 {
+                let model = self.model_at(&theta[..c], ids, &theta[c..]);
+                self.data.residuals(&model, keep, out)
+            } else {
+                let model = self.model_at(held, ids, theta);
+                match &held_data {
+                    Some(d) => d.residuals(&model, keep, out),
+                    None => self.data.held_out(&model, keep, out),
+                }
+            }
         };
         least_squares(&f, &bounds, starts_list)
     }
 
     pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
         let bounds = self.bounds(ids);
-        let specs: Vec<(f64, f64, &'static [f64])> = ids
+        let specs: Vec<(f64, f64, &[f64])> = ids
             .iter()
             .zip(&bounds)
             .map(|(id, b)| (b.lo, b.hi, id.param().starts))
             .collect();
-        let fit = self.fit_on(ids, None, &starts(&specs));
+        // The search from every start with the mass parameters at their masses-only values (as cheap
+        // as a frozen mass model), then one joint fit of all of them from the best.
+        let masses_only: Vec<f64> = self.carried.iter().map(|c| c.start).collect();
+        let frozen = self.fit_on(ids, &masses_only, None, &starts(&specs));
+        let joint = if self.carried.is_empty() {
+            frozen
+        } else {
+            let start: Vec<f64> = masses_only.iter().chain(&frozen.theta).copied().collect();
+            self.fit_on(ids, &[], None, &[start])
+        };
+        let c = self.carried.len();
+        let carried = carried_values(&self.carried, &joint);
+        // The scores, intervals and identifiability are those of this stage's own effects on its own
+        // outputs, at the carried mass values (as they were when those were frozen).
+        let fit = own_part(&joint, c, self.data.scored_rows());
+        let held: Vec<f64> = joint.theta[..c].to_vec();
         let p = ids.len();
         let n = fit.n;
         let aicc = stats::aicc(n, p, fit.rss);
@@ -121,16 +166,19 @@ impl Fitter<'_> {
             })
             .collect();
         // Each fold starts from the full-data fit; the original model has nothing to refit.
+        // The carried mass parameters stay at their full-data values: the folds compare the effects this
+        // stage adds.
         let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
             if ids.is_empty() {
-                self.base.clone()
+                self.model_at(&held, ids, &[])
             } else {
-                let refit = self.fit_on(ids, Some(train), std::slice::from_ref(&fit.theta));
-                self.effects_at(ids, &refit.theta)
+                let refit = self.fit_on(ids, &held, Some(train), std::slice::from_ref(&fit.theta));
+                self.model_at(&held, ids, &refit.theta)
             }
         });
         let not_identifiable = identifiability::not_identifiable(ids, &fit, self.shared.as_deref());
         Candidate {
+            carried,
             not_identifiable,
             stage,
             role,
@@ -146,8 +194,45 @@ impl Fitter<'_> {
             cv_rmse,
             accepted: false,
             note: String::new(),
-            model: self.effects_at(ids, &fit.theta),
+            model: self.model_at(&held, ids, &fit.theta),
             fit,
         }
+    }
+}
+
+/// The carried mass parameters of a joint fit with their intervals, from its covariance on all its data
+/// (the masses weighted by their noise).
+fn carried_values(carried: &[CarriedParameter], joint: &FitResult) -> Vec<CarriedValue> {
+    if carried.is_empty() {
+        return Vec::new();
+    }
+    let (std_errors, intervals) = intervals(joint, &joint.covariance());
+    carried
+        .iter()
+        .enumerate()
+        .map(|(k, c)| CarriedValue {
+            id: c.id,
+            value: joint.theta[k],
+            std_error: std_errors[k],
+            interval: intervals[k],
+        })
+        .collect()
+}
+
+/// A joint fit restricted to the parameters after the first `carried` and to the first `scored`
+/// residuals (None: all).
+fn own_part(joint: &FitResult, carried: usize, scored: Option<usize>) -> FitResult {
+    let n = scored.unwrap_or(joint.n).min(joint.n);
+    if carried == 0 && n == joint.n {
+        return joint.clone();
+    }
+    let p = joint.theta.len() - carried;
+    let residuals = joint.residuals[..n].to_vec();
+    FitResult {
+        theta: joint.theta[carried..].to_vec(),
+        rss: residuals.iter().map(|r| r * r).sum(),
+        n,
+        residuals,
+        jacobian: joint.jacobian.view((0, carried), (n, p)).into_owned(),
     }
 }

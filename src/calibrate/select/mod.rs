@@ -9,13 +9,14 @@ pub mod candidate;
 mod cross_validation;
 pub(crate) mod fitter;
 pub mod identifiability;
+mod joint;
 pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
 
 pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
-pub use candidate::{Candidate, Role};
+pub use candidate::{Candidate, CarriedValue, Role};
 pub use outliers::Outlier;
 pub use separating::SeparatingDesign;
 pub use settings::{max_parameters, Settings};
@@ -29,6 +30,7 @@ use actuator_model::ModelError;
 use adequacy::adequacy;
 use cross_validation::folds;
 use fitter::Fitter;
+use joint::{can_carry, CarriedParameter, JointData};
 use observations::{ActuationData, ActuationObs, MassData, StageData};
 use outliers::outliers;
 use rayon::prelude::*;
@@ -143,6 +145,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             folds: folds_of.clone(),
             dead_length_max_mm,
             shared: shared.clone(),
+            carried: Vec::new(),
         };
         // Each effect with its parameters (a declared effect may have several).
         let mass_effects: Vec<Vec<EffectId>> = [EffectId::PlyThickness, EffectId::BondLayer]
@@ -187,12 +190,37 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
 
     // --- Stage 2: actuation and compliance effects on deflection and force, on each mass model carried.
+    // A library mass model's parameters are fitted again with every actuation effect set, on the masses,
+    // deflections and forces together, each weighted by its noise (docs/calibration.md §3).
+    let carries = |b: &Option<usize>| b.is_some_and(|i| can_carry(&mass_candidates[i]));
+    let mass_weight = if bases.iter().any(carries) {
+        let original = EffectModel::default();
+        let act = actuation_data(data, &original)?;
+        let sigma_act2 = adequacy::pure_error_variance(&act, &original).unwrap_or_else(|| {
+            let mut r = Vec::new();
+            act.residuals(&original, None, &mut r);
+            let n = r.len().max(2) as f64;
+            let mean = r.iter().sum::<f64>() / n;
+            r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+        });
+        joint::mass_weight(&mass_candidates, sigma_act2)
+    } else {
+        1.0
+    };
     let mut stages = Vec::with_capacity(bases.len());
     for b in &bases {
         let base = b.map_or_else(EffectModel::default, |i| mass_candidates[i].model.clone());
+        let joint = b.filter(|_| carries(b)).map(|i| {
+            let m = &mass_candidates[i];
+            let carried = (0..m.effects.len())
+                .map(|k| CarriedParameter::of(m, k))
+                .collect();
+            (carried, &mass_data, mass_weight)
+        });
         stages.push(actuation_stage(
             data,
             base,
+            joint,
             settings,
             &folds_of,
             dead_length_max_mm,
@@ -200,12 +228,22 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         )?);
     }
     // The mass model the masses chose stands unless another fits masses, deflections and forces together
-    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add).
+    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add; the masses' at the
+    // final model's mass parameters, where those were fitted on all the data).
     let joint: Vec<f64> = bases
         .iter()
         .zip(&stages)
         .map(|(b, st)| {
-            b.map_or(0.0, |i| mass_candidates[i].aicc) + st.candidates[st.final_index].aicc
+            let fin = &st.candidates[st.final_index];
+            b.map_or(0.0, |i| {
+                if fin.carried.is_empty() {
+                    return mass_candidates[i].aicc;
+                }
+                let mut r = Vec::new();
+                mass_data.residuals(&fin.model, None, &mut r);
+                let rss = r.iter().map(|x| x * x).sum();
+                crate::calibrate::stats::aicc(r.len(), mass_candidates[i].values.len(), rss)
+            }) + fin.aicc
         })
         .collect();
     let mut pick = 0;
@@ -247,7 +285,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         }
     }
     let ActuationStage {
-        act_data,
+        mut act_data,
         candidates,
         rivals,
         final_index,
@@ -266,12 +304,23 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
     selected.extend(chosen.library_effects());
     let model = chosen.model.clone();
+    // The final model's stacks solved exactly at its mass parameters (refitted on all the data).
+    let mass_model = if chosen.carried.is_empty() {
+        final_mass_index.map(|i| mass_candidates[i].model.clone())
+    } else {
+        let mut m = EffectModel::default();
+        for c in &chosen.carried {
+            c.id.apply(&mut m, c.value);
+        }
+        act_data = actuation_data(data, &m)?;
+        Some(m)
+    };
 
     let adequacy = adequacy(
         data,
         &act_data,
         chosen,
-        final_mass_index.map(|i| &mass_candidates[i]),
+        mass_model.as_ref(),
         &mass_data,
         settings,
     );
@@ -335,6 +384,7 @@ struct ActuationStage<'a> {
 fn actuation_stage<'a>(
     data: &'a Dataset,
     base: EffectModel,
+    joint: Option<(Vec<CarriedParameter>, &MassData, f64)>,
     settings: &Settings,
     folds_of: &[Vec<usize>],
     dead_length_max_mm: f64,
@@ -359,12 +409,28 @@ fn actuation_stage<'a>(
         groups,
         frozen_primitives: base.primitives.len(),
     };
+    // With a carried mass model, every model starts from the original and applies the mass parameters
+    // it fits; the stacks are held as quadratics in them (joint.rs).
+    let (stage_data, carried, base) = match joint {
+        Some((carried, mass, weight)) => (
+            StageInput::Joint(JointData::new(
+                act_data,
+                carried.clone(),
+                Some(mass),
+                weight,
+            )?),
+            carried,
+            EffectModel::default(),
+        ),
+        None => (StageInput::Frozen(act_data), Vec::new(), base),
+    };
     let fitter = Fitter {
-        data: &act_data,
+        data: stage_data.as_dyn(),
         base,
         folds: folds_of.to_vec(),
         dead_length_max_mm,
         shared: shared.clone(),
+        carried,
     };
     let eta = EffectId::D31Scale;
     // Each effect with its parameters (a declared effect may have several).
@@ -379,7 +445,8 @@ fn actuation_stage<'a>(
         (vec![eta], Role::Null),
         (vec![eta, EffectId::StiffnessScale], Role::Null),
     ];
-    let n_points: usize = act_data
+    let n_points: usize = stage_data
+        .act()
         .obs
         .iter()
         .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
@@ -427,13 +494,42 @@ fn actuation_stage<'a>(
             }
         }
     };
+    drop(fitter);
     Ok(ActuationStage {
-        act_data,
+        act_data: stage_data.into_act(),
         candidates,
         rivals,
         final_index,
         notes,
     })
+}
+
+/// The data an actuation stage fits: deflection and force on a frozen mass model, or with the mass
+/// model's parameters free and the masses beside them.
+enum StageInput<'a> {
+    Frozen(ActuationData<'a>),
+    Joint(JointData<'a>),
+}
+
+impl<'a> StageInput<'a> {
+    fn as_dyn(&self) -> &dyn StageData {
+        match self {
+            StageInput::Frozen(a) => a,
+            StageInput::Joint(j) => j,
+        }
+    }
+    fn act(&self) -> &ActuationData<'a> {
+        match self {
+            StageInput::Frozen(a) => a,
+            StageInput::Joint(j) => &j.act,
+        }
+    }
+    fn into_act(self) -> ActuationData<'a> {
+        match self {
+            StageInput::Frozen(a) => a,
+            StageInput::Joint(j) => j.act,
+        }
+    }
 }
 
 /// The declared effects fitted on one stage's data, each as the list of its parameters on that stage
@@ -481,11 +577,10 @@ pub fn adequacy_of(
     let act = actuation_data(data, &effects)?;
     let mut res = Vec::new();
     act.residuals(&effects, None, &mut res);
-    let rss = res.iter().map(|x| x * x).sum();
     Ok(adequacy::adequacy_of_fit(
         data,
         &act,
-        (&effects, rss, params),
+        (&effects, params),
         None,
         settings,
     ))

@@ -10,6 +10,22 @@ use actuator_model::EffectModel;
 pub(crate) trait StageData: Sync {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>);
     fn groups(&self) -> usize;
+    /// The residuals cross-validation scores on held-out actuators: all of them, unless the stage fits
+    /// data it does not predict (the joint data score deflection and force only).
+    fn held_out(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+        self.residuals(effects, keep, out);
+    }
+    /// How many leading residuals are the stage's scored outputs (None: all): the information criteria
+    /// and intervals count them; the rest (the weighted masses of the joint data) steer the fit only.
+    fn scored_rows(&self) -> Option<usize> {
+        None
+    }
+    /// The deflections and forces with the carried mass parameters held at their values in `effects`,
+    /// each stack solved (or interpolated) once (None: nothing is carried; use these data).
+    fn held_at(&self, effects: &EffectModel) -> Option<ActuationData<'_>> {
+        let _ = effects;
+        None
+    }
 }
 
 pub(crate) struct MassData<'a> {
