@@ -321,7 +321,8 @@ fn mutate_csv(text: &str, edits: &[CsvEdit]) -> String {
                     row.remove(k);
                 }
             }
-            CsvEdit::RepeatColumn(c) => {
+            // A header emptied by DropCell has no column to repeat.
+            CsvEdit::RepeatColumn(c) if !rows[0].is_empty() => {
                 let k = c % rows[0].len();
                 for row in rows.iter_mut() {
                     if k < row.len() {
