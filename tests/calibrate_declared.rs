@@ -461,3 +461,71 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
     assert!((read.blocked_force / direct.blocked_force - 1.0).abs() < 1e-12);
     assert!((read.free_deflection / direct.free_deflection - 1.0).abs() < 1e-12);
 }
+
+/// Issue 17 item 5: with `--effects`, the report sets the library-only calibration beside the one with the
+/// declared effect. Its block must be what `calibrate` without `--effects` reports as its own result on the
+/// same file (a second, independent run), and report.md and the terminal list the three models in order.
+#[test]
+fn the_report_sets_the_library_only_calibration_beside_the_declared_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = common::example_path("measured-undeclared.csv");
+    let effects = common::example_path("effects-clamp-width.toml");
+    let (with, without) = (dir.path().join("with"), dir.path().join("without"));
+    let run = common::run_ok(&[
+        "calibrate",
+        data.to_str().unwrap(),
+        "--effects",
+        effects.to_str().unwrap(),
+        "-o",
+        with.to_str().unwrap(),
+    ]);
+    common::run_ok(&[
+        "calibrate",
+        data.to_str().unwrap(),
+        "-o",
+        without.to_str().unwrap(),
+    ]);
+    let (declared, library) = (common::report_json(&with), common::report_json(&without));
+    let block = &declared["library_only"];
+    assert_eq!(block["verdict"], library["verdict"]);
+    assert_eq!(block["verdict"], "not-explained");
+    assert_eq!(block["verdict_detail"], library["verdict_detail"]);
+    for key in [
+        "mass",
+        "free_deflection",
+        "blocked_force",
+        "stiffness",
+        "cv_rmse_log_actuation",
+    ] {
+        assert_eq!(block[key], library["after"][key], "{key}");
+    }
+    // The declared effect does better than the library alone, which does better than the original.
+    let cv = |v: &serde_json::Value| v["cv_rmse_log_actuation"].as_f64().unwrap();
+    assert!(cv(&declared["after"]) < cv(block) && cv(block) < cv(&declared["before"]));
+    assert_eq!(declared["verdict"], "explained");
+    // Without --effects there is no such block.
+    assert!(library.get("library_only").is_none());
+    let md = std::fs::read_to_string(with.join("report.md")).unwrap();
+    let rows: Vec<&str> = md
+        .lines()
+        .filter(|l| l.starts_with("| blocked force |"))
+        .collect();
+    assert_eq!(rows.len(), 4, "{rows:?}");
+    for (row, model) in rows
+        .iter()
+        .zip(["original", "library only", "calibrated", "thesis fits"])
+    {
+        assert!(
+            row.starts_with(&format!("| blocked force | {model} |")),
+            "{row}"
+        );
+    }
+    assert!(
+        md.contains(", library only 0.137, calibrated 0.049."),
+        "{md}"
+    );
+    let terminal = common::stdout(&run);
+    assert!(terminal.contains(
+        "Library only (the same data without the declared effects): verdict: not-explained (residual still follows w0_mm"
+    ));
+}

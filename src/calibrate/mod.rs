@@ -56,6 +56,22 @@ pub struct Calibration {
     pub predictions_after: Vec<Performance>,
     /// Actuators flagged as broken (excluded from the fit and the tables unless marked otherwise).
     pub broken: Vec<BrokenActuator>,
+    /// With declared effects (`--effects`): the calibration the library alone gives on the same
+    /// actuators, so the report shows the error of the original model, the library-only calibration and
+    /// the calibration with the declared effects side by side (issue 17 item 5).
+    pub library_only: Option<LibraryOnly>,
+}
+
+/// The library-only calibration beside one with declared effects: what `calibrate` without `--effects`
+/// gives on the same actuators.
+#[derive(Debug, Clone)]
+pub struct LibraryOnly {
+    /// Its verdict (e.g. `not-explained` where the declared effect is what explains the data).
+    pub verdict: Verdict,
+    /// Its errors.
+    pub table: ErrorTable,
+    /// Its cross-validated RMSE of the log residuals (δ, F_b).
+    pub cv_rmse: f64,
 }
 
 /// Predict one measured row with a calibrated model (the "after" predictions; `predict --model` must give
@@ -91,17 +107,7 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
     if matches!(selection.verdict, Verdict::NotExplained { .. }) {
         selection.discovery = Some(discover::discover(fitted, &selection, settings)?);
     }
-    let model = CalibratedModel {
-        model: "calibrated".into(),
-        verdict: selection.verdict.name().into(),
-        // A declared effect with several parameters is one name.
-        selected_effects: effect_names(&selection.selected)
-            .into_iter()
-            .map(String::from)
-            .collect(),
-        effects: selection.model.effects,
-        declared: declared_records(&selection),
-    };
+    let model = calibrated_model(&selection);
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
     let predictions_after = predict_all(data, |m| predict_row(&model, m))?;
@@ -113,6 +119,11 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         )
     } else {
         (predictions_before.clone(), predictions_after.clone())
+    };
+    let library_only = if settings.declared.is_empty() {
+        None
+    } else {
+        Some(library_only(fitted, settings)?)
     };
     let thesis = predict_all(fitted, |m| {
         let p = original.predict(&m.actuator())?;
@@ -131,6 +142,38 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         predictions_before,
         predictions_after,
         broken,
+        library_only,
+    })
+}
+
+/// The model file's contents for a selection.
+fn calibrated_model(selection: &Selection) -> CalibratedModel {
+    CalibratedModel {
+        model: "calibrated".into(),
+        verdict: selection.verdict.name().into(),
+        // A declared effect with several parameters is one name.
+        selected_effects: effect_names(&selection.selected)
+            .into_iter()
+            .map(String::from)
+            .collect(),
+        effects: selection.model.effects,
+        declared: declared_records(selection),
+    }
+}
+
+/// The selection without the declared effects, on the actuators the full one was fitted on.
+fn library_only(fitted: &Dataset, settings: &Settings) -> Result<LibraryOnly, CalibrateError> {
+    let library = Settings {
+        declared: Vec::new(),
+        ..settings.clone()
+    };
+    let selection = select::select(fitted, &library)?;
+    let model = calibrated_model(&selection);
+    let predictions = predict_all(fitted, |m| predict_row(&model, m))?;
+    Ok(LibraryOnly {
+        table: error_table(fitted, &predictions),
+        cv_rmse: selection.candidates[selection.final_index].cv_rmse,
+        verdict: selection.verdict,
     })
 }
 

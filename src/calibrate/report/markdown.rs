@@ -1,6 +1,6 @@
 //! report.md and the terminal summary, rendered from the same [`Report`] tree as report.json.
 
-use super::tree::{Errors, Report, SelectedEffect, VerdictDetail};
+use super::tree::{Errors, LibraryOnlyErrors, Report, SelectedEffect, VerdictDetail};
 use crate::calibrate::baseline::OutputErrors;
 use crate::calibrate::discover::Discovery;
 use crate::calibrate::select::separating::DesignPoint;
@@ -23,31 +23,47 @@ fn fmt_row(label: &str, e: &Option<OutputErrors>) -> String {
 }
 
 /// Markdown table of before / after (and the thesis' fits), then the cross-validated errors.
-pub fn error_tables(before: &Errors, after: &Errors, thesis: &Errors) -> String {
+pub fn error_tables(
+    before: &Errors,
+    library_only: Option<&LibraryOnlyErrors>,
+    after: &Errors,
+    thesis: &Errors,
+) -> String {
     let mut s = String::new();
     s.push_str("| output | model | k = model/measured | RMSE log | MAPE % | max % | within 10% | within 20% |\n");
     s.push_str("|---|---|---|---|---|---|---|---|\n");
+    let library = library_only.map(|l| ("library only", l.errors.table));
     for (name, pick) in [
         ("mass", 0usize),
         ("free deflection", 1),
         ("blocked force", 2),
         ("stiffness", 3),
     ] {
-        for (label, t) in [
-            ("original", before.table),
-            ("calibrated", after.table),
-            ("thesis fits", thesis.table),
-        ] {
+        let models = [("original", before.table)]
+            .into_iter()
+            .chain(library)
+            .chain([("calibrated", after.table), ("thesis fits", thesis.table)]);
+        for (label, t) in models {
             let e = [&t.mass, &t.free_deflection, &t.blocked_force, &t.stiffness][pick];
             s.push_str(&fmt_row(&format!("{name} | {label}"), e));
         }
     }
+    let library_cv = library_only
+        .map(|l| format!(", library only {:.3}", l.errors.cv_rmse.unwrap_or(f64::NAN)))
+        .unwrap_or_default();
     let _ = writeln!(
         s,
-        "\nCross-validated RMSE of the log residuals (δ, F_b; whole actuators held out): original {:.3}, calibrated {:.3}.",
+        "\nCross-validated RMSE of the log residuals (δ, F_b; whole actuators held out): original {:.3}{library_cv}, calibrated {:.3}.",
         before.cv_rmse.unwrap_or(f64::NAN),
         after.cv_rmse.unwrap_or(f64::NAN)
     );
+    if let Some(l) = library_only {
+        let _ = writeln!(
+            s,
+            "Library only (the same data without the declared effects): {}.",
+            verdict_line(l.verdict, &l.verdict_detail)
+        );
+    }
     s
 }
 
@@ -194,6 +210,7 @@ pub fn summary(
     detail: &VerdictDetail,
     selected: &[SelectedEffect],
     tables: [&Errors; 3],
+    library_only: Option<&LibraryOnlyErrors>,
 ) -> String {
     let mut out = verdict_line(verdict, detail);
     out.push('\n');
@@ -204,7 +221,7 @@ pub fn summary(
             e.name, e.parameter, e.estimate, e.interval.0, e.interval.1
         );
     }
-    out.push_str(&error_tables(tables[0], tables[1], tables[2]));
+    out.push_str(&error_tables(tables[0], library_only, tables[1], tables[2]));
     out
 }
 
@@ -224,7 +241,12 @@ pub fn markdown(r: &Report) -> String {
         );
     }
     md.push_str("\n## Error before and after\n\n");
-    md.push_str(&error_tables(&r.before, &r.after, &r.thesis_adjusted));
+    md.push_str(&error_tables(
+        &r.before,
+        r.library_only.as_ref(),
+        &r.after,
+        &r.thesis_adjusted,
+    ));
     md.push_str("\nThe thesis fits are eqs. 4.3-4.5 (ζ = 0.94) applied to the same data: multipliers in l_r and w_0·t_p, not physics.\n");
     md.push_str("\n## Candidates\n\n| stage | effects | AICc | CV RMSE | accepted | note |\n|---|---|---|---|---|---|\n");
     for c in &r.candidates {
@@ -336,7 +358,7 @@ mod tests {
     #[test]
     fn error_tables_list_every_output_and_model() {
         let r = sample();
-        let t = error_tables(&r.before, &r.after, &r.thesis_adjusted);
+        let t = error_tables(&r.before, None, &r.after, &r.thesis_adjusted);
         assert_eq!(t.lines().filter(|l| l.starts_with("| ")).count(), 13);
         assert!(t.contains("| mass | original | – | – | – | – | – | – |\n"));
         assert!(t.contains(
@@ -353,6 +375,7 @@ mod tests {
             &r.verdict_detail,
             &r.selected_effects,
             [&r.before, &r.after, &r.thesis_adjusted],
+            None,
         );
         let lines: Vec<&str> = s.lines().collect();
         assert_eq!(

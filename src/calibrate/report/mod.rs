@@ -11,7 +11,7 @@ use super::csv::Dataset;
 use super::model_file::{self, ModelFileError};
 use super::Calibration;
 use plots::{parity_svg, residual_svg};
-use tree::{selected_effects, Errors, VerdictDetail};
+use tree::{selected_effects, Errors, LibraryOnlyErrors, VerdictDetail};
 
 /// A report that could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +41,7 @@ pub fn summary(cal: &Calibration) -> String {
             &table(&cal.after, Some(cal.cv_rmse_after)),
             &table(&cal.thesis_adjusted, None),
         ],
+        LibraryOnlyErrors::new(cal).as_ref(),
     );
     if let Some(d) = &s.discovery {
         out.push_str(&markdown::discovery_line(d));

@@ -36,6 +36,9 @@ pub struct Report<'a> {
     pub after: Errors<'a>,
     /// Errors of the thesis' empirical corrections (eqs. 4.3-4.5).
     pub thesis_adjusted: Errors<'a>,
+    /// With declared effects: the library-only calibration on the same actuators (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub library_only: Option<LibraryOnlyErrors<'a>>,
     /// Adequacy of the final model.
     pub adequacy: &'a Adequacy,
     /// Flagged rows.
@@ -200,6 +203,33 @@ fn rounded_opt<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> 
     crate::calibrate::rounded::six_digits_opt(x, s)
 }
 
+/// The library-only calibration beside one with declared effects: its verdict and errors.
+#[derive(Debug, Clone, Serialize)]
+pub struct LibraryOnlyErrors<'a> {
+    /// Its verdict.
+    pub verdict: &'static str,
+    /// What the verdict rests on.
+    pub verdict_detail: VerdictDetail<'a>,
+    /// Its errors and cross-validated RMSE.
+    #[serde(flatten)]
+    pub errors: Errors<'a>,
+}
+
+impl<'a> LibraryOnlyErrors<'a> {
+    /// The library-only part of a calibration, when it has one.
+    pub fn new(cal: &'a Calibration) -> Option<Self> {
+        cal.library_only.as_ref().map(|l| LibraryOnlyErrors {
+            verdict: l.verdict.name(),
+            verdict_detail: VerdictDetail::new(&l.verdict),
+            errors: Errors {
+                table: &l.table,
+                cv_rmse: Some(l.cv_rmse),
+                residual_correlations: None,
+            },
+        })
+    }
+}
+
 /// The measured data set.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DataSummary<'a> {
@@ -241,6 +271,7 @@ impl<'a> Report<'a> {
                 cv_rmse: None,
                 residual_correlations: None,
             },
+            library_only: LibraryOnlyErrors::new(cal),
             adequacy: &s.adequacy,
             outliers: &s.outliers,
             broken_actuators: &cal.broken,
@@ -494,6 +525,7 @@ pub(super) mod tests {
             before: with(Some(0.61)),
             after: with(Some(0.052)),
             thesis_adjusted: with(None),
+            library_only: None,
             adequacy: &ADEQUACY,
             outliers: &OUTLIERS,
             broken_actuators: &[],
