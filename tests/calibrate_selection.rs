@@ -100,8 +100,8 @@ fn studies() -> Vec<Study> {
                     null.ply_thickness_scale,
                 ),
                 stiffness_scale: 1.0,
-                // Not a library effect (declared bond scales only).
-                bond_scale: null.bond_scale,
+                // Not library effects (declared primitives only).
+                ..null
             };
             out.push(Study {
                 name: format!("{} + {}", a.name, b.name),

@@ -252,6 +252,49 @@ mod tests {
         assert!(e.contains("bond"), "{e}");
     }
 
+    /// The rigid root, the edge margins and the inactive surface layer are recorded as declared primitives
+    /// under their kinds and read back to the same model and the same prediction; `[effects]` stays the
+    /// library's (their `Effects` fields are not written).
+    #[test]
+    fn root_edge_and_surface_primitives_round_trip() {
+        use actuator_model::primitives::{Link, Map, Primitive};
+        let declared = |name: &str, value: f64, primitive| actuator_model::DeclaredEffect {
+            name: name.into(),
+            parameter: format!("{name}_m"),
+            value,
+            null: 0.0,
+            primitives: vec![Link {
+                primitive,
+                map: Map::Identity,
+            }],
+        };
+        let model = CalibratedModel {
+            model: "calibrated".into(),
+            verdict: "explained".into(),
+            selected_effects: vec!["held".into(), "edges".into(), "skin".into()],
+            effects: Effects::default(),
+            declared: vec![
+                declared("held", 2e-3, Primitive::RigidRoot),
+                declared("edges", 0.4e-3, Primitive::EdgeMargin),
+                declared("skin", 15e-6, Primitive::InactiveSurfaceLayer),
+            ],
+        };
+        let text = to_toml(&model).unwrap();
+        for kind in ["rigid-root", "edge-margin", "inactive-surface-layer"] {
+            assert!(text.contains(&format!("kind = \"{kind}\"")), "{text}");
+        }
+        assert!(
+            !text.contains("rigid_root") && !text.contains("inactive_surface"),
+            "{text}"
+        );
+        let back = from_toml(&text).unwrap();
+        assert_eq!(back, model);
+        let m = back.effect_model().unwrap();
+        let e =
+            m.boundary_effects(&actuator_model::Planform::new(30e-3, 0.5, 6e-3, 1.0, 0.0).unwrap());
+        assert_eq!((e.rigid_root, e.edge_margin), (2e-3, 0.4e-3));
+    }
+
     #[test]
     fn a_model_at_the_fit_bounds_is_read_back() {
         // calibrate writes a parameter the fit left at a bound as apply(bound): it must load.

@@ -104,10 +104,15 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         )?,
     };
     let abd = laminate.abd();
-    let total_areal: f64 = [LayerRole::Piezo, LayerRole::Passive, LayerRole::Bond]
-        .iter()
-        .map(|r| laminate.areal_mass(*r))
-        .sum();
+    let total_areal: f64 = [
+        LayerRole::Piezo,
+        LayerRole::InactivePiezo,
+        LayerRole::Passive,
+        LayerRole::Bond,
+    ]
+    .iter()
+    .map(|r| laminate.areal_mass(*r))
+    .sum();
     let report = LaminateReport {
         layup_deg: layup,
         ply: ply.name.clone(),

@@ -37,7 +37,7 @@ use std::path::Path;
 const FINITE: Range = Range::open(f64::NEG_INFINITY, f64::INFINITY, "");
 
 /// Primitive kinds as the file spells them (the parameter's unit is in docs/calibration.md).
-const KINDS: [(&str, Option<Primitive>); 7] = [
+const KINDS: [(&str, Option<Primitive>); 10] = [
     ("scale", None),
     ("inserted-layer", Some(Primitive::InsertedLayer)),
     ("field-dependent-d31", Some(Primitive::FieldDependentD31)),
@@ -48,6 +48,12 @@ const KINDS: [(&str, Option<Primitive>); 7] = [
         Some(Primitive::ClampCompliancePerWidth),
     ),
     ("compliant-extension", Some(Primitive::CompliantExtension)),
+    ("rigid-root", Some(Primitive::RigidRoot)),
+    ("edge-margin", Some(Primitive::EdgeMargin)),
+    (
+        "inactive-surface-layer",
+        Some(Primitive::InactiveSurfaceLayer),
+    ),
 ];
 
 const TARGETS: [(&str, Target); 3] = [
@@ -377,6 +383,45 @@ primitives = [
                 property: Property::E1
             }
         );
+    }
+
+    /// The rigid root, the edge margins and the inactive surface layer read by their names (lengths in
+    /// m, null 0), and a bound below zero is refused in one line naming the field, the value and the
+    /// physical range.
+    #[test]
+    fn the_root_edge_and_surface_kinds_read_and_refuse_negative_lengths() {
+        for (kind, primitive, hi) in [
+            ("rigid-root", Primitive::RigidRoot, "5e-3"),
+            ("edge-margin", Primitive::EdgeMargin, "1e-3"),
+            (
+                "inactive-surface-layer",
+                Primitive::InactiveSurfaceLayer,
+                "50e-6",
+            ),
+        ] {
+            let text = format!(
+                "[[effect]]\nname = \"x\"\nnull = 0.0\nbounds = [0.0, {hi}]\nprimitives = [{{ kind = \"{kind}\" }}]\n"
+            );
+            let specs = read(&text).unwrap();
+            let p = &specs[0].parameters[0];
+            assert_eq!(p.primitives[0].primitive, primitive, "{kind}");
+            assert_eq!((p.null, p.lo, p.hi), (0.0, 0.0, hi.parse().unwrap()));
+            let e = read(&text.replace("[0.0,", "[-1e-4,"))
+                .unwrap_err()
+                .to_string();
+            let want = format!(
+                "effects.toml: effect[1].bounds = [-0.0001, {}]: effect[1].primitives[1] would take the value -0.0001 at -0.0001; its physical range is [0, inf)",
+                hi.parse::<f64>().unwrap()
+            );
+            assert_eq!(e, want);
+            let e = read(&text.replace("null = 0.0", "null = 1e-5"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("effects.toml: effect[1].null = 0.00001: at this value effect[1].primitives[1] is 0.00001, not its null value 0"),
+                "{e}"
+            );
+        }
     }
 
     /// The refusals of the one-parameter-per-primitive form name the primitive's own field.

@@ -21,7 +21,8 @@
 //!
 //! Effects a lab declared (`calibrate --effects`) keep that structure too: their stack primitives are
 //! solved into the unit basis, and their boundary primitives are added at each `(l_tot, w_0)` by
-//! [`EffectModel::outputs`] (a clamp compliance per width is `c_w / w_0` there), the function
+//! [`EffectModel::outputs`] (a clamp compliance per width is `c_w / w_0` there; a rigid root and edge
+//! margins take that planform's piezo length and widths), the function
 //! [`EffectModel::predict`] is held to. Nothing is dropped: a test compares every primitive kind with the
 //! exact prediction, and `tests/calibrate_declared.rs` the optimizer's chosen design with `predict`.
 
@@ -103,6 +104,8 @@ impl SearchModel {
             SearchModel::Calibrated(m) => {
                 m.effects.dead_length == 0.0
                     && m.effects.clamp_compliance == 0.0
+                    && m.effects.rigid_root == 0.0
+                    && m.effects.edge_margin == 0.0
                     && m.primitives.is_empty()
             }
         }
@@ -352,6 +355,9 @@ mod tests {
             at(ClampCompliance, 0.1),
             at(ClampCompliancePerWidth, 2e-3),
             at(CompliantExtension, 0.3),
+            at(RigidRoot, 1e-3),
+            at(EdgeMargin, 0.2e-3),
+            at(InactiveSurfaceLayer, 10e-6),
         ]
     }
 

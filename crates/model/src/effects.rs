@@ -13,6 +13,15 @@
 //!
 //! `stiffness_scale` (compliance `/ s_k`, no design dependence) is not an effect: it is the thesis-style
 //! null model a candidate must beat.
+//!
+//! Three more changes are primitives only ([`crate::primitives`], docs/calibration.md §2), set by declared
+//! or discovered primitives and not written under `[effects]`:
+//!
+//! | primitive | change | moves |
+//! |---|---|---|
+//! | `rigid-root` h | the root `h` of the PZT held rigidly in the clamp: neither bends nor drives there | δ, F_b |
+//! | `edge-margin` m | unelectroded strips of width `m` along both long edges: free curvature `P (1 - 2m/w(x))` | δ, F_b |
+//! | `inactive-surface-layer` t_s | the outer `t_s` of each PZT plate has no d31, in the CLT stack | δ, F_b |
 
 use crate::drive::{Drive, DriveMode};
 use crate::error::ModelError;
@@ -69,6 +78,19 @@ pub struct Effects {
     /// declared primitives, so they are not written under `[effects]`.
     #[serde(skip)]
     pub bond_scale: BondScale,
+    /// Root length of the PZT held rigidly inside the clamp, m (null 0; the `rigid-root` primitive): on
+    /// `[0, h]` the beam neither bends nor drives. Recorded as a declared primitive, not under `[effects]`.
+    #[serde(skip)]
+    pub rigid_root: f64,
+    /// Width of the unelectroded strip along each long edge of each PZT plate, m (null 0; the
+    /// `edge-margin` primitive). Recorded as a declared primitive, not under `[effects]`.
+    #[serde(skip)]
+    pub edge_margin: f64,
+    /// Thickness of the piezoelectrically dead outer layer of each PZT plate, m (null 0; the
+    /// `inactive-surface-layer` primitive; below the plate's thickness). Recorded as a declared
+    /// primitive, not under `[effects]`.
+    #[serde(skip)]
+    pub inactive_surface: f64,
 }
 
 /// Factors on the bond layer's isotropic material (null 1 each): its modulus E (E1 = E2, with G12 kept
@@ -105,6 +127,9 @@ impl Default for Effects {
             ply_thickness_scale: 1.0,
             stiffness_scale: 1.0,
             bond_scale: BondScale::default(),
+            rigid_root: 0.0,
+            edge_margin: 0.0,
+            inactive_surface: 0.0,
         }
     }
 }
@@ -229,6 +254,24 @@ impl Effects {
             self.stiffness_scale,
             self.stiffness_scale > 0.0,
             "(0, inf)",
+        )?;
+        check(
+            "rigid_root",
+            self.rigid_root,
+            self.rigid_root >= 0.0,
+            "[0, l_p) m",
+        )?;
+        check(
+            "edge_margin",
+            self.edge_margin,
+            self.edge_margin >= 0.0,
+            "[0, w/2) m",
+        )?;
+        check(
+            "inactive_surface",
+            self.inactive_surface,
+            self.inactive_surface >= 0.0,
+            "[0, t_p) m",
         )
     }
 
@@ -275,14 +318,24 @@ impl Effects {
         }
     }
 
-    /// The CLT stack with the stack effects (d31, plies, bond layer) applied.
+    /// The CLT stack with the stack effects (d31, plies, bond layer, an inactive surface layer of the
+    /// PZT) applied.
     pub fn laminate(&self, a: &Actuator) -> Result<Laminate, ModelError> {
+        // (An inactive surface layer at or above the plate's thickness is refused by the laminate.)
         self.validate()?;
         let pzt = self.pzt_material(a.pzt, a.drive.field);
         let (ply, t_ply) = self.ply_material(a.ply, a.ply_thickness);
         let bond = self.bond_material();
         let bond = (self.bond_thickness > 0.0).then_some((&bond, self.bond_thickness));
-        Laminate::bimorph(&pzt, a.pzt_thickness, &ply, t_ply, a.layup_deg, bond)
+        Laminate::bimorph_with_surface(
+            &pzt,
+            a.pzt_thickness,
+            &ply,
+            t_ply,
+            a.layup_deg,
+            bond,
+            self.inactive_surface,
+        )
     }
 
     /// Bending compliance per width of the plies alone (the extension), from CLT.
@@ -330,11 +383,20 @@ impl Effects {
         })
     }
 
-    /// Free deflection and blocked force from a basis with η, β, Δ, φ, c_θ, s_k applied.
+    /// Free deflection and blocked force from a basis with η, β, Δ, h, m, φ, c_θ, s_k applied
+    /// (docs/calibration.md §2).
     ///
-    /// Dead length Δ: curvature P acts on `[Δ, l_p]` only, so
-    /// `δ = P ((L - Δ)² - l_ext²) / 2` with `L = l_p + l_ext` (Δ = 0 gives thesis eq. 2.26).
-    /// Tip compliance `c = c_beam / s_k + φ c_ext + c_θ l_tot²`; `F_b = δ / c`.
+    /// Dead length Δ and rigid root h: curvature P acts on `[x0, l_p]` only, `x0 = max(Δ, h)` (each
+    /// clipped at 0.95 `l_p`), so `δ = P ((L - x0)² - l_ext²) / 2` with `L = l_p + l_ext` (x0 = 0 gives
+    /// thesis eq. 2.26).
+    ///
+    /// Edge margin m: the actuation moment acts on `w(x) - 2m` of the width and the stiffness on all of it,
+    /// so the free curvature is `P (1 - 2m / w(x))` and `δ = P [∫x0..l_p (L - x) dx - 2m ∫x0..l_p (L - x)/w dx]`
+    /// ([`Planform::arm_over_width_from`]); `2m` is clipped at 0.95 of the narrowest width.
+    ///
+    /// Rigid root h: the beam is clamped at h, so its tip compliance is the tapered-beam integral from h,
+    /// `c_beam(h) = c_beam G(w_r, l_r; h/l_p) / G(w_r, l_r)` ([`Planform::shape_factor_from`]).
+    /// Tip compliance `c = c_beam(h) / s_k + φ c_ext + c_θ l_tot²`; `F_b = δ / c`.
     pub fn outputs(&self, b: &StackBasis) -> (f64, f64) {
         let curvature = b.free_curvature * self.d31_factor(b.field).abs();
         let pl = &b.planform;
@@ -342,8 +404,19 @@ impl Effects {
         let l_ext = pl.extension_length();
         let tip = l_p + l_ext;
         let dead = self.dead_length.min(0.95 * l_p);
-        let delta = 0.5 * curvature * ((tip - dead).powi(2) - l_ext * l_ext);
-        let compliance = b.beam_compliance / self.stiffness_scale
+        let held = self.rigid_root.min(0.95 * l_p);
+        let start = dead.max(held);
+        let mut delta = 0.5 * curvature * ((tip - start).powi(2) - l_ext * l_ext);
+        if self.edge_margin > 0.0 {
+            let margins = (2.0 * self.edge_margin).min(0.95 * pl.narrowest_width());
+            delta -= curvature * margins * pl.arm_over_width_from(start);
+        }
+        let beam = if held > 0.0 {
+            b.beam_compliance * pl.shape_factor_from(held) / pl.shape_factor()
+        } else {
+            b.beam_compliance
+        };
+        let compliance = beam / self.stiffness_scale
             + self.extension_flexibility * b.extension_compliance
             + self.clamp_compliance * pl.length * pl.length;
         (delta, delta / compliance)
@@ -383,10 +456,17 @@ impl Effects {
             ..basis
         });
         let mut p = base.with_outputs(delta, force, base.mass_breakdown);
-        // Stresses under the changed blocked force (thesis eq. 3.3 and the CLT root moment).
+        // Stresses under the changed blocked force (thesis eq. 3.3 and the CLT root moment; with a rigid
+        // root the beam's root is at h, where the moment is F (L - h) over the width w(h)).
         let pl = &a.planform;
         p.base_stress = 6.0 * force * pl.length / (pl.base_width * section.thickness.powi(2));
-        p.peak_pzt_stress = section.peak_pzt_stress(force * pl.length / pl.base_width);
+        let root_moment_per_width = if self.rigid_root > 0.0 {
+            let held = self.rigid_root.min(0.95 * pl.piezo_length());
+            force * (pl.length - held) / pl.width_at(held)
+        } else {
+            force * pl.length / pl.base_width
+        };
+        p.peak_pzt_stress = section.peak_pzt_stress(root_moment_per_width);
         Ok(p)
     }
 }
@@ -462,6 +542,9 @@ mod tests {
                 poisson: 0.9,
                 density: 1.1,
             },
+            rigid_root: 1.5e-3,
+            edge_margin: 0.3e-3,
+            inactive_surface: 12e-6,
         };
         let p = e.predict(&a).unwrap();
         let (d, f) = e.outputs(&e.basis(&a).unwrap());
@@ -470,6 +553,24 @@ mod tests {
         let m = e.mass(&a);
         assert!(((m.total() - p.mass) / p.mass).abs() < 1e-12);
         assert!((m.bond - p.mass_breakdown.bond).abs() < 1e-15);
+        // Each of the primitive-only fields moves the outputs (the agreement above is not vacuous).
+        for off in [
+            Effects {
+                rigid_root: 0.0,
+                ..e
+            },
+            Effects {
+                edge_margin: 0.0,
+                ..e
+            },
+            Effects {
+                inactive_surface: 0.0,
+                ..e
+            },
+        ] {
+            let q = off.predict(&a).unwrap();
+            assert!((q.blocked_force / p.blocked_force - 1.0).abs() > 1e-3);
+        }
     }
 
     #[test]
@@ -544,6 +645,238 @@ mod tests {
             ..Effects::null()
         });
         assert!(m > 1.0);
+    }
+
+    /// Composite Simpson's rule on [a, b] with 20 000 intervals: the test's own integration, independent
+    /// of the closed forms in planform.rs.
+    fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+        let n = 20_000;
+        let h = (b - a) / n as f64;
+        let inner: f64 = (1..n)
+            .map(|i| f(a + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
+            .sum();
+        (f(a) + inner + f(b)) * h / 3.0
+    }
+
+    /// C44 of the actuator's stack (the section the model solves), 1/(N·m).
+    fn c44(e: &Effects, a: &Actuator) -> f64 {
+        Section::new(&e.laminate(a).unwrap(), a.drive)
+            .unwrap()
+            .bending_compliance
+    }
+
+    /// Rigid root h (docs/calibration.md §2): a cantilever clamped at h. On a rectangle without extension
+    /// the tip compliance is exactly `C44 (l - h)³ / (3 w)` and δ shrinks as `((l - h)/l)²`; on a tapered
+    /// beam with an extension the compliance is `C44 ∫h..l_p (L - x)²/w(x) dx` by Simpson's rule, and δ is
+    /// `P ((L - h)² - l_ext²)/2`.
+    #[test]
+    fn a_rigid_root_is_a_cantilever_clamped_at_its_end() {
+        let (pzt, cf) = materials();
+        let layup = [0.0, 90.0, 0.0];
+        let mut a = actuator(&pzt, &cf, &layup);
+        let held = Effects {
+            rigid_root: 4e-3,
+            ..Effects::null()
+        };
+        a.planform = Planform::new(40e-3, 0.0, 8e-3, 1.0, 0.0).unwrap();
+        let base = Effects::null().predict(&a).unwrap();
+        let p = held.predict(&a).unwrap();
+        let c = c44(&held, &a) * (36e-3f64).powi(3) / (3.0 * 8e-3);
+        let got = p.free_deflection / p.blocked_force;
+        assert!(((got - c) / c).abs() < 1e-12, "{got} vs {c}");
+        assert!((p.free_deflection / base.free_deflection - 0.81).abs() < 1e-12);
+        // A taper with an extension.
+        a.planform = Planform::new(40e-3, 0.6, 8e-3, 1.4, 0.0).unwrap();
+        let pl = a.planform;
+        let (l_p, tip, l_ext) = (pl.piezo_length(), pl.length, pl.extension_length());
+        let h = 4e-3;
+        let p = held.predict(&a).unwrap();
+        let base = Effects::null().predict(&a).unwrap();
+        let beam = c44(&held, &a) * simpson(|x| (tip - x).powi(2) / pl.width_at(x), h, l_p);
+        let got = p.free_deflection / p.blocked_force;
+        assert!(((got - beam) / beam).abs() < 1e-9, "{got} vs {beam}");
+        let curvature = 2.0 * base.free_deflection / (tip * tip - l_ext * l_ext);
+        let want = 0.5 * curvature * ((tip - h).powi(2) - l_ext * l_ext);
+        assert!(((p.free_deflection - want) / want).abs() < 1e-12);
+        // With a dead length too, the curvature is zero up to the longer of the two; the dead length
+        // keeps the compliance, the rigid root does not.
+        for (dead, root) in [(3e-3, 2e-3), (2e-3, 3e-3)] {
+            let both = Effects {
+                dead_length: dead,
+                rigid_root: root,
+                ..Effects::null()
+            }
+            .predict(&a)
+            .unwrap();
+            let longer = 0.5 * curvature * ((tip - 3e-3f64).powi(2) - l_ext * l_ext);
+            assert!(((both.free_deflection - longer) / longer).abs() < 1e-12);
+            let clamped = Effects {
+                rigid_root: root,
+                ..Effects::null()
+            }
+            .predict(&a)
+            .unwrap();
+            let c = both.free_deflection / both.blocked_force;
+            let want = clamped.free_deflection / clamped.blocked_force;
+            assert!(((c - want) / want).abs() < 1e-12);
+        }
+        assert_eq!(p.mass, base.mass);
+    }
+
+    /// Edge margins m (docs/calibration.md §2): on a rectangle δ and F_b fall by exactly `1 - 2m/w` and the
+    /// compliance is unchanged; on a taper with a dead length, δ is `P ∫Δ..l_p (1 - 2m/w(x)) (L - x) dx`
+    /// by Simpson's rule; 2m is clipped at 0.95 of the narrowest width.
+    #[test]
+    fn edge_margins_scale_the_local_curvature_by_the_electroded_share() {
+        let (pzt, cf) = materials();
+        let layup = [0.0, 90.0, 0.0];
+        let mut a = actuator(&pzt, &cf, &layup);
+        a.planform = Planform::new(30e-3, 0.5, 6e-3, 1.0, 0.0).unwrap();
+        let m = 0.4e-3;
+        let margin = Effects {
+            edge_margin: m,
+            ..Effects::null()
+        };
+        let base = Effects::null().predict(&a).unwrap();
+        let p = margin.predict(&a).unwrap();
+        let k = 1.0 - 2.0 * m / 6e-3;
+        assert!((p.free_deflection / base.free_deflection - k).abs() < 1e-12);
+        assert!((p.blocked_force / base.blocked_force - k).abs() < 1e-12);
+        a.planform = Planform::new(40e-3, 0.6, 8e-3, 1.7, 0.0).unwrap();
+        let pl = a.planform;
+        let (l_p, tip, l_ext) = (pl.piezo_length(), pl.length, pl.extension_length());
+        let dead = 2e-3;
+        let base = Effects::null().predict(&a).unwrap();
+        let curvature = 2.0 * base.free_deflection / (tip * tip - l_ext * l_ext);
+        let both = Effects {
+            dead_length: dead,
+            ..margin
+        }
+        .predict(&a)
+        .unwrap();
+        let want = curvature * simpson(|x| (1.0 - 2.0 * m / pl.width_at(x)) * (tip - x), dead, l_p);
+        assert!(
+            ((both.free_deflection - want) / want).abs() < 1e-9,
+            "{} vs {want}",
+            both.free_deflection
+        );
+        let stiffness = base.blocked_force / base.free_deflection;
+        let dead_only = Effects {
+            dead_length: dead,
+            ..Effects::null()
+        }
+        .predict(&a)
+        .unwrap();
+        assert!(((both.stiffness - stiffness) / stiffness).abs() < 1e-12);
+        assert!(both.free_deflection < dead_only.free_deflection);
+        // Margins wider than the tip (w_tip = 0.3 w_nom here) are clipped, not a negative deflection.
+        let wide = Effects {
+            edge_margin: 5e-3,
+            ..Effects::null()
+        }
+        .predict(&a)
+        .unwrap();
+        let clipped = 0.95 * pl.narrowest_width();
+        let want = curvature * simpson(|x| (1.0 - clipped / pl.width_at(x)) * (tip - x), 0.0, l_p);
+        assert!(((wide.free_deflection - want) / want).abs() < 1e-9);
+        assert!(wide.free_deflection > 0.0);
+    }
+
+    /// An inactive surface layer t_s (docs/calibration.md §2). With plies of the PZT's own elastic
+    /// properties the beam is homogeneous and Euler-Bernoulli gives the free curvature by hand:
+    /// `κ = M_p / (E I) = 12 |d31| E_3 [(H/2 - t_s)² - (H/2 - t_p)²] / H³` (the piezoelectric moment of the
+    /// two driven parts, `∫ E d31 E_3 z dz`, over `E H³/12`; E and ν cancel for an equibiaxial free strain).
+    /// On the real stack the moment ratio `((H/2 - t_s)² - z_i²) / ((H/2)² - z_i²)`, `z_i = H/2 - t_p`, is the
+    /// deflection ratio (the stiffness is unchanged), and it lies below the first-order `1 - t_s/t_p` and
+    /// above `1 - 2 t_s/t_p` (a sanity bound, not the reference). The mass is unchanged; t_s → 0 is the
+    /// original model; t_s >= t_p is refused.
+    #[test]
+    fn an_inactive_surface_layer_drives_only_the_inner_part_of_each_plate() {
+        let (pzt, cf) = materials();
+        let dead_ply = Material {
+            name: "PZT-as-ply".into(),
+            d31: 0.0,
+            ..pzt.clone()
+        };
+        let layup = [0.0, 90.0, 0.0];
+        let (t_p, t_s) = (191e-6, 15e-6);
+        let surface = Effects {
+            inactive_surface: t_s,
+            ..Effects::null()
+        };
+        let mut a = actuator(&pzt, &dead_ply, &layup);
+        a.planform = Planform::new(40e-3, 0.0, 8e-3, 1.0, 0.0).unwrap();
+        let h = 2.0 * t_p + 3.0 * 61.8e-6;
+        let e3 = a.drive.field;
+        for t in [t_s, 0.0] {
+            let kappa =
+                12.0 * pzt.d31.abs() * e3 * ((h / 2.0 - t).powi(2) - (h / 2.0 - t_p).powi(2))
+                    / h.powi(3);
+            let p = Effects {
+                inactive_surface: t,
+                ..Effects::null()
+            }
+            .predict(&a)
+            .unwrap();
+            let want = 0.5 * kappa * 40e-3 * 40e-3;
+            assert!(
+                ((p.free_deflection - want) / want).abs() < 1e-9,
+                "t_s {t}: {} vs {want}",
+                p.free_deflection
+            );
+        }
+        // Stresses in free deflection, by hand on the homogeneous beam: σ = E/(1-ν) (z κ - d31 E_3) in a
+        // driven part (equibiaxial strain), E/(1-ν) z κ in the dead one; the peak is the largest over both
+        // sides of each layer of the plate.
+        let lam = surface.laminate(&a).unwrap();
+        let section = Section::new(&lam, a.drive).unwrap();
+        let kappa = section.free_curvature;
+        let q = pzt.e1 / (1.0 - pzt.nu12);
+        // Bottom plate (field +E_3; the curvature's sign makes the driven part's stresses add as below).
+        let z = [-h / 2.0, -h / 2.0 + t_s, -h / 2.0 + t_p];
+        let signed = Laminate::bimorph(&pzt, t_p, &dead_ply, 61.8e-6, &layup, None)
+            .unwrap()
+            .free_curvature(&a.drive.mode.layer_fields(e3));
+        let kz = |z: f64| z * kappa * signed.signum();
+        let free = pzt.d31 * e3;
+        let want = [
+            q * kz(z[0]),
+            q * kz(z[1]),
+            q * (kz(z[1]) - free),
+            q * (kz(z[2]) - free),
+        ]
+        .into_iter()
+        .map(f64::abs)
+        .fold(0.0, f64::max);
+        let got = section.peak_pzt_stress(0.0);
+        assert!(((got - want) / want).abs() < 1e-9, "{got} vs {want}");
+        assert!((section.pzt_thickness - t_p).abs() < 1e-18);
+        assert!((section.voltage - e3 * t_p).abs() < 1e-9);
+        // The real stack: the moment ratio, and the sanity bounds.
+        let a = actuator(&pzt, &cf, &[0.0, 0.0, 90.0, 0.0, 0.0]);
+        let base = Effects::null().predict(&a).unwrap();
+        let p = surface.predict(&a).unwrap();
+        let h = 2.0 * t_p + 5.0 * 61.8e-6;
+        let z_i = h / 2.0 - t_p;
+        let want = ((h / 2.0 - t_s).powi(2) - z_i * z_i) / ((h / 2.0).powi(2) - z_i * z_i);
+        let ratio = p.free_deflection / base.free_deflection;
+        assert!((ratio - want).abs() < 1e-9, "{ratio} vs {want}");
+        assert!((p.blocked_force / base.blocked_force - want).abs() < 1e-9);
+        assert!(ratio < 1.0 - t_s / t_p && ratio > 1.0 - 2.0 * t_s / t_p);
+        assert!(((p.mass - base.mass) / base.mass).abs() < 1e-12);
+        let thin = Effects {
+            inactive_surface: 1e-12,
+            ..Effects::null()
+        }
+        .predict(&a)
+        .unwrap();
+        assert!((thin.free_deflection / base.free_deflection - 1.0).abs() < 1e-7);
+        assert!(Effects {
+            inactive_surface: t_p,
+            ..Effects::null()
+        }
+        .predict(&a)
+        .is_err());
     }
 
     #[test]

@@ -41,7 +41,7 @@ impl BeamBimorph {
         let layers = laminate.layers();
         let core: Vec<Layer> = layers
             .iter()
-            .filter(|l| l.role != LayerRole::Piezo)
+            .filter(|l| !matches!(l.role, LayerRole::Piezo | LayerRole::InactivePiezo))
             .cloned()
             .collect();
         let t_m: f64 = core.iter().map(|l| l.thickness).sum();

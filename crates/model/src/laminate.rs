@@ -9,8 +9,12 @@ use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 /// What a layer does in the actuator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LayerRole {
-    /// An active piezoceramic plate.
+    /// An active piezoceramic plate (or its driven part).
     Piezo,
+    /// Piezoceramic that is not driven: the inactive surface layer of a plate
+    /// ([`Laminate::bimorph_with_surface`]). Elastic and massive as the PZT, with no piezoelectric load;
+    /// it belongs to the plate of the driven layer next to it ([`Laminate::piezo_plate`]).
+    InactivePiezo,
     /// A passive ply (carbon fibre, glass, steel).
     Passive,
     /// An adhesive or bond layer (Pyralux, epoxy).
@@ -126,22 +130,60 @@ impl Laminate {
         layup_deg: &[f64],
         bond: Option<(&Material, f64)>,
     ) -> Result<Self, ModelError> {
+        Self::bimorph_with_surface(pzt, pzt_thickness, ply, ply_thickness, layup_deg, bond, 0.0)
+    }
+
+    /// [`Laminate::bimorph`] with the outer `t_s` of each PZT plate piezoelectrically dead (an inactive
+    /// surface layer, docs/calibration.md §2): each plate is split into an [`LayerRole::InactivePiezo`]
+    /// layer of `t_s` on the outside (the PZT material with d31 = 0) and a driven layer of `t_p - t_s`
+    /// inside. The plate keeps its thickness, stiffness and mass; `0 <= t_s < t_p` (0: the plain bimorph).
+    pub fn bimorph_with_surface(
+        pzt: &Material,
+        pzt_thickness: f64,
+        ply: &Material,
+        ply_thickness: f64,
+        layup_deg: &[f64],
+        bond: Option<(&Material, f64)>,
+        inactive_surface: f64,
+    ) -> Result<Self, ModelError> {
         if layup_deg.is_empty() {
             return Err(ModelError::Laminate("the layup has no plies".into()));
         }
-        let piezo = |role| Layer {
+        // (0 leaves the plain bimorph's own checks to Laminate::new.)
+        if inactive_surface != 0.0 && !(inactive_surface > 0.0 && inactive_surface < pzt_thickness)
+        {
+            return Err(ModelError::Laminate(format!(
+                "an inactive surface layer of {inactive_surface} m on a PZT plate of {pzt_thickness} m; it must be >= 0 and thinner than the plate"
+            )));
+        }
+        let split = inactive_surface != 0.0;
+        let driven = Layer {
             material: pzt.clone(),
-            thickness: pzt_thickness,
+            thickness: if split {
+                pzt_thickness - inactive_surface
+            } else {
+                pzt_thickness
+            },
             angle_deg: 0.0,
-            role,
+            role: LayerRole::Piezo,
         };
+        let dead = split.then(|| Layer {
+            material: Material {
+                d31: 0.0,
+                ..pzt.clone()
+            },
+            thickness: inactive_surface,
+            angle_deg: 0.0,
+            role: LayerRole::InactivePiezo,
+        });
         let bond_layer = bond.map(|(m, t)| Layer {
             material: m.clone(),
             thickness: t,
             angle_deg: 0.0,
             role: LayerRole::Bond,
         });
-        let mut layers = vec![piezo(LayerRole::Piezo)];
+        let mut layers: Vec<Layer> = dead.iter().cloned().collect();
+        layers.push(driven.clone());
         layers.extend(bond_layer.clone());
         layers.extend(layup_deg.iter().map(|&angle| Layer {
             material: ply.clone(),
@@ -150,7 +192,8 @@ impl Laminate {
             role: LayerRole::Passive,
         }));
         layers.extend(bond_layer);
-        layers.push(piezo(LayerRole::Piezo));
+        layers.push(driven);
+        layers.extend(dead);
         Self::new(layers)
     }
 
@@ -202,6 +245,22 @@ impl Laminate {
     /// Index into `layers()` of the i-th piezo layer from the bottom.
     pub fn piezo_layer(&self, i: usize) -> usize {
         self.piezo[i]
+    }
+
+    /// Indices into `layers()` of the i-th PZT plate from the bottom: its driven layer and the
+    /// [`LayerRole::InactivePiezo`] layers next to it, bottom to top.
+    pub fn piezo_plate(&self, i: usize) -> std::ops::RangeInclusive<usize> {
+        let k = self.piezo[i];
+        let inactive = |j: usize| self.layers[j].role == LayerRole::InactivePiezo;
+        let mut first = k;
+        while first > 0 && inactive(first - 1) {
+            first -= 1;
+        }
+        let mut last = k;
+        while last + 1 < self.layers.len() && inactive(last + 1) {
+            last += 1;
+        }
+        first..=last
     }
 
     /// Midplane strain and curvature `[ε0x, ε0y, γ0xy, κx, κy, κxy]` for the given `E3 p` per piezo

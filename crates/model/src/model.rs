@@ -330,10 +330,28 @@ mod tests {
                             (Primitive::InsertedLayer, Map::Identity),
                         ],
                     ),
+                    declared(
+                        "held",
+                        1.5e-3,
+                        0.0,
+                        &[(Primitive::RigidRoot, Map::Identity)],
+                    ),
+                    declared(
+                        "edges",
+                        0.3e-3,
+                        0.0,
+                        &[(Primitive::EdgeMargin, Map::Identity)],
+                    ),
+                    declared(
+                        "skin",
+                        12e-6,
+                        0.0,
+                        &[(Primitive::InactiveSurfaceLayer, Map::Identity)],
+                    ),
                 ],
             };
             let m = model.effect_model().unwrap();
-            assert_eq!(m.primitives.len(), 4);
+            assert_eq!(m.primitives.len(), 7);
             assert!((m.primitives[1].value - 1.0 / 1.2).abs() < 1e-15);
             let p = model.predict(a).unwrap();
             let (d, f) = m.outputs(&m.basis(a).unwrap());
@@ -353,6 +371,17 @@ mod tests {
             let library_only = model.effects.predict(a).unwrap();
             assert!((library_only.blocked_force / p.blocked_force - 1.0).abs() > 0.05);
             assert!(library_only.mass < p.mass, "the inserted layer has mass");
+            // Each of the last three moves the prediction by itself.
+            for k in 4..7 {
+                let mut without = m.clone();
+                without.primitives.remove(k);
+                let q = without.predict(a).unwrap();
+                assert!(
+                    (q.blocked_force / p.blocked_force - 1.0).abs() > 1e-3,
+                    "{:?}",
+                    m.primitives[k]
+                );
+            }
         });
     }
 

@@ -93,6 +93,17 @@ pub enum Primitive {
     ClampCompliancePerWidth,
     /// Extension flexibility relative to the bare plies (null 0 = rigid).
     CompliantExtension,
+    /// A root length of the PZT held rigidly inside the clamp, m (null 0): on `[0, h]` the beam neither
+    /// bends nor drives, so the deflection is that of an undriven root and the tip compliance is the
+    /// tapered-beam integral from h ([`Effects::outputs`]).
+    RigidRoot,
+    /// An unelectroded strip of the parameter's width, m, along both long edges of each PZT plate over its
+    /// whole length (null 0): free curvature `P (1 - 2m/w(x))`, stiffness unchanged ([`Effects::outputs`]).
+    EdgeMargin,
+    /// A piezoelectrically dead outer layer of each PZT plate, of the parameter's thickness, m (null 0;
+    /// below the plate's thickness): same elastic properties and density, d31 = 0, in the CLT stack
+    /// ([`crate::laminate::Laminate::bimorph_with_surface`]).
+    InactiveSurfaceLayer,
 }
 
 impl Primitive {
@@ -116,7 +127,10 @@ impl Primitive {
     /// [`crate::effects::StackBasis`] solved without it no longer holds. Boundary and field primitives
     /// act on a solved stack.
     pub fn changes_stack(self) -> bool {
-        matches!(self, Primitive::Scale { .. } | Primitive::InsertedLayer)
+        matches!(
+            self,
+            Primitive::Scale { .. } | Primitive::InsertedLayer | Primitive::InactiveSurfaceLayer
+        )
     }
 
     /// True when the primitive changes the mass (a density, a thickness or an inserted layer).
@@ -132,7 +146,9 @@ impl Primitive {
 
     /// The values the parameter may physically take, as (lower, lower inclusive, upper): scales and
     /// thicknesses are positive, lengths and compliances non-negative, the field coefficient any finite
-    /// number. A declared effect's bounds must lie inside.
+    /// number. A declared effect's bounds must lie inside. (An inactive surface layer must also be thinner
+    /// than the PZT plate, and a rigid root or edge margins are clipped as a dead length is, but those
+    /// limits depend on the actuator: the model checks them per actuator.)
     pub fn physical_range(self) -> (f64, bool, f64) {
         match self {
             Primitive::Scale { .. } => (0.0, false, f64::INFINITY),
@@ -300,6 +316,7 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
                 }
             }
             Primitive::InsertedLayer => s.effects.bond_thickness += v,
+            Primitive::InactiveSurfaceLayer => s.effects.inactive_surface += v,
             _ => {}
         }
     }
@@ -322,7 +339,11 @@ pub fn boundary<'x>(
             Primitive::ClampCompliance => e.clamp_compliance += v,
             Primitive::ClampCompliancePerWidth => e.clamp_compliance += v / planform.base_width,
             Primitive::CompliantExtension => e.extension_flexibility += v,
-            Primitive::Scale { .. } | Primitive::InsertedLayer => {}
+            Primitive::RigidRoot => e.rigid_root += v,
+            Primitive::EdgeMargin => e.edge_margin += v,
+            Primitive::Scale { .. }
+            | Primitive::InsertedLayer
+            | Primitive::InactiveSurfaceLayer => {}
         }
     }
     e
@@ -573,6 +594,73 @@ pub(crate) mod tests {
                 property: Property::G12
             }
             .is_defined());
+        });
+    }
+
+    /// The rigid root, the edge margins and the inactive surface layer through [`compose`]: what each
+    /// moves by its physics (docs/calibration.md §2; the exact values are held in effects.rs' tests).
+    #[test]
+    fn root_edge_and_surface_primitives_move_what_their_physics_says() {
+        with(|a| {
+            let one = |primitive, value| {
+                compose(&[Applied { primitive, value }], &Effects::default(), a).unwrap()
+            };
+            let rel = |x: f64, y: f64| ((x - y) / y).abs();
+            let orig = Effects::default().predict(a).unwrap();
+            // A held root deflects as an undriven root of the same length, but the beam is stiffer: the
+            // held part no longer bends.
+            let dead = Effects {
+                dead_length: 2e-3,
+                ..Effects::default()
+            }
+            .predict(a)
+            .unwrap();
+            let root = one(Primitive::RigidRoot, 2e-3);
+            assert!(rel(root.free_deflection, dead.free_deflection) < 1e-12);
+            assert!(root.stiffness > dead.stiffness * 1.01);
+            assert_eq!(root.mass, orig.mass);
+            // Edge margins: less actuation, the same stiffness and mass.
+            let edge = one(Primitive::EdgeMargin, 0.3e-3);
+            assert!(edge.free_deflection < 0.95 * orig.free_deflection);
+            assert!(rel(edge.stiffness, orig.stiffness) < 1e-12);
+            // An inactive surface layer: less actuation, the same stiffness (same elastic properties) and
+            // mass (same density); it changes the stack.
+            let surface = one(Primitive::InactiveSurfaceLayer, 15e-6);
+            assert!(surface.free_deflection < 0.95 * orig.free_deflection);
+            assert!(rel(surface.stiffness, orig.stiffness) < 1e-9);
+            assert!(rel(surface.mass, orig.mass) < 1e-12);
+            assert!(Primitive::InactiveSurfaceLayer.changes_stack());
+            assert!(
+                !Primitive::RigidRoot.changes_stack() && !Primitive::EdgeMargin.changes_stack()
+            );
+            for p in [
+                Primitive::RigidRoot,
+                Primitive::EdgeMargin,
+                Primitive::InactiveSurfaceLayer,
+            ] {
+                assert!(!p.changes_mass() && p.is_defined() && p.null() == 0.0);
+                assert!(p.allows(0.0) && !p.allows(-1e-6));
+            }
+            // The layer acts on the plate the stack primitives before it leave: on a PZT thinned to
+            // 9.5 µm, 15 µm is refused.
+            let thinned = compose(
+                &[
+                    Applied {
+                        primitive: Primitive::Scale {
+                            target: Target::Pzt,
+                            property: Property::Thickness,
+                        },
+                        value: 0.05,
+                    },
+                    Applied {
+                        primitive: Primitive::InactiveSurfaceLayer,
+                        value: 15e-6,
+                    },
+                ],
+                &Effects::default(),
+                a,
+            );
+            assert!(thinned.is_err());
         });
     }
 

@@ -32,10 +32,13 @@ pub struct Section {
     pub relative_permittivity: f64,
     /// Peak |ε_x| on a PZT surface in free deflection (`ε0 + z κ`, thesis eq. 2.18).
     pub peak_pzt_strain: f64,
-    /// σ_x on the four PZT surfaces (bottom plate bottom/top, top plate bottom/top) in free deflection, Pa.
-    surface_stress_free: [f64; 4],
+    /// σ_x on the PZT layers' surfaces (bottom plate then top plate, each layer bottom/top: four for
+    /// plain plates, eight when each plate has an inactive surface layer) in free deflection, Pa.
+    surface_stress_free: [f64; 8],
     /// σ_x on the same surfaces per unit external moment (N·m/m) opposing the free curvature.
-    surface_stress_per_moment: [f64; 4],
+    surface_stress_per_moment: [f64; 8],
+    /// How many of the surfaces are used.
+    surfaces: usize,
 }
 
 impl Section {
@@ -62,40 +65,56 @@ impl Section {
         let unit_moment = laminate.moment_response(opposing);
         let none = [0.0, 0.0];
         let z = laminate.interfaces();
-        let mut surface_stress_free = [0.0; 4];
-        let mut surface_stress_per_moment = [0.0; 4];
+        let mut surface_stress_free = [0.0; 8];
+        let mut surface_stress_per_moment = [0.0; 8];
+        let mut surfaces = 0;
         let mut peak_strain: f64 = 0.0;
+        // Both sides of every PZT layer: the plate's outer and inner surfaces and, with an inactive
+        // surface layer, both sides of the interface, where the piezoelectric term of σ jumps.
         for plate in 0..2 {
-            let k = laminate.piezo_layer(plate);
-            for (side, zz) in [z[k], z[k + 1]].into_iter().enumerate() {
-                let i = 2 * plate + side;
-                surface_stress_free[i] = laminate.stress_at(k, zz, &free, &fields)[0];
-                surface_stress_per_moment[i] = laminate.stress_at(k, zz, &unit_moment, &none)[0];
-                peak_strain = peak_strain.max(Laminate::strain_at(&free, zz)[0].abs());
+            for k in laminate.piezo_plate(plate) {
+                for zz in [z[k], z[k + 1]] {
+                    if surfaces == surface_stress_free.len() {
+                        return Err(ModelError::Laminate(
+                            "a PZT plate of more than two layers".into(),
+                        ));
+                    }
+                    surface_stress_free[surfaces] = laminate.stress_at(k, zz, &free, &fields)[0];
+                    surface_stress_per_moment[surfaces] =
+                        laminate.stress_at(k, zz, &unit_moment, &none)[0];
+                    surfaces += 1;
+                    peak_strain = peak_strain.max(Laminate::strain_at(&free, zz)[0].abs());
+                }
             }
         }
-        let pzt = &laminate.layers()[laminate.piezo_layer(0)];
+        let layers = laminate.layers();
+        let pzt = &layers[laminate.piezo_layer(0)];
+        // The field is V/t_p over the whole plate: an inactive surface layer is in series with the
+        // driven part at the same permittivity.
+        let plate_thickness: f64 = laminate.piezo_plate(0).map(|k| layers[k].thickness).sum();
         Ok(Section {
             drive,
-            voltage: drive.mode.voltage_from_field(drive.field, pzt.thickness),
+            voltage: drive.mode.voltage_from_field(drive.field, plate_thickness),
             free_curvature: curvature.abs(),
             bending_compliance: laminate.bending_compliance(),
             thickness: laminate.thickness(),
-            pzt_thickness: pzt.thickness,
-            pzt_areal_mass: laminate.areal_mass(LayerRole::Piezo),
+            pzt_thickness: plate_thickness,
+            pzt_areal_mass: laminate.areal_mass(LayerRole::Piezo)
+                + laminate.areal_mass(LayerRole::InactivePiezo),
             passive_areal_mass: laminate.areal_mass(LayerRole::Passive),
             bond_areal_mass: laminate.areal_mass(LayerRole::Bond),
             relative_permittivity: pzt.material.relative_permittivity,
             peak_pzt_strain: peak_strain,
             surface_stress_free,
             surface_stress_per_moment,
+            surfaces,
         })
     }
 
     /// Peak |σ_x| over the PZT surfaces at the root under an external moment per unit width `m` (N·m/m)
     /// opposing the free curvature: CLT `σ = Q̄ (ε0 + z κ - d E3)` (thesis eqs. 2.18, 2.23).
     pub fn peak_pzt_stress(&self, moment_per_width: f64) -> f64 {
-        (0..4)
+        (0..self.surfaces)
             .map(|i| {
                 (self.surface_stress_free[i] + moment_per_width * self.surface_stress_per_moment[i])
                     .abs()

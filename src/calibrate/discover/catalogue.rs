@@ -89,6 +89,14 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
         // c_θ = c_w / w_0 with w_0 from 0.5 mm up: the constant clamp's range times a typical width.
         Primitive::ClampCompliancePerWidth => (0.0, 2.0, &[4e-4, 4e-3, 4e-2]),
         Primitive::CompliantExtension => (0.0, 50.0, &[0.1, 1.0, 5.0]),
+        // As the electrode margin (the model clips both at 0.95 l_p).
+        Primitive::RigidRoot => (0.0, 20e-3, &[0.5e-3, 3e-3]),
+        // Up to 3 mm a side: the model clips 2m at 0.95 of the narrowest width (3 mm wide bases and
+        // narrower tips in the design ranges).
+        Primitive::EdgeMargin => (0.0, 3e-3, &[0.1e-3, 0.5e-3]),
+        // Below the thinnest plate of the design ranges (127 µm); a value at or above an actuator's
+        // plate is refused by the model, which the fit treats as no fit there.
+        Primitive::InactiveSurfaceLayer => (0.0, 100e-6, &[5e-6, 30e-6]),
     })
 }
 
@@ -147,6 +155,9 @@ pub fn catalogue(stack: Stack) -> Vec<Tried> {
         Primitive::ClampCompliance,
         Primitive::ClampCompliancePerWidth,
         Primitive::CompliantExtension,
+        Primitive::RigidRoot,
+        Primitive::EdgeMargin,
+        Primitive::InactiveSurfaceLayer,
     ]);
     all.into_iter()
         .filter(|p| !fitted_by_library(*p))
@@ -188,6 +199,9 @@ pub fn name(p: Primitive) -> String {
         Primitive::ClampCompliance => "clamp-compliance".into(),
         Primitive::ClampCompliancePerWidth => "clamp-compliance-per-width".into(),
         Primitive::CompliantExtension => "compliant-extension".into(),
+        Primitive::RigidRoot => "rigid-root".into(),
+        Primitive::EdgeMargin => "edge-margin".into(),
+        Primitive::InactiveSurfaceLayer => "inactive-surface-layer".into(),
     }
 }
 
@@ -201,6 +215,9 @@ pub fn parameter(p: Primitive) -> &'static str {
         Primitive::ClampCompliance => "rad_per_N_m",
         Primitive::ClampCompliancePerWidth => "rad_m_per_N_m",
         Primitive::CompliantExtension => "flexibility",
+        Primitive::RigidRoot => "held_root_m",
+        Primitive::EdgeMargin => "edge_margin_m",
+        Primitive::InactiveSurfaceLayer => "inactive_thickness_m",
     }
 }
 
@@ -252,6 +269,9 @@ mod tests {
                 "passive-thickness-scale",
                 "pzt-E1-scale",
                 "clamp-compliance-per-width",
+                "rigid-root",
+                "edge-margin",
+                "inactive-surface-layer",
             ] {
                 assert!(names.iter().any(|n| n == kept), "{kept} missing");
             }

@@ -113,9 +113,17 @@ pub(crate) fn fit(
     }
     // The stack depends on the primitive's value alone (η and the library partners act on a solved
     // stack: field, boundary and compliance effects), so the stack bases of the last few values are
-    // kept; each (p, a) then costs one `outputs` per point.
+    // kept (one for a primitive that leaves the stack alone); each (p, a) then costs one `outputs` per
+    // point.
     let bases: RefCell<Vec<(f64, Vec<Option<StackBasis>>)>> = RefCell::new(Vec::new());
     let basis_at = |p: f64| -> Vec<Option<StackBasis>> {
+        // A boundary or field primitive leaves the stack as it is (`EffectModel::basis` applies the stack
+        // primitives only): one basis, at its null value, serves every value.
+        let p = if tried.primitive.changes_stack() {
+            p
+        } else {
+            tried.primitive.null()
+        };
         if let Some((_, b)) = bases.borrow().iter().find(|(x, _)| *x == p) {
             return b.clone();
         }
