@@ -383,6 +383,12 @@ impl Effects {
         })
     }
 
+    /// The rigid root's length as the beam uses it: clipped at 0.95 `l_p`, as the dead length is, so a
+    /// free length always remains (docs/calibration.md §2).
+    fn held_root(&self, pl: &Planform) -> f64 {
+        self.rigid_root.min(0.95 * pl.piezo_length())
+    }
+
     /// Free deflection and blocked force from a basis with η, β, Δ, h, m, φ, c_θ, s_k applied
     /// (docs/calibration.md §2).
     ///
@@ -404,7 +410,7 @@ impl Effects {
         let l_ext = pl.extension_length();
         let tip = l_p + l_ext;
         let dead = self.dead_length.min(0.95 * l_p);
-        let held = self.rigid_root.min(0.95 * l_p);
+        let held = self.held_root(pl);
         let start = dead.max(held);
         let mut delta = 0.5 * curvature * ((tip - start).powi(2) - l_ext * l_ext);
         if self.edge_margin > 0.0 {
@@ -461,7 +467,7 @@ impl Effects {
         let pl = &a.planform;
         p.base_stress = 6.0 * force * pl.length / (pl.base_width * section.thickness.powi(2));
         let root_moment_per_width = if self.rigid_root > 0.0 {
-            let held = self.rigid_root.min(0.95 * pl.piezo_length());
+            let held = self.held_root(pl);
             force * (pl.length - held) / pl.width_at(held)
         } else {
             force * pl.length / pl.base_width
