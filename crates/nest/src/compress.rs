@@ -9,8 +9,15 @@
 //! heavier weights, so the search stops trading the same collision back and forth. If the
 //! overlap does not reach zero within a few rounds the attempt fails and the ceiling is lowered
 //! by less next time; a layout that comes out clear is checked by jagua-rs before it is kept.
-//! Compression ends when its budget is spent or after `STALL_ATTEMPTS` failures in a row at the
-//! smallest step.
+//!
+//! Where the smallest step keeps failing (`STALL_ATTEMPTS` in a row), the layout's structure is
+//! what holds it: which parts share a row across the sheet. Small steps never change that, so
+//! compression turns to sparrow's exploration ([`explore`]): it stays at the ceiling it failed
+//! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
+//! ones more often), swaps two large parts of different designs in it and separates again. A
+//! swap moves a part into another row, which is how rows whose lengths do not add up to the
+//! sheet width get re-partitioned. A clear layout sends compression back to its small steps;
+//! `EXPLORE_FAILURES` failures in a row, or the budget, end it.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.
@@ -49,6 +56,17 @@ const SHRINK_LAST: f32 = 0.001;
 /// The compression now gets the job's whole budget however early the search stopped, and this
 /// rule keeps it from spending that budget on a sheet it cannot lower.
 const STALL_ATTEMPTS: usize = 10;
+/// Failed separations in a row after which exploration gives up on a ceiling (and compression
+/// ends): counted, like everything here, so the stop is deterministic. On the tuning strips
+/// with a dozen large parts 400 found nothing that 50 did not; the budget binds first.
+const EXPLORE_FAILURES: usize = 50;
+/// Parts count as large, and are the ones exploration swaps, from the largest down until they
+/// make up this share of the parts' area (sparrow's percentile, Gardeyn & Wauters 2025).
+const LARGE_AREA_SHARE: f32 = 0.75;
+/// Exploration takes back the failed layout at rank `|N(0, POOL_SPREAD)|` of the pool's length
+/// (clipped below 1): mostly the least overlapping ones, now and then a worse one (sparrow's
+/// setting).
+const POOL_SPREAD: f32 = 0.25;
 /// Random positions anywhere on the sheet, and near the part, tried per move.
 const GLOBAL_SAMPLES: usize = 20;
 const LOCAL_SAMPLES: usize = 10;
@@ -99,39 +117,166 @@ pub(crate) fn compress(
     let mut step = SHRINK_FIRST * length;
     let mut spent = 0;
     let mut failed_at_last = 0;
-    while spent < budget && failed_at_last < STALL_ATTEMPTS {
-        let ceiling = best_top - step;
-        // Parts reaching above the ceiling go down into their neighbours (turned to a rotation
-        // that fits under it if theirs does not).
-        let trial: Option<Vec<Placement>> = best
-            .iter()
-            .map(|&s| under_ceiling(footprints, s, ceiling))
-            .collect();
-        let Some(trial) = trial else {
-            // A part is taller than the room under this ceiling: no lower ceiling will do.
-            if step <= SHRINK_LAST * length {
-                break;
+    loop {
+        while spent < budget && failed_at_last < STALL_ATTEMPTS {
+            let ceiling = best_top - step;
+            // Parts reaching above the ceiling go down into their neighbours (turned to a rotation
+            // that fits under it if theirs does not).
+            let trial: Option<Vec<Placement>> = best
+                .iter()
+                .map(|&s| under_ceiling(footprints, s, ceiling))
+                .collect();
+            let Some(trial) = trial else {
+                // A part is taller than the room under this ceiling: no lower ceiling will do.
+                if step <= SHRINK_LAST * length {
+                    break;
+                }
+                step = (step * 0.5).max(SHRINK_LAST * length);
+                continue;
+            };
+            let trial_len = trial.len();
+            let mut separation = Separation::new(footprints, trial, ceiling);
+            let separated = separation.run(rng, budget - spent);
+            // Setting up counts as one evaluation per part, so that attempts which need no moves
+            // (and a judge that rejects them) still spend the budget.
+            spent += separation.evaluations + trial_len;
+            if separated && clear(&separation.items) {
+                best = separation.items;
+                best_top = top(&best);
+            } else {
+                if step <= SHRINK_LAST * length {
+                    failed_at_last += 1;
+                }
+                step = (step * 0.5).max(SHRINK_LAST * length);
             }
-            step = (step * 0.5).max(SHRINK_LAST * length);
-            continue;
-        };
-        let trial_len = trial.len();
-        let mut separation = Separation::new(footprints, trial, ceiling);
-        let separated = separation.run(rng, budget - spent);
-        // Setting up counts as one evaluation per part, so that attempts which need no moves
-        // (and a judge that rejects them) still spend the budget.
-        spent += separation.evaluations + trial_len;
-        if separated && clear(&separation.items) {
-            best = separation.items;
-            best_top = top(&best);
-        } else {
-            if step <= SHRINK_LAST * length {
-                failed_at_last += 1;
-            }
-            step = (step * 0.5).max(SHRINK_LAST * length);
         }
+
+        // The smallest step keeps failing: explore at it, and go back to small steps from
+        // whatever clear layout exploration finds.
+        if spent >= budget {
+            break;
+        }
+        let ceiling = best_top - SHRINK_LAST * length;
+        let (found, used) = explore(footprints, &best, ceiling, budget - spent, rng, &clear);
+        spent += used;
+        let Some(found) = found else {
+            break;
+        };
+        best = found;
+        best_top = top(&best);
+        failed_at_last = 0;
     }
     best
+}
+
+/// Sparrow's exploration (Gardeyn & Wauters 2025, "exploration phase") at a fixed `ceiling`
+/// below the top of `best`: separate; on a failure put the failed layout in a pool ordered by
+/// its remaining overlap, take one back (`POOL_SPREAD`), disrupt it ([`disrupt`]) and separate
+/// again. Returns the first clear layout (or none, after `EXPLORE_FAILURES` failures in a row
+/// or when `budget` overlap evaluations are spent) and the evaluations spent.
+fn explore(
+    footprints: &[Vec<Footprint>],
+    best: &[Placement],
+    ceiling: f32,
+    budget: usize,
+    rng: &mut ChaCha8Rng,
+    clear: &impl Fn(&[Placement]) -> bool,
+) -> (Option<Vec<Placement>>, usize) {
+    let Some(mut current): Option<Vec<Placement>> = best
+        .iter()
+        .map(|&s| under_ceiling(footprints, s, ceiling))
+        .collect()
+    else {
+        return (None, 0);
+    };
+    let large = large_parts(footprints, &current);
+    let mut pool: Vec<(f32, Vec<Placement>)> = Vec::new();
+    let mut spent = 0;
+    for _ in 0..EXPLORE_FAILURES {
+        if spent >= budget {
+            break;
+        }
+        let parts = current.len();
+        let mut separation = Separation::new(footprints, current, ceiling);
+        let separated = separation.run(rng, budget - spent);
+        spent += separation.evaluations + parts;
+        if separated && clear(&separation.items) {
+            return (Some(separation.items), spent);
+        }
+        let overlap = separation.total();
+        let at = pool.partition_point(|(o, _)| *o <= overlap);
+        pool.insert(at, (overlap, separation.items));
+        let rank = (POOL_SPREAD * standard_normal(rng)).abs().min(0.999);
+        current = pool[(rank * pool.len() as f32) as usize].1.clone();
+        disrupt(footprints, &mut current, &large, ceiling, rng);
+    }
+    (None, spent)
+}
+
+/// Indices of the large parts of a sheet (`LARGE_AREA_SHARE`), by the area of their shapes'
+/// bounding boxes.
+fn large_parts(footprints: &[Vec<Footprint>], items: &[Placement]) -> Vec<usize> {
+    let area = |s: &Placement| {
+        let b = footprints[s.part][s.rot].pieces.bounds;
+        (b[2] - b[0]) * (b[3] - b[1])
+    };
+    let mut areas: Vec<f32> = items.iter().map(area).collect();
+    areas.sort_by(|a, b| b.total_cmp(a));
+    let total: f32 = areas.iter().sum();
+    let mut sum = 0.0;
+    let mut cutoff = 0.0;
+    for a in areas {
+        sum += a;
+        cutoff = a;
+        if sum >= LARGE_AREA_SHARE * total {
+            break;
+        }
+    }
+    (0..items.len())
+        .filter(|&i| area(&items[i]) >= cutoff)
+        .collect()
+}
+
+/// Swaps the places of a random large part and a large part of another design (any other
+/// part if all large ones are of one design), each kept at its own rotation and clamped to
+/// where it fits under `ceiling`.
+fn disrupt(
+    footprints: &[Vec<Footprint>],
+    items: &mut [Placement],
+    large: &[usize],
+    ceiling: f32,
+    rng: &mut ChaCha8Rng,
+) {
+    let n = items.len();
+    if n < 2 || large.is_empty() {
+        return;
+    }
+    let i = large[rng.gen_range(0..large.len())];
+    let others: Vec<usize> = large
+        .iter()
+        .copied()
+        .filter(|&j| items[j].part != items[i].part)
+        .collect();
+    let j = if others.is_empty() {
+        let j = rng.gen_range(0..n - 1);
+        j + usize::from(j >= i)
+    } else {
+        others[rng.gen_range(0..others.len())]
+    };
+    let (ti, tj) = (items[i].t, items[j].t);
+    for (k, t) in [(i, tj), (j, ti)] {
+        let s = items[k];
+        if let Some((x, y)) = footprints[s.part][s.rot].range_under(ceiling) {
+            items[k].t = (t.0.clamp(x.0, x.1), t.1.clamp(y.0, y.1));
+        }
+    }
+}
+
+/// A draw of the standard normal distribution (Box-Muller).
+fn standard_normal(rng: &mut ChaCha8Rng) -> f32 {
+    let u: f32 = rng.gen_range(f32::EPSILON..1.0);
+    let v: f32 = rng.gen();
+    (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
 }
 
 /// `s` moved down (or turned) so that it stays under `ceiling`, or `None` if no rotation of the
@@ -446,6 +591,114 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(1);
         let kept = compress(&footprints, &start, usize::MAX, &mut rng, |_| true);
         assert_eq!(kept, start);
+    }
+
+    /// Bars 6 x 1 (design 0) and 4 x 1 (design 1) on a sheet 10.2 wide.
+    fn bars() -> Vec<Vec<Footprint>> {
+        let bar = |length: f32| {
+            vec![Footprint {
+                pieces: Pieces::new(&[[0., 0.], [length, 0.], [length, 1.], [0., 1.]]).unwrap(),
+                x: (0.0, 10.2 - length),
+                y: (0.0, 10.0),
+            }]
+        };
+        vec![bar(6.0), bar(4.0)]
+    }
+
+    /// Independent of the overlap measure: axis-aligned bars are clear iff their boxes do not
+    /// overlap.
+    fn bars_clear(items: &[Placement]) -> bool {
+        let length = |s: &Placement| if s.part == 0 { 6.0 } else { 4.0 };
+        items.iter().enumerate().all(|(i, a)| {
+            items[i + 1..].iter().all(|b| {
+                a.t.0 + length(a) <= b.t.0
+                    || b.t.0 + length(b) <= a.t.0
+                    || (a.t.1 - b.t.1).abs() >= 1.0
+            })
+        })
+    }
+
+    fn at(part: usize, x: f32, y: f32) -> Placement {
+        Placement {
+            part,
+            rot: 0,
+            t: (x, y),
+        }
+    }
+
+    #[test]
+    fn exploration_repartitions_rows_whose_lengths_do_not_add_up() {
+        // Closed form: two long bars (6) cannot share a row of 10.2, nor can a long bar and
+        // two short ones (14); so rows {6, 4} + {6, 4} are the only two-row layout, top 2.
+        // The start has the long bars in rows of their own and the short ones together: top 3.
+        let start = vec![
+            at(0, 0.0, 0.0),
+            at(0, 0.0, 1.01),
+            at(1, 0.0, 2.02),
+            at(1, 5.0, 2.02),
+        ];
+        let run = |seed| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            explore(&bars(), &start, 2.05, 5_000_000, &mut rng, &bars_clear)
+        };
+        let (found, spent) = run(11);
+        let found = found.expect("a two-row layout exists");
+        assert!(bars_clear(&found));
+        let top = found.iter().map(|s| s.t.1 + 1.0).fold(0.0, f32::max);
+        assert!(top <= 2.05, "top {top}");
+        assert!(spent > 0 && spent <= 5_000_000);
+        // The same stream gives the same layout.
+        assert_eq!(run(11).0, Some(found));
+    }
+
+    #[test]
+    fn exploration_gives_up_when_nothing_fits_under_the_ceiling() {
+        // Four bars of height 1 in rows of at most two need a top of 2: under 1.5 nothing is
+        // clear, so exploration stops after its failures, well within an endless budget.
+        let start = vec![
+            at(0, 0.0, 0.0),
+            at(1, 6.1, 0.0),
+            at(0, 0.0, 1.01),
+            at(1, 6.1, 1.01),
+        ];
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (found, spent) = explore(&bars(), &start, 1.5, usize::MAX, &mut rng, &bars_clear);
+        assert!(found.is_none());
+        assert!(spent > 0 && spent < usize::MAX);
+    }
+
+    #[test]
+    fn a_disruption_swaps_two_large_parts_of_different_designs() {
+        let footprints = bars();
+        let before = vec![
+            at(0, 0.0, 0.0),
+            at(0, 0.0, 2.0),
+            at(1, 6.1, 0.0),
+            at(1, 6.1, 2.0),
+        ];
+        // By box area the long bars make up 0.6 of the total: the third part (a short bar)
+        // takes it past 3/4, and every part at least as large as that one counts as large.
+        let large = large_parts(&footprints, &before);
+        assert_eq!(large, vec![0, 1, 2, 3]);
+        for seed in 0..20 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut after = before.clone();
+            disrupt(&footprints, &mut after, &large, 10.0, &mut rng);
+            let moved: Vec<usize> = (0..4).filter(|&k| after[k] != before[k]).collect();
+            assert_eq!(moved.len(), 2, "seed {seed}: {after:?}");
+            let (i, j) = (moved[0], moved[1]);
+            assert_ne!(before[i].part, before[j].part);
+            // Each takes the other's place, clamped to its own x range (a long bar cannot
+            // start at x = 6.1 on a 10.2 sheet: it goes to 4.2).
+            let clamp = |k: usize, t: (f32, f32)| {
+                (
+                    t.0.min(10.2 - if before[k].part == 0 { 6.0 } else { 4.0 }),
+                    t.1,
+                )
+            };
+            assert_eq!(after[i].t, clamp(i, before[j].t));
+            assert_eq!(after[j].t, clamp(j, before[i].t));
+        }
     }
 
     #[test]

@@ -48,12 +48,16 @@
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they
 //!   overlap least until none do (guided local search on the penetration of convex pieces,
-//!   module `overlap`); jagua-rs checks every layout it keeps. Two chains per worker compress
-//!   on their own streams, shared out to the threads as they come free, each with half of
-//!   `COMPRESSION_EVALUATIONS` overlap evaluations per worker and iteration of the job's
-//!   budget (the sheet with the lowest top decides the used length, so it gets the budget the
-//!   search did not use); a chain stops early after `STALL_ATTEMPTS` failures in a row at the
-//!   smallest step, and the lowest top wins.
+//!   module `overlap`); jagua-rs checks every layout it keeps. Where the smallest step keeps
+//!   failing, a chain explores as sparrow does: it stays at that ceiling, keeps the failed
+//!   layouts in a pool, and separates again from one of them with two large parts of
+//!   different designs swapped, which re-partitions rows the small steps cannot. Two chains
+//!   per worker compress on their own streams, shared out to the threads as they come free,
+//!   each with half of `COMPRESSION_EVALUATIONS` overlap evaluations per worker and iteration
+//!   of the settings' full budget, not the smaller share a small job's search gets (the sheet
+//!   with the lowest top decides the used length, so it gets the budget the search did not
+//!   use); a chain stops early after `EXPLORE_FAILURES` failed explorations in a row, and the
+//!   lowest top wins.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower

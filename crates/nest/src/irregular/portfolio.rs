@@ -114,8 +114,12 @@ impl Model<'_> {
         // The used length is decided on the sheet with the lowest top, so that is where the
         // rest of the budget goes: the compression gets the whole budget's worth of
         // evaluations, however early the search stopped, and stops by its own rule when it
-        // can no longer lower the top (`compress`, `STALL_ATTEMPTS`).
-        let sheets = self.compressed(best.1, epochs + 1, iterations);
+        // can no longer lower the top (`compress`, `STALL_ATTEMPTS`, `EXPLORE_FAILURES`).
+        // Its budget is the settings' full one, not the share a small job's search gets
+        // (`Job::iteration_budget`): compressing a small sheet is cheap, and on small strips
+        // the exploration that follows the small steps is what closes the gap to sparrow
+        // (tuning strips, README "Quality per second ... exploration").
+        let sheets = self.compressed(best.1, epochs + 1, settings.iterations);
         Ok((sheets, done))
     }
 
