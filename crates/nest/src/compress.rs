@@ -120,13 +120,7 @@ pub(crate) fn compress(
     loop {
         while spent < budget && failed_at_last < STALL_ATTEMPTS {
             let ceiling = best_top - step;
-            // Parts reaching above the ceiling go down into their neighbours (turned to a rotation
-            // that fits under it if theirs does not).
-            let trial: Option<Vec<Placement>> = best
-                .iter()
-                .map(|&s| under_ceiling(footprints, s, ceiling))
-                .collect();
-            let Some(trial) = trial else {
+            let Some(trial) = all_under_ceiling(footprints, &best, ceiling) else {
                 // A part is taller than the room under this ceiling: no lower ceiling will do.
                 if step <= SHRINK_LAST * length {
                     break;
@@ -182,11 +176,7 @@ fn explore(
     rng: &mut ChaCha8Rng,
     clear: &impl Fn(&[Placement]) -> bool,
 ) -> (Option<Vec<Placement>>, usize) {
-    let Some(mut current): Option<Vec<Placement>> = best
-        .iter()
-        .map(|&s| under_ceiling(footprints, s, ceiling))
-        .collect()
-    else {
+    let Some(mut current) = all_under_ceiling(footprints, best, ceiling) else {
         return (None, 0);
     };
     let large = large_parts(footprints, &current);
@@ -277,6 +267,20 @@ fn standard_normal(rng: &mut ChaCha8Rng) -> f32 {
     let u: f32 = rng.gen_range(f32::EPSILON..1.0);
     let v: f32 = rng.gen();
     (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
+}
+
+/// The parts of `items` that reach above `ceiling` pushed down into their neighbours (turned to
+/// a rotation that fits under it if theirs does not), or `None` if a part fits under it at no
+/// rotation.
+fn all_under_ceiling(
+    footprints: &[Vec<Footprint>],
+    items: &[Placement],
+    ceiling: f32,
+) -> Option<Vec<Placement>> {
+    items
+        .iter()
+        .map(|&s| under_ceiling(footprints, s, ceiling))
+        .collect()
 }
 
 /// `s` moved down (or turned) so that it stays under `ceiling`, or `None` if no rotation of the
