@@ -26,7 +26,7 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::overlap::{bounds_meet, overlap, shifted, Bounds, Pieces};
+use crate::overlap::{bounds_meet, overlap, shifted, Bounds, Pieces, Projections};
 use crate::placement::Placement;
 
 /// A part at one of its rotations, as compression sees it.
@@ -44,6 +44,33 @@ impl Footprint {
     fn range_under(&self, ceiling: f32) -> Option<((f32, f32), (f32, f32))> {
         let y_max = self.y.1.min(ceiling - self.pieces.bounds[3]);
         (self.x.0 <= self.x.1 && self.y.0 <= y_max).then_some((self.x, (self.y.0, y_max)))
+    }
+}
+
+/// Every part at every rotation (`[part][rotation]`), with the table of their pieces'
+/// projections ([`Projections`]) that makes the overlap queries cheap. Reads as the slice of
+/// footprints.
+pub(crate) struct Footprints {
+    shapes: Vec<Vec<Footprint>>,
+    table: Option<Projections>,
+}
+
+impl Footprints {
+    pub(crate) fn new(mut shapes: Vec<Vec<Footprint>>) -> Footprints {
+        let mut pieces: Vec<&mut Pieces> = shapes
+            .iter_mut()
+            .flat_map(|rotations| rotations.iter_mut().map(|f| &mut f.pieces))
+            .collect();
+        let table = Projections::new(&mut pieces);
+        Footprints { shapes, table }
+    }
+}
+
+impl std::ops::Deref for Footprints {
+    type Target = [Vec<Footprint>];
+
+    fn deref(&self) -> &Self::Target {
+        &self.shapes
     }
 }
 
@@ -89,7 +116,7 @@ const WEIGHT_DECAY: f32 = 0.95;
 /// overlap evaluations (the input itself if none is lower). `clear` is the final judge of a
 /// layout (jagua-rs's collision test).
 pub(crate) fn compress(
-    footprints: &[Vec<Footprint>],
+    footprints: &Footprints,
     sheet: &[Placement],
     budget: usize,
     rng: &mut ChaCha8Rng,
@@ -169,7 +196,7 @@ pub(crate) fn compress(
 /// again. Returns the first clear layout (or none, after `EXPLORE_FAILURES` failures in a row
 /// or when `budget` overlap evaluations are spent) and the evaluations spent.
 fn explore(
-    footprints: &[Vec<Footprint>],
+    footprints: &Footprints,
     best: &[Placement],
     ceiling: f32,
     budget: usize,
@@ -305,7 +332,7 @@ fn under_ceiling(footprints: &[Vec<Footprint>], s: Placement, ceiling: f32) -> O
 /// The guided local search of one compression attempt: parts under a fixed ceiling, with their
 /// pairwise overlaps and weights.
 struct Separation<'a> {
-    footprints: &'a [Vec<Footprint>],
+    footprints: &'a Footprints,
     items: Vec<Placement>,
     ceiling: f32,
     /// Shape bounds of each item where it is.
@@ -317,7 +344,7 @@ struct Separation<'a> {
 }
 
 impl<'a> Separation<'a> {
-    fn new(footprints: &'a [Vec<Footprint>], items: Vec<Placement>, ceiling: f32) -> Self {
+    fn new(footprints: &'a Footprints, items: Vec<Placement>, ceiling: f32) -> Self {
         let n = items.len();
         let mut separation = Separation {
             footprints,
@@ -360,7 +387,13 @@ impl<'a> Separation<'a> {
                 0.0
             } else {
                 let b = self.items[j];
-                overlap(a, [ta.0, ta.1], self.pieces(b), [b.t.0, b.t.1])
+                overlap(
+                    a,
+                    [ta.0, ta.1],
+                    self.pieces(b),
+                    [b.t.0, b.t.1],
+                    self.footprints.table.as_ref(),
+                )
             };
             self.overlaps[i * n + j] = o;
             self.overlaps[j * n + i] = o;
@@ -443,7 +476,14 @@ impl<'a> Separation<'a> {
                 continue;
             }
             let b = self.items[j];
-            sum += self.weights[i * n + j] * overlap(a, [t.0, t.1], self.pieces(b), [b.t.0, b.t.1]);
+            sum += self.weights[i * n + j]
+                * overlap(
+                    a,
+                    [t.0, t.1],
+                    self.pieces(b),
+                    [b.t.0, b.t.1],
+                    self.footprints.table.as_ref(),
+                );
             if sum >= cutoff {
                 break;
             }
@@ -522,12 +562,16 @@ mod tests {
     use super::*;
 
     /// Unit squares on a sheet 2.1 wide: left edges in `[0, 1.1]`, bottoms in `[0, 10]`.
-    fn squares() -> Vec<Vec<Footprint>> {
-        vec![vec![Footprint {
+    fn squares() -> Footprints {
+        Footprints::new(vec![square_footprints()])
+    }
+
+    fn square_footprints() -> Vec<Footprint> {
+        vec![Footprint {
             pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]).unwrap(),
             x: (0.0, 1.1),
             y: (0.0, 10.0),
-        }]]
+        }]
     }
 
     /// Independent of the overlap measure: axis-aligned unit squares are clear iff their boxes
@@ -569,12 +613,14 @@ mod tests {
     fn stops_when_the_tallest_part_sets_the_top_even_with_an_endless_budget() {
         // A 1 x 3 bar beside two squares: no layout is lower than the bar, so every lower
         // ceiling fails at once and compression must stop on its own, not on the budget.
-        let mut footprints = squares();
-        footprints.push(vec![Footprint {
-            pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 3.], [0., 3.]]).unwrap(),
-            x: (0.0, 1.1),
-            y: (0.0, 10.0),
-        }]);
+        let footprints = Footprints::new(vec![
+            square_footprints(),
+            vec![Footprint {
+                pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 3.], [0., 3.]]).unwrap(),
+                x: (0.0, 1.1),
+                y: (0.0, 10.0),
+            }],
+        ]);
         let start = vec![
             Placement {
                 part: 1,
@@ -598,7 +644,7 @@ mod tests {
     }
 
     /// Bars 6 x 1 (design 0) and 4 x 1 (design 1) on a sheet 10.2 wide.
-    fn bars() -> Vec<Vec<Footprint>> {
+    fn bars() -> Footprints {
         let bar = |length: f32| {
             vec![Footprint {
                 pieces: Pieces::new(&[[0., 0.], [length, 0.], [length, 1.], [0., 1.]]).unwrap(),
@@ -606,7 +652,7 @@ mod tests {
                 y: (0.0, 10.0),
             }]
         };
-        vec![bar(6.0), bar(4.0)]
+        Footprints::new(vec![bar(6.0), bar(4.0)])
     }
 
     /// Independent of the overlap measure: axis-aligned bars are clear iff their boxes do not

@@ -21,7 +21,7 @@ use jagua_rs::probs::bpp::entities::{
 };
 use rayon::prelude::*;
 
-use crate::compress::Footprint;
+use crate::compress::{Footprint, Footprints};
 use crate::job::{Job, Placed};
 use crate::overlap::Pieces;
 use crate::placement::{Placement, Sheets};
@@ -73,7 +73,7 @@ pub(super) struct Model<'a> {
     pub(super) usable: Rect,
     /// `[part][rotation]`: the collision shapes as convex pieces, for compression; `None` if
     /// one did not decompose (then the layout is not compressed).
-    pub(super) footprints: Option<Vec<Vec<Footprint>>>,
+    pub(super) footprints: Option<Footprints>,
 }
 
 impl<'a> Model<'a> {
@@ -113,7 +113,8 @@ impl<'a> Model<'a> {
                     })
                     .collect::<Option<Vec<_>>>()
             })
-            .collect::<Option<Vec<_>>>();
+            .collect::<Option<Vec<_>>>()
+            .map(Footprints::new);
         Ok(Self {
             job,
             instance,
