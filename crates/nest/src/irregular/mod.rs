@@ -54,10 +54,10 @@
 //!   different designs swapped, which re-partitions rows the small steps cannot. Two chains
 //!   per worker compress on their own streams, shared out to the threads as they come free,
 //!   each with half of `COMPRESSION_EVALUATIONS` overlap evaluations per worker and iteration
-//!   of the settings' full budget, not the smaller share a small job's search gets (the sheet
-//!   with the lowest top decides the used length, so it gets the budget the search did not
-//!   use); a chain stops early after `EXPLORE_FAILURES` failed explorations in a row, and the
-//!   lowest top wins.
+//!   of the settings' full budget, not the smaller share a small job's search gets, and twice
+//!   that up to 60 copies (the sheet with the lowest top decides the used length, so it gets
+//!   the budget the search did not use); a chain stops early after `EXPLORE_FAILURES` failed
+//!   explorations in a row, and the lowest top wins.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
@@ -72,9 +72,9 @@
 //! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
-//! * **Where it stands**: on the bench's measuring strips (12-300 parts) level with sparrow,
-//!   the state-of-the-art strip packer, given 5 s, and 1.3-2.3 points ahead of it given our
-//!   wall time of about 2 s (README, "Nesting engine: figures").
+//! * **Where it stands**: on the bench's measuring strips (12-300 parts) half a point ahead of
+//!   sparrow, the state-of-the-art strip packer, given 5 s, and 1.6-2.9 points ahead of it
+//!   given our wall time of about 2 s (README, "Nesting engine: figures").
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
