@@ -237,3 +237,36 @@ impl Model<'_> {
         sheets
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::job::Job;
+    use crate::problem::NestSettings;
+    use crate::test_support::squares_job;
+
+    use super::Model;
+
+    #[test]
+    fn small_jobs_get_up_to_twice_the_compression_budget_and_never_less_than_the_full_one() {
+        let compression = |copies: usize, iterations: usize| {
+            let (items, bin) = squares_job(copies, 10);
+            let settings = NestSettings {
+                iterations,
+                ..NestSettings::default()
+            };
+            let job = Job::new(&items, &bin, &settings).unwrap();
+            Model::new(&job).unwrap().compression_iterations()
+        };
+        // Up to 60 copies: twice the full budget, however little of it the search gets
+        // (`Job::iteration_budget` gives 12 copies 200 of 1000).
+        assert_eq!(compression(12, 1000), 2000);
+        assert_eq!(compression(60, 1000), 2000);
+        // Between: 120 / copies of it, 90 copies -> 4/3.
+        assert_eq!(compression(90, 900), 1200);
+        // 120 copies and up: the full budget.
+        assert_eq!(compression(120, 1000), 1000);
+        assert_eq!(compression(300, 1000), 1000);
+        // A greedy-only budget compresses nothing.
+        assert_eq!(compression(12, 0), 0);
+    }
+}
