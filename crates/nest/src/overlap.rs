@@ -32,7 +32,7 @@ struct Convex {
     normals: Vec<[f32; 2]>,
     /// The piece's own projection on each of its normals: fixed, so only the other piece of a
     /// pair needs projecting on them (half the work of a depth query).
-    extents: Vec<(f32, f32)>,
+    extents: Vec<Interval>,
     bounds: Bounds,
 }
 
@@ -240,7 +240,7 @@ fn depth(
     least
 }
 
-fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> (f32, f32) {
+fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> Interval {
     let (mut lo, mut hi) = (f32::MAX, f32::MIN);
     for v in vertices {
         let p = v[0] * n[0] + v[1] * n[1];
