@@ -48,7 +48,8 @@
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they
 //!   overlap least until none do (guided local search on the penetration of convex pieces,
-//!   module `overlap`); jagua-rs checks every layout it keeps. Where the smallest step keeps
+//!   module `overlap`, whose pair weights carry over from one ceiling step to the next);
+//!   jagua-rs checks every layout it keeps. Where the smallest step keeps
 //!   failing, a chain explores as sparrow does: it stays at that ceiling, keeps the failed
 //!   layouts in a pool, and separates again from one of them with two large parts of
 //!   different designs swapped, which re-partitions rows the small steps cannot. Two chains
