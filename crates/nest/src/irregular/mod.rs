@@ -73,9 +73,9 @@
 //! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
-//! * **Where it stands**: on the bench's measuring strips (12-300 parts) half a point ahead of
-//!   sparrow, the state-of-the-art strip packer, given 5 s, and 1.6-2.9 points ahead of it
-//!   given our wall time of about 2 s (README, "Nesting engine: figures").
+//! * **Where it stands**: on the bench's 40 measuring strips (12-300 parts) 1.1 points ahead of
+//!   sparrow, the state-of-the-art strip packer, given 5 s (0.7-1.7 per set of 8), and 2.5
+//!   points ahead of it given our wall time of about 2.5 s (README, "Nesting engine: figures").
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
