@@ -365,6 +365,7 @@ impl<'a> Separation<'a> {
         weights: Vec<f32>,
     ) -> Self {
         let n = items.len();
+        debug_assert_eq!(weights.len(), n * n, "one weight per ordered pair of parts");
         let mut separation = Separation {
             footprints,
             bounds: Vec::with_capacity(n),
@@ -619,12 +620,7 @@ mod tests {
         // over (3, not 1), and a sweep that leaves them overlapping doubles it (the most
         // overlapping pair grows by all of `WEIGHT_GROWTH`), for the next attempt to start from.
         let footprints = squares();
-        let square_at = |x: f32| Placement {
-            part: 0,
-            rot: 0,
-            t: (x, 0.0),
-        };
-        let items = vec![square_at(0.0), square_at(0.5)];
+        let items = vec![at(0, 0.0, 0.0), at(0, 0.5, 0.0)];
         let carried = vec![1.0, 3.0, 3.0, 1.0];
         let mut separation = Separation::new(&footprints, items, 10.0, carried);
         assert_eq!(separation.weights, [1.0, 3.0, 3.0, 1.0]);
