@@ -29,7 +29,7 @@ fn case(actuators: usize, truth: Truth, runs: usize, want: &str) -> (f64, f64, f
         times.push(start.elapsed().as_secs_f64());
         assert_eq!(cal.model.verdict, want);
         if want == "not-explained" {
-            assert!(cal.selection.discovery.is_some());
+            assert!(cal.discovery.is_some());
         }
     }
     times.sort_by(f64::total_cmp);

@@ -1,8 +1,12 @@
-//! The `actuator-cam` command line: parses arguments and hands them to [`actuator_cam::commands`].
+//! The `actuator-cam` command line: parses arguments and hands them to a subcommand in [`commands`], which
+//! calls the `actuator_cam` library. clap, anyhow and indicatif live here only; the library knows nothing of
+//! the command line.
 
-use actuator_cam::commands::Cli;
+mod commands;
+
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::Parser;
+use commands::Cli;
 use std::error::Error;
 use std::process::ExitCode;
 

@@ -54,7 +54,7 @@ primitives = [{ kind = "scale", target = "passive", property = "E1" }]
 
 fn declarations() -> Vec<DeclaredSpec> {
     let file = std::path::Path::new("effects.toml");
-    input::effects::parse(file, &input::parse_toml(file, DECLARATIONS).unwrap()).unwrap()
+    calibrate::effects_file::parse(file, &input::parse_toml(file, DECLARATIONS).unwrap()).unwrap()
 }
 
 /// 30 actuators x 4 voltages, 5 % noise, with `truth`.
@@ -362,7 +362,7 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
         clamp_per_width(),
     );
     let path = common::example_path("effects-held-root.toml");
-    let specs = input::effects::read_path(&path).unwrap();
+    let specs = calibrate::effects_file::read_path(&path).unwrap();
     assert_eq!(specs[0].parameters.len(), 2);
     let settings = Settings {
         declared: specs.into_iter().flat_map(Declared::all).collect(),

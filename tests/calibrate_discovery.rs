@@ -141,7 +141,7 @@ fn as_measured(csv: String) -> String {
 fn run_on(h: &Hidden, seed: u64, measured: Measured) -> Outcome {
     let data = parse(&measured(random_csv(h.truth, seed))).unwrap();
     let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
-    let d = cal.selection.discovery.as_ref();
+    let d = cal.discovery.as_ref();
     Outcome {
         verdict: cal.model.verdict.clone(),
         variable: d.and_then(|d| d.trends.first().map(|t| t.exponent.variable.to_string())),

@@ -10,8 +10,8 @@
 
 use actuator_cam::batch::file::Batch;
 use actuator_cam::calibrate::csv;
-use actuator_cam::commands::weibull::read_column;
 use actuator_cam::design::Design;
+use actuator_cam::input::failures::read_column;
 use actuator_cam::input::{parse_toml, InputError};
 use actuator_cam::optimize::spec::Spec;
 use actuator_cam::prediction::Prediction;

@@ -2,10 +2,9 @@
 //! effect and write `calibrated-model.toml`, the reports and the plots.
 
 use super::flags::{JsonFlag, OutputDir};
-use crate::calibrate::library::Declared;
-use crate::calibrate::{calibrate, csv, report, Settings};
-use crate::input;
-use crate::output::Output;
+use actuator_cam::calibrate::library::Declared;
+use actuator_cam::calibrate::{calibrate, csv, effects_file, report, Settings};
+use actuator_cam::output::Output;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -43,7 +42,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
         eprintln!("warning: {warning}");
     }
     let declared = match &args.effects {
-        Some(path) => input::effects::read_path(path)?
+        Some(path) => effects_file::read_path(path)?
             .into_iter()
             .flat_map(Declared::all)
             .collect(),

@@ -1,10 +1,10 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use crate::cutsheet::stream::plan_and_put;
-use crate::cutsheet::{write, CutSheetOptions, Template};
-use crate::design::Design;
-use crate::output::Output;
+use actuator_cam::cutsheet::stream::plan_and_put;
+use actuator_cam::cutsheet::{write, CutSheetOptions, Template};
+use actuator_cam::design::Design;
+use actuator_cam::output::Output;
 use anyhow::bail;
 use clap::Args;
 use std::path::PathBuf;
@@ -44,10 +44,10 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
     }
     let quantity = match args.quantity {
         None => None,
-        Some(q) if (1..=crate::input::limits::MAX_QUANTITY).contains(&q) => Some(q as usize),
+        Some(q) if (1..=actuator_cam::input::limits::MAX_QUANTITY).contains(&q) => Some(q as usize),
         Some(q) => bail!(
             "--quantity = {q}: outside the allowed range [1, {}]",
-            crate::input::limits::MAX_QUANTITY
+            actuator_cam::input::limits::MAX_QUANTITY
         ),
     };
     let design = Design::load(&args.design)?;

@@ -1,9 +1,9 @@
 //! Flags that several subcommands share, each defined once and pulled in with `#[command(flatten)]`, with
 //! the one parser of each value.
 
-use crate::calibrate::model_file;
-use crate::cutsheet::Formats;
-use crate::input::InputError;
+use actuator_cam::calibrate::model_file;
+use actuator_cam::cutsheet::Formats;
+use actuator_cam::input::InputError;
 use actuator_model::model::{ModelChoice, ModelKind};
 use clap::Args;
 use std::path::{Path, PathBuf};

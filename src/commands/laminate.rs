@@ -2,7 +2,7 @@
 //! `CFMatrixCalc`).
 
 use super::flags::JsonFlag;
-use crate::input::limits::PLY_ANGLE_DEG;
+use actuator_cam::input::limits::PLY_ANGLE_DEG;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
 use clap::Args;
@@ -83,7 +83,7 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow!("--ply: {} has no standard ply thickness", ply.name))?;
     let laminate = match args.pzt_thickness_mm {
         Some(t) => {
-            let allowed = crate::input::limits::PZT_THICKNESS_MM;
+            let allowed = actuator_cam::input::limits::PZT_THICKNESS_MM;
             if !allowed.contains(t) {
                 bail!("--pzt-thickness-mm = {t}: outside the {allowed}");
             }

@@ -1,11 +1,11 @@
 //! `actuator-cam nest batch.toml -o out/`: a batch of designs nested on shared sheets and clamp panels.
 
 use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
-use crate::batch::{plan_observed, Batch, NestOptions};
-use crate::cam::svg::SvgOptions;
-use crate::cutsheet::write::render_drawings;
-use crate::output::Output;
-use crate::pipeline::{NestObserver, Unobserved};
+use actuator_cam::batch::{plan_observed, Batch, NestOptions};
+use actuator_cam::cam::svg::SvgOptions;
+use actuator_cam::cutsheet::write::render_drawings;
+use actuator_cam::output::Output;
+use actuator_cam::pipeline::{NestObserver, Unobserved};
 use anyhow::bail;
 use cam_nest::{NestProgress, NestSettings};
 use clap::Args;
@@ -92,7 +92,7 @@ pub struct NestArgs {
 /// Run `nest`.
 pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
-    let max = crate::input::limits::MAX_ITERATIONS as usize;
+    let max = actuator_cam::input::limits::MAX_ITERATIONS as usize;
     if let Some(n) = args.iterations.filter(|n| *n > max) {
         bail!("--iterations = {n}: outside the allowed range [0, {max}]");
     }

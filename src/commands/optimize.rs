@@ -2,11 +2,13 @@
 //! mechanical energy, with the winning design and the Pareto front written on request.
 
 use super::flags::{ForceFlag, ModelFlag};
-use crate::optimize::model::SearchModel;
-use crate::optimize::search::{Design, Objective, Problem};
-use crate::optimize::spec::Spec;
-use crate::optimize::{optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS};
-use crate::output::Output;
+use actuator_cam::optimize::model::SearchModel;
+use actuator_cam::optimize::search::{Design, Objective, Problem};
+use actuator_cam::optimize::spec::Spec;
+use actuator_cam::optimize::{
+    optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS,
+};
+use actuator_cam::output::Output;
 use actuator_model::ModelChoice;
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};

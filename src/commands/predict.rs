@@ -1,10 +1,10 @@
 //! `actuator-cam predict design.toml`: mass and performance of one design.
 
 use super::flags::{JsonFlag, ModelFlag};
-use crate::cutsheet::design_for_process;
-use crate::design::Design;
-use crate::prediction::Prediction;
-use crate::process::template::Template;
+use actuator_cam::cutsheet::design_for_process;
+use actuator_cam::design::Design;
+use actuator_cam::prediction::Prediction;
+use actuator_cam::process::template::Template;
 use clap::Args;
 use std::path::PathBuf;
 

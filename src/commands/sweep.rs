@@ -2,10 +2,10 @@
 //! of two models, with every design as CSV on request.
 
 use super::flags::{parse_model, ForceFlag, ModelFlag};
-use crate::output::Output;
-use crate::sweep::analysis::{self, Comparison, MainEffects};
-use crate::sweep::spec::SweepSpec;
-use crate::sweep::{check_models, evaluate};
+use actuator_cam::output::Output;
+use actuator_cam::sweep::analysis::{self, Comparison, MainEffects};
+use actuator_cam::sweep::spec::SweepSpec;
+use actuator_cam::sweep::{check_models, evaluate};
 use actuator_model::{ModelChoice, ModelKind};
 use anyhow::{bail, Context};
 use clap::Args;

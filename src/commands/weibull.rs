@@ -1,11 +1,10 @@
 //! `actuator-cam weibull failures.csv`: maximum-likelihood Weibull fit and survival thresholds.
 
-use crate::input::limits::FAILURE_VALUE;
-use crate::input::InputError;
+use actuator_cam::input::failures::read_column;
 use actuator_model::Weibull;
 use anyhow::{anyhow, bail};
 use clap::Args;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `weibull`.
 #[derive(Debug, Args)]
@@ -18,64 +17,6 @@ pub struct WeibullArgs {
     /// Survival rates to give thresholds for.
     #[arg(long, value_delimiter = ',', default_value = "0.9,0.75,0.5")]
     pub survival: Vec<f64>,
-}
-
-/// Read one numeric column of failure values; errors name the file, the line and the column.
-pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64>), InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader
-        .headers()
-        .map_err(|e| InputError::whole_file(path, format!("not valid CSV in the header: {e}")))?
-        .clone();
-    crate::input::refuse_repeated_columns(path, &headers)?;
-    let index = match column {
-        Some(name) => headers.iter().position(|h| h == name).ok_or_else(|| {
-            InputError::invalid(
-                path,
-                "header",
-                headers.iter().collect::<Vec<_>>().join(","),
-                format!("no column {name:?} (from --column)"),
-            )
-        })?,
-        None => 0,
-    };
-    let name = headers.get(index).unwrap_or("value").to_string();
-    let mut values = Vec::new();
-    for record in reader.records() {
-        let record =
-            record.map_err(|e| InputError::whole_file(path, format!("not valid CSV: {e}")))?;
-        let line = record.position().map(|p| p.line()).unwrap_or(0);
-        let cell = record.get(index).unwrap_or("");
-        if cell.is_empty() {
-            continue;
-        }
-        match cell.parse::<f64>() {
-            Ok(x) if FAILURE_VALUE.contains(x) => values.push(x),
-            Ok(_) => {
-                return Err(InputError::cell(
-                    path,
-                    line,
-                    &name,
-                    cell,
-                    format!("a failure value must be positive: outside the {FAILURE_VALUE}"),
-                ))
-            }
-            Err(_) => {
-                return Err(InputError::cell(
-                    path,
-                    line,
-                    &name,
-                    format!("{cell:?}"),
-                    format!("expected a number, {FAILURE_VALUE}"),
-                ))
-            }
-        }
-    }
-    Ok((name, values))
 }
 
 /// Run `weibull`.

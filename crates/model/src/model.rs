@@ -275,6 +275,35 @@ mod tests {
     use crate::primitives::tests::with;
     use crate::primitives::{Map, Primitive, Property, Target};
 
+    #[test]
+    fn null_effects_reproduce_the_original_model() {
+        let pzt = crate::material::Material::builtin("PZT-5H").unwrap();
+        let cf = crate::material::Material::builtin("CF-thesis").unwrap();
+        let layup = [0.0, 90.0, 0.0];
+        let a = Actuator {
+            pzt: &pzt,
+            pzt_thickness: 191e-6,
+            ply: &cf,
+            ply_thickness: 61.8e-6,
+            layup_deg: &layup,
+            planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
+            drive: Drive {
+                mode: crate::drive::DriveMode::Parallel,
+                field: 600e3,
+            },
+        };
+        let lam = Laminate::bimorph(&pzt, 191e-6, &cf, 61.8e-6, &layup, None).unwrap();
+        let orig = predict(ModelKind::Original, &lam, &a.planform, a.drive).unwrap();
+        let p = Effects::null().predict(&a).unwrap();
+        for (x, y) in [
+            (p.free_deflection, orig.free_deflection),
+            (p.blocked_force, orig.blocked_force),
+            (p.mass, orig.mass),
+        ] {
+            assert!(((x - y) / y).abs() < 1e-12, "{x} vs {y}");
+        }
+    }
+
     fn declared(name: &str, value: f64, null: f64, links: &[(Primitive, Map)]) -> DeclaredEffect {
         DeclaredEffect {
             name: name.into(),

@@ -1,5 +1,7 @@
-//! Reading user files, one layer for every file kind (design, process template, batch, optimize spec,
-//! sweep factors, measured-data CSV, failure CSV, declared effects).
+//! Reading user files: the one checked reader, error type and range table that the parser of every file
+//! kind uses (design, process template, batch, optimize spec, sweep factors, measured-data CSV, failure CSV,
+//! declared effects). Each parser lives beside the domain type it produces, so this layer names no domain
+//! module and every domain module may use it.
 //!
 //! Each kind is read in two steps. The raw representation is the parsed file itself (a TOML table, or a
 //! CSV record with its header); one validating conversion per kind (`Design::from_table`,
@@ -11,8 +13,8 @@
 //! can reach the user. Every problem is one [`InputError`], printed on one line.
 
 mod columns;
-pub mod effects;
 mod error;
+pub mod failures;
 pub mod finite;
 pub mod library;
 pub mod limits;

@@ -98,9 +98,6 @@ pub struct Selection {
     pub separating_designs: Vec<SeparatingDesign>,
     /// Remarks for the report.
     pub notes: Vec<String>,
-    /// What the residual looks like and what could cause it, when not explained (filled by
-    /// [`crate::calibrate::calibrate`] on the data of the final fit).
-    pub discovery: Option<crate::calibrate::discover::Discovery>,
 }
 
 /// Run the whole selection.
@@ -364,7 +361,6 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         outliers,
         separating_designs,
         notes,
-        discovery: None,
     })
 }
 

@@ -27,8 +27,8 @@
 //! Values are in the primitives' SI units (a length in m, a compliance in rad/(N·m)). Every refusal is
 //! one [`InputError`] naming the file, the field, the value and what is allowed.
 
-use super::{InputError, Range, TableReader};
-use crate::calibrate::library::{DeclaredParameter, DeclaredSpec, EffectId};
+use super::library::{DeclaredParameter, DeclaredSpec, EffectId};
+use crate::input::{InputError, Range, TableReader};
 use actuator_model::effects::EFFECT_NAMES;
 use actuator_model::primitives::{Link, Map, Primitive, Property, Target};
 use std::path::Path;
@@ -103,7 +103,7 @@ fn one_of<T: Copy>(
 
 /// Read and validate an effects file.
 pub fn read_path(path: &Path) -> Result<Vec<DeclaredSpec>, InputError> {
-    parse(path, &super::read_toml(path)?)
+    parse(path, &crate::input::read_toml(path)?)
 }
 
 /// Validate a parsed effects file (named `file` in errors).

@@ -9,6 +9,7 @@ pub mod baseline;
 pub mod broken;
 pub mod csv;
 pub mod discover;
+pub mod effects_file;
 pub mod fit;
 pub mod library;
 pub mod model_file;
@@ -34,6 +35,9 @@ use library::{effect_names, EffectId};
 pub struct Calibration {
     /// The selection and its verdict.
     pub selection: Selection,
+    /// What the residual looks like and what could cause it, when the selection's verdict is not
+    /// explained (found on the data of the final fit).
+    pub discovery: Option<discover::Discovery>,
     /// The calibrated model as written to the TOML file.
     pub model: CalibratedModel,
     /// Original model.
@@ -95,7 +99,7 @@ pub enum CalibrateError {
 /// model, and if any are found select again without them (docs/calibration.md §3, "Broken actuators").
 pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, CalibrateError> {
     let first = select::select(data, settings)?;
-    let (mut selection, broken, kept) = screen_broken(data, settings, first)?;
+    let (selection, broken, kept) = screen_broken(data, settings, first)?;
     let fitted_subset;
     let fitted = match &kept {
         Some(keep) => {
@@ -104,9 +108,10 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         }
         None => data,
     };
-    if matches!(selection.verdict, Verdict::NotExplained { .. }) {
-        selection.discovery = Some(discover::discover(fitted, &selection, settings)?);
-    }
+    let discovery = match selection.verdict {
+        Verdict::NotExplained { .. } => Some(discover::discover(fitted, &selection, settings)?),
+        _ => None,
+    };
     let model = calibrated_model(&selection);
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
@@ -138,6 +143,7 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         correlations_before: residual_correlations(fitted, &fit_before),
         correlations_after: residual_correlations(fitted, &fit_after),
         selection,
+        discovery,
         model,
         predictions_before,
         predictions_after,

@@ -4,9 +4,9 @@
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::cutsheet::{Feature, FeatureMap};
 use crate::layout::SheetLayout;
 use crate::process::template::SheetSpec;
+use crate::process::{Feature, FeatureMap};
 use cam_geometry::signed_area;
 
 /// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets: the score

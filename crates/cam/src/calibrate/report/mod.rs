@@ -43,7 +43,7 @@ pub fn summary(cal: &Calibration) -> String {
         ],
         LibraryOnlyErrors::new(cal).as_ref(),
     );
-    if let Some(d) = &s.discovery {
+    if let Some(d) = &cal.discovery {
         out.push_str(&markdown::discovery_line(d));
     }
     out

@@ -243,7 +243,7 @@ fn part_orders(
     t: &TableReader<'_>,
     base: &Path,
     items: &[BatchItem],
-    template: &crate::cutsheet::Template,
+    template: &crate::process::Template,
 ) -> Result<Vec<PartOrder>, InputError> {
     let path = t.file();
     let file = t.string("file", "a DXF or SVG drawing, relative to the batch file")?;

@@ -1,7 +1,7 @@
 //! The candidate effects as the fit sees them: named parameters in report units, their bounds, null values
 //! and starting points, and how each sets the SI [`EffectModel`] of the model crate. The library's seven
 //! are built in; a lab adds its own compositions of primitives (`calibrate --effects FILE`,
-//! [`DeclaredSpec`], read by `crate::input::effects`), which the selection treats as it treats the seven.
+//! [`DeclaredSpec`], read by `crate::calibrate::effects_file`), which the selection treats as it treats the seven.
 
 use actuator_model::primitives::{Applied, Link};
 use actuator_model::{DeclaredEffect, EffectModel};

@@ -4,7 +4,6 @@
 pub mod batch;
 pub mod calibrate;
 pub mod cam;
-pub mod commands;
 pub mod cutsheet;
 pub mod design;
 pub mod input;

@@ -277,7 +277,7 @@ impl<'a> Report<'a> {
             broken_actuators: &cal.broken,
             separating_designs: &s.separating_designs,
             notes: &s.notes,
-            discovery: s.discovery.as_ref(),
+            discovery: cal.discovery.as_ref(),
             data: DataSummary {
                 source,
                 actuators: data.actuators(),

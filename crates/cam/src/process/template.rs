@@ -161,8 +161,8 @@ pub struct Template {
     pub pzt_edge_margin_mm: f64,
 }
 
-const METHOD_1: &str = include_str!("../../templates/method-1.toml");
-const METHOD_2: &str = include_str!("../../templates/method-2.toml");
+const METHOD_1: &str = include_str!("../../../../templates/method-1.toml");
+const METHOD_2: &str = include_str!("../../../../templates/method-2.toml");
 
 /// The sheet fields of a cut layer (`material`, `sheet_width_mm`, `sheet_height_mm`, `kerf_mm`, optional
 /// `spacing_mm`, `edge_margin_mm`, `stock`, `price_per_sheet`); the caller checks for unknown keys.

@@ -6,10 +6,10 @@ use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetReco
 use super::label::Label;
 use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::cutsheet::{Feature, FeatureMap};
 use crate::layout::SheetLayout;
 use crate::parts::PartOrder;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
+use crate::process::{Feature, FeatureMap};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
