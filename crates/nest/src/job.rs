@@ -199,6 +199,7 @@ impl Job {
                         }
                     })
                     .collect(),
+                score_lines: Vec::new(),
             })
             .collect();
         Ok(NestSolution { bins })

@@ -9,21 +9,26 @@
 //!   length minimised ([`StripLayout`]).
 //! * [`nest_bounding_boxes`] is the baseline it is measured against: bounding boxes packed by
 //!   MaxRects.
+//! * [`nest_shelves`] is the shelf packer: rows of parts slid together, fast and deterministic, for a
+//!   single design's few parts (`cut-sheet`).
 //! * [`verify()`] checks any layout, from these nesters or from elsewhere, with plain `geo`
 //!   geometry: inside the sheet with the separation to every edge, the separation between parts,
 //!   allowed rotations, outlines equal to the item moved as stated, every copy placed once.
-//!   [`verify_sheet`] checks one sheet's parts with its own [`Clearance`] (the gap to the edge
-//!   may differ from the gap between parts), for layouts made by other packers, e.g. a shelf
-//!   packer of scored plates. Both rest on [`clearance()`], the one clearance check of placed
-//!   rings (inside the sheet, gap to the edge, gap and overlap between parts), which the app's
-//!   layout verifier uses as well.
+//!   Its parts are public for layouts made by other packers (the app's scored PZT plates, whose
+//!   gap to the edge differs from the gap between plates): [`verify_sheet`] checks one sheet with
+//!   its own [`Clearance`], [`verify_outlines`] the outlines and rotations alone, [`verify_copies`]
+//!   and [`verify_stock`] the bookkeeping over all sheets. All rest on [`clearance()`], the one
+//!   clearance check of placed rings (inside the sheet, gap to the edge, gap and overlap between
+//!   parts). This is the one verifier of every layout the app makes.
 //!
 //! The vocabulary: an item ([`NestItem`]) is an outline with a demand and the rotations it may be
 //! cut at; a sheet ([`NestBin`]) is `[0, width_mm] x [0, height_mm]` with a stock count; a layout
 //! ([`NestSolution`]) is a list of sheets ([`NestedBin`]) of placed parts ([`PlacedPart`]: item,
-//! copy, rotation, translation and the placed outline). Units are millimetres, y up; points and
-//! rotations are those of [`cam_geometry`]. Both nesters stop on an iteration budget, never on
-//! time, so the same input and seed give the same layout on any machine.
+//! copy, rotation, translation and the placed outline), with the score lines of a scored sheet in
+//! snap order. The app's CAM pipeline uses this vocabulary for every layout it draws. Units are
+//! millimetres, y up; points and rotations are those of [`cam_geometry`]. The nesters stop on an
+//! iteration budget, never on time, so the same input and seed give the same layout on any
+//! machine.
 //!
 //! ```
 //! use cam_nest::{nest, verify, NestBin, NestItem, NestSettings};
@@ -61,6 +66,7 @@ mod overlap;
 mod placement;
 mod problem;
 mod progress;
+mod shelf;
 mod strip;
 mod verify;
 
@@ -76,5 +82,8 @@ pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
 pub use progress::NestProgress;
+pub use shelf::nest_shelves;
 pub use strip::{nest_strip, StripLayout};
-pub use verify::{verify, verify_sheet, NestViolation};
+pub use verify::{
+    verify, verify_copies, verify_outlines, verify_sheet, verify_stock, NestViolation,
+};

@@ -18,7 +18,7 @@
 //!   the density of strip packing (fixed width, length minimised), the usual benchmark of
 //!   irregular nesting; it is the measure to compare nesters with.
 
-use cam_geometry::{area, Point};
+use cam_geometry::{area, normalize_deg, rotate, Bounds, Point};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -85,7 +85,37 @@ pub struct PlacedPart {
     pub outline: Vec<Point>,
 }
 
-/// One sheet of the solution: the parts cut from it.
+impl PlacedPart {
+    /// Copy `copy` of item `item`: the item's `outline` turned by `rotation_deg` about its own origin and
+    /// moved so that its bounding box starts at `bbox_min` (how shelf and row packers place a part). The
+    /// rotation is kept in [0, 360).
+    #[must_use]
+    pub fn at(
+        item: usize,
+        copy: usize,
+        outline: &[Point],
+        rotation_deg: f64,
+        bbox_min: Point,
+    ) -> Self {
+        let rotated: Vec<Point> = outline.iter().map(|p| rotate(*p, rotation_deg)).collect();
+        let lo = Bounds::of(&rotated).min;
+        let translation = [bbox_min[0] - lo[0], bbox_min[1] - lo[1]];
+        let outline = rotated
+            .iter()
+            .map(|p| [p[0] + translation[0], p[1] + translation[1]])
+            .collect();
+        PlacedPart {
+            item,
+            copy,
+            rotation_deg: normalize_deg(rotation_deg),
+            translation,
+            outline,
+        }
+    }
+}
+
+/// One sheet of the solution: the parts cut from it, and for a scored (guillotine) layout the score
+/// lines that free them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NestedBin {
     /// Position of the sheet in the solution (0-based), fullest sheet first.
@@ -93,6 +123,10 @@ pub struct NestedBin {
     pub parts: Vec<PlacedPart>,
     /// Part area / sheet area.
     pub utilization: f64,
+    /// Score lines (open segments) in snap order: every line ends on the sheet edge or on an
+    /// earlier line. Empty for cut-through parts, which the laser frees itself.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub score_lines: Vec<[Point; 2]>,
 }
 
 /// A finished nest: the sheets used, fullest first.

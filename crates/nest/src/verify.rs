@@ -8,7 +8,7 @@ use thiserror::Error;
 
 use crate::clearance::{clearance as check_clearance, Clearance, ClearanceViolation};
 use crate::job::clean_ring;
-use crate::problem::{NestBin, NestItem, NestSettings, NestSolution, PlacedPart};
+use crate::problem::{NestBin, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart};
 
 /// A placement that breaks a rule, found by [`verify`].
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -61,9 +61,9 @@ pub enum NestViolation {
 }
 
 /// Checks a solution against the rules without trusting the nester (plain `geo` geometry, no
-/// jagua-rs): stock respected, every sheet as [`verify_sheet`] checks it with the separation of
-/// `settings` between parts and to the edge, every demanded copy placed exactly once.
-/// `tolerance_mm` absorbs rounding in the check itself (1e-9 is plenty).
+/// jagua-rs): stock respected ([`verify_stock`]), every sheet as [`verify_sheet`] checks it with the
+/// separation of `settings` between parts and to the edge, every demanded copy placed exactly once
+/// ([`verify_copies`]). `tolerance_mm` absorbs rounding in the check itself (1e-9 is plenty).
 pub fn verify(
     items: &[NestItem],
     bin: &NestBin,
@@ -71,25 +71,37 @@ pub fn verify(
     solution: &NestSolution,
     tolerance_mm: f64,
 ) -> Result<(), NestViolation> {
-    if solution.bins.len() > bin.stock {
+    verify_stock(&solution.bins, bin.stock)?;
+    let clearance = Clearance::uniform(settings.separation_mm);
+    for (b, sheet) in solution.bins.iter().enumerate() {
+        verify_sheet(items, bin, clearance, b, &sheet.parts, tolerance_mm)?;
+    }
+    verify_copies(items, &solution.bins)
+}
+
+/// Checks that `sheets` use at most `stock` sheets.
+pub fn verify_stock(sheets: &[NestedBin], stock: usize) -> Result<(), NestViolation> {
+    if sheets.len() > stock {
         return Err(NestViolation::StockExceeded {
-            used: solution.bins.len(),
-            stock: bin.stock,
+            used: sheets.len(),
+            stock,
         });
     }
-    let clearance = Clearance::uniform(settings.separation_mm);
+    Ok(())
+}
+
+/// Checks that over all `sheets` every item's copies `0..demand` are each placed exactly once, and
+/// that no part names an item or copy that was not demanded.
+pub fn verify_copies(items: &[NestItem], sheets: &[NestedBin]) -> Result<(), NestViolation> {
     let mut counts: Vec<Vec<usize>> = items.iter().map(|i| vec![0; i.demand]).collect();
-    for (b, sheet) in solution.bins.iter().enumerate() {
-        for part in &sheet.parts {
-            let Some(slot) = counts.get_mut(part.item).and_then(|c| c.get_mut(part.copy)) else {
-                return Err(NestViolation::UnknownCopy {
-                    item: part.item,
-                    copy: part.copy,
-                });
-            };
-            *slot += 1;
-        }
-        verify_sheet(items, bin, clearance, b, &sheet.parts, tolerance_mm)?;
+    for part in sheets.iter().flat_map(|s| &s.parts) {
+        let Some(slot) = counts.get_mut(part.item).and_then(|c| c.get_mut(part.copy)) else {
+            return Err(NestViolation::UnknownCopy {
+                item: part.item,
+                copy: part.copy,
+            });
+        };
+        *slot += 1;
     }
     for (item, copies) in counts.iter().enumerate() {
         if let Some((copy, &count)) = copies.iter().enumerate().find(|(_, &c)| c != 1) {
@@ -99,16 +111,17 @@ pub fn verify(
     Ok(())
 }
 
-/// Checks the parts of one sheet (number `sheet_index` in the violations) of size `bin`, however
-/// they were laid out: every outline equal to its item's outline ([`clean_ring`]) turned by
-/// `rotation_deg` and moved by `translation`, every rotation one of the item's, every part at
-/// least `clearance.to_edge_mm` inside the sheet edge and `clearance.between_parts_mm` from every
-/// other part (so no two overlap), as [`clearance()`](crate::clearance()) checks it; the first
-/// violation found is returned. Copies are not counted: that needs all sheets ([`verify`]).
-pub fn verify_sheet(
+/// Rotations closer than this (degrees, modulo 360) are the same rotation: a packer may report
+/// an allowed -90° as 270°.
+const ANGLE_TOL_DEG: f64 = 1e-9;
+
+/// Checks that every part of one sheet (number `sheet_index` in the violations) is its item's
+/// outline ([`clean_ring`]) turned by `rotation_deg` and moved by `translation`, vertex for vertex
+/// within `tolerance_mm`, at one of the item's rotations. This is what makes the rotation check
+/// meaningful, and what lets a layout carry another ring of each part (a cut path) than the one it
+/// was packed by.
+pub fn verify_outlines(
     items: &[NestItem],
-    bin: &NestBin,
-    clearance: Clearance,
     sheet_index: usize,
     parts: &[PlacedPart],
     tolerance_mm: f64,
@@ -121,7 +134,12 @@ pub fn verify_sheet(
                 copy: part.copy,
             });
         };
-        if !item.rotations_deg.contains(&part.rotation_deg) {
+        let turn = |a: f64| (part.rotation_deg - a).rem_euclid(360.0);
+        if !item
+            .rotations_deg
+            .iter()
+            .any(|&a| turn(a) < ANGLE_TOL_DEG || turn(a) > 360.0 - ANGLE_TOL_DEG)
+        {
             return Err(NestViolation::RotationNotAllowed {
                 bin: b,
                 part: k,
@@ -142,13 +160,30 @@ pub fn verify_sheet(
             return Err(NestViolation::OutlineMismatch { bin: b, part: k });
         }
     }
+    Ok(())
+}
+
+/// Checks the parts of one sheet (number `sheet_index` in the violations) of size `bin`, however
+/// they were laid out: the outlines and rotations as [`verify_outlines`] checks them, every part at
+/// least `clearance.to_edge_mm` inside the sheet edge and `clearance.between_parts_mm` from every
+/// other part (so no two overlap), as [`clearance()`](crate::clearance()) checks it; the first
+/// violation found is returned. Copies are not counted: that needs all sheets ([`verify_copies`]).
+pub fn verify_sheet(
+    items: &[NestItem],
+    bin: &NestBin,
+    clearance: Clearance,
+    sheet_index: usize,
+    parts: &[PlacedPart],
+    tolerance_mm: f64,
+) -> Result<(), NestViolation> {
+    verify_outlines(items, sheet_index, parts, tolerance_mm)?;
     let rings: Vec<&[Point]> = parts.iter().map(|p| p.outline.as_slice()).collect();
     let first = check_clearance(&rings, bin.width_mm, bin.height_mm, clearance, tolerance_mm)
         .into_iter()
         .next();
     match first {
         None => Ok(()),
-        Some(violation) => Err(NestViolation::on_sheet(b, violation)),
+        Some(violation) => Err(NestViolation::on_sheet(sheet_index, violation)),
     }
 }
 
@@ -192,7 +227,6 @@ impl NestViolation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::problem::NestedBin;
 
     use crate::test_support::{square, squares_job};
 
@@ -215,6 +249,7 @@ mod tests {
                 index: 0,
                 parts: vec![part(0, 1.0), part(1, 11.4)],
                 utilization: 0.02,
+                score_lines: Vec::new(),
             }],
         };
         assert!(matches!(
@@ -261,5 +296,99 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    /// A 10 mm square of item 0 placed at (x, y) turned by `rotation_deg` about its corner.
+    fn placed(copy: usize, x: f64, y: f64, rotation_deg: f64) -> PlacedPart {
+        PlacedPart {
+            item: 0,
+            copy,
+            rotation_deg,
+            translation: [x, y],
+            outline: place_ring(&square(10.0), rotation_deg, [x, y]),
+        }
+    }
+
+    fn one_sheet(parts: Vec<PlacedPart>) -> NestSolution {
+        NestSolution {
+            bins: vec![NestedBin {
+                index: 0,
+                parts,
+                utilization: 0.0,
+                score_lines: Vec::new(),
+            }],
+        }
+    }
+
+    #[test]
+    fn overlap_and_parts_outside_the_sheet_are_caught() {
+        let (items, bin) = squares_job(2, 1);
+        let settings = NestSettings::default();
+        let overlapping = one_sheet(vec![placed(0, 2.0, 2.0, 0.0), placed(1, 7.0, 4.0, 0.0)]);
+        let found = verify(&items, &bin, &settings, &overlapping, 1e-9);
+        assert!(
+            matches!(found, Err(NestViolation::Overlap { area_mm2, .. }) if (area_mm2 - 40.0).abs() < 1e-9),
+            "{found:?}"
+        );
+        let outside = one_sheet(vec![placed(0, 95.0, 2.0, 0.0), placed(1, 2.0, 2.0, 0.0)]);
+        assert!(matches!(
+            verify(&items, &bin, &settings, &outside, 1e-9),
+            Err(NestViolation::OutsideSheet { part: 0, .. })
+        ));
+    }
+
+    #[test]
+    fn rotations_are_compared_modulo_a_turn() {
+        let (mut items, bin) = squares_job(1, 1);
+        let settings = NestSettings::default();
+        // A quarter turn about the corner puts the square left of x = 12.
+        let turned = one_sheet(vec![placed(0, 12.0, 2.0, 90.0)]);
+        assert!(matches!(
+            verify(&items, &bin, &settings, &turned, 1e-9),
+            Err(NestViolation::RotationNotAllowed { rotation_deg, .. }) if rotation_deg == 90.0
+        ));
+        // Allowed as -270°, the same rotation passes; 360° is 0°.
+        items[0].rotations_deg = vec![0.0, -270.0];
+        assert_eq!(verify(&items, &bin, &settings, &turned, 1e-9), Ok(()));
+        let full_turn = one_sheet(vec![placed(0, 2.0, 2.0, 360.0)]);
+        assert_eq!(verify(&items, &bin, &settings, &full_turn, 1e-9), Ok(()));
+    }
+
+    #[test]
+    fn an_outline_must_be_its_item_moved_as_stated() {
+        let (items, _) = squares_job(1, 1);
+        let mut part = placed(0, 2.0, 2.0, 0.0);
+        assert_eq!(verify_outlines(&items, 0, &[part.clone()], 1e-9), Ok(()));
+        part.translation = [2.0, 2.5];
+        assert_eq!(
+            verify_outlines(&items, 0, &[part], 1e-9),
+            Err(NestViolation::OutlineMismatch { bin: 0, part: 0 })
+        );
+    }
+
+    #[test]
+    fn every_copy_once_and_the_stock_kept() {
+        let (items, _) = squares_job(2, 1);
+        let sheet = one_sheet(vec![placed(0, 2.0, 2.0, 0.0), placed(1, 20.0, 2.0, 0.0)]);
+        assert_eq!(verify_copies(&items, &sheet.bins), Ok(()));
+        let (three, _) = squares_job(3, 1);
+        assert_eq!(
+            verify_copies(&three, &sheet.bins),
+            Err(NestViolation::CopyCount {
+                item: 0,
+                copy: 2,
+                count: 0
+            })
+        );
+        let twice = [sheet.bins[0].clone(), sheet.bins[0].clone()];
+        assert!(matches!(
+            verify_copies(&items, &twice),
+            Err(NestViolation::CopyCount { count: 2, .. })
+        ));
+        assert_eq!(verify_stock(&twice, 2), Ok(()));
+        assert_eq!(
+            verify_stock(&twice, 1),
+            Err(NestViolation::StockExceeded { used: 2, stock: 1 })
+        );
     }
 }

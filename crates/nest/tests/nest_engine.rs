@@ -174,11 +174,13 @@ fn used_length_counts_full_sheets_and_the_lowest_top() {
                 index: 0,
                 parts: vec![bar(100.0, 0)],
                 utilization: 1000.0 / 15000.0,
+                score_lines: Vec::new(),
             },
             NestedBin {
                 index: 1,
                 parts: vec![bar(20.0, 1)],
                 utilization: 200.0 / 15000.0,
+                score_lines: Vec::new(),
             },
         ],
     };

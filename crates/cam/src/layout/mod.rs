@@ -1,21 +1,21 @@
-//! Sheet layout: placing parts on material sheets, and an independent verifier.
+//! Scored PZT layouts and their snap checks: what only a sheet of snapped ceramic needs.
 //!
-//! - [`plates`]: snappable (guillotine) layouts of PZT trapezoid plates, scored and snapped.
-//! - [`shelf`]: a simple shelf layout for cut-through parts (carbon fibre, Pyralux).
-//! - [`verify`]: checks any layout with `geo` predicates, independent of the layout arithmetic.
+//! - [`plates`]: snappable (guillotine) layouts of PZT trapezoid plates, with score lines in snap order.
+//! - [`verify`]: the snap checks (score lines that can be snapped in order, free every plate and leave no
+//!   offcut too narrow to snap), replayed on the sheet with `geo`, independent of the planner.
+//!
+//! Layouts are in the nester's vocabulary: a sheet is a [`cam_nest::NestBin`], a laid-out sheet a
+//! [`cam_nest::NestedBin`] (its score lines included), a part a [`cam_nest::PlacedPart`]. Cut-through
+//! parts are packed by `cam_nest` (the shelf packer or the irregular nester), and every layout, scored or
+//! not, passes `cam_nest`'s verifier for copies, stock, outlines, rotations and clearance.
 //!
 //! Coordinates are in mm, y up; a sheet spans (0, 0) to (width, height). Rings are closed
 //! polygons without a repeated closing point, counter-clockwise.
 
-pub mod placement;
+mod error;
 pub mod plates;
-pub mod shelf;
 pub mod verify;
 
-pub use placement::{LayoutError, Placement, Sheet, SheetLayout};
+pub use error::LayoutError;
 pub use plates::{layout_plates, plate_outline, PlateSpec};
-pub use shelf::{layout_parts, PartSpec};
-pub use verify::{
-    verify_break_order, verify_copies, verify_offcuts, verify_outlines, verify_sheet,
-    verify_sheet_edges, verify_snappable, verify_stock, PartRef, Violation,
-};
+pub use verify::{verify_break_order, verify_offcuts, verify_snappable, PartRef, Violation};

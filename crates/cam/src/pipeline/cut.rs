@@ -6,7 +6,6 @@ use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetReco
 use super::label::Label;
 use super::BuildError;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::layout::SheetLayout;
 use crate::parts::PartOrder;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
 use crate::process::{Feature, FeatureMap};
@@ -14,6 +13,7 @@ use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
 use cam_geometry::{place_point, place_ring};
+use cam_nest::NestedBin;
 
 /// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
 pub const REGISTRATION_HOLE_MM: f64 = 0.5;
@@ -297,12 +297,7 @@ pub fn pyralux_layer(
 /// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is
 /// the item's cut path placed, its `copy` counts over the item's copies. Holes first, then labels, then
 /// the outer contours (cut order), each with the operation the layer's feature map gives it.
-pub fn draw_cut_sheets(
-    layer: &CutLayer,
-    layouts: &[SheetLayout],
-    names: &Names,
-    drawn: &mut Drawn,
-) {
+pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, drawn: &mut Drawn) {
     let spec = &layer.spec;
     let op = |feature| layer.features.op(feature);
     for layout in layouts {
@@ -312,37 +307,37 @@ pub fn draw_cut_sheets(
             spec.width_mm,
             spec.height_mm,
         );
-        for p in &layout.placements {
+        for p in &layout.parts {
             let item = &layer.items[p.item];
             for path in &item.cutout_paths {
                 d.add(
                     op(Feature::PartOutline),
-                    Shape::Polygon(place_ring(path, p.rotation_deg, p.offset)),
+                    Shape::Polygon(place_ring(path, p.rotation_deg, p.translation)),
                 );
             }
             for (centre, radius) in &item.holes {
                 d.add(
                     op(item.hole),
                     Shape::Circle {
-                        center: place_point(*centre, p.rotation_deg, p.offset),
+                        center: place_point(*centre, p.rotation_deg, p.translation),
                         radius: radius - spec.kerf_mm / 2.0,
                     },
                 );
             }
         }
-        for p in &layout.placements {
+        for p in &layout.parts {
             let item = &layer.items[p.item];
             if let Some(zone) = item.label.bonded_zone() {
                 d.add(
                     op(Feature::BondedZone),
-                    Shape::Polygon(place_ring(&zone, p.rotation_deg, p.offset)),
+                    Shape::Polygon(place_ring(&zone, p.rotation_deg, p.translation)),
                 );
             }
             if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {
                 for s in strokes {
                     d.add(
                         op(Feature::PartLabel),
-                        Shape::Polyline(place_ring(&s, p.rotation_deg, p.offset)),
+                        Shape::Polyline(place_ring(&s, p.rotation_deg, p.translation)),
                     );
                 }
             }
@@ -355,7 +350,7 @@ pub fn draw_cut_sheets(
             height_mm: spec.height_mm,
             parts: Vec::new(),
         };
-        for p in &layout.placements {
+        for p in &layout.parts {
             d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
             let item = &layer.items[p.item];
             record.parts.push(PartRecord {
@@ -367,7 +362,7 @@ pub fn draw_cut_sheets(
                     item.part.clone()
                 },
                 rotation_deg: p.rotation_deg,
-                offset: p.offset,
+                offset: p.translation,
                 area_mm2: item.area_mm2(),
             });
         }

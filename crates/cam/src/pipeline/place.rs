@@ -3,24 +3,24 @@
 //!
 //! PZT plates always get a snappable (guillotine) layout of score lines ([`place_plates`]). A
 //! cut-through layer is packed by the [`Packing`] strategy of the build ([`place_cut_layer`]): the
-//! fast shelf packer for one design, or the irregular nester for a batch. Whichever packs the layer,
-//! the same verifier checks the result: every copy placed once, within the stock, each placed outline
-//! its part turned and moved as stated, inside the sheet and apart from the others by the clearance
-//! the strategy promised.
+//! fast shelf packer for one design, or the irregular nester for a batch, both in `cam_nest`.
+//! Every layout is in `cam_nest`'s vocabulary, and whichever packs the layer, `cam_nest`'s verifier
+//! checks the result: every copy placed once, within the stock, each placed outline its part turned
+//! and moved as stated, inside the sheet and apart from the others by the clearance the strategy
+//! promised; scored sheets add the snap checks of [`crate::layout::verify`].
 
-use super::cut::CutLayer;
+use super::cut::{CutItem, CutLayer};
 use super::jobs::{format_violations, Job, Names};
 use super::BuildError;
 use crate::layout::{
-    layout_parts, layout_plates, verify_break_order, verify_copies, verify_offcuts,
-    verify_outlines, verify_sheet, verify_sheet_edges, verify_snappable, verify_stock, PartSpec,
-    Placement, PlateSpec, Sheet, SheetLayout, Violation,
+    layout_plates, verify_break_order, verify_offcuts, verify_snappable, PlateSpec,
 };
 use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
 use cam_nest::{
-    nest_bounding_boxes, nest_observed, nest_strip, NestBin, NestError, NestItem, NestProgress,
-    NestSettings, NestSolution,
+    nest_bounding_boxes, nest_observed, nest_shelves, nest_strip, verify_copies, verify_outlines,
+    verify_sheet, verify_stock, Clearance, NestBin, NestError, NestItem, NestProgress,
+    NestSettings, NestSolution, NestViolation, NestedBin, PlacedPart,
 };
 use serde::Serialize;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -130,19 +130,43 @@ impl BaselineRow {
 /// A cut layer placed and verified.
 #[derive(Debug, Clone)]
 pub(crate) struct PlacedLayer {
-    /// Sheet layouts of the cut paths: each placement's outline is its item's cut path placed.
-    pub layouts: Vec<SheetLayout>,
+    /// Sheet layouts of the cut paths: each part's outline is its item's cut path placed.
+    pub layouts: Vec<NestedBin>,
     /// The irregular nest against the bounding-box baseline ([`Packing::Irregular`] only).
     pub baseline: Option<BaselineRow>,
     /// On roll stock: the used length, mm (the one sheet is drawn this long).
     pub strip_length_mm: Option<f64>,
 }
 
-fn sheet_of(spec: &SheetSpec) -> Sheet {
-    Sheet {
+/// The template's sheet with `stock` sheets of it.
+fn sheet_of(spec: &SheetSpec, stock: usize) -> NestBin {
+    NestBin {
         width_mm: spec.width_mm,
         height_mm: spec.height_mm,
+        stock,
     }
+}
+
+/// Rounding the verifier absorbs, mm: a part may come this much closer than promised and still pass.
+const ROUNDING_MM: f64 = 1e-9;
+
+/// The clearance a packer promised, less the rounding the check absorbs.
+fn promised(mm: f64) -> f64 {
+    (mm - ROUNDING_MM).max(0.0)
+}
+
+/// The layer's parts as the nester's items: `ring` picks which ring of each part is packed or
+/// checked (its cut path, or its nominal outline).
+fn items_of(layer: &CutLayer, ring: fn(&CutItem) -> &Vec<Point>) -> Vec<NestItem> {
+    layer
+        .items
+        .iter()
+        .map(|i| NestItem {
+            outline: ring(i).clone(),
+            demand: i.count,
+            rotations_deg: i.rotations_deg.clone(),
+        })
+        .collect()
 }
 
 /// Lay out two plates per actuator of every job on `spec` sheets (at most `stock`) as a snappable
@@ -153,9 +177,8 @@ pub(crate) fn place_plates(
     spec: &SheetSpec,
     stock: Option<usize>,
     names: &Names,
-) -> Result<Vec<SheetLayout>, BuildError> {
-    let sheet = sheet_of(spec);
-    let items: Vec<PlateSpec> = jobs
+) -> Result<Vec<NestedBin>, BuildError> {
+    let plates: Vec<PlateSpec> = jobs
         .iter()
         .map(|j| PlateSpec {
             length_mm: j.geometry.plate_length_mm(),
@@ -164,43 +187,56 @@ pub(crate) fn place_plates(
             count: 2 * j.quantity,
         })
         .collect();
-    let counts: Vec<usize> = items.iter().map(|i| i.count).collect();
+    let copies: usize = plates.iter().map(|p| p.count).sum();
+    let sheet = sheet_of(spec, stock.unwrap_or(copies.max(1)));
     // The narrowest snappable strip scales with the plate thickness (docs/cam.md §4).
     let thickness_mm = jobs
         .iter()
         .map(|j| j.design.pzt_thickness * 1e3)
         .fold(0.0, f64::max);
     let min_strip_mm = spec.min_snap_strip_thicknesses * thickness_mm;
-    let layouts = layout_plates(
-        &items,
+    let layout = layout_plates(
+        &plates,
         &sheet,
         spec.kerf_mm,
         spec.edge_margin_mm,
         min_strip_mm,
-        stock,
     )
     .map_err(|e| names.error(format!("pzt layout: {e}")))?;
-    let fail = |v: Vec<Violation>| {
-        names.error(format!("pzt (verifier) layout: {}", format_violations(&v)))
+    let fail = |what: String| names.error(format!("pzt (verifier) layout: {what}"));
+    // PZT is in-plane isotropic: strips may run either way, so any quarter turn is allowed.
+    let items: Vec<NestItem> = jobs
+        .iter()
+        .zip(&plates)
+        .map(|(j, p)| NestItem {
+            outline: j.geometry.pzt_outline(),
+            demand: p.count,
+            rotations_deg: vec![0.0, 90.0, 180.0, 270.0],
+        })
+        .collect();
+    verify_stock(&layout.bins, sheet.stock).map_err(|v| fail(v.to_string()))?;
+    verify_copies(&items, &layout.bins).map_err(|v| fail(v.to_string()))?;
+    // Scored plates keep the kerf between each other but only the margin to the sheet edge.
+    let clearance = Clearance {
+        between_parts_mm: promised(spec.kerf_mm),
+        to_edge_mm: promised(spec.edge_margin_mm),
     };
-    verify_copies(&layouts, &counts).map_err(fail)?;
-    let nominal: Vec<_> = jobs.iter().map(|j| j.geometry.pzt_outline()).collect();
-    for layout in &layouts {
-        verify_snappable(layout, &sheet).map_err(fail)?;
-        verify_break_order(layout, &sheet).map_err(fail)?;
-        verify_offcuts(layout, &sheet, min_strip_mm).map_err(fail)?;
-        verify_outlines(layout, &|item| nominal[item].clone(), 1e-9).map_err(fail)?;
-        // PZT is in-plane isotropic: strips may run either way, so any quarter turn is allowed.
-        verify_sheet_edges(
-            layout,
+    for bin in &layout.bins {
+        verify_sheet(
+            &items,
             &sheet,
-            (spec.kerf_mm - 1e-9).max(0.0),
-            (spec.edge_margin_mm - 1e-9).max(0.0),
-            &|_| vec![0.0, 90.0, 180.0, 270.0],
+            clearance,
+            bin.index,
+            &bin.parts,
+            ROUNDING_MM,
         )
-        .map_err(fail)?;
+        .map_err(|v| fail(v.to_string()))?;
+        let snap = |v: Vec<crate::layout::Violation>| fail(format_violations(&v));
+        verify_snappable(bin, &sheet).map_err(snap)?;
+        verify_break_order(bin, &sheet).map_err(snap)?;
+        verify_offcuts(bin, &sheet, min_strip_mm).map_err(snap)?;
     }
-    Ok(layouts)
+    Ok(layout.bins)
 }
 
 /// Lay out a cut layer with the build's packing strategy and verify it.
@@ -320,13 +356,12 @@ pub(crate) fn place_cut_layers(
 }
 
 /// What a packing promised for one cut layer, for the verifier.
-struct Promise<'a> {
-    sheet: Sheet,
-    /// Copies of each item.
-    counts: Vec<usize>,
-    stock: Option<usize>,
-    /// The ring of each item the packer kept apart (cut path or nominal outline).
-    packed: &'a dyn Fn(usize) -> &'a [Point],
+struct Promise {
+    /// The sheet, with the stock the packer had to keep to.
+    sheet: NestBin,
+    /// The items as packed: the ring of each part the packer kept apart (cut path or nominal
+    /// outline), its copies and rotations.
+    packed: Vec<NestItem>,
     /// Clearance between those rings and to the sheet edge, mm.
     clearance_mm: f64,
 }
@@ -336,67 +371,56 @@ struct Promise<'a> {
 /// same way) inside the sheet, the clearance apart, in allowed rotations.
 fn verify_cut_layouts(
     layer: &CutLayer,
-    layouts: &[SheetLayout],
-    promise: &Promise<'_>,
-) -> Result<(), Vec<Violation>> {
-    verify_copies(layouts, &promise.counts)?;
-    if let Some(stock) = promise.stock {
-        verify_stock(layouts, stock)?;
-    }
+    layouts: &[NestedBin],
+    promise: &Promise,
+) -> Result<(), NestViolation> {
+    verify_stock(layouts, promise.sheet.stock)?;
+    verify_copies(&promise.packed, layouts)?;
+    let cut = items_of(layer, |i| &i.cut);
+    let clearance = Clearance::uniform(promised(promise.clearance_mm));
     for layout in layouts {
-        verify_outlines(layout, &|i| layer.items[i].cut.clone(), 1e-9)?;
-        let packed = SheetLayout {
-            sheet_index: layout.sheet_index,
-            placements: layout
-                .placements
-                .iter()
-                .map(|p| Placement {
-                    outline: place_ring((promise.packed)(p.item), p.rotation_deg, p.offset),
-                    ..p.clone()
-                })
-                .collect(),
-            score_lines: Vec::new(),
-        };
+        verify_outlines(&cut, layout.index, &layout.parts, ROUNDING_MM)?;
+        let packed: Vec<PlacedPart> = layout
+            .parts
+            .iter()
+            .map(|p| PlacedPart {
+                outline: place_ring(
+                    &promise.packed[p.item].outline,
+                    p.rotation_deg,
+                    p.translation,
+                ),
+                ..p.clone()
+            })
+            .collect();
         verify_sheet(
-            &packed,
+            &promise.packed,
             &promise.sheet,
-            (promise.clearance_mm - 1e-9).max(0.0),
-            &|i| layer.items[i].rotations_deg.clone(),
+            clearance,
+            layout.index,
+            &packed,
+            ROUNDING_MM,
         )?;
     }
     Ok(())
 }
 
 /// The shelf packer on the cut paths, the template's spacing between them and to the sheet edge.
-fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<SheetLayout>, BuildError> {
+fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<NestedBin>, BuildError> {
     let spec = &layer.spec;
-    let sheet = sheet_of(spec);
-    let items: Vec<PartSpec> = layer
-        .items
-        .iter()
-        .map(|i| PartSpec {
-            outline: i.cut.clone(),
-            count: i.count,
-            rotations_deg: i.rotations_deg.clone(),
-        })
-        .collect();
-    let layouts = layout_parts(&items, &sheet, spec.spacing_mm, None)
+    let items = items_of(layer, |i| &i.cut);
+    // Without a stock limit a sheet takes at least one part, so no layout needs more sheets.
+    let copies: usize = items.iter().map(|i| i.demand).sum();
+    let sheet = sheet_of(spec, copies.max(1));
+    let layout = nest_shelves(&items, &sheet, spec.spacing_mm)
         .map_err(|e| names.error(format!("{} layout: {e}", layer.layer)))?;
     let promise = Promise {
         sheet,
-        counts: items.iter().map(|i| i.count).collect(),
-        stock: None,
-        packed: &|i| &layer.items[i].cut,
+        packed: items,
         clearance_mm: spec.spacing_mm,
     };
-    verify_cut_layouts(layer, &layouts, &promise).map_err(|v| {
-        names.error(format!(
-            "{} (verifier) layout: {}",
-            layer.layer,
-            format_violations(&v)
-        ))
-    })?;
-    Ok(layouts)
+    verify_cut_layouts(layer, &layout.bins, &promise)
+        .map_err(|v| names.error(format!("{} (verifier) layout: {v}", layer.layer)))?;
+    Ok(layout.bins)
 }
 
 /// The irregular nester on the nominal outlines at each item's rotations (0° / 180° for actuator
@@ -422,15 +446,7 @@ fn irregular(
         )
     };
     let fail = |what: String| names.error(format!("{context}: {what}"));
-    let items: Vec<NestItem> = layer
-        .items
-        .iter()
-        .map(|i| NestItem {
-            outline: i.nominal.clone(),
-            demand: i.count,
-            rotations_deg: i.rotations_deg.clone(),
-        })
-        .collect();
+    let items = items_of(layer, |i| &i.nominal);
     let copies: usize = items.iter().map(|i| i.demand).sum();
     let settings = NestSettings {
         separation_mm: spec.kerf_mm + spec.spacing_mm,
@@ -487,26 +503,17 @@ fn irregular(
     };
     let layouts = cut_layouts(layer, &solution);
     let mut promise = Promise {
-        sheet: Sheet {
-            width_mm: bin.width_mm,
-            height_mm: bin.height_mm,
-        },
-        counts: items.iter().map(|i| i.demand).collect(),
-        stock: Some(bin.stock),
-        packed: &|i| &layer.items[i].nominal,
+        sheet: bin,
+        packed: items,
         clearance_mm: settings.separation_mm,
     };
     verify_cut_layouts(layer, &layouts, &promise)
-        .map_err(|v| fail(format!("nest verifier: {}", format_violations(&v))))?;
-    let boxes: NestSolution = nest_bounding_boxes(&items, &room, &settings)
+        .map_err(|v| fail(format!("nest verifier: {v}")))?;
+    let boxes: NestSolution = nest_bounding_boxes(&promise.packed, &room, &settings)
         .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
-    promise.stock = Some(room.stock);
-    promise.sheet = Sheet {
-        width_mm: room.width_mm,
-        height_mm: room.height_mm,
-    };
+    promise.sheet = room;
     verify_cut_layouts(layer, &cut_layouts(layer, &boxes), &promise)
-        .map_err(|v| fail(format!("baseline verifier: {}", format_violations(&v))))?;
+        .map_err(|v| fail(format!("baseline verifier: {v}")))?;
     let used = solution.used_length_utilization(&bin, settings.separation_mm);
     let boxes_used = boxes.used_length_utilization(&room, settings.separation_mm);
     let baseline = BaselineRow {
@@ -560,25 +567,20 @@ pub fn sheets_instead_of_roll(
 }
 
 /// The sheets of a nest as layouts of the layer's cut paths, each turned and moved as its part was.
-fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<SheetLayout> {
+fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<NestedBin> {
     solution
         .bins
         .iter()
-        .enumerate()
-        .map(|(index, b)| SheetLayout {
-            sheet_index: index,
-            placements: b
+        .map(|b| NestedBin {
+            parts: b
                 .parts
                 .iter()
-                .map(|p| Placement {
-                    item: p.item,
-                    copy: p.copy,
-                    rotation_deg: p.rotation_deg,
-                    offset: p.translation,
+                .map(|p| PlacedPart {
                     outline: place_ring(&layer.items[p.item].cut, p.rotation_deg, p.translation),
+                    ..p.clone()
                 })
                 .collect(),
-            score_lines: Vec::new(),
+            ..b.clone()
         })
         .collect()
 }

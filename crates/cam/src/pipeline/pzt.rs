@@ -4,10 +4,10 @@
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
 use crate::cam::drawing::{Drawing, Shape};
-use crate::layout::SheetLayout;
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
 use cam_geometry::signed_area;
+use cam_nest::NestedBin;
 
 /// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets: the score
 /// lines in break order and the sheet edge as an alignment reference, each feature with the operation
@@ -15,7 +15,7 @@ use cam_geometry::signed_area;
 pub(crate) fn draw_pzt_sheets(
     jobs: &[Job<'_>],
     spec: &SheetSpec,
-    layouts: &[SheetLayout],
+    layouts: &[NestedBin],
     names: &Names,
     features: &FeatureMap,
     drawn: &mut Drawn,
@@ -48,7 +48,7 @@ pub(crate) fn draw_pzt_sheets(
             height_mm: sheet.height_mm,
             parts: Vec::new(),
         };
-        for p in &layout.placements {
+        for p in &layout.parts {
             let job = &jobs[p.item];
             drawn.placement_map.push(format!(
                 "{} plate {}: PZT sheet {n}",
@@ -60,7 +60,7 @@ pub(crate) fn draw_pzt_sheets(
                 actuator: p.copy / 2,
                 part: format!("pzt-plate-{}", p.copy % 2 + 1),
                 rotation_deg: p.rotation_deg,
-                offset: p.offset,
+                offset: p.translation,
                 area_mm2: signed_area(&nominal[p.item]),
             });
         }

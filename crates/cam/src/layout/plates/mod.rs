@@ -26,8 +26,9 @@ mod planner;
 #[cfg(test)]
 mod tests;
 
-use super::placement::{check_length, place_at, LayoutError, Sheet, SheetLayout};
-use cam_geometry::Point;
+use super::error::{check_length, check_sheet, LayoutError};
+use cam_geometry::{area, Point};
+use cam_nest::{NestBin, NestSolution, NestedBin, PlacedPart};
 use planner::{Planner, Region, Shape, Side, SEARCH_BUDGET};
 use serde::{Deserialize, Serialize};
 
@@ -46,7 +47,7 @@ pub struct PlateSpec {
 
 /// The nominal plate ring: base centred on the x axis, tip at `y = length_mm`, CCW.
 ///
-/// A [`Placement`](super::Placement) of a plate is this ring rotated by `rotation_deg` and translated by `offset`.
+/// A [`PlacedPart`] of a plate is this ring rotated by `rotation_deg` and translated by `translation`.
 pub fn plate_outline(spec: &PlateSpec) -> Vec<Point> {
     let (b, t, l) = (spec.base_width_mm, spec.tip_width_mm, spec.length_mm);
     vec![[-b / 2.0, 0.0], [b / 2.0, 0.0], [t / 2.0, l], [-t / 2.0, l]]
@@ -61,17 +62,16 @@ pub fn plate_outline(spec: &PlateSpec) -> Vec<Point> {
 /// "Snappable strips"): the trim margin grows to half a kerf plus it, runs start and end so that
 /// their end offcuts are at least that wide, and no strip leaves a narrower rest; 0 allows any.
 /// Items are filled in order; leftovers of strips and of the sheet take later items when they fit.
-/// Errors when an item does not fit an empty sheet, or when more than `max_sheets` sheets are
+/// Errors when an item does not fit an empty sheet, or when more sheets than `sheet.stock` are
 /// needed (saying how many).
 pub fn layout_plates(
     items: &[PlateSpec],
-    sheet: &Sheet,
+    sheet: &NestBin,
     kerf_mm: f64,
     margin_mm: f64,
     min_strip_mm: f64,
-    max_sheets: Option<usize>,
-) -> Result<Vec<SheetLayout>, LayoutError> {
-    sheet.validate()?;
+) -> Result<NestSolution, LayoutError> {
+    check_sheet(sheet)?;
     check_length("kerf_mm", kerf_mm)?;
     check_length("margin_mm", margin_mm)?;
     check_length("min_strip_mm", min_strip_mm)?;
@@ -120,13 +120,13 @@ pub fn layout_plates(
         plan.lines.sort_by_key(|&(depth, _)| depth);
         // Every remaining item fits an empty sheet, so a sheet always takes at least one plate.
         assert!(!plan.plates.is_empty(), "empty sheet plan");
-        let placements = plan
+        let parts: Vec<PlacedPart> = plan
             .plates
             .iter()
             .map(|p| {
                 let copy = next_copy[p.item];
                 next_copy[p.item] += 1;
-                place_at(
+                PlacedPart::at(
                     p.item,
                     copy,
                     &shapes[p.item].nominal,
@@ -135,17 +135,19 @@ pub fn layout_plates(
                 )
             })
             .collect();
-        sheets.push(SheetLayout {
-            sheet_index: sheets.len(),
-            placements,
+        let part_area: f64 = parts.iter().map(|p| area(&p.outline)).sum();
+        sheets.push(NestedBin {
+            index: sheets.len(),
+            parts,
+            utilization: part_area / (sheet.width_mm * sheet.height_mm),
             score_lines: plan.lines.into_iter().map(|(_, l)| l).collect(),
         });
     }
-    match max_sheets {
-        Some(stock) if sheets.len() > stock => Err(LayoutError::TooManySheets {
+    if sheets.len() > sheet.stock {
+        return Err(LayoutError::TooManySheets {
             needed: sheets.len(),
-            stock,
-        }),
-        _ => Ok(sheets),
+            stock: sheet.stock,
+        });
     }
+    Ok(NestSolution { bins: sheets })
 }

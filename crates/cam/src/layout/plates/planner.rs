@@ -3,7 +3,7 @@
 //! strip and the rest of the region filled in turn, with the slanted score lines between neighbours.
 
 use super::{plate_outline, PlateSpec};
-use crate::layout::placement::LayoutError;
+use crate::layout::LayoutError;
 use cam_geometry::Point;
 
 /// Tolerance for comparing positions, mm.

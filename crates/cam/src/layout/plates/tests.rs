@@ -1,9 +1,7 @@
 use super::*;
-use crate::layout::verify::{
-    verify_break_order, verify_copies, verify_offcuts, verify_outlines, verify_sheet_edges,
-    verify_snappable, Violation,
-};
+use crate::layout::verify::{verify_break_order, verify_offcuts, verify_snappable, Violation};
 use cam_geometry::signed_area;
+use cam_nest::{verify_copies, verify_sheet, Clearance, NestItem};
 use proptest::prelude::*;
 
 fn plate(length_mm: f64, base_width_mm: f64, tip_width_mm: f64, count: usize) -> PlateSpec {
@@ -25,47 +23,71 @@ fn design_c(count: usize) -> PlateSpec {
     }
 }
 
-const PZT_SHEET: Sheet = Sheet {
+const PZT_SHEET: NestBin = NestBin {
     width_mm: 72.4,
     height_mm: 72.4,
+    stock: usize::MAX,
 };
+
+/// [`layout_plates`] on `sheet` with at most `stock` sheets (any number when `None`), as sheets.
+fn plates_on(
+    items: &[PlateSpec],
+    sheet: &NestBin,
+    kerf: f64,
+    margin: f64,
+    strip: f64,
+    stock: Option<usize>,
+) -> Result<Vec<NestedBin>, LayoutError> {
+    let sheet = NestBin {
+        stock: stock.unwrap_or(usize::MAX),
+        ..*sheet
+    };
+    layout_plates(items, &sheet, kerf, margin, strip).map(|s| s.bins)
+}
 
 /// Runs every verifier on a plate layout and checks the copies add up.
 fn check_layout(
     items: &[PlateSpec],
-    sheet: &Sheet,
+    sheet: &NestBin,
     kerf: f64,
     margin: f64,
-    sheets: &[SheetLayout],
+    sheets: &[NestedBin],
 ) {
-    let any_rotation = |_: usize| vec![0.0, 90.0, 180.0, 270.0];
-    let nominal = |i: usize| plate_outline(&items[i]);
+    let nested: Vec<NestItem> = items
+        .iter()
+        .map(|p| NestItem {
+            outline: plate_outline(p),
+            demand: p.count,
+            rotations_deg: vec![0.0, 90.0, 180.0, 270.0],
+        })
+        .collect();
+    let clearance = Clearance {
+        between_parts_mm: (kerf - 1e-9).max(0.0),
+        to_edge_mm: (margin - 1e-9).max(0.0),
+    };
     for layout in sheets {
         verify_snappable(layout, sheet)
-            .unwrap_or_else(|v| panic!("sheet {} not snappable: {v:?}", layout.sheet_index));
+            .unwrap_or_else(|v| panic!("sheet {} not snappable: {v:?}", layout.index));
         verify_break_order(layout, sheet)
-            .unwrap_or_else(|v| panic!("sheet {} break order: {v:?}", layout.sheet_index));
-        verify_sheet_edges(layout, sheet, kerf - 1e-9, margin - 1e-9, &any_rotation)
-            .unwrap_or_else(|v| panic!("sheet {} invalid: {v:?}", layout.sheet_index));
-        verify_outlines(layout, &nominal, 1e-9)
-            .unwrap_or_else(|v| panic!("sheet {} outlines: {v:?}", layout.sheet_index));
+            .unwrap_or_else(|v| panic!("sheet {} break order: {v:?}", layout.index));
+        verify_sheet(&nested, sheet, clearance, layout.index, &layout.parts, 1e-9)
+            .unwrap_or_else(|v| panic!("sheet {} invalid: {v}", layout.index));
     }
-    let counts: Vec<usize> = items.iter().map(|s| s.count).collect();
-    verify_copies(sheets, &counts).unwrap();
+    verify_copies(&nested, sheets).unwrap();
 }
 
 #[test]
 fn design_c_fills_a_pzt_sheet() {
     for (margin, expected) in [(0.5, 66), (0.0, 69)] {
         let items = [design_c(200)];
-        let sheets = layout_plates(&items, &PZT_SHEET, 0.03, margin, 0.0, None).unwrap();
+        let sheets = plates_on(&items, &PZT_SHEET, 0.03, margin, 0.0, None).unwrap();
         check_layout(&items, &PZT_SHEET, 0.03, margin, &sheets);
         let first = &sheets[0];
-        let count = first.placements.len();
+        let count = first.parts.len();
         assert!(count >= 66, "margin {margin}: {count} plates");
         assert_eq!(count, expected, "margin {margin}");
         let nominal_area = 3.0 * 42.2 / 1.833;
-        for p in &first.placements {
+        for p in &first.parts {
             assert!((signed_area(&p.outline) - nominal_area).abs() < 1e-9);
         }
         let fill = count as f64 * nominal_area / (72.4 * 72.4);
@@ -75,15 +97,15 @@ fn design_c_fills_a_pzt_sheet() {
 
 #[test]
 fn design_c_stock_limit() {
-    let ok = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
+    let ok = plates_on(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
     assert_eq!(ok.len(), 1);
-    let err = layout_plates(&[design_c(133)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(2)).unwrap_err();
+    let err = plates_on(&[design_c(133)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(2)).unwrap_err();
     assert_eq!(err.to_string(), "needs 3 sheets but the stock is 2");
 }
 
 #[test]
 fn design_c_score_lines_are_the_strip_pattern() {
-    let sheets = layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
+    let sheets = plates_on(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap();
     let lines = &sheets[0].score_lines;
     let horizontal = lines.iter().filter(|l| l[0][1] == l[1][1]).count();
     // Bottom trim, two strip boundaries, top trim first; then 23 slanted lines in each of
@@ -102,8 +124,7 @@ fn design_c_score_lines_are_the_strip_pattern() {
 
 #[test]
 fn verifier_catches_a_tampered_design_c_sheet() {
-    let layout = &layout_plates(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap()[0];
-    let any = |_: usize| vec![0.0, 90.0, 180.0, 270.0];
+    let layout = &plates_on(&[design_c(66)], &PZT_SHEET, 0.03, 0.5, 0.0, Some(1)).unwrap()[0];
     // Drop a slanted line between two neighbours: they now share a cell.
     let mut missing = layout.clone();
     let slanted = missing
@@ -116,12 +137,22 @@ fn verifier_catches_a_tampered_design_c_sheet() {
     assert!(matches!(&v[..], [Violation::SharedCell { .. }]), "{v:?}");
     // Push one plate 0.02 mm towards its neighbour: below the kerf, and across a score line.
     let mut pushed = layout.clone();
-    for p in &mut pushed.placements[1].outline {
+    for p in &mut pushed.parts[1].outline {
         p[0] -= 0.02;
     }
-    let v = verify_sheet_edges(&pushed, &PZT_SHEET, 0.03 - 1e-9, 0.5 - 1e-9, &any).unwrap_err();
+    pushed.parts[1].translation[0] -= 0.02;
+    let item = NestItem {
+        outline: plate_outline(&design_c(66)),
+        demand: 66,
+        rotations_deg: vec![0.0, 90.0, 180.0, 270.0],
+    };
+    let clearance = Clearance {
+        between_parts_mm: 0.03 - 1e-9,
+        to_edge_mm: 0.5 - 1e-9,
+    };
+    let v = verify_sheet(&[item], &PZT_SHEET, clearance, 0, &pushed.parts, 1e-9);
     assert!(
-        matches!(&v[..], [Violation::Gap { a, b, .. }] if a.index == 0 && b.index == 1),
+        matches!(v, Err(cam_nest::NestViolation::TooClose { a: 0, b: 1, .. })),
         "{v:?}"
     );
     let v = verify_snappable(&pushed, &PZT_SHEET).unwrap_err();
@@ -135,10 +166,10 @@ fn verifier_catches_a_tampered_design_c_sheet() {
 #[test]
 fn rectangular_plates() {
     let items = [plate(50.0, 10.0, 10.0, 20)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
+    let sheets = plates_on(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.03, 0.5, &sheets);
     // 7 upright in one 50 mm strip, 2 lying in the 21.4 mm left above it.
-    assert_eq!(sheets[0].placements.len(), 9);
+    assert_eq!(sheets[0].parts.len(), 9);
     assert_eq!(sheets.len(), 3);
     let lines = &sheets[0].score_lines;
     assert!(lines
@@ -149,20 +180,20 @@ fn rectangular_plates() {
 #[test]
 fn mixed_items_share_a_sheet() {
     let items = [design_c(40), plate(15.0, 4.0, 2.0, 30)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
+    let sheets = plates_on(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.03, 0.5, &sheets);
     assert_eq!(sheets.len(), 1, "40 C plates leave room for 30 small ones");
     // Same input, same output.
     assert_eq!(
         sheets,
-        layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap()
+        plates_on(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap()
     );
 }
 
 #[test]
 fn too_large_plate_is_reported() {
     let items = [plate(80.0, 10.0, 10.0, 1)];
-    let err = layout_plates(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap_err();
+    let err = plates_on(&items, &PZT_SHEET, 0.03, 0.5, 0.0, None).unwrap_err();
     assert!(matches!(err, LayoutError::TooLarge { item: 0, .. }));
     assert!(err
         .to_string()
@@ -174,11 +205,11 @@ fn invalid_input_is_reported() {
     let mut bad = design_c(1);
     bad.tip_width_mm = 0.0;
     assert!(matches!(
-        layout_plates(&[bad], &PZT_SHEET, 0.03, 0.5, 0.0, None),
+        plates_on(&[bad], &PZT_SHEET, 0.03, 0.5, 0.0, None),
         Err(LayoutError::InvalidItem { item: 0, .. })
     ));
     assert!(matches!(
-        layout_plates(&[design_c(1)], &PZT_SHEET, -0.1, 0.5, 0.0, None),
+        plates_on(&[design_c(1)], &PZT_SHEET, -0.1, 0.5, 0.0, None),
         Err(LayoutError::InvalidParameter {
             name: "kerf_mm",
             ..
@@ -189,7 +220,7 @@ fn invalid_input_is_reported() {
 #[test]
 fn kerf_zero_plates_share_edges() {
     let items = [design_c(30)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.0, 0.0, 0.0, None).unwrap();
+    let sheets = plates_on(&items, &PZT_SHEET, 0.0, 0.0, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.0, 0.0, &sheets);
 }
 
@@ -201,7 +232,7 @@ const C_STRIP: f64 = 5.0 * 0.267;
 fn the_root_edge_sliver_of_the_old_layout_is_caught_and_gone() {
     // Without the rule, a 0.3 mm margin leaves 0.3 - 0.015 = 0.285 mm between the sheet edge and
     // the plates' root score line (issue 16): the offcut check must name it.
-    let old = &layout_plates(&[design_c(68)], &PZT_SHEET, 0.03, 0.3, 0.0, None).unwrap()[0];
+    let old = &plates_on(&[design_c(68)], &PZT_SHEET, 0.03, 0.3, 0.0, None).unwrap()[0];
     let v = verify_offcuts(old, &PZT_SHEET, C_STRIP).unwrap_err();
     assert!(
         v.iter()
@@ -211,7 +242,7 @@ fn the_root_edge_sliver_of_the_old_layout_is_caught_and_gone() {
     );
     // With it, every offcut is at least the strip and the sheet still takes 2 strips of plates.
     let items = [design_c(68)];
-    let sheets = layout_plates(&items, &PZT_SHEET, 0.03, 0.3, C_STRIP, None).unwrap();
+    let sheets = plates_on(&items, &PZT_SHEET, 0.03, 0.3, C_STRIP, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.03, 0.3, &sheets);
     for layout in &sheets {
         verify_offcuts(layout, &PZT_SHEET, C_STRIP).unwrap();
@@ -219,28 +250,30 @@ fn the_root_edge_sliver_of_the_old_layout_is_caught_and_gone() {
     // The trim strip along the root edge: the first full-width line is kerf/2 + strip from the edge
     // (margin 0.3 < 0.015 + 1.335), so the plates sit 1.35 mm in.
     let lowest = sheets[0]
-        .placements
+        .parts
         .iter()
         .flat_map(|p| p.outline.iter().map(|q| q[1]))
         .fold(f64::INFINITY, f64::min);
     assert!((lowest - (0.015 + C_STRIP)).abs() < 1e-9, "{lowest}");
-    let plates = sheets[0].placements.len();
+    let plates = sheets[0].parts.len();
     assert!(plates >= 60, "{plates} plates on the first sheet");
 }
 
 #[test]
 fn offcut_check_measures_strips_wedges_and_triangles() {
     // A 10 x 10 sheet, one line 0.4 from the bottom edge: a 0.4 mm strip, no plate in it.
-    let sheet = Sheet {
+    let sheet = NestBin {
         width_mm: 10.0,
         height_mm: 10.0,
+        stock: usize::MAX,
     };
-    let mut layout = SheetLayout {
-        sheet_index: 0,
-        placements: vec![],
+    let mut layout = NestedBin {
+        index: 0,
+        parts: vec![],
+        utilization: 0.0,
         score_lines: vec![[[0.0, 0.4], [10.0, 0.4]]],
     };
-    let width = |l: &SheetLayout, min: f64| match verify_offcuts(l, &sheet, min) {
+    let width = |l: &NestedBin, min: f64| match verify_offcuts(l, &sheet, min) {
         Ok(()) => None,
         Err(v) => v.iter().find_map(|x| match x {
             Violation::NarrowOffcut { width_mm, .. } => Some(*width_mm),
@@ -260,7 +293,7 @@ fn offcut_check_measures_strips_wedges_and_triangles() {
     assert!((width(&layout, 2.0).unwrap() - 3.0 / 10f64.sqrt()).abs() < 1e-12);
     // A piece holding a plate is not an offcut, however narrow.
     layout.score_lines = vec![[[0.0, 0.4], [10.0, 0.4]]];
-    layout.placements = vec![crate::layout::placement::place_at(
+    layout.parts = vec![cam_nest::PlacedPart::at(
         0,
         0,
         &[[0.0, 0.0], [1.0, 0.0], [1.0, 0.3], [0.0, 0.3]],
@@ -284,17 +317,17 @@ proptest! {
         side in 20.0..100.0f64,
         second in proptest::option::of((5.0..30.0f64, 1.0..10.0f64, 0.3..10.0f64, 1usize..20)),
     ) {
-        let sheet = Sheet { width_mm: side, height_mm: side * 0.8 };
+        let sheet = NestBin { width_mm: side, height_mm: side * 0.8, stock: usize::MAX };
         let mut items = vec![PlateSpec { length_mm: length, base_width_mm: base, tip_width_mm: tip, count }];
         if let Some((l, b, t, n)) = second {
             items.push(PlateSpec { length_mm: l, base_width_mm: b, tip_width_mm: t, count: n });
         }
-        match layout_plates(&items, &sheet, kerf, margin, strip, None) {
+        match plates_on(&items, &sheet, kerf, margin, strip, None) {
             Ok(sheets) => {
                 check_layout(&items, &sheet, kerf, margin, &sheets);
                 for layout in &sheets {
                     verify_offcuts(layout, &sheet, strip)
-                        .unwrap_or_else(|v| panic!("sheet {}: {v:?}", layout.sheet_index));
+                        .unwrap_or_else(|v| panic!("sheet {}: {v:?}", layout.index));
                 }
             }
             Err(LayoutError::TooLarge { item, .. }) => {

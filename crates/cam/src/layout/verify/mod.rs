@@ -1,31 +1,19 @@
-//! Independent placement verifier.
+//! The snap checks of a scored sheet, independent of the planner that made it.
 //!
-//! Checks a finished [`SheetLayout`] without trusting the code that made it: distances, overlaps
-//! and containment come from `geo` predicates and metrics (through [`cam_nest::clearance`], the
-//! one clearance check the nester's own verifier shares), and the snap check replays the breaks
-//! on the sheet itself. Nothing here reuses the arithmetic of [`super::plates`] or
-//! [`super::shelf`], nor of the irregular nester: every layout the pipeline makes, scored, shelved
-//! or nested, is checked here.
-//!
-//! - `clearance` ([`verify_sheet`], [`verify_sheet_edges`]): parts inside the sheet, apart from
-//!   each other and the edge, in allowed rotations;
-//! - `bookkeeping` ([`verify_outlines`], [`verify_copies`], [`verify_stock`]): each outline its
-//!   part as stated, every copy once, the stock;
-//! - `snap` ([`verify_snappable`], [`verify_break_order`], [`verify_offcuts`]): score lines that
-//!   can be snapped in order, free every plate and leave no offcut too narrow to snap.
+//! [`verify_snappable`], [`verify_break_order`] and [`verify_offcuts`] replay the breaks on the sheet
+//! with `geo` predicates, reusing none of the arithmetic of [`super::plates`]: the score lines can be
+//! snapped in order, free every plate, and leave no offcut too narrow to snap. What every layout must
+//! satisfy, scored or not (copies, stock, outlines, rotations, clearance), is checked by `cam_nest`'s
+//! verifier, the one front end for all of them.
 
-mod bookkeeping;
-mod clearance;
 mod snap;
 #[cfg(test)]
 mod tests;
 
-pub use bookkeeping::{verify_copies, verify_outlines, verify_stock};
-pub use clearance::{verify_sheet, verify_sheet_edges};
 pub use snap::{verify_break_order, verify_offcuts, verify_snappable};
 
-use super::placement::{Sheet, SheetLayout};
 use cam_geometry::Point;
+use cam_nest::{NestBin, NestedBin};
 use geo::{Coord, Polygon};
 use std::fmt;
 use thiserror::Error;
@@ -51,43 +39,6 @@ impl fmt::Display for PartRef {
 /// One thing wrong with a layout.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum Violation {
-    #[error("{part} has an invalid outline: {reason}")]
-    InvalidOutline { part: PartRef, reason: String },
-    #[error("{part} lies (partly) outside the {sheet_width_mm} x {sheet_height_mm} mm sheet")]
-    OutsideSheet {
-        part: PartRef,
-        sheet_width_mm: f64,
-        sheet_height_mm: f64,
-    },
-    #[error(
-        "{part} is {distance_mm:.6} mm from the sheet edge, less than the required {min_mm:.6} mm"
-    )]
-    EdgeGap {
-        part: PartRef,
-        distance_mm: f64,
-        min_mm: f64,
-    },
-    #[error("{a} and {b} overlap ({area_mm2:.6} mm²)")]
-    Overlap {
-        a: PartRef,
-        b: PartRef,
-        area_mm2: f64,
-    },
-    #[error("{a} and {b} are {distance_mm:.6} mm apart, less than the required {min_mm:.6} mm")]
-    Gap {
-        a: PartRef,
-        b: PartRef,
-        distance_mm: f64,
-        min_mm: f64,
-    },
-    #[error("{part} is rotated by {rotation_deg}°, not one of the allowed {allowed:?}")]
-    ForbiddenRotation {
-        part: PartRef,
-        rotation_deg: f64,
-        allowed: Vec<f64>,
-    },
-    #[error("{part} outline is not its item's nominal outline rotated and moved as stated (off by {deviation_mm:.3e} mm)")]
-    OutlineMismatch { part: PartRef, deviation_mm: f64 },
     #[error("score line {line} is not a proper segment (too short or not finite)")]
     DegenerateScoreLine { line: usize },
     #[error("score line {line} leaves the sheet")]
@@ -112,23 +63,13 @@ pub enum Violation {
     },
     #[error("{a} and {b} lie in the same cell: no score line separates them")]
     SharedCell { a: PartRef, b: PartRef },
-    #[error("the layout uses {used} sheets but the stock is {stock}")]
-    StockExceeded { used: usize, stock: usize },
-    #[error("item {item}: copies placed {placed:?}, wanted each of 0..{wanted} once")]
-    WrongCopies {
-        item: usize,
-        wanted: usize,
-        placed: Vec<usize>,
-    },
 }
 
 /// Tolerance for "lies on" in the snap check, mm (as specified for score line ends).
 const ON_TOL: f64 = 1e-6;
-/// Tolerance for rotations, degrees.
-const ANGLE_TOL: f64 = 1e-9;
 
-fn part_ref(layout: &SheetLayout, index: usize) -> PartRef {
-    let p = &layout.placements[index];
+fn part_ref(layout: &NestedBin, index: usize) -> PartRef {
+    let p = &layout.parts[index];
     PartRef {
         index,
         item: p.item,
@@ -144,7 +85,7 @@ fn polygon(ring: &[Point]) -> Polygon<f64> {
     Polygon::new(ring.iter().map(|&p| coord(p)).collect(), vec![])
 }
 
-fn sheet_polygon(sheet: &Sheet) -> Polygon<f64> {
+fn sheet_polygon(sheet: &NestBin) -> Polygon<f64> {
     polygon(&[
         [0.0, 0.0],
         [sheet.width_mm, 0.0],

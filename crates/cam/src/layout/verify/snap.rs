@@ -2,7 +2,7 @@
 //! piece it splits, listed in that order, leaving every plate in a cell of its own.
 
 use super::{coord, finish, part_ref, polygon, sheet_polygon, Violation, ON_TOL};
-use crate::layout::placement::{Sheet, SheetLayout};
+use cam_nest::{NestBin, NestedBin};
 use geo::{
     BooleanOps, BoundingRect, Coord, Distance, Euclidean, Length, Line, LineString,
     MultiLineString, Polygon,
@@ -14,7 +14,7 @@ use geo::{
 /// - the lines can be broken one after another, each ending on the edge or on earlier breaks
 ///   (a pinwheel of lines ending on each other cannot);
 /// - replaying the breaks, every plate lies in its own cell and no line crosses a plate.
-pub fn verify_snappable(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<Violation>> {
+pub fn verify_snappable(layout: &NestedBin, sheet: &NestBin) -> Result<(), Vec<Violation>> {
     let mut violations = Vec::new();
     let sheet_poly = sheet_polygon(sheet);
     let support = Support::new(layout, sheet, &mut violations);
@@ -34,7 +34,7 @@ pub fn verify_snappable(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<V
 
     // Every plate in a cell of its own; name the lines that cut through plates.
     let mut owner: Vec<Option<usize>> = vec![None; pieces.len()];
-    for (index, placement) in layout.placements.iter().enumerate() {
+    for (index, placement) in layout.parts.iter().enumerate() {
         let part = part_ref(layout, index);
         let plate = polygon(&placement.outline);
         let Some(plate_rect) = plate.bounding_rect() else {
@@ -80,7 +80,7 @@ struct Support {
 }
 
 impl Support {
-    fn new(layout: &SheetLayout, sheet: &Sheet, violations: &mut Vec<Violation>) -> Support {
+    fn new(layout: &NestedBin, sheet: &NestBin, violations: &mut Vec<Violation>) -> Support {
         let sheet_edge = sheet_polygon(sheet).exterior().clone();
         let lines: Vec<Line<f64>> = layout
             .score_lines
@@ -207,8 +207,8 @@ fn replay(
 /// narrow end for a wedge, the height for a triangle. The breaks are replayed in a break order
 /// as [`verify_snappable`] does; its other findings are left to it.
 pub fn verify_offcuts(
-    layout: &SheetLayout,
-    sheet: &Sheet,
+    layout: &NestedBin,
+    sheet: &NestBin,
     min_strip_mm: f64,
 ) -> Result<(), Vec<Violation>> {
     let mut ignored = Vec::new();
@@ -222,7 +222,7 @@ pub fn verify_offcuts(
         &mut ignored,
         |line, piece| {
             let holds_plate = layout
-                .placements
+                .parts
                 .iter()
                 .any(|p| p.outline.iter().all(|&v| inside_convex(piece, coord(v))));
             if holds_plate {
@@ -267,7 +267,7 @@ fn offcut_width(piece: &[Coord<f64>], line: &Line<f64>) -> Option<f64> {
 
 /// Checks that the score lines are listed in a break order: each line's ends rest on the sheet
 /// edge or on lines listed before it (for writers whose document order is the laser order).
-pub fn verify_break_order(layout: &SheetLayout, sheet: &Sheet) -> Result<(), Vec<Violation>> {
+pub fn verify_break_order(layout: &NestedBin, sheet: &NestBin) -> Result<(), Vec<Violation>> {
     let mut violations = Vec::new();
     let support = Support::new(layout, sheet, &mut violations);
     for (i, line) in support.lines.iter().enumerate() {

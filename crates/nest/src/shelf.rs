@@ -1,45 +1,41 @@
-//! Simple shelf layout for cut-through parts (carbon fibre, Pyralux, Teflon).
+//! The shelf packer: a fast, deterministic strategy for cut-through parts, the one `cut-sheet` uses for
+//! a single design (where the irregular nester's search buys little on a handful of parts).
 //!
-//! The deterministic baseline before a real irregular nester: parts go into rows (shelves) left to
-//! right, each part slid left until it is `gap_mm` from the parts already in the row. A design may
-//! alternate with a copy turned 180° when that packs tighter (a trapezoid with an extension
-//! interlocks with its turned copy like the PZT plates do). Items go tallest row first; a part
-//! takes the first row on the sheet that has room, else a new row, else a new sheet.
+//! Parts go into rows (shelves) left to right, each part slid left until it is `gap_mm` from the
+//! parts already in the row. A design may alternate with a copy turned 180° when that packs
+//! tighter (a trapezoid with an extension interlocks with its turned copy like the PZT plates do).
+//! Items go tallest row first; a part takes the first row on the sheet that has room, else a new
+//! row, else a new sheet. Input and output are the crate's vocabulary ([`NestItem`], [`NestBin`],
+//! [`NestSolution`]), so [`verify()`](crate::verify()) checks a shelf layout as it checks a nest.
 
-use super::placement::{check_length, place_at, LayoutError, Sheet, SheetLayout};
-use cam_geometry::{normalize_deg, rotate, signed_area, Bounds, Point};
-use serde::{Deserialize, Serialize};
+use crate::problem::{NestBin, NestError, NestItem, NestSolution, NestedBin, PlacedPart};
+use cam_geometry::{area, normalize_deg, rotate, signed_area, Bounds, Point};
 use std::collections::BTreeMap;
 
-/// One cut-through part design.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PartSpec {
-    /// Nominal outline, a CCW ring near the origin, mm.
-    pub outline: Vec<Point>,
-    /// How many parts.
-    pub count: usize,
-    /// Allowed rotations, degrees CCW (e.g. `[0, 180]` keeps the fibre direction).
-    pub rotations_deg: Vec<f64>,
-}
-
-/// Lays out parts in shelves on as many sheets as needed, `gap_mm` between parts and to the
-/// sheet edge, rotations only from each item's list. Errors when a part fits an empty sheet in
-/// none of its rotations, or when more than `max_sheets` sheets are needed (saying how many).
-pub fn layout_parts(
-    items: &[PartSpec],
-    sheet: &Sheet,
+/// Lays out `items` in shelves on at most `bin.stock` sheets, `gap_mm` between parts and to the
+/// sheet edge, rotations only from each item's list. Errors when a part fits an empty sheet in none
+/// of its rotations, or when more sheets than the stock are needed (saying how many).
+pub fn nest_shelves(
+    items: &[NestItem],
+    bin: &NestBin,
     gap_mm: f64,
-    max_sheets: Option<usize>,
-) -> Result<Vec<SheetLayout>, LayoutError> {
-    sheet.validate()?;
-    check_length("gap_mm", gap_mm)?;
-    let usable = [
-        sheet.width_mm - 2.0 * gap_mm,
-        sheet.height_mm - 2.0 * gap_mm,
-    ];
+) -> Result<NestSolution, NestError> {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !positive(bin.width_mm) || !positive(bin.height_mm) {
+        return Err(NestError::BadSettings(format!(
+            "sheet {} x {} mm: both sides must be finite and > 0",
+            bin.width_mm, bin.height_mm
+        )));
+    }
+    if !(gap_mm.is_finite() && gap_mm >= 0.0) {
+        return Err(NestError::BadSettings(format!(
+            "gap {gap_mm} mm: must be finite and >= 0"
+        )));
+    }
+    let usable = [bin.width_mm - 2.0 * gap_mm, bin.height_mm - 2.0 * gap_mm];
     let mut shapes = Vec::with_capacity(items.len());
-    for (i, spec) in items.iter().enumerate() {
-        shapes.push(Oriented::all(i, spec)?);
+    for (i, item) in items.iter().enumerate() {
+        shapes.push(Oriented::all(i, item)?);
     }
     let mut packer = Packer {
         shapes: &shapes,
@@ -47,26 +43,25 @@ pub fn layout_parts(
         rel_cache: BTreeMap::new(),
     };
     let mut patterns = Vec::with_capacity(items.len());
-    for (i, spec) in items.iter().enumerate() {
+    for (i, item) in items.iter().enumerate() {
         let fitting: Vec<usize> = (0..shapes[i].len())
             .filter(|&o| {
                 let s = &shapes[i][o];
                 s.size[0] <= usable[0] + EPS && s.size[1] <= usable[1] + EPS
             })
             .collect();
-        if spec.count > 0 && fitting.is_empty() {
+        if item.demand > 0 && fitting.is_empty() {
             let first = &shapes[i][0];
-            return Err(LayoutError::TooLarge {
+            return Err(NestError::PartLargerThanBin {
                 item: i,
-                width_mm: first.size[0],
-                height_mm: first.size[1],
-                sheet_width_mm: sheet.width_mm,
-                sheet_height_mm: sheet.height_mm,
-                usable_width_mm: usable[0],
-                usable_height_mm: usable[1],
+                part_width_mm: first.size[0],
+                part_height_mm: first.size[1],
+                bin_width_mm: bin.width_mm,
+                bin_height_mm: bin.height_mm,
+                separation_mm: gap_mm,
             });
         }
-        patterns.push(if spec.count > 0 {
+        patterns.push(if item.demand > 0 {
             packer.pattern(i, &fitting)
         } else {
             Vec::new()
@@ -74,7 +69,7 @@ pub fn layout_parts(
     }
 
     // Tallest rows first, so that later, lower parts fill rows already open.
-    let mut order: Vec<usize> = (0..items.len()).filter(|&i| items[i].count > 0).collect();
+    let mut order: Vec<usize> = (0..items.len()).filter(|&i| items[i].demand > 0).collect();
     let height = |i: usize| {
         patterns[i]
             .iter()
@@ -85,28 +80,27 @@ pub fn layout_parts(
 
     let mut sheets: Vec<Vec<Shelf>> = vec![Vec::new()];
     for &i in &order {
-        for copy in 0..items[i].count {
-            packer.place(i, copy, &patterns[i], &mut sheets, sheet);
+        for copy in 0..items[i].demand {
+            packer.place(i, copy, &patterns[i], &mut sheets, bin);
         }
     }
-    if let Some(stock) = max_sheets {
-        if sheets.len() > stock {
-            return Err(LayoutError::TooManySheets {
-                needed: sheets.len(),
-                stock,
-            });
-        }
+    if sheets.len() > bin.stock {
+        return Err(NestError::StockTooSmall {
+            needed: sheets.len(),
+            stock: bin.stock,
+        });
     }
-    Ok(sheets
+    let sheet_area = bin.width_mm * bin.height_mm;
+    let bins = sheets
         .into_iter()
         .enumerate()
-        .map(|(sheet_index, shelves)| {
-            let mut placements: Vec<_> = shelves
+        .map(|(index, shelves)| {
+            let mut parts: Vec<_> = shelves
                 .iter()
                 .flat_map(|shelf| {
                     shelf.parts.iter().map(|part| {
                         let o = &shapes[part.item][part.orientation];
-                        place_at(
+                        PlacedPart::at(
                             part.item,
                             part.copy,
                             &items[part.item].outline,
@@ -116,14 +110,17 @@ pub fn layout_parts(
                     })
                 })
                 .collect();
-            placements.sort_by_key(|p| (p.item, p.copy));
-            SheetLayout {
-                sheet_index,
-                placements,
+            parts.sort_by_key(|p| (p.item, p.copy));
+            let part_area: f64 = parts.iter().map(|p| area(&p.outline)).sum();
+            NestedBin {
+                index,
+                parts,
+                utilization: part_area / sheet_area,
                 score_lines: Vec::new(),
             }
         })
-        .collect())
+        .collect();
+    Ok(NestSolution { bins })
 }
 
 /// Tolerance for comparing positions, mm.
@@ -137,8 +134,8 @@ struct Oriented {
 }
 
 impl Oriented {
-    fn all(item: usize, spec: &PartSpec) -> Result<Vec<Oriented>, LayoutError> {
-        let invalid = |reason: String| LayoutError::InvalidItem { item, reason };
+    fn all(item: usize, spec: &NestItem) -> Result<Vec<Oriented>, NestError> {
+        let invalid = |reason: String| NestError::DegenerateOutline { item, reason };
         if spec.outline.len() < 3 {
             return Err(invalid("outline has fewer than 3 points".into()));
         }
@@ -156,14 +153,20 @@ impl Oriented {
         let mut rotations: Vec<f64> = Vec::new();
         for &r in &spec.rotations_deg {
             if !r.is_finite() {
-                return Err(invalid(format!("rotation {r} is not finite")));
+                return Err(NestError::BadRotations {
+                    item,
+                    rotations: spec.rotations_deg.clone(),
+                });
             }
             if !rotations.iter().any(|&q| q == normalize_deg(r)) {
                 rotations.push(normalize_deg(r));
             }
         }
         if rotations.is_empty() {
-            return Err(invalid("no allowed rotation".into()));
+            return Err(NestError::BadRotations {
+                item,
+                rotations: spec.rotations_deg.clone(),
+            });
         }
         Ok(rotations
             .into_iter()
@@ -251,7 +254,7 @@ impl Packer<'_> {
         copy: usize,
         pattern: &[usize],
         sheets: &mut Vec<Vec<Shelf>>,
-        sheet: &Sheet,
+        sheet: &NestBin,
     ) {
         let right = sheet.width_mm - self.gap;
         let shelves = sheets.last_mut().expect("at least one sheet");
@@ -416,13 +419,16 @@ fn segment_distance(a0: Point, a1: Point, b0: Point, b1: Point) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layout::verify::{verify_copies, verify_outlines, verify_sheet};
+    use crate::problem::NestSettings;
+    use crate::verify::verify;
     use proptest::prelude::*;
 
-    fn stock(width_mm: f64, height_mm: f64) -> Sheet {
-        Sheet {
+    /// A sheet with stock enough for any test here.
+    fn stock(width_mm: f64, height_mm: f64) -> NestBin {
+        NestBin {
             width_mm,
             height_mm,
+            stock: 1000,
         }
     }
 
@@ -446,38 +452,29 @@ mod tests {
         ]
     }
 
-    fn check(items: &[PartSpec], sheet: &Sheet, gap: f64, sheets: &[SheetLayout]) {
-        let allowed = |i: usize| items[i].rotations_deg.clone();
-        let nominal = |i: usize| items[i].outline.clone();
-        for layout in sheets {
-            assert!(layout.score_lines.is_empty());
-            verify_sheet(layout, sheet, gap - 1e-9, &allowed)
-                .unwrap_or_else(|v| panic!("sheet {}: {v:?}", layout.sheet_index));
-            verify_outlines(layout, &nominal, 1e-9)
-                .unwrap_or_else(|v| panic!("sheet {}: {v:?}", layout.sheet_index));
-            for p in &layout.placements {
-                assert!(items[p.item]
-                    .rotations_deg
-                    .iter()
-                    .any(|&r| normalize_deg(r) == p.rotation_deg));
-            }
-        }
-        let counts: Vec<usize> = items.iter().map(|s| s.count).collect();
-        verify_copies(sheets, &counts).unwrap();
+    /// The crate's independent verifier on a shelf layout: every copy once, outlines as stated,
+    /// allowed rotations, the gap between parts and to the sheet edge.
+    fn check(items: &[NestItem], sheet: &NestBin, gap: f64, layout: &NestSolution) {
+        let settings = NestSettings {
+            separation_mm: (gap - 1e-9).max(0.0),
+            ..NestSettings::default()
+        };
+        verify(items, sheet, &settings, layout, 1e-9).unwrap_or_else(|v| panic!("{v}"));
+        assert!(layout.bins.iter().all(|b| b.score_lines.is_empty()));
     }
 
     #[test]
     fn turned_copies_interlock() {
         let outline = trapezoid_with_extension(23.0, 5.0, 1.0, 0.8, 6.0);
-        let items = [PartSpec {
+        let items = [NestItem {
             outline,
-            count: 60,
+            demand: 60,
             rotations_deg: vec![0.0, 180.0],
         }];
         let sheet = stock(100.0, 100.0);
-        let sheets = layout_parts(&items, &sheet, 0.5, None).unwrap();
+        let sheets = nest_shelves(&items, &sheet, 0.5).unwrap();
         check(&items, &sheet, 0.5, &sheets);
-        let first = &sheets[0].placements;
+        let first = &sheets.bins[0].parts;
         assert!(first.iter().any(|p| p.rotation_deg == 180.0));
         // Bounding boxes alone (5.5 mm pitch, 29.5 mm rows) would give 18 x 3 = 54.
         assert!(first.len() >= 60, "{} parts", first.len());
@@ -485,69 +482,81 @@ mod tests {
 
     #[test]
     fn rectangles_make_a_grid() {
-        let items = [PartSpec {
+        let items = [NestItem {
             outline: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]],
-            count: 25,
+            demand: 25,
             rotations_deg: vec![0.0],
         }];
         let sheet = stock(34.0, 40.0);
-        let sheets = layout_parts(&items, &sheet, 1.0, None).unwrap();
+        let sheets = nest_shelves(&items, &sheet, 1.0).unwrap();
         check(&items, &sheet, 1.0, &sheets);
         // 3 per row (1 + 3 * 11 = 34), 6 rows (1 + 6 * 6 = 37).
-        assert_eq!(sheets[0].placements.len(), 18);
-        assert_eq!(sheets.len(), 2);
-        let err = layout_parts(&items, &sheet, 1.0, Some(1)).unwrap_err();
-        assert_eq!(err.to_string(), "needs 2 sheets but the stock is 1");
+        assert_eq!(sheets.bins[0].parts.len(), 18);
+        assert_eq!(sheets.bins_used(), 2);
+        let one = NestBin { stock: 1, ..sheet };
+        let err = nest_shelves(&items, &one, 1.0).unwrap_err();
+        assert_eq!(
+            err,
+            NestError::StockTooSmall {
+                needed: 2,
+                stock: 1
+            }
+        );
     }
 
     #[test]
     fn too_large_and_invalid_parts() {
-        let long = PartSpec {
+        let long = NestItem {
             outline: vec![[0.0, 0.0], [80.0, 0.0], [80.0, 10.0], [0.0, 10.0]],
-            count: 1,
+            demand: 1,
             rotations_deg: vec![0.0, 180.0],
         };
         let sheet = stock(72.4, 72.4);
-        let err = layout_parts(std::slice::from_ref(&long), &sheet, 0.2, None).unwrap_err();
-        assert!(err.to_string().starts_with(
-            "item 0 is larger than the sheet: 80.0 x 10.0 mm on a 72.4 x 72.4 mm sheet"
-        ));
+        let err = nest_shelves(std::slice::from_ref(&long), &sheet, 0.2).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                NestError::PartLargerThanBin { item: 0, part_width_mm, part_height_mm, .. }
+                    if part_width_mm == 80.0 && part_height_mm == 10.0
+            ),
+            "{err}"
+        );
         // A quarter turn makes it fit 80 x 10 on a tall sheet.
         let tall = stock(20.0, 90.0);
-        let turned = PartSpec {
+        let turned = NestItem {
             rotations_deg: vec![90.0],
             ..long.clone()
         };
-        let sheets = layout_parts(std::slice::from_ref(&turned), &tall, 0.2, None).unwrap();
+        let sheets = nest_shelves(std::slice::from_ref(&turned), &tall, 0.2).unwrap();
         check(&[turned], &tall, 0.2, &sheets);
-        let clockwise = PartSpec {
+        let clockwise = NestItem {
             outline: long.outline.iter().rev().copied().collect(),
             ..long
         };
         assert!(matches!(
-            layout_parts(&[clockwise], &sheet, 0.2, None),
-            Err(LayoutError::InvalidItem { item: 0, .. })
+            nest_shelves(&[clockwise], &sheet, 0.2),
+            Err(NestError::DegenerateOutline { item: 0, .. })
         ));
     }
 
     #[test]
     fn mixed_designs_are_deterministic() {
         let items = [
-            PartSpec {
+            NestItem {
                 outline: trapezoid_with_extension(20.0, 6.0, 2.0, 1.0, 4.0),
-                count: 12,
+                demand: 12,
                 rotations_deg: vec![0.0, 180.0],
             },
-            PartSpec {
+            NestItem {
                 outline: vec![[0.0, 0.0], [8.0, 0.0], [8.0, 3.0], [0.0, 3.0]],
-                count: 20,
+                demand: 20,
                 rotations_deg: vec![0.0, 90.0],
             },
         ];
         let sheet = stock(60.0, 50.0);
-        let a = layout_parts(&items, &sheet, 0.3, None).unwrap();
+        let a = nest_shelves(&items, &sheet, 0.3).unwrap();
         check(&items, &sheet, 0.3, &a);
-        assert_eq!(a, layout_parts(&items, &sheet, 0.3, None).unwrap());
+        assert_eq!(a, nest_shelves(&items, &sheet, 0.3).unwrap());
     }
 
     proptest! {
@@ -570,15 +579,15 @@ mod tests {
                 1 => vec![0.0],
                 _ => vec![0.0, 90.0, 180.0, 270.0],
             };
-            let items = [PartSpec {
+            let items = [NestItem {
                 outline: trapezoid_with_extension(length, base, tip, tip * ext_frac, ext_length),
-                count,
+                demand: count,
                 rotations_deg,
             }];
-            let sheet = Sheet { width_mm: width, height_mm: height };
-            match layout_parts(&items, &sheet, gap, None) {
+            let sheet = stock(width, height);
+            match nest_shelves(&items, &sheet, gap) {
                 Ok(sheets) => check(&items, &sheet, gap, &sheets),
-                Err(LayoutError::TooLarge { .. }) => {
+                Err(NestError::PartLargerThanBin { .. }) => {
                     let (w, h) = (base.max(tip), length + ext_length);
                     let fits = |a: f64, b: f64| a <= width - 2.0 * gap && b <= height - 2.0 * gap;
                     prop_assert!(!fits(w, h));
