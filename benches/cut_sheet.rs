@@ -2,7 +2,7 @@
 //!
 //! 1. In memory: time to plan and render a cut sheet (every layer, SVG + DXF, report) for 50 actuators
 //!    of each thesis example design. Median of 7 runs per design.
-//! 2. Large quantities through the binary (issue 14, item 6): `cut-sheet examples/thesis-C.toml
+//! 2. Large quantities through the binary: `cut-sheet examples/thesis-C.toml
 //!    --quantity q` for q = 1000, 5000, 20000, as a lab runs it, into a fresh temporary folder. For each
 //!    run: wall time, CPU time (user and system apart) and peak resident memory. The binary runs as a child and
 //!    the figures are the kernel's own account of that child, read with `wait4` (its `rusage`): the peak

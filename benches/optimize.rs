@@ -1,5 +1,5 @@
 //! `cargo bench --bench optimize`: the optimizer's exhaustive stage on `examples/optimize-thesis.toml`
-//! (README "optimize: speed"). Prints the fastest wall-clock time of several runs, designs per second,
+//! (docs/benchmarks.md). Prints the fastest wall-clock time of several runs, designs per second,
 //! the process CPU time per run and the load average: on a shared machine the wall clock measures the
 //! other jobs too, while designs per CPU-second times the number of idle cores is what the code does.
 

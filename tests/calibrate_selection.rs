@@ -16,7 +16,7 @@
 //!
 //! CI runs every case on the 20 measuring seeds (`cargo test --release --test calibrate_selection`): the
 //! null case, the single effects and the effects outside the library in one test, the 21 pairs in the
-//! other. `-- --nocapture` prints the table published in the README; `CALIBRATE_CASE=NAME` runs one case,
+//! other. `-- --nocapture` prints the table in docs/calibration.md; `CALIBRATE_CASE=NAME` runs one case,
 //! `CALIBRATE_VERBOSE=1` prints every verdict.
 
 mod synthetic;

@@ -98,7 +98,7 @@ mod tests {
 
     #[test]
     fn agrees_with_lamination_theory_for_an_isotropic_core_with_zero_poisson() {
-        // Issue #2: CLT with ν = 0 everywhere and EB agree to 1e-9 relative (δ and F_b).
+        // CLT with ν = 0 everywhere and EB agree to 1e-9 relative (δ and F_b).
         let mut pzt = Material::builtin("PZT-5H").unwrap();
         pzt.nu12 = 0.0;
         pzt.g12 = pzt.e1 / 2.0;

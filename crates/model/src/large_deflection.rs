@@ -41,7 +41,7 @@ mod tests {
         assert!((e - 0.01 / 6.0).abs() < 1e-5, "{e}");
     }
 
-    /// The measurement behind the decision (issue 17 item 3): the largest small-angle error over the
+    /// The measurement behind leaving it out of the library: the largest small-angle error over the
     /// design ranges of the calibration study (l_tot 20-50 mm, l_r 0-1, t_p 127/191/267 µm, 3/5/7 plies of
     /// CF-thesis, PZT-5H) at the drive fields measured (up to 800 V/mm) and at twice that.
     #[test]

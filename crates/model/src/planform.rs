@@ -282,7 +282,7 @@ mod tests {
 
     #[test]
     fn matches_quadrature_on_a_grid_including_near_one() {
-        // Source: Gauss-Legendre quadrature of the defining integral, 1e-9 relative (issue #2).
+        // Source: Gauss-Legendre quadrature of the defining integral, 1e-9 relative.
         let mut w_rs: Vec<f64> = (1..=39).map(|i| 0.05 * i as f64).collect();
         for p in 1..=12 {
             let e = 10f64.powi(-p);

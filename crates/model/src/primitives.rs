@@ -1,4 +1,4 @@
-//! Physical primitives an effect is composed of (issue 17 item 3; docs/calibration.md §2, "Primitives"): each
+//! Physical primitives an effect is composed of (docs/calibration.md §2, "Primitives"): each
 //! changes the inputs of the physics — a material property, a layer of the stack, a boundary condition, the
 //! field — never an output. [`compose`] applies a list of them to an actuator and predicts it with the model
 //! of [`Effects`]; the seven library effects are named compositions of them ([`library_composition`]), and a

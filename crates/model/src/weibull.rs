@@ -171,7 +171,7 @@ mod tests {
 
     #[test]
     fn mle_recovers_parameters_from_2000_samples() {
-        // Issue #2: λ and k within 3% from 2,000 seeded samples (inverse-CDF sampling).
+        // λ and k within 3% from 2,000 seeded samples (inverse-CDF sampling).
         for truth in [Weibull::FIELD_PARALLEL, Weibull::STRESS, Weibull::STRAIN] {
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2013);
             let samples: Vec<f64> = (0..2000)

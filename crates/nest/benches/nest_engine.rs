@@ -1,4 +1,4 @@
-//! Nesting engine figures (README "Nesting engine: figures"): `cargo bench -p cam-nest --bench nest_engine`.
+//! Nesting engine figures (docs/benchmarks.md): `cargo bench -p cam-nest --bench nest_engine`.
 //!
 //! * Passive parts of 60 actuators (4 designs x 15: a fixed mix and random mixes), 150 mm sheets,
 //!   0.3 mm separation, rotations 0°/180°: the irregular nester against the bounding-box

@@ -1,18 +1,18 @@
-//! The measuring set (README "Nesting engine: figures"): `cargo bench -p cam-nest --bench
+//! The measuring set (docs/benchmarks.md): `cargo bench -p cam-nest --bench
 //! nest_measure`, then `tools/nest_reference.py --measure` for sparrow beside it.
 //!
-//! 8 batches of actuator outlines the engine was never tuned on (`fixtures::measuring_set`,
-//! seeds 7101-7108; `NEST_MEASURE_SEEDS=9100` for the fresh set 9101-9108, `=6100` for the
-//! tuning copy 6101-6108), each on a 150 mm wide strip (`nest_strip`), 0.3 mm separation,
-//! rotations 0°/180°, the default settings (1000 iterations, 2 workers, seed 1). Prints our
-//! density, wall time and CPU time (user + system of the process, `getrusage`, so the CPU-to-wall
-//! ratio shows how busy the two workers kept the two cores) and writes them with the parts to
-//! `target/nest-bench/measure.json` (`measure-SEEDS.json` for another set); the reference script
-//! nests the same parts with sparrow at 5 s and at our wall time of each batch and prints the
-//! three side by side. `NEST_BENCH_SEED=n` changes our seed, `NEST_BENCH_ITERATIONS=n` our
+//! 8 batches of actuator outlines the engine was never tuned on (`fixtures::measuring_set`, seeds
+//! 7101-7108; `NEST_MEASURE_SEEDS=N` for the set of seeds N+1..N+8, e.g. `=9100` for a fresh set,
+//! `=6100` for the copy that changes are tried on), each on a 150 mm wide strip (`nest_strip`), 0.3
+//! mm separation, rotations 0°/180°, the default settings (1000 iterations, 2 workers, seed 1).
+//! Prints our density, wall time and CPU time (user + system of the process, `getrusage`, so the
+//! CPU-to-wall ratio shows how busy the two workers kept the two cores) and writes them with the
+//! parts to `target/nest-bench/measure.json` (`measure-SEEDS.json` for another set); the reference
+//! script nests the same parts with sparrow at 5 s and at our wall time of each batch and prints
+//! the three side by side. `NEST_BENCH_SEED=n` changes our seed, `NEST_BENCH_ITERATIONS=n` our
 //! budget (to compare at a shorter wall time).
 //!
-//! Ours at sparrow's 5 s (issue 15's first target) comes from the same run, not from a second one:
+//! Ours at sparrow's 5 s comes from the same run, not from a second one:
 //! the engine reports its best layout so far after the greedy fill and after every epoch of the
 //! search (`NestProgress::best_density`, the used-length density of a feasible layout), and the
 //! bench keeps the last report made within `AT_WALL_S` = 5.0 s of wall time from the call (the
@@ -24,7 +24,7 @@
 //! the greedy fill's layout, the first there is, was known). Like sparrow's, this figure depends on the machine and its
 //! load (it stops on wall time), so it belongs to a quiet machine and a side-by-side run.
 //!
-//! Then the sheet jobs of issue 15's time targets: the 60 actuators of `sixty_mixed` and 300
+//! Then the sheet jobs with time targets (3 s and 10 s): the 60 actuators of `sixty_mixed` and 300
 //! parts (10 designs x 30, seed 2024) on 150 x 150 mm sheets, wall and CPU time and used-length
 //! utilisation. `NEST_MEASURE_SHEETS=0` skips them, `=only` runs only them.
 

@@ -81,12 +81,12 @@ const SHRINK_FIRST: f32 = 0.01;
 const SHRINK_LAST: f32 = 0.001;
 /// Failed attempts in a row at the smallest step after which compression stops: the layout is
 /// taken as one it can no longer improve (counted in attempts, so the stop is deterministic).
-/// The compression now gets the job's whole budget however early the search stopped, and this
-/// rule keeps it from spending that budget on a sheet it cannot lower.
+/// The compression gets the job's whole budget however early the search stopped, and this rule
+/// keeps it from spending that budget on a sheet it cannot lower.
 const STALL_ATTEMPTS: usize = 10;
 /// Failed separations in a row after which exploration gives up on a ceiling (and compression
-/// ends): counted, like everything here, so the stop is deterministic. On the tuning strips
-/// with a dozen large parts 400 found nothing that 50 did not; the budget binds first.
+/// ends): counted, like everything here, so the stop is deterministic. On strips of a dozen
+/// large parts a limit of 400 found nothing that 50 did not; the budget binds first.
 const EXPLORE_FAILURES: usize = 50;
 /// Parts count as large, and are the ones exploration swaps, from the largest down until they
 /// make up this share of the parts' area (sparrow's percentile, Gardeyn & Wauters 2025).
@@ -348,10 +348,9 @@ struct Separation<'a> {
     overlaps: Vec<f32>,
     /// Kept from one small step to the next, as sparrow keeps its weights: a pair that kept
     /// colliding under the last ceiling will likely collide under the next, and starting it
-    /// heavy separates it sooner. Against unit weights for every attempt, on tuning strips:
-    /// 8101-8808 (m1-m3, m8) 79.40 -> 79.86 % mean (24 strips better, 6 worse); 6101-6508 (m1,
-    /// m2, m7, m8) 81.29 -> 81.60 % (10, 7); 6101-6508 (m3-m6) 77.76 -> 77.94 % (9, 3).
-    /// Carrying them into exploration as well gave 79.73 % on the first set.
+    /// heavy separates it sooner, which leaves more of the budget for lowering the ceiling
+    /// (denser layouts on most strips than unit weights at every step). Exploration starts from
+    /// unit weights: it is there to leave the structure the small steps are stuck in.
     weights: Vec<f32>,
     evaluations: usize,
 }

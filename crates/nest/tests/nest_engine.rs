@@ -117,7 +117,7 @@ fn used_length_pair(items: &[NestItem], bin: &NestBin, s: &NestSettings) -> (f64
     )
 }
 
-/// The target, on the measure that does not jump at sheet boundaries: at least 10
+/// The engine's target, on the measure that does not jump at sheet boundaries: at least 10
 /// points above the bounding-box baseline on 60 passive parts of mixed designs on 150 mm sheets
 /// (measured margins 21-34 points in the bench), and for the fixed mix on a 150 mm wide strip too (about 25).
 /// Not asserted on the strip for every random mix: where the designs are near-rectangles the

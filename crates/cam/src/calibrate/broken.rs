@@ -37,7 +37,7 @@ pub struct BrokenActuator {
     pub every_voltage: bool,
     /// Likely cause, one line.
     pub likely_cause: String,
-    /// Left out of the fit (false when the exclusion was not kept; see the report's notes).
+    /// Left out of the fit (false when the exclusion was undone; see the report's notes).
     pub excluded: bool,
 }
 

@@ -1,4 +1,4 @@
-//! Measured-data CSV (issue 6 interface) → validated [`Measurement`]s grouped by actuator.
+//! Measured-data CSV → validated [`Measurement`]s grouped by actuator.
 //!
 //! Columns: `id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N`,
 //! optional `drive` (parallel), `pzt` (PZT-5H), `ply` (CF-thesis), `base_tab_mm` (0). `#` lines are

@@ -233,7 +233,7 @@ impl EffectId {
         EffectId::PlyThickness,
     ];
 
-    /// Issue-6 name.
+    /// The name used in the reports, calibrated-model.toml and effects.toml.
     pub fn name(self) -> &'static str {
         match self {
             EffectId::D31Scale => "d31-scale",

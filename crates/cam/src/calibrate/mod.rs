@@ -1,4 +1,4 @@
-//! `actuator-cam calibrate measured.csv` (issue 6): find the residual between measured actuators and the
+//! `actuator-cam calibrate measured.csv`: find the residual between measured actuators and the
 //! model, trace it to a physical effect from a library, fit it, report the error before and after, and
 //! write `calibrated-model.toml` for `predict`, `optimize` and `cut-sheet --model FILE`.
 //!
@@ -62,7 +62,7 @@ pub struct Calibration {
     pub broken: Vec<BrokenActuator>,
     /// With declared effects (`--effects`): the calibration the library alone gives on the same
     /// actuators, so the report shows the error of the original model, the library-only calibration and
-    /// the calibration with the declared effects side by side (issue 17 item 5).
+    /// the calibration with the declared effects side by side.
     pub library_only: Option<LibraryOnly>,
 }
 

@@ -5,7 +5,7 @@
 //! [`InputError`] naming the file, the field, the value and what is allowed. A library effect's value
 //! must lie inside the bounds `calibrate` fits it in ([`EffectId::param`], in the file's SI units): a
 //! file `calibrate` wrote always does, and a hand-edited `d31_scale = 1e300` is refused here, where the
-//! field can be named, instead of as a non-finite prediction for the design (issue 14).
+//! field can be named, instead of as a non-finite prediction for the design.
 
 use crate::calibrate::library::EffectId;
 use crate::input::{parse_toml, toml_error_line, InputError, Range, TableReader};

@@ -1,7 +1,7 @@
 //! Fixed-decimal formatting of coordinates for the layer files, with the bytes of Rust's own
 //! `format!("{v:.N}")` (exact decimal value of the double, rounded half to even) but without its
-//! general exact-digit machinery (Grisu with a Dragon fallback), which was the largest share of the
-//! SVG and DXF writers' time at q = 20000 (issue 14).
+//! general exact-digit machinery (Grisu with a Dragon fallback), the largest share of the SVG and
+//! DXF writers' time at q = 20000 when they used it.
 //!
 //! A finite double is `m · 2^e` exactly, with `m < 2^53`. Then `v · 10^N = m · 10^N · 2^e`, and
 //! `m · 10^N` fits in a `u128` for `N ≤ 12` (53 + 40 bits): scaling is one multiplication and

@@ -6,7 +6,7 @@
 //! reads this one). Entities are written in processing order, like the SVG layers.
 //!
 //! Why our own emitter: a cut sheet of 20 000 actuators writes about 28 000 DXF files, and the
-//! crate built, formatted and re-parsed its full 9 kB header for every one of them (issue 14).
+//! crate built, formatted and re-parsed its full 9 kB header for every one of them.
 //! The header and tables here are the crate's own R2000 output, kept in `dxf/r2000_head.txt` with
 //! the few values that vary per drawing left as slots; the tests hold every file to the crate's
 //! bytes (the crate stays: src/parts reads DXF with it). What the crate writes, and what we

@@ -1,5 +1,5 @@
 //! A cut sheet planned, rendered and handed to the output writer drawing by drawing, for quantities
-//! whose files would not fit in memory together (issue 14: q = 20000 makes about 57 000 files, 1.1 GB).
+//! whose files would not fit in memory together (q = 20000 makes about 57 000 files, 1.1 GB).
 //!
 //! The build runs on the calling thread and hands each drawing on as soon as it is made; render
 //! workers turn drawings into SVG/DXF bytes on the other cores; one writer puts the files in drawing

@@ -388,8 +388,9 @@ mod tests {
 
     #[test]
     fn window_numbers_fit_and_are_centred_for_1_to_20_layers() {
-        // Issue 16 item 8: "10" spanned x 53.04-55.29 mm in a window ending at 55.24 mm, and single
-        // digits sat 0.5 mm off-centre. The shipped clamp panel: 3 x 2.5 mm windows.
+        // Two-digit numbers are the widest a window holds and must stay inside its inset; every
+        // number, one digit or two, must sit on the window's centre. The shipped clamp panel: 3 x 2.5
+        // mm windows.
         for process in ["method-1", "method-2"] {
             let t = Template::resolve(process, Path::new("d.toml")).unwrap();
             let c = &t.clamp;

@@ -1,6 +1,6 @@
 //! Where a passive part's engraved label goes: never on the bonded face. The PZT plates (and, by
 //! method 1, the Pyralux film) are bonded over the part's PZT zone, `0 <= y <= l_p` from the root;
-//! an engraved groove there is a void in the bond line (issue 16, docs/cam.md §1 "Labels"). The
+//! an engraved groove there is a void in the bond line (docs/cam.md §1 "Labels"). The
 //! label goes where nothing is bonded: the base tab behind the root, else the extension beyond the
 //! PZT zone. A part with no room there carries no label, and the report says so ([`Label::note`]).
 

@@ -115,7 +115,7 @@ mod tests {
 
     #[test]
     fn design_c_method_2_no_longer_stands_above_the_laminate() {
-        // Issue 16 item 1: the old rule ceil(0.7194 / 0.127) = 6 layers gave 0.762 mm, 42.6 µm above
+        // A rule of whole 0.127 mm films, ceil(0.7194 / 0.127) = 6 layers, gives 0.762 mm, 42.6 µm above
         // the 0.7194 mm laminate. From 0.05 / 0.127 / 0.25 mm films the tallest stack not above it is,
         // by hand: 4 x 0.127 + 4 x 0.05 = 0.708 mm; every other count of the three films is either
         // above 0.7194 or lower (e.g. 2 x 0.25 + 4 x 0.05 = 0.700, 0.25 + 2 x 0.127 + 4 x 0.05 = 0.704).

@@ -223,7 +223,7 @@ mod tests {
 
     #[test]
     fn sheet_outline_is_a_reference_never_a_cut() {
-        // Issue 16 item 4: a green (secondary) sheet outline set up as a cut pass traced the sheet edge.
+        // A sheet outline on a cut operation (red, or the green second pass) would trace the sheet edge.
         assert_eq!(
             FeatureMap::default().op(Feature::PztSheetOutline),
             Operation::Reference

@@ -43,11 +43,9 @@ const BEST_FIT_MIN_EFFORT: Effort = Effort {
     anchors: 25,
 };
 /// Starts each worker builds (see `Model::construct`) on jobs of at most this many copies: a
-/// size-order fill and a best-fit fill each. Five per worker made the greedy fill a quarter of
-/// the CPU of the 60-actuator batch's 40-part layer for nothing: its starts all had the same
-/// used length, and with two per worker (20 % less CPU on that layer) the compressed layout
-/// was no worse (67.6 % against 64.8 % used length on that layer; tuning strips 6101-6108
-/// together with the shorter stall of `STALL_ITERATIONS`: 80.92 -> 80.82 % mean density).
+/// size-order fill and a best-fit fill each. More starts cost CPU for little: on sheet layers
+/// of a few designs the starts come out at the same used length, and the final compression,
+/// not the choice of start, decides how short the layout gets.
 const STARTS_PER_WORKER: usize = 2;
 /// Tie widths of the best-fit starts (odd recipes), mm: spots whose bottoms are this close
 /// count as equally low.

@@ -75,7 +75,7 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands**: on the bench's 40 measuring strips (12-300 parts) 1.1 points ahead of
 //!   sparrow, the state-of-the-art strip packer, given 5 s (0.7-1.7 per set of 8), and 2.5
-//!   points ahead of it given our wall time of about 2.5 s (README, "Nesting engine: figures").
+//!   points ahead of it given our wall time of about 2.5 s (docs/benchmarks.md).
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the

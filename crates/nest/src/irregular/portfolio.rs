@@ -25,8 +25,7 @@ const COMPRESSION_CHAINS_PER_WORKER: usize = 2;
 /// small job's search gets, times `COMPRESSION_BOOST_COPIES` over the copies, between 1 and
 /// `MAX_COMPRESSION_BOOST` (twice on jobs of up to 60 copies, the plain budget from 120 on).
 /// Compressing a small sheet is cheap, and on small strips the chains are still lowering the
-/// top when the plain budget ends. Tuning strips (the 40-60- and 12-part strips of 6101-6508):
-/// 81.07 -> 81.29 % mean at 1.07 -> 1.66 s wall; the 60-actuator CLI batch 1.37 -> 2.34 s.
+/// top when the plain budget ends: the boost buys density there for under a second of wall time.
 const COMPRESSION_BOOST_COPIES: usize = 120;
 const MAX_COMPRESSION_BOOST: usize = 2;
 /// Epochs split the budget so workers share progress; each epoch gives a worker at least this
@@ -43,9 +42,8 @@ const INDEPENDENT_EPOCHS: f64 = 0.5;
 /// 50 (one or two epochs): where the search stalls, what it would still find is little beside
 /// what the final compression does. On the 60-actuator batch's sheet layers the search never
 /// shortened the greedy layout (two rows of standing parts, which interleave only through the
-/// compression's overlap) and spent a third of the batch's CPU waiting out 200 iterations;
-/// tuning strips 6101-6108, 200 -> 50 together with two starts per worker: CPU 11.1 -> 7.3 s
-/// mean per batch for 80.92 -> 80.82 % mean density.
+/// compression's overlap), and a wait of 200 iterations spent a third of the batch's CPU
+/// there; on strips the longer wait bought about a tenth of a point of mean density.
 const STALL_ITERATIONS: usize = 50;
 /// Stop rule, part 2: the search ends once the layout uses the fewest sheets the part area
 /// allows and its used length is within this share of the shortest possible (the part area over

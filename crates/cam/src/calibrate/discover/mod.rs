@@ -1,4 +1,4 @@
-//! Discovery when no effect explains the residual (issue 17 item 5; docs/calibration.md §3,
+//! Discovery when no effect explains the residual (docs/calibration.md §3,
 //! "Discovery"): what the remaining residual looks like, which physical primitives would produce it, and
 //! which designs would tell the leading ones apart. The user then declares the leading candidate as an
 //! effect and runs `calibrate` again.

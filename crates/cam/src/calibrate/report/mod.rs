@@ -1,5 +1,6 @@
-//! Report of a calibration: `report.json` (issue 6 keys) and `report.md` from one tree of serde structs
-//! ([`tree::Report`]), the SVG parity and residual plots, and the model file, all rendered in memory.
+//! Report of a calibration: `report.json` (keys as in docs/calibration.md §4) and `report.md` from
+//! one tree of serde structs ([`tree::Report`]), the SVG parity and residual plots, and the model file,
+//! all rendered in memory.
 
 pub mod markdown;
 pub mod plots;

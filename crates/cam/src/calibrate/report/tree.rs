@@ -1,5 +1,5 @@
-//! The report of a calibration as one tree of serde structs: serialized to report.json (issue 6 keys)
-//! and read by the Markdown renderer, so the two files say the same thing.
+//! The report of a calibration as one tree of serde structs: serialized to report.json (keys as in
+//! docs/calibration.md §4) and read by the Markdown renderer, so the two files say the same thing.
 //!
 //! The structs keep full precision; JSON numbers are rounded to 6 significant digits on the way out
 //! ([`crate::calibrate::rounded`]). report.json's keys are written in sorted order.

@@ -36,7 +36,7 @@ use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
 
-/// The verdict of issue 6.
+/// The verdict a calibration reports (docs/calibration.md §3).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Verdict {
     /// The original model (no significant d31 scale) fits within the noise.

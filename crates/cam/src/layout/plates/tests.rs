@@ -231,7 +231,7 @@ const C_STRIP: f64 = 5.0 * 0.267;
 #[test]
 fn the_root_edge_sliver_of_the_old_layout_is_caught_and_gone() {
     // Without the rule, a 0.3 mm margin leaves 0.3 - 0.015 = 0.285 mm between the sheet edge and
-    // the plates' root score line (issue 16): the offcut check must name it.
+    // the plates' root score line, about one PZT thickness: the offcut check must name it.
     let old = &plates_on(&[design_c(68)], &PZT_SHEET, 0.03, 0.3, 0.0, None).unwrap()[0];
     let v = verify_offcuts(old, &PZT_SHEET, C_STRIP).unwrap_err();
     assert!(
