@@ -4,13 +4,15 @@
 //! Set `CAM_SAMPLE_DIR=/some/dir` to keep the files there for `tools/check_outputs.py`,
 //! Inkscape or LightBurn; otherwise they go to a temporary directory.
 
+mod common;
+use common::svg_read::{read_svg_polygons, ParseError};
 use std::fs;
 use std::path::Path;
 
 use actuator_cam::cam::drawing::{Drawing, Operation, Shape};
 use actuator_cam::cam::dxf::to_dxf;
 use actuator_cam::cam::label::label_strokes;
-use actuator_cam::cam::svg::{read_svg_polygons, to_svg, SvgOptions};
+use actuator_cam::cam::svg::{to_svg, SvgOptions};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 
@@ -98,4 +100,55 @@ fn sample_panel_files_are_written_and_read_back() {
     );
     let doc = dxf::Drawing::load(&mut dxf_bytes.as_slice()).unwrap();
     assert_eq!(doc.entities().count(), drawing.items().len());
+}
+
+#[test]
+fn every_closed_polygon_comes_back_from_the_svg() {
+    let drawing = sample_panel();
+    let back = read_svg_polygons(&to_svg(&drawing, &SvgOptions::default())).unwrap();
+    let drawn: Vec<(Operation, &Vec<[f64; 2]>)> = drawing
+        .items()
+        .iter()
+        .filter_map(|(op, shape)| match shape {
+            Shape::Polygon(ring) => Some((*op, ring)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(back.len(), drawn.len());
+    // The page may grow past the sheet by a margin (outlines kerf-offset past its edge), which moves
+    // every shape by one offset: the same for all.
+    let offset = {
+        let (_, first) = &back[0];
+        let (_, ring) = drawn.iter().find(|(o, _)| *o == back[0].0).unwrap();
+        [first[0][0] - ring[0][0], first[0][1] - ring[0][1]]
+    };
+    for (op, ring) in &back {
+        let close = |r: &Vec<[f64; 2]>| {
+            r.len() == ring.len()
+                && r.iter().zip(ring).all(|(a, b)| {
+                    (a[0] + offset[0] - b[0]).abs() <= 1e-6
+                        && (a[1] + offset[1] - b[1]).abs() <= 1e-6
+                })
+        };
+        assert!(
+            drawn.iter().any(|(o, r)| o == op && close(r)),
+            "{op:?} ring {ring:?} was not drawn"
+        );
+        assert!(signed_area(ring) > 0.0, "orientation survives the y flip");
+    }
+}
+
+#[test]
+fn the_reader_rejects_relative_commands_and_foreign_colours() {
+    let head = "<svg width=\"1mm\" height=\"1mm\" viewBox=\"0 0 1 1\">";
+    let rel = format!("{head}<path d=\"m0 0 l1 1 z\" stroke=\"#FF0000\"/></svg>");
+    assert!(matches!(
+        read_svg_polygons(&rel),
+        Err(ParseError::BadPathData(..))
+    ));
+    let foreign = format!("{head}<path d=\"M0 0 L1 1 Z\" stroke=\"#123456\"/></svg>");
+    assert_eq!(
+        read_svg_polygons(&foreign),
+        Err(ParseError::UnknownColour("#123456".into()))
+    );
 }

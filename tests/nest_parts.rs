@@ -5,10 +5,10 @@
 
 mod common;
 use actuator_cam::batch::{plan_observed, Batch, NestOptions, Planned};
-use actuator_cam::cam::svg::read_svg_polygons;
 use actuator_cam::parts::flatten::TOLERANCE_MM;
 use actuator_cam::pipeline::NestObserver;
 use cam_nest::{clearance, Clearance, NestProgress};
+use common::svg_read::read_svg_polygons;
 use common::*;
 use geo::{Contains, Coord};
 use std::cell::RefCell;

@@ -2,7 +2,7 @@
 //! `CFMatrixCalc`).
 
 use super::flags::JsonFlag;
-use actuator_cam::input::limits::PLY_ANGLE_DEG;
+use actuator_cam::design::layup::parse_layup;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
 use clap::Args;
@@ -45,24 +45,6 @@ struct LaminateReport {
     bending_compliance_C44_per_N_m: f64,
 }
 
-/// Parse `0/90/0` into angles, naming the bad entry.
-pub fn parse_layup(text: &str) -> anyhow::Result<Vec<f64>> {
-    let angles: Vec<f64> = text
-        .split('/')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|a| PLY_ANGLE_DEG.contains(*a))
-                .ok_or_else(|| anyhow!("--layup: {s:?} is not a ply angle in the {PLY_ANGLE_DEG} (write e.g. 0/90/0)"))
-        })
-        .collect::<anyhow::Result<_>>()?;
-    if angles.is_empty() {
-        bail!("--layup: no plies");
-    }
-    Ok(angles)
-}
-
 fn block(m: &Matrix6<f64>, r: usize, c: usize) -> [[f64; 3]; 3] {
     let mut out = [[0.0; 3]; 3];
     for (i, row) in out.iter_mut().enumerate() {
@@ -75,7 +57,7 @@ fn block(m: &Matrix6<f64>, r: usize, c: usize) -> [[f64; 3]; 3] {
 
 /// Run `laminate`.
 pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
-    let layup = parse_layup(&args.layup)?;
+    let layup = parse_layup(&args.layup).map_err(|e| anyhow!("--layup: {e}"))?;
     let ply = Material::builtin(&args.ply)
         .ok_or_else(|| anyhow!("--ply: unknown material {:?}", args.ply))?;
     let t_ply = ply

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 mod fixtures;
+pub mod svg_read;
 pub use fixtures::*;
 
 use geo::{LineString, Polygon};

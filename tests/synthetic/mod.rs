@@ -2,7 +2,6 @@
 //! generated with the model crate's effect physics, log-normal noise.
 #![allow(dead_code)]
 
-use actuator_cam::calibrate;
 use actuator_model::effects::{drive_at_voltage, Actuator};
 use actuator_model::primitives::{compose, Applied, Primitive};
 use actuator_model::{DriveMode, Effects, Material, Planform};
@@ -186,7 +185,7 @@ pub fn cases() -> Vec<Case> {
 pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64) {
     let pzt = Material::builtin("PZT-5H").unwrap();
     let cf = Material::builtin("CF-thesis").unwrap();
-    let layup = calibrate::csv::parse_layup(LAYUPS[d.layup]).unwrap();
+    let layup = actuator_cam::design::layup::parse_layup(LAYUPS[d.layup]).unwrap();
     let t_p = d.t_p_mm * 1e-3;
     let a = Actuator {
         pzt: &pzt,
@@ -337,7 +336,7 @@ pub fn held_out_error(truth: Truth, designs: &[Design], model: &Effects) -> f64 
     let mut sum = 0.0;
     let mut n = 0;
     for d in designs {
-        let layup = calibrate::csv::parse_layup(LAYUPS[d.layup]).unwrap();
+        let layup = actuator_cam::design::layup::parse_layup(LAYUPS[d.layup]).unwrap();
         for &field in &FIELDS_V_PER_MM {
             let (td, tf, tm) = truth_at(truth, d, field);
             let a = Actuator {

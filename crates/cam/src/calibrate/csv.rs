@@ -8,6 +8,7 @@
 //! conversion. Geometry is checked against the same ranges as the design file ([`crate::input::limits`]),
 //! and every problem is an [`InputError`] naming the file, the line, the column and the value.
 
+use crate::design::layup::parse_layup;
 use crate::input::library::{drive_mode, library_ply, library_pzt};
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, BLOCKED_FORCE_N, EXTENSION_RATIO, FREE_DEFLECTION_MM, LENGTH_MM,
@@ -372,7 +373,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
         let delta = row.number(c_d, FREE_DEFLECTION_MM)?;
         let force = row.number(c_f, BLOCKED_FORCE_N)?;
         let layup_text = row.cell(c_layup).to_string();
-        let layup_deg = parse_layup(&layup_text).ok_or_else(|| {
+        let layup_deg = parse_layup(&layup_text).map_err(|_| {
             row.error(
                 c_layup,
                 format!("{layup_text:?}"),
@@ -433,21 +434,6 @@ fn csv_error(file: &Path, e: &::csv::Error) -> InputError {
         Some(p) => InputError::invalid(file, &format!("line {}", p.line()), "(row)", what),
         None => InputError::whole_file(file, what),
     }
-}
-
-/// `0/90/0` → angles; `None` unless every part is an angle in the design file's ply-angle range and
-/// there are at most as many plies as a design file allows.
-pub fn parse_layup(text: &str) -> Option<Vec<f64>> {
-    let angles: Option<Vec<f64>> = text
-        .split('/')
-        .map(|p| {
-            p.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|a| PLY_ANGLE_DEG.contains(*a))
-        })
-        .collect();
-    angles.filter(|a| !a.is_empty() && a.len() <= MAX_PLIES)
 }
 
 #[cfg(test)]

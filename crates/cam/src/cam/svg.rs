@@ -8,8 +8,6 @@
 
 use std::fmt::Write as _;
 
-use thiserror::Error;
-
 use super::decimal::push_fixed;
 use super::drawing::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
 use super::palette::Palette;
@@ -32,19 +30,6 @@ impl Default for SvgOptions {
             palette: Palette::default(),
         }
     }
-}
-
-/// Why [`read_svg_polygons`] could not read a document.
-#[derive(Debug, Error, PartialEq)]
-pub enum ParseError {
-    #[error("unterminated <path> element at byte {0}")]
-    UnterminatedElement(usize),
-    #[error("<path> at byte {0} has no `{1}` attribute")]
-    MissingAttribute(usize, &'static str),
-    #[error("stroke colour {0:?} is not one of the operation colours")]
-    UnknownColour(String),
-    #[error("path data {0:?}: {1}")]
-    BadPathData(String, &'static str),
 }
 
 /// Formats a length with 6 decimals, trailing zeros trimmed, never `-0`.
@@ -268,96 +253,6 @@ pub fn write_svg(
     out
 }
 
-/// Value of attribute `name` inside one start tag (double-quoted, as we write it).
-fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
-    let key = format!(" {name}=\"");
-    let start = tag.find(&key)? + key.len();
-    let len = tag[start..].find('"')?;
-    Some(&tag[start..start + len])
-}
-
-/// Ring of one `d` string if it is closed (ends in `Z`) and made of `M`/`L` only; paths with
-/// arcs (circles, arcs) and open paths give `None`.
-fn closed_ring(d: &str, height_mm: f64) -> Result<Option<Vec<Point>>, ParseError> {
-    let bad = |why| ParseError::BadPathData(d.to_string(), why);
-    let mut ring = Vec::new();
-    let mut closed = false;
-    let mut has_arc = false;
-    // Commands are glued to their first number ("M1 2"); split them off.
-    let spaced: String = d
-        .chars()
-        .flat_map(|c| match c {
-            'M' | 'L' | 'A' | 'Z' => [' ', c, ' '],
-            _ => ['\0', c, '\0'],
-        })
-        .filter(|&c| c != '\0')
-        .collect();
-    let mut tokens = spaced.split_whitespace();
-    while let Some(cmd) = tokens.next() {
-        if closed {
-            return Err(bad("content after Z"));
-        }
-        let mut number = || -> Result<f64, ParseError> {
-            tokens
-                .next()
-                .ok_or_else(|| bad("missing number"))?
-                .parse::<f64>()
-                .map_err(|_| bad("not a number"))
-        };
-        match cmd {
-            "M" | "L" => {
-                if (cmd == "M") != ring.is_empty() {
-                    return Err(bad("M must start the path and appear once"));
-                }
-                let x = number()?;
-                let y = number()?;
-                ring.push([x, height_mm - y]);
-            }
-            "A" => {
-                for _ in 0..7 {
-                    number()?;
-                }
-                has_arc = true;
-            }
-            "Z" => closed = true,
-            _ => return Err(bad("unsupported command (only absolute M, L, A, Z)")),
-        }
-    }
-    Ok((closed && !has_arc).then_some(ring))
-}
-
-/// Reads back the closed straight-edged paths of an SVG written by [`to_svg`]: each as its
-/// operation (from the stroke colour) and its ring in drawing coordinates (y up), in document
-/// order. Open paths and paths with arcs (circles, arcs) are skipped. Not a general SVG parser.
-pub fn read_svg_polygons(svg_text: &str) -> Result<Vec<(Operation, Vec<Point>)>, ParseError> {
-    let root = svg_text.find("<svg").unwrap_or(0);
-    let height_mm = svg_text[root..]
-        .find('>')
-        .and_then(|end| attribute(&svg_text[root..root + end], "viewBox"))
-        .and_then(|vb| vb.split_whitespace().nth(3))
-        .and_then(|h| h.parse::<f64>().ok())
-        .ok_or(ParseError::MissingAttribute(root, "viewBox"))?;
-    let mut polygons = Vec::new();
-    let mut pos = 0;
-    while let Some(found) = svg_text[pos..].find("<path") {
-        let start = pos + found;
-        let len = svg_text[start..]
-            .find('>')
-            .ok_or(ParseError::UnterminatedElement(start))?;
-        let tag = &svg_text[start..start + len];
-        pos = start + len;
-        let d = attribute(tag, "d").ok_or(ParseError::MissingAttribute(start, "d"))?;
-        let stroke =
-            attribute(tag, "stroke").ok_or(ParseError::MissingAttribute(start, "stroke"))?;
-        let op = Operation::from_svg_colour(stroke)
-            .ok_or_else(|| ParseError::UnknownColour(stroke.to_string()))?;
-        if let Some(ring) = closed_ring(d, height_mm)? {
-            polygons.push((op, ring));
-        }
-    }
-    Ok(polygons)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -446,69 +341,6 @@ mod tests {
             fmt_mm(50.0 - mid[1])
         );
         assert!(svg.contains(&expected), "{svg}");
-    }
-
-    #[test]
-    fn polygons_round_trip_through_svg() {
-        let drawing = sample();
-        let svg = to_svg(&drawing, &SvgOptions::default());
-        let back = read_svg_polygons(&svg).unwrap();
-        // Document order: SECONDARY layer before CUT layer; circle and open paths skipped.
-        let originals: Vec<(Operation, Vec<Point>)> = [Operation::Secondary, Operation::Cut]
-            .into_iter()
-            .flat_map(|op| {
-                drawing.shapes_of(op).filter_map(move |s| match s {
-                    Shape::Polygon(r) => Some((op, r.clone())),
-                    _ => None,
-                })
-            })
-            .collect();
-        assert_eq!(back.len(), originals.len());
-        for ((op_back, ring_back), (op, ring)) in back.iter().zip(&originals) {
-            assert_eq!(op_back, op);
-            assert_eq!(ring_back.len(), ring.len());
-            for (a, b) in ring_back.iter().zip(ring) {
-                assert!((a[0] - b[0]).abs() <= 1e-6 && (a[1] - b[1]).abs() <= 1e-6);
-            }
-            // Off-grid vertices move by at most 5e-7 mm per axis, so the area moves by at most
-            // perimeter * 5e-7 * sqrt(2); vertices on the 1e-6 grid come back exactly.
-            let (a0, a1) = (signed_area(ring), signed_area(ring_back));
-            assert!(a0 > 0.0, "orientation survives the y flip");
-            let on_grid = ring
-                .iter()
-                .flatten()
-                .all(|v| ((v * 1e6).round() - v * 1e6).abs() < 1e-6);
-            let tolerance = if on_grid {
-                1e-9 * a0
-            } else {
-                perimeter(ring) * 5e-7 * std::f64::consts::SQRT_2
-            };
-            assert!((a1 - a0).abs() <= tolerance, "{a0} vs {a1}");
-        }
-    }
-
-    fn perimeter(ring: &[Point]) -> f64 {
-        (0..ring.len())
-            .map(|i| {
-                let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
-                (b[0] - a[0]).hypot(b[1] - a[1])
-            })
-            .sum()
-    }
-
-    #[test]
-    fn reader_rejects_relative_commands_and_foreign_colours() {
-        let head = "<svg width=\"1mm\" height=\"1mm\" viewBox=\"0 0 1 1\">";
-        let rel = format!("{head}<path d=\"m0 0 l1 1 z\" stroke=\"#FF0000\"/></svg>");
-        assert!(matches!(
-            read_svg_polygons(&rel),
-            Err(ParseError::BadPathData(..))
-        ));
-        let foreign = format!("{head}<path d=\"M0 0 L1 1 Z\" stroke=\"#123456\"/></svg>");
-        assert_eq!(
-            read_svg_polygons(&foreign),
-            Err(ParseError::UnknownColour("#123456".into()))
-        );
     }
 
     #[test]

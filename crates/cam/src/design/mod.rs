@@ -2,6 +2,7 @@
 //! one conversion from the parsed file into a validated [`Design`] that later code trusts.
 
 mod geometry;
+pub mod layup;
 mod materials;
 
 pub use geometry::check_planform;
@@ -207,11 +208,7 @@ impl Design {
 
     /// Layup as `0/90/0`.
     pub fn layup_text(&self) -> String {
-        self.layup_deg
-            .iter()
-            .map(|a| format!("{a}"))
-            .collect::<Vec<_>>()
-            .join("/")
+        layup::layup_text(&self.layup_deg)
     }
 }
 

@@ -22,8 +22,7 @@ pub fn decimal(x: f64, places: usize) -> String {
 
 /// `[0/90/0]`.
 pub fn layup_label(layup: &[f64]) -> String {
-    let plies: Vec<String> = layup.iter().map(|a| a.to_string()).collect();
-    format!("[{}]", plies.join("/"))
+    format!("[{}]", crate::design::layup::layup_text(layup))
 }
 
 fn describe(range: &Range, scale: f64, unit: &str) -> String {

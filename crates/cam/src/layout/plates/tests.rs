@@ -219,9 +219,38 @@ fn invalid_input_is_reported() {
 
 #[test]
 fn kerf_zero_plates_share_edges() {
+    // Edges of two placed plates that coincide end to end (in either direction), within 1e-9 mm.
+    let shared_edges = |sheet: &NestedBin| {
+        let edges = |ring: &[Point]| -> Vec<(Point, Point)> {
+            (0..ring.len())
+                .map(|k| (ring[k], ring[(k + 1) % ring.len()]))
+                .collect()
+        };
+        let same = |p: Point, q: Point| (p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9;
+        let mut count = 0;
+        for (i, a) in sheet.parts.iter().enumerate() {
+            for b in &sheet.parts[i + 1..] {
+                for (a0, a1) in edges(&a.outline) {
+                    for (b0, b1) in edges(&b.outline) {
+                        if (same(a0, b1) && same(a1, b0)) || (same(a0, b0) && same(a1, b1)) {
+                            count += 1;
+                        }
+                    }
+                }
+            }
+        }
+        count
+    };
     let items = [design_c(30)];
     let sheets = plates_on(&items, &PZT_SHEET, 0.0, 0.0, 0.0, None).unwrap();
     check_layout(&items, &PZT_SHEET, 0.0, 0.0, &sheets);
+    // Turned neighbours in a strip share their slanted edge: at least one per plate but the first
+    // of each strip (30 plates of design C fill at most a few strips).
+    let shared = shared_edges(&sheets[0]);
+    assert!(shared >= sheets[0].parts.len() - 4, "{shared} shared edges");
+    // With a kerf between them, no two plates share an edge.
+    let kerfed = plates_on(&items, &PZT_SHEET, 0.03, 0.0, 0.0, None).unwrap();
+    assert_eq!(shared_edges(&kerfed[0]), 0);
 }
 
 /// 5 thicknesses of design C's 0.267 mm PZT: the shipped templates' narrowest snappable strip
