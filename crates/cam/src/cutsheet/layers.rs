@@ -86,25 +86,55 @@ pub fn layer_rows(design: &Design, template: &Template, built: &Build) -> Vec<La
         }));
     }
     let clamp = &built.clamps[0];
-    clamp_rows(template, &clamp.stack, clamp.panels.len(), &mut layers);
+    clamp_rows(
+        template,
+        &clamp.stack,
+        &clamp.mold.films_mm,
+        clamp.panels.len(),
+        &mut layers,
+    );
     layers
 }
 
-/// Report rows of the clamp layers: mold first, then the others in stack order, each once.
-fn clamp_rows(template: &Template, stack: &[String], panels: usize, layers: &mut Vec<LayerRow>) {
+/// Report rows of the clamp layers: mold first, one row per film thickness (naming the mold sheets cut
+/// from it, numbered bottom to top), then the others in stack order, each once.
+fn clamp_rows(
+    template: &Template,
+    stack: &[String],
+    films_mm: &[f64],
+    panels: usize,
+    layers: &mut Vec<LayerRow>,
+) {
     let c = &template.clamp;
     let panel_area = signed_area(&panel_outline(c));
-    for name in
-        std::iter::once("mold".to_string()).chain(c.stack.iter().filter(|n| *n != "mold").cloned())
-    {
+    let mut thicknesses: Vec<f64> = Vec::new();
+    for t in films_mm {
+        if !thicknesses.contains(t) {
+            thicknesses.push(*t);
+        }
+    }
+    for t in thicknesses {
+        let sheets: Vec<String> = (1..=films_mm.len())
+            .filter(|k| films_mm[k - 1] == t)
+            .map(|k| k.to_string())
+            .collect();
+        layers.push(LayerRow::new(LayerRow {
+            layer: format!("mold {}", sheets.join(", ")),
+            material: template.mold.material.clone(),
+            thickness_mm: t,
+            density_kg_per_m3: template.mold.density_kg_per_m3,
+            part_area_mm2: panel_area,
+            parts_per_actuator: 0,
+            sheets: sheets.len() * panels,
+            utilization: None,
+            mass_per_actuator_mg: 0.0,
+        }));
+    }
+    for name in c.stack.iter().filter(|n| *n != "mold").cloned() {
         if layers.iter().any(|l| l.layer == name) {
             continue;
         }
-        let spec = if name == "mold" {
-            &template.mold
-        } else {
-            &template.covers[&name]
-        };
+        let spec = &template.covers[&name];
         let count = stack
             .iter()
             .filter(|s| s.rsplit_once('-').map(|(kind, _)| kind) == Some(name.as_str()))

@@ -5,7 +5,7 @@ use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
 use crate::input::{ensure_finite, short_number, InputError};
-use crate::pipeline::{Build, Label, MoldChoice};
+use crate::pipeline::{Build, Label, MoldBand, MoldChoice};
 use crate::prediction::Prediction;
 use serde::Serialize;
 use std::fmt::Write;
@@ -33,20 +33,46 @@ pub struct DesignSummary {
     pub drive_mode: String,
 }
 
-/// The mold stack against the laminate: the mold top must sit flush with the laminate or at most the
-/// tolerance below it, so the clamp presses on the parts and not on the Teflon.
+/// The mold stack against the laminate: every part stands at most the tolerance proud of the mold layer
+/// over it, with at most the tolerance of void under it, so the clamp presses on the parts (plates and
+/// extension) and not on the Teflon.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MoldReport {
     /// Mold film thicknesses, bottom to top, mm.
     pub films_mm: Vec<f64>,
+    /// What each mold layer holds, bottom to top: `lower plate`, `core` or `upper plate`.
+    pub holds: Vec<String>,
     pub laminate_height_mm: f64,
     pub mold_height_mm: f64,
     /// Laminate height minus mold height, µm.
     pub difference_um: f64,
+    /// How each part region sits in its cavity.
+    pub press_fit: Vec<PressFitRow>,
     pub tolerance_um: f64,
     pub within_tolerance: bool,
-    /// Set when no stocked combination comes within the tolerance.
+    /// Set when a part is not pressed within the tolerance.
     pub warning: Option<String>,
+}
+
+/// One part region in its cavity, µm (rounded to 0.1 µm).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PressFitRow {
+    /// `laminate` or `extension`.
+    pub region: String,
+    /// Gap under the part.
+    pub void_below_um: f64,
+    /// Height the part stands above the mold layer over it.
+    pub proud_um: f64,
+    pub within_tolerance: bool,
+}
+
+/// What a mold layer of `band` holds, as the report says it.
+fn band_name(band: MoldBand) -> &'static str {
+    match band {
+        MoldBand::LowerPlate => "lower plate",
+        MoldBand::Core => "core",
+        MoldBand::UpperPlate => "upper plate",
+    }
 }
 
 impl MoldReport {
@@ -55,19 +81,45 @@ impl MoldReport {
         let um = |v: f64| (v * 10.0).round() / 10.0;
         let mm = |v: f64| (v * 1e6).round() / 1e6;
         let difference_um = um(m.difference_um());
+        let press_fit: Vec<PressFitRow> = m
+            .fits
+            .iter()
+            .map(|f| PressFitRow {
+                region: f.region.to_string(),
+                void_below_um: um(f.void_below_mm * 1e3),
+                proud_um: um(f.proud_mm * 1e3),
+                within_tolerance: f.within(tolerance_mm),
+            })
+            .collect();
+        let loose: Vec<String> = press_fit
+            .iter()
+            .filter(|f| !f.within_tolerance)
+            .map(|f| {
+                format!(
+                    "the {} stands {} µm proud of its mold layer with {} µm void under it",
+                    f.region, f.proud_um, f.void_below_um
+                )
+            })
+            .collect();
         MoldReport {
             films_mm: m.films_mm.clone(),
+            holds: m.bands.iter().map(|b| band_name(*b).to_string()).collect(),
             laminate_height_mm: mm(m.laminate_mm),
             mold_height_mm: mm(m.mold_mm),
             difference_um,
+            press_fit,
             tolerance_um: um(tolerance_mm * 1e3),
             within_tolerance: m.within_tolerance,
             warning: (!m.within_tolerance).then(|| {
+                let why = if m.films_mm.is_empty() {
+                    "no stocked mold film is as thin as a plate".to_string()
+                } else {
+                    loose.join("; ")
+                };
                 format!(
-                    "no combination of the stocked mold films comes within {} µm below the {} mm laminate:                      the best, {} mm, leaves {difference_um} µm; stock another film thickness or accept a                      weaker bond",
+                    "no combination of the stocked mold films presses every part within {} µm: {why}; \
+                     stock another film thickness or accept a weaker bond",
                     um(tolerance_mm * 1e3),
-                    mm(m.laminate_mm),
-                    mm(m.mold_mm)
                 )
             }),
         }
@@ -247,7 +299,13 @@ impl Report {
             );
         }
         let m = &self.mold;
-        let films: Vec<String> = m.films_mm.iter().map(|t| t.to_string()).collect();
+        let films: Vec<String> = m
+            .films_mm
+            .iter()
+            .zip(&m.holds)
+            .enumerate()
+            .map(|(k, (t, holds))| format!("mold-{} {t} ({holds})", k + 1))
+            .collect();
         let _ = writeln!(
             s,
             "\nMold stack, bottom to top: {} mm = **{} mm** around a **{} mm** laminate: {} µm below it (tolerance {} µm).",
@@ -257,6 +315,20 @@ impl Report {
             m.difference_um,
             m.tolerance_um
         );
+        for f in &m.press_fit {
+            let _ = writeln!(
+                s,
+                "- press fit, {}: {} µm proud of the mold layer over it, {} µm void under it{}",
+                f.region,
+                f.proud_um,
+                f.void_below_um,
+                if f.within_tolerance {
+                    ""
+                } else {
+                    " (out of tolerance)"
+                }
+            );
+        }
         if let Some(w) = &m.warning {
             let _ = writeln!(s, "\n**Warning:** {w}.");
         }

@@ -3,7 +3,7 @@
 //! parts) share cut sheets packed by the build's [`Packing`]; actuators of one laminate height share a
 //! stack of clamp panels. One design is a build of one job: every group then holds just it.
 
-use super::clamp::{clamp_layers, laminate_mm, ClampBuild};
+use super::clamp::{clamp_layers, laminate_bands, ClampBuild};
 use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, CutLayer};
 use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord};
 use super::parts::PartGeometry;
@@ -191,9 +191,17 @@ pub fn build_into<'s>(
         });
     }
 
-    // Clamp panels: actuators of one laminate height share a stack of mold layers.
+    // Clamp panels: actuators of one laminate (plate and core thickness) share a stack of mold layers,
+    // whose films are chosen band by band.
     let mut clamps = Vec::new();
-    for group in groups(&jobs, |j| (laminate_mm(j.design) * 1e6).round() as i64) {
+    let key = |j: &Job<'_>| {
+        let b = laminate_bands(j.design);
+        (
+            (b.plate_mm * 1e6).round() as i64,
+            (b.core_mm * 1e6).round() as i64,
+        )
+    };
+    for group in groups(&jobs, key) {
         clamps.push(clamp_layers(&group, template, names, &mut drawn)?);
         drawn.check_sink()?;
     }

@@ -2,7 +2,7 @@
 //! laminate height, so one stack of mold layers fits all of them.
 
 use super::jobs::{kerfed, Drawn, Job, Names};
-use super::mold::{choose_mold, MoldChoice};
+use super::mold::{choose_mold, LaminateBands, MoldBand, MoldChoice};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::PartGeometry;
 use super::BuildError;
@@ -61,25 +61,22 @@ pub struct ClampBuild {
     pub mold: MoldChoice,
 }
 
-/// Laminate height of a design, mm: two plates, the passive core and the bond layers.
-pub fn laminate_mm(design: &Design) -> f64 {
-    (2.0 * design.pzt_thickness
-        + design.ply_thickness * design.layup_deg.len() as f64
-        + 2.0 * design.bond.as_ref().map(|(_, t)| *t).unwrap_or(0.0))
-        * 1e3
+/// The bands of a design's laminate, mm: a plate, and the passive core of plies and bond layers.
+pub fn laminate_bands(design: &Design) -> LaminateBands {
+    LaminateBands {
+        plate_mm: design.pzt_thickness * 1e3,
+        core_mm: (design.ply_thickness * design.layup_deg.len() as f64
+            + 2.0 * design.bond.as_ref().map(|(_, t)| *t).unwrap_or(0.0))
+            * 1e3,
+    }
 }
 
-/// The cavity shape of the mold layer spanning the height band `[lo, hi]` mm from the bottom of the
-/// stack: the passive outline where the band meets the passive core or bond layers, the PZT outline
-/// elsewhere.
-fn cavity_outline(design: &Design, g: &PartGeometry, (lo, hi): (f64, f64)) -> Vec<Point> {
-    let t_p = design.pzt_thickness * 1e3;
-    let t_b = design.bond.as_ref().map(|(_, t)| t * 1e3).unwrap_or(0.0);
-    let core = design.ply_thickness * 1e3 * design.layup_deg.len() as f64 + 2.0 * t_b;
-    if lo < t_p + core && hi > t_p {
-        g.passive_outline()
-    } else {
-        g.pzt_outline()
+/// The cavity shape of a mold layer of `band`: the passive outline where it holds the core, the PZT
+/// outline where it holds a plate.
+fn cavity_outline(g: &PartGeometry, band: MoldBand) -> Vec<Point> {
+    match band {
+        MoldBand::Core => g.passive_outline(),
+        MoldBand::LowerPlate | MoldBand::UpperPlate => g.pzt_outline(),
     }
 }
 
@@ -174,7 +171,8 @@ fn envelope(jobs: &[(usize, Job<'_>)]) -> PartGeometry {
     }
 }
 
-/// Assign the actuators of `jobs` (which share one laminate height) to clamp panels and draw every
+/// Assign the actuators of `jobs` (which share one laminate: the same plate and core thicknesses) to
+/// clamp panels and draw every
 /// clamp layer of every panel.
 pub fn clamp_layers(
     jobs: &[(usize, Job<'_>)],
@@ -187,7 +185,13 @@ pub fn clamp_layers(
             stack: Vec::new(),
             panels: Vec::new(),
             first_panel: drawn.panels + 1,
-            mold: choose_mold(0.0, &template.mold_stock),
+            mold: choose_mold(
+                LaminateBands {
+                    plate_mm: 0.0,
+                    core_mm: 0.0,
+                },
+                &template.mold_stock,
+            ),
         });
     };
     let c = &template.clamp;
@@ -231,17 +235,8 @@ pub fn clamp_layers(
             ));
         }
     }
-    let mold = choose_mold(laminate_mm(first.design), &template.mold_stock);
-    // Height band of each mold layer, bottom to top.
-    let bands: Vec<(f64, f64)> = mold
-        .films_mm
-        .iter()
-        .scan(0.0, |top, t| {
-            let band = (*top, *top + t);
-            *top += t;
-            Some(band)
-        })
-        .collect();
+    let mold = choose_mold(laminate_bands(first.design), &template.mold_stock);
+    let bands = &mold.bands;
     // Expand the stack: "mold" becomes mold-1..n; other layers are numbered by occurrence.
     let mut stack: Vec<(String, String, usize)> = Vec::new(); // (layer kind, stem prefix, index)
     for name in &c.stack {
@@ -324,7 +319,7 @@ pub fn clamp_layers(
             if kind == "mold" {
                 for (m, _, base) in members {
                     let job = &jobs[*m].1;
-                    let cavity = cavity_outline(job.design, &job.geometry, bands[*j]);
+                    let cavity = cavity_outline(&job.geometry, bands[*j]);
                     let grown = offsets.kerfed(
                         job.design,
                         &cavity,

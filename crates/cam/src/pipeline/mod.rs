@@ -29,7 +29,7 @@ pub use clamp::ClampBuild;
 pub use cut::CutLayer;
 pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError};
 pub use label::Label;
-pub use mold::{choose_mold, MoldChoice};
+pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
 pub use panel::panel_outline;
 pub use parts::PartGeometry;
 pub use place::{

@@ -56,13 +56,13 @@ pub struct ClampLayerSpec {
 }
 
 /// Mold films a lab stocks (`[layers.mold] stock_thicknesses_mm`, default the one `thickness_mm`) and
-/// the tolerance on the mold height (`height_tolerance_mm`): the mold top must sit flush with the
-/// laminate or at most this far below it (docs/cam.md §1, "Mold layers").
+/// the press-fit tolerance (`height_tolerance_mm`): every part stands at most this far proud of the
+/// mold film over it, with at most this much void under it (docs/cam.md §1, "Mold layers").
 #[derive(Debug, Clone, PartialEq)]
 pub struct MoldStock {
     /// Film thicknesses in stock, mm.
     pub films_mm: Vec<f64>,
-    /// Largest allowed laminate height minus mold height, mm.
+    /// Largest allowed height of a part above the film over it, and void under it, mm.
     pub tolerance_mm: f64,
 }
 
