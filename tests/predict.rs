@@ -81,6 +81,35 @@ fn models_are_selectable_and_euler_bernoulli_refuses_tapers() {
     assert!(stderr(&out).contains("rectangles only"), "{}", stderr(&out));
 }
 
+#[test]
+fn resonance_and_modal_mass_of_a_rectangle_are_the_cantilevers() {
+    // Design B is a rectangle without extension or tab: a uniform cantilever, whose lumped tip mass
+    // k/ω1² is 3/1.87510⁴ of its mass (β1 L = 1.87510, e.g. Rao, Vibration of Continuous Systems) and
+    // whose resonance is √(k/m)/2π with k = F_b/δ. Under every built-in model.
+    for model in ["original", "thesis-adjusted", "euler-bernoulli"] {
+        let j = predict_json(&example("thesis-B.toml"), &["--model", model]);
+        let number = |key: &str| j[key].as_f64().unwrap();
+        let want_mg = 3.0 / 1.875_104_068_7f64.powi(4) * number("mass_mg");
+        let m = number("modal_mass_mg");
+        assert!(
+            (m / want_mg - 1.0).abs() < 1e-6,
+            "{model}: {m} vs {want_mg}"
+        );
+        let k = number("stiffness_N_per_m");
+        let f = (k / (m * 1e-6)).sqrt() / (2.0 * std::f64::consts::PI);
+        assert!((number("resonance_Hz") / f - 1.0).abs() < 1e-9, "{model}");
+    }
+    // A tapered design with an extension: positive and finite, and the table prints both.
+    let c = predict_json(&example("thesis-C.toml"), &[]);
+    assert!(c["resonance_Hz"].as_f64().unwrap() > 0.0);
+    let out = run(&["predict", &example("thesis-C.toml")]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("resonance") && text.contains("modal mass"),
+        "{text}"
+    );
+}
+
 fn original_b() -> serde_json::Value {
     predict_json(&example("thesis-B.toml"), &[])
 }

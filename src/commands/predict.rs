@@ -29,7 +29,7 @@ pub fn run(args: &PredictArgs) -> anyhow::Result<()> {
     let design = Design::load(&args.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let design = design_for_process(&design, &template)?;
-    let prediction = Prediction::with_model(&design, model)
+    let prediction = Prediction::with_dynamics(&design, model)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.design.display()))?;
     prediction.ensure_finite(&design)?;
     if args.json.json {

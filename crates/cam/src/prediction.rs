@@ -3,9 +3,11 @@
 
 use crate::design::Design;
 use crate::input::{ensure_finite, short_number, InputError};
+use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::Actuator;
 use actuator_model::model::{predict, ModelChoice, ModelKind};
-use actuator_model::{ModelError, Performance};
+use actuator_model::performance::evaluate;
+use actuator_model::{ModelError, Performance, Section};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -41,6 +43,63 @@ pub struct Prediction {
     pub base_stress_MPa: f64,
     pub capacitance_nF: f64,
     pub mass_breakdown_mg: MassBreakdownMg,
+    /// First natural frequency of the bare clamped actuator (`predict` only; docs/physics.md §11).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resonance_Hz: Option<f64>,
+    /// Lumped tip mass `k / ω1²` (`predict` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modal_mass_mg: Option<f64>,
+}
+
+/// The actuator's raw inputs as the effects take them.
+pub fn actuator(design: &Design) -> Actuator<'_> {
+    Actuator {
+        pzt: &design.pzt,
+        pzt_thickness: design.pzt_thickness,
+        ply: &design.ply,
+        ply_thickness: design.ply_thickness,
+        layup_deg: &design.layup_deg,
+        planform: design.planform,
+        drive: design.drive,
+    }
+}
+
+/// The first mode of a design's bare clamped actuator under a model, with its static stiffness set to
+/// the prediction's `F_b / δ` (docs/physics.md §11.3). The built-in models use the section's beam, its
+/// masses scaled to the prediction's mass (the thesis-adjusted model changes the ply mass); a calibrated
+/// model uses its effects' beam (clamp, rigid root, compliant extension, stiffness scale).
+pub fn actuator_modes(
+    design: &Design,
+    model: &ModelChoice,
+    performance: &Performance,
+) -> Result<Modal, ModelError> {
+    let beam = match model {
+        ModelChoice::Kind(_) => {
+            let section = Section::new(&design.laminate()?, design.drive)?;
+            let beam = ActuatorBeam::from_section(&section, &design.planform);
+            let scale = performance.mass / evaluate(&section, &design.planform).mass;
+            ActuatorBeam {
+                areal_mass: beam.areal_mass * scale,
+                extension_areal_mass: beam.extension_areal_mass * scale,
+                ..beam
+            }
+        }
+        ModelChoice::Calibrated(calibrated) => {
+            let physics = calibrated.effect_model()?;
+            let a = actuator(design);
+            let basis = physics.basis(&a)?;
+            let effects = physics.boundary_effects(&basis.planform);
+            ActuatorBeam::from_effects(&effects, &basis, &physics.mass(&a)?)
+        }
+    };
+    let modal = beam.solve()?;
+    // A uniform stiffness factor moves k and ω1² together (§11.3).
+    let factor = performance.stiffness / modal.static_stiffness;
+    Ok(Modal {
+        frequency: modal.frequency * factor.sqrt(),
+        static_stiffness: performance.stiffness,
+        rayleigh_mass: modal.rayleigh_mass,
+    })
 }
 
 impl Prediction {
@@ -57,19 +116,25 @@ impl Prediction {
         match model {
             ModelChoice::Kind(kind) => Self::of(design, *kind),
             ModelChoice::Calibrated(_) => {
-                let actuator = Actuator {
-                    pzt: &design.pzt,
-                    pzt_thickness: design.pzt_thickness,
-                    ply: &design.ply,
-                    ply_thickness: design.ply_thickness,
-                    layup_deg: &design.layup_deg,
-                    planform: design.planform,
-                    drive: design.drive,
-                };
-                let perf = model.predict(&actuator)?;
+                let perf = model.predict(&actuator(design))?;
                 Ok(Self::from_performance(design, model.name(), &perf))
             }
         }
+    }
+
+    /// The prediction with the bare actuator's resonance and lumped tip mass (what `predict` prints).
+    pub fn with_dynamics(design: &Design, model: &ModelChoice) -> Result<Prediction, ModelError> {
+        let performance = match model {
+            ModelChoice::Kind(kind) => {
+                predict(*kind, &design.laminate()?, &design.planform, design.drive)?
+            }
+            ModelChoice::Calibrated(_) => model.predict(&actuator(design))?,
+        };
+        let modal = actuator_modes(design, model, &performance)?;
+        let mut p = Self::from_performance(design, model.name(), &performance);
+        p.resonance_Hz = Some(modal.frequency);
+        p.modal_mass_mg = Some(modal.modal_mass() * 1e6);
+        Ok(p)
     }
 
     /// Convert a model performance (SI) for a design into lab units.
@@ -99,12 +164,14 @@ impl Prediction {
                 passive: p.mass_breakdown.passive * 1e6,
                 bond: p.mass_breakdown.bond * 1e6,
             },
+            resonance_Hz: None,
+            modal_mass_mg: None,
         }
     }
 
     /// Every number by its `--json` name, for the finite check.
-    pub fn numbers(&self) -> [(&'static str, f64); 16] {
-        [
+    pub fn numbers(&self) -> Vec<(&'static str, f64)> {
+        let mut numbers = vec![
             ("mass_mg", self.mass_mg),
             ("free_deflection_mm", self.free_deflection_mm),
             ("blocked_force_N", self.blocked_force_N),
@@ -121,7 +188,10 @@ impl Prediction {
             ("mass_breakdown_mg.pzt", self.mass_breakdown_mg.pzt),
             ("mass_breakdown_mg.passive", self.mass_breakdown_mg.passive),
             ("mass_breakdown_mg.bond", self.mass_breakdown_mg.bond),
-        ]
+        ];
+        numbers.extend(self.resonance_Hz.map(|f| ("resonance_Hz", f)));
+        numbers.extend(self.modal_mass_mg.map(|m| ("modal_mass_mg", m)));
+        numbers
     }
 
     /// Refuse a prediction with a number that is not finite, naming the design fields that produced it
@@ -149,7 +219,7 @@ impl Prediction {
 
     /// A readable table, one quantity per line.
     pub fn table(&self) -> String {
-        let rows: [(&str, String, &str); 16] = [
+        let mut rows: Vec<(&str, String, &str)> = vec![
             ("mass", format!("{:.2}", self.mass_mg), "mg"),
             (
                 "  PZT plates",
@@ -211,6 +281,10 @@ impl Prediction {
                 "nF per plate",
             ),
         ];
+        if let (Some(f), Some(m)) = (self.resonance_Hz, self.modal_mass_mg) {
+            rows.push(("resonance", format!("{f:.1}"), "Hz (bare, clamped)"));
+            rows.push(("modal mass", format!("{m:.2}"), "mg (k/ω1², at the tip)"));
+        }
         let mut out = String::new();
         let _ = writeln!(
             out,

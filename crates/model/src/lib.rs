@@ -6,10 +6,12 @@
 //! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
 
 pub mod drive;
+pub mod dynamics;
 pub mod effects;
 pub mod empirical;
 pub mod error;
 pub mod euler_bernoulli;
+pub mod flapping;
 pub mod lamina;
 pub mod laminate;
 pub mod large_deflection;
@@ -19,7 +21,9 @@ pub mod performance;
 pub mod planform;
 pub mod primitives;
 pub mod section;
+pub mod transmission;
 pub mod weibull;
+pub mod wing;
 
 pub use drive::{Drive, DriveMode};
 pub use effects::{Actuator, Effects};

@@ -1,0 +1,676 @@
+//! The first bending mode of the actuator as built, and the lumped tip model the drive uses
+//! (docs/physics.md §11).
+//!
+//! | part | bending stiffness per width | mass per length |
+//! |---|---|---|
+//! | active region `[h, l_p]`, tapered | `w(x) s_k / C44` (CLT section, thesis eq. 2.29) | `w(x)` × areal mass of every layer |
+//! | extension `[l_p, l_tot]`, plies at `w_tip` | rigid, or `w_tip / (φ C44_pass)` with the compliant-extension effect | `w_tip` × areal mass of the plies |
+//! | root | clamped; a rotational spring `c_θ` at `x = 0` with the clamp-compliance effect; `[0, h]` rigid with a rigid root | `[0, h]` rotates with the spring |
+//!
+//! The beam is cut into Hermite elements. Each element's stiffness is the exact flexibility of its
+//! linearly tapered section (so the static tip stiffness equals the statics' `F_b / δ` to rounding), its
+//! mass the consistent cubic-Hermite mass. The lumped model `k = F_b / δ`, `m = k / ω1²` reproduces both
+//! the static stiffness and the first resonance.
+
+use crate::effects::{Effects, StackBasis};
+use crate::error::ModelError;
+use crate::performance::MassBreakdown;
+use crate::planform::Planform;
+use crate::section::Section;
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix4};
+
+/// Structural loss factor used when none is given: `η = 1/Q_m` with the mechanical quality factor
+/// `Q_m = 32` of PZT-5H (Piezo Systems PSI-5H4E data sheet, the thesis' PZT, thesis Table 2.1 ref. [30]).
+pub const DEFAULT_LOSS_FACTOR: f64 = 1.0 / 32.0;
+
+/// Elements over the active region in [`ActuatorBeam::solve`]; the test `first_frequency_converges`
+/// shows the frequency settled to better than 1e-9 there.
+pub const ACTIVE_ELEMENTS: usize = 32;
+
+/// Elements over a compliant extension in [`ActuatorBeam::solve`].
+pub const EXTENSION_ELEMENTS: usize = 12;
+
+/// The actuator as a beam: what its first mode depends on, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ActuatorBeam {
+    /// Planform (the base tab sits in the clamp and does not move).
+    pub planform: Planform,
+    /// Bending compliance per width `C44` of the active stack, 1/(N·m).
+    pub bending_compliance: f64,
+    /// Areal mass of the active stack (PZT, plies, bond), kg/m².
+    pub areal_mass: f64,
+    /// Areal mass of the extension (the plies), kg/m².
+    pub extension_areal_mass: f64,
+    /// Bending compliance per width of the extension, 1/(N·m); `None` for a rigid extension.
+    pub extension_bending_compliance: Option<f64>,
+    /// Rotational compliance of the clamp, rad/(N·m); 0 for a rigid clamp.
+    pub clamp_compliance: f64,
+    /// Root length of the PZT held rigidly in the clamp, m.
+    pub rigid_root: f64,
+    /// Uniform factor on the active region's bending stiffness (`s_k`, docs/calibration.md §2).
+    pub stiffness_scale: f64,
+}
+
+/// The first mode and the static tip stiffness of an [`ActuatorBeam`], SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Modal {
+    /// First natural frequency `f1`, Hz.
+    pub frequency: f64,
+    /// Static stiffness at the tip of the extension, `F / δ`, N/m.
+    pub static_stiffness: f64,
+    /// Rayleigh mass of the static tip-load shape, `∫ μ φ² dx` with `φ(tip) = 1`, kg.
+    pub rayleigh_mass: f64,
+}
+
+impl Modal {
+    /// Circular frequency `ω1 = 2π f1`, rad/s.
+    pub fn angular_frequency(&self) -> f64 {
+        2.0 * std::f64::consts::PI * self.frequency
+    }
+
+    /// Lumped tip mass `m = k / ω1²` (docs/physics.md §11.3), kg.
+    pub fn modal_mass(&self) -> f64 {
+        self.static_stiffness / self.angular_frequency().powi(2)
+    }
+}
+
+/// The actuator as the drive sees it at its tip: a force source behind a spring and a mass (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LumpedActuator {
+    /// Tip stiffness `k = F_b / δ`, N/m.
+    pub stiffness: f64,
+    /// Tip mass `m = k / ω1²`, kg.
+    pub mass: f64,
+    /// Structural loss factor η (hysteretic damping `k (1 + i η)`).
+    pub loss_factor: f64,
+}
+
+impl LumpedActuator {
+    /// The lumped model of a prediction: its stiffness `F_b / δ` and the beam's `k / ω1²` scaled to it
+    /// (a uniform stiffness factor moves `k` and `ω1²` together and leaves `m` alone).
+    pub fn new(stiffness: f64, modal: &Modal, loss_factor: f64) -> Self {
+        LumpedActuator {
+            stiffness,
+            mass: modal.modal_mass(),
+            loss_factor,
+        }
+    }
+
+    /// Natural frequency `√(k/m) / 2π`, Hz.
+    pub fn frequency(&self) -> f64 {
+        (self.stiffness / self.mass).sqrt() / (2.0 * std::f64::consts::PI)
+    }
+}
+
+impl ActuatorBeam {
+    /// The beam of the original model: the section's `C44` and areal masses, rigid extension, rigid
+    /// clamp.
+    pub fn from_section(section: &Section, planform: &Planform) -> Self {
+        ActuatorBeam {
+            planform: *planform,
+            bending_compliance: section.bending_compliance,
+            areal_mass: section.pzt_areal_mass
+                + section.passive_areal_mass
+                + section.bond_areal_mass,
+            extension_areal_mass: section.passive_areal_mass,
+            extension_bending_compliance: None,
+            clamp_compliance: 0.0,
+            rigid_root: 0.0,
+            stiffness_scale: 1.0,
+        }
+    }
+
+    /// The beam of a model with effects: `C44` back from the basis' beam compliance
+    /// (`c = C44 l_p³ G / (3 w_nom)`), the extension's from its bare-ply compliance times φ, the
+    /// boundary effects as in [`Effects::outputs`], the areal masses from the effects' mass.
+    pub fn from_effects(effects: &Effects, basis: &StackBasis, mass: &MassBreakdown) -> Self {
+        let pl = basis.planform;
+        let l_p = pl.piezo_length();
+        let c44 =
+            basis.beam_compliance * 3.0 * pl.nominal_width() / (l_p.powi(3) * pl.shape_factor());
+        let a_pzt = pl.piezo_area();
+        let passive_areal = mass.passive / (a_pzt + pl.extension_area() + pl.tab_area());
+        let extension =
+            (effects.extension_flexibility > 0.0 && pl.extension_ratio > 0.0).then(|| {
+                effects.extension_flexibility * basis.extension_compliance * 3.0 * pl.tip_width()
+                    / pl.extension_length().powi(3)
+            });
+        ActuatorBeam {
+            planform: pl,
+            bending_compliance: c44,
+            areal_mass: (mass.pzt + mass.bond) / a_pzt + passive_areal,
+            extension_areal_mass: passive_areal,
+            extension_bending_compliance: extension,
+            clamp_compliance: effects.clamp_compliance,
+            // Clipped as the statics clip it (effects.rs `held_root`).
+            rigid_root: effects.rigid_root.min(0.95 * l_p),
+            stiffness_scale: effects.stiffness_scale,
+        }
+    }
+
+    /// Mass of the parts that move (active region from the clamp line and extension), kg.
+    pub fn moving_mass(&self) -> f64 {
+        let pl = &self.planform;
+        self.areal_mass * pl.piezo_area() + self.extension_areal_mass * pl.extension_area()
+    }
+
+    /// First mode and static stiffness with the default mesh ([`ACTIVE_ELEMENTS`],
+    /// [`EXTENSION_ELEMENTS`]).
+    pub fn solve(&self) -> Result<Modal, ModelError> {
+        self.solve_with(ACTIVE_ELEMENTS, EXTENSION_ELEMENTS)
+    }
+
+    /// First mode and static stiffness with `active` elements over the free active length and
+    /// `extension` over a compliant extension.
+    pub fn solve_with(&self, active: usize, extension: usize) -> Result<Modal, ModelError> {
+        self.check()?;
+        let pl = &self.planform;
+        let l_p = pl.piezo_length();
+        let l_ext = pl.extension_length();
+        let h = self.rigid_root;
+        let w_tip = pl.tip_width();
+        let active = active.max(1);
+        let mut elements = Vec::new();
+        for i in 0..active {
+            let a = h + (l_p - h) * i as f64 / active as f64;
+            let b = h + (l_p - h) * (i + 1) as f64 / active as f64;
+            let stiff = |x: f64| self.stiffness_scale * pl.width_at(x) / self.bending_compliance;
+            let line = |x: f64| self.areal_mass * pl.width_at(x);
+            elements.push(Element {
+                a,
+                b,
+                stiffness: [stiff(a), stiff(b)],
+                line_mass: [line(a), line(b)],
+            });
+        }
+        let compliant = match self.extension_bending_compliance {
+            Some(c) if l_ext > 0.0 => Some(w_tip / c),
+            _ => None,
+        };
+        if let Some(ei) = compliant {
+            let n = extension.max(1);
+            let mu = self.extension_areal_mass * w_tip;
+            for i in 0..n {
+                elements.push(Element {
+                    a: l_p + l_ext * i as f64 / n as f64,
+                    b: l_p + l_ext * (i + 1) as f64 / n as f64,
+                    stiffness: [ei, ei],
+                    line_mass: [mu, mu],
+                });
+            }
+        }
+        let nodes = elements.len() + 1;
+        let full = 2 * nodes;
+        let mut k = DMatrix::<f64>::zeros(full, full);
+        let mut m = DMatrix::<f64>::zeros(full, full);
+        for (e, el) in elements.iter().enumerate() {
+            let ke = el.stiffness_matrix();
+            let me = el.mass_matrix();
+            for r in 0..4 {
+                for c in 0..4 {
+                    k[(2 * e + r, 2 * e + c)] += ke[(r, c)];
+                    m[(2 * e + r, 2 * e + c)] += me[(r, c)];
+                }
+            }
+        }
+        let last = 2 * (nodes - 1);
+        let mut load = DVector::<f64>::zeros(full);
+        load[last] = 1.0;
+        if compliant.is_none() && l_ext > 0.0 {
+            // The rigid extension: a line mass moving as `v + θ s`, `s` in [0, l_ext]; the tip load acts
+            // at `s = l_ext`.
+            let m_ext = self.extension_areal_mass * w_tip * l_ext;
+            m[(last, last)] += m_ext;
+            m[(last, last + 1)] += m_ext * l_ext / 2.0;
+            m[(last + 1, last)] += m_ext * l_ext / 2.0;
+            m[(last + 1, last + 1)] += m_ext * l_ext * l_ext / 3.0;
+            load[last + 1] = l_ext;
+        }
+        // The root: clamped (drop the first node's two degrees of freedom), or turning with the clamp's
+        // spring about x = 0, the held root `[0, h]` rigid with it: (v, θ) at x = h is (h ψ, ψ).
+        let spring = self.clamp_compliance > 0.0;
+        let reduced = if spring { full - 1 } else { full - 2 };
+        let mut t = DMatrix::<f64>::zeros(full, reduced);
+        let shift = if spring {
+            t[(0, 0)] = h;
+            t[(1, 0)] = 1.0;
+            1
+        } else {
+            0
+        };
+        for j in 2..full {
+            t[(j, j - 2 + shift)] = 1.0;
+        }
+        let mut kr = t.transpose() * &k * &t;
+        let mut mr = t.transpose() * &m * &t;
+        let fr = t.transpose() * &load;
+        if spring {
+            kr[(0, 0)] += 1.0 / self.clamp_compliance;
+            // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
+            let mu = |x: f64| self.areal_mass * pl.width_at(x);
+            mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
+        }
+        let chol = kr.clone().cholesky().ok_or_else(|| {
+            ModelError::Laminate("the actuator's beam stiffness is not positive definite".into())
+        })?;
+        let static_shape = chol.solve(&fr);
+        let compliance = fr.dot(&static_shape);
+        let rayleigh_mass = static_shape.dot(&(&mr * &static_shape)) / (compliance * compliance);
+        // Inverse iteration from the static shape: the first mode dominates it, and the ratio of the
+        // first two eigenvalues (about 1/40 for a cantilever) makes each step gain more than a digit.
+        let mut x = static_shape;
+        let mut eigenvalue = 1.0 / (compliance * rayleigh_mass);
+        for _ in 0..200 {
+            let y = chol.solve(&(&mr * &x));
+            let next = x.dot(&(&mr * &x)) / x.dot(&(&mr * &y));
+            let norm = y.norm();
+            x = y / norm;
+            let done = ((next - eigenvalue) / next).abs() < 1e-15;
+            eigenvalue = next;
+            if done {
+                break;
+            }
+        }
+        // The Rayleigh quotient of the converged vector.
+        let eigenvalue = x.dot(&(&kr * &x)) / x.dot(&(&mr * &x));
+        Ok(Modal {
+            frequency: eigenvalue.sqrt() / (2.0 * std::f64::consts::PI),
+            static_stiffness: 1.0 / compliance,
+            rayleigh_mass,
+        })
+    }
+
+    fn check(&self) -> Result<(), ModelError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(ModelError::OutOfRange {
+                    name,
+                    value: v,
+                    range: "(0, inf)",
+                })
+            }
+        };
+        positive("bending_compliance", self.bending_compliance)?;
+        positive("areal_mass", self.areal_mass)?;
+        positive("stiffness_scale", self.stiffness_scale)?;
+        if let Some(c) = self.extension_bending_compliance {
+            positive("extension_bending_compliance", c)?;
+        }
+        let nonneg = |name: &'static str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(ModelError::OutOfRange {
+                    name,
+                    value: v,
+                    range: "[0, inf)",
+                })
+            }
+        };
+        nonneg("extension_areal_mass", self.extension_areal_mass)?;
+        nonneg("clamp_compliance", self.clamp_compliance)?;
+        nonneg("rigid_root", self.rigid_root)?;
+        if self.rigid_root >= self.planform.piezo_length() {
+            return Err(ModelError::OutOfRange {
+                name: "rigid_root",
+                value: self.rigid_root,
+                range: "[0, l_p) m",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One beam element on `[a, b]` with bending stiffness `EI` and line mass `μ` linear between the ends.
+struct Element {
+    a: f64,
+    b: f64,
+    stiffness: [f64; 2],
+    line_mass: [f64; 2],
+}
+
+/// Gauss-Legendre abscissae and weights on [-1, 1], 4 points (exact to degree 7).
+const GAUSS4: [(f64, f64); 4] = [
+    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
+    (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
+    (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+];
+
+/// Gauss-Legendre abscissae and weights on [-1, 1], 8 points.
+const GAUSS8: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+];
+
+impl Element {
+    /// Exact stiffness from the flexibility of the element as a cantilever from `a` (docs/physics.md
+    /// §11.1): `F = ∫ [(L-s)², (L-s); (L-s), 1] / EI(s) ds`, `K = Bᵀ F⁻¹ B` with `B` the end-`b`
+    /// deformation relative to the rigid motion of end `a`.
+    fn stiffness_matrix(&self) -> Matrix4<f64> {
+        let len = self.b - self.a;
+        let [e0, e1] = self.stiffness;
+        let ei = |s: f64| e0 + (e1 - e0) * s / len;
+        // 1/EI varies most where EI is smallest: split the element where EI has grown by 1.2 so that
+        // the 8-point rule integrates each piece to rounding.
+        let ratio = e0.max(e1) / e0.min(e1);
+        let pieces = ((ratio.ln() / 1.2f64.ln()).ceil() as usize).max(1);
+        let at = |k: usize| {
+            if pieces == 1 {
+                len * k as f64
+            } else {
+                let target = e0 * (e1 / e0).powf(k as f64 / pieces as f64);
+                len * (target - e0) / (e1 - e0)
+            }
+        };
+        let mut f = Matrix2::<f64>::zeros();
+        for p in 0..pieces {
+            let (s0, s1) = (at(p), at(p + 1));
+            let half = 0.5 * (s1 - s0);
+            for (xi, w) in GAUSS8 {
+                let s = s0 + half * (xi + 1.0);
+                let arm = len - s;
+                let weight = w * half / ei(s);
+                f[(0, 0)] += weight * arm * arm;
+                f[(0, 1)] += weight * arm;
+                f[(1, 1)] += weight;
+            }
+        }
+        f[(1, 0)] = f[(0, 1)];
+        let k_end = f.try_inverse().expect("a positive-definite flexibility");
+        #[rustfmt::skip]
+        let b = nalgebra::Matrix2x4::new(
+            -1.0, -len, 1.0, 0.0,
+            0.0, -1.0, 0.0, 1.0,
+        );
+        b.transpose() * k_end * b
+    }
+
+    /// Consistent mass of the cubic Hermite shape functions with `μ` linear (4-point Gauss, exact).
+    fn mass_matrix(&self) -> Matrix4<f64> {
+        let len = self.b - self.a;
+        let [m0, m1] = self.line_mass;
+        let mut m = Matrix4::<f64>::zeros();
+        for (xi, w) in GAUSS4 {
+            let u = 0.5 * (xi + 1.0);
+            let n = [
+                1.0 - 3.0 * u * u + 2.0 * u.powi(3),
+                len * (u - 2.0 * u * u + u.powi(3)),
+                3.0 * u * u - 2.0 * u.powi(3),
+                len * (u.powi(3) - u * u),
+            ];
+            let mu = m0 + (m1 - m0) * u;
+            let weight = 0.5 * w * len * mu;
+            for r in 0..4 {
+                for c in 0..4 {
+                    m[(r, c)] += weight * n[r] * n[c];
+                }
+            }
+        }
+        m
+    }
+}
+
+/// Rayleigh static-shape tip mass of a rectangular actuator with a rigid extension (docs/physics.md
+/// §11.2; the form of Wood, Steltz & Fearing 2005, a function of the extension ratio and the mass ratio):
+///
+/// `m_eff / m_p = [(1+r)²/20 - (1+r)/36 + 1/252 + m_r ((a + b r)³ - a³) / (3 b r)] / D²`,
+///
+/// `r = l_ext / l_p`, `m_r = m_ext / m_p` (the mass ratio), `a = 1/3 + r/2`, `b = 1/2 + r`,
+/// `D = 1/3 + r + r²`; `33/140` at `r = 0`. Returns `m_eff / m_p`.
+pub fn rigid_extension_tip_mass_ratio(extension_ratio: f64, mass_ratio: f64) -> f64 {
+    let r = extension_ratio;
+    let d = 1.0 / 3.0 + r + r * r;
+    let piezo = (1.0 + r).powi(2) / 20.0 - (1.0 + r) / 36.0 + 1.0 / 252.0;
+    let extension = if r > 0.0 {
+        let (a, b) = (1.0 / 3.0 + r / 2.0, 0.5 + r);
+        mass_ratio * ((a + b * r).powi(3) - a.powi(3)) / (3.0 * b * r)
+    } else {
+        0.0
+    };
+    (piezo + extension) / (d * d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drive::{Drive, DriveMode};
+    use crate::laminate::Laminate;
+    use crate::material::Material;
+    use crate::performance::{evaluate, tip_compliance};
+
+    /// A uniform beam: `EI = w / C44`, `μ = w × areal mass`.
+    fn uniform(length: f64, extension_ratio: f64) -> ActuatorBeam {
+        ActuatorBeam {
+            planform: Planform::new(length, extension_ratio, 5e-3, 1.0, 0.0).unwrap(),
+            bending_compliance: 2.0e-3,
+            areal_mass: 4.0,
+            extension_areal_mass: 0.6,
+            extension_bending_compliance: None,
+            clamp_compliance: 0.0,
+            rigid_root: 0.0,
+            stiffness_scale: 1.0,
+        }
+    }
+
+    fn thesis_section(t_p: f64, layup: &[f64]) -> Section {
+        let pzt = Material::builtin("PZT-5H").unwrap();
+        let cf = Material::builtin("CF-thesis").unwrap();
+        let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
+        Section::new(
+            &lam,
+            Drive {
+                mode: DriveMode::Parallel,
+                field: 800e3,
+            },
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn uniform_cantilever_frequency_is_the_classical_one() {
+        // Source: Euler-Bernoulli cantilever, β1 L = 1.87510407 (e.g. Rao, Vibration of Continuous
+        // Systems, Table 11.1): f1 = (β1 L)² / (2π) √(EI / (μ L⁴)).
+        let beam = uniform(30e-3, 0.0);
+        let ei = 5e-3 / 2.0e-3;
+        let mu = 4.0 * 5e-3;
+        let l: f64 = 30e-3;
+        let want = 1.875_104_068_7f64.powi(2) / (2.0 * std::f64::consts::PI)
+            * (ei / (mu * l.powi(4))).sqrt();
+        let got = beam.solve().unwrap();
+        assert!(
+            ((got.frequency - want) / want).abs() < 1e-4,
+            "{} vs {want}",
+            got.frequency
+        );
+        // The static tip stiffness of the same beam is 3 EI / L³.
+        let k = 3.0 * ei / l.powi(3);
+        assert!(
+            ((got.static_stiffness - k) / k).abs() < 1e-9,
+            "{} vs {k}",
+            got.static_stiffness
+        );
+        // Rayleigh's static-shape mass is 33/140 of the beam (e.g. Blevins, Formulas for Natural
+        // Frequency and Mode Shape, Table 6-2); the lumped mass k/ω1² is 3/1.8751⁴ = 0.2427 of it.
+        let m_beam = mu * l;
+        assert!(((got.rayleigh_mass - 33.0 / 140.0 * m_beam) / m_beam).abs() < 1e-10);
+        let lumped = 3.0 / 1.875_104_068_7f64.powi(4) * m_beam;
+        assert!(((got.modal_mass() - lumped) / lumped).abs() < 2e-4);
+    }
+
+    #[test]
+    fn first_frequency_converges() {
+        // Hermite elements: the error in ω² falls as h⁴ or faster; with a taper and a rigid extension
+        // the frequency on the default mesh agrees with a mesh four times finer to 1e-9.
+        let s = thesis_section(267e-6, &[0.0, 90.0, 0.0]);
+        let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
+        let beam = ActuatorBeam::from_section(&s, &pl);
+        let f = |n: usize| beam.solve_with(n, 4).unwrap().frequency;
+        let fine = f(4 * ACTIVE_ELEMENTS);
+        let errors: Vec<f64> = [2, 4, 8, ACTIVE_ELEMENTS]
+            .iter()
+            .map(|&n| ((f(n) - fine) / fine).abs())
+            .collect();
+        for pair in errors.windows(2) {
+            assert!(pair[1] < pair[0] / 8.0, "{errors:?}");
+        }
+        assert!(errors[3] < 1e-9, "{errors:?}");
+    }
+
+    #[test]
+    fn static_stiffness_is_the_statics_tip_stiffness() {
+        // The beam's F/δ against the closed-form compliance of thesis eqs. 2.29-2.35 (planform.rs).
+        for (t_p, layup, l, l_r, w0, w_r) in [
+            (
+                191e-6,
+                &[0.0, 0.0, 90.0, 0.0, 0.0][..],
+                50e-3,
+                0.0,
+                10e-3,
+                1.0,
+            ),
+            (267e-6, &[0.0, 90.0, 0.0][..], 42.2e-3, 0.833, 5e-3, 1.667),
+            (
+                127e-6,
+                &[0.0, 0.0, 90.0, 0.0, 0.0][..],
+                50e-3,
+                0.5,
+                20e-3,
+                1.5,
+            ),
+            (127e-6, &[0.0, 90.0, 0.0][..], 30e-3, 1.2, 6e-3, 0.3),
+            (127e-6, &[0.0, 90.0, 0.0][..], 30e-3, 0.4, 6e-3, 1.97),
+        ] {
+            let s = thesis_section(t_p, layup);
+            let pl = Planform::new(l, l_r, w0, w_r, 0.0).unwrap();
+            let modal = ActuatorBeam::from_section(&s, &pl).solve().unwrap();
+            let p = evaluate(&s, &pl);
+            assert!(
+                ((modal.static_stiffness - p.stiffness) / p.stiffness).abs() < 1e-9,
+                "w_r {w_r}: {} vs {}",
+                modal.static_stiffness,
+                p.stiffness
+            );
+            assert!(
+                ((1.0 / modal.static_stiffness - tip_compliance(&s, &pl)) * p.stiffness).abs()
+                    < 1e-9
+            );
+        }
+    }
+
+    #[test]
+    fn boundary_effects_move_the_stiffness_as_the_statics_do() {
+        // Clamp compliance, rigid root, compliant extension and the stiffness scale, each alone and all
+        // together: F_b/δ from Effects::outputs against the beam's static stiffness.
+        let all = Effects {
+            clamp_compliance: 0.4,
+            rigid_root: 1.5e-3,
+            extension_flexibility: 0.8,
+            stiffness_scale: 0.9,
+            dead_length: 1e-3,
+            ..Effects::null()
+        };
+        let cases = [
+            Effects {
+                clamp_compliance: 0.4,
+                ..Effects::null()
+            },
+            Effects {
+                rigid_root: 1.5e-3,
+                ..Effects::null()
+            },
+            Effects {
+                extension_flexibility: 0.8,
+                ..Effects::null()
+            },
+            Effects {
+                stiffness_scale: 0.9,
+                ..Effects::null()
+            },
+            all,
+        ];
+        crate::primitives::tests::with(|a| {
+            let base = Effects::null().predict(a).unwrap().stiffness;
+            for e in cases {
+                let basis = e.basis(a).unwrap();
+                let (d, f) = e.outputs(&basis);
+                let beam = ActuatorBeam::from_effects(&e, &basis, &e.mass(a));
+                let k = beam.solve().unwrap().static_stiffness;
+                assert!(((k - f / d) / k).abs() < 1e-9, "{e:?}: {k} vs {}", f / d);
+                assert!(
+                    (k / base - 1.0).abs() > 1e-3,
+                    "the effect moves the stiffness"
+                );
+            }
+        });
+    }
+
+    #[test]
+    fn rigid_extension_tip_mass_matches_the_closed_form() {
+        // docs/physics.md §11.2: the beam's Rayleigh mass of a rectangle with a rigid extension against
+        // m_p × rigid_extension_tip_mass_ratio(l_r, m_ext / m_p).
+        for l_r in [0.0, 0.25, 0.833, 2.0] {
+            let beam = uniform(40e-3, l_r);
+            let pl = beam.planform;
+            let m_p = beam.areal_mass * pl.piezo_area();
+            let m_ext = beam.extension_areal_mass * pl.extension_area();
+            let want = m_p * rigid_extension_tip_mass_ratio(l_r, m_ext / m_p);
+            let got = beam.solve().unwrap().rayleigh_mass;
+            assert!(
+                ((got - want) / want).abs() < 1e-10,
+                "{l_r}: {got} vs {want}"
+            );
+        }
+        assert!((rigid_extension_tip_mass_ratio(0.0, 0.0) - 33.0 / 140.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn lumped_mass_sits_above_the_rayleigh_mass() {
+        // Rayleigh's quotient bounds ω1² from above, so k/ω1² >= the static-shape mass: by 3 % for a
+        // uniform cantilever (0.2427 against 0.2357), by more for a taper that puts its mass at the root,
+        // where the static tip-load shape differs most from the mode.
+        let s = thesis_section(267e-6, &[0.0, 90.0, 0.0]);
+        for (l_r, w_r) in [(0.0, 1.0), (0.833, 1.0), (0.833, 1.667), (0.2, 0.5)] {
+            let pl = Planform::new(42.2e-3, l_r, 5e-3, w_r, 0.0).unwrap();
+            let modal = ActuatorBeam::from_section(&s, &pl).solve().unwrap();
+            let ratio = modal.modal_mass() / modal.rayleigh_mass;
+            assert!(ratio > 1.0, "{l_r} {w_r}: {ratio}");
+            let lumped = LumpedActuator::new(modal.static_stiffness, &modal, DEFAULT_LOSS_FACTOR);
+            assert!((lumped.frequency() / modal.frequency - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_compliant_clamp_lowers_the_frequency_and_a_held_root_raises_it() {
+        let s = thesis_section(191e-6, &[0.0, 90.0, 0.0]);
+        let pl = Planform::new(30e-3, 0.0, 6e-3, 1.0, 0.0).unwrap();
+        let bare = ActuatorBeam::from_section(&s, &pl);
+        let f0 = bare.solve().unwrap().frequency;
+        let soft = ActuatorBeam {
+            clamp_compliance: 1.0,
+            ..bare
+        };
+        let held = ActuatorBeam {
+            rigid_root: 3e-3,
+            ..bare
+        };
+        assert!(soft.solve().unwrap().frequency < f0);
+        // A beam held over its first 3 mm is a 27 mm cantilever: f scales as 1/L².
+        let f_held = held.solve().unwrap().frequency;
+        assert!(((f_held / f0) - (30.0f64 / 27.0).powi(2)).abs() < 1e-9);
+        assert!(ActuatorBeam {
+            rigid_root: 31e-3,
+            ..bare
+        }
+        .solve()
+        .is_err());
+    }
+}

@@ -1,0 +1,222 @@
+//! A rigid flapping wing about its stroke axis: inertia and quasi-steady blade-element drag
+//! (docs/physics.md §13).
+
+use crate::error::ModelError;
+
+/// Density of air at sea level, 15 °C (ISA), kg/m³.
+pub const AIR_DENSITY: f64 = 1.225;
+
+/// The wing as the drive sees it, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wing {
+    /// Inertia about the stroke axis, kg·m².
+    pub inertia: f64,
+    /// Drag coefficient `K` in the torque `τ = K θ̇ |θ̇|`, N·m·s².
+    pub damping: f64,
+    /// Mass, kg (for the budget only when given directly; 0 if unknown).
+    pub mass: f64,
+}
+
+/// Chord distribution along the span.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Chord {
+    /// Constant chord, m.
+    Rectangle(f64),
+    /// Half-ellipse `c(s) = c_max √(1 - (2s/R - 1)²)` over the span `s ∈ [0, R]`; `c_max` in m.
+    Elliptic(f64),
+    /// Piecewise linear through `(s, c)` points, `s` from the wing root, both m; `s` increasing from 0
+    /// to the span.
+    Table(Vec<(f64, f64)>),
+}
+
+/// A wing from its planform, SI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WingPlanform {
+    /// Span from wing root to tip `R`, m.
+    pub span: f64,
+    /// Distance from the stroke axis to the wing root, m.
+    pub root_offset: f64,
+    /// Chord distribution.
+    pub chord: Chord,
+    /// Areal density of the membrane and veins, kg/m².
+    pub areal_density: f64,
+    /// Drag coefficient at the stroke's mid (wing at high angle of attack).
+    pub drag_coefficient: f64,
+    /// Air density, kg/m³.
+    pub air_density: f64,
+}
+
+impl Chord {
+    /// Chord at `s` from the wing root, m.
+    pub fn at(&self, s: f64, span: f64) -> f64 {
+        match self {
+            Chord::Rectangle(c) => *c,
+            Chord::Elliptic(c) => {
+                let u = 2.0 * s / span - 1.0;
+                c * (1.0 - u * u).max(0.0).sqrt()
+            }
+            Chord::Table(points) => {
+                let i = points
+                    .partition_point(|p| p.0 <= s)
+                    .clamp(1, points.len() - 1);
+                let ((s0, c0), (s1, c1)) = (points[i - 1], points[i]);
+                c0 + (c1 - c0) * (s - s0) / (s1 - s0)
+            }
+        }
+    }
+}
+
+impl WingPlanform {
+    /// Check the planform: lengths, densities and the drag coefficient positive; a table's stations
+    /// increasing from 0 to the span with chords >= 0.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let bad = |name, value, range| Err(ModelError::OutOfRange { name, value, range });
+        for (name, v) in [
+            ("span", self.span),
+            ("areal_density", self.areal_density),
+            ("drag_coefficient", self.drag_coefficient),
+            ("air_density", self.air_density),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(name, v, "(0, inf)");
+            }
+        }
+        if !(self.root_offset.is_finite() && self.root_offset >= 0.0) {
+            return bad("root_offset", self.root_offset, "[0, inf) m");
+        }
+        match &self.chord {
+            Chord::Rectangle(c) | Chord::Elliptic(c) if !(c.is_finite() && *c > 0.0) => {
+                bad("chord", *c, "(0, inf) m")
+            }
+            Chord::Table(p) => {
+                let ends = p.len() >= 2
+                    && p[0].0 == 0.0
+                    && (p[p.len() - 1].0 - self.span).abs() <= 1e-12 * self.span;
+                let increasing = p.windows(2).all(|w| w[1].0 > w[0].0);
+                let chords = p.iter().all(|q| q.1.is_finite() && q.1 >= 0.0);
+                if ends && increasing && chords {
+                    Ok(())
+                } else {
+                    bad(
+                        "chord table",
+                        p.len() as f64,
+                        "stations increasing from 0 to the span, chords >= 0",
+                    )
+                }
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// `∫ c(s) r^n ds` over the span, `r = r0 + s`: Gauss-Legendre on 64 panels (per table segment for a
+    /// table, so each piece is a polynomial and the rule is exact; the half-ellipse's root singularity
+    /// at its ends converges as panels⁻³ʹ²).
+    fn moment(&self, power: i32) -> f64 {
+        let pieces: Vec<(f64, f64)> = match &self.chord {
+            Chord::Table(p) => p.windows(2).map(|w| (w[0].0, w[1].0)).collect(),
+            _ => (0..256)
+                .map(|i| {
+                    let f = |k: usize| {
+                        self.span * (1.0 - (std::f64::consts::PI * k as f64 / 256.0).cos()) / 2.0
+                    };
+                    (f(i), f(i + 1))
+                })
+                .collect(),
+        };
+        let mut total = 0.0;
+        for (a, b) in pieces {
+            let half = 0.5 * (b - a);
+            for (xi, w) in GAUSS5 {
+                let s = a + half * (xi + 1.0);
+                total +=
+                    w * half * self.chord.at(s, self.span) * (self.root_offset + s).powi(power);
+            }
+        }
+        total
+    }
+
+    /// The wing's inertia `σ ∫ c r² dr`, drag coefficient `½ ρ C_D ∫ c r³ dr` and mass `σ ∫ c dr`
+    /// (blade element, docs/physics.md §13).
+    pub fn wing(&self) -> Result<Wing, ModelError> {
+        self.validate()?;
+        Ok(Wing {
+            inertia: self.areal_density * self.moment(2),
+            damping: 0.5 * self.air_density * self.drag_coefficient * self.moment(3),
+            mass: self.areal_density * self.moment(0),
+        })
+    }
+
+    /// Wing area `∫ c dr`, m².
+    pub fn area(&self) -> f64 {
+        self.moment(0)
+    }
+}
+
+/// Gauss-Legendre on [-1, 1], 5 points (exact to degree 9: a linear chord times r³ is degree 4).
+const GAUSS5: [(f64, f64); 5] = [
+    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
+    (-0.538_469_310_105_683, 0.478_628_670_499_366_5),
+    (0.0, 0.568_888_888_888_888_9),
+    (0.538_469_310_105_683, 0.478_628_670_499_366_5),
+    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn planform(chord: Chord) -> WingPlanform {
+        WingPlanform {
+            span: 50e-3,
+            root_offset: 5e-3,
+            chord,
+            areal_density: 0.02,
+            drag_coefficient: 3.0,
+            air_density: AIR_DENSITY,
+        }
+    }
+
+    #[test]
+    fn rectangle_by_hand() {
+        // I = σ c (r1³ - r0³)/3, K = ½ ρ C_D c (r1⁴ - r0⁴)/4, m = σ c R.
+        let w = planform(Chord::Rectangle(18e-3)).wing().unwrap();
+        let (r0, r1, c) = (5e-3f64, 55e-3f64, 18e-3);
+        let i = 0.02 * c * (r1.powi(3) - r0.powi(3)) / 3.0;
+        let k = 0.5 * AIR_DENSITY * 3.0 * c * (r1.powi(4) - r0.powi(4)) / 4.0;
+        assert!((w.inertia / i - 1.0).abs() < 1e-12);
+        assert!((w.damping / k - 1.0).abs() < 1e-12);
+        assert!((w.mass / (0.02 * c * 50e-3) - 1.0).abs() < 1e-12);
+        // The same rectangle as a table.
+        let t = planform(Chord::Table(vec![(0.0, c), (20e-3, c), (50e-3, c)]))
+            .wing()
+            .unwrap();
+        assert!((t.inertia / i - 1.0).abs() < 1e-12 && (t.damping / k - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn half_ellipse_by_hand() {
+        // Area π c R / 4; with r0 = 0, ∫ c r² dr = c R³ (5π/64) (moments of the half-ellipse about its
+        // end: substitute s = R(1 + u)/2).
+        let mut p = planform(Chord::Elliptic(20e-3));
+        p.root_offset = 0.0;
+        let area = std::f64::consts::PI * 20e-3 * 50e-3 / 4.0;
+        assert!(
+            (p.area() / area - 1.0).abs() < 1e-6,
+            "{} vs {area}",
+            p.area()
+        );
+        let i = 0.02 * 20e-3 * 50e-3f64.powi(3) * 5.0 * std::f64::consts::PI / 64.0;
+        assert!((p.wing().unwrap().inertia / i - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bad_planforms_are_refused() {
+        assert!(planform(Chord::Rectangle(-1.0)).wing().is_err());
+        assert!(planform(Chord::Table(vec![(0.0, 1e-3), (20e-3, 1e-3)]))
+            .wing()
+            .is_err());
+        let mut p = planform(Chord::Rectangle(1e-3));
+        p.drag_coefficient = f64::NAN;
+        assert!(p.wing().is_err());
+    }
+}
