@@ -4,7 +4,7 @@
 
 use super::file::Batch;
 use crate::parts::PartSheet;
-use crate::pipeline::{BaselineRow, Build, NestOptions, WORKERS};
+use crate::pipeline::{BaselineRow, Build, NestOptions, StockCount, WORKERS};
 use crate::process::template::PassiveCut;
 use serde::Serialize;
 use std::fmt::Write;
@@ -91,6 +91,8 @@ pub struct ActuatorRef {
 pub struct PanelRow {
     pub index: usize,
     pub stacking_order: Vec<String>,
+    /// The film of each mold sheet of the panel, bottom to top, mm.
+    pub mold_films_mm: Vec<f64>,
     pub actuators: Vec<ActuatorRef>,
 }
 
@@ -158,6 +160,8 @@ pub struct NestReport {
     pub baseline: Vec<BaselineRow>,
     pub clamp_panels: Vec<PanelRow>,
     pub totals: Vec<TotalRow>,
+    /// Sheets of each stock the files are cut from (material, thickness, sheet size).
+    pub stock_list: Vec<StockCount>,
     /// Sum of the costs, when every cut material has a price.
     pub total_cost: Option<f64>,
     /// Strips of roll stock: length used, cost, and the cut sheets compared (only with a roll).
@@ -346,6 +350,7 @@ impl NestReport {
                 clamp_panels.push(PanelRow {
                     index: c.first_panel + p,
                     stacking_order: c.stack.clone(),
+                    mold_films_mm: c.mold.films_mm.clone(),
                     actuators: members
                         .iter()
                         .map(|(j, a)| ActuatorRef {
@@ -418,6 +423,7 @@ impl NestReport {
                 .filter_map(|l| l.baseline.clone())
                 .collect(),
             clamp_panels,
+            stock_list: built.stock.clone(),
             totals,
             total_cost,
             rolls,
@@ -591,6 +597,8 @@ impl NestReport {
                 "\nA roll is priced by the length used as drawn (the nest's used length rounded up to 0.1 mm); the sheets are the same parts nested on the sheets the batch compares the roll with (`compare_with`, by default the process template's sheet), each sheet counted whole (its unused rest may be kept as a remnant)."
             );
         }
+        let _ = writeln!(s, "\n## Stock list\n");
+        let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
         let _ = writeln!(s, "\n## Clamp panels\n");
         for p in &self.clamp_panels {
             let who: Vec<String> = p
@@ -598,12 +606,14 @@ impl NestReport {
                 .iter()
                 .map(|a| format!("{} #{}", a.design, a.actuator))
                 .collect();
+            let films: Vec<String> = p.mold_films_mm.iter().map(|t| t.to_string()).collect();
             let _ = writeln!(
                 s,
-                "- panel {} ({} layers: {}): {}",
+                "- panel {} ({} layers: {}; mold films bottom to top {} mm): {}",
                 p.index,
                 p.stacking_order.len(),
                 p.stacking_order.join(" → "),
+                films.join(" + "),
                 who.join(", ")
             );
         }

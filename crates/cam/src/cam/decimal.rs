@@ -47,6 +47,30 @@ pub fn push_fixed(out: &mut String, v: f64, decimals: u32) {
     }
 }
 
+/// Formats a length with 6 decimals, trailing zeros trimmed, never `-0`.
+pub fn fmt_mm(v: f64) -> String {
+    let mut s = String::new();
+    push_mm(&mut s, v);
+    s
+}
+
+/// Appends `v` as [`fmt_mm`] formats it, without a string of its own: the writers' inner loop.
+pub(crate) fn push_mm(out: &mut String, v: f64) {
+    let start = out.len();
+    push_fixed(out, v, 6);
+    if out[start..].contains('.') {
+        let trimmed = out[start..]
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .len();
+        out.truncate(start + trimmed);
+    }
+    if &out[start..] == "-0" {
+        out.truncate(start);
+        out.push('0');
+    }
+}
+
 /// `|v| · 10^decimals` rounded half to even, or `None` where the integer path does not apply.
 fn scaled(v: f64, decimals: u32) -> Option<u128> {
     if !v.is_finite() || decimals > MAX_DECIMALS {

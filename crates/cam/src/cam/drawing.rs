@@ -168,6 +168,16 @@ pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
     }
 }
 
+/// The stock a sheet is cut from: what a technician takes off the shelf before the file goes to the
+/// laser. The sheet size is the drawing's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stock {
+    /// Material as bought (`PTFE, non-porous`, `PZT-5H (PZT sheet (Piezo Systems))`).
+    pub material: String,
+    /// Thickness of the sheet, mm.
+    pub thickness_mm: f64,
+}
+
 /// A sheet of shapes: the content of one laser file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drawing {
@@ -177,18 +187,47 @@ pub struct Drawing {
     pub height_mm: f64,
     /// Human-readable title, written to the SVG `<title>`.
     pub title: String,
+    /// The stock the sheet is cut from; `None` for a drawing that is not cut (the preview).
+    pub stock: Option<Stock>,
     items: Vec<(Operation, Shape)>,
 }
 
 impl Drawing {
-    /// An empty drawing of the given sheet size.
+    /// An empty drawing of the given sheet size, cut from no named stock.
     pub fn new(title: &str, width_mm: f64, height_mm: f64) -> Self {
         Drawing {
             width_mm,
             height_mm,
             title: title.to_string(),
+            stock: None,
             items: Vec::new(),
         }
+    }
+
+    /// An empty drawing of a sheet of `stock`.
+    pub fn on_stock(title: &str, width_mm: f64, height_mm: f64, stock: Stock) -> Self {
+        Drawing {
+            stock: Some(stock),
+            ..Drawing::new(title, width_mm, height_mm)
+        }
+    }
+
+    /// The stock in words, as every file states it: `PTFE, non-porous, 0.05 mm thick, 100 x 100 mm
+    /// sheet`; `None` without a stock. Control characters become spaces, so the text stays one line
+    /// in any file.
+    pub fn stock_line(&self) -> Option<String> {
+        self.stock.as_ref().map(|s| {
+            let text = format!(
+                "{}, {} mm thick, {} x {} mm sheet",
+                s.material,
+                super::decimal::fmt_mm(s.thickness_mm),
+                super::decimal::fmt_mm(self.width_mm),
+                super::decimal::fmt_mm(self.height_mm)
+            );
+            text.chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect()
+        })
     }
 
     /// Appends a shape processed by `op`.

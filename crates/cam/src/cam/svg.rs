@@ -8,7 +8,8 @@
 
 use std::fmt::Write as _;
 
-use super::decimal::push_fixed;
+pub use super::decimal::fmt_mm;
+use super::decimal::push_mm;
 use super::drawing::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
@@ -29,30 +30,6 @@ impl Default for SvgOptions {
             stroke_mm: 0.0254,
             palette: Palette::default(),
         }
-    }
-}
-
-/// Formats a length with 6 decimals, trailing zeros trimmed, never `-0`.
-pub fn fmt_mm(v: f64) -> String {
-    let mut s = String::new();
-    push_mm(&mut s, v);
-    s
-}
-
-/// Appends `v` as [`fmt_mm`] formats it, without a string of its own: the writers' inner loop.
-fn push_mm(out: &mut String, v: f64) {
-    let start = out.len();
-    push_fixed(out, v, 6);
-    if out[start..].contains('.') {
-        let trimmed = out[start..]
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .len();
-        out.truncate(start + trimmed);
-    }
-    if &out[start..] == "-0" {
-        out.truncate(start);
-        out.push('0');
     }
 }
 
@@ -224,7 +201,30 @@ pub fn write_svg(
          xmlns:sodipodi=\"http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd\" \
          version=\"1.1\" width=\"{w}mm\" height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">"
     );
-    let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
+    match drawing.stock_line() {
+        Some(stock) => {
+            let s = drawing.stock.as_ref().expect("a stock line has a stock");
+            let _ = writeln!(
+                out,
+                "  <title>{}; stock: {}</title>",
+                xml_escape(&drawing.title),
+                xml_escape(&stock)
+            );
+            // The stock again as data, for tools that read the file rather than show it.
+            let _ = writeln!(
+                out,
+                "  <metadata><stock xmlns=\"urn:actuator-cam:stock\" material=\"{}\" thickness_mm=\"{}\" \
+                 width_mm=\"{}\" height_mm=\"{}\"/></metadata>",
+                xml_escape(&s.material),
+                fmt_mm(s.thickness_mm),
+                fmt_mm(drawing.width_mm),
+                fmt_mm(drawing.height_mm)
+            );
+        }
+        None => {
+            let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
+        }
+    }
     for op in drawing.operations() {
         let LayerStyle { name, colour } = style(op);
         // The reference layer is locked in Inkscape, so its guides are seen but not picked up.

@@ -5,7 +5,7 @@ use super::layers::LayerRow;
 use super::template::Template;
 use crate::design::Design;
 use crate::input::{ensure_finite, short_number, InputError};
-use crate::pipeline::{Build, Label, MoldBand, MoldChoice};
+use crate::pipeline::{Build, Label, MoldBand, MoldChoice, StockCount};
 use crate::prediction::Prediction;
 use serde::Serialize;
 use std::fmt::Write;
@@ -141,6 +141,8 @@ pub struct Report {
     /// Set when some passive parts carry no engraved label: no room off the bonded PZT zone.
     pub label_note: Option<String>,
     pub clamp_panels: usize,
+    /// Sheets of each stock the files are cut from (material, thickness, sheet size).
+    pub stock_list: Vec<StockCount>,
     /// How the mold stack meets the laminate (docs/cam.md §1, "Mold layers").
     pub mold: MoldReport,
     pub stacking_order: Vec<String>,
@@ -195,6 +197,7 @@ impl Report {
             label_note: Label::passive(built.geometry[0], &design.name, template)
                 .note(design.quantity),
             clamp_panels: built.panels,
+            stock_list: built.stock.clone(),
             mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
             stacking_order: built.clamps[0].stack.clone(),
             build_steps: template.cure_steps.clone(),
@@ -332,6 +335,8 @@ impl Report {
         if let Some(w) = &m.warning {
             let _ = writeln!(s, "\n**Warning:** {w}.");
         }
+        let _ = writeln!(s, "\n## Stock list\n");
+        let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
         let _ = writeln!(s, "\n## Build checklist\n");
         let _ = writeln!(
             s,

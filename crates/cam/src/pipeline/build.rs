@@ -5,11 +5,12 @@
 
 use super::clamp::{clamp_layers, laminate_bands, ClampBuild};
 use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, CutLayer};
-use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord};
+use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord, StockCount};
 use super::parts::PartGeometry;
 use super::place::{place_cut_layers, place_plates, BaselineRow, Packing};
 use super::pzt::draw_pzt_sheets;
 use super::{BuildError, SheetDrawing};
+use crate::cam::drawing::Stock;
 use crate::design::Design;
 use crate::parts::{PartOrder, PartSheet};
 use crate::process::template::Template;
@@ -30,6 +31,8 @@ pub struct CutLayerSheets {
 pub struct Build {
     /// Drawings in file order.
     pub drawings: Vec<SheetDrawing>,
+    /// Sheets of each stock the drawings are cut from: the stock list.
+    pub stock: Vec<StockCount>,
     /// Cut-material sheets (PZT, passive, Pyralux) with the parts on them.
     pub sheets: Vec<SheetRecord>,
     /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
@@ -108,6 +111,11 @@ pub fn build_into<'s>(
         )
     }) {
         let d = group[0].1.design;
+        // The plates of a group share the PZT and its thickness: the stock every sheet names.
+        let stock = Stock {
+            material: format!("{} ({})", d.pzt.name, template.pzt.material),
+            thickness_mm: d.pzt_thickness * 1e3,
+        };
         let mut spec = template.pzt.clone();
         if names.name_designs {
             spec.material = format!(
@@ -124,6 +132,7 @@ pub fn build_into<'s>(
         draw_pzt_sheets(
             &members,
             &spec,
+            &stock,
             &layouts,
             names,
             &template.features,
@@ -207,6 +216,7 @@ pub fn build_into<'s>(
     }
     Ok(Build {
         drawings: drawn.drawings,
+        stock: drawn.stock,
         sheets: drawn.sheets,
         placement_map: drawn.placement_map,
         panels: drawn.panels,

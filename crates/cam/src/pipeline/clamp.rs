@@ -6,7 +6,7 @@ use super::mold::{choose_mold, LaminateBands, MoldBand, MoldChoice};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::PartGeometry;
 use super::BuildError;
-use crate::cam::drawing::{Drawing, Shape};
+use crate::cam::drawing::{Drawing, Shape, Stock};
 use crate::cam::label::{label_strokes, label_width};
 use crate::design::Design;
 use crate::process::template::{ClampSpec, Template};
@@ -276,7 +276,7 @@ pub fn clamp_layers(
         let kerf = spec.kerf_mm;
         for (p, members) in panels.iter().enumerate() {
             let number = first_panel + p;
-            let mut d = Drawing::new(
+            let mut d = Drawing::on_stock(
                 &format!(
                     "{} clamp layer {}/{levels} ({prefix}), panel {number}",
                     names.title,
@@ -284,6 +284,14 @@ pub fn clamp_layers(
                 ),
                 c.panel_width_mm,
                 c.panel_height_mm,
+                Stock {
+                    material: spec.material.clone(),
+                    thickness_mm: if kind == "mold" {
+                        mold.films_mm[*j]
+                    } else {
+                        spec.thickness_mm
+                    },
+                },
             );
             for centre in pin_centres(c) {
                 let r = c.pin_radius_mm - kerf / 2.0;

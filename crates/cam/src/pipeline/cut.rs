@@ -5,7 +5,7 @@
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::BuildError;
-use crate::cam::drawing::{Drawing, Shape};
+use crate::cam::drawing::{Drawing, Shape, Stock};
 use crate::parts::PartOrder;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
 use crate::process::{Feature, FeatureMap};
@@ -302,10 +302,14 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
     let op = |feature| layer.features.op(feature);
     for layout in layouts {
         let n = drawn.next_number(&layer.layer);
-        let mut d = Drawing::new(
+        let mut d = Drawing::on_stock(
             &format!("{} {}, sheet {n}", names.title, layer.layer),
             spec.width_mm,
             spec.height_mm,
+            Stock {
+                material: layer.material.clone(),
+                thickness_mm: layer.thickness_mm,
+            },
         );
         for p in &layout.parts {
             let item = &layer.items[p.item];

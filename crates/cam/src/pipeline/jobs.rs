@@ -8,6 +8,7 @@ use crate::design::Design;
 use crate::process::template::Template;
 use cam_geometry::offset::offset_ring;
 use cam_geometry::Point;
+use serde::Serialize;
 use std::collections::BTreeMap;
 
 /// One design's share of a build: the design as the process builds it, its plan geometry, how many.
@@ -116,6 +117,40 @@ impl SheetRecord {
     }
 }
 
+/// How many sheets of one stock a build cuts: a line of the stock list a technician shops from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StockCount {
+    /// Material as bought.
+    pub material: String,
+    /// Thickness, mm.
+    pub thickness_mm: f64,
+    /// Sheet width, mm.
+    pub width_mm: f64,
+    /// Sheet height (on a roll: the length drawn), mm.
+    pub height_mm: f64,
+    /// Sheets of it.
+    pub sheets: usize,
+}
+
+impl StockCount {
+    /// The stock list as a Markdown table, one row per stock.
+    pub fn markdown(rows: &[StockCount]) -> String {
+        let mut s =
+            String::from("| material | thickness mm | sheet mm | sheets |\n|---|---|---|---|\n");
+        for r in rows {
+            s.push_str(&format!(
+                "| {} | {} | {} x {} | {} |\n",
+                r.material,
+                crate::cam::decimal::fmt_mm(r.thickness_mm),
+                crate::cam::decimal::fmt_mm(r.width_mm),
+                crate::cam::decimal::fmt_mm(r.height_mm),
+                r.sheets
+            ));
+        }
+        s
+    }
+}
+
 /// Why a drawing could not be handed on as it was made (rendering or writing it); the sink's own error.
 pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
 
@@ -131,6 +166,8 @@ pub struct Drawn<'s> {
     pub sheets: Vec<SheetRecord>,
     /// Clamp panels used.
     pub panels: usize,
+    /// Sheets of each stock drawn, in the order each stock first appears.
+    pub stock: Vec<StockCount>,
     /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
     pub placement_map: Vec<String>,
     /// Next sheet number of each layer (stems are numbered per layer across the whole build).
@@ -159,6 +196,24 @@ impl<'s> Drawn<'s> {
 
     /// Add a drawing: to the sink if there is one (nothing more after it failed), else to `drawings`.
     pub fn push(&mut self, stem: String, layer: &str, drawing: Drawing) {
+        if let Some(s) = &drawing.stock {
+            let same = |c: &&mut StockCount| {
+                c.material == s.material
+                    && c.thickness_mm == s.thickness_mm
+                    && c.width_mm == drawing.width_mm
+                    && c.height_mm == drawing.height_mm
+            };
+            match self.stock.iter_mut().find(same) {
+                Some(c) => c.sheets += 1,
+                None => self.stock.push(StockCount {
+                    material: s.material.clone(),
+                    thickness_mm: s.thickness_mm,
+                    width_mm: drawing.width_mm,
+                    height_mm: drawing.height_mm,
+                    sheets: 1,
+                }),
+            }
+        }
         let drawing = SheetDrawing {
             stem,
             layer: layer.into(),

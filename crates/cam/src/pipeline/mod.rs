@@ -27,7 +27,7 @@ mod pzt;
 pub use build::{build, build_into, Build, CutLayerSheets};
 pub use clamp::ClampBuild;
 pub use cut::CutLayer;
-pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError};
+pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount};
 pub use label::Label;
 pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
 pub use panel::panel_outline;

@@ -3,18 +3,19 @@
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
-use crate::cam::drawing::{Drawing, Shape};
+use crate::cam::drawing::{Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
 use cam_geometry::signed_area;
 use cam_nest::NestedBin;
 
-/// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets: the score
+/// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets of `stock`: the score
 /// lines in break order and the sheet edge as an alignment reference, each feature with the operation
 /// `features` gives it; record every plate on its sheet and in the placement map.
 pub(crate) fn draw_pzt_sheets(
     jobs: &[Job<'_>],
     spec: &SheetSpec,
+    stock: &Stock,
     layouts: &[NestedBin],
     names: &Names,
     features: &FeatureMap,
@@ -24,10 +25,11 @@ pub(crate) fn draw_pzt_sheets(
     let nominal: Vec<_> = jobs.iter().map(|j| j.geometry.pzt_outline()).collect();
     for layout in layouts {
         let n = drawn.next_number("pzt");
-        let mut d = Drawing::new(
+        let mut d = Drawing::on_stock(
             &format!("{} PZT plates, sheet {n}: score, then snap", names.title),
             sheet.width_mm,
             sheet.height_mm,
+            stock.clone(),
         );
         for line in &layout.score_lines {
             d.add(

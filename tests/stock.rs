@@ -1,0 +1,154 @@
+//! Every sheet names its stock: each SVG and DXF a run writes (but the preview, which is not cut) says
+//! its material, thickness and sheet size, a mold sheet says its own film, and the stock list of the
+//! report counts every cut file once.
+
+mod common;
+use common::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The stock an SVG states in its metadata: (material, thickness mm, width mm, height mm).
+fn svg_stock(svg: &str) -> Option<(String, f64, f64, f64)> {
+    let doc = start_tag(svg, "<stock ")?;
+    let num = |k: &str| attr(&doc, k).and_then(|v| v.parse().ok());
+    Some((
+        attr(&doc, "material")?,
+        num("thickness_mm")?,
+        num("width_mm")?,
+        num("height_mm")?,
+    ))
+}
+
+/// The start tag beginning with `open`, if any.
+fn start_tag(text: &str, open: &str) -> Option<String> {
+    let start = text.find(open)?;
+    let end = start + text[start..].find('>')?;
+    Some(text[start..end].to_string())
+}
+
+/// A double-quoted attribute of a start tag, XML entities for `&` and `"` undone.
+fn attr(tag: &str, key: &str) -> Option<String> {
+    let k = format!(" {key}=\"");
+    let start = tag.find(&k)? + k.len();
+    let len = tag[start..].find('"')?;
+    Some(
+        tag[start..start + len]
+            .replace("&quot;", "\"")
+            .replace("&amp;", "&"),
+    )
+}
+
+/// Every cut file of `out` with the stock it states, and the stock list of its report.
+fn check_folder(out: &Path, report: &str) {
+    let json = {
+        let text = std::fs::read_to_string(out.join(report)).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let mut counted: BTreeMap<(String, String, String, String), usize> = BTreeMap::new();
+    for entry in std::fs::read_dir(out).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if name.ends_with(".svg") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let stock = svg_stock(&text);
+            if name.starts_with("preview") {
+                assert!(stock.is_none(), "{name}: the preview is not cut from stock");
+                continue;
+            }
+            let (material, t, w, h) =
+                stock.unwrap_or_else(|| panic!("{name}: no stock in the file"));
+            assert!(t > 0.0 && w > 0.0 && h > 0.0, "{name}");
+            let title = &text[text.find("<title>").unwrap()..text.find("</title>").unwrap()];
+            assert!(
+                title.contains(&format!("{t} mm thick")),
+                "{name}: the title names no thickness: {title}"
+            );
+            // The DXF twin states the same stock in its leading comments.
+            let dxf = std::fs::read_to_string(path.with_extension("dxf")).unwrap();
+            let head: String = dxf.lines().take(4).collect::<Vec<_>>().join("\n");
+            assert!(
+                head.starts_with("999"),
+                "{name}: the DXF has no stock comment"
+            );
+            assert!(
+                head.contains(&format!("{t} mm thick")),
+                "{name}: the DXF's stock comment: {head}"
+            );
+            *counted
+                .entry((material, t.to_string(), w.to_string(), h.to_string()))
+                .or_default() += 1;
+        }
+    }
+    let listed: BTreeMap<(String, String, String, String), usize> = json["stock_list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            let n = |k: &str| r[k].as_f64().unwrap().to_string();
+            (
+                (
+                    r["material"].as_str().unwrap().to_string(),
+                    n("thickness_mm"),
+                    n("width_mm"),
+                    n("height_mm"),
+                ),
+                r["sheets"].as_u64().unwrap() as usize,
+            )
+        })
+        .collect();
+    assert_eq!(counted, listed, "the stock list counts every cut file once");
+}
+
+#[test]
+fn every_cut_sheet_file_names_its_stock_and_molds_their_own_film() {
+    for design in ["thesis-C", "thesis-A", "thesis-C-method-1"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = cut_sheet(&format!("examples/{design}.toml"), &out, &[]);
+        assert!(o.status.success(), "{design}: {}", stderr(&o));
+        check_folder(&out, "report.json");
+        let report = report_json(&out);
+        for (k, film) in report["mold"]["films_mm"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+        {
+            let svg = std::fs::read_to_string(out.join(format!("mold-{}-1.svg", k + 1))).unwrap();
+            let (_, t, _, _) = svg_stock(&svg).unwrap();
+            assert_eq!(t, film.as_f64().unwrap(), "{design}: mold-{}", k + 1);
+        }
+    }
+}
+
+#[test]
+fn every_nest_file_names_its_stock() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        "examples/batch.toml",
+        "--iterations",
+        "50",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_folder(&out, "nest-report.json");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    for panel in json["clamp_panels"].as_array().unwrap() {
+        let molds = panel["stacking_order"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| s.as_str().unwrap().starts_with("mold-"))
+            .count();
+        assert_eq!(
+            panel["mold_films_mm"].as_array().unwrap().len(),
+            molds,
+            "each mold sheet of a panel has its film"
+        );
+    }
+}
