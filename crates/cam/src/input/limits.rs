@@ -123,6 +123,9 @@ pub const PIN_RADIUS_MM: Range = Range::positive_up_to(20.0, "mm");
 /// Narrowest snappable PZT strip, in sheet thicknesses: below one thickness a scored strip breaks
 /// off in chips rather than along its score line (docs/cam.md §4, "Snappable strips").
 pub const SNAP_STRIP_THICKNESSES: Range = Range::closed(1.0, 50.0, "thicknesses");
+/// How far a PZT score line runs past the sheet edge: enough for the laser to be at speed where it
+/// enters the ceramic; more than 5 mm only widens the page (docs/limits.md §1).
+pub const SCORE_OVERRUN_MM: Range = Range::closed(0.0, 5.0, "mm");
 /// PZT-to-CF edge margin.
 pub const PASSIVE_EDGE_MARGIN_MM: Range = Range::closed(0.0, 2.0, "mm");
 /// Via for silver epoxy, diameter.

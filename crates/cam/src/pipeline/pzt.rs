@@ -6,7 +6,7 @@ use super::panel::rect;
 use crate::cam::drawing::{Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
-use cam_geometry::signed_area;
+use cam_geometry::{signed_area, Point};
 use cam_nest::NestedBin;
 
 /// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets of `stock`: the score
@@ -34,7 +34,7 @@ pub(crate) fn draw_pzt_sheets(
         for line in &layout.score_lines {
             d.add(
                 features.op(Feature::PztScoreLine),
-                Shape::Polyline(vec![line[0], line[1]]),
+                Shape::Polyline(overrun(*line, sheet).to_vec()),
             );
         }
         // The sheet edge as an alignment reference (green, not a cut, by default).
@@ -68,5 +68,82 @@ pub(crate) fn draw_pzt_sheets(
         }
         drawn.sheets.push(record);
         drawn.push(format!("pzt-{n}"), "pzt", d);
+    }
+}
+
+/// Ends closer than this to the sheet edge lie on it, mm (the planner puts them there exactly).
+const ON_EDGE_MM: f64 = 1e-6;
+
+/// A score line as the laser runs it: each end on the sheet edge carried `spec.score_overrun_mm` past
+/// it along the line, so the score reaches the edge although the laser is still accelerating where a
+/// path starts (docs/cam.md §4). An end on an earlier score line stays there: running on would score
+/// the plate across that line. The verified layout keeps the exact lines; only the drawing overruns.
+fn overrun(line: [Point; 2], spec: &SheetSpec) -> [Point; 2] {
+    let on_edge = |p: Point| {
+        p[0].abs() < ON_EDGE_MM
+            || p[1].abs() < ON_EDGE_MM
+            || (p[0] - spec.width_mm).abs() < ON_EDGE_MM
+            || (p[1] - spec.height_mm).abs() < ON_EDGE_MM
+    };
+    let [a, b] = line;
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    if length == 0.0 {
+        return line;
+    }
+    let unit = [(b[0] - a[0]) / length, (b[1] - a[1]) / length];
+    let run = spec.score_overrun_mm;
+    let a = if on_edge(a) {
+        [a[0] - unit[0] * run, a[1] - unit[1] * run]
+    } else {
+        a
+    };
+    let b = if on_edge(b) {
+        [b[0] + unit[0] * run, b[1] + unit[1] * run]
+    } else {
+        b
+    };
+    [a, b]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheet(overrun_mm: f64) -> SheetSpec {
+        let design = std::path::Path::new("design.toml");
+        let mut spec = crate::process::template::Template::resolve("method-2", design)
+            .unwrap()
+            .pzt;
+        spec.width_mm = 50.0;
+        spec.height_mm = 40.0;
+        spec.score_overrun_mm = overrun_mm;
+        spec
+    }
+
+    #[test]
+    fn only_ends_on_the_sheet_edge_run_over() {
+        let s = sheet(0.5);
+        // Edge to edge across the sheet: both ends run 0.5 mm past it.
+        assert_eq!(
+            overrun([[0.0, 10.0], [50.0, 10.0]], &s),
+            [[-0.5, 10.0], [50.5, 10.0]]
+        );
+        // From the bottom edge up to an earlier line at y = 10: only the edge end runs over.
+        assert_eq!(
+            overrun([[20.0, 0.0], [20.0, 10.0]], &s),
+            [[20.0, -0.5], [20.0, 10.0]]
+        );
+        // A slanted line between two earlier lines: untouched.
+        let inner = [[5.0, 10.0], [7.0, 30.0]];
+        assert_eq!(overrun(inner, &s), inner);
+        // A slanted line from the top edge runs on along its own direction.
+        let [a, _] = overrun([[10.0, 40.0], [13.0, 36.0]], &s);
+        assert!(
+            (a[0] - (10.0 - 0.3)).abs() < 1e-12 && (a[1] - 40.4).abs() < 1e-12,
+            "{a:?}"
+        );
+        // No overrun asked: the line as laid out.
+        let line = [[0.0, 10.0], [50.0, 10.0]];
+        assert_eq!(overrun(line, &sheet(0.0)), line);
     }
 }

@@ -8,7 +8,7 @@ use crate::cam::palette::Palette;
 use crate::input::limits::{
     ACI, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM, LABEL_HEIGHT_MM,
     LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE,
-    SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
+    SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
 use crate::input::{parse_toml, read_toml, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -33,6 +33,9 @@ pub struct SheetSpec {
     /// `[layers.pzt] min_snap_strip_thicknesses`, docs/cam.md §4 "Snappable strips"); 0 for sheets
     /// that are cut through.
     pub min_snap_strip_thicknesses: f64,
+    /// How far a score line that ends on the sheet edge runs past it, mm (`[layers.pzt]
+    /// score_overrun_mm`, default [`DEFAULT_SCORE_OVERRUN_MM`]); 0 for sheets that are cut through.
+    pub score_overrun_mm: f64,
     /// Sheets in stock, if limited.
     pub stock: Option<usize>,
     /// Price of one sheet (any currency), if known: reports show material cost only when it is.
@@ -65,6 +68,9 @@ pub struct MoldStock {
     /// Largest allowed height of a part above the film over it, and void under it, mm.
     pub tolerance_mm: f64,
 }
+
+/// Default run of a score line past the sheet edge, mm: docs/cam.md §4, "Scoring the ceramic".
+pub const DEFAULT_SCORE_OVERRUN_MM: f64 = 0.5;
 
 /// Default narrowest snappable PZT strip, in sheet thicknesses: docs/cam.md §4, "Snappable strips".
 pub const DEFAULT_SNAP_STRIP_THICKNESSES: f64 = 5.0;
@@ -180,6 +186,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         price_per_sheet: t.optional_number_in("price_per_sheet", PRICE)?,
         roll: false,
         min_snap_strip_thicknesses: 0.0,
+        score_overrun_mm: 0.0,
     })
 }
 
@@ -310,6 +317,9 @@ impl Template {
             spec.min_snap_strip_thicknesses = t
                 .optional_number_in("min_snap_strip_thicknesses", SNAP_STRIP_THICKNESSES)?
                 .unwrap_or(DEFAULT_SNAP_STRIP_THICKNESSES);
+            spec.score_overrun_mm = t
+                .optional_number_in("score_overrun_mm", SCORE_OVERRUN_MM)?
+                .unwrap_or(DEFAULT_SCORE_OVERRUN_MM);
             let margin = t
                 .optional_number_in("passive_edge_margin_mm", PASSIVE_EDGE_MARGIN_MM)?
                 .unwrap_or(0.0);
