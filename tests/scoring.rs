@@ -17,7 +17,7 @@ fn score_ends(svg: &str) -> (Vec<[f64; 2]>, f64) {
             .next()
             .unwrap();
         let numbers: Vec<f64> = d
-            .split(|c: char| c == 'M' || c == 'L' || c == ' ')
+            .split(['M', 'L', ' '])
             .filter(|t| !t.is_empty())
             .map(|t| t.parse().unwrap())
             .collect();
