@@ -309,7 +309,7 @@ mod tests {
 
     fn read(text: &str) -> Result<Vec<DeclaredSpec>, InputError> {
         let file = Path::new("effects.toml");
-        parse(file, &super::super::parse_toml(file, text)?)
+        parse(file, &crate::input::parse_toml(file, text)?)
     }
 
     const SOFT: &str = r#"
