@@ -240,7 +240,7 @@ fn inconsistent(
 
 /// Read and validate a measured-data file.
 pub fn read_path(path: &Path) -> Result<Dataset, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = crate::input::read_text(path)?;
     parse_file(path, &text)
 }
 

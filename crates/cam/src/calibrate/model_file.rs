@@ -155,7 +155,7 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
 
 /// Read a calibrated model from a file (`--model FILE`).
 pub fn load(path: &Path) -> Result<CalibratedModel, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = crate::input::read_text(path)?;
     parse(path, &text)
 }
 

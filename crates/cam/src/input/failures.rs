@@ -7,7 +7,7 @@ use std::path::Path;
 
 /// Read one numeric column of failure values; errors name the file, the line and the column.
 pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64>), InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = super::read_text(path)?;
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
