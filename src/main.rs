@@ -11,10 +11,13 @@ use std::error::Error;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    // An interrupted run removes its staging folder, so it leaves nothing half-written behind. If the
-    // handler cannot be set, the next run into the same place removes the leftover instead.
+    // An interrupted run removes its staging folder, so it leaves nothing half-written behind; once its
+    // files are all in place, it ends as if nothing had come. If the handler cannot be set, the next run
+    // into the same place removes the leftover instead.
     let _ = ctrlc::set_handler(|| {
-        actuator_cam::output::remove_after_interrupt();
+        if actuator_cam::output::remove_after_interrupt() {
+            return;
+        }
         eprintln!("error: interrupted");
         std::process::exit(130);
     });
