@@ -535,7 +535,9 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(
-            e.contains("line 2, column mass_mg = -3: outside the allowed range (0, inf) mg"),
+            e.contains(
+                "line 2, column mass_mg = -3: outside the allowed range [0.01, 10000000] mg"
+            ),
             "{e}"
         );
         let e = parse(&format!(

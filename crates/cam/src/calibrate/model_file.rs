@@ -338,7 +338,7 @@ mod tests {
         );
         assert_eq!(
             refused("d31_field_coefficient_m_per_V = nan"),
-            "calibrated-model.toml: effects.d31_field_coefficient_m_per_V = NaN: outside the allowed range [-0.0000004, 0.000003] m/V"
+            "calibrated-model.toml: effects.d31_field_coefficient_m_per_V = NaN: outside the allowed range [-4e-7, 3e-6] m/V"
         );
         assert_eq!(
             refused("d31_scale = \"big\""),
