@@ -114,15 +114,19 @@ impl Manifest {
 }
 
 /// Every entry of a folder that the tool did not write: what a run without `--force` refuses to write
-/// beside. The tool's own lock, intent log and staging folders are not counted.
-pub fn foreign_entries(dir: &Path, manifest: Option<&Manifest>) -> io::Result<Vec<String>> {
+/// beside. The tool's own staging folders and the files named in `ours` (its lock, its intent log) are
+/// not counted.
+pub fn foreign_entries(
+    dir: &Path,
+    manifest: Option<&Manifest>,
+    ours: &[&str],
+) -> io::Result<Vec<String>> {
     let mut names = Vec::new();
     for entry in fs::read_dir(dir)? {
         let entry = entry?;
         let mut name = entry.file_name().to_string_lossy().into_owned();
         if name.starts_with(super::staging::STAGING_PREFIX)
-            || name == super::claim::LOCK
-            || name == super::journal::INTENT
+            || ours.contains(&name.as_str())
             || manifest.is_some_and(|m| m.lists(&name))
         {
             continue;
@@ -177,11 +181,11 @@ mod tests {
         .unwrap();
         let m = Manifest::default().after(dir.path(), "cut-sheet", &set(&["a.svg"]), true);
         assert_eq!(
-            foreign_entries(dir.path(), Some(&m)).unwrap(),
+            foreign_entries(dir.path(), Some(&m), &[]).unwrap(),
             ["notes.txt", "sub/"]
         );
         assert_eq!(
-            foreign_entries(dir.path(), None).unwrap(),
+            foreign_entries(dir.path(), None, &[]).unwrap(),
             ["a.svg", "notes.txt", "sub/"]
         );
     }

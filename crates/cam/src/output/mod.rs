@@ -585,10 +585,12 @@ fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputError> {
     if d.kind != Kind::Folder || d.manifest.is_some() || force {
         return Ok(());
     }
-    let foreign = foreign_entries(&d.dir, None).map_err(|source| OutputError::Unreadable {
-        flag: d.flag.clone(),
-        shown: d.shown.clone(),
-        reason: in_words(&source),
+    let foreign = foreign_entries(&d.dir, None, &[LOCK, INTENT]).map_err(|source| {
+        OutputError::Unreadable {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            reason: in_words(&source),
+        }
     })?;
     if foreign.is_empty() {
         return Ok(());
