@@ -11,10 +11,19 @@ use std::error::Error;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    // An interrupted run removes its staging folder, so it leaves nothing half-written behind. If the
-    // handler cannot be set, the next run into the same place removes the leftover instead.
+    // Rust ignores SIGPIPE, so a closed stdout (`| head -1`) makes every print panic. The default
+    // action ends the process quietly, with the status a shell expects of a pipe's writer.
+    // SAFETY: setting a signal's disposition to SIG_DFL before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    // An interrupted run removes its staging folder, so it leaves nothing half-written behind; once its
+    // files are all in place, it ends as if nothing had come. If the handler cannot be set, the next run
+    // into the same place removes the leftover instead.
     let _ = ctrlc::set_handler(|| {
-        actuator_cam::output::remove_after_interrupt();
+        if actuator_cam::output::remove_after_interrupt() {
+            return;
+        }
         eprintln!("error: interrupted");
         std::process::exit(130);
     });
@@ -22,7 +31,11 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => match value_error(&e) {
             Some(line) => return fail(&line),
-            None => e.exit(),
+            None if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
+                e.exit()
+            }
+            None if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+            None => return usage_error(&e),
         },
     };
     match cli.command.run() {
@@ -53,4 +66,23 @@ fn value_error(e: &clap::Error) -> Option<String> {
     };
     let reason = e.source()?.to_string();
     Some(format!("{flag} {value:?}: {reason}"))
+}
+
+/// A usage error (an unknown flag, a missing value, `--kerf-mm -1` read as a flag) in one line, with
+/// where to look, exit status 2 as clap gives.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    let text = e.to_string();
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("invalid arguments");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    let hint = if text.contains("tip: to pass") {
+        " (a negative number goes after `=`: --flag=-1)"
+    } else {
+        ""
+    };
+    eprintln!("error: {first}{hint}; see actuator-cam --help");
+    ExitCode::from(2)
 }

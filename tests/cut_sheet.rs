@@ -723,7 +723,7 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
     );
     let o = cut_sheet(&example("thesis-C.toml"), &file.join("out"), &[]);
     assert!(
-        !o.status.success() && stderr(&o).contains("cannot create the directory"),
+        !o.status.success() && stderr(&o).contains("a part of the path is a file, not a folder"),
         "{}",
         stderr(&o)
     );

@@ -221,7 +221,7 @@ fn interrupted_run(signal: &str, after: Duration) -> (tempfile::TempDir, std::pa
         .unwrap();
     // Wait until the run has staged something (or give up after `after`).
     let start = Instant::now();
-    while start.elapsed() < after && staging_beside(&out).is_empty() {
+    while start.elapsed() < after && (!out.exists() || staging_left(&out).is_empty()) {
         std::thread::sleep(Duration::from_millis(20));
     }
     Command::new("kill")
@@ -237,7 +237,7 @@ fn sigint_and_sigterm_clean_up_the_staging_folder() {
     for signal in ["-INT", "-TERM"] {
         let (_dir, out) = interrupted_run(signal, Duration::from_secs(20));
         assert!(
-            staging_beside(&out).is_empty(),
+            staging_beside(&out).is_empty() && (!out.exists() || staging_left(&out).is_empty()),
             "{signal}: {:?}",
             staging_beside(&out)
         );
@@ -259,4 +259,423 @@ fn a_staging_folder_left_by_sigkill_is_removed_by_the_next_run() {
         "{:?}",
         staging_beside(&out)
     );
+}
+
+/// A project folder holding copies of the examples (parts, effects, measured data), a template file that
+/// a design names, and a calibrated model: every kind of file a run reads.
+fn project() -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("p");
+    fs::create_dir_all(p.join("parts")).unwrap();
+    for e in fs::read_dir(example("")).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            fs::copy(e.path(), p.join(e.file_name())).unwrap();
+        }
+    }
+    for name in ["spar.dxf", "flexure.svg"] {
+        fs::copy(
+            example(&format!("parts/{name}")),
+            p.join("parts").join(name),
+        )
+        .unwrap();
+    }
+    fs::copy(
+        format!("{}/templates/method-2.toml", env!("CARGO_MANIFEST_DIR")),
+        p.join("my-process.toml"),
+    )
+    .unwrap();
+    fs::write(
+        p.join("design.toml"),
+        design_c_with(&[("process", "process = \"my-process.toml\"")]),
+    )
+    .unwrap();
+    let cal = dir.path().join("cal");
+    run_ok(&[
+        "calibrate",
+        &example("measured-thesis-like.csv"),
+        "-o",
+        cal.to_str().unwrap(),
+    ]);
+    fs::copy(cal.join("calibrated-model.toml"), p.join("model.toml")).unwrap();
+    (dir, p)
+}
+
+/// Run with the writer's list of inputs on stderr; the list, and the run's output.
+fn with_inputs(args: &[&str]) -> (Vec<std::path::PathBuf>, std::process::Output) {
+    let o = bin()
+        .env("ACTUATOR_CAM_LIST_INPUTS", "1")
+        .args(args)
+        .output()
+        .unwrap();
+    let list = stderr(&o)
+        .lines()
+        .filter_map(|l| l.strip_prefix("input: "))
+        .map(std::path::PathBuf::from)
+        .collect();
+    (list, o)
+}
+
+fn snapshot(paths: &[std::path::PathBuf]) -> Vec<Vec<u8>> {
+    paths.iter().map(|p| fs::read(p).unwrap()).collect()
+}
+
+#[test]
+fn every_file_a_run_reads_is_an_input_no_output_replaces() {
+    let (_dir, p) = project();
+    let at = |n: &str| p.join(n).to_str().unwrap().to_string();
+    let model = at("model.toml");
+    let folder_runs: Vec<Vec<String>> = vec![
+        vec![
+            "cut-sheet".into(),
+            at("design.toml"),
+            "--model".into(),
+            model.clone(),
+        ],
+        vec!["nest".into(), at("batch-with-parts.toml")],
+        vec![
+            "calibrate".into(),
+            at("measured-thesis-like.csv"),
+            "--effects".into(),
+            at("effects-clamp-width.toml"),
+        ],
+    ];
+    for args in &folder_runs {
+        let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = p.to_str().unwrap();
+        args.extend(["-o", out, "--force"]);
+        let named: Vec<std::path::PathBuf> = args
+            .iter()
+            .filter(|a| a.ends_with(".toml") || a.ends_with(".csv"))
+            .map(std::path::PathBuf::from)
+            .collect();
+        let named_before = snapshot(&named);
+        let (inputs, o) = with_inputs(&args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        assert_eq!(snapshot(&named), named_before, "{args:?}");
+        // The list holds what the command line names and what those files name.
+        for named in args
+            .iter()
+            .filter(|a| a.ends_with(".toml") || a.ends_with(".csv"))
+        {
+            assert!(
+                inputs.iter().any(|i| i.to_str() == Some(named)),
+                "{named} not in {inputs:?}"
+            );
+        }
+        if args[0] == "cut-sheet" {
+            assert!(
+                inputs.iter().any(|i| i.ends_with("my-process.toml")),
+                "{inputs:?}"
+            );
+        }
+        if args[0] == "nest" {
+            for part in ["spar.dxf", "flexure.svg", "thesis-A.toml"] {
+                assert!(
+                    inputs.iter().any(|i| i.ends_with(part)),
+                    "{part}: {inputs:?}"
+                );
+            }
+        }
+    }
+    // Single-file outputs aimed at each input of the same run: refused, even with --force.
+    let optimize = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize".to_string(),
+            at("optimize-thesis.toml"),
+            "--model".into(),
+            model.clone(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    let scratch = at("scratch.toml");
+    let (inputs, o) = with_inputs(
+        &optimize(&["-o", &scratch])
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(inputs.len(), 2, "{inputs:?}");
+    let before = snapshot(&inputs);
+    for input in &inputs {
+        let input = input.to_str().unwrap();
+        for flag in ["-o", "--pareto"] {
+            let args = optimize(&[flag, input, "--force"]);
+            let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+            let err = refused_in_one_line(&o);
+            assert!(
+                err.contains("is an input of this run"),
+                "{flag} {input}: {err}"
+            );
+        }
+    }
+    assert_eq!(snapshot(&inputs), before);
+    let factors = at("sweep-table-3-2.toml");
+    let (inputs, _) = with_inputs(&["sweep", &factors, "--csv", &at("designs.csv")]);
+    assert_eq!(inputs, [std::path::PathBuf::from(&factors)]);
+    let o = run(&["sweep", &factors, "--csv", &factors, "--force"]);
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("is an input of this run"), "{err}");
+}
+
+#[test]
+fn a_model_file_is_an_input_under_any_output_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = dir.path().join("C");
+    run_ok(&[
+        "calibrate",
+        &example("measured-thesis-like.csv"),
+        "-o",
+        c.to_str().unwrap(),
+    ]);
+    let model = c.join("calibrated-model.toml");
+    let before = fs::read(&model).unwrap();
+    let o = run(&[
+        "optimize",
+        "examples/optimize-thesis.toml",
+        "--model",
+        model.to_str().unwrap(),
+        "-o",
+        model.to_str().unwrap(),
+    ]);
+    let err = refused_in_one_line(&o);
+    assert!(
+        err.contains("calibrated-model.toml is an input of this run"),
+        "{err}"
+    );
+    assert_eq!(fs::read(&model).unwrap(), before);
+    // A model file named like an output of cut-sheet, in the output folder, with --force.
+    let p = dir.path().join("P");
+    fs::create_dir(&p).unwrap();
+    fs::copy(&model, p.join("report.md")).unwrap();
+    let o = cut_sheet(
+        "examples/thesis-C.toml",
+        &p,
+        &["--model", p.join("report.md").to_str().unwrap(), "--force"],
+    );
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("report.md is an input of this run"), "{err}");
+    assert_eq!(fs::read(p.join("report.md")).unwrap(), before);
+}
+
+#[test]
+fn one_command_does_not_replace_anothers_files_unasked() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("D");
+    run_ok(&[
+        "calibrate",
+        &example("measured-thesis-like.csv"),
+        "-o",
+        d.to_str().unwrap(),
+    ]);
+    let report = fs::read(d.join("report.md")).unwrap();
+    let o = cut_sheet_into(&d, &[]);
+    let err = refused_in_one_line(&o);
+    assert!(
+        err.contains("was written by `actuator-cam calibrate`") && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(fs::read(d.join("report.md")).unwrap(), report);
+    let o = cut_sheet_into(&d, &["--force"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ne!(fs::read(d.join("report.md")).unwrap(), report);
+}
+
+/// Every file of `out` except the tool's manifest, by name.
+fn outputs(out: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut f = files(out);
+    f.remove(MANIFEST);
+    f
+}
+
+/// The names a folder's manifest lists.
+fn listed(out: &Path) -> std::collections::BTreeSet<String> {
+    fs::read_to_string(out.join(MANIFEST))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| l.split_once('\t').map(|(_, n)| n.to_string()))
+        .collect()
+}
+
+fn copy_folder(from: &Path, to: &Path) {
+    fs::create_dir_all(to).unwrap();
+    for (name, bytes) in files(from) {
+        fs::write(to.join(name), bytes).unwrap();
+    }
+}
+
+#[test]
+fn a_run_killed_after_any_move_is_finished_by_the_next_run() {
+    let dir = tempfile::tempdir().unwrap();
+    // Before: 40 actuators' files, the user's notes, and a design optimize wrote.
+    let before = dir.path().join("before");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        before.to_str().unwrap(),
+        "--quantity",
+        "40",
+        "--format",
+        "svg",
+    ]);
+    fs::write(before.join("notes.txt"), "mine").unwrap();
+    run_ok(&[
+        "optimize",
+        "examples/optimize-thesis.toml",
+        "-o",
+        before.join("best.toml").to_str().unwrap(),
+    ]);
+    // What the killed run meant: 2 actuators' files (fewer sheets: stale ones go).
+    let meant = dir.path().join("meant");
+    copy_folder(&before, &meant);
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        meant.to_str().unwrap(),
+        "--quantity",
+        "2",
+        "--format",
+        "svg",
+    ]);
+    let want = outputs(&meant);
+    let mut k = 1;
+    loop {
+        let out = dir.path().join(format!("k{k}"));
+        copy_folder(&before, &out);
+        let o = bin()
+            .env("ACTUATOR_CAM_STOP_AFTER_MOVE", k.to_string())
+            .args([
+                "cut-sheet",
+                "examples/thesis-C.toml",
+                "-o",
+                out.to_str().unwrap(),
+                "--quantity",
+                "2",
+                "--format",
+                "svg",
+            ])
+            .output()
+            .unwrap();
+        if o.status.success() {
+            // More stops than moves: the run went through.
+            assert!(k > 10, "only {k} moves");
+            assert_eq!(outputs(&out), want);
+            break;
+        }
+        // Another command's run into the same folder finishes the dead run's moves first.
+        run_ok(&[
+            "optimize",
+            "examples/optimize-thesis.toml",
+            "-o",
+            out.join("best.toml").to_str().unwrap(),
+        ]);
+        assert_eq!(outputs(&out), want, "stopped after move {k}");
+        let listed = listed(&out);
+        for name in outputs(&out).keys().filter(|n| *n != "notes.txt") {
+            assert!(
+                listed.contains(name),
+                "stopped after move {k}: {name} is not listed"
+            );
+        }
+        fs::remove_dir_all(&out).unwrap();
+        k += 1;
+    }
+}
+
+#[test]
+fn a_run_killed_while_staging_into_a_new_folder_leaves_nothing_after_the_next() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    // Killed before the first move: its staging folder and lock stay behind.
+    let o = bin()
+        .env("ACTUATOR_CAM_STOP_AFTER_MOVE", "1")
+        .args([
+            "cut-sheet",
+            "examples/thesis-C.toml",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let names: Vec<String> = fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".actuator-cam-") && n != MANIFEST)
+        .collect();
+    assert!(names.is_empty(), "{names:?}");
+    assert!(staging_beside(&out).is_empty());
+}
+
+#[test]
+fn two_commands_into_one_folder_at_once_never_mix() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference_cut = dir.path().join("rc");
+    let reference_nest = dir.path().join("rn");
+    let cut_args = ["cut-sheet", "examples/thesis-C.toml", "--quantity", "300"];
+    let nest_args = ["nest", "examples/batch.toml", "--iterations", "100"];
+    run_ok(&[&cut_args[..], &["-o", reference_cut.to_str().unwrap()]].concat());
+    run_ok(&[&nest_args[..], &["-o", reference_nest.to_str().unwrap()]].concat());
+    for pair in 0..4 {
+        let dst = dir.path().join(format!("dst{pair}"));
+        let d = dst.to_str().unwrap();
+        let a = bin()
+            .args([&cut_args[..], &["-o", d]].concat())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let b = bin()
+            .args([&nest_args[..], &["-o", d]].concat())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+        let listed = listed(&dst);
+        let now = outputs(&dst);
+        assert_eq!(
+            now.keys()
+                .cloned()
+                .collect::<std::collections::BTreeSet<_>>(),
+            listed,
+            "pair {pair}"
+        );
+        // Each file is the bytes of the command the manifest names.
+        let manifest = fs::read_to_string(dst.join(MANIFEST)).unwrap();
+        for line in manifest.lines().filter(|l| !l.starts_with('#')) {
+            let (command, name) = line.split_once('\t').unwrap();
+            let reference = if command == "nest" {
+                &reference_nest
+            } else {
+                &reference_cut
+            };
+            assert_eq!(
+                now[name],
+                fs::read(reference.join(name)).unwrap(),
+                "pair {pair}: {name}"
+            );
+        }
+        for (o, what) in [(&a, "cut-sheet"), (&b, "nest")] {
+            if !o.status.success() {
+                let err = stderr(o);
+                assert_eq!(err.trim().lines().count(), 1, "{what}: {err}");
+                assert!(
+                    err.contains("another run") || err.contains("was written by"),
+                    "{what}: {err}"
+                );
+            }
+        }
+    }
 }

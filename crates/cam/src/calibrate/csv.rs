@@ -241,7 +241,7 @@ fn inconsistent(
 
 /// Read and validate a measured-data file.
 pub fn read_path(path: &Path) -> Result<Dataset, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = crate::input::read_text(path)?;
     parse_file(path, &text)
 }
 
@@ -521,7 +521,9 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(
-            e.contains("line 2, column mass_mg = -3: outside the allowed range (0, inf) mg"),
+            e.contains(
+                "line 2, column mass_mg = -3: outside the allowed range [0.01, 10000000] mg"
+            ),
             "{e}"
         );
         let e = parse(&format!(

@@ -532,7 +532,7 @@ primitives = [
             ),
             (
                 "[effects]\nname = \"x\"\n".to_string(),
-                "effects.toml: effects = (table): unknown key; known keys here: effect",
+                "effects.toml: effects = (table): unknown key; did you mean `effect`? known keys here: effect",
             ),
         ];
         for (text, want) in cases {

@@ -155,7 +155,7 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
 
 /// Read a calibrated model from a file (`--model FILE`).
 pub fn load(path: &Path) -> Result<CalibratedModel, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = crate::input::read_text(path)?;
     parse(path, &text)
 }
 
@@ -338,7 +338,7 @@ mod tests {
         );
         assert_eq!(
             refused("d31_field_coefficient_m_per_V = nan"),
-            "calibrated-model.toml: effects.d31_field_coefficient_m_per_V = NaN: outside the allowed range [-0.0000004, 0.000003] m/V"
+            "calibrated-model.toml: effects.d31_field_coefficient_m_per_V = NaN: outside the allowed range [-4e-7, 3e-6] m/V"
         );
         assert_eq!(
             refused("d31_scale = \"big\""),

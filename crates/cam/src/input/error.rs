@@ -66,7 +66,7 @@ pub fn short_number(x: f64) -> String {
         return x.to_string();
     }
     let plain = x.to_string();
-    if plain.len() <= 12 {
+    if plain.len() <= 12 && (x == 0.0 || x.abs() >= 1e-4) {
         return plain;
     }
     if (1e-4..1e6).contains(&x.abs()) {
@@ -211,6 +211,7 @@ mod tests {
         assert_eq!(short_number(1.234567891e-7), "1.23457e-7");
         assert_eq!(short_number(42.2), "42.2");
         assert_eq!(short_number(0.0003), "0.0003");
+        assert_eq!(short_number(1e-9), "1e-9");
         assert_eq!(short_number(0.1 + 0.2), "0.3");
         assert_eq!(short_number(123456.789012), "123457");
         assert_eq!(short_number(f64::NAN), "NaN");

@@ -1,13 +1,14 @@
 //! The failure-data CSV of `weibull`: one numeric column of failure values (field, strain or stress, any
 //! unit) under a header row.
 
-use super::limits::FAILURE_VALUE;
+use super::limits::{FAILURE_SPREAD, FAILURE_VALUE};
+use super::short_number;
 use super::{refuse_repeated_columns, InputError};
 use std::path::Path;
 
 /// Read one numeric column of failure values; errors name the file, the line and the column.
 pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64>), InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = super::read_text(path)?;
     let mut reader = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
@@ -46,7 +47,7 @@ pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64
                     line,
                     &name,
                     cell,
-                    format!("a failure value must be positive: outside the {FAILURE_VALUE}"),
+                    format!("a failure value must be in the {FAILURE_VALUE}"),
                 ))
             }
             Err(_) => {
@@ -59,6 +60,21 @@ pub fn read_column(path: &Path, column: Option<&str>) -> Result<(String, Vec<f64
                 ))
             }
         }
+    }
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = values.iter().copied().fold(0.0, f64::max);
+    if hi / lo > FAILURE_SPREAD {
+        return Err(InputError::invalid(
+            path,
+            &format!("column {name}"),
+            format!("{} to {}", short_number(lo), short_number(hi)),
+            format!(
+                "the values span a factor of {}; a Weibull fit needs them within a factor of {} of \
+                 each other (one unit, one kind of failure)",
+                short_number(hi / lo),
+                FAILURE_SPREAD
+            ),
+        ));
     }
     Ok((name, values))
 }

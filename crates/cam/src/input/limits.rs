@@ -68,18 +68,20 @@ pub const SURVIVAL: Range = Range::open(0.0, 1.0, "");
 
 // Requirements and measurements.
 
-/// Required mechanical energy U = ½ F_b δ.
-pub const ENERGY_MJ: Range = Range::positive("mJ");
+/// Required mechanical energy U = ½ F_b δ: from a picojoule to a kilojoule.
+pub const ENERGY_MJ: Range = Range::closed(1e-9, 1e6, "mJ");
 /// Largest peak |strain| on a PZT surface.
 pub const PZT_STRAIN: Range = Range::positive("");
-/// Measured mass of an actuator.
-pub const MASS_MG: Range = Range::positive("mg");
-/// Measured one-sided free deflection.
-pub const FREE_DEFLECTION_MM: Range = Range::positive("mm");
-/// Measured blocked force.
-pub const BLOCKED_FORCE_N: Range = Range::positive("N");
-/// A failure value of the Weibull fit (field, strain or stress, any unit).
-pub const FAILURE_VALUE: Range = Range::positive("");
+/// Measured mass of an actuator: from the smallest part a lab handles to the largest the geometry allows.
+pub const MASS_MG: Range = Range::closed(0.01, 1e7, "mg");
+/// Measured one-sided free deflection: a tenth of a micrometre up to the longest actuator.
+pub const FREE_DEFLECTION_MM: Range = Range::closed(1e-4, 1000.0, "mm");
+/// Measured blocked force: a micronewton up to a kilonewton.
+pub const BLOCKED_FORCE_N: Range = Range::closed(1e-6, 1000.0, "N");
+/// A failure value of the Weibull fit (field, strain or stress, any unit): within 12 decades of 1.
+pub const FAILURE_VALUE: Range = Range::closed(1e-12, 1e12, "");
+/// Largest ratio of the highest to the lowest failure value of one fit.
+pub const FAILURE_SPREAD: f64 = 1000.0;
 
 // Counts.
 

@@ -19,6 +19,7 @@ pub mod finite;
 pub mod library;
 pub mod limits;
 mod range;
+mod read;
 mod table;
 
 pub use columns::refuse_repeated_columns;
@@ -26,13 +27,14 @@ pub use error::{short_number, InputError};
 pub use finite::ensure_finite;
 pub use library::FieldSource;
 pub use range::Range;
+pub use read::{files_read, read_text, record};
 pub use table::TableReader;
 
 use std::path::Path;
 
 /// Read and parse a TOML file into a table.
 pub fn read_toml(path: &Path) -> Result<toml::Table, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, &e))?;
+    let text = read_text(path)?;
     parse_toml(path, &text)
 }
 

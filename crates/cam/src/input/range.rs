@@ -102,7 +102,12 @@ impl fmt::Display for Range {
         } else {
             ')'
         };
-        write!(f, "allowed range {open}{}, {}{close}", self.lo, self.hi)?;
+        write!(
+            f,
+            "allowed range {open}{}, {}{close}",
+            super::short_number(self.lo),
+            super::short_number(self.hi)
+        )?;
         if !self.unit.is_empty() {
             write!(f, " {}", self.unit)?;
         }

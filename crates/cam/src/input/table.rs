@@ -88,11 +88,7 @@ impl<'a> TableReader<'a> {
     pub fn number_in(&self, key: &str, range: Range) -> Result<f64, InputError> {
         match self.get(key) {
             Some(v) => self.number(key, v, &range),
-            None => Err(InputError::missing(
-                self.file,
-                &self.path(key),
-                &format!("a number, {range}"),
-            )),
+            None => Err(self.missing(key, &format!("a number, {range}"))),
         }
     }
 
@@ -119,22 +115,17 @@ impl<'a> TableReader<'a> {
 
     /// A required whole number in `[lo, hi]`.
     pub fn count(&self, key: &str, lo: i64, hi: i64) -> Result<usize, InputError> {
-        self.optional_count(key, lo, hi)?.ok_or_else(|| {
-            InputError::missing(
-                self.file,
-                &self.path(key),
-                &format!("a whole number in [{lo}, {hi}]"),
-            )
-        })
+        self.optional_count(key, lo, hi)?
+            .ok_or_else(|| self.missing(key, &format!("a whole number in [{lo}, {hi}]")))
     }
 
     /// A required span `[min, max]` of numbers in `range`, or one number for a fixed value (`min == max`).
     pub fn span_in(&self, key: &str, range: Range) -> Result<(f64, f64), InputError> {
         let expected = format!("expected a number or [min, max], each in the {range}");
         let field = self.path(key);
-        let value = self.get(key).ok_or_else(|| {
-            InputError::missing(self.file, &field, &expected["expected ".len()..])
-        })?;
+        let value = self
+            .get(key)
+            .ok_or_else(|| self.missing(key, &expected["expected ".len()..]))?;
         let bad =
             |why: &str| InputError::invalid(self.file, &field, value, format!("{why}{expected}"));
         let (lo, hi) = match value {
@@ -194,7 +185,7 @@ impl<'a> TableReader<'a> {
                 v,
                 format!("expected {expected}"),
             )),
-            None => Err(InputError::missing(self.file, &self.path(key), &expected)),
+            None => Err(self.missing(key, &expected)),
         }
     }
 
@@ -228,12 +219,41 @@ impl<'a> TableReader<'a> {
             Value::Table(_) => "(table)".to_string(),
             v => v.to_string(),
         };
+        let hint = match nearest(key, known.iter().copied()) {
+            Some(near) => format!("unknown key; did you mean `{near}`? known keys here: "),
+            None => "unknown key; known keys here: ".to_string(),
+        };
         InputError::invalid(
             self.file,
             &self.path(key),
             value,
-            format!("unknown key; known keys here: {}", known.join(", ")),
+            format!("{hint}{}", known.join(", ")),
         )
+    }
+
+    /// A required `key` is absent. If the table holds a key nobody asked for that is a near miss of it
+    /// (`length_m`, `Width_ratio`), that key is what the user wrote: it is named, with `key` as the
+    /// "did you mean".
+    fn missing(&self, key: &str, expected: &str) -> InputError {
+        let used = self.used.borrow();
+        let mut unasked = self
+            .table
+            .keys()
+            .map(String::as_str)
+            .filter(|k| !used.contains(*k));
+        if let Some(typo) = unasked.find(|k| nearest(k, std::iter::once(key)).is_some()) {
+            let value = match &self.table[typo] {
+                Value::Table(_) => "(table)".to_string(),
+                v => v.to_string(),
+            };
+            return InputError::invalid(
+                self.file,
+                &self.path(typo),
+                value,
+                format!("unknown key; did you mean `{key}`? ({expected})"),
+            );
+        }
+        InputError::missing(self.file, &self.path(key), expected)
     }
 
     /// An optional `true` / `false`.
@@ -260,7 +280,7 @@ impl<'a> TableReader<'a> {
                 v,
                 format!("expected {expected}"),
             )),
-            None => Err(InputError::missing(self.file, &self.path(key), expected)),
+            None => Err(self.missing(key, expected)),
         }
     }
 
@@ -298,7 +318,7 @@ impl<'a> TableReader<'a> {
                 .map(|(i, v)| self.number(&format!("{key}[{i}]"), v, &range))
                 .collect(),
             Some(v) => Err(InputError::invalid(self.file, &self.path(key), v, expected)),
-            None => Err(InputError::missing(self.file, &self.path(key), &expected)),
+            None => Err(self.missing(key, &expected)),
         }
     }
 
@@ -325,7 +345,7 @@ impl<'a> TableReader<'a> {
                 v,
                 format!("expected {expected}"),
             )),
-            None => Err(InputError::missing(self.file, &self.path(key), expected)),
+            None => Err(self.missing(key, expected)),
         }
     }
 
@@ -339,11 +359,7 @@ impl<'a> TableReader<'a> {
                 v,
                 "expected a table",
             )),
-            None => Err(InputError::missing(
-                self.file,
-                &self.path(key),
-                &format!("a [{}] table", self.path(key)),
-            )),
+            None => Err(self.missing(key, &format!("a [{}] table", self.path(key)))),
         }
     }
 
@@ -361,18 +377,24 @@ impl<'a> TableReader<'a> {
         }
     }
 
-    /// A required name: text of 1 to 64 characters, not only blanks (labels and titles show it).
+    /// A required name: text of 1 to 64 characters, not only blanks, and no control characters (labels,
+    /// titles, SVG text and DXF entries show it; a control character is not well-formed XML and ends a
+    /// DXF value).
     pub fn name(&self, key: &str, expected: &str) -> Result<String, InputError> {
         let name = self.string(key, expected)?;
-        if name.trim().is_empty() || name.len() > 64 {
-            return Err(InputError::invalid(
-                self.file,
-                &self.path(key),
-                format!("{name:?}"),
-                "expected 1 to 64 characters",
-            ));
-        }
-        Ok(name.to_string())
+        let why = if name.trim().is_empty() || name.len() > 64 {
+            "expected 1 to 64 characters"
+        } else if name.chars().any(char::is_control) {
+            "expected printable text: no control characters (tabs, line breaks, \\u0001, …)"
+        } else {
+            return Ok(name.to_string());
+        };
+        Err(InputError::invalid(
+            self.file,
+            &self.path(key),
+            format!("{name:?}"),
+            why,
+        ))
     }
 
     /// A required, non-empty array of tables (`[[key]]`), each named `key[i]` in errors.
@@ -401,11 +423,7 @@ impl<'a> TableReader<'a> {
                 v,
                 format!("expected one or more [[{}]] tables", self.path(key)),
             )),
-            None => Err(InputError::missing(
-                self.file,
-                &self.path(key),
-                &format!("one or more [[{}]] tables", self.path(key)),
-            )),
+            None => Err(self.missing(key, &format!("one or more [[{}]] tables", self.path(key)))),
         }
     }
 
@@ -422,5 +440,87 @@ impl<'a> TableReader<'a> {
             return Err(self.unknown_key(key, &known));
         }
         Ok(())
+    }
+}
+
+/// The known key closest to `key` by edit distance (letter case ignored), if it is close enough to be a
+/// typo of it: at most a third of its letters changed.
+fn nearest<'k>(key: &str, known: impl Iterator<Item = &'k str>) -> Option<&'k str> {
+    let key = key.to_lowercase();
+    known
+        .map(|k| (edit_distance(&key, &k.to_lowercase()), k))
+        .filter(|(d, k)| *d <= (k.chars().count() / 3).max(1))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, k)| k)
+}
+
+/// Levenshtein distance: insertions, deletions and substitutions of one character.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let next = (row[j + 1] + 1)
+                .min(row[j] + 1)
+                .min(diagonal + usize::from(ca != *cb));
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> Table {
+        text.parse().unwrap()
+    }
+
+    #[test]
+    fn a_misspelt_key_is_named_with_the_key_it_misses() {
+        let f = Path::new("d.toml");
+        for (text, typo, meant) in [
+            ("length_m = 40\nwidth_ratio = 1", "length_m", "length_mm"),
+            (
+                "length_mm = 40\nWidth_ratio = 1",
+                "Width_ratio",
+                "width_ratio",
+            ),
+        ] {
+            let t = table(text);
+            let r = TableReader::new(f, "geometry", &t);
+            let e = r
+                .number_in("length_mm", Range::closed(1.0, 1000.0, "mm"))
+                .and_then(|_| r.number_in("width_ratio", Range::closed(0.25, 2.0, "")))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with(&format!("d.toml: geometry.{typo} = "))
+                    && e.contains(&format!("did you mean `{meant}`")),
+                "{e}"
+            );
+        }
+        // An optional key misspelt is caught by finish, with the nearest known key.
+        let t = table("survivl = 0.9\nvoltage_V = 100");
+        let r = TableReader::new(f, "drive", &t);
+        r.optional_number_in("survival", Range::open(0.0, 1.0, ""))
+            .unwrap();
+        r.optional_number_in("voltage_V", Range::closed(0.0, 1e5, "V"))
+            .unwrap();
+        let e = r.finish().unwrap_err().to_string();
+        assert!(
+            e.contains("drive.survivl = 0.9: unknown key; did you mean `survival`?"),
+            "{e}"
+        );
+        // Nothing near: no guess.
+        assert_eq!(
+            nearest("colour", ["length_mm", "width_ratio"].into_iter()),
+            None
+        );
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
     }
 }

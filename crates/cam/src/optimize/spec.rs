@@ -321,7 +321,7 @@ max_peak_pzt_strain = 0.0009
                 "mode = \"sideways\"",
                 "unknown drive mode",
             ),
-            ("energy_mJ = 0.059", "energy_mJ = -1", "(0, inf) mJ"),
+            ("energy_mJ = 0.059", "energy_mJ = -1", "[1e-9, 1000000] mJ"),
             ("min_tip_width_mm = 0.5", "min_tip_width_mm = 50", "widest"),
             (
                 "layups_deg = [[0, 90, 0]",

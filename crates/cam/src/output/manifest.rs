@@ -33,9 +33,38 @@ impl Manifest {
         Some(Manifest { entries })
     }
 
+    /// A manifest of these `(command, file name)` entries.
+    pub fn from_entries(entries: impl IntoIterator<Item = (String, String)>) -> Manifest {
+        Manifest {
+            entries: entries.into_iter().collect(),
+        }
+    }
+
+    /// Every `(command, file name)` entry, sorted.
+    pub fn entries(&self) -> impl Iterator<Item = (&str, &str)> {
+        self.entries.iter().map(|(c, n)| (c.as_str(), n.as_str()))
+    }
+
+    /// The entries whose file is in `dir`.
+    pub fn present_in(self, dir: &Path) -> Manifest {
+        Manifest::from_entries(
+            self.entries
+                .into_iter()
+                .filter(|(_, n)| fs::symlink_metadata(dir.join(n)).is_ok()),
+        )
+    }
+
     /// True when some run of the tool wrote `name` here.
     pub fn lists(&self, name: &str) -> bool {
         name == MANIFEST || self.entries.iter().any(|(_, n)| n == name)
+    }
+
+    /// The command that wrote `name` here, if the tool did.
+    pub fn owner(&self, name: &str) -> Option<&str> {
+        self.entries
+            .iter()
+            .find(|(_, n)| n == name)
+            .map(|(c, _)| c.as_str())
     }
 
     /// Files `command` wrote here before that this run of it does not write: stale, to be removed.
@@ -85,13 +114,19 @@ impl Manifest {
 }
 
 /// Every entry of a folder that the tool did not write: what a run without `--force` refuses to write
-/// beside. Staging folders of the tool are not counted (a later run removes them).
-pub fn foreign_entries(dir: &Path, manifest: Option<&Manifest>) -> io::Result<Vec<String>> {
+/// beside. The tool's own staging folders and the files named in `ours` (its lock, its intent log) are
+/// not counted.
+pub fn foreign_entries(
+    dir: &Path,
+    manifest: Option<&Manifest>,
+    ours: &[&str],
+) -> io::Result<Vec<String>> {
     let mut names = Vec::new();
     for entry in fs::read_dir(dir)? {
         let entry = entry?;
         let mut name = entry.file_name().to_string_lossy().into_owned();
         if name.starts_with(super::staging::STAGING_PREFIX)
+            || ours.contains(&name.as_str())
             || manifest.is_some_and(|m| m.lists(&name))
         {
             continue;
@@ -146,11 +181,11 @@ mod tests {
         .unwrap();
         let m = Manifest::default().after(dir.path(), "cut-sheet", &set(&["a.svg"]), true);
         assert_eq!(
-            foreign_entries(dir.path(), Some(&m)).unwrap(),
+            foreign_entries(dir.path(), Some(&m), &[]).unwrap(),
             ["notes.txt", "sub/"]
         );
         assert_eq!(
-            foreign_entries(dir.path(), None).unwrap(),
+            foreign_entries(dir.path(), None, &[]).unwrap(),
             ["a.svg", "notes.txt", "sub/"]
         );
     }

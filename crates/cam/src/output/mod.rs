@@ -7,28 +7,39 @@
 //!   each). Any other folder is refused with the folder, what is in the way, and how to go on (another
 //!   `-o`, or `--force`). A single named file (`-o best.toml`, `--csv designs.csv`) may replace only a
 //!   file the tool wrote, unless `--force`.
-//! - **What it replaces.** Only the files this run writes. In a folder it wrote before, the files the same
-//!   command wrote there last time and does not write now (a sheet fewer) are removed; nothing the manifest
-//!   does not list is ever removed, with or without `--force`, and an input file of the run is never
-//!   overwritten.
-//! - **How.** Every file is first written into a staging folder beside its destination (a name starting
-//!   with [`STAGING_PREFIX`]); only when all are written does anything move into place. If a move fails,
-//!   the moves already made are undone, so a failure leaves no half-written output. SIGINT and SIGTERM
-//!   remove the staging folder ([`remove_after_interrupt`], called by the command layer's handler); one left
-//!   by a SIGKILL is removed by the next run that stages in the same place.
+//! - **What it replaces.** Only the files this run writes, and of those only files the same command
+//!   wrote (the manifest says which command wrote each) unless `--force`. In a folder it wrote before, the
+//!   files the same command wrote there last time and does not write now (a sheet fewer) are removed;
+//!   nothing the manifest does not list is ever removed, with or without `--force`, and no input of the
+//!   run (every file it read: `crate::input::files_read`, plus any the command names) is ever overwritten.
+//! - **One owner.** A run holds a lock in each folder it writes into ([`LOCK`], `claim`) from its first
+//!   look to its last move: a second run waits a moment, then is refused naming the first.
+//! - **How.** Every file is first written into a staging folder inside its destination (a name starting
+//!   with [`STAGING_PREFIX`]); only when all are written does anything move into place, after an intent
+//!   log ([`INTENT`], `journal`) that lets the next run finish moves a killed run left half-done. If a
+//!   move fails, the moves already made are undone, so a failure leaves no half-written output. SIGINT and
+//!   SIGTERM remove the staging folder ([`remove_after_interrupt`], called by the command layer's
+//!   handler) unless every file is in place already.
 
+mod claim;
+mod journal;
 mod manifest;
 mod staging;
 
+pub use claim::LOCK;
+pub use journal::INTENT;
 pub use manifest::MANIFEST;
 pub use staging::{remove_after_interrupt, STAGING_PREFIX};
 
+use claim::{Claim, ClaimError};
+use journal::{Moves, Undo};
 use manifest::{foreign_entries, Manifest};
-use staging::{Staging, MOVING};
+use staging::{lock, Staging, COMPLETE, MOVING};
 use std::collections::BTreeSet;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 
 /// Why the output could not be written. Each message starts with the flag and the path as the user wrote
 /// them.
@@ -68,6 +79,21 @@ pub enum OutputError {
         /// The file's name.
         name: String,
     },
+    /// A file of the same name was written by another command.
+    #[error(
+        "{flag} {shown}: {name} was written by `actuator-cam {command}`; choose another {flag}, or pass \
+         --force to replace it"
+    )]
+    OtherCommands {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The file's name.
+        name: String,
+        /// The command the manifest says wrote it.
+        command: String,
+    },
     /// A file of this run would replace one of the run's inputs.
     #[error("{flag} {shown}: {name} is an input of this run and is never overwritten; choose another {flag}")]
     InputInTheWay {
@@ -77,6 +103,31 @@ pub enum OutputError {
         shown: String,
         /// The file's name.
         name: String,
+    },
+    /// Two flags of one run name the same file.
+    #[error("{flag} {shown}: the same file as {first}; give each its own name")]
+    SameFile {
+        /// The later flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The flag that named it first.
+        first: String,
+    },
+    /// Another run is writing into the folder.
+    #[error(
+        "{flag} {shown}: another run (actuator-cam {command}, pid {pid}) is writing into this folder; \
+         wait for it to end, or choose another {flag}"
+    )]
+    Busy {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The other run's command.
+        command: String,
+        /// The other run's process id.
+        pid: String,
     },
     /// A file of this run would replace a folder of the same name.
     #[error("{flag} {shown}: {name} exists and is a directory")]
@@ -97,18 +148,17 @@ pub enum OutputError {
         shown: String,
     },
     /// The folder cannot be read to see what is in it.
-    #[error("{flag} {shown}: cannot read the folder")]
+    #[error("{flag} {shown}: cannot read the folder: {reason}")]
     Unreadable {
         /// The flag.
         flag: String,
         /// The path as given.
         shown: String,
-        /// The system's reason.
-        #[source]
-        source: io::Error,
+        /// The system's reason, in words.
+        reason: String,
     },
-    /// The folder that holds the destination (or the staging folder) cannot be made.
-    #[error("{flag} {shown}: cannot create the directory {dir}")]
+    /// The destination folder (or its lock) cannot be made.
+    #[error("{flag} {shown}: cannot write into the folder {dir}: {reason}")]
     CreateDir {
         /// The flag.
         flag: String,
@@ -116,12 +166,11 @@ pub enum OutputError {
         shown: String,
         /// The folder.
         dir: String,
-        /// The system's reason.
-        #[source]
-        source: io::Error,
+        /// The system's reason, in words.
+        reason: String,
     },
     /// Staging failed.
-    #[error("{flag} {shown}: cannot write {what}")]
+    #[error("{flag} {shown}: cannot write {what}: {reason}")]
     Stage {
         /// The flag.
         flag: String,
@@ -129,31 +178,51 @@ pub enum OutputError {
         shown: String,
         /// The file or folder being written.
         what: String,
-        /// The system's reason.
-        #[source]
-        source: io::Error,
+        /// The system's reason, in words.
+        reason: String,
     },
     /// Moving the staged files into place failed (and was undone).
-    #[error("{flag} {shown}: cannot move the finished files into place")]
+    #[error("{flag} {shown}: cannot move the finished files into place: {reason}")]
     Commit {
         /// The flag.
         flag: String,
         /// The path as given.
         shown: String,
-        /// The system's reason.
-        #[source]
-        source: io::Error,
+        /// The system's reason, in words.
+        reason: String,
     },
 }
 
-/// Where a destination's staging folder goes, and how its files move into place.
+/// A system error said in words a user acts on, without the `(os error N)` of the raw message.
+pub fn in_words(e: &io::Error) -> String {
+    use io::ErrorKind as K;
+    let words = match e.kind() {
+        K::PermissionDenied => "the folder is read-only (permission denied)",
+        K::ReadOnlyFilesystem => "the folder is read-only (a read-only file system)",
+        K::StorageFull => "the disk is full",
+        K::QuotaExceeded => "the disk quota is used up",
+        K::NotFound => "a folder on the way does not exist (was it removed?)",
+        K::NotADirectory => "a part of the path is a file, not a folder",
+        K::CrossesDevices => "the files would have to move to another file system",
+        K::FileTooLarge => "a file is too large for the file system",
+        K::TooManyLinks => "the folder holds too many entries",
+        _ => {
+            let text = e.to_string();
+            return match text.find(" (os error") {
+                Some(at) => text[..at].to_lowercase(),
+                None => text,
+            };
+        }
+    };
+    words.to_string()
+}
+
+/// Where a destination's files come from on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
-    /// `-o DIR`: the whole folder is this command's output; staged beside the folder, and a new folder
-    /// arrives in one rename.
+    /// `-o DIR`: the whole folder is this command's output.
     Folder,
-    /// Named files (`-o best.toml`, `--csv designs.csv`) in a folder that is otherwise the user's: staged in
-    /// that folder, which may not let us write beside it (a home folder's parent).
+    /// Named files (`-o best.toml`, `--csv designs.csv`) in a folder that is otherwise the user's.
     Files,
 }
 
@@ -164,7 +233,7 @@ struct Destination {
     shown: String,
     dir: PathBuf,
     kind: Kind,
-    /// The folder's manifest as the run found it.
+    /// The folder's manifest as the run found it (read once the folder is held).
     manifest: Option<Manifest>,
     /// Files the same command wrote here before and does not write now, found when the run is sealed.
     stale: Vec<String>,
@@ -187,17 +256,34 @@ impl Destination {
             flag: self.flag.clone(),
             shown: self.shown.clone(),
             what: what.into(),
-            source,
+            reason: in_words(&source),
         }
     }
 
-    fn error_create(&self, dir: &Path, source: io::Error) -> OutputError {
-        OutputError::CreateDir {
-            flag: self.flag.clone(),
-            shown: self.shown.clone(),
-            dir: dir.display().to_string(),
-            source,
+    /// Check that the destination is a folder (or nothing yet), hold it, and read its manifest.
+    fn claim(&mut self, command: &str) -> Result<Claim, OutputError> {
+        if self.dir.exists() && !self.dir.is_dir() {
+            return Err(OutputError::NotADirectory {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+            });
         }
+        let claim = Claim::take(&self.dir, command).map_err(|e| match e {
+            ClaimError::Busy { command, pid } => OutputError::Busy {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                command,
+                pid,
+            },
+            ClaimError::Io { dir, source } => OutputError::CreateDir {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                dir: dir.display().to_string(),
+                reason: in_words(&source),
+            },
+        })?;
+        self.manifest = Manifest::read(&self.dir);
+        Ok(claim)
     }
 }
 
@@ -210,6 +296,48 @@ struct Run {
     command: String,
     force: bool,
     inputs: Vec<PathBuf>,
+    /// The inputs as (device, inode), found when the writing starts: a file of the run is an input if it
+    /// is one of them under any name (a symlink, a hard link, `./sub/..`).
+    ids: Vec<(u64, u64)>,
+}
+
+impl Run {
+    /// Every input: the paths named, and every file read so far. Test hook: with
+    /// `ACTUATOR_CAM_LIST_INPUTS` set, each is printed on stderr (`input: PATH`), so a test can aim the
+    /// outputs at every one of them.
+    fn resolve(&mut self) {
+        let mut all: Vec<PathBuf> = Vec::new();
+        for p in self
+            .inputs
+            .iter()
+            .cloned()
+            .chain(crate::input::files_read())
+        {
+            if !all.contains(&p) {
+                all.push(p);
+            }
+        }
+        if std::env::var_os("ACTUATOR_CAM_LIST_INPUTS").is_some() {
+            for p in &all {
+                eprintln!("input: {}", p.display());
+            }
+        }
+        self.ids = all
+            .iter()
+            .filter_map(|p| fs::metadata(p).ok())
+            .map(|m| file_id(&m))
+            .collect();
+    }
+
+    /// True when `path` is (the same file as) one of the run's inputs.
+    fn is_input(&self, path: &Path) -> bool {
+        fs::metadata(path).is_ok_and(|m| self.ids.contains(&file_id(&m)))
+    }
+}
+
+fn file_id(m: &fs::Metadata) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    (m.dev(), m.ino())
 }
 
 /// Every file one run writes, gathered first and written together by [`Output::write`]; or, for a run
@@ -218,6 +346,8 @@ struct Run {
 pub struct Output {
     run: Run,
     destinations: Vec<(Destination, Files)>,
+    /// Two flags that named one file.
+    conflict: Option<OutputError>,
 }
 
 impl Output {
@@ -228,25 +358,26 @@ impl Output {
                 command: command.into(),
                 force: false,
                 inputs: Vec::new(),
+                ids: Vec::new(),
             },
             destinations: Vec::new(),
+            conflict: None,
         }
     }
 
     /// `--force`: write into a folder that holds other files, and replace files of the same name the tool
-    /// did not write. Never an input, never a file the run does not write.
+    /// did not write, or another command wrote. Never an input, never a file the run does not write.
     pub fn force(mut self, force: bool) -> Output {
         self.run.force = force;
         self
     }
 
-    /// Files this run reads: never overwritten, never removed, whatever the flags.
+    /// Files this run reads, besides those read through `crate::input::read_text` (which are inputs
+    /// already): never overwritten, never removed, whatever the flags.
     pub fn inputs<P: AsRef<Path>>(mut self, paths: impl IntoIterator<Item = P>) -> Output {
-        self.run.inputs.extend(
-            paths
-                .into_iter()
-                .filter_map(|p| p.as_ref().canonicalize().ok()),
-        );
+        self.run
+            .inputs
+            .extend(paths.into_iter().map(|p| p.as_ref().to_path_buf()));
         self
     }
 
@@ -277,7 +408,16 @@ impl Output {
             .iter_mut()
             .find(|(d, _)| d.kind == Kind::Files && d.dir == dir)
         {
-            Some((_, files)) => files.push(file),
+            Some((d, files)) => {
+                if files.iter().any(|(n, _)| *n == file.0) && self.conflict.is_none() {
+                    self.conflict = Some(OutputError::SameFile {
+                        flag: flag.into(),
+                        shown: path.display().to_string(),
+                        first: d.flag.clone(),
+                    });
+                }
+                files.push(file)
+            }
             None => self.destinations.push((
                 Destination::new(flag, path.display().to_string(), dir, Kind::Files),
                 vec![file],
@@ -286,25 +426,26 @@ impl Output {
         self
     }
 
-    /// Write everything: check every destination against the policy, stage every file (with the updated
-    /// manifest), then move them all into place. On an error nothing of this run is left anywhere.
+    /// Write everything: hold every destination, check it against the policy, stage every file (with
+    /// the updated manifest), then move them all into place. On an error nothing of this run is left
+    /// anywhere.
     pub fn write(self) -> Result<(), OutputError> {
-        let run = self.run;
-        let mut checked = Vec::with_capacity(self.destinations.len());
+        if let Some(e) = self.conflict {
+            return Err(e);
+        }
+        let mut run = self.run;
+        run.resolve();
+        let mut staged = Vec::with_capacity(self.destinations.len());
         for (mut d, files) in self.destinations {
-            check_folder(&mut d)?;
+            let claim = d.claim(&run.command)?;
             for (name, _) in &files {
-                check_target(&d, name, &run.inputs)?;
+                check_target(&d, name, &run)?;
             }
             check_occupied(&d, run.force)?;
             for (name, _) in &files {
-                check_replace(&d, name, run.force)?;
+                check_replace(&d, name, &run)?;
             }
-            checked.push((d, files));
-        }
-        let mut staged = Vec::with_capacity(checked.len());
-        for (d, files) in checked {
-            let mut s = Staged::open(d)?;
+            let mut s = Staged::open(d, claim)?;
             for (name, bytes) in &files {
                 s.put(name, bytes)?;
             }
@@ -318,23 +459,24 @@ impl Output {
 
     /// Write the folder `dir` (named by `flag`) file by file, for a run whose files together would not
     /// fit in memory: each file goes into the staging folder as it is added, and nothing moves into place
-    /// before [`FolderStream::finish`]. The folder is checked against the policy now, before any work;
-    /// each file's name when it is added. Dropping the stream unfinished (an error half-way) removes
+    /// before [`FolderStream::finish`]. The folder is held and checked against the policy now, before any
+    /// work; each file's name when it is added. Dropping the stream unfinished (an error half-way) removes
     /// everything it staged. Destinations added with [`Output::folder`] or [`Output::file`] are not
     /// written by a stream.
     pub fn stream_folder(self, flag: &str, dir: &Path) -> Result<FolderStream, OutputError> {
+        let mut run = self.run;
+        run.resolve();
         let mut d = Destination::new(
             flag,
             dir.display().to_string(),
             dir.to_path_buf(),
             Kind::Folder,
         );
-        check_folder(&mut d)?;
-        check_occupied(&d, self.run.force)?;
+        let claim = d.claim(&run.command)?;
+        check_occupied(&d, run.force)?;
         Ok(FolderStream {
-            run: self.run,
-            dest: Some(d),
-            staged: None,
+            run,
+            staged: Staged::open(d, claim)?,
         })
     }
 }
@@ -343,32 +485,21 @@ impl Output {
 #[derive(Debug)]
 pub struct FolderStream {
     run: Run,
-    /// The destination until the first file is added, which makes its staging folder.
-    dest: Option<Destination>,
-    staged: Option<Staged>,
+    staged: Staged,
 }
 
 impl FolderStream {
     /// Check `name` against the policy and write `bytes` into the staging folder; the caller may drop
     /// its bytes afterwards.
     pub fn add(&mut self, name: &str, bytes: &[u8]) -> Result<(), OutputError> {
-        let d = match (&self.staged, &self.dest) {
-            (Some(s), _) => &s.dest,
-            (None, Some(d)) => d,
-            (None, None) => unreachable!("a stream holds its destination until it finishes"),
-        };
-        check_target(d, name, &self.run.inputs)?;
-        check_replace(d, name, self.run.force)?;
-        if self.staged.is_none() {
-            let d = self.dest.take().expect("checked above");
-            self.staged = Some(Staged::open(d)?);
-        }
-        self.staged.as_mut().expect("opened above").put(name, bytes)
+        check_target(&self.staged.dest, name, &self.run)?;
+        check_replace(&self.staged.dest, name, &self.run)?;
+        self.staged.put(name, bytes)
     }
 
     /// Files added so far.
     pub fn len(&self) -> usize {
-        self.staged.as_ref().map_or(0, |s| s.written.len())
+        self.staged.written.len()
     }
 
     /// True before the first file is added.
@@ -379,61 +510,58 @@ impl FolderStream {
     /// Move every added file into place (with the updated manifest), removing the same command's stale
     /// files; on an error nothing of this run is left.
     pub fn finish(mut self) -> Result<(), OutputError> {
-        let mut staged = match (self.staged.take(), self.dest.take()) {
-            (Some(s), _) => s,
-            (None, Some(d)) => Staged::open(d)?,
-            (None, None) => unreachable!("a stream holds its destination until it finishes"),
-        };
-        staged.seal(&self.run)?;
-        commit_all(std::slice::from_mut(&mut staged))
+        self.staged.seal(&self.run)?;
+        commit_all(std::slice::from_mut(&mut self.staged))
     }
 }
 
 /// Move every staged destination into place; if one move fails, undo all moves made.
 fn commit_all(staged: &mut [Staged]) -> Result<(), OutputError> {
-    let _moving = MOVING.lock().unwrap_or_else(|e| e.into_inner());
+    let _moving = lock(&MOVING);
     let mut done: Vec<Undo> = Vec::new();
     for s in staged.iter() {
-        if let Err(source) = commit(s, &mut done) {
+        let moves = Moves {
+            dir: &s.dest.dir,
+            staging: s.staging().path(),
+            remove: &s.dest.stale,
+            put: &s.written,
+            manifest: &s.manifest,
+        };
+        if let Err(source) = moves.run(&mut done) {
             for undo in done.into_iter().rev() {
                 undo.apply();
             }
             return Err(OutputError::Commit {
                 flag: s.dest.flag.clone(),
                 shown: s.dest.shown.clone(),
-                source,
+                reason: in_words(&source),
             });
         }
     }
-    // Made folders now hold the output: they stay. Dropping the staging folders (by the caller) removes
-    // them with the replaced and stale files they hold.
+    // Every file is in place: the logs go (a log left by a failure here has nothing left to move), and
+    // an interrupt from now on changes nothing. The folders made now hold the output, and stay; dropping
+    // the staging folders (by the caller) removes them with the replaced and stale files they hold.
     for s in staged.iter_mut() {
-        s.created.clear();
+        let _ = journal::finished(&s.dest.dir);
+        s.claim.keep();
     }
-    Ok(())
-}
-
-/// The policy, first step: the destination is a folder (or nothing yet); read its manifest.
-fn check_folder(d: &mut Destination) -> Result<(), OutputError> {
-    if d.dir.exists() && !d.dir.is_dir() {
-        return Err(OutputError::NotADirectory {
-            flag: d.flag.clone(),
-            shown: d.shown.clone(),
-        });
-    }
-    d.manifest = Manifest::read(&d.dir);
+    COMPLETE.store(true, Ordering::SeqCst);
     Ok(())
 }
 
 /// The policy for one file name: a plain name, not a folder, not an input of the run.
-fn check_target(d: &Destination, name: &str, inputs: &[PathBuf]) -> Result<(), OutputError> {
-    if !is_plain_file_name(name) || name == MANIFEST {
+fn check_target(d: &Destination, name: &str, run: &Run) -> Result<(), OutputError> {
+    let ours = [MANIFEST, LOCK, INTENT];
+    if !is_plain_file_name(name) || ours.contains(&name) || name.starts_with(STAGING_PREFIX) {
         return Err(OutputError::NotAFileName {
             flag: d.flag.clone(),
             shown: d.shown.clone(),
         });
     }
     let target = d.dir.join(name);
+    if fs::symlink_metadata(&target).is_err() {
+        return Ok(());
+    }
     if target.is_dir() {
         return Err(OutputError::FolderInTheWay {
             flag: d.flag.clone(),
@@ -441,7 +569,7 @@ fn check_target(d: &Destination, name: &str, inputs: &[PathBuf]) -> Result<(), O
             name: name.into(),
         });
     }
-    if is_input(&target, inputs) {
+    if run.is_input(&target) {
         return Err(OutputError::InputInTheWay {
             flag: d.flag.clone(),
             shown: d.shown.clone(),
@@ -454,13 +582,15 @@ fn check_target(d: &Destination, name: &str, inputs: &[PathBuf]) -> Result<(), O
 /// The policy for an `-o` folder: one the tool did not write, holding anything, is refused unless
 /// `--force`.
 fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputError> {
-    if d.kind != Kind::Folder || !d.dir.exists() || d.manifest.is_some() || force {
+    if d.kind != Kind::Folder || d.manifest.is_some() || force {
         return Ok(());
     }
-    let foreign = foreign_entries(&d.dir, None).map_err(|source| OutputError::Unreadable {
-        flag: d.flag.clone(),
-        shown: d.shown.clone(),
-        source,
+    let foreign = foreign_entries(&d.dir, None, &[LOCK, INTENT]).map_err(|source| {
+        OutputError::Unreadable {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            reason: in_words(&source),
+        }
     })?;
     if foreign.is_empty() {
         return Ok(());
@@ -472,17 +602,25 @@ fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputError> {
     })
 }
 
-/// The policy for replacing a file: only one the tool wrote, unless `--force`.
-fn check_replace(d: &Destination, name: &str, force: bool) -> Result<(), OutputError> {
-    let ours = d.manifest.as_ref().is_some_and(|m| m.lists(name));
-    if force || ours || fs::symlink_metadata(d.dir.join(name)).is_err() {
+/// The policy for replacing a file: only one the same command wrote, unless `--force`.
+fn check_replace(d: &Destination, name: &str, run: &Run) -> Result<(), OutputError> {
+    if run.force || fs::symlink_metadata(d.dir.join(name)).is_err() {
         return Ok(());
     }
-    Err(OutputError::WouldReplace {
-        flag: d.flag.clone(),
-        shown: d.shown.clone(),
-        name: name.into(),
-    })
+    match d.manifest.as_ref().and_then(|m| m.owner(name)) {
+        Some(command) if command == run.command => Ok(()),
+        Some(command) => Err(OutputError::OtherCommands {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+            command: command.into(),
+        }),
+        None => Err(OutputError::WouldReplace {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        }),
+    }
 }
 
 /// Files the same command wrote in an `-o` folder before and does not write now: to be removed (never
@@ -494,7 +632,7 @@ fn stale_files(d: &Destination, run: &Run, written: &BTreeSet<&str>) -> Vec<Stri
             .filter(|n| is_plain_file_name(n))
             .filter(|n| {
                 let p = d.dir.join(n);
-                p.is_file() && !is_input(&p, &run.inputs)
+                p.is_file() && !run.is_input(&p)
             })
             .map(str::to_string)
             .collect(),
@@ -517,11 +655,6 @@ fn listing(names: &[String]) -> String {
     text
 }
 
-/// True when `path` is (the same file as) one of the run's inputs.
-fn is_input(path: &Path, inputs: &[PathBuf]) -> bool {
-    path.canonicalize().is_ok_and(|p| inputs.contains(&p))
-}
-
 /// A name that stays inside its folder: one component, not `.` or `..`.
 fn is_plain_file_name(name: &str) -> bool {
     let mut components = Path::new(name).components();
@@ -531,44 +664,38 @@ fn is_plain_file_name(name: &str) -> bool {
     )
 }
 
-/// A destination whose files are written into `staging/new`; replaced and stale files go to
+/// A held destination whose files are written into `staging/new`; replaced and stale files go to
 /// `staging/old`, and vanish with it.
 #[derive(Debug)]
 struct Staged {
     dest: Destination,
     staging: Option<Staging>,
-    /// Names written into `staging/new`, in order.
+    /// Names written into `staging/new`, in order (the manifest last, once sealed).
     written: Vec<String>,
-    /// Folders made to hold the staging folder, outermost first: removed again unless the run commits.
-    created: Vec<PathBuf>,
+    /// The manifest after this run, once sealed.
+    manifest: Manifest,
+    /// The destination's lock and the folders made for it; let go after the staging folder is removed.
+    claim: Claim,
 }
 
 impl Staged {
-    /// A fresh staging folder beside the destination (making the folders that hold it).
-    fn open(dest: Destination) -> Result<Staged, OutputError> {
-        let near = match dest.kind {
-            Kind::Files => dest.dir.clone(),
-            Kind::Folder => match dest.dir.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-                _ => PathBuf::from("."),
-            },
-        };
-        let created = missing_folders(&near);
-        fs::create_dir_all(&near).map_err(|e| dest.error_create(&near, e))?;
+    /// A fresh staging folder inside the held destination.
+    fn open(dest: Destination, claim: Claim) -> Result<Staged, OutputError> {
         let mut staged = Staged {
             dest,
             staging: None,
             written: Vec::new(),
-            created,
+            manifest: Manifest::default(),
+            claim,
         };
-        let staging = Staging::new_in(&near)
-            .map_err(|e| staged.dest.error_stage(format!("in {}", near.display()), e))?;
+        let staging = Staging::new_in(&staged.dest.dir)
+            .map_err(|e| staged.dest.error_stage("its staging folder", e))?;
         staged.staging = Some(staging);
         for dir in [staged.new_dir(), staged.old_dir()] {
             staged
                 .staging()
                 .create_dir(&dir)
-                .map_err(|e| staged.dest.error_stage(format!("in {}", dir.display()), e))?;
+                .map_err(|e| staged.dest.error_stage("its staging folder", e))?;
         }
         Ok(staged)
     }
@@ -600,109 +727,23 @@ impl Staged {
     fn seal(&mut self, run: &Run) -> Result<(), OutputError> {
         let written: BTreeSet<&str> = self.written.iter().map(String::as_str).collect();
         self.dest.stale = stale_files(&self.dest, run, &written);
-        let manifest = self
-            .dest
-            .manifest
-            .clone()
-            .unwrap_or_default()
-            .after(
-                &self.dest.dir,
-                &run.command,
-                &written,
-                self.dest.kind == Kind::Folder,
-            )
-            .to_bytes();
-        self.put(MANIFEST, &manifest)
+        self.manifest = self.dest.manifest.clone().unwrap_or_default().after(
+            &self.dest.dir,
+            &run.command,
+            &written,
+            self.dest.kind == Kind::Folder,
+        );
+        let bytes = self.manifest.to_bytes();
+        self.put(MANIFEST, &bytes)
     }
 }
 
 impl Drop for Staged {
     fn drop(&mut self) {
-        // The staging folder first, then the folders made to hold it (empty unless a user filled them
-        // meanwhile, and then `remove_dir` leaves them).
+        // The staging folder first; the claim (a field) goes after, with the lock and any folder made
+        // for the run that is empty again.
         drop(self.staging.take());
-        for dir in self.created.iter().rev() {
-            let _ = fs::remove_dir(dir);
-        }
     }
-}
-
-/// The folders `create_dir_all(dir)` would make, outermost first.
-fn missing_folders(dir: &Path) -> Vec<PathBuf> {
-    let mut missing: Vec<PathBuf> = dir
-        .ancestors()
-        .take_while(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_err())
-        .map(Path::to_path_buf)
-        .collect();
-    missing.reverse();
-    missing
-}
-
-/// One move made into a destination, and how to take it back.
-enum Undo {
-    /// The destination folder was made by this run: remove it whole.
-    CreatedFolder(PathBuf),
-    /// A file was put at `target` (or, for a stale file, taken away); `previous` holds the file that was
-    /// there, if any.
-    Placed {
-        target: PathBuf,
-        previous: Option<PathBuf>,
-    },
-}
-
-impl Undo {
-    /// Best effort: an undo that fails leaves the file as the run wrote it.
-    fn apply(self) {
-        match self {
-            Undo::CreatedFolder(dir) => {
-                let _ = fs::remove_dir_all(dir);
-            }
-            Undo::Placed { target, previous } => {
-                let _ = match previous {
-                    Some(old) => fs::rename(old, &target),
-                    None => fs::remove_file(&target),
-                };
-            }
-        }
-    }
-}
-
-/// Move one destination's staged files into place and its stale files out, recording each move in
-/// `done`.
-fn commit(s: &Staged, done: &mut Vec<Undo>) -> io::Result<()> {
-    let dir = &s.dest.dir;
-    if s.dest.kind == Kind::Folder && !dir.exists() {
-        fs::rename(s.new_dir(), dir)?;
-        done.push(Undo::CreatedFolder(dir.clone()));
-        return Ok(());
-    }
-    for name in &s.dest.stale {
-        let target = dir.join(name);
-        let old = s.old_dir().join(name);
-        fs::rename(&target, &old)?;
-        done.push(Undo::Placed {
-            target,
-            previous: Some(old),
-        });
-    }
-    for name in &s.written {
-        let target = dir.join(name);
-        let previous = if fs::symlink_metadata(&target).is_ok() {
-            let old = s.old_dir().join(name);
-            fs::rename(&target, &old)?;
-            Some(old)
-        } else {
-            None
-        };
-        if let Err(e) = fs::rename(s.new_dir().join(name), &target) {
-            if let Some(old) = previous {
-                let _ = fs::rename(old, &target);
-            }
-            return Err(e);
-        }
-        done.push(Undo::Placed { target, previous });
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -1,23 +1,46 @@
-//! Staging folders: where a run writes its files before they move into place, how an interrupted run's
-//! folder is cleaned up (SIGINT/SIGTERM: by the run itself; SIGKILL, which cannot be caught: by the next
-//! run that stages in the same place).
+//! Staging folders: where a run writes its files, inside the destination folder it holds
+//! ([`super::claim`]), before they move into place; and what an interrupted run removes. SIGINT and
+//! SIGTERM are handled by the run itself ([`remove_after_interrupt`]); what a SIGKILL leaves is finished
+//! or removed by the next run that claims the folder ([`super::journal::recover`]).
 
 use std::fs;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// Name prefix of the staging folders, so a leftover one can be recognised.
 pub const STAGING_PREFIX: &str = ".actuator-cam-staging-";
 
-/// File inside a staging folder holding the process id of the run that made it.
-const OWNER_FILE: &str = "pid";
+/// What an interrupt must take away: everything this run made that is not output yet.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum Cleanup {
+    /// A folder made to hold the output: removed if empty.
+    Created(PathBuf),
+    /// The lock file of a claimed folder.
+    Lock(PathBuf),
+    /// A staging folder, removed whole.
+    Staging(PathBuf),
+}
 
-/// Staging folders of this process that exist now, for the interrupt handler.
-static ACTIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// What this process made that is not output yet, in the order made (undone in reverse).
+static ACTIVE: Mutex<Vec<Cleanup>> = Mutex::new(Vec::new());
 
 /// Held while staged files move into place, so an interrupt waits for the moves (and their undo) to end
 /// instead of cutting them in half.
 pub(super) static MOVING: Mutex<()> = Mutex::new(());
+
+/// Set when every file of the run is in place: an interrupt after that changes nothing.
+pub(super) static COMPLETE: AtomicBool = AtomicBool::new(false);
+
+/// Record something an interrupt must take away.
+pub(super) fn register(item: Cleanup) {
+    lock(&ACTIVE).push(item);
+}
+
+/// It is output now, or removed already.
+pub(super) fn unregister(item: &Cleanup) {
+    lock(&ACTIVE).retain(|i| i != item);
+}
 
 /// A staging folder of this run; removed with everything in it when dropped.
 #[derive(Debug)]
@@ -26,17 +49,15 @@ pub(super) struct Staging {
 }
 
 impl Staging {
-    /// A fresh staging folder in `near`, after removing the ones killed runs left there. It is made and
-    /// registered under one lock, so an interrupt either finds it registered or comes before it exists.
-    pub(super) fn new_in(near: &Path) -> std::io::Result<Staging> {
-        remove_leftovers(near);
+    /// A fresh staging folder in `dir`, which this run holds. It is made and registered under one lock,
+    /// so an interrupt either finds it registered or comes before it exists.
+    pub(super) fn new_in(dir: &Path) -> std::io::Result<Staging> {
         let mut active = lock(&ACTIVE);
-        let dir = tempfile::Builder::new()
+        let staging = tempfile::Builder::new()
             .prefix(STAGING_PREFIX)
-            .tempdir_in(near)?;
-        fs::write(dir.path().join(OWNER_FILE), std::process::id().to_string())?;
-        active.push(dir.path().to_path_buf());
-        Ok(Staging { dir: Some(dir) })
+            .tempdir_in(dir)?;
+        active.push(Cleanup::Staging(staging.path().to_path_buf()));
+        Ok(Staging { dir: Some(staging) })
     }
 
     pub(super) fn path(&self) -> &Path {
@@ -62,85 +83,37 @@ impl Drop for Staging {
         // Removed under the lock, so an interrupt cannot exit half-way through the removal.
         let mut active = lock(&ACTIVE);
         if let Some(dir) = self.dir.take() {
-            active.retain(|p| p != dir.path());
+            let path = dir.path().to_path_buf();
+            active.retain(|i| *i != Cleanup::Staging(path.clone()));
             let _ = dir.close();
         }
     }
 }
 
-/// Remove every staging folder of this process: for the SIGINT/SIGTERM handler, which exits right after.
-/// Waits for files being moved into place to finish (or be undone) first.
-pub fn remove_after_interrupt() {
-    let _moving = lock(&MOVING);
-    // Held until the process exits: no write into a staging folder can start after this point.
+/// For the SIGINT/SIGTERM handler. Waits for files being moved into place to finish (or be undone);
+/// then, if every file of the run is in place, returns true and changes nothing (the run goes on to its
+/// end and exits 0). Otherwise removes every staging folder, lock and made folder of this process and
+/// returns false; the handler exits right after.
+pub fn remove_after_interrupt() -> bool {
+    let moving = lock(&MOVING);
+    if COMPLETE.load(Ordering::SeqCst) {
+        return true;
+    }
+    // Both held until the process exits: no write or move can start after this point.
     let mut active = lock(&ACTIVE);
-    for dir in active.drain(..) {
-        let _ = fs::remove_dir_all(dir);
+    for item in active.drain(..).rev() {
+        let _ = match item {
+            Cleanup::Staging(dir) => fs::remove_dir_all(dir),
+            Cleanup::Lock(file) => fs::remove_file(file),
+            Cleanup::Created(dir) => fs::remove_dir(dir),
+        };
     }
     std::mem::forget(active);
+    std::mem::forget(moving);
+    false
 }
 
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+pub(super) fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     // A panic while holding the lock leaves plain data behind; use it anyway.
     m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Remove staging folders in `near` whose run is no longer alive (a SIGKILL, a power cut). A folder whose
-/// owner cannot be told (no pid file yet, no /proc) is left, unless it is over a day old.
-fn remove_leftovers(near: &Path) {
-    let Ok(entries) = fs::read_dir(near) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        if !name.to_string_lossy().starts_with(STAGING_PREFIX) {
-            continue;
-        }
-        let path = entry.path();
-        if !entry.file_type().is_ok_and(|t| t.is_dir()) {
-            continue;
-        }
-        let pid = fs::read_to_string(path.join(OWNER_FILE)).ok();
-        let dead = match pid.as_deref().map(str::trim) {
-            Some(pid) if Path::new("/proc/self").exists() => {
-                pid != std::process::id().to_string() && !Path::new("/proc").join(pid).exists()
-            }
-            _ => older_than_a_day(&path),
-        };
-        if dead {
-            let _ = fs::remove_dir_all(&path);
-        }
-    }
-}
-
-fn older_than_a_day(path: &Path) -> bool {
-    fs::metadata(path)
-        .and_then(|m| m.modified())
-        .ok()
-        .and_then(|t| t.elapsed().ok())
-        .is_some_and(|age| age.as_secs() > 24 * 3600)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_dead_runs_staging_is_removed_and_a_live_ones_kept() {
-        let near = tempfile::tempdir().unwrap();
-        let dead = near.path().join(format!("{STAGING_PREFIX}dead"));
-        fs::create_dir(&dead).unwrap();
-        // No process has this id: pid_max on Linux is at most 2^22.
-        fs::write(dead.join(OWNER_FILE), "99999999").unwrap();
-        let live = near.path().join(format!("{STAGING_PREFIX}live"));
-        fs::create_dir(&live).unwrap();
-        fs::write(live.join(OWNER_FILE), "1").unwrap();
-        let user = near.path().join("my-folder");
-        fs::create_dir(&user).unwrap();
-        let s = Staging::new_in(near.path()).unwrap();
-        assert!(!dead.exists() && live.exists() && user.exists() && s.path().exists());
-        let kept = s.path().to_path_buf();
-        drop(s);
-        assert!(!kept.exists());
-    }
 }

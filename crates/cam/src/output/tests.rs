@@ -116,8 +116,8 @@ fn a_failed_move_puts_everything_back() {
         .destinations
         .into_iter()
         .map(|(mut d, files)| {
-            check_folder(&mut d).unwrap();
-            let mut s = Staged::open(d).unwrap();
+            let claim = d.claim(&run.command).unwrap();
+            let mut s = Staged::open(d, claim).unwrap();
             for (name, bytes) in &files {
                 s.put(name, bytes).unwrap();
             }
@@ -125,23 +125,150 @@ fn a_failed_move_puts_everything_back() {
             s
         })
         .collect();
-    let mut done = Vec::new();
-    commit(&staged[0], &mut done).unwrap();
-    // The second destination's staged file vanishes before its move: that move fails.
+    // The second destination's staged files vanish before its moves: its first move fails, after the
+    // first destination's moves are made.
     fs::remove_dir_all(staged[1].new_dir()).unwrap();
-    fs::create_dir(&blocked).unwrap();
-    assert!(commit(&staged[1], &mut done).is_err());
-    for undo in done.into_iter().rev() {
-        undo.apply();
-    }
-    staged.clear();
+    let e = commit_all(&mut staged).unwrap_err().to_string();
+    assert!(
+        e.contains("cannot move the finished files into place"),
+        "{e}"
+    );
+    drop(staged);
     assert_eq!(listing(&out), [MANIFEST, "x.txt"]);
     assert_eq!(fs::read_to_string(out.join("x.txt")).unwrap(), "old");
     assert_eq!(
         fs::read_to_string(out.join(MANIFEST)).unwrap(),
         "test\tx.txt\n"
     );
-    assert_eq!(listing(root.path()), ["blocked", "out"]);
+    // The folder made for the second destination is gone again.
+    assert_eq!(listing(root.path()), ["out"]);
+}
+
+#[test]
+fn a_second_run_waits_then_is_refused_naming_the_first() {
+    let root = tempfile::tempdir().unwrap();
+    let out = root.path().join("out");
+    let mut first = Destination::new("-o", "out".into(), out.clone(), Kind::Folder);
+    let held = first.claim("nest").unwrap();
+    let started = std::time::Instant::now();
+    let e = Output::new("cut-sheet")
+        .folder("-o", &out, files(&[("x.txt", "1")]))
+        .write()
+        .unwrap_err()
+        .to_string();
+    assert!(started.elapsed() >= std::time::Duration::from_secs(2));
+    let pid = std::process::id();
+    assert_eq!(
+        e,
+        format!(
+            "-o {}: another run (actuator-cam nest, pid {pid}) is writing into this folder; wait for it to \
+             end, or choose another -o",
+            out.display()
+        )
+    );
+    drop(held);
+    // Let go: the folder made for the first run is gone, and the second run goes ahead.
+    assert_eq!(listing(root.path()), Vec::<String>::new());
+    Output::new("cut-sheet")
+        .folder("-o", &out, files(&[("x.txt", "1")]))
+        .write()
+        .unwrap();
+    assert_eq!(listing(&out), [MANIFEST, "x.txt"]);
+}
+
+#[test]
+fn another_commands_file_is_replaced_only_with_force() {
+    let root = tempfile::tempdir().unwrap();
+    let out = root.path().join("out");
+    Output::new("calibrate")
+        .folder("-o", &out, files(&[("report.md", "calibrate")]))
+        .write()
+        .unwrap();
+    let cut = || Output::new("cut-sheet").folder("-o", &out, files(&[("report.md", "cut")]));
+    let e = cut().write().unwrap_err().to_string();
+    assert!(
+        e.contains("report.md was written by `actuator-cam calibrate`") && e.contains("--force"),
+        "{e}"
+    );
+    assert_eq!(
+        fs::read_to_string(out.join("report.md")).unwrap(),
+        "calibrate"
+    );
+    cut().force(true).write().unwrap();
+    assert_eq!(fs::read_to_string(out.join("report.md")).unwrap(), "cut");
+    assert!(fs::read_to_string(out.join(MANIFEST))
+        .unwrap()
+        .ends_with("cut-sheet\treport.md\n"));
+}
+
+#[test]
+fn two_flags_naming_one_file_are_refused() {
+    let root = tempfile::tempdir().unwrap();
+    let x = root.path().join("X");
+    let e = Output::new("optimize")
+        .file("-o", &x, "design")
+        .file("--pareto", &x, "front")
+        .write()
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        format!(
+            "--pareto {}: the same file as -o; give each its own name",
+            x.display()
+        )
+    );
+    assert!(listing(root.path()).is_empty());
+}
+
+#[test]
+fn the_next_run_finishes_the_moves_a_killed_run_left() {
+    let root = tempfile::tempdir().unwrap();
+    let out = root.path().join("out");
+    Output::new("test")
+        .folder("-o", &out, files(&[("a.txt", "1"), ("b.txt", "1")]))
+        .write()
+        .unwrap();
+    // A run that meant to replace a.txt, remove b.txt and add c.txt died after its first two moves:
+    // b.txt is gone, a.txt is in the staging folder's old/, its new a.txt still staged.
+    let staging = out.join(format!("{STAGING_PREFIX}dead"));
+    for sub in ["new", "old"] {
+        fs::create_dir_all(staging.join(sub)).unwrap();
+    }
+    fs::write(staging.join("new/a.txt"), "2").unwrap();
+    fs::write(staging.join("new/c.txt"), "2").unwrap();
+    fs::write(
+        staging.join(format!("new/{MANIFEST}")),
+        "test\ta.txt\ntest\tc.txt\n",
+    )
+    .unwrap();
+    fs::rename(out.join("b.txt"), staging.join("old/b.txt")).unwrap();
+    fs::rename(out.join("a.txt"), staging.join("old/a.txt")).unwrap();
+    fs::write(
+        out.join(INTENT),
+        format!(
+            "staging\t{STAGING_PREFIX}dead\nremove\tb.txt\nput\ta.txt\nput\tc.txt\nput\t{MANIFEST}\n\
+             owner\ttest\ta.txt\nowner\ttest\tc.txt\n"
+        ),
+    )
+    .unwrap();
+    // Another staging folder, of a run killed while staging.
+    fs::create_dir(out.join(format!("{STAGING_PREFIX}other"))).unwrap();
+    // Any run that claims the folder finishes the moves first.
+    Output::new("other")
+        .file("-o", &out.join("d.txt"), "3")
+        .write()
+        .unwrap();
+    assert_eq!(listing(&out), [MANIFEST, "a.txt", "c.txt", "d.txt"]);
+    assert_eq!(fs::read_to_string(out.join("a.txt")).unwrap(), "2");
+    assert_eq!(
+        fs::read_to_string(out.join(MANIFEST))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .collect::<Vec<_>>(),
+        ["other\td.txt", "test\ta.txt", "test\tc.txt"]
+    );
 }
 
 #[test]

@@ -61,6 +61,7 @@ fn polyline(vertices: &[(f64, f64, f64)], closed: bool) -> Vec<Point> {
 
 /// Every contour of the drawing: closed ones as they are, open pieces chained.
 pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
+    crate::input::record(file);
     let drawing = dxf::Drawing::load_file(file)
         .map_err(|e| InputError::whole_file(file, format!("not a readable DXF file: {e}")))?;
     match drawing.header.default_drawing_units {

@@ -444,7 +444,7 @@ impl Walk<'_> {
 
 /// Every closed contour of the drawing, in mm, y up.
 pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
-    let text = std::fs::read_to_string(file).map_err(|e| InputError::io(file, &e))?;
+    let text = crate::input::read_text(file)?;
     let doc = Document::parse(&text)
         .map_err(|e| InputError::whole_file(file, format!("not a readable SVG file: {e}")))?;
     let root = doc.root_element();
