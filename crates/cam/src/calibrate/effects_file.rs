@@ -37,7 +37,7 @@ use std::path::Path;
 const FINITE: Range = Range::open(f64::NEG_INFINITY, f64::INFINITY, "");
 
 /// Primitive kinds as the file spells them (the parameter's unit is in docs/calibration.md).
-const KINDS: [(&str, Option<Primitive>); 10] = [
+const KINDS: [(&str, Option<Primitive>); 13] = [
     ("scale", None),
     ("inserted-layer", Some(Primitive::InsertedLayer)),
     ("field-dependent-d31", Some(Primitive::FieldDependentD31)),
@@ -54,6 +54,9 @@ const KINDS: [(&str, Option<Primitive>); 10] = [
         "inactive-surface-layer",
         Some(Primitive::InactiveSurfaceLayer),
     ),
+    ("added-mass", Some(Primitive::AddedMass)),
+    ("added-mass-per-length", Some(Primitive::AddedMassPerLength)),
+    ("added-mass-per-area", Some(Primitive::AddedMassPerArea)),
 ];
 
 const TARGETS: [(&str, Target); 3] = [
@@ -385,8 +388,8 @@ primitives = [
         );
     }
 
-    /// The rigid root, the edge margins and the inactive surface layer read by their names (lengths in
-    /// m, null 0), and a bound below zero is refused in one line naming the field, the value and the
+    /// The rigid root, the edge margins, the inactive surface layer and the added masses read by their
+    /// names (SI, null 0), and a bound below zero is refused in one line naming the field, the value and the
     /// physical range.
     #[test]
     fn the_root_edge_and_surface_kinds_read_and_refuse_negative_lengths() {
@@ -398,6 +401,13 @@ primitives = [
                 Primitive::InactiveSurfaceLayer,
                 "50e-6",
             ),
+            ("added-mass", Primitive::AddedMass, "1e-5"),
+            (
+                "added-mass-per-length",
+                Primitive::AddedMassPerLength,
+                "1e-4",
+            ),
+            ("added-mass-per-area", Primitive::AddedMassPerArea, "0.05"),
         ] {
             let text = format!(
                 "[[effect]]\nname = \"x\"\nnull = 0.0\nbounds = [0.0, {hi}]\nprimitives = [{{ kind = \"{kind}\" }}]\n"
