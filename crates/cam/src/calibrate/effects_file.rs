@@ -82,6 +82,23 @@ fn names<T>(list: &[(&str, T)]) -> String {
     list.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
 }
 
+/// A primitive's fields as an effects file spells them (`kind = "scale", target = "passive",
+/// property = "E1"`), for the files calibrate writes (`suggested-effects.toml`); [`parse`] reads them
+/// back to the same primitive.
+pub fn primitive_fields(p: Primitive) -> String {
+    fn spelled<T: PartialEq>(list: &[(&'static str, T)], x: T) -> &'static str {
+        list.iter().find(|(_, v)| *v == x).map_or("?", |(n, _)| *n)
+    }
+    match p {
+        Primitive::Scale { target, property } => format!(
+            "kind = \"scale\", target = \"{}\", property = \"{}\"",
+            spelled(&TARGETS, target),
+            spelled(&PROPERTIES, property)
+        ),
+        other => format!("kind = \"{}\"", spelled(&KINDS, Some(other))),
+    }
+}
+
 /// Look `name` up in `list`, or refuse it naming the allowed names.
 fn one_of<T: Copy>(
     t: &TableReader<'_>,

@@ -103,6 +103,16 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
     })
 }
 
+/// The physical bounds discovery fits a primitive within (SI), for a primitive that moves δ or F_b or
+/// one of the mass forms.
+pub fn bounds(p: Primitive) -> Option<(f64, f64)> {
+    mass_catalogue()
+        .into_iter()
+        .find(|t| t.primitive == p)
+        .map(|t| (t.lo, t.hi))
+        .or_else(|| range(p).map(|(lo, hi, _)| (lo, hi)))
+}
+
 /// The primitive a library effect is, when it is exactly one primitive at its parameter.
 fn library_single(name: &str) -> Option<Primitive> {
     match library_composition(name)?.as_slice() {
