@@ -9,6 +9,7 @@ use actuator_cam::optimize::{
     optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS,
 };
 use actuator_cam::output::Output;
+use actuator_model::primitives::Primitive;
 use actuator_model::ModelChoice;
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
@@ -63,7 +64,25 @@ impl From<ObjectiveArg> for Objective {
 /// The search model for `--model`: a built-in name or a `calibrated-model.toml`.
 fn search_model(choice: &ModelChoice) -> anyhow::Result<SearchModel> {
     match choice {
-        ModelChoice::Calibrated(m) => Ok(SearchModel::Calibrated(Arc::new(m.effect_model()?))),
+        ModelChoice::Calibrated(m) => {
+            let model = m.effect_model()?;
+            // The search scales the mass as l_tot w_0 per shape; a mass per actuator or per outline
+            // length does not scale so.
+            if let Some(d) = m.declared.iter().find(|d| {
+                d.primitives.iter().any(|l| {
+                    matches!(
+                        l.primitive,
+                        Primitive::AddedMass | Primitive::AddedMassPerLength
+                    )
+                })
+            }) {
+                bail!(
+                    "--model: the declared effect {} adds a mass per actuator or per outline length, which the optimizer's search (mass proportional to l_tot w_0 per shape) does not take; use predict --model to evaluate designs with it",
+                    d.name
+                );
+            }
+            Ok(SearchModel::Calibrated(Arc::new(model)))
+        }
         ModelChoice::Kind(kind) => SearchModel::from_kind(*kind).with_context(|| {
             format!(
                 "--model {}: the Euler-Bernoulli beam covers rectangles only and has no taper or extension to optimise; use original, thesis-adjusted or a calibrated-model.toml",

@@ -20,6 +20,13 @@ pub struct MassBreakdownMg {
     pub passive: f64,
     /// Bond layers.
     pub bond: f64,
+    /// Mass no layer carries (a calibrated model's added masses); left out of the JSON when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub added: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// Predicted performance in lab units (the `predict --json` object).
@@ -163,6 +170,7 @@ impl Prediction {
                 pzt: p.mass_breakdown.pzt * 1e6,
                 passive: p.mass_breakdown.passive * 1e6,
                 bond: p.mass_breakdown.bond * 1e6,
+                added: p.mass_breakdown.added * 1e6,
             },
             resonance_Hz: None,
             modal_mass_mg: None,

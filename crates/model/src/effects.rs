@@ -22,6 +22,9 @@
 //! | `rigid-root` h | the root `h` of the PZT held rigidly in the clamp: neither bends nor drives there | δ, F_b |
 //! | `edge-margin` m | unelectroded strips of width `m` along both long edges: free curvature `P (1 - 2m/w(x))` | δ, F_b |
 //! | `inactive-surface-layer` t_s | the outer `t_s` of each PZT plate has no d31, in the CLT stack | δ, F_b |
+//! | `added-mass` m_a | a mass per actuator no layer carries (leads, solder): `m += m_a` | m |
+//! | `added-mass-per-length` λ | a mass along the outline of each PZT plate (adhesive fillets): `m += 2 λ P_pzt` | m |
+//! | `added-mass-per-area` μ | a mass over each bonded face (adhesive under the PZT): `m += 2 μ A_pzt` | m |
 
 use crate::drive::{Drive, DriveMode};
 use crate::error::ModelError;
@@ -91,6 +94,18 @@ pub struct Effects {
     /// primitive, not under `[effects]`.
     #[serde(skip)]
     pub inactive_surface: f64,
+    /// Mass per actuator that no layer carries, kg (null 0; the `added-mass` primitive). Recorded as a
+    /// declared primitive, not under `[effects]`.
+    #[serde(skip)]
+    pub added_mass: f64,
+    /// Mass per unit length of the outline of each PZT plate, kg/m (null 0; the `added-mass-per-length`
+    /// primitive: adhesive fillets). Recorded as a declared primitive.
+    #[serde(skip)]
+    pub added_mass_per_length: f64,
+    /// Mass per unit bonded area, kg/m², over both PZT-to-ply faces (null 0; the `added-mass-per-area`
+    /// primitive: adhesive with no stiffness in the stack). Recorded as a declared primitive.
+    #[serde(skip)]
+    pub added_mass_per_area: f64,
 }
 
 /// Factors on the bond layer's isotropic material (null 1 each): its modulus E (E1 = E2, with G12 kept
@@ -130,6 +145,9 @@ impl Default for Effects {
             rigid_root: 0.0,
             edge_margin: 0.0,
             inactive_surface: 0.0,
+            added_mass: 0.0,
+            added_mass_per_length: 0.0,
+            added_mass_per_area: 0.0,
         }
     }
 }
@@ -272,7 +290,33 @@ impl Effects {
             self.inactive_surface,
             self.inactive_surface >= 0.0,
             "[0, t_p) m",
+        )?;
+        check(
+            "added_mass",
+            self.added_mass,
+            self.added_mass >= 0.0,
+            "[0, inf) kg",
+        )?;
+        check(
+            "added_mass_per_length",
+            self.added_mass_per_length,
+            self.added_mass_per_length >= 0.0,
+            "[0, inf) kg/m",
+        )?;
+        check(
+            "added_mass_per_area",
+            self.added_mass_per_area,
+            self.added_mass_per_area >= 0.0,
+            "[0, inf) kg/m2",
         )
+    }
+
+    /// The mass no layer carries: `m_a + 2 λ P_pzt + 2 μ A_pzt` over both plates
+    /// ([`Planform::piezo_perimeter`], [`Planform::piezo_area`]), kg.
+    pub fn added_mass(&self, planform: &Planform) -> f64 {
+        self.added_mass
+            + 2.0 * self.added_mass_per_length * planform.piezo_perimeter()
+            + 2.0 * self.added_mass_per_area * planform.piezo_area()
     }
 
     /// Factor on d31 at a drive field: `η (1 + β E)`.
@@ -441,6 +485,7 @@ impl Effects {
                 * t_ply
                 * (a_pzt + pl.extension_area() + pl.tab_area()),
             bond: 2.0 * self.bond_material().density * self.bond_thickness * a_pzt,
+            added: self.added_mass(pl),
         }
     }
 
@@ -461,7 +506,11 @@ impl Effects {
             free_curvature: section.free_curvature,
             ..basis
         });
-        let mut p = base.with_outputs(delta, force, base.mass_breakdown);
+        let masses = MassBreakdown {
+            added: self.added_mass(&a.planform),
+            ..base.mass_breakdown
+        };
+        let mut p = base.with_outputs(delta, force, masses);
         // Stresses under the changed blocked force (thesis eq. 3.3 and the CLT root moment; with a rigid
         // root the beam's root is at h, where the moment is F (L - h) over the width w(h)).
         let pl = &a.planform;
@@ -533,6 +582,9 @@ mod tests {
             rigid_root: 1.5e-3,
             edge_margin: 0.3e-3,
             inactive_surface: 12e-6,
+            added_mass: 1e-6,
+            added_mass_per_length: 5e-6,
+            added_mass_per_area: 0.01,
         };
         let p = e.predict(&a).unwrap();
         let (d, f) = e.outputs(&e.basis(&a).unwrap());
@@ -541,6 +593,7 @@ mod tests {
         let m = e.mass(&a);
         assert!(((m.total() - p.mass) / p.mass).abs() < 1e-12);
         assert!((m.bond - p.mass_breakdown.bond).abs() < 1e-15);
+        assert!((m.added - p.mass_breakdown.added).abs() < 1e-15 && m.added > 1e-6);
         // Each of the primitive-only fields moves the outputs (the agreement above is not vacuous).
         for off in [
             Effects {

@@ -38,6 +38,7 @@ pub fn adjust(original: &Performance, planform: &Planform, pzt_thickness: f64) -
         pzt: original.mass_breakdown.pzt,
         passive: original.mass_breakdown.passive * (1.0 + ZETA),
         bond: original.mass_breakdown.bond,
+        added: original.mass_breakdown.added,
     };
     let delta = original.free_deflection * deflection_factor(planform.extension_ratio);
     let force = original.blocked_force * force_factor(planform.base_width, pzt_thickness);

@@ -15,12 +15,15 @@ pub struct MassBreakdown {
     pub passive: f64,
     /// Bond layers (under the PZT only).
     pub bond: f64,
+    /// Mass no layer carries (leads and solder, adhesive fillets, adhesive over the bonded area), set by
+    /// the added-mass primitives ([`crate::primitives`]); 0 in the original model.
+    pub added: f64,
 }
 
 impl MassBreakdown {
     /// Total mass, kg.
     pub fn total(&self) -> f64 {
-        self.pzt + self.passive + self.bond
+        self.pzt + self.passive + self.bond + self.added
     }
 }
 
@@ -99,6 +102,7 @@ pub fn mass(section: &Section, planform: &Planform) -> MassBreakdown {
         passive: section.passive_areal_mass
             * (a_pzt + planform.extension_area() + planform.tab_area()),
         bond: section.bond_areal_mass * a_pzt,
+        added: 0.0,
     }
 }
 

@@ -78,6 +78,13 @@ impl Planform {
         self.piezo_length() * self.nominal_width()
     }
 
+    /// Outline length of one PZT plate (the trapezoid's perimeter),
+    /// `w_0 + w_tip + 2 sqrt(l_p² + ((w_0 - w_tip)/2)²)`, m.
+    pub fn piezo_perimeter(&self) -> f64 {
+        let half_taper = 0.5 * (self.base_width - self.tip_width());
+        self.base_width + self.tip_width() + 2.0 * self.piezo_length().hypot(half_taper)
+    }
+
     /// Extension area `l_ext w_tip`.
     pub fn extension_area(&self) -> f64 {
         self.extension_length() * self.tip_width()

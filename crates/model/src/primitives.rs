@@ -104,6 +104,14 @@ pub enum Primitive {
     /// below the plate's thickness): same elastic properties and density, d31 = 0, in the CLT stack
     /// ([`crate::laminate::Laminate::bimorph_with_surface`]).
     InactiveSurfaceLayer,
+    /// A mass per actuator that no layer carries (leads, solder), kg (null 0): the mass only.
+    AddedMass,
+    /// A mass per unit length of the outline of each PZT plate (adhesive fillets), kg/m (null 0): the
+    /// mass only, `2 λ P_pzt` over both plates.
+    AddedMassPerLength,
+    /// A mass per unit bonded area (adhesive under each PZT with no stiffness in the stack), kg/m²
+    /// (null 0): the mass only, `2 μ A_pzt` over both PZT-to-ply faces.
+    AddedMassPerArea,
 }
 
 impl Primitive {
@@ -133,7 +141,8 @@ impl Primitive {
         )
     }
 
-    /// True when the primitive changes the mass (a density, a thickness or an inserted layer).
+    /// True when the primitive changes the mass (a density, a thickness, an inserted layer or an added
+    /// mass).
     pub fn changes_mass(self) -> bool {
         matches!(
             self,
@@ -141,6 +150,15 @@ impl Primitive {
                 property: Property::Density | Property::Thickness,
                 ..
             } | Primitive::InsertedLayer
+        ) || self.is_added_mass()
+    }
+
+    /// True for the primitives that change the mass alone (an added mass per actuator, per outline
+    /// length or per bonded area): δ, F_b and the stack are untouched.
+    pub fn is_added_mass(self) -> bool {
+        matches!(
+            self,
+            Primitive::AddedMass | Primitive::AddedMassPerLength | Primitive::AddedMassPerArea
         )
     }
 
@@ -317,6 +335,10 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
             }
             Primitive::InsertedLayer => s.effects.bond_thickness += v,
             Primitive::InactiveSurfaceLayer => s.effects.inactive_surface += v,
+            // Not the stack, but the mass the stacked effects report.
+            Primitive::AddedMass => s.effects.added_mass += v,
+            Primitive::AddedMassPerLength => s.effects.added_mass_per_length += v,
+            Primitive::AddedMassPerArea => s.effects.added_mass_per_area += v,
             _ => {}
         }
     }
@@ -343,7 +365,10 @@ pub fn boundary<'x>(
             Primitive::EdgeMargin => e.edge_margin += v,
             Primitive::Scale { .. }
             | Primitive::InsertedLayer
-            | Primitive::InactiveSurfaceLayer => {}
+            | Primitive::InactiveSurfaceLayer
+            | Primitive::AddedMass
+            | Primitive::AddedMassPerLength
+            | Primitive::AddedMassPerArea => {}
         }
     }
     e
@@ -661,6 +686,40 @@ pub(crate) mod tests {
                 a,
             );
             assert!(thinned.is_err());
+        });
+    }
+
+    /// The added masses move the mass alone, by `m_a`, `2 λ P_pzt` and `2 μ A_pzt` (the trapezoid's
+    /// perimeter worked by hand for this planform: l_p = 25 mm, w_nom = 5.714 mm, w_0 = 8 mm,
+    /// w_tip = 3.429 mm).
+    #[test]
+    fn added_masses_change_the_mass_alone() {
+        with(|a| {
+            let orig = Effects::default().predict(a).unwrap();
+            let l_p: f64 = 40e-3 / 1.6;
+            let w_nom = 8e-3 / 1.4;
+            let w_tip: f64 = (2.0 - 1.4) * w_nom;
+            let perimeter =
+                8e-3 + w_tip + 2.0 * (l_p * l_p + (0.5 * (8e-3 - w_tip)).powi(2)).sqrt();
+            assert!((a.planform.piezo_perimeter() - perimeter).abs() < 1e-15);
+            for (primitive, value, want) in [
+                (Primitive::AddedMass, 2e-6, 2e-6),
+                (Primitive::AddedMassPerLength, 1e-5, 2.0 * 1e-5 * perimeter),
+                (Primitive::AddedMassPerArea, 0.02, 2.0 * 0.02 * l_p * w_nom),
+            ] {
+                let applied = [Applied { primitive, value }];
+                let p = compose(&applied, &Effects::default(), a).unwrap();
+                assert!(
+                    ((p.mass - orig.mass) - want).abs() < 1e-12 * orig.mass,
+                    "{primitive:?}"
+                );
+                assert_eq!(p.free_deflection, orig.free_deflection);
+                assert_eq!(p.blocked_force, orig.blocked_force);
+                let m = mass(&applied, &Effects::default(), a).unwrap();
+                assert!((m.total() - p.mass).abs() < 1e-15 && (m.added - want).abs() < 1e-18);
+                assert!(primitive.changes_mass() && primitive.is_added_mass());
+                assert!(!primitive.changes_stack() && primitive.null() == 0.0);
+            }
         });
     }
 

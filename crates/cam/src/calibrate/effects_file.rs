@@ -37,7 +37,7 @@ use std::path::Path;
 const FINITE: Range = Range::open(f64::NEG_INFINITY, f64::INFINITY, "");
 
 /// Primitive kinds as the file spells them (the parameter's unit is in docs/calibration.md).
-const KINDS: [(&str, Option<Primitive>); 10] = [
+const KINDS: [(&str, Option<Primitive>); 13] = [
     ("scale", None),
     ("inserted-layer", Some(Primitive::InsertedLayer)),
     ("field-dependent-d31", Some(Primitive::FieldDependentD31)),
@@ -54,6 +54,9 @@ const KINDS: [(&str, Option<Primitive>); 10] = [
         "inactive-surface-layer",
         Some(Primitive::InactiveSurfaceLayer),
     ),
+    ("added-mass", Some(Primitive::AddedMass)),
+    ("added-mass-per-length", Some(Primitive::AddedMassPerLength)),
+    ("added-mass-per-area", Some(Primitive::AddedMassPerArea)),
 ];
 
 const TARGETS: [(&str, Target); 3] = [
@@ -77,6 +80,23 @@ const MAPS: [(&str, Map); 2] = [("identity", Map::Identity), ("reciprocal", Map:
 
 fn names<T>(list: &[(&str, T)]) -> String {
     list.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+}
+
+/// A primitive's fields as an effects file spells them (`kind = "scale", target = "passive",
+/// property = "E1"`), for the files calibrate writes (`suggested-effects.toml`); [`parse`] reads them
+/// back to the same primitive.
+pub fn primitive_fields(p: Primitive) -> String {
+    fn spelled<T: PartialEq>(list: &[(&'static str, T)], x: T) -> &'static str {
+        list.iter().find(|(_, v)| *v == x).map_or("?", |(n, _)| *n)
+    }
+    match p {
+        Primitive::Scale { target, property } => format!(
+            "kind = \"scale\", target = \"{}\", property = \"{}\"",
+            spelled(&TARGETS, target),
+            spelled(&PROPERTIES, property)
+        ),
+        other => format!("kind = \"{}\"", spelled(&KINDS, Some(other))),
+    }
 }
 
 /// Look `name` up in `list`, or refuse it naming the allowed names.
@@ -385,8 +405,8 @@ primitives = [
         );
     }
 
-    /// The rigid root, the edge margins and the inactive surface layer read by their names (lengths in
-    /// m, null 0), and a bound below zero is refused in one line naming the field, the value and the
+    /// The rigid root, the edge margins, the inactive surface layer and the added masses read by their
+    /// names (SI, null 0), and a bound below zero is refused in one line naming the field, the value and the
     /// physical range.
     #[test]
     fn the_root_edge_and_surface_kinds_read_and_refuse_negative_lengths() {
@@ -398,6 +418,13 @@ primitives = [
                 Primitive::InactiveSurfaceLayer,
                 "50e-6",
             ),
+            ("added-mass", Primitive::AddedMass, "1e-5"),
+            (
+                "added-mass-per-length",
+                Primitive::AddedMassPerLength,
+                "1e-4",
+            ),
+            ("added-mass-per-area", Primitive::AddedMassPerArea, "0.05"),
         ] {
             let text = format!(
                 "[[effect]]\nname = \"x\"\nnull = 0.0\nbounds = [0.0, {hi}]\nprimitives = [{{ kind = \"{kind}\" }}]\n"

@@ -64,6 +64,9 @@ pub struct Calibration {
     /// actuators, so the report shows the error of the original model, the library-only calibration and
     /// the calibration with the declared effects side by side.
     pub library_only: Option<LibraryOnly>,
+    /// The loop's next step when the verdict is not-explained or ambiguous: discovery's leading
+    /// candidates as effects to declare (`suggested-effects.toml`).
+    pub suggestions: Vec<discover::suggest::Suggestion>,
 }
 
 /// The library-only calibration beside one with declared effects: what `calibrate` without `--effects`
@@ -109,9 +112,21 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         None => data,
     };
     let discovery = match selection.verdict {
-        Verdict::NotExplained { .. } => Some(discover::discover(fitted, &selection, settings)?),
+        Verdict::NotExplained { .. } | Verdict::Ambiguous { .. } => {
+            Some(discover::discover(fitted, &selection, settings)?)
+        }
         _ => None,
     };
+    // The mass ranking leads when the residual the verdict names is the mass.
+    let mass_first = !selection.adequacy.passed
+        && selection
+            .adequacy
+            .worst_variable
+            .as_deref()
+            .is_some_and(|v| v.contains("(mass residual"));
+    let suggestions = discovery.as_ref().map_or_else(Vec::new, |d| {
+        discover::suggest::suggestions(d, mass_first, settings.min_delta_aicc)
+    });
     let model = calibrated_model(&selection);
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
@@ -149,6 +164,7 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
         predictions_after,
         broken,
         library_only,
+        suggestions,
     })
 }
 

@@ -271,16 +271,33 @@ mod tests {
         let model = CalibratedModel {
             model: "calibrated".into(),
             verdict: "explained".into(),
-            selected_effects: vec!["held".into(), "edges".into(), "skin".into()],
+            selected_effects: vec![
+                "held".into(),
+                "edges".into(),
+                "skin".into(),
+                "solder".into(),
+                "fillet".into(),
+                "glue".into(),
+            ],
             effects: Effects::default(),
             declared: vec![
                 declared("held", 2e-3, Primitive::RigidRoot),
                 declared("edges", 0.4e-3, Primitive::EdgeMargin),
                 declared("skin", 15e-6, Primitive::InactiveSurfaceLayer),
+                declared("solder", 2e-6, Primitive::AddedMass),
+                declared("fillet", 3e-5, Primitive::AddedMassPerLength),
+                declared("glue", 0.01, Primitive::AddedMassPerArea),
             ],
         };
         let text = to_toml(&model).unwrap();
-        for kind in ["rigid-root", "edge-margin", "inactive-surface-layer"] {
+        for kind in [
+            "rigid-root",
+            "edge-margin",
+            "inactive-surface-layer",
+            "added-mass",
+            "added-mass-per-length",
+            "added-mass-per-area",
+        ] {
             assert!(text.contains(&format!("kind = \"{kind}\"")), "{text}");
         }
         assert!(
@@ -293,6 +310,31 @@ mod tests {
         let e =
             m.boundary_effects(&actuator_model::Planform::new(30e-3, 0.5, 6e-3, 1.0, 0.0).unwrap());
         assert_eq!((e.rigid_root, e.edge_margin), (2e-3, 0.4e-3));
+        // The added masses reach the mass, and only the mass.
+        let pl = actuator_model::Planform::new(30e-3, 0.5, 6e-3, 1.0, 0.0).unwrap();
+        let added = Effects {
+            added_mass: 2e-6,
+            added_mass_per_length: 3e-5,
+            added_mass_per_area: 0.01,
+            ..Effects::default()
+        }
+        .added_mass(&pl);
+        let pzt = actuator_model::Material::builtin("PZT-5H").unwrap();
+        let cf = actuator_model::Material::builtin("CF-thesis").unwrap();
+        let a = actuator_model::effects::Actuator {
+            pzt: &pzt,
+            pzt_thickness: 191e-6,
+            ply: &cf,
+            ply_thickness: 61.8e-6,
+            layup_deg: &[0.0, 90.0, 0.0],
+            planform: pl,
+            drive: actuator_model::effects::drive_at_voltage(
+                actuator_model::DriveMode::Parallel,
+                100.0,
+                191e-6,
+            ),
+        };
+        assert!((m.mass(&a).unwrap().added - added).abs() < 1e-18);
     }
 
     #[test]

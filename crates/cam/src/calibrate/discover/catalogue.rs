@@ -80,7 +80,10 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
         Primitive::Scale {
             property: Property::Density | Property::Permittivity,
             ..
-        } => return None,
+        }
+        | Primitive::AddedMass
+        | Primitive::AddedMassPerLength
+        | Primitive::AddedMassPerArea => return None,
         Primitive::Scale { .. } => (0.2, 3.0, &[0.7, 1.4]),
         Primitive::InsertedLayer => (0.0, 200e-6, &[5e-6, 40e-6]),
         Primitive::FieldDependentD31 => (-0.4e-6, 3e-6, &[0.0, 1e-6]),
@@ -98,6 +101,16 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
         // plate is refused by the model, which the fit treats as no fit there.
         Primitive::InactiveSurfaceLayer => (0.0, 100e-6, &[5e-6, 30e-6]),
     })
+}
+
+/// The physical bounds discovery fits a primitive within (SI), for a primitive that moves δ or F_b or
+/// one of the mass forms.
+pub fn bounds(p: Primitive) -> Option<(f64, f64)> {
+    mass_catalogue()
+        .into_iter()
+        .find(|t| t.primitive == p)
+        .map(|t| (t.lo, t.hi))
+        .or_else(|| range(p).map(|(lo, hi, _)| (lo, hi)))
 }
 
 /// The primitive a library effect is, when it is exactly one primitive at its parameter.
@@ -202,6 +215,9 @@ pub fn name(p: Primitive) -> String {
         Primitive::RigidRoot => "rigid-root".into(),
         Primitive::EdgeMargin => "edge-margin".into(),
         Primitive::InactiveSurfaceLayer => "inactive-surface-layer".into(),
+        Primitive::AddedMass => "added-mass".into(),
+        Primitive::AddedMassPerLength => "added-mass-per-length".into(),
+        Primitive::AddedMassPerArea => "added-mass-per-area".into(),
     }
 }
 
@@ -218,7 +234,40 @@ pub fn parameter(p: Primitive) -> &'static str {
         Primitive::RigidRoot => "held_root_m",
         Primitive::EdgeMargin => "edge_margin_m",
         Primitive::InactiveSurfaceLayer => "inactive_thickness_m",
+        Primitive::AddedMass => "added_mass_kg",
+        Primitive::AddedMassPerLength => "mass_per_length_kg_per_m",
+        Primitive::AddedMassPerArea => "mass_per_area_kg_per_m2",
     }
+}
+
+/// The forms a mass residual is ranked by (docs/calibration.md §3, "Discovery"): every primitive that
+/// changes the mass and nothing else, with its range (SI). A scale on a layer's density, or a mass no
+/// layer carries: per actuator (leads, solder; up to 100 mg), per length of the PZT outline (adhesive
+/// fillets; up to 1 mg per mm) or per bonded area (adhesive under the PZT; up to 0.5 kg/m², a 400 µm
+/// epoxy film). Each is affine in its parameter, so its fit needs the mass at two values only.
+pub fn mass_catalogue() -> Vec<Tried> {
+    let density = |target| Tried {
+        primitive: Primitive::Scale {
+            target,
+            property: Property::Density,
+        },
+        lo: 0.2,
+        hi: 3.0,
+        starts: &[1.0],
+    };
+    let added = |primitive, hi| Tried {
+        primitive,
+        lo: 0.0,
+        hi,
+        starts: &[0.0],
+    };
+    vec![
+        density(Target::Pzt),
+        density(Target::Passive),
+        added(Primitive::AddedMass, 1e-4),
+        added(Primitive::AddedMassPerLength, 1e-3),
+        added(Primitive::AddedMassPerArea, 0.5),
+    ]
 }
 
 #[cfg(test)]

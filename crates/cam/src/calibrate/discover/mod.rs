@@ -17,9 +17,11 @@
 
 pub mod catalogue;
 pub mod designs;
+pub mod mass_fit;
 pub mod pattern;
 pub mod power_law;
 pub mod primitive_fit;
+pub mod suggest;
 
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId};
@@ -28,6 +30,7 @@ use crate::calibrate::select::{actuation_data, Role, Selection, Settings};
 use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use designs::{discriminate, DiscriminatingDesign, Predictor};
+use mass_fit::MassForm;
 use pattern::Trend;
 use power_law::PowerLaw;
 use primitive_fit::{Partner, PrimitiveFit};
@@ -52,6 +55,10 @@ pub struct Discovery {
     pub ranked_by: &'static str,
     /// Designs that would separate the leading candidates.
     pub designs: Vec<DiscriminatingDesign>,
+    /// The mass residual's explanations, best first (empty without weighed actuators): the
+    /// selection's mass models and each mass-only form ([`mass_fit`]), by AICc on the log masses.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub mass_forms: Vec<MassForm>,
 }
 
 /// One explanation: `{η, X}` with X a library effect, a declared effect or a primitive, or a combination
@@ -94,6 +101,24 @@ pub struct RankedCandidate {
     /// The single explanations it combines (empty for a single one).
     #[serde(skip)]
     parts: Vec<String>,
+}
+
+impl RankedCandidate {
+    /// The primitive outside the library it declares (the last part of a combination), if it is one.
+    pub fn primitive(&self) -> Option<actuator_model::primitives::Primitive> {
+        match &self.source {
+            Source::Primitive(f) => Some(f.primitive),
+            Source::Library(_) => None,
+        }
+    }
+
+    /// The library effect fitted beside the primitive, in a combination.
+    pub fn partner(&self) -> Option<&'static str> {
+        match &self.source {
+            Source::Primitive(f) => f.partner.map(|id| id.name()),
+            Source::Library(_) => None,
+        }
+    }
 }
 
 /// A further parameter of a ranked candidate.
@@ -320,5 +345,6 @@ pub fn discover(
         candidates: ranked,
         ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
         designs,
+        mass_forms: mass_fit::rank(data, selection),
     })
 }

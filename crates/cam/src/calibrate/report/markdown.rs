@@ -173,16 +173,36 @@ fn discovery(d: &Discovery) -> String {
             );
         }
     }
-    md.push_str("\nDeclare the leading candidate as an effect (`calibrate --effects effects.toml`) and run again.\n");
+    if !d.mass_forms.is_empty() {
+        md.push_str("\nThe mass residual on its own, ranked by AICc on the log masses (the selection's mass models and each mass-only form, alone and on top of the chosen one):\n\n| rank | mass model or form | parameter | estimate | 95% interval | ΔAICc | gain over the chosen | RMSE log |\n|---|---|---|---|---|---|---|---|\n");
+        for (i, f) in d.mass_forms.iter().take(8).enumerate() {
+            let (estimate, interval) = if f.library {
+                ("–".to_string(), "–".to_string())
+            } else {
+                (
+                    format!("{:.4e}", f.estimate),
+                    format!("[{:.4e}, {:.4e}]", f.interval.0, f.interval.1),
+                )
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {estimate} | {interval} | {:.1} | {:.1} | {:.4} |",
+                i + 1,
+                f.name,
+                f.parameter,
+                f.delta_aicc,
+                f.gain_over_chosen,
+                f.rmse_log
+            );
+        }
+    }
+    md.push_str("\nThe leading candidates are written as effects to declare in `suggested-effects.toml` (when one lies outside the library); `calibrate --effects suggested-effects.toml` runs the next step.\n");
     md
 }
 
 /// The cells `l_tot mm | l_r | w0 mm | w_r | t_p mm | layup | V` of a design to build.
 fn design_cells(d: &DesignPoint) -> String {
-    format!(
-        "{:.1} | {:.2} | {:.1} | {:.2} | {:.3} | {} | {:.0}",
-        d.l_tot_mm, d.l_r, d.w0_mm, d.w_r, d.t_p_mm, d.layup, d.voltage_v
-    )
+    d.cells()
 }
 
 /// `verdict: NAME` and what it rests on, one line.

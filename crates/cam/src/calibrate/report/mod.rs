@@ -4,6 +4,7 @@
 
 pub mod markdown;
 pub mod plots;
+pub mod suggested;
 pub mod tree;
 
 pub use tree::Report;
@@ -57,7 +58,7 @@ pub fn render(
     source: &str,
 ) -> Result<Vec<(String, String)>, ReportError> {
     let report = Report::new(cal, data, source);
-    Ok(vec![
+    let mut files = vec![
         (
             model_file::FILE_NAME.into(),
             model_file::to_toml(&cal.model)?,
@@ -80,5 +81,9 @@ pub fn render(
             "residuals-after.svg".into(),
             residual_svg(data, &cal.predictions_after, "calibrated"),
         ),
-    ])
+    ];
+    if let Some(text) = suggested::render(cal, source) {
+        files.push((suggested::FILE_NAME.into(), text));
+    }
+    Ok(files)
 }

@@ -34,6 +34,17 @@ pub struct DesignPoint {
     pub voltage_v: f64,
 }
 
+impl DesignPoint {
+    /// The design as the report's table cells show it (`l_tot | l_r | w0 | w_r | t_p | layup | V`, at
+    /// the report's precision): two probes with the same cells are the same design to the reader.
+    pub fn cells(&self) -> String {
+        format!(
+            "{:.1} | {:.2} | {:.1} | {:.2} | {:.3} | {} | {:.0}",
+            self.l_tot_mm, self.l_r, self.w0_mm, self.w_r, self.t_p_mm, self.layup, self.voltage_v
+        )
+    }
+}
+
 /// A design that would tell two contenders apart.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SeparatingDesign {
@@ -100,6 +111,8 @@ impl Probe<'_> {
 /// Every corner of the data's span: shortest and longest length, lowest and highest `l_r` and `w_0`,
 /// lowest, 1 (if within) and highest `w_r`, each layup and PZT thickness in the data, lowest and highest
 /// field. Within the span only: a design outside what was built would be an extrapolation of both models.
+/// Each design once (corners coincide where a range is a single value or `w_r = 1` is one of its ends),
+/// as the report shows it ([`DesignPoint::cells`]).
 pub fn probes(data: &Dataset) -> Vec<Probe<'_>> {
     let range = |f: &dyn Fn(&Measurement) -> f64| {
         let v: Vec<f64> = data.rows.iter().map(f).collect();
@@ -126,6 +139,7 @@ pub fn probes(data: &Dataset) -> Vec<Probe<'_>> {
         }
     }
     let mut out = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     for l in [l_lo, l_hi] {
         for lr in [lr_lo, lr_hi] {
             for w in [w_lo, w_hi] {
@@ -136,12 +150,15 @@ pub fn probes(data: &Dataset) -> Vec<Probe<'_>> {
                                 let Ok(planform) = Planform::new(l, lr, w, wr, 0.0) else {
                                     continue;
                                 };
-                                out.push(Probe {
+                                let probe = Probe {
                                     row: &data.rows[li],
                                     pzt_thickness: data.rows[ti].pzt_thickness,
                                     planform,
                                     field: e,
-                                });
+                                };
+                                if seen.insert(probe.design().cells()) {
+                                    out.push(probe);
+                                }
                             }
                         }
                     }
@@ -174,4 +191,26 @@ pub(super) fn separate(data: &Dataset, a: &EffectModel, b: &EffectModel) -> Vec<
     }
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     scored.into_iter().take(3).map(|(_, d)| d).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::csv::parse;
+
+    /// Rectangles only (`w_r` = 1 is both ends of its range) and one length: the corners that coincide
+    /// are listed once, so no table shows a design twice.
+    #[test]
+    fn each_corner_is_probed_once() {
+        let text = "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N\n\
+            A,30,0,5,1,0.191,0/90/0,50,,0.1,0.05\n\
+            A,30,0,5,1,0.191,0/90/0,100,,0.2,0.1\n\
+            B,30,0.5,9,1,0.191,0/90/0,100,,0.3,0.1\n";
+        let data = parse(text).unwrap();
+        let cells: Vec<String> = probes(&data).iter().map(|p| p.design().cells()).collect();
+        let unique: std::collections::HashSet<&String> = cells.iter().collect();
+        assert_eq!(unique.len(), cells.len(), "{cells:?}");
+        // One length, l_r 0 and 0.5, w0 5 and 9, w_r 1, one layup and thickness, two fields.
+        assert_eq!(cells.len(), 8);
+    }
 }

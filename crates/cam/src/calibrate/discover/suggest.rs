@@ -1,0 +1,114 @@
+//! The loop's next step (docs/calibration.md §3, "Discovery"): the leading candidates of a discovery as
+//! effects a lab can declare, with their parameter names, null values and physical bounds, ready for
+//! `calibrate --effects suggested-effects.toml`. Only primitives outside the library are suggested (the
+//! library's effects are fitted on every run); a combination `A + P` is suggested as P, since the
+//! selection fits every declared effect beside each library effect.
+//!
+//! The leading candidate of the deflection and force ranking is declared, and the leading mass form
+//! when it gains the selection's margin over the mass model the selection chose with an interval that
+//! excludes its null (a mass the masses show); the runners-up are listed for the reader.
+
+use super::catalogue;
+use super::Discovery;
+use actuator_model::primitives::Primitive;
+
+/// How many candidates of each ranking are listed.
+pub const LISTED: usize = 3;
+
+/// One candidate written to the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Suggestion {
+    /// Its rank in its own table (1 = leading).
+    pub rank: usize,
+    /// Which ranking: `deflection and force` or `mass`.
+    pub residual: &'static str,
+    /// The effect name (the primitive's report name).
+    pub name: String,
+    /// The library effect it was fitted beside, in a combination.
+    pub partner: Option<&'static str>,
+    /// The primitive.
+    pub primitive: Primitive,
+    /// The parameter's name with its unit (SI).
+    pub parameter: &'static str,
+    /// Null value.
+    pub null: f64,
+    /// Physical bounds (SI).
+    pub bounds: (f64, f64),
+    /// The estimate and its 95 % interval from discovery.
+    pub estimate: f64,
+    /// 95 % interval.
+    pub interval: (f64, f64),
+    /// AICc gain over the reference of its ranking ({η} for deflection and force, the chosen mass
+    /// model for the mass).
+    pub gain: f64,
+    /// Declared (true) or listed for the reader.
+    pub declared: bool,
+}
+
+/// The suggestions of a discovery, the residual the verdict names first.
+pub fn suggestions(d: &Discovery, mass_first: bool, min_delta_aicc: f64) -> Vec<Suggestion> {
+    let mut actuation = Vec::new();
+    for c in &d.candidates {
+        let Some(p) = c.primitive() else { continue };
+        if actuation.iter().any(|s: &Suggestion| s.primitive == p) {
+            continue;
+        }
+        let Some(bounds) = catalogue::bounds(p) else {
+            continue;
+        };
+        actuation.push(Suggestion {
+            rank: actuation.len() + 1,
+            residual: "deflection and force",
+            name: catalogue::name(p),
+            partner: c.partner(),
+            primitive: p,
+            parameter: catalogue::parameter(p),
+            null: p.null(),
+            bounds,
+            estimate: c.estimate,
+            interval: c.interval,
+            gain: c.gain_over_eta,
+            declared: false,
+        });
+        if actuation.len() == LISTED {
+            break;
+        }
+    }
+    let mut mass = Vec::new();
+    for f in &d.mass_forms {
+        let Some(t) = f.primitive else { continue };
+        if mass.iter().any(|s: &Suggestion| s.primitive == t.primitive) {
+            continue;
+        }
+        mass.push(Suggestion {
+            rank: mass.len() + 1,
+            residual: "mass",
+            name: catalogue::name(t.primitive),
+            partner: None,
+            primitive: t.primitive,
+            parameter: catalogue::parameter(t.primitive),
+            null: t.primitive.null(),
+            bounds: (t.lo, t.hi),
+            estimate: f.estimate,
+            interval: f.interval,
+            gain: f.gain_over_chosen,
+            declared: mass.is_empty() && f.gain_over_chosen > min_delta_aicc && f.excludes_null(),
+        });
+        if mass.len() == LISTED {
+            break;
+        }
+    }
+    let mass_declared = mass.first().is_some_and(|s| s.declared);
+    // The deflection and force leader is declared unless the mass explains the verdict alone: a mass
+    // residual named first, a mass form declared, and no real gain on δ and F_b.
+    if let Some(first) = actuation.first_mut() {
+        first.declared = !(mass_first && mass_declared) || first.gain > min_delta_aicc;
+    }
+    if mass_first {
+        mass.extend(actuation);
+        mass
+    } else {
+        actuation.extend(mass);
+        actuation
+    }
+}
