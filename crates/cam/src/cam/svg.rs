@@ -257,7 +257,6 @@ pub fn write_svg(
 mod tests {
     use super::*;
     use crate::cam::drawing::sample_drawing as sample;
-    use cam_geometry::signed_area;
 
     #[test]
     fn numbers_are_six_decimals_trimmed_without_negative_zero() {

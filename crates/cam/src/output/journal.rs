@@ -176,7 +176,7 @@ pub(super) fn recover(dir: &Path) -> io::Result<()> {
 }
 
 fn plain(name: &str) -> bool {
-    super::is_plain_file_name(name)
+    super::name::is_plain_file_name(name)
 }
 
 fn file_name(path: &Path) -> String {

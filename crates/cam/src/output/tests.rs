@@ -1,5 +1,6 @@
 //! Unit tests of the output writer and its policy.
 use super::*;
+use std::fs;
 
 fn files(names: &[(&str, &str)]) -> Vec<(String, Vec<u8>)> {
     names

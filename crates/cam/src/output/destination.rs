@@ -1,0 +1,241 @@
+//! A destination folder and the policy checks made on it before anything is written: whose files are in
+//! it, which names a run may write, what is stale, and which paths are the run's inputs.
+
+use super::claim::{Claim, ClaimError};
+use super::error::{in_words, OutputError};
+use super::manifest::{foreign_entries, Manifest};
+use super::name::is_plain_file_name;
+use super::{INTENT, LOCK, MANIFEST, STAGING_PREFIX};
+use std::collections::BTreeSet;
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// Where a destination's files come from on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Kind {
+    /// `-o DIR`: the whole folder is this command's output.
+    Folder,
+    /// Named files (`-o best.toml`, `--csv designs.csv`) in a folder that is otherwise the user's.
+    Files,
+}
+
+/// One destination folder: where it is, how it was named, and what the policy found there.
+#[derive(Debug)]
+pub(super) struct Destination {
+    pub(super) flag: String,
+    pub(super) shown: String,
+    pub(super) dir: PathBuf,
+    pub(super) kind: Kind,
+    /// The folder's manifest as the run found it (read once the folder is held).
+    pub(super) manifest: Option<Manifest>,
+    /// Files the same command wrote here before and does not write now, found when the run is sealed.
+    pub(super) stale: Vec<String>,
+}
+
+impl Destination {
+    pub(super) fn new(flag: &str, shown: String, dir: PathBuf, kind: Kind) -> Destination {
+        Destination {
+            flag: flag.into(),
+            shown,
+            dir,
+            kind,
+            manifest: None,
+            stale: Vec::new(),
+        }
+    }
+
+    pub(super) fn error_stage(&self, what: impl Into<String>, source: io::Error) -> OutputError {
+        OutputError::Stage {
+            flag: self.flag.clone(),
+            shown: self.shown.clone(),
+            what: what.into(),
+            reason: in_words(&source),
+        }
+    }
+
+    /// Check that the destination is a folder (or nothing yet), hold it, and read its manifest.
+    pub(super) fn claim(&mut self, command: &str) -> Result<Claim, OutputError> {
+        if self.dir.exists() && !self.dir.is_dir() {
+            return Err(OutputError::NotADirectory {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+            });
+        }
+        let claim = Claim::take(&self.dir, command).map_err(|e| match e {
+            ClaimError::Busy { command, pid } => OutputError::Busy {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                command,
+                pid,
+            },
+            ClaimError::Io { dir, source } => OutputError::CreateDir {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                dir: dir.display().to_string(),
+                reason: in_words(&source),
+            },
+        })?;
+        self.manifest = Manifest::read(&self.dir);
+        Ok(claim)
+    }
+}
+
+/// Files of a destination as (name, bytes), in order.
+pub(super) type Files = Vec<(String, Vec<u8>)>;
+
+/// What every destination of one run shares: the command that writes, `--force`, the run's inputs.
+#[derive(Debug, Clone)]
+pub(super) struct Run {
+    pub(super) command: String,
+    pub(super) force: bool,
+    pub(super) inputs: Vec<PathBuf>,
+    /// The inputs as (device, inode), found when the writing starts: a file of the run is an input if it
+    /// is one of them under any name (a symlink, a hard link, `./sub/..`).
+    pub(super) ids: Vec<(u64, u64)>,
+}
+
+impl Run {
+    /// Every input: the paths named, and every file read so far. Test hook: with
+    /// `ACTUATOR_CAM_LIST_INPUTS` set, each is printed on stderr (`input: PATH`), so a test can aim the
+    /// outputs at every one of them.
+    pub(super) fn resolve(&mut self) {
+        let mut all: Vec<PathBuf> = Vec::new();
+        for p in self
+            .inputs
+            .iter()
+            .cloned()
+            .chain(crate::input::files_read())
+        {
+            if !all.contains(&p) {
+                all.push(p);
+            }
+        }
+        if std::env::var_os("ACTUATOR_CAM_LIST_INPUTS").is_some() {
+            for p in &all {
+                eprintln!("input: {}", p.display());
+            }
+        }
+        self.ids = all
+            .iter()
+            .filter_map(|p| fs::metadata(p).ok())
+            .map(|m| file_id(&m))
+            .collect();
+    }
+
+    /// True when `path` is (the same file as) one of the run's inputs.
+    pub(super) fn is_input(&self, path: &Path) -> bool {
+        fs::metadata(path).is_ok_and(|m| self.ids.contains(&file_id(&m)))
+    }
+}
+
+pub(super) fn file_id(m: &fs::Metadata) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    (m.dev(), m.ino())
+}
+
+/// The policy for one file name: a plain name, not a folder, not an input of the run.
+pub(super) fn check_target(d: &Destination, name: &str, run: &Run) -> Result<(), OutputError> {
+    let ours = [MANIFEST, LOCK, INTENT];
+    if !is_plain_file_name(name) || ours.contains(&name) || name.starts_with(STAGING_PREFIX) {
+        return Err(OutputError::NotAFileName {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+        });
+    }
+    let target = d.dir.join(name);
+    if fs::symlink_metadata(&target).is_err() {
+        return Ok(());
+    }
+    if target.is_dir() {
+        return Err(OutputError::FolderInTheWay {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        });
+    }
+    if run.is_input(&target) {
+        return Err(OutputError::InputInTheWay {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        });
+    }
+    Ok(())
+}
+
+/// The policy for an `-o` folder: one the tool did not write, holding anything, is refused unless
+/// `--force`.
+pub(super) fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputError> {
+    if d.kind != Kind::Folder || d.manifest.is_some() || force {
+        return Ok(());
+    }
+    let foreign = foreign_entries(&d.dir, None, &[LOCK, INTENT]).map_err(|source| {
+        OutputError::Unreadable {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            reason: in_words(&source),
+        }
+    })?;
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    Err(OutputError::Occupied {
+        flag: d.flag.clone(),
+        shown: d.shown.clone(),
+        listing: listing(&foreign),
+    })
+}
+
+/// The policy for replacing a file: only one the same command wrote, unless `--force`.
+pub(super) fn check_replace(d: &Destination, name: &str, run: &Run) -> Result<(), OutputError> {
+    if run.force || fs::symlink_metadata(d.dir.join(name)).is_err() {
+        return Ok(());
+    }
+    match d.manifest.as_ref().and_then(|m| m.owner(name)) {
+        Some(command) if command == run.command => Ok(()),
+        Some(command) => Err(OutputError::OtherCommands {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+            command: command.into(),
+        }),
+        None => Err(OutputError::WouldReplace {
+            flag: d.flag.clone(),
+            shown: d.shown.clone(),
+            name: name.into(),
+        }),
+    }
+}
+
+/// Files the same command wrote in an `-o` folder before and does not write now: to be removed (never
+/// an input, never anything but a plain file the manifest lists).
+pub(super) fn stale_files(d: &Destination, run: &Run, written: &BTreeSet<&str>) -> Vec<String> {
+    match (&d.manifest, d.kind) {
+        (Some(m), Kind::Folder) => m
+            .stale(&run.command, written)
+            .filter(|n| is_plain_file_name(n))
+            .filter(|n| {
+                let p = d.dir.join(n);
+                p.is_file() && !run.is_input(&p)
+            })
+            .map(str::to_string)
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// The first few names, for an error line.
+pub(super) fn listing(names: &[String]) -> String {
+    const SHOWN: usize = 4;
+    let mut text = names
+        .iter()
+        .take(SHOWN)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    if names.len() > SHOWN {
+        text.push_str(&format!(" and {} more", names.len() - SHOWN));
+    }
+    text
+}
