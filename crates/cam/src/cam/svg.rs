@@ -57,7 +57,7 @@ fn push_mm(out: &mut String, v: f64) {
 }
 
 /// Escapes text for XML content and double-quoted attributes.
-fn xml_escape(text: &str) -> String {
+pub fn xml_escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
