@@ -207,6 +207,11 @@ fn cases() -> Vec<Case> {
         ],
     ));
     cases.push(case("weibull", &["weibull", "tests/fixtures/failures.csv"]));
+    for wing in ["drive-hawkmoth", "drive-robobee"] {
+        let file = format!("examples/{wing}.toml");
+        cases.push(case(wing, &["drive", &file, "-o", "{out}"]));
+        cases.push(case(format!("{wing}-json"), &["drive", &file, "--json"]));
+    }
     cases.push(case(
         "weibull-survival",
         &[

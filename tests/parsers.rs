@@ -384,6 +384,19 @@ proptest! {
 }
 
 proptest! {
+    #![proptest_config(config(SPEC_CASES))]
+    #[test]
+    fn drive_files(example in prop::sample::select(vec![
+        "examples/drive-hawkmoth.toml", "examples/drive-robobee.toml",
+    ]), edits in prop::collection::vec(edit(), 1..4)) {
+        // A drive file names its design relative to itself: read it from the examples folder.
+        let file = root(example);
+        let text = mutate(&read(example), &edits);
+        check_toml(&file, &text, actuator_cam::drive::spec::DriveSpec::from_table)?;
+    }
+}
+
+proptest! {
     #![proptest_config(config(BATCH_CASES))]
     #[test]
     fn batch_files(edits in prop::collection::vec(edit(), 1..4)) {

@@ -4,6 +4,7 @@
 
 pub mod calibrate;
 pub mod cut_sheet;
+pub mod drive;
 pub mod flags;
 pub mod laminate;
 pub mod nest;
@@ -32,6 +33,8 @@ pub enum Command {
     Predict(predict::PredictArgs),
     /// Laser-cut layer files, report and build checklist for a design.
     CutSheet(cut_sheet::CutSheetArgs),
+    /// Will a design flap a wing to a stroke at a frequency: voltage, field margin, linkage, mass.
+    Drive(drive::DriveArgs),
     /// Nest a batch of designs on shared PZT, prepreg and Pyralux sheets and clamp panels.
     Nest(nest::NestArgs),
     /// ABD matrices, thickness and areal mass of a layup.
@@ -51,6 +54,7 @@ impl Command {
             Command::Calibrate(a) => calibrate::run(a),
             Command::Predict(a) => predict::run(a),
             Command::CutSheet(a) => cut_sheet::run(a),
+            Command::Drive(a) => drive::run(a),
             Command::Nest(a) => nest::run(a),
             Command::Laminate(a) => laminate::run(a),
             Command::Weibull(a) => weibull::run(a),

@@ -6,6 +6,7 @@ pub mod calibrate;
 pub mod cam;
 pub mod cutsheet;
 pub mod design;
+pub mod drive;
 pub mod input;
 pub mod layout;
 pub mod optimize;

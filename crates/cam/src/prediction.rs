@@ -109,6 +109,17 @@ pub fn actuator_modes(
     })
 }
 
+/// The model's performance of a design at its drive (SI): a built-in model on the design's laminate, a
+/// calibrated one on its effects.
+pub fn performance(design: &Design, model: &ModelChoice) -> Result<Performance, ModelError> {
+    match model {
+        ModelChoice::Kind(kind) => {
+            predict(*kind, &design.laminate()?, &design.planform, design.drive)
+        }
+        ModelChoice::Calibrated(_) => model.predict(&actuator(design)),
+    }
+}
+
 impl Prediction {
     /// Predict a design with one of the built-in models.
     pub fn of(design: &Design, kind: ModelKind) -> Result<Prediction, ModelError> {
@@ -131,12 +142,7 @@ impl Prediction {
 
     /// The prediction with the bare actuator's resonance and lumped tip mass (what `predict` prints).
     pub fn with_dynamics(design: &Design, model: &ModelChoice) -> Result<Prediction, ModelError> {
-        let performance = match model {
-            ModelChoice::Kind(kind) => {
-                predict(*kind, &design.laminate()?, &design.planform, design.drive)?
-            }
-            ModelChoice::Calibrated(_) => model.predict(&actuator(design))?,
-        };
+        let performance = performance(design, model)?;
         let modal = actuator_modes(design, model, &performance)?;
         let mut p = Self::from_performance(design, model.name(), &performance);
         p.resonance_Hz = Some(modal.frequency);

@@ -121,7 +121,7 @@ impl FlappingSystem {
     ) -> Option<[f64; 3]> {
         let norm = |r: &[f64; 3]| r.iter().map(|v| v * v).sum::<f64>().sqrt();
         let mut r = f(&u)?;
-        for _ in 0..100 {
+        'iterations: for _ in 0..100 {
             if norm(&r) < 1e-12 * scale {
                 break;
             }
@@ -150,7 +150,9 @@ impl FlappingSystem {
                         r = rt;
                         break;
                     }
-                    _ if lambda < 1e-4 => return None,
+                    // No descent left (the finite-difference Jacobian's noise floor): the final
+                    // tolerance decides.
+                    _ if lambda < 1e-4 => break 'iterations,
                     _ => lambda *= 0.5,
                 }
             }

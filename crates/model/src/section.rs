@@ -37,6 +37,10 @@ pub struct Section {
     surface_stress_free: [f64; 8],
     /// σ_x on the same surfaces per unit external moment (N·m/m) opposing the free curvature.
     surface_stress_per_moment: [f64; 8],
+    /// ε_x on the same surfaces in free deflection.
+    surface_strain_free: [f64; 8],
+    /// ε_x on the same surfaces per unit external moment (N·m/m) opposing the free curvature.
+    surface_strain_per_moment: [f64; 8],
     /// How many of the surfaces are used.
     surfaces: usize,
 }
@@ -67,6 +71,8 @@ impl Section {
         let z = laminate.interfaces();
         let mut surface_stress_free = [0.0; 8];
         let mut surface_stress_per_moment = [0.0; 8];
+        let mut surface_strain_free = [0.0; 8];
+        let mut surface_strain_per_moment = [0.0; 8];
         let mut surfaces = 0;
         let mut peak_strain: f64 = 0.0;
         // Both sides of every PZT layer: the plate's outer and inner surfaces and, with an inactive
@@ -82,6 +88,8 @@ impl Section {
                     surface_stress_free[surfaces] = laminate.stress_at(k, zz, &free, &fields)[0];
                     surface_stress_per_moment[surfaces] =
                         laminate.stress_at(k, zz, &unit_moment, &none)[0];
+                    surface_strain_free[surfaces] = Laminate::strain_at(&free, zz)[0];
+                    surface_strain_per_moment[surfaces] = Laminate::strain_at(&unit_moment, zz)[0];
                     surfaces += 1;
                     peak_strain = peak_strain.max(Laminate::strain_at(&free, zz)[0].abs());
                 }
@@ -107,6 +115,8 @@ impl Section {
             peak_pzt_strain: peak_strain,
             surface_stress_free,
             surface_stress_per_moment,
+            surface_strain_free,
+            surface_strain_per_moment,
             surfaces,
         })
     }
@@ -120,5 +130,26 @@ impl Section {
                     .abs()
             })
             .fold(0.0, f64::max)
+    }
+
+    /// Peak |σ_x| and |ε_x| over the PZT surfaces at the root with the field at `share` of the
+    /// section's drive field (signed: the field reverses over a drive period) and an external moment per
+    /// unit width `m` (N·m/m) opposing the free curvature. The laminate is linear, so both are the free
+    /// response scaled by `share` plus the moment's response.
+    pub fn peak_pzt_stress_and_strain(&self, share: f64, moment_per_width: f64) -> (f64, f64) {
+        (0..self.surfaces).fold((0.0f64, 0.0f64), |(s, e), i| {
+            (
+                s.max(
+                    (share * self.surface_stress_free[i]
+                        + moment_per_width * self.surface_stress_per_moment[i])
+                        .abs(),
+                ),
+                e.max(
+                    (share * self.surface_strain_free[i]
+                        + moment_per_width * self.surface_strain_per_moment[i])
+                        .abs(),
+                ),
+            )
+        })
     }
 }

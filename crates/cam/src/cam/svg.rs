@@ -34,7 +34,7 @@ impl Default for SvgOptions {
 }
 
 /// Escapes text for XML content and double-quoted attributes.
-fn xml_escape(text: &str) -> String {
+pub fn xml_escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

@@ -136,3 +136,46 @@ pub const VIA_DIAMETER_MM: Range = Range::positive_up_to(10.0, "mm");
 pub const FRACTION: Range = Range::open(0.0, 1.0, "");
 /// AutoCAD colour index.
 pub const ACI: Range = Range::closed(1.0, 255.0, "");
+
+// Drive files (`actuator-cam drive`): the wing, the transmission and the flapping requirement.
+
+/// Flapping frequency.
+pub const FLAPPING_FREQUENCY_HZ: Range = Range::positive_up_to(5000.0, "Hz");
+/// Required stroke amplitude (half the peak-to-peak stroke angle).
+pub const STROKE_DEG: Range = Range::open(0.0, 90.0, "deg");
+/// An end angle of the stroke the linkage is solved for.
+pub const END_ANGLE_DEG: Range = Range::open(-90.0, 90.0, "deg");
+/// Mass budget of actuator + transmission for one wing.
+pub const MASS_BUDGET_MG: Range = Range::positive_up_to(1e6, "mg");
+/// Structural loss factor η of the actuator.
+pub const LOSS_FACTOR: Range = Range::positive_up_to(1.0, "");
+/// Wing span from its root to its tip.
+pub const WING_SPAN_MM: Range = Range::closed(1.0, 1000.0, "mm");
+/// Distance from the stroke axis to the wing root.
+pub const WING_ROOT_OFFSET_MM: Range = Range::closed(0.0, 1000.0, "mm");
+/// Chord of a rectangle or the largest chord of a half-ellipse; chords of a table may be 0.
+pub const CHORD_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// A chord of a chord table (0 at a pointed tip).
+pub const TABLE_CHORD_MM: Range = Range::closed(0.0, 1000.0, "mm");
+/// Areal density of the wing membrane and veins.
+pub const AREAL_DENSITY_G_PER_M2: Range = Range::positive_up_to(2000.0, "g/m^2");
+/// Drag coefficient of the wing at mid-stroke.
+pub const DRAG_COEFFICIENT: Range = Range::positive_up_to(10.0, "");
+/// Density of the air the wing flaps in.
+pub const AIR_DENSITY_KG_PER_M3: Range = Range::positive_up_to(10.0, "kg/m^3");
+/// Wing or link inertia about the stroke axis.
+pub const INERTIA_MG_MM2: Range = Range::closed(0.0, 1e9, "mg mm^2");
+/// Wing drag coefficient `K` of the torque `K θ̇|θ̇|`.
+pub const WING_DAMPING_NN_M_S2: Range = Range::positive_up_to(1e6, "nN m s^2");
+/// Mass of a wing or of a transmission.
+pub const PART_MASS_MG: Range = Range::closed(0.0, 1e6, "mg");
+/// Coupler L1 or crank L3 of the linkage.
+pub const LINK_LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// The linkage's δ at the actuator's rest.
+pub const LINK_OFFSET_MM: Range = Range::closed(-1000.0, 1000.0, "mm");
+/// Coupler-to-crank ratio L1/L3 of a solved linkage.
+pub const COUPLER_RATIO: Range = Range::closed(0.1, 100.0, "");
+/// Actuator travel (one-sided) a linkage is solved for.
+pub const TRAVEL_MM: Range = Range::positive_up_to(1000.0, "mm");
+/// Rotational stiffness of the flexures about the wing hinge.
+pub const FLEXURE_STIFFNESS_UNM_PER_RAD: Range = Range::closed(0.0, 1e9, "uN m/rad");

@@ -1,0 +1,367 @@
+//! `drive`: will this actuator flap this wing to the required stroke at the flapping frequency, at
+//! what voltage, with what margin to the field limit, through which linkage and at what mass
+//! (docs/physics.md §15).
+//!
+//! The design is predicted as `predict` predicts it; its lumped tip model (§11.3), the transmission of
+//! eq. 2.5 (§12) and the wing (§13) make the flapping system of §14, whose harmonic balance gives the
+//! blocked-force amplitude that holds the required stroke. The piezoelectric model is linear in the
+//! field, so that force is a field in each drive mode.
+
+pub mod report;
+pub mod spec;
+
+use crate::design::Design;
+use crate::prediction::{actuator_modes, performance};
+use actuator_model::drive::{Drive, DriveMode};
+use actuator_model::dynamics::LumpedActuator;
+use actuator_model::flapping::{FlappingSystem, SteadyState};
+use actuator_model::model::ModelChoice;
+use actuator_model::transmission::Linkage;
+use actuator_model::{ModelError, Performance, Section};
+use report::{
+    ActuatorRow, DriveReport, LinkageRow, MassRow, ModeRow, OperatingRow, SweepPoint, Unreachable,
+    WingRow,
+};
+use spec::{DriveSpec, LinkageSpec};
+use std::f64::consts::PI;
+
+/// Points of the frequency sweep.
+pub const SWEEP_POINTS: usize = 61;
+
+/// Samples a period for the peak stress and strain.
+const PERIOD_SAMPLES: usize = 256;
+
+/// The analysis: the system, the steady state at the required stroke (or the best one within the field
+/// limit) and the report in lab units.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// Actuator + transmission + wing.
+    pub system: FlappingSystem,
+    /// The steady state reported: the required stroke when reached, else the best stroke within the
+    /// field limit (`None` when no steady state was found at all).
+    pub state: Option<SteadyState>,
+    /// Everything printed and written.
+    pub report: DriveReport,
+}
+
+/// Blocked force per unit peak plate field of a design in a drive mode, N/(V/m) (the model is linear
+/// in the field).
+fn force_per_field(
+    design: &Design,
+    model: &ModelChoice,
+    mode: DriveMode,
+) -> Result<f64, ModelError> {
+    let mut d = design.clone();
+    d.drive = Drive {
+        mode,
+        field: design.drive.field,
+    };
+    Ok(performance(&d, model)?.blocked_force / design.drive.field)
+}
+
+/// The linkage of the spec; a solved one from the actuator's free deflection unless a travel is given.
+fn linkage(spec: &DriveSpec, performance: &Performance) -> Result<Linkage, ModelError> {
+    match spec.linkage {
+        LinkageSpec::Given {
+            coupler,
+            crank,
+            offset,
+        } => Linkage::new(coupler, crank, offset),
+        LinkageSpec::Solve {
+            angle_minus,
+            angle_plus,
+            coupler_ratio,
+            travel,
+        } => Linkage::solve(
+            travel.unwrap_or(performance.free_deflection),
+            angle_minus,
+            angle_plus,
+            coupler_ratio,
+        ),
+    }
+}
+
+/// Analyse a drive file's design (already built for its process) under a model.
+pub fn analyse(
+    spec: &DriveSpec,
+    design: &Design,
+    model: &ModelChoice,
+) -> Result<Analysis, ModelError> {
+    let perf = performance(design, model)?;
+    let modal = actuator_modes(design, model, &perf)?;
+    let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor);
+    let wing = spec.wing.wing();
+    let linkage = linkage(spec, &perf)?;
+    let system = FlappingSystem {
+        actuator,
+        linkage,
+        flexure_stiffness: spec.flexure_stiffness,
+        inertia: wing.inertia + spec.link_inertia,
+        damping: wing.damping,
+    };
+    let mode = design.drive.mode;
+    let per_field = force_per_field(design, model, mode)?;
+    let limit_field = mode.field_limit().threshold(spec.survival)?;
+    let force_limit = per_field * limit_field;
+    let f = spec.frequency;
+
+    // The force the stroke needs whatever the field, then whether the field limit allows it.
+    let needed = system.force_for_stroke(spec.stroke, f, f64::INFINITY);
+    let (state, unreachable) = match needed {
+        Ok(s) if s.force <= force_limit => (Some(s), None),
+        Ok(s) => {
+            let best = system
+                .force_for_stroke(spec.stroke, f, force_limit)
+                .err()
+                .and_then(|u| u.best);
+            let field = s.force / per_field;
+            let change = format!(
+                "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm at survival {}: it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+                field * 1e-3,
+                mode.name(),
+                fixed(mode.field_limit().survival(field), 4),
+                limit_field * 1e-3,
+                spec.survival,
+                s.force / force_limit,
+                system.linear_resonance(),
+            );
+            (
+                best,
+                Some(Unreachable {
+                    best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
+                    binding: format!(
+                        "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
+                        mode.name(),
+                        limit_field * 1e-3,
+                        spec.survival
+                    ),
+                    change,
+                }),
+            )
+        }
+        Err(_) => {
+            let best = system
+                .force_for_stroke(spec.stroke, f, force_limit)
+                .err()
+                .and_then(|u| u.best);
+            let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.stroke).is_some());
+            let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
+            let (binding, change) = if at_limit {
+                (
+                    format!(
+                        "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
+                        mode.name(),
+                        limit_field * 1e-3,
+                        spec.survival
+                    ),
+                    format!(
+                        "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+                        system.linear_resonance()
+                    ),
+                )
+            } else if reach == [true, true] {
+                (
+                    format!(
+                        "no steady stroke of ±{:.1}° through this linkage (coupler {:.3} mm, crank {:.3} mm): the stroke's mean angle drifts toward the linkage's dead point",
+                        spec.stroke.to_degrees(),
+                        linkage.coupler * 1e3,
+                        linkage.crank * 1e3
+                    ),
+                    "stiffer flexures (flexure_stiffness_uNm_per_rad) to centre the stroke, a longer coupler, or a smaller stroke".to_string(),
+                )
+            } else {
+                (
+                    format!(
+                        "the linkage's reach: the coupler ({:.3} mm) cannot turn the crank ({:.3} mm) to ±{:.1}°",
+                        linkage.coupler * 1e3,
+                        linkage.crank * 1e3,
+                        spec.stroke.to_degrees()
+                    ),
+                    "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)".to_string(),
+                )
+            };
+            (
+                best,
+                Some(Unreachable {
+                    best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
+                    binding,
+                    change,
+                }),
+            )
+        }
+    };
+
+    let operating = state
+        .map(|s| operating_row(&system, design, &perf, mode, per_field, &s))
+        .transpose()?;
+    let modes = match state {
+        Some(s) if unreachable.is_none() => DriveMode::ALL
+            .into_iter()
+            .map(|m| {
+                let per = force_per_field(design, model, m)?;
+                let field = s.force / per;
+                let limit = m.field_limit().threshold(spec.survival)?;
+                Ok(ModeRow {
+                    mode: m.name().to_string(),
+                    field_V_per_mm: field * 1e-3,
+                    voltage_V: m.voltage_from_field(field, design.pzt_thickness),
+                    survival: m.field_limit().survival(field),
+                    limit_V_per_mm: limit * 1e-3,
+                    within_limit: field <= limit,
+                })
+            })
+            .collect::<Result<Vec<_>, ModelError>>()?,
+        _ => Vec::new(),
+    };
+    let sweep_force = state.map_or(force_limit, |s| s.force);
+    let sweep = sweep(&system, sweep_force, f);
+    let actuator_mass = perf.mass;
+    let total = actuator_mass + spec.transmission_mass;
+    let t0 = linkage.ratio(0.0).unwrap_or(1.0 / linkage.crank);
+    let report = DriveReport {
+        drive_file: spec.source.display().to_string(),
+        design: design.name.clone(),
+        model: model.name().to_string(),
+        drive_mode: mode.name().to_string(),
+        frequency_Hz: f,
+        required_stroke_deg: spec.stroke.to_degrees(),
+        reached: unreachable.is_none(),
+        resonance_Hz: system.linear_resonance(),
+        actuator: ActuatorRow {
+            resonance_Hz: modal.frequency,
+            stiffness_N_per_m: perf.stiffness,
+            modal_mass_mg: actuator.mass * 1e6,
+            blocked_force_per_field_mN_per_V_per_mm: per_field * 1e6,
+            free_deflection_mm: perf.free_deflection * 1e3,
+            loss_factor: spec.loss_factor,
+        },
+        linkage: LinkageRow {
+            coupler_mm: linkage.coupler * 1e3,
+            crank_mm: linkage.crank * 1e3,
+            offset_mm: linkage.offset * 1e3,
+            ratio_at_rest_deg_per_mm: t0.to_degrees() * 1e-3,
+            flexure_stiffness_uNm_per_rad: spec.flexure_stiffness * 1e6,
+            link_inertia_mg_mm2: spec.link_inertia * 1e12,
+        },
+        wing: WingRow {
+            inertia_mg_mm2: wing.inertia * 1e12,
+            damping_nN_m_s2: wing.damping * 1e9,
+            mass_mg: wing.mass * 1e6,
+        },
+        field_limit_V_per_mm: limit_field * 1e-3,
+        survival_limit: spec.survival,
+        operating,
+        modes,
+        mass: MassRow {
+            actuator_mg: actuator_mass * 1e6,
+            transmission_mg: spec.transmission_mass * 1e6,
+            total_mg: total * 1e6,
+            budget_mg: spec.mass_budget * 1e6,
+            within_budget: total <= spec.mass_budget,
+        },
+        unreachable,
+        sweep,
+    };
+    report.ensure_finite()?;
+    Ok(Analysis {
+        system,
+        state,
+        report,
+    })
+}
+
+/// The operating point in lab units: field and voltage of the force, peak PZT stress and strain over a
+/// period, power into the wing and reactive power through the plates.
+fn operating_row(
+    system: &FlappingSystem,
+    design: &Design,
+    perf: &Performance,
+    mode: DriveMode,
+    per_field: f64,
+    s: &SteadyState,
+) -> Result<OperatingRow, ModelError> {
+    let field = s.force / per_field;
+    let section = Section::new(&design.laminate()?, Drive { mode, field })?;
+    let omega = 2.0 * PI * s.frequency;
+    let lever = design.planform.length / design.planform.base_width;
+    let (mut stress, mut strain) = (0.0f64, 0.0f64);
+    for i in 0..PERIOD_SAMPLES {
+        let phase = 2.0 * PI * i as f64 / PERIOD_SAMPLES as f64;
+        let angle = s.mean_angle + s.stroke_amplitude * (phase - s.phase).sin();
+        let x = system.linkage.travel(angle).unwrap_or(0.0);
+        // The tip load: what holds the tip back from its free motion (`F sin ωt - k x`).
+        let load = s.force * phase.sin() - system.actuator.stiffness * x;
+        let (st, sn) = section.peak_pzt_stress_and_strain(phase.sin(), load * lever);
+        stress = stress.max(st);
+        strain = strain.max(sn);
+    }
+    // ½ ω C V² per plate at the plate's AC field amplitude.
+    let reactive: f64 = mode
+        .layer_fields(field)
+        .iter()
+        .map(|e| 0.5 * omega * perf.capacitance * (e * design.pzt_thickness).powi(2))
+        .sum();
+    Ok(OperatingRow {
+        stroke_deg: s.stroke_amplitude.to_degrees(),
+        mean_angle_deg: s.mean_angle.to_degrees(),
+        phase_deg: phase_deg(s.phase),
+        tip_amplitude_mm: s.displacement_amplitude * 1e3,
+        force_amplitude_N: s.force,
+        field_V_per_mm: field * 1e-3,
+        voltage_V: mode.voltage_from_field(field, design.pzt_thickness),
+        survival: mode.field_limit().survival(field),
+        peak_pzt_stress_MPa: stress * 1e-6,
+        peak_pzt_strain: strain,
+        peak_tip_load_N: s.peak_tip_load,
+        mechanical_power_mW: s.aero_power * 1e3,
+        reactive_power_mW: reactive * 1e3,
+    })
+}
+
+/// Phase of the stroke behind the force in degrees, in [-90, 270).
+fn phase_deg(phase: f64) -> f64 {
+    let d = phase.to_degrees().rem_euclid(360.0);
+    if d >= 270.0 {
+        d - 360.0
+    } else {
+        d
+    }
+}
+
+/// The stroke and phase over frequency at one force amplitude: harmonic balance continued from point to
+/// point; a frequency without a steady stroke within the linkage's reach is left out.
+pub fn sweep(system: &FlappingSystem, force: f64, frequency: f64) -> Vec<SweepPoint> {
+    let resonance = system.linear_resonance();
+    let lo = 0.25 * frequency.min(resonance);
+    let hi = 1.75 * frequency.max(resonance);
+    let mut start = None;
+    let mut points = Vec::with_capacity(SWEEP_POINTS);
+    for i in 0..SWEEP_POINTS {
+        let f = lo + (hi - lo) * i as f64 / (SWEEP_POINTS - 1) as f64;
+        match system.harmonic_balance(force, f, start) {
+            Ok(s) => {
+                start = Some([
+                    s.mean_angle,
+                    -s.stroke_amplitude * s.phase.sin(),
+                    s.stroke_amplitude * s.phase.cos(),
+                ]);
+                points.push(SweepPoint {
+                    frequency_Hz: f,
+                    stroke_deg: s.stroke_amplitude.to_degrees(),
+                    phase_deg: phase_deg(s.phase),
+                });
+            }
+            Err(_) => start = None,
+        }
+    }
+    points
+}
+
+/// `x` with `decimals` decimals, or its short form when that would be long.
+pub fn fixed(x: f64, decimals: usize) -> String {
+    if x.is_finite() && x.abs() < 1e9 {
+        format!("{x:.decimals$}")
+    } else {
+        crate::input::short_number(x)
+    }
+}

@@ -1,0 +1,480 @@
+//! The drive report in lab units: the table `drive` prints, report.md, report.json and the
+//! frequency-response plot.
+
+use super::fixed;
+use crate::cam::svg::xml_escape;
+use crate::plot::{nice_ceiling, Anchor, Area, Canvas, Label, Marker, DASHED};
+use actuator_model::ModelError;
+use serde::Serialize;
+use std::fmt::Write;
+
+/// The bare actuator as the drive sees it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct ActuatorRow {
+    pub resonance_Hz: f64,
+    pub stiffness_N_per_m: f64,
+    pub modal_mass_mg: f64,
+    pub blocked_force_per_field_mN_per_V_per_mm: f64,
+    pub free_deflection_mm: f64,
+    pub loss_factor: f64,
+}
+
+/// The linkage and the transmission's inputs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct LinkageRow {
+    pub coupler_mm: f64,
+    pub crank_mm: f64,
+    pub offset_mm: f64,
+    pub ratio_at_rest_deg_per_mm: f64,
+    pub flexure_stiffness_uNm_per_rad: f64,
+    pub link_inertia_mg_mm2: f64,
+}
+
+/// The wing.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct WingRow {
+    pub inertia_mg_mm2: f64,
+    pub damping_nN_m_s2: f64,
+    pub mass_mg: f64,
+}
+
+/// A steady state at the flapping frequency.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct OperatingRow {
+    pub stroke_deg: f64,
+    pub mean_angle_deg: f64,
+    pub phase_deg: f64,
+    pub tip_amplitude_mm: f64,
+    pub force_amplitude_N: f64,
+    pub field_V_per_mm: f64,
+    pub voltage_V: f64,
+    pub survival: f64,
+    pub peak_pzt_stress_MPa: f64,
+    pub peak_pzt_strain: f64,
+    pub peak_tip_load_N: f64,
+    pub mechanical_power_mW: f64,
+    pub reactive_power_mW: f64,
+}
+
+/// The same stroke in one drive mode.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct ModeRow {
+    pub mode: String,
+    pub field_V_per_mm: f64,
+    pub voltage_V: f64,
+    pub survival: f64,
+    pub limit_V_per_mm: f64,
+    pub within_limit: bool,
+}
+
+/// Actuator + transmission against the budget.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MassRow {
+    pub actuator_mg: f64,
+    pub transmission_mg: f64,
+    pub total_mg: f64,
+    pub budget_mg: f64,
+    pub within_budget: bool,
+}
+
+/// Why the required stroke is out of reach.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unreachable {
+    pub best_stroke_deg: f64,
+    pub binding: String,
+    pub change: String,
+}
+
+/// One point of the frequency response.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct SweepPoint {
+    pub frequency_Hz: f64,
+    pub stroke_deg: f64,
+    pub phase_deg: f64,
+}
+
+/// Everything `drive` reports (the report.json object).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct DriveReport {
+    pub drive_file: String,
+    pub design: String,
+    pub model: String,
+    pub drive_mode: String,
+    pub frequency_Hz: f64,
+    pub required_stroke_deg: f64,
+    pub reached: bool,
+    /// Small-stroke resonance of actuator + transmission + wing.
+    pub resonance_Hz: f64,
+    pub actuator: ActuatorRow,
+    pub linkage: LinkageRow,
+    pub wing: WingRow,
+    pub field_limit_V_per_mm: f64,
+    pub survival_limit: f64,
+    /// At the required stroke when reached, else at the best stroke within the field limit.
+    pub operating: Option<OperatingRow>,
+    pub modes: Vec<ModeRow>,
+    pub mass: MassRow,
+    pub unreachable: Option<Unreachable>,
+    pub sweep: Vec<SweepPoint>,
+}
+
+impl DriveReport {
+    /// Every number by its JSON name, for the finite check.
+    pub fn numbers(&self) -> Vec<(&'static str, f64)> {
+        let a = &self.actuator;
+        let l = &self.linkage;
+        let mut n = vec![
+            ("resonance_Hz", self.resonance_Hz),
+            ("actuator.resonance_Hz", a.resonance_Hz),
+            ("actuator.stiffness_N_per_m", a.stiffness_N_per_m),
+            ("actuator.modal_mass_mg", a.modal_mass_mg),
+            (
+                "actuator.blocked_force_per_field_mN_per_V_per_mm",
+                a.blocked_force_per_field_mN_per_V_per_mm,
+            ),
+            ("actuator.free_deflection_mm", a.free_deflection_mm),
+            ("linkage.coupler_mm", l.coupler_mm),
+            ("linkage.crank_mm", l.crank_mm),
+            ("linkage.offset_mm", l.offset_mm),
+            (
+                "linkage.ratio_at_rest_deg_per_mm",
+                l.ratio_at_rest_deg_per_mm,
+            ),
+            ("wing.inertia_mg_mm2", self.wing.inertia_mg_mm2),
+            ("wing.damping_nN_m_s2", self.wing.damping_nN_m_s2),
+            ("field_limit_V_per_mm", self.field_limit_V_per_mm),
+            ("mass.total_mg", self.mass.total_mg),
+        ];
+        if let Some(o) = &self.operating {
+            n.extend([
+                ("operating.stroke_deg", o.stroke_deg),
+                ("operating.phase_deg", o.phase_deg),
+                ("operating.force_amplitude_N", o.force_amplitude_N),
+                ("operating.field_V_per_mm", o.field_V_per_mm),
+                ("operating.voltage_V", o.voltage_V),
+                ("operating.peak_pzt_stress_MPa", o.peak_pzt_stress_MPa),
+                ("operating.peak_pzt_strain", o.peak_pzt_strain),
+                ("operating.mechanical_power_mW", o.mechanical_power_mW),
+                ("operating.reactive_power_mW", o.reactive_power_mW),
+            ]);
+        }
+        for m in &self.modes {
+            n.push(("modes.field_V_per_mm", m.field_V_per_mm));
+            n.push(("modes.voltage_V", m.voltage_V));
+        }
+        for p in &self.sweep {
+            n.push(("sweep.stroke_deg", p.stroke_deg));
+            n.push(("sweep.phase_deg", p.phase_deg));
+        }
+        n
+    }
+
+    /// Refuse a report with a number that is not finite (never `NaN` on screen or `null` in JSON).
+    pub fn ensure_finite(&self) -> Result<(), ModelError> {
+        match self.numbers().into_iter().find(|(_, v)| !v.is_finite()) {
+            Some((name, value)) => Err(ModelError::OutOfRange {
+                name,
+                value,
+                range: "finite (the drive file's numbers give no steady state)",
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The summary `drive` prints: one quantity a line.
+    pub fn table(&self) -> String {
+        let mut rows: Vec<(String, String, &str)> = Vec::new();
+        let mut row = |name: &str, value: String, unit: &'static str| {
+            rows.push((name.to_string(), value, unit));
+        };
+        row("design", self.design.clone(), "");
+        row("model", self.model.clone(), "");
+        row("flapping frequency", fixed(self.frequency_Hz, 1), "Hz");
+        row(
+            "required stroke",
+            format!("±{}", fixed(self.required_stroke_deg, 1)),
+            "deg",
+        );
+        row(
+            "resonance (actuator+linkage+wing)",
+            fixed(self.resonance_Hz, 1),
+            "Hz",
+        );
+        row(
+            "  bare actuator",
+            fixed(self.actuator.resonance_Hz, 1),
+            "Hz",
+        );
+        row(
+            "  actuator stiffness",
+            fixed(self.actuator.stiffness_N_per_m, 1),
+            "N/m",
+        );
+        row(
+            "  actuator modal mass",
+            fixed(self.actuator.modal_mass_mg, 2),
+            "mg",
+        );
+        row(
+            "linkage coupler / crank",
+            format!(
+                "{} / {}",
+                fixed(self.linkage.coupler_mm, 3),
+                fixed(self.linkage.crank_mm, 3)
+            ),
+            "mm",
+        );
+        row(
+            "wing inertia",
+            fixed(self.wing.inertia_mg_mm2, 1),
+            "mg mm^2",
+        );
+        row(
+            "wing drag coefficient K",
+            fixed(self.wing.damping_nN_m_s2, 4),
+            "nN m s^2",
+        );
+        row(
+            "reached",
+            if self.reached { "yes" } else { "NO" }.to_string(),
+            "",
+        );
+        if let Some(o) = &self.operating {
+            let at = if self.reached {
+                "at the required stroke"
+            } else {
+                "at the best stroke"
+            };
+            row(
+                &format!("stroke ({at})"),
+                format!("±{}", fixed(o.stroke_deg, 2)),
+                "deg",
+            );
+            row("  phase behind the drive", fixed(o.phase_deg, 1), "deg");
+            row(
+                "  actuator tip amplitude",
+                fixed(o.tip_amplitude_mm, 4),
+                "mm",
+            );
+            row(
+                &format!("  voltage ({})", self.drive_mode),
+                fixed(o.voltage_V, 1),
+                "V",
+            );
+            row("  field", fixed(o.field_V_per_mm, 1), "V/mm");
+            row("  field survival", fixed(o.survival, 4), "");
+            row("  peak PZT stress", fixed(o.peak_pzt_stress_MPa, 1), "MPa");
+            row(
+                "  peak PZT strain",
+                fixed(o.peak_pzt_strain * 1e6, 0),
+                "µstrain",
+            );
+            row("  peak tip load", fixed(o.peak_tip_load_N * 1e3, 2), "mN");
+            row(
+                "  mechanical power into the wing",
+                fixed(o.mechanical_power_mW, 3),
+                "mW",
+            );
+            row(
+                "  reactive electrical power",
+                fixed(o.reactive_power_mW, 3),
+                "mvar",
+            );
+        }
+        row(
+            "field limit",
+            format!(
+                "{} (survival {})",
+                fixed(self.field_limit_V_per_mm, 1),
+                self.survival_limit
+            ),
+            "V/mm",
+        );
+        row(
+            "mass: actuator + transmission",
+            format!(
+                "{} + {} = {}",
+                fixed(self.mass.actuator_mg, 1),
+                fixed(self.mass.transmission_mg, 1),
+                fixed(self.mass.total_mg, 1)
+            ),
+            "mg",
+        );
+        row(
+            "  budget",
+            format!(
+                "{} ({})",
+                fixed(self.mass.budget_mg, 1),
+                if self.mass.within_budget {
+                    "within"
+                } else {
+                    "OVER"
+                }
+            ),
+            "mg",
+        );
+        let width = rows.iter().map(|r| r.0.chars().count()).max().unwrap_or(0);
+        let mut out = String::new();
+        for (name, value, unit) in rows {
+            let pad = width - name.chars().count();
+            let _ = writeln!(out, "{name}{}  {value} {unit}", " ".repeat(pad));
+        }
+        if !self.modes.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nthe same stroke by drive mode:\n  mode          field V/mm   voltage V   survival   limit V/mm   within"
+            );
+            for m in &self.modes {
+                let _ = writeln!(
+                    out,
+                    "  {:<12}  {:>10}  {:>10}  {:>9}  {:>11}   {}",
+                    m.mode,
+                    fixed(m.field_V_per_mm, 1),
+                    fixed(m.voltage_V, 1),
+                    fixed(m.survival, 4),
+                    fixed(m.limit_V_per_mm, 1),
+                    if m.within_limit { "yes" } else { "no" }
+                );
+            }
+        }
+        if let Some(u) = &self.unreachable {
+            let _ = writeln!(
+                out,
+                "\nNOT REACHED: ±{} deg is out of reach; the best stroke within the limit is ±{} deg.\n  binding: {}\n  to reach it: {}",
+                fixed(self.required_stroke_deg, 1),
+                fixed(u.best_stroke_deg, 2),
+                u.binding,
+                u.change
+            );
+        }
+        out
+    }
+
+    /// report.md: the table with a title.
+    pub fn markdown(&self) -> String {
+        format!(
+            "# Drive: {} at {} Hz\n\nDrive file `{}`, model {}. The frequency response is in \
+             frequency-response.svg.\n\n```text\n{}```\n",
+            self.design,
+            fixed(self.frequency_Hz, 1),
+            self.drive_file,
+            self.model,
+            self.table()
+        )
+    }
+
+    /// The frequency response: stroke amplitude and phase against frequency at the operating force, the
+    /// operating point marked, the resonance dashed.
+    pub fn svg(&self) -> String {
+        let (w, h) = (640.0, 520.0);
+        let mut c = Canvas::new(w, h, 12.0, true);
+        c.background(w, h, "white");
+        let f_hi = self
+            .sweep
+            .iter()
+            .map(|p| p.frequency_Hz)
+            .fold(self.frequency_Hz, f64::max);
+        let x_hi = nice_ceiling(f_hi);
+        let amp_hi = nice_ceiling(
+            self.sweep
+                .iter()
+                .map(|p| p.stroke_deg)
+                .fold(self.required_stroke_deg, f64::max),
+        );
+        let panels = [
+            (
+                Area {
+                    left: 70.0,
+                    right: 610.0,
+                    top: 40.0,
+                    bottom: 230.0,
+                },
+                "stroke amplitude (deg)",
+                0.0,
+                amp_hi,
+            ),
+            (
+                Area {
+                    left: 70.0,
+                    right: 610.0,
+                    top: 290.0,
+                    bottom: 480.0,
+                },
+                "phase behind the drive (deg)",
+                -90.0,
+                270.0,
+            ),
+        ];
+        let title = format!(
+            "{}: frequency response at {} N blocked-force amplitude",
+            xml_escape(&self.design),
+            fixed(
+                self.operating.as_ref().map_or(0.0, |o| o.force_amplitude_N),
+                4
+            )
+        );
+        c.label(&Label {
+            bold: true,
+            ..Label::new(w / 2.0, 20.0, Anchor::Middle, &title)
+        });
+        for (k, (area, name, lo, hi)) in panels.iter().enumerate() {
+            let xs = area.x_scale(0.0, x_hi);
+            let ys = area.y_scale(*lo, *hi);
+            c.frame(area, "#333");
+            for i in 0..=4 {
+                let fx = x_hi * i as f64 / 4.0;
+                let text = fixed(fx, 0);
+                c.label(&Label::new(
+                    xs.at(fx),
+                    area.bottom + 16.0,
+                    Anchor::Middle,
+                    &text,
+                ));
+                let fy = lo + (hi - lo) * i as f64 / 4.0;
+                let text = fixed(fy, 0);
+                c.label(&Label::new(
+                    area.left - 6.0,
+                    ys.at(fy) + 4.0,
+                    Anchor::End,
+                    &text,
+                ));
+            }
+            c.label(&Label::new(
+                area.centre_x(),
+                area.bottom + 32.0,
+                Anchor::Middle,
+                "frequency (Hz)",
+            ));
+            c.vertical_label(18.0, area.centre_y(), name);
+            if self.resonance_Hz <= x_hi {
+                c.vertical_rule(area, xs.at(self.resonance_Hz), "#999", Some(DASHED));
+            }
+            let points: Vec<(f64, f64)> = self
+                .sweep
+                .iter()
+                .map(|p| {
+                    let v = if k == 0 { p.stroke_deg } else { p.phase_deg };
+                    (xs.at(p.frequency_Hz), ys.at(v.clamp(*lo, *hi)))
+                })
+                .collect();
+            if points.len() >= 2 {
+                c.polyline(&points, "#1f77b4");
+            }
+            if let Some(o) = &self.operating {
+                let v = if k == 0 { o.stroke_deg } else { o.phase_deg };
+                c.marker(
+                    (xs.at(self.frequency_Hz), ys.at(v.clamp(*lo, *hi))),
+                    &Marker::dot(4.0, "#d62728"),
+                );
+            }
+        }
+        c.finish()
+    }
+}
