@@ -133,3 +133,29 @@ fn a_closed_stdout_ends_the_run_quietly() {
     );
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
+    // Films all thicker than the 0.267 mm plate: no mold layer could hold or press a part.
+    let dir = tempfile::tempdir().unwrap();
+    let template = std::fs::read_to_string("templates/method-2.toml")
+        .unwrap()
+        .replace(
+            "stock_thicknesses_mm = [0.05, 0.127, 0.25]",
+            "stock_thicknesses_mm = [5]",
+        );
+    std::fs::write(dir.path().join("tpl.toml"), template).unwrap();
+    let design = dir.path().join("c.toml");
+    std::fs::write(
+        &design,
+        design_c_with(&[("process", "process = \"tpl.toml\"")]),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+    assert!(
+        err.contains("[layers.mold] stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
+        "{err}"
+    );
+    assert!(!out.exists(), "no half-written output");
+}

@@ -236,6 +236,23 @@ pub fn clamp_layers(
         }
     }
     let mold = choose_mold(laminate_bands(first.design), &template.mold_stock);
+    if mold.films_mm.is_empty() {
+        // No film fits under a plate: no mold layer could hold or press any part, so nothing would be
+        // pressed at all. That is a process the template cannot run, not a warning.
+        let films: Vec<String> = template
+            .mold_stock
+            .films_mm
+            .iter()
+            .map(|t| t.to_string())
+            .collect();
+        return Err(names.error(format!(
+            "[layers.mold] stock_thicknesses_mm = [{}]: no stocked film is as thin as the {} mm PZT plate, \
+             so no mold layer can hold it; stock a film of at most {} mm",
+            films.join(", "),
+            first.design.pzt_thickness * 1e3,
+            first.design.pzt_thickness * 1e3
+        )));
+    }
     let bands = &mold.bands;
     // Expand the stack: "mold" becomes mold-1..n; other layers are numbered by occurrence.
     let mut stack: Vec<(String, String, usize)> = Vec::new(); // (layer kind, stem prefix, index)
