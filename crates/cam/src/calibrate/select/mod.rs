@@ -499,9 +499,12 @@ fn actuation_stage<'a>(
             forms.push([&[eta], own.as_slice(), &[t]].concat());
         }
         forms.retain(|ids| ids.len() <= max_params);
+        // Screened on AICc and intervals first; only a form that passes those is cross-validated.
         let fits: Vec<Candidate> = forms
             .par_iter()
-            .map(|ids| fitter.fit(ids, Stage::Actuation, Role::Candidate))
+            .map(|ids| fitter.fit_without_cv(ids, Stage::Actuation, Role::Candidate))
+            .filter(|c| thickness::qualifies(c, &candidates[final_index]))
+            .map(|c| fitter.fit(&c.effects, Stage::Actuation, Role::Candidate))
             .collect();
         if let Some(i) = thickness::preferred(&fits, &candidates[final_index]) {
             let mut c = fits[i].clone();

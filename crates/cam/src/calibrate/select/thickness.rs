@@ -69,21 +69,24 @@ pub fn is_form(id: EffectId, declared: &[Declared]) -> bool {
     matches!(id, EffectId::Declared(d) if !declared.contains(&d) && d.spec().name == NAME)
 }
 
-/// The fit of `fits` (thickness forms) that replaces `chosen`, if any: its own effects identifiable and
-/// significant, its AICc lower by [`DECISIVE_GAIN`] and its cross-validated error lower; the lowest AICc
-/// among those that qualify.
+/// A thickness form's own effects are identifiable and significant, and its AICc is lower than
+/// `chosen`'s by [`DECISIVE_GAIN`] (the tests before the cross-validation).
+pub(super) fn qualifies(c: &Candidate, chosen: &Candidate) -> bool {
+    c.not_identifiable.is_empty()
+        && c.effects
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| **e != EffectId::D31Scale)
+            .all(|(k, _)| c.excludes_null(k))
+        && c.aicc < chosen.aicc - DECISIVE_GAIN
+}
+
+/// The fit of `fits` (thickness forms) that replaces `chosen`, if any: it [`qualifies`] and its
+/// cross-validated error is lower; the lowest AICc among those.
 pub(super) fn preferred(fits: &[Candidate], chosen: &Candidate) -> Option<usize> {
     fits.iter()
         .enumerate()
-        .filter(|(_, c)| c.not_identifiable.is_empty())
-        .filter(|(_, c)| {
-            c.effects
-                .iter()
-                .enumerate()
-                .filter(|(_, e)| **e != EffectId::D31Scale)
-                .all(|(k, _)| c.excludes_null(k))
-        })
-        .filter(|(_, c)| c.aicc < chosen.aicc - DECISIVE_GAIN && c.cv_rmse < chosen.cv_rmse)
+        .filter(|(_, c)| qualifies(c, chosen) && c.cv_rmse < chosen.cv_rmse)
         .min_by(|a, b| a.1.aicc.total_cmp(&b.1.aicc))
         .map(|(i, _)| i)
 }
