@@ -9,7 +9,10 @@
 //!
 //! An added mass per bonded area has the mass shape of a thin bond layer, whose stiffness barely shows in
 //! δ and F_b at this size, so the library's `bond-layer` may explain it on the first run (verdict
-//! `explained`): that outcome is accepted for it, and only for it.
+//! `explained`): that outcome is accepted for it. An inactive surface layer on plates of several
+//! thicknesses is a thickness form the selection compares with the model it chose (docs/calibration.md
+//! §3, "Thickness forms"): `explained` on the first run is accepted for it when the selection chose
+//! `inactive-surface-layer` itself, with the estimate within 20 % as below.
 //!
 //! The estimate must lie within 20 % of the hidden value; whether the 95 % interval covers it is printed
 //! (`--nocapture`), not asserted: one data set per primitive measures coverage too coarsely.
@@ -97,8 +100,17 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
     let data = parse(&csv).unwrap();
     let first = calibrate::calibrate(&data, &Settings::default()).unwrap();
     let v1 = first.selection.verdict.name().to_string();
+    let name = actuator_cam::calibrate::discover::catalogue::name(primitive);
     let Some(text) = suggested(&first, &data) else {
-        return (v1, None, String::new(), None, String::new());
+        // No next step: what the first run selected.
+        let selected = first.model.selected_effects.join(", ");
+        return (
+            v1,
+            None,
+            String::new(),
+            declared_fit(&first, &name),
+            selected,
+        );
     };
     let table: toml::Table = text.parse().unwrap();
     let declared: Vec<_> = effects_file::parse(Path::new("suggested-effects.toml"), &table)
@@ -111,7 +123,6 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
         ..Settings::default()
     };
     let second = calibrate::calibrate(&data, &settings).unwrap();
-    let name = actuator_cam::calibrate::discover::catalogue::name(primitive);
     let fit = declared_fit(&second, &name);
     let selected = second.model.selected_effects.join(", ");
     (
@@ -139,6 +150,14 @@ fn every_primitive_goes_round_the_loop_from_not_explained_to_explained() {
             continue;
         }
         let close = fit.is_some_and(|(v, _)| (v / value - 1.0).abs() < 0.2);
+        if name == "inactive-surface-layer" && v1 == "explained" {
+            if !close || !selected.split(", ").any(|s| s == name) {
+                failures.push(format!(
+                    "{name}: explained on the first run as {selected}, fit {fit:?} against {value}"
+                ));
+            }
+            continue;
+        }
         if v1 != "not-explained" || text.is_none() || v2 != "explained" || !close {
             failures.push(format!(
                 "{name}: {v1} -> {v2} ({selected}), fit {fit:?} against {value}\n{}",

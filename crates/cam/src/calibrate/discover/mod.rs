@@ -26,7 +26,7 @@ pub mod suggest;
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId};
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
-use crate::calibrate::select::{actuation_data, Role, Selection, Settings};
+use crate::calibrate::select::{actuation_data, thickness, Role, Selection, Settings};
 use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use designs::{discriminate, DiscriminatingDesign, Predictor};
@@ -179,6 +179,12 @@ pub fn discover(
         .candidates
         .iter()
         .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
+        // The selection's thickness form is the catalogue's inactive surface layer, fitted below.
+        .filter(|c| {
+            !c.effects
+                .iter()
+                .any(|e| thickness::is_form(*e, &settings.declared))
+        })
         .map(|c| {
             let ids = c.library_effects();
             let names = effect_names(&ids);

@@ -123,6 +123,16 @@ impl Fitter<'_> {
     }
 
     pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
+        self.fit_scored(ids, stage, role, true)
+    }
+
+    /// [`Fitter::fit`] without the cross-validation (its error left infinite): a screen for a model
+    /// that is fitted in full only if its AICc qualifies.
+    pub(super) fn fit_without_cv(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
+        self.fit_scored(ids, stage, role, false)
+    }
+
+    fn fit_scored(&self, ids: &[EffectId], stage: Stage, role: Role, cv: bool) -> Candidate {
         let bounds = self.bounds(ids);
         let specs: Vec<(f64, f64, &[f64])> = ids
             .iter()
@@ -168,14 +178,19 @@ impl Fitter<'_> {
         // Each fold starts from the full-data fit; the original model has nothing to refit.
         // The carried mass parameters stay at their full-data values: the folds compare the effects this
         // stage adds.
-        let cv_rmse = cross_validation::rmse(self.data, &self.folds, |train| {
-            if ids.is_empty() {
-                self.model_at(&held, ids, &[])
-            } else {
-                let refit = self.fit_on(ids, &held, Some(train), std::slice::from_ref(&fit.theta));
-                self.model_at(&held, ids, &refit.theta)
-            }
-        });
+        let cv_rmse = if !cv {
+            f64::INFINITY
+        } else {
+            cross_validation::rmse(self.data, &self.folds, |train| {
+                if ids.is_empty() {
+                    self.model_at(&held, ids, &[])
+                } else {
+                    let refit =
+                        self.fit_on(ids, &held, Some(train), std::slice::from_ref(&fit.theta));
+                    self.model_at(&held, ids, &refit.theta)
+                }
+            })
+        };
         let not_identifiable = identifiability::not_identifiable(ids, &fit, self.shared.as_deref());
         Candidate {
             carried,

@@ -14,6 +14,7 @@ pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
+pub mod thickness;
 
 pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
 pub use candidate::{Candidate, CarriedValue, Role};
@@ -475,8 +476,8 @@ fn actuation_stage<'a>(
         .collect();
     judge(&mut candidates, &[1, 2], settings);
     note_not_identifiable(&candidates, &mut notes);
-    let (best, rivals) = best_and_rivals(&candidates, settings);
-    let final_index = match best {
+    let (best, mut rivals) = best_and_rivals(&candidates, settings);
+    let mut final_index = match best {
         Some(b) => b,
         None => {
             let (original, null_eta) = (&candidates[0], &candidates[1]);
@@ -490,6 +491,43 @@ fn actuation_stage<'a>(
             }
         }
     };
+    // The chosen model against its thickness-dependent alternatives, when the PZT thickness varies.
+    if let Some(t) = thickness::form(data, &settings.declared) {
+        let own = candidates[final_index].library_effects();
+        let mut forms = vec![vec![eta, t]];
+        if !own.is_empty() && effect_names(&own).len() < max_effects {
+            forms.push([&[eta], own.as_slice(), &[t]].concat());
+        }
+        forms.retain(|ids| ids.len() <= max_params);
+        // Screened on AICc and intervals first; only a form that passes those is cross-validated.
+        let fits: Vec<Candidate> = forms
+            .par_iter()
+            .map(|ids| fitter.fit_without_cv(ids, Stage::Actuation, Role::Candidate))
+            .filter(|c| thickness::qualifies(c, &candidates[final_index]))
+            .map(|c| fitter.fit(&c.effects, Stage::Actuation, Role::Candidate))
+            .collect();
+        if let Some(i) = thickness::preferred(&fits, &candidates[final_index]) {
+            let mut c = fits[i].clone();
+            let was = &candidates[final_index];
+            notes.push(format!(
+                "the PZT thickness varies: {} fits better than {} by AICc {:.1} (more than {}), so the \
+                 loss is taken as thickness-dependent",
+                c.label(),
+                was.label(),
+                was.aicc - c.aicc,
+                thickness::DECISIVE_GAIN
+            ));
+            c.accepted = true;
+            c.note = format!(
+                "thickness form: dAICc vs {} {:.1}",
+                was.label(),
+                was.aicc - c.aicc
+            );
+            candidates.push(c);
+            final_index = candidates.len() - 1;
+            rivals.clear();
+        }
+    }
     drop(fitter);
     Ok(ActuationStage {
         act_data: stage_data.into_act(),
