@@ -250,21 +250,16 @@ pub(super) fn adequacy_of_fit(
             });
         }
     }
-    // One family: every correlation and the lack-of-fit test, Holm-adjusted together, so the chance
-    // that a correct model fails any of them is at most alpha (Holm holds under any dependence between
-    // the tests, and the variables and ratios are strongly dependent).
-    let mut raw: Vec<f64> = tests.iter().map(|t| t.p).collect();
-    raw.extend(lack_of_fit.map(|l| l.p));
-    let adjusted = stats::holm(&raw);
-    for (t, adj) in tests.iter_mut().zip(&adjusted) {
-        t.p_holm = *adj;
+    let raw: Vec<f64> = tests.iter().map(|t| t.p).collect();
+    for (t, adj) in tests.iter_mut().zip(stats::holm(&raw)) {
+        t.p_holm = adj;
     }
-    let lof_pass = lack_of_fit.is_none() || adjusted[tests.len()] >= settings.alpha;
     let worst = tests
         .iter()
         .min_by(|a, b| a.p.total_cmp(&b.p))
         .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r));
     let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
+    let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
     Adequacy {
         lack_of_fit,
         correlations: tests,
