@@ -178,6 +178,13 @@ pub struct Stock {
     pub thickness_mm: f64,
 }
 
+/// `text` with every control character (a newline, a tab) made a space, so it stays one line in a file.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
 /// A sheet of shapes: the content of one laser file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drawing {
@@ -224,10 +231,13 @@ impl Drawing {
                 super::decimal::fmt_mm(self.width_mm),
                 super::decimal::fmt_mm(self.height_mm)
             );
-            text.chars()
-                .map(|c| if c.is_control() { ' ' } else { c })
-                .collect()
+            one_line(&text)
         })
+    }
+
+    /// The title on one line, as a file comment must hold it.
+    pub fn title_line(&self) -> String {
+        one_line(&self.title)
     }
 
     /// Appends a shape processed by `op`.

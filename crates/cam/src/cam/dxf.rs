@@ -317,12 +317,7 @@ pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfE
     // The stock as DXF comments (group 999) before the header: laser software and ezdxf skip them, a
     // person opening the file in a text editor reads them first.
     if let Some(stock) = drawing.stock_line() {
-        let title: String = drawing
-            .title
-            .chars()
-            .map(|c| if c.is_control() { ' ' } else { c })
-            .collect();
-        w.text(999, &format!("actuator-cam: {title}"));
+        w.text(999, &format!("actuator-cam: {}", drawing.title_line()));
         w.text(999, &format!("stock: {stock}"));
     }
     let mut table = first_table_handle;

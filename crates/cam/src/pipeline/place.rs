@@ -384,12 +384,15 @@ fn verify_cut_layouts(
             .parts
             .iter()
             .map(|p| PlacedPart {
+                item: p.item,
+                copy: p.copy,
+                rotation_deg: p.rotation_deg,
+                translation: p.translation,
                 outline: place_ring(
                     &promise.packed[p.item].outline,
                     p.rotation_deg,
                     p.translation,
                 ),
-                ..p.clone()
             })
             .collect();
         verify_sheet(
@@ -572,15 +575,20 @@ fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<NestedBin> {
         .bins
         .iter()
         .map(|b| NestedBin {
+            index: b.index,
             parts: b
                 .parts
                 .iter()
                 .map(|p| PlacedPart {
+                    item: p.item,
+                    copy: p.copy,
+                    rotation_deg: p.rotation_deg,
+                    translation: p.translation,
                     outline: place_ring(&layer.items[p.item].cut, p.rotation_deg, p.translation),
-                    ..p.clone()
                 })
                 .collect(),
-            ..b.clone()
+            utilization: b.utilization,
+            score_lines: b.score_lines.clone(),
         })
         .collect()
 }
