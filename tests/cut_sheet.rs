@@ -223,7 +223,7 @@ fn kerf_grows_every_cut_outline_by_at_least_half_the_kerf() {
     );
     let nominal_perimeter =
         w0 + w_tip + 2.0 * (l_p * l_p + (w0 - w_tip).powi(2) / 4.0).sqrt() + 2.0 * l_ext;
-    let svg = std::fs::read_to_string(out.join("passive-1.svg")).unwrap();
+    let svg = std::fs::read_to_string(layer_file(&out, "passive-1.svg")).unwrap();
     let cuts = svg_paths(&svg, "CUT");
     assert_eq!(cuts.len(), 6);
     for (ring, _) in cuts {
@@ -336,7 +336,7 @@ fn outputs_have_the_layer_files_the_process_needs() {
     assert!(cut_sheet(&example("thesis-C.toml"), &out, &[])
         .status
         .success());
-    let names: Vec<String> = files(&out).into_keys().collect();
+    let names: Vec<String> = sheet_files(&out).into_keys().collect();
     for want in [
         "pzt-1.svg",
         "pzt-1.dxf",
@@ -361,7 +361,7 @@ fn outputs_have_the_layer_files_the_process_needs() {
     let out1 = dir.path().join("m1");
     let o = cut_sheet(path.to_str().unwrap(), &out1, &["--format", "svg"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let names: Vec<String> = files(&out1).into_keys().collect();
+    let names: Vec<String> = sheet_files(&out1).into_keys().collect();
     assert!(
         names.contains(&"pyralux-1.svg".to_string()) && !names.iter().any(|n| n.ends_with(".dxf"))
     );
@@ -374,7 +374,7 @@ fn outputs_have_the_layer_files_the_process_needs() {
         "method 1 counts its Pyralux"
     );
     // The via is cut in every Pyralux part: as many circles as parts.
-    let svg = std::fs::read_to_string(out1.join("pyralux-1.svg")).unwrap();
+    let svg = std::fs::read_to_string(layer_file(&out1, "pyralux-1.svg")).unwrap();
     assert_eq!(svg.matches(" A").count() / 2, svg_paths(&svg, "CUT").len());
 }
 
@@ -400,9 +400,11 @@ fn ply_by_ply_template_turns_each_ply_and_registers_it() {
         "{geometry} vs {model}"
     );
     for (i, angle) in [0, 90, 0].iter().enumerate() {
-        let svg =
-            std::fs::read_to_string(out.join(format!("passive-ply{}-{angle}deg-1.svg", i + 1)))
-                .unwrap();
+        let svg = std::fs::read_to_string(layer_file(
+            &out,
+            &format!("passive-ply{}-{angle}deg-1.svg", i + 1),
+        ))
+        .unwrap();
         let parts = svg_paths(&svg, "CUT");
         assert_eq!(parts.len(), 6);
         // Two registration holes (circles: two arcs each) per part.
@@ -442,10 +444,10 @@ fn template_operation_colours_reach_both_file_formats() {
     let out = dir.path().join("out");
     let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let svg = std::fs::read_to_string(out.join("passive-1.svg")).unwrap();
+    let svg = std::fs::read_to_string(layer_file(&out, "passive-1.svg")).unwrap();
     assert!(svg.contains("stroke=\"#FF00FF\""));
     assert!(!svg.contains("#FF0000"));
-    let dxf = std::fs::read_to_string(out.join("passive-1.dxf")).unwrap();
+    let dxf = std::fs::read_to_string(layer_file(&out, "passive-1.dxf")).unwrap();
     let lines: Vec<&str> = dxf.lines().map(str::trim).collect();
     // The LAYER table entry: name CUT, then its colour (group code 62).
     let at = lines
@@ -503,8 +505,8 @@ fn template_features_table_remaps_score_lines_into_the_cut_layer() {
     let remapped = method_2_with("pzt-score-line = \"score\"", "pzt-score-line = \"cut\"");
     let cut = run_on_template(dir.path(), "remapped", &remapped);
 
-    let svg0 = std::fs::read_to_string(base.join("pzt-1.svg")).unwrap();
-    let svg1 = std::fs::read_to_string(cut.join("pzt-1.svg")).unwrap();
+    let svg0 = std::fs::read_to_string(layer_file(&base, "pzt-1.svg")).unwrap();
+    let svg1 = std::fs::read_to_string(layer_file(&cut, "pzt-1.svg")).unwrap();
     let score0 = svg_paths(&svg0, "SCORE");
     assert!(!score0.is_empty(), "the shipped template scores the PZT");
     assert!(svg_paths(&svg1, "SCORE").is_empty(), "no score layer left");
@@ -524,8 +526,8 @@ fn template_features_table_remaps_score_lines_into_the_cut_layer() {
     let red = red.split("</g>").next().unwrap();
     assert!(red.contains("#FF0000") && !red.contains("#0000FF"));
 
-    let dxf0 = std::fs::read_to_string(base.join("pzt-1.dxf")).unwrap();
-    let dxf1 = std::fs::read_to_string(cut.join("pzt-1.dxf")).unwrap();
+    let dxf0 = std::fs::read_to_string(layer_file(&base, "pzt-1.dxf")).unwrap();
+    let dxf1 = std::fs::read_to_string(layer_file(&cut, "pzt-1.dxf")).unwrap();
     assert_eq!(dxf_entities_on(&dxf1, "SCORE"), 0);
     assert_eq!(
         dxf_entities_on(&dxf1, "CUT"),
@@ -549,8 +551,8 @@ fn template_without_features_table_gives_the_shipped_bytes() {
     let end = start + 1 + shipped[start + 1..].find("\n[").unwrap();
     let bare = format!("{}{}", &shipped[..start], &shipped[end..]);
     assert!(!bare.contains("[features]") && bare.contains("[cure]"));
-    let a = files(&run_on_template(dir.path(), "shipped", &shipped));
-    let b = files(&run_on_template(dir.path(), "bare", &bare));
+    let a = sheet_files(&run_on_template(dir.path(), "shipped", &shipped));
+    let b = sheet_files(&run_on_template(dir.path(), "bare", &bare));
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
     for (name, bytes) in &a {
         if name.ends_with(".svg") || name.ends_with(".dxf") {
@@ -559,7 +561,7 @@ fn template_without_features_table_gives_the_shipped_bytes() {
     }
     // And an explicit non-default differs (the comparison can fail).
     let moved = method_2_with("fiducial = \"engrave\"", "fiducial = \"score\"");
-    let c = files(&run_on_template(dir.path(), "moved", &moved));
+    let c = sheet_files(&run_on_template(dir.path(), "moved", &moved));
     assert!(c["mold-1-1.svg"] != a["mold-1-1.svg"]);
 }
 
@@ -977,7 +979,7 @@ fn labels_on_bonded_zones(example: &str, method: &str) -> (usize, usize) {
         let drawing = &built
             .drawings
             .iter()
-            .find(|d| d.stem == sheet.stem)
+            .find(|d| d.stem == sheet.file_stem)
             .unwrap()
             .drawing;
         let zones: Vec<Polygon<f64>> = sheet

@@ -194,7 +194,7 @@ fn example_batch_nests_and_every_sheet_checks_out() {
     let o = nest(Path::new(&example("batch.toml")), &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("24 actuators"), "{}", stdout(&o));
-    let f = files(&out);
+    let f = sheet_files(&out);
     for name in [
         "pzt-1.svg",
         "pzt-3.dxf",

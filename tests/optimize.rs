@@ -5,7 +5,7 @@ use actuator_model::{
     model, Drive, DriveMode, Laminate, Material, ModelKind, Performance, Planform, Section,
 };
 mod common;
-use common::{bin, example_path as example, run, stderr, stdout};
+use common::{bin, example_path as example, layer_file, run, stderr, stdout};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -660,7 +660,7 @@ fn calibrated_model_file_optimum_meets_the_energy_and_beats_an_independent_grid(
         (predicted - mass_mg).abs() < 1e-3,
         "{predicted} vs {mass_mg}"
     );
-    assert!(out.join("pzt-1.svg").exists());
+    assert!(layer_file(&out, "pzt-1.svg").exists());
     // The calibrated actuator is weaker than the original one predicts, so the optimum is heavier.
     let original = run(&["optimize", spec.to_str().unwrap()]);
     assert!(mass_mg > refined_mass(&stdout(&original)) * 1.1);

@@ -76,7 +76,7 @@ fn force_writes_beside_user_files_and_spares_inputs() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(fs::read(&design).unwrap(), design_bytes);
     assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "n\n");
-    assert!(out.join("pzt-1.svg").exists() && out.join(MANIFEST).exists());
+    assert!(layer_file(&out, "pzt-1.svg").exists() && out.join(MANIFEST).exists());
     assert_ne!(fs::read_to_string(out.join("report.md")).unwrap(), "mine");
 }
 
@@ -154,7 +154,7 @@ fn commands_share_a_folder_without_removing_each_others_files() {
         best.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(out.join("pzt-1.svg").exists());
+    assert!(layer_file(&out, "pzt-1.svg").exists());
 }
 
 #[test]

@@ -59,7 +59,7 @@ fn score_lines_overrun_the_sheet_edge_by_the_template_value() {
         let out = dir.path().join("out");
         let o = cut_sheet(&design, &out, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
-        let svg = std::fs::read_to_string(out.join("pzt-1.svg")).unwrap();
+        let svg = std::fs::read_to_string(layer_file(&out, "pzt-1.svg")).unwrap();
         let (ends, page) = score_ends(&svg);
         let margin = (page - sheet_mm) / 2.0;
         let beyond: Vec<f64> = ends

@@ -58,6 +58,21 @@ fn check_folder(out: &Path, report: &str) {
             let (material, t, w, h) =
                 stock.unwrap_or_else(|| panic!("{name}: no stock in the file"));
             assert!(t > 0.0 && w > 0.0 && h > 0.0, "{name}");
+            // The file's name alone says what to put on the bed: the material's first word and the
+            // thickness follow the sheet's name.
+            let (_, stock_part) = name
+                .trim_end_matches(".svg")
+                .split_once('_')
+                .unwrap_or_else(|| panic!("{name}: no stock in the file name"));
+            let first_word: String = material
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric())
+                .collect::<String>()
+                .to_ascii_lowercase();
+            assert!(
+                stock_part.starts_with(&first_word) && stock_part.ends_with(&format!("-{t}mm")),
+                "{name}: the file name does not carry its stock ({material}, {t} mm)"
+            );
             let title = &text[text.find("<title>").unwrap()..text.find("</title>").unwrap()];
             assert!(
                 title.contains(&format!("{t} mm thick")),
@@ -114,7 +129,8 @@ fn every_cut_sheet_file_names_its_stock_and_molds_their_own_film() {
             .iter()
             .enumerate()
         {
-            let svg = std::fs::read_to_string(out.join(format!("mold-{}-1.svg", k + 1))).unwrap();
+            let svg = std::fs::read_to_string(layer_file(&out, &format!("mold-{}-1.svg", k + 1)))
+                .unwrap();
             let (_, t, _, _) = svg_stock(&svg).unwrap();
             assert_eq!(t, film.as_f64().unwrap(), "{design}: mold-{}", k + 1);
         }

@@ -149,3 +149,31 @@ pub fn design_of(m: &actuator_cam::calibrate::Measurement) -> String {
         m.field * 1e-3
     )
 }
+
+/// The sheet a layer file is of, without the stock its name carries:
+/// `mold-4-1_ptfe-non-porous-0.05mm.svg` → `mold-4-1.svg`; other names unchanged.
+pub fn sheet_name(file: &str) -> String {
+    match (file.split_once('_'), file.rsplit_once('.')) {
+        (Some((stem, _)), Some((_, ext))) => format!("{stem}.{ext}"),
+        _ => file.to_string(),
+    }
+}
+
+/// Every file of an output directory, by sheet name ([`sheet_name`]).
+pub fn sheet_files(out: &Path) -> BTreeMap<String, Vec<u8>> {
+    files(out)
+        .into_iter()
+        .map(|(name, bytes)| (sheet_name(&name), bytes))
+        .collect()
+}
+
+/// The path of the layer file of sheet `name` (`pzt-1.svg`) in `out`, whatever stock its name carries.
+pub fn layer_file(out: &Path, name: &str) -> PathBuf {
+    let found: Vec<PathBuf> = std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| sheet_name(&p.file_name().unwrap().to_string_lossy()) == name)
+        .collect();
+    assert_eq!(found.len(), 1, "{name} in {}: {found:?}", out.display());
+    found.into_iter().next().unwrap()
+}

@@ -267,7 +267,7 @@ impl NestReport {
                     .rsplit_once('-')
                     .and_then(|(_, n)| n.parse().ok())
                     .unwrap_or(0),
-                file_stem: s.stem.clone(),
+                file_stem: s.file_stem.clone(),
                 width_mm: s.width_mm,
                 height_mm: s.height_mm,
                 utilization: s.utilization(),

@@ -178,6 +178,61 @@ pub struct Stock {
     pub thickness_mm: f64,
 }
 
+impl Stock {
+    /// The stock as a file name carries it: the material in lower-case letters and digits joined by
+    /// `-` (at most 32 characters, cut at a word), then the thickness: `ptfe-non-porous-0.05mm`. A
+    /// technician picks the sheet by the file's name before opening it; no character in it needs quoting
+    /// in a shell or is refused by a file system.
+    pub fn slug(&self) -> String {
+        const MAX: usize = 32;
+        let mut words: Vec<String> = Vec::new();
+        let mut word = String::new();
+        for c in self.material.chars() {
+            if c.is_ascii_alphanumeric() || c == '.' {
+                word.push(c.to_ascii_lowercase());
+            } else if !word.is_empty() {
+                words.push(std::mem::take(&mut word));
+            }
+        }
+        if !word.is_empty() {
+            words.push(word);
+        }
+        let mut material = String::new();
+        for w in words {
+            let w = w.trim_matches('.');
+            if w.is_empty() {
+                continue;
+            }
+            let extra = w.len() + usize::from(!material.is_empty());
+            if material.len() + extra > MAX {
+                if material.is_empty() {
+                    material.push_str(&w[..MAX]);
+                }
+                break;
+            }
+            if !material.is_empty() {
+                material.push('-');
+            }
+            material.push_str(w);
+        }
+        let thickness = format!("{}mm", super::decimal::fmt_mm(self.thickness_mm));
+        if material.is_empty() {
+            thickness
+        } else {
+            format!("{material}-{thickness}")
+        }
+    }
+}
+
+/// The file stem of a sheet named `stem` (`mold-4-1`): on a named stock, the stock follows it after
+/// `_` (`mold-4-1_ptfe-non-porous-0.05mm`), so the name alone says which sheet goes on the bed.
+pub fn file_stem(stem: &str, stock: Option<&Stock>) -> String {
+    match stock {
+        Some(s) => format!("{stem}_{}", s.slug()),
+        None => stem.to_string(),
+    }
+}
+
 /// `text` with every control character (a newline, a tab) made a space, so it stays one line in a file.
 fn one_line(text: &str) -> String {
     text.chars()
@@ -316,6 +371,34 @@ pub(crate) fn sample_drawing() -> Drawing {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_stock_slug_is_the_material_in_words_and_the_thickness() {
+        let stock = |material: &str, t: f64| Stock {
+            material: material.into(),
+            thickness_mm: t,
+        };
+        assert_eq!(
+            stock("PTFE, non-porous", 0.05).slug(),
+            "ptfe-non-porous-0.05mm"
+        );
+        // Cut at a word once 32 characters are reached; one over-long word is cut inside it.
+        assert_eq!(
+            stock("PZT-5H (PZT sheet (Piezo Systems)), lot 7", 0.267).slug(),
+            "pzt-5h-pzt-sheet-piezo-systems-0.267mm"
+        );
+        assert_eq!(
+            stock(&"x".repeat(40), 1.0).slug(),
+            format!("{}-1mm", "x".repeat(32))
+        );
+        // Nothing a shell or file system would trip on survives; no material leaves the thickness.
+        assert_eq!(stock("µ/\\:*?\"<>|", 0.1).slug(), "0.1mm");
+        assert_eq!(file_stem("mold-4-1", None), "mold-4-1");
+        assert_eq!(
+            file_stem("mold-4-1", Some(&stock("felt pad", 1.0))),
+            "mold-4-1_felt-pad-1mm"
+        );
+    }
     use super::*;
 
     #[test]

@@ -5,7 +5,7 @@
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::BuildError;
-use crate::cam::drawing::{Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::parts::PartOrder;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
 use crate::process::{Feature, FeatureMap};
@@ -348,6 +348,7 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
         }
         let mut record = SheetRecord {
             stem: format!("{}-{n}", layer.layer),
+            file_stem: file_stem(&format!("{}-{n}", layer.layer), d.stock.as_ref()),
             layer: layer.layer.clone(),
             material: layer.material.clone(),
             width_mm: spec.width_mm,

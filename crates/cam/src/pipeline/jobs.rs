@@ -3,7 +3,7 @@
 
 use super::parts::PartGeometry;
 use super::{BuildError, SheetDrawing};
-use crate::cam::drawing::Drawing;
+use crate::cam::drawing::{file_stem, Drawing};
 use crate::design::Design;
 use crate::process::template::Template;
 use cam_geometry::offset::offset_ring;
@@ -96,8 +96,10 @@ pub struct PartRecord {
 /// One sheet of a cut material (PZT, passive, Pyralux) as drawn.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SheetRecord {
-    /// File stem (`pzt-2`).
+    /// Sheet name (`pzt-2`).
     pub stem: String,
+    /// File stem: the name and the stock (`pzt-2_pzt-sheet-piezo-systems-0.267mm`).
+    pub file_stem: String,
     /// Layer name.
     pub layer: String,
     /// Material as bought.
@@ -215,7 +217,7 @@ impl<'s> Drawn<'s> {
             }
         }
         let drawing = SheetDrawing {
-            stem,
+            stem: file_stem(&stem, drawing.stock.as_ref()),
             layer: layer.into(),
             drawing,
         };

@@ -64,7 +64,8 @@ pub enum BuildError {
 /// One named drawing (a layer on one sheet or panel).
 #[derive(Debug, Clone)]
 pub struct SheetDrawing {
-    /// File stem: `pzt-1`, `mold-2-1`, …
+    /// File stem: the sheet's name and its stock, `pzt-1_pzt-sheet-piezo-systems-0.267mm`,
+    /// `mold-2-1_ptfe-non-porous-0.127mm`, … ([`crate::cam::drawing::file_stem`]).
     pub stem: String,
     /// Layer name the report groups it under.
     pub layer: String,

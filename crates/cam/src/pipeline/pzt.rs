@@ -3,7 +3,7 @@
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::rect;
-use crate::cam::drawing::{Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
 use cam_geometry::{signed_area, Point};
@@ -44,6 +44,7 @@ pub(crate) fn draw_pzt_sheets(
         );
         let mut record = SheetRecord {
             stem: format!("pzt-{n}"),
+            file_stem: file_stem(&format!("pzt-{n}"), d.stock.as_ref()),
             layer: "pzt".into(),
             material: spec.material.clone(),
             width_mm: sheet.width_mm,
