@@ -2,7 +2,7 @@
 //! spacing, determinism and bad input.
 
 mod common;
-use actuator_cam::cam::drawing::Shape;
+use actuator_cam::cam::drawing::{Operation, Shape};
 use actuator_cam::cutsheet::design_for_process;
 use actuator_cam::design::Design;
 use actuator_cam::pipeline::{build, Names, Packing};
@@ -631,8 +631,21 @@ fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
-    let passive = &svg_paths(&svg, "preview passive part")[0].0;
-    let plate = &svg_paths(&svg, "preview PZT plate")[0].0;
+    // The preview is drawn at a scale its title states ("drawn at 4:1"); back to true size.
+    let scale: f64 = svg
+        .split("drawn at ")
+        .nth(1)
+        .unwrap()
+        .split(':')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let true_size = |ring: &Vec<[f64; 2]>| -> Vec<[f64; 2]> {
+        ring.iter().map(|[x, y]| [x / scale, y / scale]).collect()
+    };
+    let passive = &true_size(&svg_paths(&svg, "preview passive part")[0].0);
+    let plate = &true_size(&svg_paths(&svg, "preview PZT plate")[0].0);
     assert_eq!(plate.len(), 4);
     let outer = polygon(passive);
     for corner in plate {
@@ -646,8 +659,8 @@ fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
     }
     let r = report_json(&out);
     let pzt_area = r["layers"][0]["part_area_mm2"].as_f64().unwrap();
-    // The SVG holds 6 decimals: each corner within 5e-7 mm, so the area within perimeter x 5e-7.
-    let bound = perimeter(plate) * 5e-7;
+    // The SVG holds 6 decimals: each corner within 5e-7 mm / scale, so the area within perimeter x 5e-7.
+    let bound = perimeter(plate) * 5e-7 / scale;
     assert!(
         (pzt_area - area(plate)).abs() < bound,
         "{pzt_area} vs {} (bound {bound})",
@@ -810,6 +823,24 @@ fn preview_uses_no_operation_colour_or_layer_name() {
         );
     }
     assert_eq!(svg.matches("<path").count(), 2, "{svg}");
+    // Nothing in it is a line to follow, and it is not at true size: traced by mistake, no part fits.
+    assert_eq!(svg.matches("stroke=\"none\"").count(), 2, "{svg}");
+    assert!(!svg.contains("fill=\"none\""), "{svg}");
+    let page_mm: f64 = svg
+        .split("width=\"")
+        .nth(1)
+        .unwrap()
+        .split("mm")
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let r = report_json(&out);
+    let base_w = r["design"]["base_width_mm"].as_f64().unwrap();
+    assert!(
+        page_mm > 3.0 * (base_w + 2.0),
+        "page {page_mm} mm for a {base_w} mm wide actuator"
+    );
 }
 
 #[test]
@@ -1130,5 +1161,82 @@ fn streamed_files_equal_the_in_memory_render() {
     );
     for (name, bytes) in &expected {
         assert!(written[name] == *bytes, "{name} differs");
+    }
+}
+
+/// Points of `shape`'s path: its vertices and 16 points along each segment (circles and arcs by their
+/// bounds, which lie on them only at the axis points; guides are polygons and polylines).
+fn path_points(shape: &Shape) -> Vec<[f64; 2]> {
+    let ring = match shape {
+        Shape::Polygon(r) | Shape::Polyline(r) => r.clone(),
+        other => {
+            let (lo, hi) = other.bounds();
+            vec![lo, hi]
+        }
+    };
+    let mut points = ring.clone();
+    for w in ring.windows(2) {
+        for k in 1..16 {
+            let t = k as f64 / 16.0;
+            points.push([
+                w[0][0] + t * (w[1][0] - w[0][0]),
+                w[0][1] + t * (w[1][1] - w[0][1]),
+            ]);
+        }
+    }
+    points
+}
+
+#[test]
+fn nothing_that_is_never_run_crosses_a_cut_part() {
+    // Issue 28 item 4: the bonded-zone outline ran on the REFERENCE layer across every passive part's
+    // extension. LightBurn ignores layer locks and no-plot flags: left on, it cut each actuator in two. A
+    // never-run shape may surround parts (the PZT sheet edge) but no point of it lies inside a cut part.
+    for example in EXAMPLES {
+        for method in ["method-1", "method-2"] {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("examples")
+                .join(example);
+            let template = Template::resolve(method, &path).unwrap();
+            let design = design_for_process(&Design::load(&path).unwrap(), &template).unwrap();
+            let names = Names {
+                title: design.name.clone(),
+                file: example.into(),
+                name_designs: false,
+            };
+            let built = build(&[(&design, 2)], &[], &template, &names, &Packing::Shelf).unwrap();
+            let mut guides = 0;
+            for d in &built.drawings {
+                guides += d.drawing.guides().len();
+                let parts: Vec<Polygon<f64>> = d
+                    .drawing
+                    .shapes_of(Operation::Cut)
+                    .filter_map(|s| match s {
+                        Shape::Polygon(r) => Some(polygon(r)),
+                        _ => None,
+                    })
+                    .collect();
+                for never_run in d.drawing.shapes_of(Operation::Reference) {
+                    for q in path_points(never_run) {
+                        let p = geo::Point::new(q[0], q[1]);
+                        for part in &parts {
+                            let inside = part.intersects(&p)
+                                && Euclidean.distance(&p, part.exterior()) > 1e-6;
+                            assert!(
+                                !inside,
+                                "{example} by {method}, {}: a never-run line at {q:?} crosses a cut part",
+                                d.stem
+                            );
+                        }
+                    }
+                }
+            }
+            // The bonded zones are still in the files, as data: one per labelled part.
+            let labelled = labels_on_bonded_zones(example, method).0 > 0;
+            assert!(
+                !labelled || guides > 0,
+                "{example} by {method}: no bonded-zone guide"
+            );
+        }
     }
 }

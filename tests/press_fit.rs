@@ -57,7 +57,8 @@ fn every_example_presses_every_part_within_the_tolerance() {
         // outline, which encloses the rest.
         let cavities: Vec<Vec<geo::Polygon<f64>>> = (1..=films.len())
             .map(|k| {
-                let svg = std::fs::read_to_string(out.join(format!("mold-{k}-1.svg"))).unwrap();
+                let svg =
+                    std::fs::read_to_string(layer_file(&out, &format!("mold-{k}-1.svg"))).unwrap();
                 let mut rings: Vec<Vec<[f64; 2]>> = read_svg_polygons(&svg)
                     .unwrap()
                     .into_iter()

@@ -14,15 +14,17 @@ Cross-layer checks (issue 16):
   *.dxf  $EXTMIN/$EXTMAX set (not both the origin) and every entity inside them; the REFERENCE
          layer's colour is not the CUT layer's nor ACI 1 (red), and it is not plotted;
   report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
-         tolerance below it (or the report carries its warning).
+         tolerance below it (or the report carries its warning); the press fit of the laminate and of
+         the extension, computed from the layer thicknesses and the films, within the tolerance (or
+         warned) and as the report states it; each mold-K file's stock is film K of the stack.
   nest-report.json  every strip of roll stock (sheets[].roll): its DXF entities lie within the roll
          width and the reported length, the highest cut outline ends within 2 mm below that length
          (the separation and the 0.1 mm rounding), the SVG page is the roll width by that length, and
          the rolls[] row's length is that sheet's; with a price, cost = length / 1000 x price_per_m,
          and the cut sheets compared cost sheets x price_per_sheet.
-  passive-*.dxf  no label lies in a bonded zone: every open polyline (a label stroke: outlines are
-         closed, holes are circles) stays clear of every bonded zone, the closed polylines of the
-         REFERENCE layer; labelled sheets must mark one zone per part (CUT outline), and with a
+  passive-*.svg  no label lies in a bonded zone: every open path (a label stroke: outlines are
+         closed, holes are arcs) stays clear of every bonded zone, the metadata guides of kind
+         bonded-zone; labelled sheets must mark one zone per part (CUT outline), and with a
          cut-sheet report.json beside them each zone spans the design's PZT length along the part axis
          (piezo_length_mm less pzt_edge_margin_mm), so a zone is the plate the design says.
 Prints one line per failing file, then `check_outputs: N passed, M failed`.
@@ -121,20 +123,39 @@ def segment_hits_convex(a, b, ring):
     return t1 - t0 > 1e-9
 
 
-def check_bonded_zones(path, doc):
-    """Labels against bonded zones on one passive sheet (see the module doc)."""
-    problems = []
-    labels, zones, outlines = [], [], 0
-    for e in doc.modelspace():
-        if e.dxftype() != "LWPOLYLINE":
-            continue
-        points = [(x, y) for x, y, *_ in e.get_points()]
-        if not e.closed:
-            labels.append(points)
-        elif e.dxf.layer == "REFERENCE":
-            zones.append(points)
+GUIDE = "{urn:actuator-cam:guide}guide"
+
+
+def polyline_of(d):
+    """The points of a path made of M and L commands, and whether it is closed (ends in Z)."""
+    tokens = PATH_TOKEN.findall(d)
+    points, i = [], 0
+    while i < len(tokens):
+        if tokens[i] in ("M", "L"):
+            points.append((float(tokens[i + 1]), float(tokens[i + 2])))
+            i += 3
         else:
-            outlines += 1
+            i += 1
+    return points, d.strip().endswith("Z")
+
+
+def check_bonded_zones(path, root):
+    """Labels against bonded zones on one passive sheet (see the module doc). The zones are guides in
+    the SVG metadata, never paths: a path inside a part would be cut by laser software that ignores
+    layer locks."""
+    problems = []
+    zones = [polyline_of(g.get("d", ""))[0] for g in root.iter(GUIDE) if g.get("kind") == "bonded-zone"]
+    labels, outlines = [], 0
+    for group in root.iter(SVG_NS + "g"):
+        for p in group.iter(SVG_NS + "path"):
+            d = p.get("d", "")
+            if "A" in d:
+                continue  # holes
+            points, closed = polyline_of(d)
+            if group.get(INKSCAPE_LABEL) == "CUT" and closed:
+                outlines += 1
+            elif not closed:
+                labels.append(points)
     if not labels:
         return problems
     if len(zones) != outlines:
@@ -183,8 +204,6 @@ def check_dxf(path):
     if kinds:
         problems.append(f"entities other than LWPOLYLINE/CIRCLE/ARC: {', '.join(kinds)}")
     problems += check_dxf_cross_layer(doc)
-    if Path(path).name.startswith("passive-"):
-        problems += check_bonded_zones(Path(path), doc)
     return problems
 
 
@@ -259,6 +278,8 @@ def check_svg(path):
             problems.append(f"path d uses other than absolute M/L/A/Z: {d[:60]!r}")
     if off_page:
         problems.append(f"{off_page} drawn point(s) off the page")
+    if Path(path).name.startswith("passive-"):
+        problems += check_bonded_zones(Path(path), root)
     return problems
 
 
@@ -311,6 +332,51 @@ def check_report(path):
         problems.append("mold height is not the sum of its films")
     if diff_um > mold["tolerance_um"] + 1e-3 and not mold.get("warning"):
         problems.append(f"mold {diff_um:.1f} um below the laminate, beyond {mold['tolerance_um']} um, without a warning")
+    problems += check_press_fit(Path(path).parent, report)
+    return problems
+
+
+def check_press_fit(folder, report):
+    """The press fit of every part region, computed here from the layer thicknesses and the mold films
+    (not read from the report's own press_fit rows), and each mold file's stock against its film.
+
+    The laminate is the lower PZT plate, the core (passive plies, plus a Pyralux bond layer on each side
+    in method 1) and the upper plate. The films holding the lower plate, the core and the upper plate
+    ("holds") stack up to three band tops. Over the PZT zone the laminate stands proud of the whole mold
+    by laminate - mold; over the extension (core only) there is a void of t_p - lower top under it and it
+    stands t_p + core - core top proud. Each must be within the tolerance, or the report must warn."""
+    mold = report["mold"]
+    thickness = {row["layer"]: row["thickness_mm"] for row in report["layers"]}
+    t_p = thickness["pzt"]
+    core = thickness["passive"] + 2.0 * thickness.get("pyralux", 0.0)
+    tops, height = {}, 0.0
+    for film, holds in zip(mold["films_mm"], mold["holds"]):
+        height += film
+        tops[holds] = height
+    lower = tops.get("lower plate", 0.0)
+    core_top = tops.get("core", lower)
+    regions = {
+        "laminate": (0.0, 2.0 * t_p + core - height),
+        "extension": (t_p - lower, t_p + core - core_top),
+    }
+    tolerance = mold["tolerance_um"] * 1e-3
+    problems = []
+    for region, (void, proud) in regions.items():
+        if (void > tolerance + 1e-9 or proud > tolerance + 1e-9 or void < -1e-9 or proud < -1e-9) \
+                and not mold.get("warning"):
+            problems.append(f"{region}: {void * 1e3:.1f} um void under it, {proud * 1e3:.1f} um proud, "
+                            f"beyond {mold['tolerance_um']} um without a warning")
+        stated = [f for f in mold.get("press_fit", []) if f["region"] == region]
+        if stated and (abs(stated[0]["void_below_um"] - void * 1e3) > 0.06
+                       or abs(stated[0]["proud_um"] - proud * 1e3) > 0.06):
+            problems.append(f"{region}: the report's press fit {stated[0]} is not the films' "
+                            f"({void * 1e3:.1f} um void, {proud * 1e3:.1f} um proud)")
+    # Each mold sheet is cut from the film the stack needs: its file's stock says so.
+    for k, film in enumerate(mold["films_mm"], start=1):
+        for svg in folder.glob(f"mold-{k}-*.svg"):
+            stock = re.search(r'<stock [^>]*thickness_mm="([^"]+)"', svg.read_text())
+            if not stock or abs(float(stock.group(1)) - film) > 1e-9:
+                problems.append(f"{svg.name}: stock {stock and stock.group(1)} mm, the stack needs {film} mm")
     return problems
 
 

@@ -252,6 +252,19 @@ pub struct Drawing {
     /// The stock the sheet is cut from; `None` for a drawing that is not cut (the preview).
     pub stock: Option<Stock>,
     items: Vec<(Operation, Shape)>,
+    guides: Vec<Guide>,
+}
+
+/// A closed outline that informs and is never a path: where a PZT plate is bonded on a passive part.
+/// A guide drawn as a line would cross the part it describes, and laser software that ignores layer
+/// locks and no-plot flags (LightBurn does) would cut along it; so a file carries guides only as data
+/// (SVG metadata), never as geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guide {
+    /// What the outline marks (`bonded-zone`).
+    pub kind: &'static str,
+    /// The outline, sheet coordinates, mm.
+    pub ring: Vec<Point>,
 }
 
 impl Drawing {
@@ -263,6 +276,7 @@ impl Drawing {
             title: title.to_string(),
             stock: None,
             items: Vec::new(),
+            guides: Vec::new(),
         }
     }
 
@@ -298,6 +312,16 @@ impl Drawing {
     /// Appends a shape processed by `op`.
     pub fn add(&mut self, op: Operation, shape: Shape) {
         self.items.push((op, shape));
+    }
+
+    /// Adds a guide: data about the sheet, never drawn as a path.
+    pub fn add_guide(&mut self, kind: &'static str, ring: Vec<Point>) {
+        self.guides.push(Guide { kind, ring });
+    }
+
+    /// The guides in insertion order.
+    pub fn guides(&self) -> &[Guide] {
+        &self.guides
     }
 
     /// All items in insertion order.

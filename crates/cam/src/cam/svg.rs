@@ -165,8 +165,10 @@ fn path_data(d: &mut String, shape: &Shape, margin_mm: f64, page_height_mm: f64)
 pub struct LayerStyle {
     /// `inkscape:label` of the layer (and, lower-cased, its id).
     pub name: String,
-    /// Stroke colour, `#RRGGBB`.
+    /// Stroke colour, `#RRGGBB`; the fill colour of a filled layer.
     pub colour: String,
+    /// Shapes filled and not stroked: a picture that laser software cannot take for a vector path to cut.
+    pub filled: bool,
 }
 
 /// Writes `drawing` as an SVG document (deterministic: same drawing, same bytes).
@@ -177,6 +179,7 @@ pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
     write_svg(drawing, opts.stroke_mm, |op| LayerStyle {
         name: op.layer_name().to_string(),
         colour: opts.palette.svg_colour(op).to_string(),
+        filled: false,
     })
 }
 
@@ -211,10 +214,10 @@ pub fn write_svg(
                 xml_escape(&stock)
             );
             // The stock again as data, for tools that read the file rather than show it.
-            let _ = writeln!(
+            let _ = write!(
                 out,
                 "  <metadata><stock xmlns=\"urn:actuator-cam:stock\" material=\"{}\" thickness_mm=\"{}\" \
-                 width_mm=\"{}\" height_mm=\"{}\"/></metadata>",
+                 width_mm=\"{}\" height_mm=\"{}\"/>",
                 xml_escape(&s.material),
                 fmt_mm(s.thickness_mm),
                 fmt_mm(drawing.width_mm),
@@ -223,10 +226,35 @@ pub fn write_svg(
         }
         None => {
             let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
+            if !drawing.guides().is_empty() {
+                out.push_str("  <metadata>");
+            }
         }
     }
+    // Guides are data, not paths (crate::cam::drawing::Guide): in the metadata, in page coordinates.
+    for g in drawing.guides() {
+        let _ = write!(
+            out,
+            "<guide xmlns=\"urn:actuator-cam:guide\" kind=\"{}\" d=\"",
+            g.kind
+        );
+        path_data(
+            &mut out,
+            &Shape::Polygon(g.ring.clone()),
+            margin,
+            page_height,
+        );
+        out.push_str("\"/>");
+    }
+    if drawing.stock.is_some() || !drawing.guides().is_empty() {
+        out.push_str("</metadata>\n");
+    }
     for op in drawing.operations() {
-        let LayerStyle { name, colour } = style(op);
+        let LayerStyle {
+            name,
+            colour,
+            filled,
+        } = style(op);
         // The reference layer is locked in Inkscape, so its guides are seen but not picked up.
         let locked = if op == Operation::Reference {
             " sodipodi:insensitive=\"true\""
@@ -242,10 +270,14 @@ pub fn write_svg(
         for shape in drawing.shapes_of(op) {
             out.push_str("    <path d=\"");
             path_data(&mut out, shape, margin, page_height);
-            let _ = writeln!(
-                out,
-                "\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"/>"
-            );
+            if filled {
+                let _ = writeln!(out, "\" fill=\"{colour}\" stroke=\"none\"/>");
+            } else {
+                let _ = writeln!(
+                    out,
+                    "\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"/>"
+                );
+            }
         }
         out.push_str("  </g>\n");
     }

@@ -332,9 +332,9 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
         for p in &layout.parts {
             let item = &layer.items[p.item];
             if let Some(zone) = item.label.bonded_zone() {
-                d.add(
-                    op(Feature::BondedZone),
-                    Shape::Polygon(place_ring(&zone, p.rotation_deg, p.translation)),
+                d.add_guide(
+                    "bonded-zone",
+                    place_ring(&zone, p.rotation_deg, p.translation),
                 );
             }
             if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {

@@ -21,8 +21,6 @@ pub enum Feature {
     RegistrationHole,
     /// Design name and copy number along a part's axis.
     PartLabel,
-    /// Where a PZT plate is bonded on a passive part: a guide showing labels stay off it.
-    BondedZone,
     /// Outline of a clamp panel.
     PanelOutline,
     /// Registration pin hole of a clamp panel.
@@ -49,20 +47,16 @@ const SCORE_LINE: &[Operation] = &[Operation::Score, Operation::Cut, Operation::
 /// The sheet edge is only a guide: the never-run reference, or a mark. A cut along it would trace the
 /// sheet edge with the laser.
 const GUIDE: &[Operation] = &[Operation::Reference, Operation::Engrave, Operation::Score];
-/// The bonded zone is a guide that must never be run: engraved or scored, it would groove the very
-/// face the PZT is bonded to.
-const BONDED: &[Operation] = &[Operation::Reference];
 
 impl Feature {
     /// Every feature, in the order of the `[features]` table of the shipped templates.
-    pub const ALL: [Feature; 14] = [
+    pub const ALL: [Feature; 13] = [
         Feature::PztScoreLine,
         Feature::PztSheetOutline,
         Feature::PartOutline,
         Feature::Via,
         Feature::RegistrationHole,
         Feature::PartLabel,
-        Feature::BondedZone,
         Feature::PanelOutline,
         Feature::PinHole,
         Feature::MoldCavity,
@@ -81,7 +75,6 @@ impl Feature {
             Feature::Via => "via",
             Feature::RegistrationHole => "registration-hole",
             Feature::PartLabel => "part-label",
-            Feature::BondedZone => "bonded-zone",
             Feature::PanelOutline => "panel-outline",
             Feature::PinHole => "pin-hole",
             Feature::MoldCavity => "mold-cavity",
@@ -96,7 +89,7 @@ impl Feature {
     pub fn default_operation(self) -> Operation {
         match self {
             Feature::PztScoreLine => Operation::Score,
-            Feature::PztSheetOutline | Feature::BondedZone => Operation::Reference,
+            Feature::PztSheetOutline => Operation::Reference,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
@@ -110,7 +103,6 @@ impl Feature {
         match self {
             Feature::PztScoreLine => SCORE_LINE,
             Feature::PztSheetOutline => GUIDE,
-            Feature::BondedZone => BONDED,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
