@@ -2,6 +2,7 @@
 //! bending actuators, on top of the `actuator-model` physics crate.
 
 pub mod batch;
+pub mod book;
 pub mod calibrate;
 pub mod cam;
 pub mod cutsheet;

@@ -3,9 +3,12 @@
 //! `nest-report.md`.
 
 use super::file::Batch;
+use crate::book::{BuildBook, DesignFacts};
 use crate::parts::PartSheet;
 use crate::pipeline::{BaselineRow, Build, NestOptions, StockCount, WORKERS};
+use crate::prediction::Prediction;
 use crate::process::template::PassiveCut;
+use actuator_model::ModelKind;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -168,6 +171,8 @@ pub struct NestReport {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub rolls: Vec<RollRow>,
     pub placement_map: Vec<String>,
+    /// The build book: the process step by step for the whole batch (crate::book).
+    pub build_book: BuildBook,
     pub files: Vec<String>,
 }
 
@@ -428,6 +433,21 @@ impl NestReport {
             total_cost,
             rolls,
             placement_map: built.placement_map.clone(),
+            build_book: BuildBook::new(
+                t,
+                built,
+                &batch
+                    .items
+                    .iter()
+                    .map(|item| DesignFacts {
+                        name: item.design.name.clone(),
+                        base_tab_mm: item.design.planform.base_tab * 1e3,
+                        capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
+                            .ok()
+                            .map(|p| p.capacitance_nF),
+                    })
+                    .collect::<Vec<_>>(),
+            ),
             files: Vec::new(),
         }
     }
@@ -617,6 +637,8 @@ impl NestReport {
                 who.join(", ")
             );
         }
+        let _ = writeln!(s, "\n## Build book");
+        let _ = write!(s, "{}", self.build_book.markdown());
         let _ = writeln!(s, "\n## Parts on each sheet\n");
         let _ = writeln!(s, "Position: {COORDINATES}\n");
         for sh in &self.sheets {

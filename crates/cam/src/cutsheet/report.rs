@@ -3,6 +3,7 @@
 
 use super::layers::LayerRow;
 use super::template::Template;
+use crate::book::{BuildBook, DesignFacts};
 use crate::design::Design;
 use crate::input::{ensure_finite, short_number, InputError};
 use crate::pipeline::{Build, Label, MoldBand, MoldChoice, StockCount};
@@ -146,7 +147,8 @@ pub struct Report {
     /// How the mold stack meets the laminate (docs/cam.md §1, "Mold layers").
     pub mold: MoldReport,
     pub stacking_order: Vec<String>,
-    pub build_steps: Vec<String>,
+    /// The build book: the process step by step (crate::book).
+    pub build_book: BuildBook,
     pub placement_map: Vec<String>,
     pub files: Vec<String>,
 }
@@ -165,6 +167,15 @@ impl Report {
             .iter()
             .map(|l| l.mass_per_actuator_mg)
             .fold(0.0, |a, b| a + b);
+        let build_book = BuildBook::new(
+            template,
+            built,
+            &[DesignFacts {
+                name: design.name.clone(),
+                base_tab_mm: p.base_tab * 1e3,
+                capacitance_nf: Some(predicted.capacitance_nF),
+            }],
+        );
         Report {
             design: DesignSummary {
                 name: design.name.clone(),
@@ -200,7 +211,7 @@ impl Report {
             stock_list: built.stock.clone(),
             mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
             stacking_order: built.clamps[0].stack.clone(),
-            build_steps: template.cure_steps.clone(),
+            build_book,
             placement_map: built.placement_map.clone(),
             files: Vec::new(),
         }
@@ -337,16 +348,14 @@ impl Report {
         }
         let _ = writeln!(s, "\n## Stock list\n");
         let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
-        let _ = writeln!(s, "\n## Build checklist\n");
+        let _ = writeln!(s, "\n## Build book\n");
         let _ = writeln!(
             s,
-            "Clamp stack, bottom to top ({} panel(s)): {}\n",
+            "Clamp stack, bottom to top ({} panel(s)): {}",
             self.clamp_panels,
             self.stacking_order.join(" → ")
         );
-        for (i, step) in self.build_steps.iter().enumerate() {
-            let _ = writeln!(s, "{}. [ ] {step}", i + 1);
-        }
+        let _ = write!(s, "{}", self.build_book.markdown());
         let _ = writeln!(
             s,
             "\nKerf values are starting points: calibrate them on a coupon of each material.\n"

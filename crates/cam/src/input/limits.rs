@@ -179,3 +179,8 @@ pub const COUPLER_RATIO: Range = Range::closed(0.1, 100.0, "");
 pub const TRAVEL_MM: Range = Range::positive_up_to(1000.0, "mm");
 /// Rotational stiffness of the flexures about the wing hinge.
 pub const FLEXURE_STIFFNESS_UNM_PER_RAD: Range = Range::closed(0.0, 1e9, "uN m/rad");
+
+/// Cure temperatures a prepreg or Pyralux schedule can ask for, °C (`[cure] temperature_C`).
+pub const CURE_C: Range = Range::closed(20.0, 400.0, "°C");
+/// Cure times, minutes, up to a day (`[cure] time_min`).
+pub const CURE_MIN: Range = Range::closed(1.0, 1440.0, "min");

@@ -6,7 +6,7 @@ use super::mold::{choose_mold, LaminateBands, MoldBand, MoldChoice};
 use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
 use super::parts::PartGeometry;
 use super::BuildError;
-use crate::cam::drawing::{Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::cam::label::{label_strokes, label_width};
 use crate::design::Design;
 use crate::process::template::{ClampSpec, Template};
@@ -57,6 +57,8 @@ pub struct ClampBuild {
     pub panels: Vec<Vec<(usize, usize)>>,
     /// Number of the first panel (1-based).
     pub first_panel: usize,
+    /// The file stems of each stack level (as `stack`), one per panel: what the build book names.
+    pub files: Vec<Vec<String>>,
     /// The mold films, bottom to top, and how the mold height meets the laminate height.
     pub mold: MoldChoice,
 }
@@ -184,6 +186,7 @@ pub fn clamp_layers(
         return Ok(ClampBuild {
             stack: Vec::new(),
             panels: Vec::new(),
+            files: Vec::new(),
             first_panel: drawn.panels + 1,
             mold: choose_mold(
                 LaminateBands {
@@ -284,6 +287,7 @@ pub fn clamp_layers(
     let design = first.design;
     let features = &template.features;
     let mut offsets = Offsets::default();
+    let mut files = vec![Vec::new(); levels];
     for (k, (kind, prefix, j)) in stack.iter().enumerate() {
         let spec = if kind == "mold" {
             &template.mold
@@ -387,6 +391,7 @@ pub fn clamp_layers(
                 features.op(Feature::PanelOutline),
                 Shape::Polygon(offsets.kerfed(design, &outline, kerf / 2.0, "panel outline")?),
             );
+            files[k].push(file_stem(&format!("{prefix}-{number}"), d.stock.as_ref()));
             drawn.push(format!("{prefix}-{number}"), kind, d);
         }
     }
@@ -397,6 +402,7 @@ pub fn clamp_layers(
             .map(|m| m.iter().map(|(k, a, _)| (jobs[*k].0, *a)).collect())
             .collect(),
         first_panel,
+        files,
         mold,
     })
 }

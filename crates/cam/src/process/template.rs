@@ -6,9 +6,10 @@ use super::features::FeatureMap;
 use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
 use crate::input::limits::{
-    ACI, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM, LABEL_HEIGHT_MM,
-    LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE,
-    SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
+    ACI, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM,
+    LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM,
+    PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES,
+    VIA_DIAMETER_MM,
 };
 use crate::input::{parse_toml, read_toml, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -67,6 +68,27 @@ pub struct MoldStock {
     pub films_mm: Vec<f64>,
     /// Largest allowed height of a part above the film over it, and void under it, mm.
     pub tolerance_mm: f64,
+}
+
+/// A cure: temperature and time, and how the stack is pressed (`[cure]`, `[cure.passive]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CureStep {
+    /// Oven or press temperature, °C.
+    pub temperature_c: f64,
+    /// Time at temperature, minutes.
+    pub time_min: f64,
+    /// How the stack is pressed, in the lab's words (a C-clamp, a press and its pressure).
+    pub pressure: String,
+}
+
+/// The cures a process needs: the clamp stack in the oven, and (method 1) the passive layup pressed
+/// and cured before it is cut.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cure {
+    /// The clamp stack's cure.
+    pub clamp: CureStep,
+    /// The passive layup's own cure before cutting (method 1), if the process has one.
+    pub passive: Option<CureStep>,
 }
 
 /// Default run of a score line past the sheet edge, mm: docs/cam.md §4, "Scoring the ceramic".
@@ -142,8 +164,8 @@ pub struct Template {
     pub passive_cut: PassiveCut,
     /// Engraved label text height, mm.
     pub label_height_mm: f64,
-    /// Build checklist, in order.
-    pub cure_steps: Vec<String>,
+    /// The cure in the clamp, and the passive pre-cure of method 1.
+    pub cure: Cure,
     /// Clamp panel.
     pub clamp: ClampSpec,
     /// PZT sheets.
@@ -284,9 +306,30 @@ impl Template {
         let label_height_mm = root
             .optional_number_in("label_height_mm", LABEL_HEIGHT_MM)?
             .unwrap_or(1.0);
-        let cure = root.table("cure")?;
-        let cure_steps = cure.strings("steps", "an array of checklist lines")?;
-        cure.finish()?;
+        let cure_table = root.table("cure")?;
+        let step = |t: &TableReader<'_>| -> Result<CureStep, InputError> {
+            Ok(CureStep {
+                temperature_c: t.number_in("temperature_C", CURE_C)?,
+                time_min: t.number_in("time_min", CURE_MIN)?,
+                pressure: t
+                    .string("pressure", "how the stack is pressed, in words")?
+                    .to_string(),
+            })
+        };
+        let clamp_cure = step(&cure_table)?;
+        let passive_cure = match cure_table.optional_table("passive")? {
+            Some(t) => {
+                let s = step(&t)?;
+                t.finish()?;
+                Some(s)
+            }
+            None => None,
+        };
+        cure_table.finish()?;
+        let cure = Cure {
+            clamp: clamp_cure,
+            passive: passive_cure,
+        };
 
         let c = root.table("clamp")?;
         let clamp = ClampSpec {
@@ -402,7 +445,7 @@ impl Template {
             description,
             passive_cut,
             label_height_mm,
-            cure_steps,
+            cure,
             clamp,
             pzt,
             passive,

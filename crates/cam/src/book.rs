@@ -1,0 +1,334 @@
+//! The build book: the thesis' manufacturing process (§3.2.1 method 1, §3.2.2 method 2, with the
+//! lessons of §4.9) written out for one build, step by step, naming the files a technician cuts with
+//! their stock, the order the plates snap in, what goes into the mold after which sheet, the cure, the
+//! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
+
+use crate::pipeline::{Build, MoldBand};
+use crate::process::template::{CureStep, Template};
+use serde::Serialize;
+
+/// One section of the book: a stage of the process, its steps in order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Section {
+    /// The stage (`Cut`, `Stack clamp 1`, …).
+    pub title: String,
+    /// The steps, in order.
+    pub steps: Vec<String>,
+}
+
+/// What the book needs to know of each design in the build, to check and wire its actuators.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignFacts {
+    /// Design name.
+    pub name: String,
+    /// Base tab length, mm: the ground wire's pad when it is not zero.
+    pub base_tab_mm: f64,
+    /// Predicted capacitance of one PZT plate, nF, when the model gives one.
+    pub capacitance_nf: Option<f64>,
+}
+
+/// The build book of a build, stage by stage.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BuildBook {
+    /// The stages in order.
+    pub sections: Vec<Section>,
+}
+
+/// `°C` with its Fahrenheit, as the thesis gives its oven settings.
+fn temperature(c: f64) -> String {
+    format!("{c:.0} °C ({:.0} F)", c * 9.0 / 5.0 + 32.0)
+}
+
+/// A cure's time in hours and minutes.
+fn duration(min: f64) -> String {
+    let (h, m) = ((min / 60.0).floor(), min % 60.0);
+    match (h > 0.0, m > 0.0) {
+        (true, true) => format!("{h:.0} h {m:.0} min"),
+        (true, false) => format!("{h:.0} h"),
+        _ => format!("{m:.0} min"),
+    }
+}
+
+fn cure_text(c: &CureStep) -> String {
+    format!(
+        "{} at {}, {}",
+        duration(c.time_min),
+        temperature(c.temperature_c),
+        c.pressure
+    )
+}
+
+/// `names` as a list in backticks.
+fn listed(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl BuildBook {
+    /// The book of `built`, made by `template`'s process, for `designs` (in job order).
+    pub fn new(template: &Template, built: &Build, designs: &[DesignFacts]) -> BuildBook {
+        let method_1 = template.bond.is_some();
+        let sheets_of = |layer: &dyn Fn(&str) -> bool| -> Vec<String> {
+            built
+                .sheets
+                .iter()
+                .filter(|s| layer(&s.layer))
+                .map(|s| s.file_stem.clone())
+                .collect()
+        };
+        let pzt = sheets_of(&|l| l == "pzt");
+        let passive = sheets_of(&|l| l.starts_with("passive"));
+        let bond = sheets_of(&|l| l == "pyralux");
+        let ply_by_ply = built.sheets.iter().any(|s| s.layer.starts_with("passive-"));
+
+        let mut cut = vec![format!(
+            "Every file below is named by its sheet and its stock (material, thickness): take that \
+             stock off the shelf, put it on the bed at the file's origin, and load the `.svg` or `.dxf` \
+             of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
+             grey REFERENCE layer's output off."
+        )];
+        let passive_cut = if ply_by_ply {
+            format!(
+                "Cut each prepreg ply on its own sheet, fibres along the sheet's x axis, turned to its ply \
+                 angle in the file: {}. Stack the plies on the registration pins through their holes.",
+                listed(&passive)
+            )
+        } else {
+            format!(
+                "Lay up the prepreg plies in the design's layup order and cut the passive parts from the \
+                 stack: {}.",
+                listed(&passive)
+            )
+        };
+        if method_1 {
+            // Thesis §3.2.1: the passive layer is cured first, then cut; the Pyralux is cut on porous
+            // Teflon; the PZT is scored and snapped; then the molds and the clamp covers.
+            if let Some(pre) = &template.cure.passive {
+                cut.push(format!(
+                    "Lay up the prepreg plies and cure the layup before cutting it: {}.",
+                    cure_text(pre)
+                ));
+            }
+            cut.push(format!(
+                "Cut the passive parts from the cured layup: {}.",
+                listed(&passive)
+            ));
+            cut.push(format!(
+                "Peel the Pyralux off its backing, lay it on a sheet of porous Teflon and cut the bond \
+                 parts with their vias: {}. Leave the vias empty: the silver epoxy goes in at stacking.",
+                listed(&bond)
+            ));
+        }
+        cut.push(format!(
+            "Lay each PZT sheet on the bed with its + face (the supplier's pole mark) up and score it \
+             along the blue lines, several low-power passes to 1/3-1/2 of its thickness: {}. Scored from \
+             the + face, every plate's bevelled score edge marks its + face.",
+            listed(&pzt)
+        ));
+        cut.push(
+            "Snap the plates off: first along each line that crosses the whole sheet, the strip \
+             pressed over a straight edge, then along the slanted lines between the plates of each \
+             strip, one plate at a time from one end; a slanted line breaks cleanly only once its strip \
+             is free. Put each plate + face up on a tray and mark the + face with a dot at its root."
+                .to_string(),
+        );
+        for (k, clamp) in built.clamps.iter().enumerate() {
+            let stack = if built.clamps.len() > 1 {
+                format!(" of clamp stack {}", k + 1)
+            } else {
+                String::new()
+            };
+            let molds: Vec<String> = clamp
+                .stack
+                .iter()
+                .zip(&clamp.files)
+                .filter(|(name, _)| name.starts_with("mold-"))
+                .flat_map(|(_, f)| f.iter().cloned())
+                .collect();
+            cut.push(format!(
+                "Cut the mold sheets{stack} from non-porous Teflon, each from the film its name gives \
+                 (the films differ: the mold must match the laminate band by band): {}.",
+                listed(&molds)
+            ));
+            let covers: Vec<String> = clamp
+                .stack
+                .iter()
+                .zip(&clamp.files)
+                .filter(|(name, _)| !name.starts_with("mold-"))
+                .flat_map(|(_, f)| f.iter().cloned())
+                .collect();
+            cut.push(format!(
+                "Cut the clamp covers{stack} (felt, Teflon{}): {}.",
+                if method_1 {
+                    ""
+                } else {
+                    ", porous Teflon, bleeder cloth"
+                },
+                listed(&covers)
+            ));
+        }
+        if !method_1 {
+            // Thesis §3.2.2 step 4: the prepreg is cut last, just before it goes into the mold.
+            cut.push(format!(
+                "{passive_cut} Cut it last, just before stacking: the prepreg must still be tacky."
+            ));
+        }
+
+        let mut sections = vec![Section {
+            title: "Cut".into(),
+            steps: cut,
+        }];
+        for (k, clamp) in built.clamps.iter().enumerate() {
+            let panels = clamp.files.first().map_or(0, Vec::len);
+            let title = if panels > 1 {
+                format!(
+                    "Stack clamp {} (panels {}-{})",
+                    k + 1,
+                    clamp.first_panel,
+                    clamp.first_panel + panels - 1
+                )
+            } else {
+                format!("Stack clamp {} (panel {})", k + 1, clamp.first_panel)
+            };
+            let mut steps = vec![format!(
+                "On the clamp's lower plate, bottom to top, each sheet over the registration pins \
+                 through its pin holes{}:",
+                if panels > 1 {
+                    "; one sheet of each layer per panel, each panel its own stack"
+                } else {
+                    ""
+                }
+            )];
+            let holds = &clamp.mold.bands;
+            let last_of = |band: MoldBand| -> Option<usize> {
+                holds
+                    .iter()
+                    .rposition(|b| *b == band)
+                    .map(|j| format!("mold-{}", j + 1))
+                    .and_then(|name| clamp.stack.iter().position(|s| *s == name))
+            };
+            let (lower, core, upper) = (
+                last_of(MoldBand::LowerPlate),
+                last_of(MoldBand::Core),
+                last_of(MoldBand::UpperPlate),
+            );
+            for (level, (name, files)) in clamp.stack.iter().zip(&clamp.files).enumerate() {
+                steps.push(format!("Lay {name}: {}.", listed(files)));
+                if Some(level) == lower {
+                    steps.push(
+                        "Put a PZT plate in each cavity, + face up (the dot at its root, the \
+                         bevelled edge up)."
+                            .into(),
+                    );
+                }
+                if Some(level) == core {
+                    steps.push(if method_1 {
+                        "Into each cavity: a Pyralux part with a small drop of silver epoxy in its via, \
+                         the cured passive part, then a second Pyralux part with its drop of silver \
+                         epoxy."
+                            .into()
+                    } else {
+                        "Put the uncured passive part in each cavity, pressed flat onto the plate.".into()
+                    });
+                }
+                if Some(level) == upper {
+                    steps.push(
+                        "Put the second PZT plate in each cavity, + face up like the first, so both \
+                         plates are poled the same way (parallel drive)."
+                            .into(),
+                    );
+                }
+            }
+            steps.push(
+                "Look down the stacking windows: each shows its layer number, 1 at the bottom, in \
+                 order; a missing or repeated number is a sheet out of place."
+                    .into(),
+            );
+            sections.push(Section { title, steps });
+        }
+        let c = &template.cure.clamp;
+        sections.push(Section {
+            title: "Cure and clamp".into(),
+            steps: vec![
+                format!("Close the clamp: {}.", c.pressure),
+                format!(
+                    "Cure in the oven {} at {}.",
+                    duration(c.time_min),
+                    temperature(c.temperature_c)
+                ),
+                "Let the stack cool to room temperature in the clamp before opening it.".into(),
+            ],
+        });
+        sections.push(Section {
+            title: "Release and trim".into(),
+            steps: vec![
+                "Open the clamp and lift the sheets off one by one; push each actuator out of its cavity \
+                 from below, never levering on the PZT."
+                    .into(),
+                "Trim any flash from the outline by hand with a sharp blade.".into(),
+                "Scrape the squeeze-out off every edge with a sharp knife, along the PZT edges \
+                 especially: resin or silver epoxy bridging a plate's electrode to the carbon shorts \
+                 the actuator (thesis §4.9.3)."
+                    .into(),
+            ],
+        });
+        let mut checks = Vec::new();
+        for d in designs {
+            let predicted = match d.capacitance_nf {
+                Some(c) => format!("The model predicts {c:.2} nF per plate; well below it"),
+                None => "Well below the other plates' value".to_string(),
+            };
+            checks.push(format!(
+                "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
+                 at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
+                d.name
+            ));
+        }
+        checks.push(
+            "Check for shorts: each outer face to the carbon and face to face reads open on a meter's \
+             highest resistance range. A short is squeeze-out: scrape again, then re-measure."
+                .into(),
+        );
+        sections.push(Section {
+            title: "Electrical checks".into(),
+            steps: checks,
+        });
+        let mut wiring = Vec::new();
+        for d in designs {
+            let ground = if d.base_tab_mm > 0.0 {
+                format!("base tab ({} mm of bare carbon)", d.base_tab_mm)
+            } else {
+                "edge at the root end, the only carbon this design exposes (0.2-0.3 mm: it has no base \
+                 tab; a base_tab_mm of 1 mm or more in the design gives the wire a pad)"
+                    .to_string()
+            };
+            wiring.push(format!(
+                "{}: wires on with silver epoxy, cured with a heat gun: white to the carbon {ground}; \
+                 red to the + face; black to the - face.",
+                d.name
+            ));
+        }
+        sections.push(Section {
+            title: "Wiring".into(),
+            steps: wiring,
+        });
+        BuildBook { sections }
+    }
+
+    /// The book as a Markdown checklist, steps numbered through the whole book.
+    pub fn markdown(&self) -> String {
+        let mut s = String::new();
+        let mut n = 0;
+        for section in &self.sections {
+            s.push_str(&format!("\n### {}\n\n", section.title));
+            for step in &section.steps {
+                n += 1;
+                s.push_str(&format!("{n}. [ ] {step}\n"));
+            }
+        }
+        s
+    }
+}

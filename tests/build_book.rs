@@ -1,0 +1,179 @@
+//! The build book is the thesis' process (§3.2.1, §3.2.2, §4.9) for the files written: every layer file
+//! is named with its stock, the steps come in the thesis' order for each method, the parts go into the
+//! mold after the sheets that hold them, and the checks and wiring follow each design.
+
+mod common;
+use common::*;
+use serde_json::Value;
+use std::path::Path;
+
+/// The book's steps, in order, each with the title of its section.
+fn steps(book: &Value) -> Vec<(String, String)> {
+    book["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|s| {
+            let title = s["title"].as_str().unwrap().to_string();
+            s["steps"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(move |t| (title.clone(), t.as_str().unwrap().to_string()))
+        })
+        .collect()
+}
+
+/// Index of the first step containing `text`.
+fn first(steps: &[(String, String)], text: &str) -> usize {
+    steps
+        .iter()
+        .position(|(_, s)| s.contains(text))
+        .unwrap_or_else(|| panic!("no step says {text:?}"))
+}
+
+/// Every layer file of `out` (stem) is named in the book's Cut section.
+fn every_file_is_cut(out: &Path, steps: &[(String, String)]) {
+    let cut: String = steps
+        .iter()
+        .filter(|(t, _)| t == "Cut")
+        .map(|(_, s)| s.as_str())
+        .collect();
+    for name in files(out).into_keys() {
+        if let Some(stem) = name.strip_suffix(".svg") {
+            if stem.starts_with("preview") {
+                continue;
+            }
+            assert!(
+                cut.contains(&format!("`{stem}`")),
+                "{stem} is not cut in the book"
+            );
+        }
+    }
+}
+
+/// In each clamp section, the plates and the core go in right after the last mold sheet of their band.
+fn parts_go_in_after_their_band(steps: &[(String, String)], holds: &[Value]) {
+    let last = |band: &str| {
+        holds
+            .iter()
+            .rposition(|h| h.as_str() == Some(band))
+            .map(|j| format!("Lay mold-{}:", j + 1))
+            .unwrap()
+    };
+    let stack: Vec<&String> = steps
+        .iter()
+        .filter(|(t, _)| t == "Stack clamp 1 (panel 1)")
+        .map(|(_, s)| s)
+        .collect();
+    assert!(!stack.is_empty(), "no stacking section");
+    let after = |band: &str| {
+        let at = stack
+            .iter()
+            .position(|s| s.starts_with(&last(band)))
+            .unwrap();
+        stack[at + 1].as_str()
+    };
+    assert!(after("lower plate").starts_with("Put a PZT plate in each cavity, + face up"));
+    assert!(after("core").contains("passive part"));
+    assert!(after("upper plate").starts_with("Put the second PZT plate"));
+}
+
+#[test]
+fn method_2_cuts_the_prepreg_last_and_presses_it_between_the_plates() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report_json(&out);
+    let s = steps(&r["build_book"]);
+    every_file_is_cut(&out, &s);
+    // Thesis §3.2.2: PZT scored and snapped, molds, covers (porous Teflon, bleeder), prepreg last.
+    let (score, snap, mold, cover, prepreg) = (
+        first(&s, "score it along the blue lines"),
+        first(&s, "Snap the plates off"),
+        first(&s, "Cut the mold sheets"),
+        first(&s, "bleeder cloth"),
+        first(&s, "Lay up the prepreg plies"),
+    );
+    assert!(score < snap && snap < mold && mold < cover && cover < prepreg);
+    assert!(s[prepreg].1.contains("last"));
+    assert!(!s.iter().any(|(_, t)| t.contains("Pyralux")));
+    parts_go_in_after_their_band(&s, r["mold"]["holds"].as_array().unwrap());
+    // The cure is the template's: 2 h at 176.7 °C (350 F), cooled in the clamp.
+    let cure = first(&s, "Cure in the oven");
+    assert!(s[cure].1.contains("2 h at 177 °C (350 F)"), "{}", s[cure].1);
+    assert!(s[cure + 1].1.contains("cool"));
+    // Squeeze-out is scraped before the electrical checks, which name the predicted capacitance.
+    let c = r["predicted"]["capacitance_nF"].as_f64().unwrap();
+    let scrape = first(&s, "Scrape the squeeze-out");
+    let capacitance = first(&s, &format!("{c:.2} nF"));
+    let short = first(&s, "Check for shorts");
+    let wires = first(&s, "wires on with silver epoxy");
+    assert!(scrape < capacitance && capacitance < short && short < wires);
+    // Design C has no base tab: the wiring says where the ground goes and how to get a pad.
+    assert!(s[wires].1.contains("no base") && s[wires].1.contains("base_tab_mm"));
+}
+
+#[test]
+fn method_1_cures_the_passive_first_and_fills_the_vias_at_stacking() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-C-method-1.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report_json(&out);
+    let s = steps(&r["build_book"]);
+    every_file_is_cut(&out, &s);
+    // Thesis §3.2.1: cure the layup, cut it, cut the Pyralux on porous Teflon, score the PZT.
+    let (cure, cut, pyralux, score, mold) = (
+        first(&s, "cure the layup before cutting it"),
+        first(&s, "Cut the passive parts from the cured layup"),
+        first(&s, "Peel the Pyralux"),
+        first(&s, "score it along the blue lines"),
+        first(&s, "Cut the mold sheets"),
+    );
+    assert!(cure < cut && cut < pyralux && pyralux < score && score < mold);
+    assert!(s[cure].1.contains("192 °C"), "{}", s[cure].1);
+    // The vias are filled when the Pyralux goes into the mold, not when it is cut.
+    assert!(s[pyralux].1.contains("Leave the vias empty"));
+    let core = first(&s, "silver epoxy in its via");
+    assert!(s[core].0.starts_with("Stack clamp"));
+    parts_go_in_after_their_band(&s, r["mold"]["holds"].as_array().unwrap());
+    assert!(s[first(&s, "Cure in the oven")].1.contains("1 h at 177 °C"));
+}
+
+#[test]
+fn a_nest_batch_writes_the_same_book_for_every_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bin()
+        .args(["nest", "examples/batch.toml", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    let s = steps(&r["build_book"]);
+    every_file_is_cut(&out, &s);
+    let stacks = s
+        .iter()
+        .filter(|(t, _)| t.starts_with("Stack clamp"))
+        .map(|(t, _)| t)
+        .collect::<std::collections::BTreeSet<_>>();
+    let laminates = r["clamp_panels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["mold_films_mm"].to_string())
+        .collect::<std::collections::BTreeSet<_>>();
+    assert!(stacks.len() >= laminates.len() && !stacks.is_empty());
+    for item in r["items"].as_array().unwrap() {
+        let name = item["design"].as_str().unwrap();
+        first(&s, &format!("{name}: measure each PZT layer's capacitance"));
+        first(&s, &format!("{name}: wires on"));
+    }
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("## Build book") && md.contains("### Cure and clamp"));
+}
