@@ -130,6 +130,8 @@ pub const SNAP_STRIP_THICKNESSES: Range = Range::closed(1.0, 50.0, "thicknesses"
 pub const SCORE_OVERRUN_MM: Range = Range::closed(0.0, 5.0, "mm");
 /// PZT-to-CF edge margin.
 pub const PASSIVE_EDGE_MARGIN_MM: Range = Range::closed(0.0, 2.0, "mm");
+/// Pyralux bond part inset from the PZT plate edge (method 1 squeeze-out).
+pub const BOND_INSET_MM: Range = Range::closed(0.0, 2.0, "mm");
 /// Via for silver epoxy, diameter.
 pub const VIA_DIAMETER_MM: Range = Range::positive_up_to(10.0, "mm");
 /// A position as a fraction of a length, ends excluded.

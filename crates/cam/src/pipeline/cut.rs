@@ -266,16 +266,22 @@ pub fn pyralux_layer(
             [0.0, bond.via_position * g.piezo_length_mm],
             bond.via_diameter_mm / 2.0,
         );
-        let via_edge_room = g.plate_width_at_mm(via.0[1]) / 2.0 - via.1;
+        let via_edge_room = g.plate_width_at_mm(via.0[1]) / 2.0 - bond.inset_mm - via.1;
         if via_edge_room < 2.0 * spec.kerf_mm {
-            return Err(design_error(job.design, format!("pyralux: the {} mm via leaves {:.3} mm to the plate edge, less than twice the kerf", bond.via_diameter_mm, via_edge_room)));
+            return Err(design_error(job.design, format!("pyralux: the {} mm via leaves {:.3} mm to the edge of the bond part (the plate inset by {} mm), less than twice the kerf", bond.via_diameter_mm, via_edge_room, bond.inset_mm)));
         }
+        let outline = kerfed(
+            job.design,
+            &g.pzt_outline(),
+            -bond.inset_mm,
+            "pyralux inset",
+        )?;
         items.push(item(
             i,
             job,
             "pyralux",
             spec,
-            g.pzt_outline(),
+            outline,
             (Feature::Via, vec![via]),
             2,
             Label::None,

@@ -6,7 +6,7 @@ use super::features::FeatureMap;
 use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
 use crate::input::limits::{
-    ACI, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM,
+    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM,
     LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM,
     PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES,
     VIA_DIAMETER_MM,
@@ -91,6 +91,10 @@ pub struct Cure {
     pub passive: Option<CureStep>,
 }
 
+/// Default inset of a Pyralux bond part from the PZT plate edge, mm (docs/cam.md §1, "Method 1 bond
+/// parts"): a starting point, to be set from the squeeze-out a lab sees on its first clamp.
+pub const DEFAULT_BOND_INSET_MM: f64 = 0.15;
+
 /// Default run of a score line past the sheet edge, mm: docs/cam.md §4, "Scoring the ceramic".
 pub const DEFAULT_SCORE_OVERRUN_MM: f64 = 0.5;
 
@@ -115,6 +119,10 @@ pub struct BondSpec {
     pub via_diameter_mm: f64,
     /// Via centre as a fraction of the plate length from the base.
     pub via_position: f64,
+    /// How far each bond part's edge sits inside the PZT plate's, mm: room for the adhesive that the
+    /// clamp squeezes out, so it does not bridge the plate's electrode to the carbon (thesis §4.9.3,
+    /// docs/cam.md §1).
+    pub inset_mm: f64,
 }
 
 /// The clamp panel every clamp layer shares.
@@ -382,6 +390,9 @@ impl Template {
                     density_kg_per_m3: t.number_in("density_kg_per_m3", DENSITY)?,
                     via_diameter_mm: t.number_in("via_diameter_mm", VIA_DIAMETER_MM)?,
                     via_position: t.number_in("via_position", FRACTION)?,
+                    inset_mm: t
+                        .optional_number_in("inset_mm", BOND_INSET_MM)?
+                        .unwrap_or(DEFAULT_BOND_INSET_MM),
                 };
                 t.finish()?;
                 Some(b)
