@@ -67,6 +67,30 @@ fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
         .collect()
 }
 
+/// The preview's passive outline and PZT plate at true size, and the scale the preview is drawn at
+/// (its title states it: "drawn at 4:1").
+fn preview_at_true_size(out: &Path) -> (Vec<[f64; 2]>, Vec<[f64; 2]>, f64) {
+    let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
+    let scale: f64 = svg
+        .split("drawn at ")
+        .nth(1)
+        .and_then(|t| t.split(':').next())
+        .and_then(|t| t.parse().ok())
+        .expect("the preview's title states its scale");
+    let true_size = |layer: &str| -> Vec<[f64; 2]> {
+        svg_paths(&svg, layer)[0]
+            .0
+            .iter()
+            .map(|[x, y]| [x / scale, y / scale])
+            .collect()
+    };
+    (
+        true_size("preview passive part"),
+        true_size("preview PZT plate"),
+        scale,
+    )
+}
+
 fn perimeter(ring: &[[f64; 2]]) -> f64 {
     let n = ring.len();
     (0..n)
@@ -642,22 +666,8 @@ fn pzt_edge_margin_insets_the_plates_inside_the_passive_part() {
     let out = dir.path().join("out");
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let svg = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
-    // The preview is drawn at a scale its title states ("drawn at 4:1"); back to true size.
-    let scale: f64 = svg
-        .split("drawn at ")
-        .nth(1)
-        .unwrap()
-        .split(':')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    let true_size = |ring: &Vec<[f64; 2]>| -> Vec<[f64; 2]> {
-        ring.iter().map(|[x, y]| [x / scale, y / scale]).collect()
-    };
-    let passive = &true_size(&svg_paths(&svg, "preview passive part")[0].0);
-    let plate = &true_size(&svg_paths(&svg, "preview PZT plate")[0].0);
+    let (passive, plate, scale) = &preview_at_true_size(&out);
+    let scale = *scale;
     assert_eq!(plate.len(), 4);
     let outer = polygon(passive);
     for corner in plate {
@@ -1276,21 +1286,7 @@ fn method_1_bond_parts_sit_inside_the_plate_by_the_template_inset() {
                 .as_f64()
                 .unwrap()
         };
-        let plate = std::fs::read_to_string(out.join("preview-actuator.svg")).unwrap();
-        let scale: f64 = plate
-            .split("drawn at ")
-            .nth(1)
-            .unwrap()
-            .split(':')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
-        let ring: Vec<[f64; 2]> = svg_paths(&plate, "preview PZT plate")[0]
-            .0
-            .iter()
-            .map(|[x, y]| [x / scale, y / scale])
-            .collect();
+        let ring = preview_at_true_size(&out).1;
         (row("pzt"), row("pyralux"), ring)
     };
     let (plate, flush, ring) = area_at("0.0");
