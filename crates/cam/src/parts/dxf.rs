@@ -5,7 +5,7 @@
 //! `$INSUNITS = 4`.
 
 use super::contours::{chain, entity_error, Contour, Piece, JOIN_MM};
-use super::flatten::{bulge, circular_arc, TOLERANCE_MM};
+use super::flatten::{bulge, circular_arc, circumscribed_ellipse, TOLERANCE_MM};
 use crate::input::InputError;
 use cam_geometry::Point;
 use dxf::entities::{Entity, EntityType};
@@ -134,14 +134,12 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
                         format!("radius {}: a circle needs a positive radius", c.radius),
                     ));
                 }
-                let mut ring = circular_arc(
+                let ring = circumscribed_ellipse(
                     [c.center.x, c.center.y],
                     c.radius,
-                    0.0,
-                    std::f64::consts::TAU,
+                    c.radius,
                     TOLERANCE_MM,
                 );
-                ring.pop();
                 add(ring, true);
             }
             EntityType::Arc(a) => {

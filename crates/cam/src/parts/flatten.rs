@@ -29,6 +29,31 @@ pub fn circular_arc(
         .collect()
 }
 
+/// A full ellipse (a circle when `rx == ry`) as a polygon that circumscribes it: every edge touches
+/// the curve at its midpoint and every vertex lies outside it, at most `tolerance` (for the larger
+/// radius) away. A hole drawn as a circle is then never smaller than drawn, so a Ø1.50 mm spar hole
+/// still takes a Ø1.50 mm pin, and an outline drawn as one never shrinks. The vertices of the
+/// circle's circumscribed polygon, `r / cos(π/n)` from the centre, mapped by the ellipse's axes: an
+/// affine map keeps the edges tangent.
+pub fn circumscribed_ellipse(centre: Point, rx: f64, ry: f64, tolerance: f64) -> Vec<Point> {
+    let r = rx.max(ry);
+    // The vertex stands r (1/cos(π/n) - 1) outside: n chosen so that is within the tolerance.
+    let mut n = arc_segments(r, 2.0 * PI, tolerance).max(8);
+    while r * (1.0 / (PI / n as f64).cos() - 1.0) > tolerance && n < 100_000 {
+        n += 1;
+    }
+    let grow = 1.0 / (PI / n as f64).cos();
+    (0..n)
+        .map(|i| {
+            let a = 2.0 * PI * i as f64 / n as f64;
+            [
+                centre[0] + rx * grow * a.cos(),
+                centre[1] + ry * grow * a.sin(),
+            ]
+        })
+        .collect()
+}
+
 /// Chords a circular arc needs so that the sagitta r (1 - cos(θ/2)) of each stays within the
 /// tolerance; at least one, and at least 8 on a full circle.
 fn arc_segments(radius: f64, sweep_rad: f64, tolerance: f64) -> usize {
@@ -163,6 +188,29 @@ pub fn bulge(from: Point, to: Point, bulge: f64, tolerance: f64) -> Vec<Point> {
 mod tests {
     use super::*;
     use cam_geometry::area;
+
+    #[test]
+    fn a_circumscribed_circle_holds_the_circle_within_the_tolerance() {
+        // Every edge's nearest point to the centre is at least r away (the circle fits inside), and no
+        // vertex is more than the tolerance outside it. A Ø1.5 mm hole: never below 1.5 mm.
+        for (r, tol) in [(0.75, TOLERANCE_MM), (10.0, TOLERANCE_MM), (0.3, 0.001)] {
+            let ring = circumscribed_ellipse([2.0, -1.0], r, r, tol);
+            let n = ring.len();
+            for k in 0..n {
+                let (a, b) = (ring[k], ring[(k + 1) % n]);
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                let t = (((2.0 - a[0]) * dx + (-1.0 - a[1]) * dy) / (dx * dx + dy * dy))
+                    .clamp(0.0, 1.0);
+                let near = ((a[0] + t * dx - 2.0).powi(2) + (a[1] + t * dy + 1.0).powi(2)).sqrt();
+                assert!(
+                    near >= r - 1e-12,
+                    "r {r}: edge {k} comes {near} from the centre"
+                );
+                let vertex = ((a[0] - 2.0).powi(2) + (a[1] + 1.0).powi(2)).sqrt();
+                assert!(vertex - r <= tol + 1e-12, "r {r}: vertex {k} {vertex}");
+            }
+        }
+    }
 
     #[test]
     fn a_flattened_circle_loses_less_area_than_its_circumference_times_the_tolerance() {

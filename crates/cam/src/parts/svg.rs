@@ -10,7 +10,7 @@
 //! page's bottom-left corner is the origin), as every other drawing here.
 
 use super::contours::{entity_error, Contour};
-use super::flatten::{cubic, elliptical_arc, quadratic, TOLERANCE_MM};
+use super::flatten::{circumscribed_ellipse, cubic, elliptical_arc, quadratic, TOLERANCE_MM};
 use crate::input::InputError;
 use cam_geometry::Point;
 use roxmltree::{Document, Node};
@@ -262,21 +262,6 @@ fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpath
     Ok(out)
 }
 
-fn ellipse(cx: f64, cy: f64, rx: f64, ry: f64, tol: f64) -> Vec<Point> {
-    let mut ring = elliptical_arc([cx + rx, cy], [cx - rx, cy], rx, ry, 0.0, false, true, tol);
-    ring.extend(elliptical_arc(
-        [cx - rx, cy],
-        [cx + rx, cy],
-        rx,
-        ry,
-        0.0,
-        false,
-        true,
-        tol,
-    ));
-    ring
-}
-
 /// A rectangle, its corners rounded by `rx`, `ry` (SVG 1.1 §9.2: a missing one takes the other's
 /// value, each at most half the side).
 fn rect(x: f64, y: f64, w: f64, h: f64, rx: f64, ry: f64, tol: f64) -> Vec<Point> {
@@ -398,7 +383,7 @@ impl Walk<'_> {
                 if !(rx > 0.0 && ry > 0.0) {
                     return Err(entity_error(file, &entity, "zero area: the radius must be positive"));
                 }
-                vec![(ellipse(num("cx")?, num("cy")?, rx, ry, tol), true)]
+                vec![(circumscribed_ellipse([num("cx")?, num("cy")?], rx, ry, tol), true)]
             }
             "use" | "image" => {
                 return Err(entity_error(
