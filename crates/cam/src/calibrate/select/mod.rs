@@ -492,11 +492,15 @@ fn actuation_stage<'a>(
         }
     };
     // The chosen model against its thickness-dependent alternatives, when the PZT thickness varies.
-    if let Some(t) = thickness::form(data, &settings.declared) {
+    let thickness_forms = thickness::forms(data, &settings.declared);
+    if !thickness_forms.is_empty() {
         let own = candidates[final_index].library_effects();
-        let mut forms = vec![vec![eta, t]];
-        if !own.is_empty() && effect_names(&own).len() < max_effects {
-            forms.push([&[eta], own.as_slice(), &[t]].concat());
+        let mut forms = Vec::new();
+        for &t in &thickness_forms {
+            forms.push(vec![eta, t]);
+            if !own.is_empty() && effect_names(&own).len() < max_effects {
+                forms.push([&[eta], own.as_slice(), &[t]].concat());
+            }
         }
         forms.retain(|ids| ids.len() <= max_params);
         // Screened on AICc and intervals first; only a form that passes those is cross-validated.
