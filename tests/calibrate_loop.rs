@@ -15,7 +15,8 @@
 //! `inactive-surface-layer` itself, with the estimate within 20 % as below.
 //!
 //! The estimate must lie within 20 % of the hidden value; whether the 95 % interval covers it is printed
-//! (`--nocapture`), not asserted: one data set per primitive measures coverage too coarsely.
+//! (`--nocapture`) here and asserted over several seeds per primitive by
+//! `the_intervals_cover_the_truth_at_their_stated_rate`.
 
 mod common;
 mod synthetic;
@@ -73,26 +74,29 @@ fn suggested(cal: &Calibration, data: &calibrate::Dataset) -> Option<String> {
         .map(|(_, text)| text)
 }
 
-/// The value and interval of the declared effect `name` in the final model, if it was selected.
-fn declared_fit(cal: &Calibration, name: &str) -> Option<(f64, (f64, f64))> {
+/// A fitted value and its 95 % interval.
+type Fit = (f64, (f64, f64));
+
+/// The value and interval of the declared effect `name` in the final model, if it was selected, in SI
+/// (the primitive's own unit: the selection's thickness form is fitted in µm).
+fn declared_fit(cal: &Calibration, name: &str) -> Option<Fit> {
     let s = &cal.selection;
     let mass = s.final_mass_index.map(|i| &s.mass_candidates[i]);
     mass.into_iter()
         .chain([&s.candidates[s.final_index]])
         .flat_map(|c| c.effects.iter().zip(c.values.iter().zip(&c.intervals)))
-        .find(|(id, _)| matches!(id, EffectId::Declared(_)) && id.name() == name)
-        .map(|(_, (v, ci))| (*v, *ci))
+        .find_map(|(id, (v, ci))| match id {
+            EffectId::Declared(d) if id.name() == name => {
+                let si = |x: f64| d.parameter().primitives[0].map.of(x).unwrap();
+                Some((si(*v), (si(ci.0), si(ci.1))))
+            }
+            _ => None,
+        })
 }
 
 /// One turn of the loop: first verdict, suggested file, second verdict, the fit of the effect and the
 /// selected effects.
-type Turn = (
-    String,
-    Option<String>,
-    String,
-    Option<(f64, (f64, f64))>,
-    String,
-);
+type Turn = (String, Option<String>, String, Option<Fit>, String);
 
 /// One turn of the loop on a data set hiding `primitive` at `value`.
 fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
@@ -168,6 +172,62 @@ fn every_primitive_goes_round_the_loop_from_not_explained_to_explained() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// Interval coverage (docs/calibration.md §3, "The next step, written"): every primitive round the loop
+/// on data sets from seeds the method was never adjusted on (`29_311 + 1000 + 8 j + case`); the 95 %
+/// interval of the fitted effect must hold the hidden value at the stated rate, no more misses than
+/// [`allowed_misses`] over all the intervals (a run that names no fit of the primitive, as a bond layer
+/// explaining a mass per area, gives none). CI runs 2 seeds per primitive;
+/// `ACTUATOR_CAM_FULL_STUDY=1` runs 10 and prints the table in docs/calibration.md (`--nocapture`).
+#[test]
+fn the_intervals_cover_the_truth_at_their_stated_rate() {
+    let seeds = if full_study() { 10 } else { 2 };
+    let cases = cases();
+    let jobs: Vec<(usize, u64)> = (0..seeds)
+        .flat_map(|j| (0..cases.len()).map(move |c| (c, j)))
+        .collect();
+    let fits: Vec<(usize, Option<Fit>)> = jobs
+        .par_iter()
+        .map(|&(c, j)| {
+            let (_, p, v) = cases[c];
+            (c, turn(p, v, 1000 + 8 * j + c as u64).3)
+        })
+        .collect();
+    let (mut n, mut misses) = (0, 0);
+    println!("| hidden primitive | intervals | truth inside |\n|---|---|---|");
+    for (c, &(name, _, value)) in cases.iter().enumerate() {
+        let own: Vec<(f64, f64)> = fits
+            .iter()
+            .filter(|(k, _)| *k == c)
+            .filter_map(|(_, f)| f.map(|(_, ci)| ci))
+            .collect();
+        let inside = own
+            .iter()
+            .filter(|(lo, hi)| *lo <= value && value <= *hi)
+            .count();
+        println!("| {name} | {} | {inside} |", own.len());
+        n += own.len();
+        misses += own.len() - inside;
+    }
+    let allowed = allowed_misses(n);
+    println!(
+        "{} of {n} intervals hold the truth; at most {allowed} misses allowed",
+        n - misses
+    );
+    assert!(n >= 6 * seeds as usize, "only {n} intervals");
+    assert!(
+        misses <= allowed,
+        "{misses} of {n} intervals miss the truth (at most {allowed})"
+    );
+}
+
+#[test]
+fn allowed_misses_is_the_binomial_one_percent_point() {
+    // P(X > 1 | n = 8, p = 0.05) = 0.057, P(X > 2) = 0.0058.
+    assert_eq!(allowed_misses(8), 2);
+    // n = 80: mean 4; P(X > 8) = 0.0184, P(X > 9) = 0.0065.
+    assert_eq!(allowed_misses(80), 9);
+}
+
 /// Through the binary: the file is written with the reports, and `--effects` reads it back.
 #[test]
 fn the_binary_writes_the_next_step_and_runs_it() {
@@ -204,4 +264,34 @@ fn the_binary_writes_the_next_step_and_runs_it() {
     let report = common::report_json(&second);
     assert_eq!(report["verdict"], "explained", "{report}");
     assert!(!second.join("suggested-effects.toml").exists());
+}
+
+/// Writes `examples/measured-fillet.csv`, the mass worked example of docs/calibration.md §3: 30 random
+/// actuators x 4 voltages (5 % noise on δ and F_b, 1 % on the mass) with a d31 loss (η = 0.85) and an
+/// epoxy fillet along the PZT outline of 0.1 mg/mm, which no library effect carries.
+/// `cargo test --release --test calibrate_loop write_mass_example -- --ignored`
+#[test]
+#[ignore = "regenerates examples/measured-fillet.csv"]
+fn write_mass_example() {
+    let truth = Truth::Composed(
+        actuator_model::Effects {
+            d31_scale: 0.85,
+            ..actuator_model::Effects::default()
+        },
+        actuator_model::primitives::Applied {
+            primitive: Primitive::AddedMassPerLength,
+            value: 1e-4,
+        },
+    );
+    let csv = random_csv(truth, 2029);
+    let text = format!(
+        "# Synthetic measurements with a mass no layer carries (30 actuators x 4 voltages, 5% noise on\n\
+         # deflection and force, 1% on mass). Generated by tests/calibrate_loop.rs::write_mass_example:\n\
+         # a d31 loss and an epoxy fillet along the PZT outline. See docs/calibration.md §3.\n{csv}"
+    );
+    std::fs::write(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/examples/measured-fillet.csv"),
+        text,
+    )
+    .unwrap();
 }

@@ -404,3 +404,48 @@ pub fn names_exactly(hidden: &[&str], verdict: &str, selected: &[String]) -> boo
         .collect();
     hidden.iter().all(|h| relevant.contains(h)) && relevant.len() == hidden.len()
 }
+
+/// Seeds each case of a long study runs on in CI. Every row of the full studies holds at 20 of 20 on
+/// these (the first of the measuring seeds), so the thresholds scaled to the sample ask all of them to
+/// pass: a regression that costs any case one data set among them fails. The full study
+/// (`ACTUATOR_CAM_FULL_STUDY=1`) runs every measuring seed and prints the tables in docs/calibration.md.
+pub const CI_SAMPLE: usize = 4;
+
+/// Whether the full study was asked for (`ACTUATOR_CAM_FULL_STUDY=1`).
+pub fn full_study() -> bool {
+    std::env::var("ACTUATOR_CAM_FULL_STUDY").is_ok_and(|v| v == "1")
+}
+
+/// `seeds`, or its first [`CI_SAMPLE`] unless [`full_study`].
+pub fn sample(mut seeds: Vec<u64>) -> Vec<u64> {
+    if !full_study() {
+        seeds.truncate(CI_SAMPLE);
+    }
+    seeds
+}
+
+/// A threshold of `k` in 20 scaled to `n` seeds, rounded up (so a sample below 20 asks at least the rate
+/// the full study asks).
+pub fn of_20(k: usize, n: usize) -> usize {
+    (k * n).div_ceil(20)
+}
+
+/// Misses allowed among `n` intervals of stated coverage 95 %: the smallest `m` with
+/// P(more than `m` misses) at most 1 % when each interval misses with probability 0.05 independently.
+pub fn allowed_misses(n: usize) -> usize {
+    let p: f64 = 0.05;
+    let mut term = (1.0 - p).powi(n as i32); // P(0 misses)
+    let mut cdf = term;
+    let mut m = 0;
+    while 1.0 - cdf > 0.01 {
+        term *= (n - m) as f64 / (m + 1) as f64 * p / (1.0 - p);
+        cdf += term;
+        m += 1;
+    }
+    m
+}
+
+/// The selection's two thickness forms (docs/calibration.md §3, "Thickness forms"). On data from the
+/// test's own approximation of a dead layer (`Truth::InactiveSurface`, a factor `1 - t_s/t_p` that is not
+/// the CLT layer's shape), either is the thickness trend seen; on the model crate's layer, the layer.
+pub const THICKNESS_FORMS: [&str; 2] = ["inactive-surface-layer", "d31-thickness-power"];

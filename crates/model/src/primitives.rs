@@ -104,6 +104,11 @@ pub enum Primitive {
     /// below the plate's thickness): same elastic properties and density, d31 = 0, in the CLT stack
     /// ([`crate::laminate::Laminate::bimorph_with_surface`]).
     InactiveSurfaceLayer,
+    /// A d31 that follows a power of the PZT plate's thickness, `d31 (t_p / t_ref)^a` with
+    /// `t_ref` = [`D31_REFERENCE_THICKNESS`]; the parameter is the exponent `a` (null 0). A thickness
+    /// trend in either direction (docs/calibration.md §2): where a dead surface layer can only cost a thin
+    /// plate more, `a < 0` is a thick plate driven less (poled less through its thickness).
+    D31ThicknessPower,
     /// A mass per actuator that no layer carries (leads, solder), kg (null 0): the mass only.
     AddedMass,
     /// A mass per unit length of the outline of each PZT plate (adhesive fillets), kg/m (null 0): the
@@ -137,7 +142,10 @@ impl Primitive {
     pub fn changes_stack(self) -> bool {
         matches!(
             self,
-            Primitive::Scale { .. } | Primitive::InsertedLayer | Primitive::InactiveSurfaceLayer
+            Primitive::Scale { .. }
+                | Primitive::InsertedLayer
+                | Primitive::InactiveSurfaceLayer
+                | Primitive::D31ThicknessPower
         )
     }
 
@@ -170,7 +178,9 @@ impl Primitive {
     pub fn physical_range(self) -> (f64, bool, f64) {
         match self {
             Primitive::Scale { .. } => (0.0, false, f64::INFINITY),
-            Primitive::FieldDependentD31 => (f64::NEG_INFINITY, false, f64::INFINITY),
+            Primitive::FieldDependentD31 | Primitive::D31ThicknessPower => {
+                (f64::NEG_INFINITY, false, f64::INFINITY)
+            }
             _ => (0.0, true, f64::INFINITY),
         }
     }
@@ -182,6 +192,11 @@ impl Primitive {
     }
 }
 
+/// The plate thickness at which [`Primitive::D31ThicknessPower`] leaves d31 unchanged: the middle of the
+/// commercial plates the thesis built with (127, 191 and 267 µm), so that a d31 scale fitted beside the
+/// exponent is the scale at a typical plate and the two are not strongly correlated over those plates.
+pub const D31_REFERENCE_THICKNESS: f64 = 191e-6;
+
 /// How a composition's one parameter sets a primitive's value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -191,6 +206,9 @@ pub enum Map {
     Identity,
     /// Its reciprocal (moduli of a ply spread over `s` times its thickness).
     Reciprocal,
+    /// A millionth of the parameter: a parameter in µm for a primitive in m (a layer thickness as the
+    /// reports show it).
+    Micro,
     /// The passive density of a ply `s` times as thick whose excess is resin:
     /// `(ρ + (s - 1) ρ_resin) / (s ρ)` as a factor on ρ.
     ResinDensity,
@@ -203,6 +221,8 @@ impl Map {
         match self {
             Map::Identity => Some(p),
             Map::Reciprocal => Some(1.0 / p),
+            // Divided by the exact 1e6, so that 15 gives the double nearest 15e-6.
+            Map::Micro => Some(p / 1e6),
             Map::ResinDensity => None,
         }
     }
@@ -238,6 +258,7 @@ pub fn at(links: &[Link], p: f64, ply: &Material) -> Vec<Applied> {
             value: match l.map {
                 Map::Identity => p,
                 Map::Reciprocal => 1.0 / p,
+                Map::Micro => p / 1e6,
                 Map::ResinDensity => (ply.density + (p - 1.0) * RESIN_DENSITY) / (p * ply.density),
             },
         })
@@ -335,6 +356,11 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
             }
             Primitive::InsertedLayer => s.effects.bond_thickness += v,
             Primitive::InactiveSurfaceLayer => s.effects.inactive_surface += v,
+            // The designed plate (`a`), not one a thickness scale in `applied` has changed: the trend is
+            // over the plates as bought.
+            Primitive::D31ThicknessPower => {
+                s.pzt.d31 *= (a.pzt_thickness / D31_REFERENCE_THICKNESS).powf(v)
+            }
             // Not the stack, but the mass the stacked effects report.
             Primitive::AddedMass => s.effects.added_mass += v,
             Primitive::AddedMassPerLength => s.effects.added_mass_per_length += v,
@@ -366,6 +392,7 @@ pub fn boundary<'x>(
             Primitive::Scale { .. }
             | Primitive::InsertedLayer
             | Primitive::InactiveSurfaceLayer
+            | Primitive::D31ThicknessPower
             | Primitive::AddedMass
             | Primitive::AddedMassPerLength
             | Primitive::AddedMassPerArea => {}
@@ -686,6 +713,59 @@ pub(crate) mod tests {
                 a,
             );
             assert!(thinned.is_err());
+        });
+    }
+
+    /// A d31 power of the plate thickness (docs/calibration.md §2): δ and F_b times `(t_p / t_ref)^a`
+    /// exactly (the CLT free curvature is linear in d31), the stiffness and mass unchanged, nothing at
+    /// the reference plate, and the designed plate is the one that counts.
+    #[test]
+    fn a_d31_thickness_power_scales_actuation_by_the_plate_ratio() {
+        with(|a| {
+            // A thin plate, off the reference.
+            let a = &Actuator {
+                pzt_thickness: 127e-6,
+                ..*a
+            };
+            let rel = |x: f64, y: f64| ((x - y) / y).abs();
+            let orig = Effects::default().predict(a).unwrap();
+            for exponent in [-0.4, 0.25] {
+                let power = Applied {
+                    primitive: Primitive::D31ThicknessPower,
+                    value: exponent,
+                };
+                let p = compose(&[power], &Effects::default(), a).unwrap();
+                let want = (a.pzt_thickness / D31_REFERENCE_THICKNESS).powf(exponent);
+                assert!(
+                    (want - 1.0).abs() > 0.01,
+                    "the test plate is off the reference"
+                );
+                assert!(rel(p.free_deflection / orig.free_deflection, want) < 1e-12);
+                assert!(rel(p.blocked_force / orig.blocked_force, want) < 1e-12);
+                assert!(rel(p.stiffness, orig.stiffness) < 1e-12);
+                assert_eq!(p.mass, orig.mass);
+                let at_reference = Actuator {
+                    pzt_thickness: D31_REFERENCE_THICKNESS,
+                    ..*a
+                };
+                let plain = Effects::default().predict(&at_reference).unwrap();
+                let same = compose(&[power], &Effects::default(), &at_reference).unwrap();
+                assert!(rel(same.free_deflection, plain.free_deflection) < 1e-12);
+                // A thickness scale before it changes the stack, not the trend's plate.
+                let thick = Applied {
+                    primitive: Primitive::Scale {
+                        target: Target::Pzt,
+                        property: Property::Thickness,
+                    },
+                    value: 1.5,
+                };
+                let scaled = compose(&[thick], &Effects::default(), a).unwrap();
+                let both = compose(&[thick, power], &Effects::default(), a).unwrap();
+                assert!(rel(both.free_deflection / scaled.free_deflection, want) < 1e-12);
+            }
+            let p = Primitive::D31ThicknessPower;
+            assert!(p.changes_stack() && !p.changes_mass() && !p.is_added_mass());
+            assert!(p.null() == 0.0 && p.allows(-0.5) && p.allows(0.5) && !p.allows(f64::NAN));
         });
     }
 

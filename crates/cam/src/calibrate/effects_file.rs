@@ -37,7 +37,7 @@ use std::path::Path;
 const FINITE: Range = Range::open(f64::NEG_INFINITY, f64::INFINITY, "");
 
 /// Primitive kinds as the file spells them (the parameter's unit is in docs/calibration.md).
-const KINDS: [(&str, Option<Primitive>); 13] = [
+const KINDS: [(&str, Option<Primitive>); 14] = [
     ("scale", None),
     ("inserted-layer", Some(Primitive::InsertedLayer)),
     ("field-dependent-d31", Some(Primitive::FieldDependentD31)),
@@ -54,6 +54,7 @@ const KINDS: [(&str, Option<Primitive>); 13] = [
         "inactive-surface-layer",
         Some(Primitive::InactiveSurfaceLayer),
     ),
+    ("d31-thickness-power", Some(Primitive::D31ThicknessPower)),
     ("added-mass", Some(Primitive::AddedMass)),
     ("added-mass-per-length", Some(Primitive::AddedMassPerLength)),
     ("added-mass-per-area", Some(Primitive::AddedMassPerArea)),
@@ -76,7 +77,11 @@ const PROPERTIES: [(&str, Property); 8] = [
     ("thickness", Property::Thickness),
 ];
 
-const MAPS: [(&str, Map); 2] = [("identity", Map::Identity), ("reciprocal", Map::Reciprocal)];
+const MAPS: [(&str, Map); 3] = [
+    ("identity", Map::Identity),
+    ("reciprocal", Map::Reciprocal),
+    ("micro", Map::Micro),
+];
 
 fn names<T>(list: &[(&str, T)]) -> String {
     list.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
@@ -266,8 +271,8 @@ fn parameter_of(
                 ),
             ));
         }
-        // Identity and reciprocal are monotone: the ends of the bounds are the extremes, and the
-        // reciprocal must not cross zero.
+        // Every map is monotone: the ends of the bounds are the extremes, and the reciprocal must not
+        // cross zero.
         let (p_lo, inclusive, p_hi) = link.primitive.physical_range();
         let crosses_zero = link.map == Map::Reciprocal && lo <= 0.0 && hi >= 0.0;
         for end in [lo, hi] {
@@ -403,6 +408,31 @@ primitives = [
                 property: Property::E1
             }
         );
+    }
+
+    /// A layer thickness given in µm (`map = "micro"`) reads with its bounds in µm and is refused below
+    /// zero like one in m; the d31 power of the plate thickness takes an exponent of either sign.
+    #[test]
+    fn a_micro_map_and_the_d31_thickness_power_read() {
+        let layer = |bounds: &str| {
+            format!(
+                "[[effect]]\nname = \"skin\"\nparameter = \"skin_um\"\nnull = 0.0\nbounds = {bounds}\nprimitives = [{{ kind = \"inactive-surface-layer\", map = \"micro\" }}]\n"
+            )
+        };
+        let specs = read(&layer("[0.0, 40.0]")).unwrap();
+        let p = &specs[0].parameters[0];
+        assert_eq!(p.primitives[0].map, Map::Micro);
+        assert_eq!(p.applied(15.0).next().unwrap().value, 15e-6);
+        let e = read(&layer("[-2.0, 40.0]")).unwrap_err().to_string();
+        assert!(
+            e.contains("effect[1].bounds") && e.contains("-0.000002"),
+            "{e}"
+        );
+        let power = "[[effect]]\nname = \"trend\"\nnull = 0.0\nbounds = [-0.5, 0.5]\nprimitives = [{ kind = \"d31-thickness-power\" }]\n";
+        let specs = read(power).unwrap();
+        let p = &specs[0].parameters[0];
+        assert_eq!(p.primitives[0].primitive, Primitive::D31ThicknessPower);
+        assert_eq!((p.lo, p.hi), (-0.5, 0.5));
     }
 
     /// The rigid root, the edge margins, the inactive surface layer and the added masses read by their

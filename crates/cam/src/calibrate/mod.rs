@@ -243,7 +243,13 @@ fn screen_broken(
             view = broken::subset(data, &keep);
             &view
         };
-        let predictions = predict_all(on, |m| sel.model.predict(&m.actuator()))?;
+        // Against the model chosen before the thickness forms (`Selection::screening_index`).
+        let model = if sel.screening_index == sel.final_index {
+            &sel.model
+        } else {
+            &sel.candidates[sel.screening_index].model
+        };
+        let predictions = predict_all(on, |m| model.predict(&m.actuator()))?;
         let found = broken::screen(on, &predictions);
         if found.is_empty() {
             break;

@@ -358,6 +358,7 @@ mod tests {
             at(RigidRoot, 1e-3),
             at(EdgeMargin, 0.2e-3),
             at(InactiveSurfaceLayer, 10e-6),
+            at(D31ThicknessPower, 0.2),
         ]
     }
 

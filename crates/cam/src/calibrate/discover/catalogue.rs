@@ -100,6 +100,9 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
         // Below the thinnest plate of the design ranges (127 µm); a value at or above an actuator's
         // plate is refused by the model, which the fit treats as no fit there.
         Primitive::InactiveSurfaceLayer => (0.0, 100e-6, &[5e-6, 30e-6]),
+        // The selection's thickness form (select/thickness.rs) bounds it the same way: a d31 that
+        // changes by up to the plates' ratio over the 127-267 µm plates.
+        Primitive::D31ThicknessPower => (-1.0, 1.0, &[-0.2, 0.2]),
     })
 }
 
@@ -215,6 +218,7 @@ pub fn name(p: Primitive) -> String {
         Primitive::RigidRoot => "rigid-root".into(),
         Primitive::EdgeMargin => "edge-margin".into(),
         Primitive::InactiveSurfaceLayer => "inactive-surface-layer".into(),
+        Primitive::D31ThicknessPower => "d31-thickness-power".into(),
         Primitive::AddedMass => "added-mass".into(),
         Primitive::AddedMassPerLength => "added-mass-per-length".into(),
         Primitive::AddedMassPerArea => "added-mass-per-area".into(),
@@ -234,6 +238,7 @@ pub fn parameter(p: Primitive) -> &'static str {
         Primitive::RigidRoot => "held_root_m",
         Primitive::EdgeMargin => "edge_margin_m",
         Primitive::InactiveSurfaceLayer => "inactive_thickness_m",
+        Primitive::D31ThicknessPower => "d31_thickness_exponent",
         Primitive::AddedMass => "added_mass_kg",
         Primitive::AddedMassPerLength => "mass_per_length_kg_per_m",
         Primitive::AddedMassPerArea => "mass_per_area_kg_per_m2",

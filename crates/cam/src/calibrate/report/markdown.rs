@@ -224,6 +224,17 @@ pub fn verdict_line(verdict: &str, detail: &VerdictDetail) -> String {
     out
 }
 
+/// A fitted parameter to `decimals` places, or to as many significant digits in scientific notation when
+/// it is smaller than one unit in the last of those places: a parameter in SI (a length or a mass in a
+/// declared effect, 2e-5 kg) would otherwise print as zero.
+fn param(v: f64, decimals: usize) -> String {
+    if v != 0.0 && v.is_finite() && v.abs() < 10f64.powi(-(decimals as i32) + 2) {
+        format!("{:.*e}", decimals - 1, v)
+    } else {
+        format!("{v:.decimals$}")
+    }
+}
+
 /// Terminal summary: verdict, fitted parameters with intervals, error tables.
 pub fn summary(
     verdict: &str,
@@ -237,8 +248,12 @@ pub fn summary(
     for e in selected {
         let _ = writeln!(
             out,
-            "  {}: {} = {:.4} [{:.4}, {:.4}]",
-            e.name, e.parameter, e.estimate, e.interval.0, e.interval.1
+            "  {}: {} = {} [{}, {}]",
+            e.name,
+            e.parameter,
+            param(e.estimate, 4),
+            param(e.interval.0, 4),
+            param(e.interval.1, 4)
         );
     }
     out.push_str(&error_tables(tables[0], library_only, tables[1], tables[2]));
@@ -256,8 +271,13 @@ pub fn markdown(r: &Report) -> String {
     for e in &r.selected_effects {
         let _ = writeln!(
             md,
-            "| {} | {} | {:.5} | [{:.5}, {:.5}] | {:.5} |",
-            e.name, e.parameter, e.estimate, e.interval.0, e.interval.1, e.std_error
+            "| {} | {} | {} | [{}, {}] | {} |",
+            e.name,
+            e.parameter,
+            param(e.estimate, 5),
+            param(e.interval.0, 5),
+            param(e.interval.1, 5),
+            param(e.std_error, 5)
         );
     }
     md.push_str("\n## Error before and after\n\n");
@@ -406,6 +426,18 @@ mod tests {
             lines[1],
             "  dead-length: dead_length_mm = 2.2931 [1.9080, inf]"
         );
+    }
+
+    #[test]
+    fn a_parameter_in_si_keeps_its_digits() {
+        assert_eq!(param(2.29312, 4), "2.2931");
+        assert_eq!(param(0.0123, 4), "0.0123");
+        assert_eq!(param(0.0, 4), "0.0000");
+        assert_eq!(param(f64::INFINITY, 4), "inf");
+        // 20 mg in kg and 0.3 mm in m, which four places would print as 0.0000 and 0.0003.
+        assert_eq!(param(2.034e-5, 4), "2.034e-5");
+        assert_eq!(param(3.07e-4, 4), "3.070e-4");
+        assert_eq!(param(-4.1e-6, 5), "-4.1000e-6");
     }
 
     #[test]

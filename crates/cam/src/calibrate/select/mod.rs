@@ -85,6 +85,11 @@ pub struct Selection {
     pub candidates: Vec<Candidate>,
     /// Index of the final actuation model in `candidates`.
     pub final_index: usize,
+    /// Index in `candidates` of the model the selection chose before the thickness forms were compared
+    /// (`final_index` when none replaced it): broken actuators are screened against it, since a
+    /// thickness form fits a trend over the plate groups that a few broken actuators of one thickness
+    /// can make, and against such a fit they no longer stand out (docs/calibration.md §3).
+    pub screening_index: usize,
     /// Index of the final mass model in `mass_candidates`.
     pub final_mass_index: Option<usize>,
     /// The calibrated effects.
@@ -287,6 +292,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         candidates,
         rivals,
         final_index,
+        screening_index,
         notes: stage_notes,
     } = stages.swap_remove(pick);
     notes.extend(stage_notes);
@@ -355,6 +361,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
         mass_candidates,
         candidates,
         final_index,
+        screening_index,
         final_mass_index,
         model,
         selected,
@@ -372,6 +379,8 @@ struct ActuationStage<'a> {
     /// Effect sets of the rivals of the best accepted model.
     rivals: Vec<Vec<String>>,
     final_index: usize,
+    /// The final index before the thickness forms ([`Selection::screening_index`]).
+    screening_index: usize,
     notes: Vec<String>,
 }
 
@@ -491,12 +500,17 @@ fn actuation_stage<'a>(
             }
         }
     };
+    let screening_index = final_index;
     // The chosen model against its thickness-dependent alternatives, when the PZT thickness varies.
-    if let Some(t) = thickness::form(data, &settings.declared) {
+    let thickness_forms = thickness::forms(data, &settings.declared);
+    if !thickness_forms.is_empty() {
         let own = candidates[final_index].library_effects();
-        let mut forms = vec![vec![eta, t]];
-        if !own.is_empty() && effect_names(&own).len() < max_effects {
-            forms.push([&[eta], own.as_slice(), &[t]].concat());
+        let mut forms = Vec::new();
+        for &t in &thickness_forms {
+            forms.push(vec![eta, t]);
+            if !own.is_empty() && effect_names(&own).len() < max_effects {
+                forms.push([&[eta], own.as_slice(), &[t]].concat());
+            }
         }
         forms.retain(|ids| ids.len() <= max_params);
         // Screened on AICc and intervals first; only a form that passes those is cross-validated.
@@ -534,6 +548,7 @@ fn actuation_stage<'a>(
         candidates,
         rivals,
         final_index,
+        screening_index,
         notes,
     })
 }

@@ -1,12 +1,14 @@
 //! Thickness forms (docs/calibration.md §3, "Thickness forms"): when the PZT thickness varies in the data,
 //! a uniform d31 scale can pass the adequacy test on data whose loss is thickness-dependent (a
-//! piezoelectrically dead surface layer costs a thin plate more than a thick one), and then names the wrong
-//! physics, which extrapolates wrongly to other thicknesses. So the model the selection chose is compared
-//! with itself plus an inactive surface layer of the PZT, `{η, …, t_s}`, and with `{η, t_s}`, fitted by
-//! the selection's own fitter as a declared effect (the composition of the model crate's
-//! `inactive-surface-layer` primitive); the thickness form replaces the chosen model only when its AICc
-//! is lower by [`DECISIVE_GAIN`], its cross-validated error is lower and the interval of each of its own
-//! effects excludes the null value.
+//! piezoelectrically dead surface layer costs a thin plate more than a thick one; a plate poled less
+//! through its thickness costs a thick one more), and then names the wrong physics, which extrapolates
+//! wrongly to other thicknesses. So the model the selection chose is compared with itself plus each
+//! thickness form, `{η, …, X}`, and with `{η, X}`, X an inactive surface layer of the PZT (`t_s`) or a d31
+//! that follows a power of the plate thickness (`a`), fitted by the selection's own fitter as declared
+//! effects (compositions of the model crate's `inactive-surface-layer` and `d31-thickness-power`
+//! primitives); a thickness form replaces the chosen model only when its AICc is lower by
+//! [`DECISIVE_GAIN`], its cross-validated error is lower and the interval of each of its own effects
+//! excludes the null value.
 
 use super::candidate::Candidate;
 use crate::calibrate::csv::Dataset;
@@ -19,16 +21,28 @@ use actuator_model::primitives::{Link, Map, Primitive};
 /// about 5e-4, and Burnham and Anderson's ΔAICc > 10 leaves the other model "essentially no support".
 pub const DECISIVE_GAIN: f64 = 10.0;
 
-/// The effect's name in the reports and calibrated-model.toml (the primitive's).
+/// The dead-layer form's name in the reports and calibrated-model.toml (the primitive's).
 pub const NAME: &str = "inactive-surface-layer";
+
+/// The power form's name (the primitive's).
+pub const POWER_NAME: &str = "d31-thickness-power";
+
+/// ΔAICc by which the power form must beat the dead layer to be named instead of it. Over plates of a few
+/// thicknesses the two forms nearly coincide for a thin dead layer (a 15 µm layer on 127-267 µm plates
+/// departs from the best power law by under 1 % of δ), so where the data cannot tell them apart (the
+/// selection's rivals within 2) the mechanism with one physical thickness is named; a loss that grows
+/// with the plate thickness, which no dead layer gives, is the power form's alone.
+pub const POWER_OVER_LAYER: f64 = 2.0;
 
 /// Smallest relative spread of the PZT thickness (max / min - 1) that counts as varying.
 const MIN_SPREAD: f64 = 0.01;
 
-/// The thickness form, when the PZT thickness varies among the actuators with deflection or force data
-/// and no declared effect already drives the inactive surface layer. Its bounds run from 0 to the
-/// smaller of 100 µm and half the thinnest plate.
-pub(super) fn form(data: &Dataset, declared: &[Declared]) -> Option<EffectId> {
+/// The thickness forms, when the PZT thickness varies among the actuators with deflection or force
+/// data, each unless a declared effect already drives its primitive: the inactive surface layer, its
+/// thickness in µm from 0 to the smaller of 100 µm and half the thinnest plate; and the d31 power of
+/// the plate thickness, its exponent from -1 to 1 (over the 127-267 µm plates, a d31 changed by up to
+/// their ratio of 2.1).
+pub(super) fn forms(data: &Dataset, declared: &[Declared]) -> Vec<EffectId> {
     let (lo, hi) = data
         .rows
         .iter()
@@ -36,37 +50,60 @@ pub(super) fn form(data: &Dataset, declared: &[Declared]) -> Option<EffectId> {
         .map(|r| r.pzt_thickness)
         .fold((f64::INFINITY, 0.0_f64), |(a, b), t| (a.min(t), b.max(t)));
     if !(lo > 0.0 && hi > lo * (1.0 + MIN_SPREAD)) {
-        return None;
+        return Vec::new();
     }
-    let already = declared.iter().any(|d| {
-        d.spec().parameters.iter().any(|p| {
-            p.primitives
+    let already = |primitive| {
+        declared.iter().any(|d| {
+            d.spec()
+                .parameters
                 .iter()
-                .any(|l| l.primitive == Primitive::InactiveSurfaceLayer)
+                .any(|p| p.primitives.iter().any(|l| l.primitive == primitive))
         })
-    });
-    if already {
-        return None;
-    }
-    let spec = DeclaredSpec {
-        name: NAME.into(),
+    };
+    let form = |name: &str, parameter: &str, map, (lo, hi), primitive| DeclaredSpec {
+        name: name.into(),
         parameters: vec![DeclaredParameter {
-            name: "inactive_thickness_m".into(),
+            name: parameter.into(),
             null: 0.0,
-            lo: 0.0,
-            hi: (0.5 * lo).min(100e-6),
-            primitives: vec![Link {
-                primitive: Primitive::InactiveSurfaceLayer,
-                map: Map::Identity,
-            }],
+            lo,
+            hi,
+            primitives: vec![Link { primitive, map }],
         }],
     };
-    Declared::all(spec).first().copied().map(EffectId::Declared)
+    [
+        form(
+            NAME,
+            // In µm at the edge, as the reports print it (the primitive takes metres).
+            "inactive_thickness_um",
+            Map::Micro,
+            (0.0, (0.5 * lo).min(100e-6) * 1e6),
+            Primitive::InactiveSurfaceLayer,
+        ),
+        form(
+            POWER_NAME,
+            "d31_thickness_exponent",
+            Map::Identity,
+            (-1.0, 1.0),
+            Primitive::D31ThicknessPower,
+        ),
+    ]
+    .into_iter()
+    .filter(|spec| !already(spec.parameters[0].primitives[0].primitive))
+    .filter_map(|spec| Declared::all(spec).first().copied().map(EffectId::Declared))
+    .collect()
 }
 
 /// Whether `id` is the thickness form the selection added (a declared effect the lab did not declare).
 pub fn is_form(id: EffectId, declared: &[Declared]) -> bool {
-    matches!(id, EffectId::Declared(d) if !declared.contains(&d) && d.spec().name == NAME)
+    matches!(id, EffectId::Declared(d)
+        if !declared.contains(&d) && [NAME, POWER_NAME].contains(&d.spec().name.as_str()))
+}
+
+/// Whether the candidate carries the power form.
+fn has_power(c: &Candidate) -> bool {
+    c.effects
+        .iter()
+        .any(|e| matches!(e, EffectId::Declared(d) if d.spec().name == POWER_NAME))
 }
 
 /// A thickness form's own effects are identifiable and significant, and its AICc is lower than
@@ -82,11 +119,21 @@ pub(super) fn qualifies(c: &Candidate, chosen: &Candidate) -> bool {
 }
 
 /// The fit of `fits` (thickness forms) that replaces `chosen`, if any: it [`qualifies`] and its
-/// cross-validated error is lower; the lowest AICc among those.
+/// cross-validated error is lower; the lowest AICc among those, except that a power form is named over
+/// a qualifying dead-layer form only when its AICc is lower by more than [`POWER_OVER_LAYER`].
 pub(super) fn preferred(fits: &[Candidate], chosen: &Candidate) -> Option<usize> {
-    fits.iter()
-        .enumerate()
-        .filter(|(_, c)| qualifies(c, chosen) && c.cv_rmse < chosen.cv_rmse)
-        .min_by(|a, b| a.1.aicc.total_cmp(&b.1.aicc))
-        .map(|(i, _)| i)
+    let ok = |c: &Candidate| qualifies(c, chosen) && c.cv_rmse < chosen.cv_rmse;
+    let best = |power: bool| {
+        fits.iter()
+            .enumerate()
+            .filter(|(_, c)| ok(c) && has_power(c) == power)
+            .min_by(|a, b| a.1.aicc.total_cmp(&b.1.aicc))
+    };
+    match (best(false), best(true)) {
+        (Some(layer), Some(power)) if power.1.aicc < layer.1.aicc - POWER_OVER_LAYER => {
+            Some(power.0)
+        }
+        (Some(layer), _) => Some(layer.0),
+        (None, power) => power.map(|p| p.0),
+    }
 }
