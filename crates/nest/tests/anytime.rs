@@ -102,3 +102,37 @@ fn a_deadline_already_past_still_gives_every_part_and_says_it_cannot_be_replayed
     assert_eq!(reached.ended, SearchEnd::Time);
     assert!(!reached.replayable);
 }
+
+#[test]
+fn on_fixed_sheets_more_rounds_never_give_more_sheets_or_a_longer_last_sheet() {
+    // Sheets too small for all parts at once: the rounds' search may empty a sheet, their
+    // compression shortens the last one; the used length (all sheets but the last whole, plus
+    // the last one's used height) orders layouts as the search does.
+    let items = items();
+    let bin = NestBin {
+        width_mm: 40.0,
+        height_mm: 40.0,
+        stock: 9,
+    };
+    let mut previous: Option<(usize, f64)> = None;
+    for rounds in [0, 2, 5] {
+        let s = settings(BASE + rounds * ROUND);
+        let (layout, reached) =
+            nest_until(&items, &bin, &s, &SearchLimit::default(), &|_| {}).expect("nest");
+        verify(&items, &bin, &s, &layout, 1e-9).expect("layout verifies");
+        assert!(reached.replayable);
+        let now = (
+            layout.bins_used(),
+            layout.used_length_mm(&bin, s.separation_mm),
+        );
+        if let Some((sheets, length)) = previous {
+            assert!(
+                // Lengths within the score's 1 µm tolerance are equal to the search (plus f32
+                // rounding of a 40 mm figure); below it, fuller sheets win.
+                now.0 < sheets || (now.0 == sheets && now.1 <= length + 1.01e-3),
+                "{rounds} rounds: {now:?}, fewer rounds {sheets} sheets {length} mm"
+            );
+        }
+        previous = Some(now);
+    }
+}
