@@ -14,10 +14,7 @@ use std::time::Instant;
 
 fn main() {
     let example = Batch::load(&example_path("batch.toml")).expect("example batch loads");
-    let opts = NestOptions {
-        seed: example.seed,
-        iterations: 1000,
-    };
+    let opts = NestOptions::budget(example.seed, 1000);
     let formats = Formats {
         svg: true,
         dxf: true,

@@ -19,8 +19,13 @@ fn main() -> ExitCode {
     }
     // An interrupted run removes its staging folder, so it leaves nothing half-written behind; once its
     // files are all in place, it ends as if nothing had come. If the handler cannot be set, the next run
-    // into the same place removes the leftover instead.
+    // into the same place removes the leftover instead. The first interrupt of a nest's search only ends
+    // the search, so that the best layout so far is written; a second aborts as above.
     let _ = ctrlc::set_handler(|| {
+        if commands::interrupt::end_search() {
+            eprintln!("interrupted: ending the search, writing the best layout so far (interrupt again to abort)");
+            return;
+        }
         if actuator_cam::output::remove_after_interrupt() {
             return;
         }

@@ -535,4 +535,108 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
         &[("c.toml", &c)],
     );
     fails_without_output(&dir, &["sheets.spacing_mm", "-1"]);
+
+    let dir = scratch_batch(
+        &format!("name = \"x\"\ntime_s = 0\n{}", item("c.toml", 2)),
+        &[("c.toml", &c)],
+    );
+    fails_without_output(&dir, &["time_s", "0", "86400"]);
+}
+
+#[test]
+fn a_bad_time_budget_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    for bad in ["soon", "-3s", "0", "2d", "90000"] {
+        let out = dir.path().join("out");
+        let flag = format!("--time={bad}");
+        let o = nest(Path::new(&example("batch.toml")), &out, &[&flag]);
+        let err = refused_in_one_line(&o);
+        assert!(err.contains("--time") && err.contains(bad), "{bad}: {err}");
+        assert!(!out.exists(), "{bad}: output written");
+    }
+}
+
+#[test]
+fn a_time_budget_nests_until_it_runs_out_and_the_report_says_how_far_each_layer_got() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = nest(Path::new(&example("batch.toml")), &out, &["--time", "3s"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_report(&out, &example_designs(), 0.3);
+    let report = report_file(&out);
+    assert_eq!(report["time_budget_s"], 3.0);
+    let layers = report["baseline"].as_array().unwrap();
+    assert!(!layers.is_empty());
+    for layer in layers {
+        let search = &layer["search"];
+        let ended = search["ended"].as_str().unwrap();
+        assert!(["time", "budget"].contains(&ended), "{search}");
+        // A replayable layer got past the base search of 1000 iterations.
+        if search["replayable"].as_bool().unwrap() {
+            assert!(search["iterations"].as_u64().unwrap() >= 1000, "{search}");
+        }
+    }
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("## Search (time budget 3 s)"), "{md}");
+}
+
+/// The example batch nested with a time budget far longer than the test, interrupted
+/// `interrupts` times once its search is under way (SIGINT, as Ctrl-C sends).
+fn interrupted_nest(
+    interrupts: usize,
+) -> (tempfile::TempDir, std::path::PathBuf, std::process::Output) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let child = bin()
+        .args([
+            "nest",
+            &example("batch.toml"),
+            "-o",
+            out.to_str().unwrap(),
+            "--time",
+            "600s",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    for _ in 0..interrupts {
+        std::process::Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let o = child.wait_with_output().unwrap();
+    (dir, out, o)
+}
+
+#[test]
+fn a_first_interrupt_ends_the_search_and_writes_the_best_layout_so_far() {
+    let (dir, out, o) = interrupted_nest(1);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("interrupted"), "{}", stderr(&o));
+    check_report(&out, &example_designs(), 0.3);
+    let report = report_file(&out);
+    for layer in report["baseline"].as_array().unwrap() {
+        assert_eq!(layer["search"]["ended"], "interrupt", "{layer}");
+    }
+    assert!(staging_left(dir.path()).is_empty() && staging_left(&out).is_empty());
+}
+
+#[test]
+fn a_second_interrupt_aborts_and_leaves_nothing_behind() {
+    let (dir, out, o) = interrupted_nest(2);
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(
+        !out.exists() || files(&out).is_empty(),
+        "half-written output"
+    );
+    assert!(staging_left(dir.path()).is_empty());
+}
+
+/// `nest-report.json` of a written nest.
+fn report_file(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap()).unwrap()
 }

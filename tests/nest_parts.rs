@@ -875,10 +875,7 @@ impl NestObserver for Recorder {
 /// An example batch planned (seed 1, `iterations`) with a recorder listening.
 fn observed(example: &str, iterations: usize) -> (Planned, Recorder) {
     let batch = Batch::load(&example_path(example)).unwrap();
-    let opts = NestOptions {
-        seed: 1,
-        iterations,
-    };
+    let opts = NestOptions::budget(1, iterations);
     let recorder = Recorder::default();
     let planned = plan_observed(&batch, &opts, &recorder).unwrap();
     (planned, recorder)

@@ -29,6 +29,16 @@ the densities and CPU times side by side and the four mean gaps:
     NEST_MEASURE_SEEDS=9100 cargo bench -p cam-nest --bench nest_measure   # the fresh set
     /tmp/nestref/bin/python tools/nest_reference.py --measure target/nest-bench/measure-9100.json
 
+With `--esicup` it reads the figures of `cargo bench -p cam-nest --bench strip_instances` (written to
+`target/nest-bench/esicup-<budget>.json`; the ESICUP instances, our density, wall and CPU time per instance)
+and nests each instance with sparrow at the same time budget, straight from the instance's own JSON (sparrow's
+form: no turning, the instance's orientations, separation 0). It prints the load, both densities side by side,
+sparrow's published 20-minute densities (the instance folder's README, Gardeyn & Wauters 2025, Table 2) as the
+ceiling, the mean gap and the instances won:
+
+    NEST_TIME_S=30 cargo bench -p cam-nest --bench strip_instances
+    /tmp/nestref/bin/python tools/nest_reference.py --esicup target/nest-bench/esicup-30.0s.json
+
 sparrow stops on wall-clock time (seeded, but not reproducible across machines); that is why
 this is a hand-run reference and not a test.
 """
@@ -61,6 +71,22 @@ def cpu_seconds():
     return usage.ru_utime + usage.ru_stime
 
 
+def sparrow(name, height, items, seconds, workers, seed, early_termination, separation=None):
+    """One sparrow run on a strip `height` high: its solution, wall seconds and CPU seconds."""
+    instance = spyrrow.StripPackingInstance(name, strip_height=height, items=items)
+    extra = {} if separation is None else {"min_items_separation": separation}
+    config = spyrrow.StripPackingConfig(
+        early_termination=early_termination,
+        total_computation_time=seconds,
+        num_workers=workers,
+        seed=seed,
+        **extra,
+    )
+    started, cpu_started = time.time(), cpu_seconds()
+    solution = instance.solve(config)
+    return solution, time.time() - started, cpu_seconds() - cpu_started
+
+
 def solve(batch, seconds, workers, seed):
     width = batch["strip_width_mm"]
     sep = batch["separation_mm"]
@@ -80,17 +106,9 @@ def solve(batch, seconds, workers, seed):
                 allowed_orientations=[float(r) for r in item["rotations_deg"]],
             )
         )
-    instance = spyrrow.StripPackingInstance(batch["name"], strip_height=width, items=items)
-    config = spyrrow.StripPackingConfig(
-        early_termination=True,
-        min_items_separation=sep,
-        total_computation_time=seconds,
-        num_workers=workers,
-        seed=seed,
+    solution, elapsed, cpu = sparrow(
+        batch["name"], width, items, seconds, workers, seed, early_termination=True, separation=sep
     )
-    started, cpu_started = time.time(), cpu_seconds()
-    solution = instance.solve(config)
-    elapsed, cpu = time.time() - started, cpu_seconds() - cpu_started
     xs, ys, part_area = [], [], 0.0
     for placed in solution.placed_items:
         c, s = math.cos(math.radians(placed.rotation)), math.sin(math.radians(placed.rotation))
@@ -119,6 +137,98 @@ def solve(batch, seconds, workers, seed):
         "seed": seed,
         "packer": f"spyrrow {getattr(spyrrow, '__version__', '0.9.0')}",
     }
+
+
+def published(folder):
+    """Sparrow's published expected densities by instance name, from the folder's README table."""
+    readme = Path(folder) / "README.md"
+    if not readme.exists():
+        return {}
+    found = {}
+    for line in readme.read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 2:
+            try:
+                found[cells[0].lower()] = float(cells[1]) / 100.0
+            except ValueError:
+                pass
+    return found
+
+
+def solve_instance(path, seconds, workers, seed):
+    """Sparrow on an instance in its own JSON form; density = part area / (strip height x length)."""
+    instance = json.loads(Path(path).read_text())
+    items, part_area, shapes = [], 0.0, {}
+    for index, item in enumerate(instance["items"]):
+        shape = item["shape"]
+        ring = shape["data"] if shape["type"] == "simple_polygon" else shape["data"]["outer"]
+        ring = [tuple(p) for p in ring]
+        shapes[str(index)] = ring
+        part_area += area(ring) * item["demand"]
+        orientations = item.get("allowed_orientations")
+        items.append(
+            spyrrow.Item(
+                str(index),
+                ring,
+                demand=item["demand"],
+                allowed_orientations=None if orientations is None else [float(r) for r in orientations],
+            )
+        )
+    height = instance["strip_height"]
+    # The whole budget, as the engine it is compared with uses its whole time budget.
+    solution, elapsed, cpu = sparrow(
+        instance["name"], height, items, seconds, workers, seed, early_termination=False
+    )
+    xs = []
+    for placed in solution.placed_items:
+        c, s = math.cos(math.radians(placed.rotation)), math.sin(math.radians(placed.rotation))
+        tx, ty = placed.translation
+        for x, y in shapes[placed.id]:
+            xs.append(c * x - s * y + tx)
+    demanded = sum(i["demand"] for i in instance["items"])
+    if len(solution.placed_items) != demanded:
+        sys.exit(f"{instance['name']}: {len(solution.placed_items)} of {demanded} parts placed")
+    length = max(xs) - min(0.0, min(xs))
+    return {"density": part_area / (height * length), "seconds": elapsed, "cpu_seconds": cpu}
+
+
+def load_average():
+    with open("/proc/loadavg") as f:
+        return " ".join(f.read().split()[:3])
+
+
+def esicup(path, workers, seed):
+    """Our figures from the strip_instances bench beside sparrow's at the same time budget."""
+    rows = json.loads(Path(path).read_text())
+    budget = rows[0]["time_budget_s"] if rows else None
+    if budget is None:
+        sys.exit(f"{path}: no time budget (run the bench with NEST_TIME_S)")
+    seconds = max(1, round(budget))
+    ceiling = published(Path(rows[0]["instance"]).parent)
+    print(f"ESICUP at {seconds} s, {workers} workers, seed {seed}; load average {load_average()} (1, 5, 15 min)")
+    print(
+        f"{'instance':<10} {'parts':>5} {'ours %':>7} {'wall s':>6} {'CPU s':>6} "
+        f"{'sparrow %':>9} {'wall s':>6} {'CPU s':>6} {'gap':>6} {'20 min %':>8}"
+    )
+    gaps, won = [], 0
+    for row in rows:
+        theirs = solve_instance(row["instance"], seconds, workers, seed)
+        gap = row["density"] - theirs["density"]
+        gaps.append(gap)
+        won += gap > 0
+        top = ceiling.get(row["name"].lower())
+        print(
+            f"{row['name']:<10} {row['parts']:>5} {100 * row['density']:>7.2f} {row['wall_s']:>6.2f} "
+            f"{row['cpu_s']:>6.2f} {100 * theirs['density']:>9.2f} {theirs['seconds']:>6.2f} "
+            f"{theirs['cpu_seconds']:>6.2f} {100 * gap:>+6.2f} {'-' if top is None else f'{100 * top:.2f}':>8}",
+            flush=True,
+        )
+    n = len(rows)
+    ours = sum(r["density"] for r in rows) / n
+    print(
+        f"mean: ours {100 * ours:.2f} %, sparrow {100 * (ours - sum(gaps) / n):.2f} %, "
+        f"gap {100 * sum(gaps) / n:+.2f} points; ours ahead on {won} of {n}; load average {load_average()}"
+    )
 
 
 def measure(path, workers, seed):
@@ -200,7 +310,11 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--measure", nargs="?", const="target/nest-bench/measure.json",
                         help="our figures from the measuring bench beside sparrow's")
+    parser.add_argument("--esicup", help="our strip_instances figures beside sparrow's at their budget")
     args = parser.parse_args()
+    if args.esicup:
+        esicup(args.esicup, args.workers, args.seed)
+        return
     if args.measure:
         measure(args.measure, args.workers, args.seed)
         return

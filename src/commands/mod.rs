@@ -6,6 +6,7 @@ pub mod calibrate;
 pub mod cut_sheet;
 pub mod drive;
 pub mod flags;
+pub mod interrupt;
 pub mod laminate;
 pub mod nest;
 pub mod optimize;

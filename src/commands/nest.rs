@@ -1,9 +1,11 @@
 //! `actuator-cam nest batch.toml -o out/`: a batch of designs nested on shared sheets and clamp panels.
 
 use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
-use actuator_cam::batch::{plan_observed, Batch, NestOptions};
+use super::interrupt;
+use actuator_cam::batch::{plan_observed, Batch, NestOptions, TimeBudget};
 use actuator_cam::cam::svg::SvgOptions;
 use actuator_cam::cutsheet::write::render_drawings;
+use actuator_cam::input::limits::NEST_TIME_S;
 use actuator_cam::output::Output;
 use actuator_cam::pipeline::{NestObserver, Unobserved};
 use anyhow::bail;
@@ -13,18 +15,22 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// The nester's progress as a bar on stderr: which job (cut layer) of how many, the iterations of
-/// its budget, its sheets against their lower bound and the best density so far.
+/// its budget (or under a time budget, the time), its sheets against their lower bound, the best
+/// density so far and the time left.
 struct Bar {
     bar: ProgressBar,
     /// `job 2/3 passive`, set when a layer starts.
     job: RefCell<String>,
+    time: Option<TimeBudget>,
 }
 
 impl Bar {
-    fn new() -> Bar {
+    fn new(time: Option<TimeBudget>) -> Bar {
         Bar {
+            time,
             bar: ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()).with_style(
                 ProgressStyle::with_template("nest {prefix} {wide_bar} {msg}")
                     .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -44,6 +50,20 @@ impl NestObserver for Bar {
     }
 
     fn progress(&self, p: &NestProgress) {
+        if let Some(t) = self.time {
+            // The whole nest's time: the bar fills as it runs out, whichever layer reports.
+            let left = t.deadline.saturating_duration_since(Instant::now());
+            let total = (t.seconds * 1000.0) as u64;
+            self.bar.set_length(total.max(1));
+            self.bar
+                .set_position(total.saturating_sub(left.as_millis() as u64));
+            self.bar.set_message(format!(
+                "{}, {:.0} s left",
+                progress_line(p),
+                left.as_secs_f64()
+            ));
+            return;
+        }
         self.bar.set_length(p.iterations_budget.max(1) as u64);
         self.bar.set_position(if p.finished {
             p.iterations_budget.max(1) as u64
@@ -78,15 +98,37 @@ pub struct NestArgs {
     /// Seed of the nester (overrides the batch file's).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Optimiser budget of the irregular nester per job of 60+ parts, smaller jobs a share (overrides the batch file's; default 1000).
+    /// Optimiser budget of the irregular nester per job of 60+ parts, smaller jobs a share (overrides the batch file's; default 1000). Above 1000, anytime rounds after the base search; with --time, the most it may do.
     #[arg(long)]
     pub iterations: Option<usize>,
+    /// Wall-clock budget of the whole nest, e.g. `30s`, `2m`, `90` (seconds; overrides the batch file's `time_s`): the search improves until then. Machine-dependent: the report records the iterations each layer reached, which `--iterations` replays.
+    #[arg(long, value_parser = parse_time)]
+    pub time: Option<f64>,
     /// `--json`: nest-report.json on standard output.
     #[command(flatten)]
     pub json: JsonFlag,
     /// `--stroke-mm`.
     #[command(flatten)]
     pub stroke: StrokeFlag,
+}
+
+/// `--time`: seconds, or a number with `s`, `m` or `h`, within `NEST_TIME_S`.
+fn parse_time(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, unit) = match t.char_indices().last() {
+        Some((i, 's')) => (&t[..i], 1.0),
+        Some((i, 'm')) => (&t[..i], 60.0),
+        Some((i, 'h')) => (&t[..i], 3600.0),
+        _ => (t, 1.0),
+    };
+    let range = NEST_TIME_S;
+    number
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .map(|n| n * unit)
+        .filter(|s| range.contains(*s))
+        .ok_or_else(|| format!("a time such as 30s, 2m or 90 (seconds), within {range}"))
 }
 
 /// Run `nest`.
@@ -97,21 +139,30 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         bail!("--iterations = {n}: outside the allowed range [0, {max}]");
     }
     let batch = Batch::load(&args.batch)?;
+    let time_s = args.time.or(batch.time_s);
+    let iterations = args.iterations.or(batch.iterations);
+    // A time budget alone searches until its deadline: the iteration cap is the largest allowed.
+    let iterations = match (iterations, time_s) {
+        (Some(n), _) => n,
+        (None, Some(_)) => max,
+        (None, None) => NestSettings::default().iterations,
+    };
+    interrupt::search_started();
     let opts = NestOptions {
         seed: args.seed.unwrap_or(batch.seed),
-        iterations: args
-            .iterations
-            .or(batch.iterations)
-            .unwrap_or(NestSettings::default().iterations),
+        iterations,
+        time: time_s.map(TimeBudget::from_now),
+        interrupt: Some(&interrupt::SEARCH_STOP),
     };
     // A bar on a terminal only: piped or redirected, stderr stays empty (and --json's stdout is
     // the report alone either way).
-    let bar = std::io::stderr().is_terminal().then(Bar::new);
+    let bar = std::io::stderr().is_terminal().then(|| Bar::new(opts.time));
     let observer: &dyn NestObserver = match &bar {
         Some(b) => b,
         None => &Unobserved,
     };
     let planned = plan_observed(&batch, &opts, observer);
+    interrupt::search_finished();
     if let Some(b) = &bar {
         b.bar.finish_and_clear();
     }
@@ -143,6 +194,9 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         )
         .folder("-o", &args.output.output, files)
         .write()?;
+    if interrupt::search_ended() {
+        eprintln!("the search was interrupted: the files hold the best layout found by then (the report says how far each layer got)");
+    }
     if args.json.json {
         print!("{json}");
     } else {

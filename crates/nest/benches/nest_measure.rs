@@ -55,23 +55,15 @@ struct Snapshot {
     finished: bool,
 }
 
-/// User + system CPU seconds of this process so far.
-fn cpu_seconds() -> f64 {
-    // SAFETY: getrusage only writes the struct it is given.
-    let usage = unsafe {
-        let mut usage: libc::rusage = std::mem::zeroed();
-        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
-        usage
-    };
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    secs(usage.ru_utime) + secs(usage.ru_stime)
-}
-
 /// Wall and CPU seconds of `f`.
 fn timed<T>(f: impl FnOnce() -> T) -> (T, f64, f64) {
-    let (wall, cpu) = (Instant::now(), cpu_seconds());
+    let (wall, cpu) = (Instant::now(), fixtures::cpu_seconds());
     let result = f();
-    (result, wall.elapsed().as_secs_f64(), cpu_seconds() - cpu)
+    (
+        result,
+        wall.elapsed().as_secs_f64(),
+        fixtures::cpu_seconds() - cpu,
+    )
 }
 
 fn env(name: &str) -> Option<String> {
@@ -124,7 +116,7 @@ fn strips(settings: &cam_nest::NestSettings) {
         let at: Cell<Option<Snapshot>> = Cell::new(None);
         // When the first layout (the greedy fill's) was known: nothing is there to stop at before.
         let first: Cell<Option<f64>> = Cell::new(None);
-        let (wall0, cpu0) = (Instant::now(), cpu_seconds());
+        let (wall0, cpu0) = (Instant::now(), fixtures::cpu_seconds());
         let observe = |p: &NestProgress| {
             last.set(Some(*p));
             let known_at_s = wall0.elapsed().as_secs_f64();
@@ -136,7 +128,7 @@ fn strips(settings: &cam_nest::NestSettings) {
                 at.set(Some(Snapshot {
                     density: p.best_density,
                     known_at_s,
-                    cpu_s: cpu_seconds() - cpu0,
+                    cpu_s: fixtures::cpu_seconds() - cpu0,
                     iterations_done: p.iterations_done,
                     finished: p.finished,
                 }));

@@ -1,33 +1,45 @@
 //! Strip packing on instances in the JSON form of jagua-rs and sparrow (the ESICUP instances as
 //! those projects distribute them): `cargo bench -p cam-nest --bench strip_instances`.
 //!
-//! Reads every `*.json` in `benches/instances/` (or in the folder `NEST_STRIP_INSTANCES` names):
-//! `{"name", "strip_height", "items": [{"demand", "allowed_orientations", "shape": {"type":
-//! "simple_polygon", "data": [[x, y], ...]}}]}`, where the strip runs along x with the fixed
-//! height `strip_height`. Our strip runs along y with a fixed width, so every outline is turned
-//! by -90° on reading, which keeps each part's orientation to the strip (and an allowed angle
-//! stays allowed). `allowed_orientations` null (free rotation) becomes 0/90/180/270°: the
-//! engine turns by listed angles only. Separation 0, as in the ESICUP instances. Prints density
-//! (part area / (strip height x used length)) and wall time with the default settings.
+//! Reads every `*.json` in the folder `NEST_STRIP_INSTANCES` names, else in `NEST_ESICUP_DIR`,
+//! else in `../shared/data/esicup` beside the repository (the twelve public ESICUP instances,
+//! which are not shipped here: their licences are not stated); if that folder is missing it
+//! says so and stops. `NEST_STRIP_INSTANCES=crates/nest/benches/instances` runs the committed
+//! instance. The form: `{"name", "strip_height", "items": [{"demand", "allowed_orientations",
+//! "shape": {"type": "simple_polygon", "data": [[x, y], ...]}}]}`, where the strip runs along x
+//! with the fixed height `strip_height`. Our strip runs along y with a fixed width, so every
+//! outline is turned by -90° on reading, which keeps each part's orientation to the strip (and
+//! an allowed angle stays allowed). `allowed_orientations` null (free rotation) becomes
+//! 0/90/180/270°: the engine turns by listed angles only. Separation 0, as in the ESICUP
+//! instances, 2 workers, seed 1.
+//!
+//! `NEST_TIME_S=30` gives each instance a 30 s time budget (the anytime search, iterations
+//! unbounded); without it the default iteration budget runs. One line per instance: name,
+//! parts, density (part area / (strip height x used length)), wall and CPU seconds, and the
+//! iterations reached (`--iterations` replays a run whose time ran out in the anytime rounds).
+//! The figures also go to `target/nest-bench/esicup-<budget>.json`, which
+//! `tools/nest_reference.py --esicup` reads to run sparrow at the same budget beside them.
 //!
 //! The committed instance, `actuators-80.json`, is generated in that form from the fixtures
-//! (seed 7201, used nowhere else) by `-- --write-example`; the public ESICUP instances are not
-//! shipped here (their licences are not stated), but any of them in this form can be dropped in.
+//! (seed 7201, used nowhere else) by `-- --write-example`.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-use cam_nest::{nest_strip, verify, NestItem, NestSettings};
+use cam_nest::{nest_strip_until, verify, NestItem, NestSettings, SearchLimit};
 use serde_json::{json, Value};
 
 #[path = "../tests/fixtures/mod.rs"]
 mod fixtures;
 
+/// The instances' folder (see the module doc).
 fn instances_dir() -> PathBuf {
-    std::env::var_os("NEST_STRIP_INSTANCES").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/instances"),
-        PathBuf::from,
-    )
+    std::env::var_os("NEST_STRIP_INSTANCES")
+        .or_else(|| std::env::var_os("NEST_ESICUP_DIR"))
+        .map_or_else(
+            || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/esicup"),
+            PathBuf::from,
+        )
 }
 
 /// Our items and strip width from an instance, or why it cannot be read.
@@ -98,32 +110,54 @@ fn write_example(dir: &Path) {
 }
 
 fn main() {
-    let dir = instances_dir();
     if std::env::args().any(|a| a == "--write-example") {
-        write_example(&dir);
+        write_example(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/instances"));
         return;
     }
+    let dir = instances_dir();
+    let time_s: Option<f64> = std::env::var("NEST_TIME_S").ok().map(|t| {
+        t.parse()
+            .ok()
+            .filter(|t: &f64| t.is_finite() && *t > 0.0)
+            .unwrap_or_else(|| panic!("NEST_TIME_S = {t:?}: a number of seconds above 0"))
+    });
     let settings = NestSettings {
         separation_mm: 0.0,
         seed: 1,
+        // A time budget runs the anytime search until its deadline.
+        iterations: if time_s.is_some() {
+            usize::MAX / 2
+        } else {
+            NestSettings::default().iterations
+        },
         ..NestSettings::default()
     };
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        println!(
+            "strip instances: no folder {} (set NEST_ESICUP_DIR or NEST_STRIP_INSTANCES); nothing to measure",
+            dir.display()
+        );
+        return;
+    };
+    let mut paths: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     paths.sort();
+    let budget = match time_s {
+        Some(t) => format!("{t} s each"),
+        None => format!("{} iterations", settings.iterations),
+    };
     println!(
-        "strip instances in {}: separation 0, {} iterations, {} workers, seed 1",
+        "strip instances in {}: separation 0, {budget}, {} workers, seed 1",
         dir.display(),
-        settings.iterations,
         settings.workers
     );
     println!(
-        "{:<16} {:>6} {:>9} {:>10} {:>8}",
-        "instance", "parts", "width", "density %", "wall s"
+        "{:<16} {:>6} {:>10} {:>8} {:>8} {:>10}",
+        "instance", "parts", "density %", "wall s", "CPU s", "iterations"
     );
+    let mut rows = Vec::new();
     for path in paths {
         let text = std::fs::read_to_string(&path).expect("read instance");
         let (name, width, items) = match read_instance(&text) {
@@ -133,14 +167,49 @@ fn main() {
                 continue;
             }
         };
-        let started = Instant::now();
-        let strip = nest_strip(&items, width, &settings, &|_| {}).expect("nest");
-        let seconds = started.elapsed().as_secs_f64();
+        let (started, cpu_started) = (Instant::now(), fixtures::cpu_seconds());
+        let limit = SearchLimit {
+            deadline: time_s.map(|t| started + Duration::from_secs_f64(t)),
+            interrupt: None,
+        };
+        let (strip, reached) =
+            nest_strip_until(&items, width, &settings, &limit, &|_| {}).expect("nest");
+        let (seconds, cpu) = (
+            started.elapsed().as_secs_f64(),
+            fixtures::cpu_seconds() - cpu_started,
+        );
         verify(&items, &strip.bin, &settings, &strip.solution, 1e-6).expect("layout verifies");
         let parts: usize = items.iter().map(|i| i.demand).sum();
+        let iterations = if reached.replayable {
+            reached.iterations.to_string()
+        } else {
+            "base cut".into()
+        };
         println!(
-            "{name:<16} {parts:>6} {width:>9.1} {:>10.2} {seconds:>8.2}",
+            "{name:<16} {parts:>6} {:>10.2} {seconds:>8.2} {cpu:>8.2} {iterations:>10}",
             strip.density * 100.0
         );
+        rows.push(json!({
+            "name": name,
+            "instance": path.canonicalize().unwrap_or(path),
+            "parts": parts,
+            "density": strip.density,
+            "wall_s": seconds,
+            "cpu_s": cpu,
+            "iterations": reached.replayable.then_some(reached.iterations),
+            "time_budget_s": time_s,
+        }));
     }
+    let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/nest-bench");
+    let file = out.join(match time_s {
+        Some(t) => format!("esicup-{t}s.json"),
+        None => "esicup-default.json".into(),
+    });
+    std::fs::create_dir_all(&out).expect("create target/nest-bench");
+    std::fs::write(
+        &file,
+        serde_json::to_string_pretty(&rows).expect("json") + "\n",
+    )
+    .expect("write the figures");
+    println!("written {}", file.display());
 }

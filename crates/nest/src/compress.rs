@@ -115,17 +115,23 @@ const WEIGHT_DECAY: f32 = 0.95;
 
 /// The lowest-topped clear layout of `sheet`'s parts that compression finds within `budget`
 /// overlap evaluations (the input itself if none is lower). `clear` is the final judge of a
-/// layout (jagua-rs's collision test).
+/// layout (jagua-rs's collision test). `stop` is asked before every separation: once it says
+/// yes, compression returns the best layout so far, and `Compressed::stopped` tells the caller
+/// that the budget did not decide where it ended.
 pub(crate) fn compress(
     footprints: &Footprints,
     sheet: &[Placement],
     budget: usize,
     rng: &mut ChaCha8Rng,
     clear: impl Fn(&[Placement]) -> bool,
-) -> Vec<Placement> {
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Compressed {
     let mut best = sheet.to_vec();
     if best.len() < 2 {
-        return best;
+        return Compressed {
+            items: best,
+            stopped: false,
+        };
     }
     let top = |items: &[Placement]| {
         items
@@ -151,6 +157,12 @@ pub(crate) fn compress(
     let mut weights = vec![1.0; best.len() * best.len()];
     loop {
         while spent < budget && failed_at_last < STALL_ATTEMPTS {
+            if stop() {
+                return Compressed {
+                    items: best,
+                    stopped: true,
+                };
+            }
             let ceiling = best_top - step;
             let Some(trial) = all_under_ceiling(footprints, &best, ceiling) else {
                 // A part is taller than the room under this ceiling: no lower ceiling will do.
@@ -184,16 +196,38 @@ pub(crate) fn compress(
             break;
         }
         let ceiling = best_top - SHRINK_LAST * length;
-        let (found, used) = explore(footprints, &best, ceiling, budget - spent, rng, &clear);
+        let (found, used) = explore(
+            footprints,
+            &best,
+            ceiling,
+            budget - spent,
+            rng,
+            &clear,
+            stop,
+        );
         spent += used;
         let Some(found) = found else {
-            break;
+            return Compressed {
+                items: best,
+                stopped: stop(),
+            };
         };
         best = found;
         best_top = top(&best);
         failed_at_last = 0;
     }
-    best
+    Compressed {
+        items: best,
+        stopped: false,
+    }
+}
+
+/// What [`compress`] returns.
+pub(crate) struct Compressed {
+    /// The lowest clear layout found.
+    pub(crate) items: Vec<Placement>,
+    /// True if `stop` ended compression before its budget or its stall rules did.
+    pub(crate) stopped: bool,
 }
 
 /// Sparrow's exploration (Gardeyn & Wauters 2025, "exploration phase") at a fixed `ceiling`
@@ -208,6 +242,7 @@ fn explore(
     budget: usize,
     rng: &mut ChaCha8Rng,
     clear: &impl Fn(&[Placement]) -> bool,
+    stop: &(dyn Fn() -> bool + Sync),
 ) -> (Option<Vec<Placement>>, usize) {
     let Some(mut current) = all_under_ceiling(footprints, best, ceiling) else {
         return (None, 0);
@@ -216,7 +251,7 @@ fn explore(
     let mut pool: Vec<(f32, Vec<Placement>)> = Vec::new();
     let mut spent = 0;
     for _ in 0..EXPLORE_FAILURES {
-        if spent >= budget {
+        if spent >= budget || stop() {
             break;
         }
         let parts = current.len();
@@ -634,7 +669,7 @@ mod tests {
         // clearance); stacked in one column their top is 4.03.
         let start = column(4);
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let packed = compress(&squares(), &start, 2_000_000, &mut rng, boxes_clear);
+        let packed = compress(&squares(), &start, 2_000_000, &mut rng, boxes_clear, &never).items;
         assert!(boxes_clear(&packed));
         let top = packed.iter().map(|s| s.t.1 + 1.0).fold(0.0, f32::max);
         assert!(top < 2.1, "top {top}, two rows reach 2");
@@ -673,7 +708,7 @@ mod tests {
             },
         ];
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let kept = compress(&footprints, &start, usize::MAX, &mut rng, |_| true);
+        let kept = compress(&footprints, &start, usize::MAX, &mut rng, |_| true, &never).items;
         assert_eq!(kept, start);
     }
 
@@ -723,7 +758,15 @@ mod tests {
         ];
         let run = |seed| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            explore(&bars(), &start, 2.05, 5_000_000, &mut rng, &bars_clear)
+            explore(
+                &bars(),
+                &start,
+                2.05,
+                5_000_000,
+                &mut rng,
+                &bars_clear,
+                &never,
+            )
         };
         let (found, spent) = run(11);
         let found = found.expect("a two-row layout exists");
@@ -746,7 +789,15 @@ mod tests {
             at(1, 6.1, 1.01),
         ];
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let (found, spent) = explore(&bars(), &start, 1.5, usize::MAX, &mut rng, &bars_clear);
+        let (found, spent) = explore(
+            &bars(),
+            &start,
+            1.5,
+            usize::MAX,
+            &mut rng,
+            &bars_clear,
+            &never,
+        );
         assert!(found.is_none());
         assert!(spent > 0 && spent < usize::MAX);
     }
@@ -785,16 +836,43 @@ mod tests {
         }
     }
 
+    /// The `stop` of a compression that only its budget and stall rules end.
+    fn never() -> bool {
+        false
+    }
+
+    #[test]
+    fn a_stop_ends_compression_with_the_start_it_was_given_and_says_so() {
+        let run = |stop: &(dyn Fn() -> bool + Sync)| {
+            let mut rng = ChaCha8Rng::seed_from_u64(3);
+            compress(&squares(), &column(5), 300_000, &mut rng, boxes_clear, stop)
+        };
+        let stopped = run(&|| true);
+        assert!(stopped.stopped);
+        assert_eq!(stopped.items, column(5));
+        let ran = run(&never);
+        assert!(!ran.stopped);
+        assert_ne!(ran.items, column(5), "five stacked squares compress");
+    }
+
     #[test]
     fn the_same_stream_gives_the_same_layout_and_a_rejected_layout_is_never_kept() {
         let run = |seed| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            compress(&squares(), &column(5), 300_000, &mut rng, boxes_clear)
+            compress(
+                &squares(),
+                &column(5),
+                300_000,
+                &mut rng,
+                boxes_clear,
+                &never,
+            )
+            .items
         };
         assert_eq!(run(3), run(3));
         // A judge that refuses everything leaves the start as it was.
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let kept = compress(&squares(), &column(5), 300_000, &mut rng, |_| false);
+        let kept = compress(&squares(), &column(5), 300_000, &mut rng, |_| false, &never).items;
         assert_eq!(kept, column(5));
     }
 }

@@ -27,8 +27,9 @@
 //! copy, rotation, translation and the placed outline), with the score lines of a scored sheet in
 //! snap order. The app's CAM pipeline uses this vocabulary for every layout it draws. Units are
 //! millimetres, y up; points and rotations are those of [`cam_geometry`]. The nesters stop on an
-//! iteration budget, never on time, so the same input and seed give the same layout on any
-//! machine.
+//! iteration budget, so the same input and seed give the same layout on any machine;
+//! [`nest_until`] and [`nest_strip_until`] may also end at a deadline or an interrupt
+//! ([`SearchLimit`]), and say which iteration budget replays the layout ([`Reached`]).
 //!
 //! ```
 //! use cam_nest::{nest, verify, NestBin, NestItem, NestSettings};
@@ -62,6 +63,7 @@ mod clearance;
 mod compress;
 pub mod irregular;
 mod job;
+mod limit;
 mod overlap;
 mod placement;
 mod problem;
@@ -76,14 +78,15 @@ mod test_support;
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
 pub use clearance::{clearance, Clearance, ClearanceViolation};
-pub use irregular::{nest, nest_observed};
+pub use irregular::{nest, nest_observed, nest_until};
 pub use job::{clean_ring, fits_empty_sheet, EmptySheetFit};
+pub use limit::{Reached, SearchEnd, SearchLimit};
 pub use problem::{
     NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
 };
 pub use progress::NestProgress;
 pub use shelf::nest_shelves;
-pub use strip::{nest_strip, StripLayout};
+pub use strip::{nest_strip, nest_strip_until, StripLayout};
 pub use verify::{
     verify, verify_copies, verify_outlines, verify_sheet, verify_stock, NestViolation,
 };

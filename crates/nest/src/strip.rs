@@ -8,8 +8,9 @@
 //! is exactly the used length (see [`crate::irregular`]), so nothing else changes, and the
 //! result stays deterministic.
 
-use crate::irregular::nest_observed;
+use crate::irregular::nest_until;
 use crate::job::Job;
+use crate::limit::{Reached, SearchLimit};
 use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
 use crate::progress::NestProgress;
 
@@ -33,6 +34,19 @@ pub fn nest_strip(
     settings: &NestSettings,
     observe: &dyn Fn(&NestProgress),
 ) -> Result<StripLayout, NestError> {
+    nest_strip_until(items, width_mm, settings, &SearchLimit::default(), observe)
+        .map(|(strip, _)| strip)
+}
+
+/// [`nest_strip`] that also ends at `limit`, as [`crate::nest_until`] does, and says how far it
+/// got.
+pub fn nest_strip_until(
+    items: &[NestItem],
+    width_mm: f64,
+    settings: &NestSettings,
+    limit: &SearchLimit,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<(StripLayout, Reached), NestError> {
     let probe = NestBin {
         width_mm,
         height_mm: f64::MAX / 4.0,
@@ -70,13 +84,14 @@ pub fn nest_strip(
             height_mm: length.ceil(),
             stock: 1,
         };
-        let solution = nest_observed(items, &bin, settings, observe)?;
-        Ok(StripLayout {
+        let (solution, reached) = nest_until(items, &bin, settings, limit, observe)?;
+        let strip = StripLayout {
             length_mm: solution.used_length_mm(&bin, settings.separation_mm),
             density: solution.used_length_utilization(&bin, settings.separation_mm),
             solution,
             bin,
-        })
+        };
+        Ok((strip, reached))
     };
     match attempt(reserve) {
         // The reserve was too short: once more on the length that always takes them.

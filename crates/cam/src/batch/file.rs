@@ -4,8 +4,8 @@
 use crate::cutsheet::{design_for_process, Template};
 use crate::design::Design;
 use crate::input::limits::{
-    MAX_ITERATIONS, MAX_PLIES, MAX_QUANTITY, MAX_STOCK, PART_ROTATION_DEG, PLY_ANGLE_DEG, PRICE,
-    PRICE_PER_M, SHEET_SIDE_MM, SPACING_MM,
+    MAX_ITERATIONS, MAX_PLIES, MAX_QUANTITY, MAX_STOCK, NEST_TIME_S, PART_ROTATION_DEG,
+    PLY_ANGLE_DEG, PRICE, PRICE_PER_M, SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
 use crate::parts::{import, PartOrder, PartSheet};
@@ -90,6 +90,8 @@ pub struct Batch {
     pub template: Template,
     /// Optimiser budget of the irregular nester, if given.
     pub iterations: Option<usize>,
+    /// Wall-clock budget of the nest in seconds (`time_s`), if given.
+    pub time_s: Option<f64>,
     /// Extra parts from drawings (`[[part]]`), in file order.
     pub parts: Vec<PartOrder>,
     /// Prices of the prepreg roll (`[sheets] prepreg = { strip = true, price_per_m }`).
@@ -417,6 +419,7 @@ impl Batch {
         let name = root.name("name", "a batch name (text)")?;
         let seed = root.optional_count("seed", 0, i64::MAX)?.unwrap_or(1) as u64;
         let iterations = root.optional_count("iterations", 0, MAX_ITERATIONS)?;
+        let time_s = root.optional_number_in("time_s", NEST_TIME_S)?;
         let base = path.parent().unwrap_or(Path::new("."));
         let mut items: Vec<BatchItem> = Vec::new();
         let mut template: Option<(Template, String, String)> = None; // template, process, design file
@@ -493,6 +496,7 @@ impl Batch {
             items,
             template,
             iterations,
+            time_s,
             parts,
             prepreg_roll,
             pyralux_roll,

@@ -5,7 +5,7 @@ pub mod file;
 pub mod plan;
 pub mod report;
 
-pub use crate::pipeline::{BaselineRow, NestOptions, WORKERS};
+pub use crate::pipeline::{BaselineRow, NestOptions, SearchRow, TimeBudget, WORKERS};
 pub use file::{Batch, BatchItem, RollPrice, SheetOverride};
 pub use plan::{plan, plan_observed, Planned};
 pub use report::NestReport;

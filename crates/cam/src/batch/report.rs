@@ -5,7 +5,7 @@
 use super::file::Batch;
 use crate::book::{BuildBook, DesignFacts};
 use crate::parts::PartSheet;
-use crate::pipeline::{BaselineRow, Build, NestOptions, StockCount, WORKERS};
+use crate::pipeline::{BaselineRow, Build, NestOptions, SearchRow, StockCount, WORKERS};
 use crate::prediction::Prediction;
 use crate::process::template::PassiveCut;
 use actuator_model::ModelKind;
@@ -152,6 +152,9 @@ pub struct NestReport {
     pub coordinates: String,
     pub seed: u64,
     pub iterations: usize,
+    /// The nest's wall-clock budget, s, if it had one (each layer's `search` says how far it got).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_budget_s: Option<f64>,
     pub workers: usize,
     pub process: String,
     pub batch_file: String,
@@ -380,6 +383,7 @@ impl NestReport {
             coordinates: COORDINATES.to_string(),
             seed: opts.seed,
             iterations: opts.iterations,
+            time_budget_s: opts.time.map(|t| t.seconds),
             workers: WORKERS,
             process: t.name.clone(),
             batch_file: batch.source.display().to_string(),
@@ -463,6 +467,45 @@ impl NestReport {
             .iter()
             .filter(|s| s.layer.starts_with(layer_prefix))
             .count()
+    }
+
+    /// How each layer's search ended, when a time budget or an interrupt could end it: the
+    /// iterations it reached, and whether `--iterations` replays it. Empty otherwise.
+    fn search_markdown(&self) -> String {
+        let rows: Vec<(&BaselineRow, &SearchRow)> = self
+            .baseline
+            .iter()
+            .filter_map(|b| b.search.as_ref().map(|r| (b, r)))
+            .collect();
+        if rows.is_empty() {
+            return String::new();
+        }
+        let mut s = String::new();
+        let budget = self
+            .time_budget_s
+            .map_or(String::new(), |t| format!(" (time budget {t} s)"));
+        let _ = writeln!(
+            s,
+            "## Search{budget}
+"
+        );
+        let _ = writeln!(s, "How far a time budget gets depends on the machine and its load. The iterations a layer reached do not: `--iterations` with a layer's figure nests that layer the same way on any machine (a search cut before its base budget of 1000 iterations was done cannot be replayed).\n");
+        let _ = writeln!(s, "| layer | iterations reached | ended by | replay |");
+        let _ = writeln!(s, "|---|---|---|---|");
+        for (b, r) in rows {
+            let replay = if r.replayable {
+                format!("`--iterations {}`", r.iterations)
+            } else {
+                "not replayable".into()
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {replay} |",
+                b.layer, r.iterations, r.ended
+            );
+        }
+        s.push('\n');
+        s
     }
 
     /// The readable report.
@@ -562,6 +605,7 @@ impl NestReport {
             s,
             "\nUsed-length utilisation counts the emptiest sheet only up to its highest part (plus the separation): the rest stays usable as a remnant.\n"
         );
+        s.push_str(&self.search_markdown());
         let _ = writeln!(s, "\n## Totals\n");
         let _ = writeln!(s, "| layer | material | sheets | price/sheet | cost |");
         let _ = writeln!(s, "|---|---|---|---|---|");

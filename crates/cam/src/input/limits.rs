@@ -97,6 +97,8 @@ pub const MAX_LEVELS: usize = 1000;
 pub const MAX_DESIGNS: usize = 10_000_000;
 /// Largest optimiser budget of the irregular nester.
 pub const MAX_ITERATIONS: i64 = 10_000_000;
+/// Time budget of a nest (`nest --time`, a batch's `time_s`): up to a day.
+pub const NEST_TIME_S: Range = Range::positive_up_to(86_400.0, "s");
 
 // Process templates and batch sheet overrides.
 

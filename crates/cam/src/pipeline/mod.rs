@@ -33,7 +33,8 @@ pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
 pub use panel::panel_outline;
 pub use parts::PartGeometry;
 pub use place::{
-    sheets_instead_of_roll, BaselineRow, NestObserver, NestOptions, Packing, Unobserved, WORKERS,
+    sheets_instead_of_roll, BaselineRow, NestObserver, NestOptions, Packing, SearchRow, TimeBudget,
+    Unobserved, WORKERS,
 };
 
 use crate::cam::drawing::Drawing;

@@ -18,21 +18,104 @@ use crate::layout::{
 use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
 use cam_nest::{
-    nest_bounding_boxes, nest_observed, nest_shelves, nest_strip, verify_copies, verify_outlines,
-    verify_sheet, verify_stock, Clearance, NestBin, NestError, NestItem, NestProgress,
-    NestSettings, NestSolution, NestViolation, NestedBin, PlacedPart,
+    nest_bounding_boxes, nest_shelves, nest_strip_until, nest_until, verify_copies,
+    verify_outlines, verify_sheet, verify_stock, Clearance, NestBin, NestError, NestItem,
+    NestProgress, NestSettings, NestSolution, NestViolation, NestedBin, PlacedPart, Reached,
+    SearchEnd, SearchLimit,
 };
 use serde::Serialize;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 /// Settings of the irregular nester.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct NestOptions {
     /// Seed of the irregular nester.
     pub seed: u64,
-    /// Optimiser budget (improvement moves over all workers).
+    /// Optimiser budget (improvement moves over all workers); above the default 1000, anytime
+    /// rounds after the base search ([`cam_nest::nest_until`]).
     pub iterations: usize,
+    /// Wall-clock budget of the whole nest, if any: each layer searches until its share of it
+    /// ([`TimeBudget::share`]) or until `iterations`, whichever comes first.
+    pub time: Option<TimeBudget>,
+    /// Set by the command line's first Ctrl-C: every layer ends its search with its best layout
+    /// so far, and the build goes on with those.
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+impl NestOptions {
+    /// A seed and an iteration budget, with neither a time budget nor an interrupt.
+    pub fn budget(seed: u64, iterations: usize) -> NestOptions {
+        NestOptions {
+            seed,
+            iterations,
+            time: None,
+            interrupt: None,
+        }
+    }
+
+    /// The nester's limit for a layer whose search ends at `deadline`.
+    fn limit(&self, deadline: Option<Instant>) -> SearchLimit<'static> {
+        SearchLimit {
+            deadline,
+            interrupt: self.interrupt,
+        }
+    }
+}
+
+/// A time budget of a nest: the seconds asked for, and the instant they run out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeBudget {
+    pub seconds: f64,
+    pub deadline: Instant,
+}
+
+impl TimeBudget {
+    /// `seconds` from now.
+    pub fn from_now(seconds: f64) -> TimeBudget {
+        TimeBudget {
+            seconds,
+            deadline: Instant::now() + Duration::from_secs_f64(seconds),
+        }
+    }
+
+    /// The deadline of a layer that starts now with `left` layers (itself included) still to
+    /// nest, `at_once` of them at a time: an equal share of the time left per turn, so the
+    /// layers after it keep theirs.
+    fn share(&self, left: usize, at_once: usize) -> Instant {
+        let now = Instant::now();
+        let turns = left.div_ceil(at_once.max(1)).max(1);
+        now + self.deadline.saturating_duration_since(now) / turns as u32
+    }
+}
+
+/// How a layer's search ended, in the report when a time budget or an interrupt ended it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SearchRow {
+    /// Iterations the layout is the result of.
+    pub iterations: usize,
+    /// True if `--iterations` with `iterations` gives the same layout on any machine.
+    pub replayable: bool,
+    /// What ended the search: `budget` (iterations or the search's stop rules), `time`, or
+    /// `interrupt`.
+    pub ended: String,
+}
+
+impl SearchRow {
+    /// The row of a search that ended as `reached` says.
+    fn of(reached: &Reached) -> SearchRow {
+        SearchRow {
+            iterations: reached.iterations,
+            replayable: reached.replayable,
+            ended: match reached.ended {
+                SearchEnd::Budget => "budget",
+                SearchEnd::Time => "time",
+                SearchEnd::Interrupt => "interrupt",
+            }
+            .into(),
+        }
+    }
 }
 
 /// Parallel workers of the irregular nester: fixed, so the layout does not depend on the machine.
@@ -99,6 +182,9 @@ pub struct BaselineRow {
     /// On roll stock: the length the bounding-box baseline uses, mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub baseline_strip_length_mm: Option<f64>,
+    /// How the search ended, when a time budget or an interrupt could end it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchRow>,
 }
 
 impl BaselineRow {
@@ -251,7 +337,10 @@ pub(crate) fn place_cut_layer(
             baseline: None,
             strip_length_mm: None,
         }),
-        Packing::Irregular(opts, observer) => irregular(layer, opts, *observer, names),
+        Packing::Irregular(opts, observer) => {
+            let deadline = opts.time.map(|t| t.share(1, 1));
+            irregular(layer, opts, deadline, *observer, names)
+        }
     }
 }
 
@@ -316,8 +405,8 @@ pub(crate) fn place_cut_layers(
                     index,
                     to: to.clone(),
                 };
-                let result =
-                    place_cut_layer(&layers[index], &Packing::Irregular(*opts, &forward), names);
+                let deadline = opts.time.map(|t| t.share(count - index, LAYERS_AT_ONCE));
+                let result = irregular(&layers[index], opts, deadline, &forward, names);
                 placed.lock().expect("no thread panics holding it")[index] = Some(result);
                 let _ = to.send((index, None));
             });
@@ -433,6 +522,7 @@ fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<NestedBin>, BuildError> 
 fn irregular(
     layer: &CutLayer,
     opts: &NestOptions,
+    deadline: Option<Instant>,
     observer: &dyn NestObserver,
     names: &Names,
 ) -> Result<PlacedLayer, BuildError> {
@@ -478,8 +568,10 @@ fn irregular(
     };
     let observe = |p: &NestProgress| observer.progress(p);
     // `bin` is the sheet the layout is verified and drawn on; `room` the one the baseline uses.
-    let (solution, bin, room, strip_length_mm) = if spec.roll {
-        let strip = nest_strip(&items, spec.width_mm, &settings, &observe).map_err(refused)?;
+    let limit = opts.limit(deadline);
+    let (solution, bin, room, strip_length_mm, reached) = if spec.roll {
+        let (strip, reached) = nest_strip_until(&items, spec.width_mm, &settings, &limit, &observe)
+            .map_err(refused)?;
         let length = (strip.length_mm * 10.0).ceil() / 10.0;
         let bin = NestBin {
             width_mm: spec.width_mm,
@@ -490,19 +582,20 @@ fn irregular(
             stock: copies.max(1),
             ..strip.bin
         };
-        (strip.solution, bin, room, Some(length))
+        (strip.solution, bin, room, Some(length), reached)
     } else {
         let bin = NestBin {
             width_mm: spec.width_mm,
             height_mm: spec.height_mm,
             stock: spec.stock.unwrap_or(copies.max(1)),
         };
-        let solution = nest_observed(&items, &bin, &settings, &observe).map_err(refused)?;
+        let (solution, reached) =
+            nest_until(&items, &bin, &settings, &limit, &observe).map_err(refused)?;
         let room = NestBin {
             stock: copies.max(1),
             ..bin
         };
-        (solution, bin, room, None)
+        (solution, bin, room, None, reached)
     };
     let layouts = cut_layouts(layer, &solution);
     let mut promise = Promise {
@@ -541,6 +634,10 @@ fn irregular(
         strip_length_mm,
         baseline_strip_length_mm: strip_length_mm
             .map(|_| boxes.used_length_mm(&room, settings.separation_mm)),
+        // Only where a limit could end the search: a plain iteration budget's report stays as
+        // it is.
+        search: (deadline.is_some() || reached.ended != SearchEnd::Budget)
+            .then(|| SearchRow::of(&reached)),
     };
     Ok(PlacedLayer {
         layouts,
@@ -551,7 +648,9 @@ fn irregular(
 
 /// How many sheets of `width_mm` x `height_mm` (no stock limit) the parts of a layer nested on a
 /// roll would take instead: the irregular nester on the same parts, separation, seed and budget,
-/// checked by the same verifier. What a roll's cost is compared with.
+/// checked by the same verifier. What a roll's cost is compared with. Under a time budget, which
+/// the roll's own nest has spent, the sheets get the base search's budget alone: a comparison of
+/// sheet counts, quick and the same on any machine.
 pub fn sheets_instead_of_roll(
     layer: &CutLayer,
     width_mm: f64,
@@ -565,7 +664,15 @@ pub fn sheets_instead_of_roll(
     on_sheets.spec.stock = None;
     on_sheets.spec.width_mm = width_mm;
     on_sheets.spec.height_mm = height_mm;
-    let placed = irregular(&on_sheets, opts, observer, names)?;
+    let opts = match opts.time {
+        Some(_) => NestOptions {
+            iterations: opts.iterations.min(NestSettings::default().iterations),
+            time: None,
+            ..*opts
+        },
+        None => *opts,
+    };
+    let placed = irregular(&on_sheets, &opts, None, observer, names)?;
     Ok(placed.layouts.len())
 }
 

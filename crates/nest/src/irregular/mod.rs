@@ -59,6 +59,11 @@
 //!   that up to 60 copies (the sheet with the lowest top decides the used length, so it gets
 //!   the budget the search did not use); a chain stops early after `EXPLORE_FAILURES` failed
 //!   explorations in a row, and the lowest top wins.
+//! * **Anytime rounds** (`anytime`): iterations above the base budget of 1000 go to rounds of
+//!   100, each a short ruin-and-recreate search from the best layout so far and a compression
+//!   of the result on streams of their own; the best is kept, so more rounds never end worse.
+//!   A [`SearchLimit`](crate::SearchLimit) (deadline, interrupt) is checked between units of
+//!   counted work and drops a round it cuts, so the layout is that of the iterations reached.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
@@ -80,8 +85,10 @@
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
 //! spot search and the greedy fills, `moves` ruin and recreate with its acceptance loop,
-//! `portfolio` the workers, epochs and final compression, `random` the streams.
+//! `portfolio` the workers, epochs and final compression, `anytime` the rounds after it,
+//! `random` the streams.
 
+mod anytime;
 mod construct;
 mod model;
 mod moves;
@@ -91,8 +98,10 @@ mod score;
 mod threads;
 
 use crate::job::Job;
+use crate::limit::{Reached, SearchEnd, SearchLimit};
 use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
 use crate::progress::{ignore, NestProgress};
+use anytime::{BASE_ITERATIONS, ROUND_ITERATIONS};
 use model::Model;
 
 /// Nests the items on as few sheets as the budget finds, keeping `separation_mm` between parts
@@ -114,14 +123,56 @@ pub fn nest_observed(
     settings: &NestSettings,
     observe: &dyn Fn(&NestProgress),
 ) -> Result<NestSolution, NestError> {
-    let job = Job::new(items, bin, settings)?;
+    nest_until(items, bin, settings, &SearchLimit::default(), observe).map(|(layout, _)| layout)
+}
+
+/// [`nest_observed`] that also ends at `limit`'s deadline or interrupt, with the best layout so
+/// far, and says how far it got ([`Reached`]). Up to `BASE_ITERATIONS` (1000, the default) the
+/// budget is the base search's; above it, the base search at 1000 is followed by anytime rounds
+/// of `ROUND_ITERATIONS` (100) each (see "Anytime rounds" above). With no limit, or a limit
+/// that struck only in the rounds, the layout is that of `nest` at the iterations reached.
+pub fn nest_until(
+    items: &[NestItem],
+    bin: &NestBin,
+    settings: &NestSettings,
+    limit: &SearchLimit,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<(NestSolution, Reached), NestError> {
+    let base = NestSettings {
+        iterations: settings.iterations.min(BASE_ITERATIONS),
+        ..*settings
+    };
+    let rounds = (settings.iterations - base.iterations) / ROUND_ITERATIONS;
+    let job = Job::new(items, bin, &base)?;
+    let mut reached = Reached {
+        iterations: base.iterations,
+        replayable: true,
+        ended: SearchEnd::Budget,
+    };
     if job.parts.is_empty() {
-        return job.solution(Vec::new());
+        return Ok((job.solution(Vec::new())?, reached));
     }
     let model = Model::new(&job)?;
-    let (best, done) = model.run(observe)?;
+    let (mut best, mut done, cut) = model.run(observe, limit)?;
+    // A base search the limit cut short cannot be replayed; if the limit has time left (the
+    // search epochs stopped at their share of it), the rounds still use that time.
+    reached.replayable = !cut;
+    if cut && limit.reached() {
+        reached.ended = if limit.interrupted() {
+            SearchEnd::Interrupt
+        } else {
+            SearchEnd::Time
+        };
+    } else if rounds > 0 {
+        let after = model.rounds(best, rounds, limit, observe, done);
+        best = after.best;
+        done += after.completed * ROUND_ITERATIONS;
+        reached.iterations += after.completed * ROUND_ITERATIONS;
+        reached.ended = after.ended;
+    }
     let problem = model.rebuild(&best);
     let score = model.score(&problem);
-    observe(&model.progress(&score, done, job.iteration_budget(), true));
-    job.solution(model.export(&best))
+    let budget = job.iteration_budget() + rounds * ROUND_ITERATIONS;
+    observe(&model.progress(&score, done, budget, true));
+    Ok((job.solution(model.export(&best))?, reached))
 }

@@ -8,9 +8,11 @@ use super::random::worker_rng;
 use super::score::Score;
 use super::threads::{parallel, shared_out};
 use crate::compress::compress;
+use crate::limit::SearchLimit;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 use crate::progress::NestProgress;
+use std::time::Instant;
 
 /// Overlap evaluations of the final compression per iteration of the budget, per worker.
 const COMPRESSION_EVALUATIONS: usize = 3000;
@@ -49,6 +51,10 @@ const STALL_ITERATIONS: usize = 50;
 /// allows and its used length is within this share of the shortest possible (the part area over
 /// the sheet width, i.e. a density of 1 / (1 + share)).
 const LENGTH_TOLERANCE: f64 = 0.05;
+/// Share of a deadline's time the search epochs may use before the compression takes the rest:
+/// where the deadline comes before the base search would end, the compression, which lowers
+/// the top the most per second, still gets most of the time.
+const SEARCH_TIME_SHARE: f64 = 0.3;
 
 impl Model<'_> {
     /// Greedy fill per worker, then epochs of local search; returns the best layout found. In
@@ -57,12 +63,20 @@ impl Model<'_> {
     /// workers from the best layout so far. The search stops early by the stop rule
     /// (`STALL_ITERATIONS`, `LENGTH_TOLERANCE`), checked between epochs, so the stop is the
     /// same on any machine. `observe` gets a report after the fill and after every epoch.
+    ///
+    /// `limit` is checked inside the compression, and between epochs against
+    /// `SEARCH_TIME_SHARE` of its time: once reached, the epochs end and the compression starts
+    /// (or ends) with the best layout so far, and the returned flag says the budget did not
+    /// decide where (the layout is then not reproducible by any budget).
     pub(super) fn run(
         &self,
         observe: &dyn Fn(&NestProgress),
-    ) -> Result<(Sheets, usize), NestError> {
+        limit: &SearchLimit,
+    ) -> Result<(Sheets, usize, bool), NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
+        let search_limit = limit.share_of(Instant::now(), SEARCH_TIME_SHARE);
+        let mut cut = false;
         let mut own: Vec<(Score, Sheets)> = self.construct_all()?;
         let mut best = own[0].clone();
         let iterations = self.job.iteration_budget();
@@ -89,6 +103,10 @@ impl Model<'_> {
             }
             observe(&self.progress(&best.0, done, iterations, false));
             if epoch == epochs || since_better >= STALL_ITERATIONS || self.close_enough(&best.0) {
+                break;
+            }
+            if search_limit.reached() {
+                cut = true;
                 break;
             }
             let incumbents: Vec<&Sheets> = (0..workers)
@@ -123,8 +141,11 @@ impl Model<'_> {
         // can no longer lower the top (`compress`, `STALL_ATTEMPTS`, `EXPLORE_FAILURES`).
         // Its budget never shrinks with the job as the search's does (`Job::iteration_budget`),
         // and small jobs get more (`compression_iterations`).
-        let sheets = self.compressed(best.1, epochs + 1, self.compression_iterations());
-        Ok((sheets, done))
+        let (sheets, stopped) =
+            self.compressed(best.1, epochs + 1, self.compression_iterations(), &|| {
+                limit.reached()
+            });
+        Ok((sheets, done, cut || stopped))
     }
 
     /// Iterations' worth of compression for this job (`COMPRESSION_BOOST_COPIES`); none when
@@ -192,9 +213,16 @@ impl Model<'_> {
     /// through overlap ([`crate::compress`]) by `COMPRESSION_CHAINS_PER_WORKER` chains per
     /// worker, each on its own random stream with its share of `COMPRESSION_EVALUATIONS` per
     /// worker and iteration of `iterations`; the lowest top wins (ties to the lower chain).
-    pub(super) fn compressed(&self, mut sheets: Sheets, epoch: usize, iterations: usize) -> Sheets {
+    /// Chains end early once `stop` says so, and the flag returned says whether any did.
+    pub(super) fn compressed(
+        &self,
+        mut sheets: Sheets,
+        epoch: usize,
+        iterations: usize,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> (Sheets, bool) {
         let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
-            return sheets;
+            return (sheets, false);
         };
         let top = |sheet: &[Placement]| {
             sheet
@@ -221,18 +249,25 @@ impl Model<'_> {
         let budget = iterations * COMPRESSION_EVALUATIONS / COMPRESSION_CHAINS_PER_WORKER;
         let candidates = shared_out(settings.workers, chains, |chain| {
             let mut rng = worker_rng(settings.seed, epoch, chain);
-            compress(footprints, &sheets[lowest], budget, &mut rng, |items| {
-                self.clear(items)
-            })
+            compress(
+                footprints,
+                &sheets[lowest],
+                budget,
+                &mut rng,
+                |items| self.clear(items),
+                stop,
+            )
         });
+        let stopped = candidates.iter().any(|c| c.stopped);
         let best = candidates
             .into_iter()
+            .map(|c| c.items)
             .min_by(|a, b| top(a).total_cmp(&top(b)))
             .expect("at least one worker");
         if top(&best) < top(&sheets[lowest]) {
             sheets[lowest] = best;
         }
-        sheets
+        (sheets, stopped)
     }
 }
 
