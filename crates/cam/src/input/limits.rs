@@ -179,3 +179,22 @@ pub const COUPLER_RATIO: Range = Range::closed(0.1, 100.0, "");
 pub const TRAVEL_MM: Range = Range::positive_up_to(1000.0, "mm");
 /// Rotational stiffness of the flexures about the wing hinge.
 pub const FLEXURE_STIFFNESS_UNM_PER_RAD: Range = Range::closed(0.0, 1e9, "uN m/rad");
+/// Length of one flexure gap (drive `[transmission] flexure_length_um`).
+pub const FLEXURE_LENGTH_UM: Range = Range::positive_up_to(10_000.0, "um");
+/// Width of one flexure across the links.
+pub const FLEXURE_WIDTH_MM: Range = Range::positive_up_to(100.0, "mm");
+/// Flexure film thickness a drive file may choose.
+pub const FILM_THICKNESS_UM: Range = Range::closed(1.0, 500.0, "um");
+
+// The linkage laminate of a process template (`[linkage]`).
+
+/// Young's modulus of a flexure film.
+pub const FILM_MODULUS_GPA: Range = Range::closed(0.1, 500.0, "GPa");
+/// Cyclic strain a flexure film takes.
+pub const FATIGUE_STRAIN: Range = Range::open(0.0, 0.2, "");
+/// Mounting hole of a linkage tab.
+pub const HOLE_DIAMETER_MM: Range = Range::positive_up_to(50.0, "mm");
+/// Shortest flexure in film thicknesses.
+pub const FLEXURE_THICKNESSES: Range = Range::closed(1.0, 1000.0, "thicknesses");
+/// Longest flexure as a share of the link beside it.
+pub const FLEXURE_FRACTION: Range = Range::closed(0.01, 1.0, "");

@@ -37,6 +37,12 @@ pub enum Feature {
     PanelLabel,
     /// Alignment crosshair of a clamp panel.
     Fiducial,
+    /// A flexure gap slot of a linkage's carbon layer, or a window of its film or adhesive layer.
+    LinkageCutOut,
+    /// The cut through the laminated linkage stack that frees the linkage.
+    LinkageRelease,
+    /// Mounting hole of a linkage's airframe tab, cut with the release.
+    LinkageHole,
 }
 
 /// Operations that leave a part or panel cut out: `secondary` is the lab's second cut pass.
@@ -55,7 +61,7 @@ const BONDED: &[Operation] = &[Operation::Reference];
 
 impl Feature {
     /// Every feature, in the order of the `[features]` table of the shipped templates.
-    pub const ALL: [Feature; 14] = [
+    pub const ALL: [Feature; 17] = [
         Feature::PztScoreLine,
         Feature::PztSheetOutline,
         Feature::PartOutline,
@@ -70,6 +76,9 @@ impl Feature {
         Feature::WindowNumber,
         Feature::PanelLabel,
         Feature::Fiducial,
+        Feature::LinkageCutOut,
+        Feature::LinkageRelease,
+        Feature::LinkageHole,
     ];
 
     /// Key in the `[features]` table.
@@ -89,6 +98,9 @@ impl Feature {
             Feature::WindowNumber => "window-number",
             Feature::PanelLabel => "panel-label",
             Feature::Fiducial => "fiducial",
+            Feature::LinkageCutOut => "linkage-cut-out",
+            Feature::LinkageRelease => "linkage-release",
+            Feature::LinkageHole => "linkage-hole",
         }
     }
 
