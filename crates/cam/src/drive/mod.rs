@@ -107,7 +107,7 @@ pub fn end_angles(spec: &DriveSpec) -> (f64, f64) {
     }
 }
 
-/// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
+/// The linkage laminate of a drive file for its design's process (docs/cam.md §6): the flexures the
 /// file gives, or the shortest the film allows at the template's width when it gives none.
 pub fn linkage_laminate(
     spec: &DriveSpec,
@@ -121,7 +121,7 @@ pub fn linkage_laminate(
             &template.source,
             "linkage",
             "(missing)",
-            "a [linkage] table (materials of the flexure linkage laminate, docs/cam.md §7)",
+            "a [linkage] table (materials of the flexure linkage laminate, docs/cam.md §6)",
         )
         .into());
     };

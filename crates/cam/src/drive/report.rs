@@ -123,7 +123,7 @@ pub struct DriveReport {
     pub mass: MassRow,
     pub unreachable: Option<Unreachable>,
     pub sweep: Vec<SweepPoint>,
-    /// The drawn linkage, when the drive file gives its flexures (docs/cam.md §7).
+    /// The drawn linkage, when the drive file gives its flexures (docs/cam.md §6).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub linkage_laminate: Option<crate::linkage::LinkageReport>,
 }
@@ -359,7 +359,7 @@ impl DriveReport {
             }
         }
         if let Some(l) = &self.linkage_laminate {
-            let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
+            let _ = write!(out, "\nthe drawn linkage (docs/cam.md §6):\n{}", l.table());
         }
         if let Some(u) = &self.unreachable {
             let _ = writeln!(

@@ -1,4 +1,4 @@
-//! The cross-layer checks run on every linkage drawn (docs/cam.md §7), on the drawings alone: the
+//! The cross-layer checks run on every linkage drawn (docs/cam.md §6), on the drawings alone: the
 //! shapes are read back, the kerf taken off, and the laminate rebuilt from them, without the pattern
 //! that made them.
 //!

@@ -1,4 +1,4 @@
-//! The linkage layers as laser files on the clamp panel (docs/cam.md §7): each layer of the stack on a
+//! The linkage layers as laser files on the clamp panel (docs/cam.md §6): each layer of the stack on a
 //! sheet cut to the panel outline with the panel's pin holes, so the laminate registers on the same
 //! pins as the actuator's clamp; then the release cut through the laminated stack. Kerf as for every
 //! layer (docs/cam.md §4): the release outline is grown by kerf/2, slots, windows and holes shrunk by

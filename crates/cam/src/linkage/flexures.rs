@@ -1,5 +1,5 @@
 //! The flexures checked against the film and the links, and re-sized where that is all it takes
-//! (docs/physics.md §16.2, docs/cam.md §7):
+//! (docs/physics.md §16.2, docs/cam.md §6):
 //!
 //! | bound | rule | when broken |
 //! |---|---|---|
@@ -11,7 +11,7 @@
 //! A lengthened flexure is rounded up to 0.1 µm, so the strain it reports is within the bound.
 
 use super::pattern::{FlexureSize, JOINTS};
-use super::process::LinkageProcess;
+use crate::process::linkage::LinkageProcess;
 use actuator_model::flexure::Flexure;
 use actuator_model::transmission::Linkage;
 use serde::Serialize;
@@ -113,7 +113,12 @@ pub fn check_flexures(
             // Up to the next 0.1 µm, so the drawn length keeps the strain within the bound.
             let up = (shortest * 1e4).ceil() / 1e4;
             let reason = if f.length_mm == 0.0 {
-                "no length given".to_string()
+                format!(
+                    "none given, the shortest the film allows at {:.1}° ({:.2} % fatigue strain, {} film thicknesses)",
+                    peaks[i].to_degrees(),
+                    process.film_fatigue_strain * 100.0,
+                    process.min_length_thicknesses
+                )
             } else if by_strain >= by_bending && by_strain >= 2.0 * kerf {
                 format!(
                     "{:.1} µm strains the film {:.2} % at {:.1}°, over its fatigue strain {:.2} %",
@@ -135,7 +140,7 @@ pub fn check_flexures(
                     2.0 * kerf
                 )
             };
-            resized = Some(format!("lengthened to {:.1} µm: {reason}", up * 1e3));
+            resized = Some(format!("{:.1} µm: {reason}", up * 1e3));
             length = up;
         }
         if length > longest {

@@ -8,7 +8,7 @@
 //! at `θ = 0` and small over the stroke), the crank as its own inertia about O.
 
 use super::pattern::{Pattern, Ply, STACK};
-use super::process::LinkageProcess;
+use crate::process::linkage::LinkageProcess;
 use std::f64::consts::PI;
 
 /// The laminate's mass and what of it moves, mg and mg·mm².

@@ -1,30 +1,31 @@
 //! The transmission cut with the actuator: the slider-crank of the drive (thesis eq. 2.5) as a
 //! smart-composite-microstructure laminate (Wood et al., J. Mech. Des. 130, 2008): carbon links, a
 //! polyimide film bridging the gaps between them as flexure hinges, sheet adhesive cut back from the
-//! hinges, and a release cut through the stack after lamination (docs/cam.md §7, docs/physics.md §16).
+//! hinges, and a release cut through the stack after lamination (docs/cam.md §6, docs/physics.md §16).
 //!
 //! | file | concept |
 //! |---|---|
-//! | `process.rs` | the template's `[linkage]`: materials, kerf, margins, flexure bounds |
 //! | `flexures.rs` | each flexure checked (strain, bending, pivot, kerf) and re-sized where it can be |
 //! | `pattern.rs` | the flat pattern: pivots, gaps, cut-outs of each layer, the release outline |
 //! | `mass.rs` | mass and inertia from the drawn areas |
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
+//! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
+pub mod checklist;
 pub mod checks;
 pub mod drawings;
 pub mod flexures;
 pub mod mass;
 pub mod pattern;
-pub mod process;
 
 use crate::input::InputError;
+use crate::process::linkage as process;
+pub use crate::process::linkage::LinkageProcess;
 use actuator_model::transmission::Linkage;
 use flexures::{check_flexures, FlexureRow};
 use mass::{linkage_mass, LinkageMass};
 use pattern::{FlexureSize, Pattern, JOINTS};
-pub use process::LinkageProcess;
 use serde::Serialize;
 use std::path::Path;
 
@@ -133,12 +134,12 @@ impl LinkageReport {
         }
         let _ = writeln!(
             out,
-            "  about the wing hinge: flexures {:.3} uN m/rad, links {:.3} mg mm^2; mass {:.3} mg ({} mm long, {} mm wide)",
+            "  about the wing hinge: flexures {:.3} uN m/rad, links {:.3} mg mm^2; mass {:.3} mg ({:.3} mm long, {:.3} mm wide)",
             self.flexure_stiffness_uNm_per_rad,
             self.link_inertia_mg_mm2,
             self.mass_mg,
-            crate::drive::fixed(self.length_mm, 3),
-            crate::drive::fixed(self.strip_width_mm, 3),
+            self.length_mm,
+            self.strip_width_mm,
         );
         out
     }

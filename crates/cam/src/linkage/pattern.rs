@@ -11,7 +11,7 @@
 //! at the strip's local width: the areas, masses and inertias are exact sums over those spans
 //! ([`super::mass`]).
 
-use super::process::LinkageProcess;
+use crate::process::linkage::LinkageProcess;
 use cam_geometry::Point;
 
 /// Joint names in strip order, as reports and messages print them.

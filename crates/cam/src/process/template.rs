@@ -166,7 +166,7 @@ pub struct Template {
     /// edge, mm (`[layers.pzt] passive_edge_margin_mm`, default 0).
     pub pzt_edge_margin_mm: f64,
     /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
-    pub linkage: Option<crate::linkage::LinkageProcess>,
+    pub linkage: Option<super::linkage::LinkageProcess>,
     /// Where the template came from, as messages name it.
     pub source: PathBuf,
 }
@@ -403,7 +403,7 @@ impl Template {
         let linkage = match root.optional_table("linkage")? {
             None => None,
             Some(t) => {
-                let l = crate::linkage::LinkageProcess::read(&t)?;
+                let l = super::linkage::LinkageProcess::read(&t)?;
                 t.finish()?;
                 Some(l)
             }

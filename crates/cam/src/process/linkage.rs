@@ -1,6 +1,6 @@
 //! The linkage laminate's materials and rules from a process template's `[linkage]` table: the carbon
 //! layup of the links, the polyimide film of the flexures, the sheet adhesive, the laser kerf on the
-//! laminate and the margins that keep adhesive off the hinges (docs/cam.md §7).
+//! laminate and the margins that keep adhesive off the hinges (docs/cam.md §6; drawn by `crate::linkage`).
 
 use crate::input::limits::{
     DENSITY_KG_PER_M3, FATIGUE_STRAIN, FILM_MODULUS_GPA, FLEXURE_FRACTION, FLEXURE_THICKNESSES,
