@@ -27,6 +27,12 @@ Cross-layer checks (issue 16):
          bonded-zone; labelled sheets must mark one zone per part (CUT outline), and with a
          cut-sheet report.json beside them each zone spans the design's PZT length along the part axis
          (piezo_length_mm less pzt_edge_margin_mm), so a zone is the plate the design says.
+  report.json with a "linkage" (cut-sheet --drive)  every panel of linkage-*.dxf files beside it:
+         the carbon layers' flexure gap slots are the same; the film covers each gap by the reported
+         margin (no film window reaches into it); an adhesive window holds each gap whole; every cut-out,
+         every web between cut-outs in a row, every release-outline edge and every hole is at least two
+         kerfs; the pin holes are the same on every layer; the drawn areas (kerf taken off) times each
+         layer's mass per area give the reported linkage mass to 1e-6.
 Prints one line per failing file, then `check_outputs: N passed, M failed`.
 Exits 1 if any file failed or no file was found. Needs `pip install ezdxf`.
 """
@@ -333,6 +339,8 @@ def check_report(path):
     if diff_um > mold["tolerance_um"] + 1e-3 and not mold.get("warning"):
         problems.append(f"mold {diff_um:.1f} um below the laminate, beyond {mold['tolerance_um']} um, without a warning")
     problems += check_press_fit(Path(path).parent, report)
+    if "linkage" in report:
+        problems += check_linkage(Path(path), report["linkage"])
     return problems
 
 
@@ -384,6 +392,151 @@ def check_press_fit(folder, report):
 # spacing) above the last part plus the 0.1 mm rounding of the length. The examples' separation is
 # under 1 mm; 2 mm still catches a length that does not match the drawing.
 STRIP_SLACK_MM = 2.0
+
+
+def closed_rings_and_circles(path):
+    """Closed LWPOLYLINE rings and CIRCLEs (centre, radius) of a DXF file, in file order."""
+    import ezdxf
+
+    doc = ezdxf.readfile(path)
+    rings, circles = [], []
+    for e in doc.modelspace():
+        if e.dxftype() == "LWPOLYLINE" and e.closed:
+            rings.append([(x, y) for x, y, *_ in e.get_points()])
+        elif e.dxftype() == "CIRCLE":
+            c = e.dxf.center
+            circles.append(((c.x, c.y), e.dxf.radius))
+    return rings, circles
+
+
+def shoelace(ring):
+    return abs(sum(ring[i - 1][0] * ring[i][1] - ring[i][0] * ring[i - 1][1] for i in range(len(ring)))) / 2.0
+
+
+def clip_x(ring, a, b):
+    """The part of a ring between x = a and x = b."""
+    def clip(ring, keep, x):
+        out = []
+        for i in range(len(ring)):
+            p, q = ring[i], ring[(i + 1) % len(ring)]
+            def cross():
+                t = (x - p[0]) / (q[0] - p[0])
+                return (x, p[1] + t * (q[1] - p[1]))
+            if keep(p) and keep(q):
+                out.append(q)
+            elif keep(p):
+                out.append(cross())
+            elif keep(q):
+                out += [cross(), q]
+        return out
+    ring = clip(ring, lambda p: p[0] >= a, a)
+    return clip(ring, lambda p: p[0] <= b, b) if ring else []
+
+
+def unkerf_outline(ring, d):
+    """A rectilinear ring offset outwards by d, brought back: each edge moved in by d (axis-aligned)."""
+    n = len(ring)
+    area2 = sum(ring[i - 1][0] * ring[i][1] - ring[i][0] * ring[i - 1][1] for i in range(n))
+    ccw = area2 > 0
+    lines = []
+    for i in range(n):
+        p, q = ring[i], ring[(i + 1) % n]
+        if abs(p[1] - q[1]) < 1e-12:  # horizontal: inward is +y for a CCW bottom edge
+            inward = (1 if q[0] > p[0] else -1) * (1 if ccw else -1)
+            lines.append(("h", p[1] + inward * d))
+        else:
+            inward = (-1 if q[1] > p[1] else 1) * (1 if ccw else -1)
+            lines.append(("v", p[0] + inward * d))
+    out = []
+    for i in range(n):
+        a, b = lines[i - 1], lines[i]
+        out.append((b[1], a[1]) if b[0] == "v" else (a[1], b[1]))
+    return out
+
+
+def check_linkage(report_path, linkage):
+    """Cross-layer problems of the linkage panels written beside a cut-sheet report."""
+    problems = []
+    folder = report_path.parent
+    kerf, margin = linkage["kerf_mm"], linkage["film_margin_mm"]
+    two = 2 * kerf - 1e-9
+    sigmas = [l["areal_density_mg_per_mm2"] for l in linkage["layers"]]
+    names = [l["layer"] for l in linkage["layers"]]
+    for panel in range(1, linkage["panels"] + 1):
+        tag = f"linkage panel {panel}"
+        files = [folder / f"linkage-{n}-{panel}.dxf" for n in names]
+        release = folder / f"linkage-{len(names) + 1}-release-{panel}.dxf"
+        if not all(f.exists() for f in files + [release]):
+            problems.append(f"{tag}: DXF files missing")
+            continue
+        layers = [closed_rings_and_circles(f) for f in files]
+        cut_outs = []
+        for rings, _ in layers:
+            rings = sorted(rings, key=shoelace, reverse=True)[1:]  # the largest is the panel outline
+            bands = []
+            for r in rings:
+                xs, ys = [p[0] for p in r], [p[1] for p in r]
+                bands.append((min(xs) - kerf / 2, max(xs) + kerf / 2, min(ys) - kerf / 2, max(ys) + kerf / 2))
+            cut_outs.append(sorted(bands, key=lambda b: (round(b[2], 9), b[0])))
+        carbon = [i for i, n in enumerate(names) if n.endswith("carbon")]
+        adhesive = [i for i, n in enumerate(names) if n.endswith("adhesive")]
+        film = [i for i, n in enumerate(names) if n.endswith("film")][0]
+        gaps = cut_outs[carbon[0]]
+        if len(gaps) != len(cut_outs[carbon[1]]) or any(
+            abs(x - y) > 1e-9 for a, b in zip(gaps, cut_outs[carbon[1]]) for x, y in zip(a, b)
+        ):
+            problems.append(f"{tag}: the flexure gaps do not line up across the carbon layers")
+        for g in gaps:
+            lo, hi = g[0] - margin, g[1] + margin
+            if any(w[2] < g[3] and w[3] > g[2] and w[0] < hi - 1e-9 and w[1] > lo + 1e-9 for w in cut_outs[film]):
+                problems.append(f"{tag}: the film does not cover the gap at x = {g[0]:.4f} by {margin} mm")
+            for a in adhesive:
+                if not any(w[0] <= g[0] + 1e-9 and w[1] >= g[1] - 1e-9 and w[2] <= g[2] + 1e-9 and w[3] >= g[3] - 1e-9
+                           for w in cut_outs[a]):
+                    problems.append(f"{tag}: adhesive over the gap at x = {g[0]:.4f} in {names[a]}")
+        for n, bands in zip(names, cut_outs):
+            for b in bands:
+                if b[1] - b[0] < two or b[3] - b[2] < two:
+                    problems.append(f"{tag}: a cut-out of {n} is under two kerfs")
+            for b0, b1 in zip(bands, bands[1:]):
+                if abs(b0[2] - b1[2]) < 1e-9 and b1[0] - b0[1] < two:
+                    problems.append(f"{tag}: a web of {n} is under two kerfs")
+        pins = sorted(layers[0][1])
+        for n, (_, circles) in zip(names, layers):
+            if sorted(circles) != pins:
+                problems.append(f"{tag}: the pin holes of {n} differ from {names[0]}'s")
+        rel_rings, rel_circles = closed_rings_and_circles(release)
+        holes = [(c, r + kerf / 2) for c, r in rel_circles if (c, r) not in pins]
+        if len(rel_circles) != len(holes) + len(pins):
+            problems.append(f"{tag}: the release cut's pin holes differ from the layers'")
+        for _, r in holes:
+            if 2 * r < two:
+                problems.append(f"{tag}: a mounting hole is under two kerfs")
+        for ring in rel_rings:
+            outline = unkerf_outline(ring, kerf / 2)
+            for i in range(len(outline)):
+                p, q = outline[i - 1], outline[i]
+                if math.hypot(q[0] - p[0], q[1] - p[1]) < two:
+                    problems.append(f"{tag}: a release-outline edge is under two kerfs")
+            xs, ys = [p[0] for p in outline], [p[1] for p in outline]
+            box = (min(xs), max(xs), min(ys), max(ys))
+            mass = 0.0
+            for sigma, bands in zip(sigmas, cut_outs):
+                area = shoelace(outline)
+                for b in bands:
+                    if b[0] < box[1] and b[1] > box[0] and b[2] < box[3] and b[3] > box[2]:
+                        if b[2] > box[2] or b[3] < box[3]:
+                            problems.append(f"{tag}: a cut-out stops inside a linkage")
+                        part = clip_x(outline, b[0], b[1])
+                        area -= shoelace(part) if len(part) > 2 else 0.0
+                for c, r in holes:
+                    here = box[0] < c[0] < box[1] and box[2] < c[1] < box[3]
+                    if here and not any(b[0] <= c[0] <= b[1] and b[2] <= c[1] <= b[3] for b in bands):
+                        area -= math.pi * r * r
+                mass += sigma * area
+            if abs(mass - linkage["mass_mg"]) > 1e-6 * linkage["mass_mg"]:
+                problems.append(f"{tag}: drawn areas give {mass:.9f} mg, the report {linkage['mass_mg']:.9f} mg")
+    return problems
 
 
 def check_nest_report(path):

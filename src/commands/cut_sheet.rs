@@ -1,6 +1,8 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
+use actuator_cam::cutsheet::linkage::plan_linkage;
+use actuator_cam::cutsheet::report::LinkageSection;
 use actuator_cam::cutsheet::stream::plan_and_put;
 use actuator_cam::cutsheet::{write, CutSheetOptions, Template};
 use actuator_cam::design::Design;
@@ -32,6 +34,10 @@ pub struct CutSheetArgs {
     /// `--stroke-mm`.
     #[command(flatten)]
     pub stroke: StrokeFlag,
+    /// Drive file whose linkage is cut with the actuator: its laminate layers and release cut
+    /// (docs/cam.md §7).
+    #[arg(long, value_name = "FILE")]
+    pub drive: Option<PathBuf>,
 }
 
 /// Run `cut-sheet`.
@@ -59,18 +65,34 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         model: args.model.model.clone(),
         stroke_mm: args.stroke.stroke_mm,
     };
+    // The linkage is planned and checked before any file is written.
+    let linkage = args
+        .drive
+        .as_ref()
+        .map(|drive| plan_linkage(drive, &design, &template, &opts))
+        .transpose()?;
     // Checked against the output policy before any work; the files then go into its staging folder one
     // drawing at a time, so memory holds one sheet's drawing and the report, whatever the quantity.
     let mut folder = Output::new("cut-sheet")
         .force(args.output.force.force)
         .inputs(
             std::iter::once(design.source.clone())
-                .chain(Template::file_of(&design.process, &design.source)),
+                .chain(Template::file_of(&design.process, &design.source))
+                .chain(args.drive.clone()),
         )
         .stream_folder("-o", &args.output.output)?;
-    let (sheet, layer_files) = plan_and_put(&design, &template, &opts, &mut |name, bytes| {
-        folder.add(name, bytes).map_err(Into::into)
-    })?;
+    let (mut sheet, mut layer_files) =
+        plan_and_put(&design, &template, &opts, &mut |name, bytes| {
+            folder.add(name, bytes).map_err(Into::into)
+        })?;
+    if let Some(l) = &linkage {
+        let svg = write::svg_options(&sheet.palette, args.stroke.stroke_mm);
+        for (name, bytes) in write::render_drawings(&l.drawings, formats, &svg)? {
+            folder.add(&name, &bytes)?;
+            layer_files.push(name);
+        }
+        sheet.report.linkage = Some(LinkageSection::new(l));
+    }
     for (name, bytes) in write::render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
         folder.add(&name, &bytes)?;
     }
@@ -89,5 +111,18 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         r.mass_from_geometry_mg,
         r.predicted.energy_mJ
     );
+    if let Some(l) = &r.linkage {
+        println!(
+            "linkage: {} panel(s), {:.3} mg each, flexures {:.3} uN m/rad about the wing hinge{}",
+            l.panels,
+            l.laminate.mass_mg,
+            l.laminate.flexure_stiffness_uNm_per_rad,
+            if l.note.is_some() {
+                " (see report.md: the drive file gives another transmission)"
+            } else {
+                ""
+            }
+        );
+    }
     Ok(())
 }

@@ -4,8 +4,8 @@
 use super::flags::{ForceFlag, JsonFlag, ModelFlag};
 use actuator_cam::cutsheet::design_for_process;
 use actuator_cam::design::Design;
-use actuator_cam::drive::analyse;
 use actuator_cam::drive::spec::DriveSpec;
+use actuator_cam::drive::{analyse, DriveError};
 use actuator_cam::output::Output;
 use actuator_cam::process::template::Template;
 use clap::Args;
@@ -37,8 +37,11 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
     let design = Design::load(&spec.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let design = design_for_process(&design, &template)?;
-    let analysis = analyse(&spec, &design, &args.model.model)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.drive.display()))?;
+    let analysis = analyse(&spec, &design, &args.model.model).map_err(|e| match e {
+        // An input error names its own file.
+        DriveError::Input(e) => anyhow::anyhow!("{e}"),
+        e => anyhow::anyhow!("{}: {e}", args.drive.display()),
+    })?;
     let report = &analysis.report;
     let json = serde_json::to_string_pretty(report)? + "\n";
     if args.json.json {

@@ -10,6 +10,7 @@ pub mod design;
 pub mod drive;
 pub mod input;
 pub mod layout;
+pub mod linkage;
 pub mod optimize;
 pub mod output;
 pub mod parts;

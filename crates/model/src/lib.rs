@@ -12,6 +12,7 @@ pub mod empirical;
 pub mod error;
 pub mod euler_bernoulli;
 pub mod flapping;
+pub mod flexure;
 pub mod lamina;
 pub mod laminate;
 pub mod large_deflection;

@@ -100,6 +100,39 @@ impl Linkage {
         self.stroke_angle(x).map(|a| self.ratio_at_angle(a))
     }
 
+    /// Angle of the coupler from its rest direction (`BA` horizontal at `θ = 0`) when the wing is at `θ`:
+    /// `B = L3 (-sin θ, cos θ)` rises by `L3 (1 - cos θ)` above the slider line while `|AB| = L1`, so
+    /// `ψ(θ) = asin(L3 (1 - cos θ) / L1)` (docs/physics.md §16.3). `None` beyond the coupler's reach.
+    pub fn coupler_angle(&self, angle: f64) -> Option<f64> {
+        let sine = self.crank * (1.0 - angle.cos()) / self.coupler;
+        (sine.abs() <= 1.0).then(|| sine.asin())
+    }
+
+    /// `dψ/dθ = L3 sin θ / √(L1² - L3² (1 - cos θ)²)`, the derivative of [`Self::coupler_angle`].
+    pub fn coupler_angle_rate(&self, angle: f64) -> f64 {
+        let rise = self.crank * (1.0 - angle.cos());
+        self.crank * angle.sin() / (self.coupler * self.coupler - rise * rise).sqrt()
+    }
+
+    /// Turn of the three joints from their rest (actuator at rest, `x = 0`) when the wing is at `θ`, rad:
+    /// `[hinge O (crank on airframe), B (crank on coupler), A (coupler on actuator tip)]` =
+    /// `[θ - θ0, (θ - ψ) - (θ0 - ψ0), ψ - ψ0]`, with the actuator tip translating without turning
+    /// (docs/physics.md §16.3). `None` when the rest or `θ` is beyond the coupler's reach.
+    pub fn joint_rotations(&self, angle: f64) -> Option<[f64; 3]> {
+        let rest = self.stroke_angle(0.0)?;
+        let (psi, psi0) = (self.coupler_angle(angle)?, self.coupler_angle(rest)?);
+        Some([angle - rest, (angle - psi) - (rest - psi0), psi - psi0])
+    }
+
+    /// `dφ_i/dθ` of the three joints at the rest position: `[1, 1 - ψ'(θ0), ψ'(θ0)]`. A flexure of
+    /// stiffness `k_i` at joint `i` holds the wing with `Σ k_i (dφ_i/dθ)²` about the hinge, linearised at
+    /// rest (docs/physics.md §16.4).
+    pub fn joint_rates_at_rest(&self) -> Option<[f64; 3]> {
+        let rest = self.stroke_angle(0.0)?;
+        let rate = self.coupler_angle_rate(rest);
+        Some([1.0, 1.0 - rate, rate])
+    }
+
     /// The linkage that turns an actuator travel of `±travel` (m) into the end angles
     /// `angle_minus < angle_plus` (rad), with the coupler `coupler_ratio` times the crank
     /// (docs/physics.md §12.3): `δ(θ)/L3 = g(θ) = ρ + sin θ - √(ρ² - (1 - cos θ)²)` is linear in `L3`, so
@@ -193,6 +226,43 @@ mod tests {
                     / (2.0 * h);
                 assert!((link.ratio(delta).unwrap() / fd - 1.0).abs() < 1e-5);
             }
+        }
+    }
+
+    #[test]
+    fn joint_rotations_are_those_of_the_constructed_linkage() {
+        // Build A and B point by point (the circle intersection above) and take the link directions.
+        let link = Linkage::solve(0.75e-3, -PI / 3.0, PI / 3.0, 4.0).unwrap();
+        let (l1, l3) = (link.coupler, link.crank);
+        let coupler_dir = |delta: f64| {
+            let theta = constructed(l1, l3, delta);
+            let b = [-l3 * theta.sin(), l3 * theta.cos()];
+            let a = [l1 - delta, l3];
+            ((b[1] - a[1]).atan2(a[0] - b[0]), theta)
+        };
+        let (psi0, theta0) = coupler_dir(link.offset);
+        for x in [-0.75e-3, -0.3e-3, 0.0, 0.4e-3, 0.75e-3] {
+            let (psi, theta) = coupler_dir(link.offset + x);
+            // The coupler direction BA against the horizontal: B rises above A by L3 (1 - cos θ).
+            let joints = link.joint_rotations(theta).unwrap();
+            assert!((joints[0] - (theta - theta0)).abs() < 1e-12);
+            assert!(
+                (joints[2] + (psi - psi0)).abs() < 1e-12,
+                "{x}: {joints:?} {psi}"
+            );
+            assert!((joints[1] - (joints[0] - joints[2])).abs() < 1e-15);
+        }
+        // The rates against central differences.
+        let rest = link.stroke_angle(0.0).unwrap();
+        let h = 1e-7;
+        let fd = |i: usize| {
+            (link.joint_rotations(rest + h).unwrap()[i]
+                - link.joint_rotations(rest - h).unwrap()[i])
+                / (2.0 * h)
+        };
+        let rates = link.joint_rates_at_rest().unwrap();
+        for (i, rate) in rates.iter().enumerate() {
+            assert!((rate - fd(i)).abs() < 1e-7, "{i}: {rate} vs {}", fd(i));
         }
     }
 

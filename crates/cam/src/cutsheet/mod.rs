@@ -2,8 +2,9 @@
 //! predicted mass and performance beside the geometry's own mass.
 
 mod layers;
+pub mod linkage;
 mod preview;
-mod report;
+pub mod report;
 pub mod stream;
 pub mod write;
 

@@ -151,6 +151,53 @@ pub struct Report {
     pub build_book: BuildBook,
     pub placement_map: Vec<String>,
     pub files: Vec<String>,
+    /// The drive's linkage laminate, when cut with the actuator (`--drive`, docs/cam.md §7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linkage: Option<LinkageSection>,
+}
+
+/// The linkage part of the report: the laminate, its panels, its build steps and how it compares with
+/// a drive file that gives the transmission instead of its flexures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LinkageSection {
+    pub drive_file: String,
+    pub panels: usize,
+    #[serde(flatten)]
+    pub laminate: crate::linkage::LinkageReport,
+    pub build_steps: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+impl LinkageSection {
+    /// The section of a cut linkage.
+    pub fn new(cut: &super::linkage::LinkageCut) -> LinkageSection {
+        let laminate = cut.laminate.report();
+        LinkageSection {
+            drive_file: cut.drive.source.display().to_string(),
+            panels: cut.panels,
+            build_steps: crate::linkage::checklist::linkage_steps(&laminate, cut.panels),
+            laminate,
+            note: cut.note.clone(),
+        }
+    }
+
+    fn markdown(&self, s: &mut String) {
+        let _ = writeln!(
+            s,
+            "\n## Linkage (docs/cam.md §7)\n\nThe transmission of `{}`, {} panel(s):\n\n```text\n{}```",
+            self.drive_file,
+            self.panels,
+            self.laminate.table()
+        );
+        if let Some(n) = &self.note {
+            let _ = writeln!(s, "\n**Note:** {n}.");
+        }
+        let _ = writeln!(s, "\n### Linkage build checklist\n");
+        for (i, step) in self.build_steps.iter().enumerate() {
+            let _ = writeln!(s, "{}. [ ] {step}", i + 1);
+        }
+    }
 }
 
 impl Report {
@@ -214,6 +261,7 @@ impl Report {
             build_book,
             placement_map: built.placement_map.clone(),
             files: Vec::new(),
+            linkage: None,
         }
     }
 
@@ -356,6 +404,9 @@ impl Report {
             self.stacking_order.join(" → ")
         );
         let _ = write!(s, "{}", self.build_book.markdown());
+        if let Some(l) = &self.linkage {
+            l.markdown(&mut s);
+        }
         let _ = writeln!(
             s,
             "\nKerf values are starting points: calibrate them on a coupon of each material.\n"

@@ -11,7 +11,10 @@ pub mod report;
 pub mod spec;
 
 use crate::design::Design;
+use crate::input::InputError;
+use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
+use crate::process::template::Template;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
@@ -24,6 +27,17 @@ use report::{
 };
 use spec::{DriveSpec, LinkageSpec};
 use std::f64::consts::PI;
+
+/// Why a drive cannot be analysed.
+#[derive(Debug, thiserror::Error)]
+pub enum DriveError {
+    /// The physics refused an input.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The drawn linkage cannot be made (a flexure, the template's `[linkage]`).
+    #[error(transparent)]
+    Input(#[from] InputError),
+}
 
 /// Points of the frequency sweep.
 pub const SWEEP_POINTS: usize = 61;
@@ -81,22 +95,75 @@ fn linkage(spec: &DriveSpec, performance: &Performance) -> Result<Linkage, Model
     }
 }
 
-/// Analyse a drive file's design (already built for its process) under a model.
+/// The stroke's end angles the linkage is built for, rad: a solved linkage's, else ±stroke.
+pub fn end_angles(spec: &DriveSpec) -> (f64, f64) {
+    match spec.linkage {
+        LinkageSpec::Solve {
+            angle_minus,
+            angle_plus,
+            ..
+        } => (angle_minus, angle_plus),
+        LinkageSpec::Given { .. } => (-spec.stroke, spec.stroke),
+    }
+}
+
+/// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
+/// file gives, or the shortest the film allows at the template's width when it gives none.
+pub fn linkage_laminate(
+    spec: &DriveSpec,
+    design: &Design,
+    model: &ModelChoice,
+) -> Result<LinkageLaminate, DriveError> {
+    let perf = performance(design, model)?;
+    let template = Template::resolve(&design.process, &design.source)?;
+    let Some(process) = template.linkage.as_ref() else {
+        return Err(InputError::invalid(
+            &template.source,
+            "linkage",
+            "(missing)",
+            "a [linkage] table (materials of the flexure linkage laminate, docs/cam.md §7)",
+        )
+        .into());
+    };
+    Ok(LinkageLaminate::design(
+        linkage(spec, &perf)?,
+        end_angles(spec),
+        &spec.flexures.clone().unwrap_or_default(),
+        process,
+        &spec.source,
+        &template.source,
+    )?)
+}
+
+/// Analyse a drive file's design (already built for its process) under a model. With flexures in the
+/// file, the transmission's stiffness, inertia and mass are the drawn linkage's.
 pub fn analyse(
     spec: &DriveSpec,
     design: &Design,
     model: &ModelChoice,
-) -> Result<Analysis, ModelError> {
+) -> Result<Analysis, DriveError> {
     let perf = performance(design, model)?;
     let modal = actuator_modes(design, model, &perf)?;
     let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor);
     let wing = spec.wing.wing();
     let linkage = linkage(spec, &perf)?;
+    let laminate = match spec.flexures {
+        Some(_) => Some(linkage_laminate(spec, design, model)?),
+        None => None,
+    };
+    let (flexure_stiffness, link_inertia, transmission_mass) = match &laminate {
+        Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
+        None => (
+            spec.flexure_stiffness,
+            spec.link_inertia,
+            spec.transmission_mass,
+        ),
+    };
     let system = FlappingSystem {
         actuator,
         linkage,
-        flexure_stiffness: spec.flexure_stiffness,
-        inertia: wing.inertia + spec.link_inertia,
+        flexure_stiffness,
+        inertia: wing.inertia + link_inertia,
         damping: wing.damping,
     };
     let mode = design.drive.mode;
@@ -216,7 +283,7 @@ pub fn analyse(
     let sweep_force = state.map_or(force_limit, |s| s.force);
     let sweep = sweep(&system, sweep_force, f);
     let actuator_mass = perf.mass;
-    let total = actuator_mass + spec.transmission_mass;
+    let total = actuator_mass + transmission_mass;
     let t0 = linkage.ratio(0.0).unwrap_or(1.0 / linkage.crank);
     let report = DriveReport {
         drive_file: spec.source.display().to_string(),
@@ -240,8 +307,8 @@ pub fn analyse(
             crank_mm: linkage.crank * 1e3,
             offset_mm: linkage.offset * 1e3,
             ratio_at_rest_deg_per_mm: t0.to_degrees() * 1e-3,
-            flexure_stiffness_uNm_per_rad: spec.flexure_stiffness * 1e6,
-            link_inertia_mg_mm2: spec.link_inertia * 1e12,
+            flexure_stiffness_uNm_per_rad: flexure_stiffness * 1e6,
+            link_inertia_mg_mm2: link_inertia * 1e12,
         },
         wing: WingRow {
             inertia_mg_mm2: wing.inertia * 1e12,
@@ -254,13 +321,14 @@ pub fn analyse(
         modes,
         mass: MassRow {
             actuator_mg: actuator_mass * 1e6,
-            transmission_mg: spec.transmission_mass * 1e6,
+            transmission_mg: transmission_mass * 1e6,
             total_mg: total * 1e6,
             budget_mg: spec.mass_budget * 1e6,
             within_budget: total <= spec.mass_budget,
         },
         unreachable,
         sweep,
+        linkage_laminate: laminate.as_ref().map(LinkageLaminate::report),
     };
     report.ensure_finite()?;
     Ok(Analysis {

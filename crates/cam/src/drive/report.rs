@@ -123,6 +123,9 @@ pub struct DriveReport {
     pub mass: MassRow,
     pub unreachable: Option<Unreachable>,
     pub sweep: Vec<SweepPoint>,
+    /// The drawn linkage, when the drive file gives its flexures (docs/cam.md §7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linkage_laminate: Option<crate::linkage::LinkageReport>,
 }
 
 impl DriveReport {
@@ -172,6 +175,17 @@ impl DriveReport {
         for p in &self.sweep {
             n.push(("sweep.stroke_deg", p.stroke_deg));
             n.push(("sweep.phase_deg", p.phase_deg));
+        }
+        if let Some(l) = &self.linkage_laminate {
+            n.push(("linkage_laminate.mass_mg", l.mass_mg));
+            n.push((
+                "linkage_laminate.flexure_stiffness_uNm_per_rad",
+                l.flexure_stiffness_uNm_per_rad,
+            ));
+            n.push((
+                "linkage_laminate.link_inertia_mg_mm2",
+                l.link_inertia_mg_mm2,
+            ));
         }
         n
     }
@@ -343,6 +357,9 @@ impl DriveReport {
                     if m.within_limit { "yes" } else { "no" }
                 );
             }
+        }
+        if let Some(l) = &self.linkage_laminate {
+            let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
         }
         if let Some(u) = &self.unreachable {
             let _ = writeln!(

@@ -3,11 +3,13 @@
 
 use crate::input::limits::{
     AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, COUPLER_RATIO, DRAG_COEFFICIENT,
-    END_ANGLE_DEG, FLAPPING_FREQUENCY_HZ, FLEXURE_STIFFNESS_UNM_PER_RAD, INERTIA_MG_MM2,
-    LINK_LENGTH_MM, LINK_OFFSET_MM, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG,
-    SURVIVAL, TABLE_CHORD_MM, TRAVEL_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
+    END_ANGLE_DEG, FILM_THICKNESS_UM, FLAPPING_FREQUENCY_HZ, FLEXURE_LENGTH_UM,
+    FLEXURE_STIFFNESS_UNM_PER_RAD, FLEXURE_WIDTH_MM, INERTIA_MG_MM2, LINK_LENGTH_MM,
+    LINK_OFFSET_MM, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG, SURVIVAL,
+    TABLE_CHORD_MM, TRAVEL_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
+use crate::linkage::FlexureRequest;
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
 use std::path::{Path, PathBuf};
@@ -97,6 +99,10 @@ pub struct DriveSpec {
     pub link_inertia: f64,
     /// Transmission mass, kg.
     pub transmission_mass: f64,
+    /// The flexures of a drawn linkage (`flexure_length_um`, `flexure_width_mm`, `film_thickness_um`):
+    /// then the stiffness, inertia and mass above are not given but computed from the linkage laminate
+    /// the design's process cuts.
+    pub flexures: Option<FlexureRequest>,
 }
 
 /// mg·mm² in kg·m².
@@ -147,12 +153,20 @@ impl DriveSpec {
         let wing = read_wing(&root.table("wing")?)?;
         let t = root.table("transmission")?;
         let linkage = read_linkage(&t, stroke)?;
-        let flexure_stiffness = t.number_in(
-            "flexure_stiffness_uNm_per_rad",
-            FLEXURE_STIFFNESS_UNM_PER_RAD,
-        )? * 1e-6;
-        let link_inertia = t.number_in("link_inertia_mg_mm2", INERTIA_MG_MM2)? * MG_MM2;
-        let transmission_mass = t.number_in("mass_mg", PART_MASS_MG)? * 1e-6;
+        let flexures = read_flexures(&t)?;
+        let (flexure_stiffness, link_inertia, transmission_mass) = if flexures.is_some() {
+            // Computed from the drawn linkage when the drive is analysed.
+            (0.0, 0.0, 0.0)
+        } else {
+            (
+                t.number_in(
+                    "flexure_stiffness_uNm_per_rad",
+                    FLEXURE_STIFFNESS_UNM_PER_RAD,
+                )? * 1e-6,
+                t.number_in("link_inertia_mg_mm2", INERTIA_MG_MM2)? * MG_MM2,
+                t.number_in("mass_mg", PART_MASS_MG)? * 1e-6,
+            )
+        };
         t.finish()?;
         root.finish()?;
         Ok(DriveSpec {
@@ -168,8 +182,49 @@ impl DriveSpec {
             flexure_stiffness,
             link_inertia,
             transmission_mass,
+            flexures,
         })
     }
+}
+
+/// The flexures of a drawn linkage, if `[transmission]` gives any of `flexure_length_um`,
+/// `flexure_width_mm` (each a number for all three joints or `[O, B, A]`) or `film_thickness_um`; then
+/// the stiffness, inertia and mass come from the drawn linkage and may not be given too.
+fn read_flexures(t: &TableReader<'_>) -> Result<Option<FlexureRequest>, InputError> {
+    let drawn = ["flexure_length_um", "flexure_width_mm", "film_thickness_um"]
+        .iter()
+        .any(|k| t.has(k));
+    if !drawn {
+        return Ok(None);
+    }
+    for key in [
+        "flexure_stiffness_uNm_per_rad",
+        "link_inertia_mg_mm2",
+        "mass_mg",
+    ] {
+        if t.has(key) {
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path(key),
+                "(given)",
+                "left out with flexure_length_um, flexure_width_mm or film_thickness_um: the drawn linkage gives it",
+            ));
+        }
+    }
+    let scaled = |v: Option<Vec<f64>>, by: f64| v.map(|v| v.iter().map(|x| x * by).collect());
+    Ok(Some(FlexureRequest {
+        lengths: scaled(
+            t.optional_number_or_numbers_in("flexure_length_um", FLEXURE_LENGTH_UM, 3)?,
+            1e-6,
+        ),
+        widths: scaled(
+            t.optional_number_or_numbers_in("flexure_width_mm", FLEXURE_WIDTH_MM, 3)?,
+            1e-3,
+        ),
+        film_thickness: t
+            .optional_number_in("film_thickness_um", FILM_THICKNESS_UM)?
+            .map(|x| x * 1e-6),
+    }))
 }
 
 /// `[wing]`: a planform (`span_mm`, a chord, `areal_density_g_per_m2`, `drag_coefficient`) or the wing

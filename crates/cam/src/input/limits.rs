@@ -188,3 +188,22 @@ pub const FLEXURE_STIFFNESS_UNM_PER_RAD: Range = Range::closed(0.0, 1e9, "uN m/r
 pub const CURE_C: Range = Range::closed(20.0, 400.0, "°C");
 /// Cure times, minutes, up to a day (`[cure] time_min`).
 pub const CURE_MIN: Range = Range::closed(1.0, 1440.0, "min");
+/// Length of one flexure gap (drive `[transmission] flexure_length_um`).
+pub const FLEXURE_LENGTH_UM: Range = Range::positive_up_to(10_000.0, "um");
+/// Width of one flexure across the links.
+pub const FLEXURE_WIDTH_MM: Range = Range::positive_up_to(100.0, "mm");
+/// Flexure film thickness a drive file may choose.
+pub const FILM_THICKNESS_UM: Range = Range::closed(1.0, 500.0, "um");
+
+// The linkage laminate of a process template (`[linkage]`).
+
+/// Young's modulus of a flexure film.
+pub const FILM_MODULUS_GPA: Range = Range::closed(0.1, 500.0, "GPa");
+/// Cyclic strain a flexure film takes.
+pub const FATIGUE_STRAIN: Range = Range::open(0.0, 0.2, "");
+/// Mounting hole of a linkage tab.
+pub const HOLE_DIAMETER_MM: Range = Range::positive_up_to(50.0, "mm");
+/// Shortest flexure in film thicknesses.
+pub const FLEXURE_THICKNESSES: Range = Range::closed(1.0, 1000.0, "thicknesses");
+/// Longest flexure as a share of the link beside it.
+pub const FLEXURE_FRACTION: Range = Range::closed(0.01, 1.0, "");

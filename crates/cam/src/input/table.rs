@@ -322,6 +322,21 @@ impl<'a> TableReader<'a> {
         }
     }
 
+    /// An optional number, or an array of exactly `len` numbers, each in `range` (one value standing for
+    /// all `len`, as the caller reads it).
+    pub fn optional_number_or_numbers_in(
+        &self,
+        key: &str,
+        range: Range,
+        len: usize,
+    ) -> Result<Option<Vec<f64>>, InputError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(Value::Array(_)) => self.numbers_in(key, range, len, len).map(Some),
+            Some(_) => self.number_in(key, range).map(|x| Some(vec![x])),
+        }
+    }
+
     /// A required array of strings.
     pub fn strings(&self, key: &str, expected: &str) -> Result<Vec<String>, InputError> {
         match self.get(key) {

@@ -35,6 +35,12 @@ pub enum Feature {
     PanelLabel,
     /// Alignment crosshair of a clamp panel.
     Fiducial,
+    /// A flexure gap slot of a linkage's carbon layer, or a window of its film or adhesive layer.
+    LinkageCutOut,
+    /// The cut through the laminated linkage stack that frees the linkage.
+    LinkageRelease,
+    /// Mounting hole of a linkage's airframe tab, cut with the release.
+    LinkageHole,
 }
 
 /// Operations that leave a part or panel cut out: `secondary` is the lab's second cut pass.
@@ -50,7 +56,7 @@ const GUIDE: &[Operation] = &[Operation::Reference, Operation::Engrave, Operatio
 
 impl Feature {
     /// Every feature, in the order of the `[features]` table of the shipped templates.
-    pub const ALL: [Feature; 13] = [
+    pub const ALL: [Feature; 16] = [
         Feature::PztScoreLine,
         Feature::PztSheetOutline,
         Feature::PartOutline,
@@ -64,6 +70,9 @@ impl Feature {
         Feature::WindowNumber,
         Feature::PanelLabel,
         Feature::Fiducial,
+        Feature::LinkageCutOut,
+        Feature::LinkageRelease,
+        Feature::LinkageHole,
     ];
 
     /// Key in the `[features]` table.
@@ -82,6 +91,9 @@ impl Feature {
             Feature::WindowNumber => "window-number",
             Feature::PanelLabel => "panel-label",
             Feature::Fiducial => "fiducial",
+            Feature::LinkageCutOut => "linkage-cut-out",
+            Feature::LinkageRelease => "linkage-release",
+            Feature::LinkageHole => "linkage-hole",
         }
     }
 

@@ -195,6 +195,10 @@ pub struct Template {
     /// PZT-to-CF edge margin: the PZT plates' sides and tip end sit this far inside the passive part's
     /// edge, mm (`[layers.pzt] passive_edge_margin_mm`, default 0).
     pub pzt_edge_margin_mm: f64,
+    /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
+    pub linkage: Option<super::linkage::LinkageProcess>,
+    /// Where the template came from, as messages name it.
+    pub source: PathBuf,
 }
 
 const METHOD_1: &str = include_str!("../../../../templates/method-1.toml");
@@ -450,6 +454,14 @@ impl Template {
         }
         let palette = read_palette(path, &root)?;
         let features = FeatureMap::read(path, &root)?;
+        let linkage = match root.optional_table("linkage")? {
+            None => None,
+            Some(t) => {
+                let l = super::linkage::LinkageProcess::read(&t)?;
+                t.finish()?;
+                Some(l)
+            }
+        };
         root.finish()?;
         Ok(Template {
             name,
@@ -467,6 +479,8 @@ impl Template {
             palette,
             features,
             pzt_edge_margin_mm,
+            linkage,
+            source: path.to_path_buf(),
         })
     }
 
@@ -480,6 +494,9 @@ impl Template {
         self.mold.kerf_mm = kerf_mm;
         for c in self.covers.values_mut() {
             c.kerf_mm = kerf_mm;
+        }
+        if let Some(l) = &mut self.linkage {
+            l.kerf_mm = kerf_mm;
         }
     }
 }

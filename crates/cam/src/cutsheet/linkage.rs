@@ -1,0 +1,130 @@
+//! `cut-sheet design.toml --drive drive.toml`: the drive's linkage laminate cut with the actuator
+//! (docs/cam.md §7). Its layers are drawn for as many linkages as actuators, checked across layers
+//! before anything is written, and listed in the report with their build steps.
+
+use super::{process_template, CutSheetOptions, SheetDrawing, Template};
+use crate::design::Design;
+use crate::drive::spec::DriveSpec;
+use crate::drive::{linkage_laminate, DriveError};
+use crate::input::InputError;
+use crate::linkage::checks::{check_linkage_drawings, Expected};
+use crate::linkage::drawings::linkage_drawings;
+use crate::linkage::pattern::STACK;
+use crate::linkage::LinkageLaminate;
+
+/// The linkage of a cut sheet: the laminate, its drawings (file order) and, when the drive file gives
+/// the transmission's stiffness and mass instead of flexures, how the drawn ones compare.
+#[derive(Debug, Clone)]
+pub struct LinkageCut {
+    /// The drive file.
+    pub drive: DriveSpec,
+    /// The laminate.
+    pub laminate: LinkageLaminate,
+    /// Its layer drawings.
+    pub drawings: Vec<SheetDrawing>,
+    /// Panels.
+    pub panels: usize,
+    /// The drive file's given transmission against the drawn one, if it gives one.
+    pub note: Option<String>,
+}
+
+/// Why the linkage cannot be cut.
+#[derive(Debug, thiserror::Error)]
+pub enum LinkageCutError {
+    /// The drive file, its design or the linkage.
+    #[error(transparent)]
+    Drive(#[from] DriveError),
+    /// The drawings fail a cross-layer check (nothing is written).
+    #[error("{file}: the linkage drawings fail their checks: {problems}")]
+    Checks {
+        /// The drive file.
+        file: String,
+        /// The problems, joined.
+        problems: String,
+    },
+}
+
+impl From<InputError> for LinkageCutError {
+    fn from(e: InputError) -> Self {
+        LinkageCutError::Drive(DriveError::Input(e))
+    }
+}
+
+/// Plan the linkage of `drive_file` for `design` (the design as given; it must be the drive's).
+pub fn plan_linkage(
+    drive_file: &std::path::Path,
+    design: &Design,
+    template: &Template,
+    opts: &CutSheetOptions,
+) -> Result<LinkageCut, LinkageCutError> {
+    let drive = DriveSpec::load(drive_file)?;
+    let same = match (drive.design.canonicalize(), design.source.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if !same {
+        return Err(InputError::invalid(
+            drive_file,
+            "design",
+            drive.design.display().to_string(),
+            format!(
+                "the design being cut, {} (a drive file drives one design)",
+                design.source.display()
+            ),
+        )
+        .into());
+    }
+    let template = process_template(template, opts);
+    let built = super::design_for_process(design, &template).map_err(|e| {
+        InputError::invalid(
+            drive_file,
+            "design",
+            design.source.display().to_string(),
+            e.to_string(),
+        )
+    })?;
+    let laminate = linkage_laminate(&drive, &built, &opts.model)?;
+    let count = opts.quantity.unwrap_or(design.quantity);
+    let drawings = linkage_drawings(&laminate, &template, count, &design.name)?;
+    let report = laminate.report();
+    let expected = Expected {
+        kerf_mm: report.kerf_mm,
+        film_margin_mm: report.film_margin_mm,
+        areal_densities: report
+            .layers
+            .iter()
+            .map(|l| l.areal_density_mg_per_mm2)
+            .collect(),
+        mass_mg: report.mass_mg,
+    };
+    let per_panel = STACK.len() + 1;
+    let problems: Vec<String> = drawings
+        .chunks(per_panel)
+        .flat_map(|panel| check_linkage_drawings(panel, &expected))
+        .collect();
+    if !problems.is_empty() {
+        return Err(LinkageCutError::Checks {
+            file: drive_file.display().to_string(),
+            problems: problems.join("; "),
+        });
+    }
+    let note = drive.flexures.is_none().then(|| {
+        format!(
+            "{} gives the transmission as {} µN·m/rad, {} mg·mm² and {} mg; the drawn linkage has {} µN·m/rad, {} mg·mm² and {} mg: give its flexures (flexure_length_um, flexure_width_mm, film_thickness_um) for `drive` to use the drawn linkage",
+            drive_file.display(),
+            crate::drive::fixed(drive.flexure_stiffness * 1e6, 3),
+            crate::drive::fixed(drive.link_inertia * 1e12, 3),
+            crate::drive::fixed(drive.transmission_mass * 1e6, 3),
+            crate::drive::fixed(report.flexure_stiffness_uNm_per_rad, 3),
+            crate::drive::fixed(report.link_inertia_mg_mm2, 3),
+            crate::drive::fixed(report.mass_mg, 3),
+        )
+    });
+    Ok(LinkageCut {
+        drive,
+        laminate,
+        panels: drawings.len() / per_panel,
+        drawings,
+        note,
+    })
+}

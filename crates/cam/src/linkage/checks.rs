@@ -1,0 +1,489 @@
+//! The cross-layer checks run on every linkage drawn (docs/cam.md §7), on the drawings alone: the
+//! shapes are read back, the kerf taken off, and the laminate rebuilt from them, without the pattern
+//! that made them.
+//!
+//! - the flexure gaps (carbon slots) line up across the carbon layers;
+//! - the film covers each gap by its margin;
+//! - no adhesive lies over a gap;
+//! - every cut-out, every web between two cut-outs, every edge of the release outline and every hole
+//!   is at least two kerfs;
+//! - the drawn areas times each layer's mass per area give the reported mass (1e-6 relative);
+//! - the pin holes are the same on every layer.
+
+use crate::cam::drawing::Shape;
+use crate::pipeline::SheetDrawing;
+use cam_geometry::offset::offset_ring;
+use cam_geometry::{signed_area, Point};
+use std::f64::consts::PI;
+
+/// What the checks need besides the drawings: the kerf, the film margin, each stack layer's mass per
+/// area (bottom to top) and the mass reported for one linkage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expected {
+    /// Kerf, mm.
+    pub kerf_mm: f64,
+    /// Film margin, mm.
+    pub film_margin_mm: f64,
+    /// Mass per area of each stack layer, bottom to top, mg/mm².
+    pub areal_densities: Vec<f64>,
+    /// Reported mass of one linkage, mg.
+    pub mass_mg: f64,
+}
+
+/// A cut-out read back: `[x0, x1] × [y0, y1]` after the kerf.
+type Band = [f64; 4];
+
+fn rect_of(ring: &[Point]) -> Option<Band> {
+    let xs = ring.iter().map(|p| p[0]);
+    let ys = ring.iter().map(|p| p[1]);
+    let b = [
+        xs.clone().fold(f64::INFINITY, f64::min),
+        xs.fold(f64::NEG_INFINITY, f64::max),
+        ys.clone().fold(f64::INFINITY, f64::min),
+        ys.fold(f64::NEG_INFINITY, f64::max),
+    ];
+    let area = (b[1] - b[0]) * (b[3] - b[2]);
+    (ring.len() == 4 && (signed_area(ring).abs() - area).abs() <= 1e-9 * area.max(1.0)).then_some(b)
+}
+
+/// A layer drawing read back: its polygons and circles.
+struct Read {
+    polygons: Vec<Vec<Point>>,
+    circles: Vec<(Point, f64)>,
+}
+
+fn read(d: &SheetDrawing) -> Read {
+    let mut r = Read {
+        polygons: Vec::new(),
+        circles: Vec::new(),
+    };
+    for (_, shape) in d.drawing.items() {
+        match shape {
+            Shape::Polygon(p) => r.polygons.push(p.clone()),
+            Shape::Circle { center, radius } => r.circles.push((*center, *radius)),
+            _ => {}
+        }
+    }
+    r
+}
+
+/// The part of `ring` between `x = a` and `x = b` (Sutherland-Hodgman against two half-planes).
+fn clip_band(ring: &[Point], a: f64, b: f64) -> Vec<Point> {
+    let clip = |ring: Vec<Point>, keep: &dyn Fn(Point) -> bool, x: f64| -> Vec<Point> {
+        let n = ring.len();
+        let mut out = Vec::new();
+        for i in 0..n {
+            let (p, q) = (ring[i], ring[(i + 1) % n]);
+            let cross = |p: Point, q: Point| {
+                let t = (x - p[0]) / (q[0] - p[0]);
+                [x, p[1] + t * (q[1] - p[1])]
+            };
+            match (keep(p), keep(q)) {
+                (true, true) => out.push(q),
+                (true, false) => out.push(cross(p, q)),
+                (false, true) => {
+                    out.push(cross(p, q));
+                    out.push(q);
+                }
+                (false, false) => {}
+            }
+        }
+        out
+    };
+    let left = clip(ring.to_vec(), &|p: Point| p[0] >= a, a);
+    clip(left, &|p: Point| p[0] <= b, b)
+}
+
+fn area(ring: &[Point]) -> f64 {
+    if ring.len() < 3 {
+        0.0
+    } else {
+        signed_area(ring).abs()
+    }
+}
+
+fn inside(p: Point, b: &Band) -> bool {
+    b[0] <= p[0] && p[0] <= b[1] && b[2] <= p[1] && p[1] <= b[3]
+}
+
+/// The problems found in one set of linkage drawings (the stack layers of a panel, bottom to top, then
+/// its release cut); empty when every check holds.
+pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) -> Vec<String> {
+    let mut problems = Vec::new();
+    let k = expected.kerf_mm;
+    let two = 2.0 * k - 1e-9;
+    let Some((release, stack)) = drawings.split_last() else {
+        return vec!["no linkage drawings".into()];
+    };
+    if stack.len() != expected.areal_densities.len() {
+        return vec![format!(
+            "{} stack layers drawn, {} expected",
+            stack.len(),
+            expected.areal_densities.len()
+        )];
+    }
+    let layers: Vec<Read> = stack.iter().map(read).collect();
+    let released = read(release);
+    // Cut-outs with the kerf taken off (they were shrunk by kerf/2); the panel outline is the polygon
+    // that holds every other.
+    let cut_outs: Vec<Vec<Band>> = layers
+        .iter()
+        .zip(stack)
+        .map(|(l, d)| {
+            let mut polys = l.polygons.clone();
+            polys.sort_by(|a, b| area(b).total_cmp(&area(a)));
+            polys
+                .iter()
+                .skip(1)
+                .filter_map(|p| match rect_of(p) {
+                    Some(b) => Some([
+                        b[0] - k / 2.0,
+                        b[1] + k / 2.0,
+                        b[2] - k / 2.0,
+                        b[3] + k / 2.0,
+                    ]),
+                    None => {
+                        problems.push(format!("{}: a cut-out is not a rectangle", d.stem));
+                        None
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let carbon: Vec<usize> = stack
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.layer == "linkage-carbon")
+        .map(|(i, _)| i)
+        .collect();
+    let film = stack.iter().position(|d| d.layer == "linkage-film");
+    let adhesive: Vec<usize> = stack
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.layer == "linkage-adhesive")
+        .map(|(i, _)| i)
+        .collect();
+    let (Some(film), [c0, c1], [a0, a1]) = (film, carbon.as_slice(), adhesive.as_slice()) else {
+        return vec!["the stack is not carbon, adhesive, film, adhesive, carbon".into()];
+    };
+    // Gaps line up: the two carbon layers' slots are the same.
+    let gaps = &cut_outs[*c0];
+    let same = gaps.len() == cut_outs[*c1].len()
+        && gaps
+            .iter()
+            .zip(&cut_outs[*c1])
+            .all(|(a, b)| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9));
+    if !same {
+        problems.push(format!(
+            "{} and {}: the flexure gaps do not line up",
+            stack[*c0].stem, stack[*c1].stem
+        ));
+    }
+    for g in gaps {
+        // Film over each gap and its margins: no film window reaches into it.
+        let covered = [
+            g[0] - expected.film_margin_mm,
+            g[1] + expected.film_margin_mm,
+        ];
+        if cut_outs[film].iter().any(|w| {
+            w[2] < g[3] && w[3] > g[2] && w[0] < covered[1] - 1e-9 && w[1] > covered[0] + 1e-9
+        }) {
+            problems.push(format!(
+                "{}: the film does not cover the gap at x = {:.4} mm by its {} mm margin",
+                stack[film].stem, g[0], expected.film_margin_mm
+            ));
+        }
+        // No adhesive over the gap: an adhesive window holds it whole.
+        for a in [a0, a1] {
+            if !cut_outs[*a].iter().any(|w| {
+                w[0] <= g[0] + 1e-9
+                    && w[1] >= g[1] - 1e-9
+                    && w[2] <= g[2] + 1e-9
+                    && w[3] >= g[3] - 1e-9
+            }) {
+                problems.push(format!(
+                    "{}: adhesive over the flexure gap at x = {:.4} mm",
+                    stack[*a].stem, g[0]
+                ));
+            }
+        }
+    }
+    // Two kerfs: each cut-out, and the web between neighbours in a row.
+    for (l, bands) in cut_outs.iter().enumerate() {
+        let mut sorted = bands.clone();
+        sorted.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
+        for b in &sorted {
+            if b[1] - b[0] < two || b[3] - b[2] < two {
+                problems.push(format!(
+                    "{}: a {:.4} x {:.4} mm cut-out is under two kerfs",
+                    stack[l].stem,
+                    b[1] - b[0],
+                    b[3] - b[2]
+                ));
+            }
+        }
+        for w in sorted.windows(2) {
+            if (w[0][2] - w[1][2]).abs() < 1e-9 && w[1][0] - w[0][1] < two {
+                problems.push(format!(
+                    "{}: {:.4} mm of material between two cut-outs, under two kerfs",
+                    stack[l].stem,
+                    w[1][0] - w[0][1]
+                ));
+            }
+        }
+    }
+    // The released linkages, kerf off; their holes (circles inside them).
+    let outlines: Vec<Vec<Point>> = released
+        .polygons
+        .iter()
+        .filter_map(|p| offset_ring(p, -k / 2.0).ok())
+        .collect();
+    let pins: Vec<(Point, f64)> = layers[0].circles.clone();
+    for (l, layer) in layers.iter().enumerate() {
+        let same = layer.circles.len() == pins.len()
+            && layer
+                .circles
+                .iter()
+                .zip(&pins)
+                .all(|(a, b)| a.0 == b.0 && a.1 == b.1);
+        if !same {
+            problems.push(format!(
+                "{}: the pin holes differ from {}'s",
+                stack[l].stem, stack[0].stem
+            ));
+        }
+    }
+    let holes: Vec<(Point, f64)> = released
+        .circles
+        .iter()
+        .filter(|c| !pins.contains(c))
+        .map(|(c, r)| (*c, r + k / 2.0))
+        .collect();
+    if released.circles.len() != holes.len() + pins.len() {
+        problems.push(format!(
+            "{}: the pin holes differ from the layers'",
+            release.stem
+        ));
+    }
+    for (_, r) in &holes {
+        if 2.0 * r < two {
+            problems.push(format!(
+                "{}: a {:.4} mm hole is under two kerfs",
+                release.stem,
+                2.0 * r
+            ));
+        }
+    }
+    for ring in &outlines {
+        let n = ring.len();
+        for i in 0..n {
+            let (p, q) = (ring[i], ring[(i + 1) % n]);
+            let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+            if len < two {
+                problems.push(format!(
+                    "{}: a {len:.4} mm edge of the release outline is under two kerfs",
+                    release.stem
+                ));
+            }
+        }
+    }
+    // Mass: each layer's material inside each outline, from the drawn shapes.
+    for ring in &outlines {
+        let xs: Vec<f64> = ring.iter().map(|p| p[0]).collect();
+        let (x_lo, x_hi) = (
+            xs.iter().copied().fold(f64::INFINITY, f64::min),
+            xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let ys: Vec<f64> = ring.iter().map(|p| p[1]).collect();
+        let (y_lo, y_hi) = (
+            ys.iter().copied().fold(f64::INFINITY, f64::min),
+            ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let mut mass = 0.0;
+        for (l, bands) in cut_outs.iter().enumerate() {
+            let mut a = area(ring);
+            for b in bands
+                .iter()
+                .filter(|b| b[0] < x_hi && b[1] > x_lo && b[2] < y_hi && b[3] > y_lo)
+            {
+                if b[2] > y_lo || b[3] < y_hi {
+                    problems.push(format!(
+                        "{}: a cut-out stops inside the linkage instead of crossing it",
+                        stack[l].stem
+                    ));
+                }
+                a -= area(&clip_band(ring, b[0], b[1]));
+            }
+            for (c, r) in &holes {
+                let in_this = c[0] > x_lo && c[0] < x_hi && c[1] > y_lo && c[1] < y_hi;
+                if in_this && !bands.iter().any(|b| inside(*c, b)) {
+                    a -= PI * r * r;
+                }
+            }
+            mass += a * expected.areal_densities[l];
+        }
+        if (mass - expected.mass_mg).abs() > 1e-6 * expected.mass_mg.max(1e-9) {
+            problems.push(format!(
+                "{}: the drawn areas give {mass:.9} mg, the report {:.9} mg",
+                release.stem, expected.mass_mg
+            ));
+        }
+    }
+    problems
+}
+
+/// The pivots O, B, A of each linkage read back from a carbon layer: the middles of its slots (the kerf
+/// shrinks a slot evenly, so it keeps its middle), in order along each row, mm.
+pub fn pivots_read_back(carbon: &SheetDrawing) -> Vec<[f64; 3]> {
+    let r = read(carbon);
+    let mut polys = r.polygons;
+    polys.sort_by(|a, b| area(b).total_cmp(&area(a)));
+    let mut slots: Vec<Band> = polys.iter().skip(1).filter_map(|p| rect_of(p)).collect();
+    slots.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
+    slots
+        .chunks(3)
+        .filter(|c| c.len() == 3)
+        .map(|c| [0, 1, 2].map(|i| 0.5 * (c[i][0] + c[i][1])))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linkage::tests::hawkmoth;
+    use crate::linkage::LinkageLaminate;
+    use crate::pipeline::SheetDrawing;
+    use actuator_model::transmission::Linkage;
+
+    fn expected(l: &LinkageLaminate) -> Expected {
+        let r = l.report();
+        Expected {
+            kerf_mm: r.kerf_mm,
+            film_margin_mm: r.film_margin_mm,
+            areal_densities: r
+                .layers
+                .iter()
+                .map(|x| x.areal_density_mg_per_mm2)
+                .collect(),
+            mass_mg: r.mass_mg,
+        }
+    }
+
+    fn drawn(l: &LinkageLaminate, count: usize) -> Vec<SheetDrawing> {
+        let (_, template) = hawkmoth();
+        crate::linkage::drawings::linkage_drawings(l, &template, count, "test").unwrap()
+    }
+
+    #[test]
+    fn a_drawn_linkage_passes_every_check() {
+        let (l, _) = hawkmoth();
+        let d = drawn(&l, 7);
+        assert_eq!(d.len(), 6);
+        assert_eq!(
+            check_linkage_drawings(&d, &expected(&l)),
+            Vec::<String>::new()
+        );
+    }
+
+    /// Replace the polygon at `index` (in drawing order) of drawing `layer` by `f` of its ring.
+    fn bend(d: &mut [SheetDrawing], layer: usize, index: usize, f: impl Fn(Point) -> Point) {
+        let mut fresh = crate::cam::drawing::Drawing::new(
+            &d[layer].drawing.title,
+            d[layer].drawing.width_mm,
+            d[layer].drawing.height_mm,
+        );
+        let mut seen = 0;
+        for (op, shape) in d[layer].drawing.items() {
+            let shape = match shape {
+                Shape::Polygon(p) => {
+                    seen += 1;
+                    if seen - 1 == index {
+                        Shape::Polygon(p.iter().map(|q| f(*q)).collect())
+                    } else {
+                        shape.clone()
+                    }
+                }
+                other => other.clone(),
+            };
+            fresh.add(*op, shape);
+        }
+        d[layer].drawing = fresh;
+    }
+
+    #[test]
+    fn each_check_catches_the_fault_it_is_for() {
+        let (l, _) = hawkmoth();
+        let e = expected(&l);
+        let fails = |d: &[SheetDrawing], what: &str| {
+            let p = check_linkage_drawings(d, &e);
+            assert!(p.iter().any(|m| m.contains(what)), "{what}: {p:?}");
+        };
+        // A slot of the top carbon layer moved by 10 µm: the gaps no longer line up.
+        let mut d = drawn(&l, 1);
+        bend(&mut d, 4, 1, |p| [p[0] + 0.01, p[1]]);
+        fails(&d, "do not line up");
+        // A film window grown into the margin of the first gap.
+        let mut d = drawn(&l, 1);
+        bend(&mut d, 2, 1, |p| {
+            [if p[0] > 1.0 { p[0] + 0.2 } else { p[0] }, p[1]]
+        });
+        fails(&d, "does not cover the gap");
+        // An adhesive window narrowed so that adhesive reaches into a gap.
+        let mut d = drawn(&l, 1);
+        bend(&mut d, 1, 1, |p| {
+            [if p[0] > 12.0 { p[0] - 0.15 } else { p[0] }, p[1]]
+        });
+        fails(&d, "adhesive over the flexure gap");
+        // A pin hole moved on the film layer.
+        let mut d = drawn(&l, 1);
+        let mut fresh =
+            crate::cam::drawing::Drawing::new("x", d[2].drawing.width_mm, d[2].drawing.height_mm);
+        for (op, shape) in d[2].drawing.items() {
+            let shape = match shape {
+                Shape::Circle { center, radius } => Shape::Circle {
+                    center: [center[0] + 0.05, center[1]],
+                    radius: *radius,
+                },
+                other => other.clone(),
+            };
+            fresh.add(*op, shape);
+        }
+        d[2].drawing = fresh;
+        fails(&d, "pin holes differ");
+        // A reported mass 1e-5 off.
+        let d = drawn(&l, 1);
+        let off = Expected {
+            mass_mg: e.mass_mg * (1.0 + 1e-5),
+            ..e.clone()
+        };
+        assert!(check_linkage_drawings(&d, &off)
+            .iter()
+            .any(|m| m.contains("drawn areas give")));
+        // A kerf the features do not hold: two kerfs of 0.2 mm are wider than the film's gap bridges.
+        let wide = Expected {
+            kerf_mm: 0.2,
+            ..e.clone()
+        };
+        assert!(check_linkage_drawings(&d, &wide)
+            .iter()
+            .any(|m| m.contains("under two kerfs")));
+    }
+
+    #[test]
+    fn the_drawn_geometry_gives_back_the_drive_linkage() {
+        // θ_w(δ) of eq. 2.5 through the link lengths read off the carbon slots, at five points.
+        let (l, _) = hawkmoth();
+        let d = drawn(&l, 3);
+        let carbon = pivots_read_back(&d[0]);
+        assert_eq!(carbon.len(), 3);
+        for [o, b, a] in carbon {
+            let read = Linkage::new((a - b) * 1e-3, (b - o) * 1e-3, l.linkage.offset).unwrap();
+            for x in [-1.0, -0.5, 0.0, 0.5, 1.0] {
+                let x = x * 0.75e-3;
+                let drawn = read.stroke_angle(x).unwrap();
+                let solved = l.linkage.stroke_angle(x).unwrap();
+                assert!((drawn - solved).abs() < 1e-6, "{x}: {drawn} vs {solved}");
+            }
+        }
+    }
+}

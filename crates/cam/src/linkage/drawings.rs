@@ -1,0 +1,192 @@
+//! The linkage layers as laser files on the clamp panel (docs/cam.md §7): each layer of the stack on a
+//! sheet cut to the panel outline with the panel's pin holes, so the laminate registers on the same
+//! pins as the actuator's clamp; then the release cut through the laminated stack. Kerf as for every
+//! layer (docs/cam.md §4): the release outline is grown by kerf/2, slots, windows and holes shrunk by
+//! kerf/2, so each comes out as drawn.
+
+use super::pattern::{Rect, STACK};
+use super::LinkageLaminate;
+use crate::cam::drawing::{Drawing, Shape, Stock};
+use crate::input::InputError;
+use crate::pipeline::{panel_outline, pin_centres, SheetDrawing};
+use crate::process::template::Template;
+use crate::process::Feature;
+use cam_geometry::offset::offset_ring;
+use cam_geometry::Point;
+
+/// Where each linkage sits on the panels: its pattern's origin, per panel.
+pub fn layout(
+    laminate: &LinkageLaminate,
+    template: &Template,
+    count: usize,
+) -> Result<Vec<Vec<Point>>, InputError> {
+    let c = &template.clamp;
+    let p = &laminate.pattern;
+    let over = p.overrun_mm;
+    let spacing = laminate.process.spacing_mm;
+    let cell_w = p.length_mm + 2.0 * over + spacing;
+    let cell_h = p.strip_width_mm + 2.0 * over + spacing;
+    let usable_w = c.panel_width_mm - 2.0 * c.border_mm + spacing;
+    let usable_h = c.panel_height_mm - 2.0 * c.border_mm + spacing;
+    let cols = (usable_w / cell_w).floor().max(0.0) as usize;
+    let rows = (usable_h / cell_h).floor().max(0.0) as usize;
+    if cols * rows == 0 {
+        return Err(InputError::invalid(
+            &template.source,
+            "clamp.panel_width_mm",
+            c.panel_width_mm,
+            format!(
+                "a panel that holds the {:.2} x {:.2} mm linkage with its overrun inside the {} mm border",
+                p.length_mm + 2.0 * over,
+                p.strip_width_mm + 2.0 * over,
+                c.border_mm
+            ),
+        ));
+    }
+    let capacity = cols * rows;
+    let mut panels: Vec<Vec<Point>> = Vec::new();
+    for i in 0..count {
+        let slot = i % capacity;
+        if slot == 0 {
+            panels.push(Vec::new());
+        }
+        let (col, row) = (slot % cols, slot / cols);
+        let origin = [
+            c.border_mm + col as f64 * cell_w + over,
+            c.border_mm + row as f64 * cell_h + over + p.strip_width_mm / 2.0,
+        ];
+        panels.last_mut().expect("pushed above").push(origin);
+    }
+    Ok(panels)
+}
+
+fn offset(
+    ring: &[Point],
+    delta: f64,
+    what: &str,
+    template: &Template,
+) -> Result<Vec<Point>, InputError> {
+    offset_ring(ring, delta).map_err(|e| {
+        InputError::invalid(
+            &template.source,
+            "linkage.kerf_mm",
+            delta * 2.0,
+            format!("a kerf the linkage's {what} survives: {e}"),
+        )
+    })
+}
+
+/// The layer files of `count` linkages, `linkage-N-<layer>-<panel>`, bottom to top, then the release.
+pub fn linkage_drawings(
+    laminate: &LinkageLaminate,
+    template: &Template,
+    count: usize,
+    title: &str,
+) -> Result<Vec<SheetDrawing>, InputError> {
+    let c = &template.clamp;
+    let features = &template.features;
+    let p = &laminate.pattern;
+    let kerf = laminate.process.kerf_mm;
+    let half = kerf / 2.0;
+    let panels = layout(laminate, template, count)?;
+    let outline = offset(&panel_outline(c), half, "panel outline", template)?;
+    let pin_radius = c.pin_radius_mm - half;
+    if pin_radius <= 0.0 {
+        return Err(InputError::invalid(
+            &template.source,
+            "clamp.pin_radius_mm",
+            c.pin_radius_mm,
+            format!("more than half the linkage kerf, {half} mm"),
+        ));
+    }
+    let release = offset(&p.outline(), half, "release outline", template)?;
+    let hole_radius = p.hole_diameter_mm / 2.0 - half;
+    let levels = STACK.len() + 1;
+    let mut drawings = Vec::new();
+    for (n, origins) in panels.iter().enumerate() {
+        let panel = n + 1;
+        let pins = |d: &mut Drawing| {
+            for centre in pin_centres(c) {
+                d.add(
+                    features.op(Feature::PinHole),
+                    Shape::Circle {
+                        center: centre,
+                        radius: pin_radius,
+                    },
+                );
+            }
+        };
+        for (k, (ply, name)) in STACK.iter().enumerate() {
+            let sheet = match ply {
+                super::pattern::Ply::Carbon => &laminate.process.carbon,
+                super::pattern::Ply::Adhesive => &laminate.process.adhesive,
+                super::pattern::Ply::Film => &laminate.process.film,
+            };
+            let mut d = Drawing::on_stock(
+                &format!(
+                    "{title} linkage layer {}/{levels} ({name}), panel {panel}",
+                    k + 1
+                ),
+                c.panel_width_mm,
+                c.panel_height_mm,
+                Stock {
+                    material: sheet.material.clone(),
+                    thickness_mm: sheet.thickness_mm,
+                },
+            );
+            d.add(
+                features.op(Feature::PanelOutline),
+                Shape::Polygon(outline.clone()),
+            );
+            pins(&mut d);
+            for origin in origins {
+                for cut in p.cut_outs(*ply) {
+                    let r: Rect = cut.moved(*origin).grown(-half);
+                    d.add(
+                        features.op(Feature::LinkageCutOut),
+                        Shape::Polygon(r.ring()),
+                    );
+                }
+            }
+            drawings.push(SheetDrawing {
+                stem: format!("linkage-{}-{name}-{panel}", k + 1),
+                layer: format!("linkage-{name}"),
+                drawing: d,
+            });
+        }
+        let mut d = Drawing::on_stock(
+            &format!("{title} linkage layer {levels}/{levels} (release cut through the laminated stack), panel {panel}"),
+            c.panel_width_mm,
+            c.panel_height_mm,
+            Stock {
+                material: "the laminated linkage stack".to_string(),
+                thickness_mm: laminate.stack_thickness_mm(),
+            },
+        );
+        pins(&mut d);
+        for origin in origins {
+            d.add(
+                features.op(Feature::LinkageHole),
+                Shape::Circle {
+                    center: [origin[0] + p.hole_centre[0], origin[1] + p.hole_centre[1]],
+                    radius: hole_radius,
+                },
+            );
+            d.add(
+                features.op(Feature::LinkageRelease),
+                Shape::Polygon(
+                    release
+                        .iter()
+                        .map(|q| [q[0] + origin[0], q[1] + origin[1]])
+                        .collect(),
+                ),
+            );
+        }
+        drawings.push(SheetDrawing {
+            stem: format!("linkage-{levels}-release-{panel}"),
+            layer: "linkage-release".to_string(),
+            drawing: d,
+        });
+    }
+    Ok(drawings)
+}

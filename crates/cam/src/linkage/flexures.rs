@@ -1,0 +1,184 @@
+//! The flexures checked against the film and the links, and re-sized where that is all it takes
+//! (docs/physics.md §16.2, docs/cam.md §7):
+//!
+//! | bound | rule | when broken |
+//! |---|---|---|
+//! | fatigue | `ε = t φ / (2 L)` at the joint's largest turn over the stroke ≤ the film's fatigue strain | lengthened to `L = t φ / (2 ε)` |
+//! | bending | `L ≥ n t` (the template's `min_length_thicknesses`): a shorter gap shears more than it bends | lengthened to `n t` |
+//! | pivot | `L ≤ f ×` the shorter link beside it (`max_length_fraction`): a longer gap is no pivot | refused |
+//! | cutting | `L`, `w` at least two kerfs | refused |
+//!
+//! A lengthened flexure is rounded up to 0.1 µm, so the strain it reports is within the bound.
+
+use super::pattern::{FlexureSize, JOINTS};
+use crate::process::linkage::LinkageProcess;
+use actuator_model::flexure::Flexure;
+use actuator_model::transmission::Linkage;
+use serde::Serialize;
+
+/// Samples of the stroke for each joint's largest turn.
+const STROKE_SAMPLES: usize = 64;
+
+/// One flexure as checked (JSON `linkage.flexures[]`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct FlexureRow {
+    /// Which joint.
+    pub joint: String,
+    /// Gap length as drawn, µm.
+    pub length_um: f64,
+    /// Width, mm.
+    pub width_mm: f64,
+    /// Film thickness, µm.
+    pub film_um: f64,
+    /// `k = E w t³ / (12 L)`, µN·m/rad.
+    pub stiffness_uNm_per_rad: f64,
+    /// Largest turn over the stroke, deg.
+    pub peak_rotation_deg: f64,
+    /// `ε = t φ / (2 L)` at that turn.
+    pub peak_strain: f64,
+    /// The film's fatigue strain.
+    pub strain_limit: f64,
+    /// Why the length differs from the one asked for, if it does.
+    pub resized: Option<String>,
+}
+
+/// A flexure that cannot be made: the joint, the value and what is allowed, for the caller to name
+/// the field it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    /// Joint index (O, B, A).
+    pub joint: usize,
+    /// `length` or `width`.
+    pub what: &'static str,
+    /// The value asked for, in the file's unit (µm for lengths, mm for widths).
+    pub value: f64,
+    /// What is allowed, and why.
+    pub allowed: String,
+}
+
+/// Largest turn of each joint over the stroke between the end angles, rad.
+pub fn peak_rotations(linkage: &Linkage, end_angles: (f64, f64)) -> [f64; 3] {
+    let mut peak = [0.0f64; 3];
+    for i in 0..=STROKE_SAMPLES {
+        let angle = end_angles.0 + (end_angles.1 - end_angles.0) * i as f64 / STROKE_SAMPLES as f64;
+        if let Some(turns) = linkage.joint_rotations(angle) {
+            for (p, t) in peak.iter_mut().zip(turns) {
+                *p = p.max(t.abs());
+            }
+        }
+    }
+    peak
+}
+
+/// Check each flexure asked for (lengths 0 mean "the shortest allowed") against the film and the
+/// links; lengthen those the film strains too much or that are too short to bend.
+pub fn check_flexures(
+    linkage: &Linkage,
+    end_angles: (f64, f64),
+    asked: [FlexureSize; 3],
+    film_thickness_mm: f64,
+    process: &LinkageProcess,
+) -> Result<([FlexureSize; 3], [FlexureRow; 3]), Refusal> {
+    let peaks = peak_rotations(linkage, end_angles);
+    let (crank, coupler) = (linkage.crank * 1e3, linkage.coupler * 1e3);
+    let neighbour = [crank, crank.min(coupler), coupler];
+    let kerf = process.kerf_mm;
+    let t = film_thickness_mm;
+    let mut sizes = asked;
+    let mut rows = Vec::with_capacity(3);
+    for i in 0..3 {
+        let f = asked[i];
+        if f.width_mm < 2.0 * kerf {
+            return Err(Refusal {
+                joint: i,
+                what: "width",
+                value: f.width_mm,
+                allowed: format!("at least two kerfs, {} mm", 2.0 * kerf),
+            });
+        }
+        let film = Flexure {
+            length: f.length_mm * 1e-3,
+            width: f.width_mm * 1e-3,
+            thickness: t * 1e-3,
+            modulus: process.film_modulus,
+        };
+        let by_strain = film.shortest_length_for(peaks[i], process.film_fatigue_strain) * 1e3;
+        let by_bending = process.min_length_thicknesses * t;
+        let shortest = by_strain.max(by_bending).max(2.0 * kerf);
+        let longest = process.max_length_fraction * neighbour[i];
+        let mut length = f.length_mm;
+        let mut resized = None;
+        if length < shortest {
+            // Up to the next 0.1 µm, so the drawn length keeps the strain within the bound.
+            let up = (shortest * 1e4).ceil() / 1e4;
+            let reason = if f.length_mm == 0.0 {
+                format!(
+                    "none given, the shortest the film allows at {:.1}° ({:.2} % fatigue strain, {} film thicknesses)",
+                    peaks[i].to_degrees(),
+                    process.film_fatigue_strain * 100.0,
+                    process.min_length_thicknesses
+                )
+            } else if by_strain >= by_bending && by_strain >= 2.0 * kerf {
+                format!(
+                    "{:.1} µm strains the film {:.2} % at {:.1}°, over its fatigue strain {:.2} %",
+                    f.length_mm * 1e3,
+                    film.strain(peaks[i]) * 100.0,
+                    peaks[i].to_degrees(),
+                    process.film_fatigue_strain * 100.0
+                )
+            } else if by_bending >= 2.0 * kerf {
+                format!(
+                    "{:.1} µm is under {} film thicknesses (a shorter gap shears more than it bends)",
+                    f.length_mm * 1e3,
+                    process.min_length_thicknesses
+                )
+            } else {
+                format!(
+                    "{:.1} µm is under two kerfs ({} mm)",
+                    f.length_mm * 1e3,
+                    2.0 * kerf
+                )
+            };
+            resized = Some(format!("{:.1} µm: {reason}", up * 1e3));
+            length = up;
+        }
+        if length > longest {
+            return Err(Refusal {
+                joint: i,
+                what: "length",
+                value: f.length_mm * 1e3,
+                allowed: format!(
+                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain at {:.1}° ({:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
+                    shortest * 1e3,
+                    longest * 1e3,
+                    by_strain * 1e3,
+                    peaks[i].to_degrees(),
+                    process.film_fatigue_strain * 100.0,
+                    t * 1e3,
+                    process.min_length_thicknesses,
+                    process.max_length_fraction,
+                    neighbour[i]
+                ),
+            });
+        }
+        sizes[i].length_mm = length;
+        let drawn = Flexure {
+            length: length * 1e-3,
+            ..film
+        };
+        rows.push(FlexureRow {
+            joint: JOINTS[i].to_string(),
+            length_um: length * 1e3,
+            width_mm: f.width_mm,
+            film_um: t * 1e3,
+            stiffness_uNm_per_rad: drawn.stiffness() * 1e6,
+            peak_rotation_deg: peaks[i].to_degrees(),
+            peak_strain: drawn.strain(peaks[i]),
+            strain_limit: process.film_fatigue_strain,
+            resized,
+        });
+    }
+    let rows: [FlexureRow; 3] = rows.try_into().expect("three joints");
+    Ok((sizes, rows))
+}
