@@ -5,7 +5,10 @@
 
 mod common;
 
-use common::{cut_sheet, example, example_path, files, refused_in_one_line, report_json, run_ok};
+use common::{
+    cut_sheet, example, example_path, files, refused_in_one_line, report_json, run_ok, sheet_files,
+    sheet_name,
+};
 
 #[test]
 fn the_insect_scale_linkage_is_cut_with_its_actuator() {
@@ -33,10 +36,15 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
             "linkage-6-release",
         ] {
             for ext in ["svg", "dxf"] {
+                // Each file's name carries its stock after the sheet's name.
                 let name = format!("{stem}-{p}.{ext}");
-                assert!(written.contains_key(&name), "{name}");
+                let file = written
+                    .keys()
+                    .find(|f| sheet_name(f) == name)
+                    .unwrap_or_else(|| panic!("{name}"));
+                assert!(file.contains("mm."), "{file} names no stock");
                 let listed = report["files"].as_array().unwrap();
-                assert!(listed.iter().any(|f| f == &name), "{name} not listed");
+                assert!(listed.iter().any(|f| f == file), "{file} not listed");
             }
         }
     }
@@ -44,7 +52,8 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
     let outlines: usize = (1..=panels)
         .map(|p| {
             let svg =
-                String::from_utf8(written[&format!("linkage-6-release-{p}.svg")].clone()).unwrap();
+                String::from_utf8(sheet_files(&out)[&format!("linkage-6-release-{p}.svg")].clone())
+                    .unwrap();
             svg.matches("<path").count()
         })
         .sum();

@@ -464,8 +464,13 @@ def check_linkage(report_path, linkage):
     names = [l["layer"] for l in linkage["layers"]]
     for panel in range(1, linkage["panels"] + 1):
         tag = f"linkage panel {panel}"
-        files = [folder / f"linkage-{n}-{panel}.dxf" for n in names]
-        release = folder / f"linkage-{len(names) + 1}-release-{panel}.dxf"
+        def sheet(stem):
+            """The DXF of sheet `stem`, whatever stock its name carries after `_`."""
+            found = sorted(folder.glob(f"{stem}_*.dxf")) or [folder / f"{stem}.dxf"]
+            return found[0]
+
+        files = [sheet(f"linkage-{n}-{panel}") for n in names]
+        release = sheet(f"linkage-{len(names) + 1}-release-{panel}")
         if not all(f.exists() for f in files + [release]):
             problems.append(f"{tag}: DXF files missing")
             continue

@@ -6,7 +6,7 @@
 
 use super::pattern::{Rect, STACK};
 use super::LinkageLaminate;
-use crate::cam::drawing::{Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::Template;
@@ -149,7 +149,10 @@ pub fn linkage_drawings(
                 }
             }
             drawings.push(SheetDrawing {
-                stem: format!("linkage-{}-{name}-{panel}", k + 1),
+                stem: file_stem(
+                    &format!("linkage-{}-{name}-{panel}", k + 1),
+                    d.stock.as_ref(),
+                ),
                 layer: format!("linkage-{name}"),
                 drawing: d,
             });
@@ -183,7 +186,10 @@ pub fn linkage_drawings(
             );
         }
         drawings.push(SheetDrawing {
-            stem: format!("linkage-{levels}-release-{panel}"),
+            stem: file_stem(
+                &format!("linkage-{levels}-release-{panel}"),
+                d.stock.as_ref(),
+            ),
             layer: "linkage-release".to_string(),
             drawing: d,
         });
