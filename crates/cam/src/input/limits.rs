@@ -42,8 +42,8 @@ pub const MAX_PLIES: usize = 64;
 
 // Materials (`[materials.NAME]`, sweep property levels).
 
-/// Young's and shear moduli.
-pub const MODULUS_GPA: Range = Range::positive_up_to(2000.0, "GPa");
+/// Young's and shear moduli: from a soft silicone (about 1 MPa) to diamond.
+pub const MODULUS_GPA: Range = Range::closed(0.001, 2000.0, "GPa");
 /// In-plane Poisson ratio ν12.
 pub const POISSON: Range = Range::closed(0.0, 0.5, "");
 /// Density of a material or a clamp layer.
