@@ -9,6 +9,7 @@ pub mod design;
 pub mod drive;
 pub mod input;
 pub mod layout;
+pub mod markdown;
 pub mod optimize;
 pub mod output;
 pub mod parts;
