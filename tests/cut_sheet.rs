@@ -1130,3 +1130,99 @@ fn streamed_files_equal_the_in_memory_render() {
         assert!(written[name] == *bytes, "{name} differs");
     }
 }
+
+/// Issue 31, item 7: the model and the cut files hold the same layers. For every process (both shipped
+/// templates, and method 2 cut ply by ply) and with and without a bond the design declares, either the
+/// drawn areas times the areal densities (Σ A t ρ over the layer rows, kerf 0) equal the predicted mass,
+/// or the run is refused naming `laminate.bond` and writes nothing.
+#[test]
+fn a_declared_bond_is_cut_or_refused_and_the_drawn_mass_is_the_predicted_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply_by_ply = method_2_with("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    let processes: [(&str, String); 3] = [
+        ("method-1.toml", shipped_template("method-1.toml")),
+        ("method-2.toml", method_2()),
+        ("plies.toml", ply_by_ply),
+    ];
+    // The bond method 1 cuts (Pyralux LF, 25 µm, 1100 kg/m³, as the library has it), one it does not
+    // (50 µm), and none.
+    let bonds: [(&str, Option<&str>); 3] = [
+        ("none", None),
+        (
+            "pyralux-25um",
+            Some("bond = \"Pyralux-LF\"\nbond_thickness_mm = 0.025"),
+        ),
+        (
+            "pyralux-50um",
+            Some("bond = \"Pyralux-LF\"\nbond_thickness_mm = 0.05"),
+        ),
+    ];
+    let mut cut = 0;
+    for (name, template) in &processes {
+        for (label, bond) in &bonds {
+            let case = dir.path().join(format!("{name}-{label}"));
+            std::fs::create_dir(&case).unwrap();
+            std::fs::write(case.join(name), template).unwrap();
+            let process = format!("process = \"{name}\"");
+            let layup = format!("layup_deg = [0, 90, 0]\n{}", bond.unwrap_or_default());
+            let design = case.join("d.toml");
+            std::fs::write(
+                &design,
+                design_c_with(&[
+                    ("process", &process),
+                    ("base_tab_mm", "base_tab_mm = 2.0"),
+                    ("layup_deg", &layup),
+                ]),
+            )
+            .unwrap();
+            let out = case.join("out");
+            let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
+            let cuts_a_bond = name.starts_with("method-1");
+            let matches = bond.is_none() || (cuts_a_bond && *label == "pyralux-25um");
+            if !matches {
+                let err = stderr(&o);
+                assert!(!o.status.success(), "{name} {label}: accepted");
+                assert_eq!(err.trim().lines().count(), 1, "{err}");
+                assert!(
+                    err.contains("d.toml: laminate.bond = \"Pyralux-LF\" ("),
+                    "{name} {label}: {err}"
+                );
+                assert!(!out.exists(), "{name} {label}: half-written output");
+                continue;
+            }
+            assert!(o.status.success(), "{name} {label}: {}", stderr(&o));
+            let r = report_json(&out);
+            let model = r["predicted"]["mass_mg"].as_f64().unwrap();
+            // Σ A t ρ from the layer rows as drawn (mm² x mm x kg/m³ = 1e-3 mg), times the parts per
+            // actuator.
+            let drawn: f64 = r["layers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|l| {
+                    l["part_area_mm2"].as_f64().unwrap()
+                        * l["thickness_mm"].as_f64().unwrap()
+                        * l["density_kg_per_m3"].as_f64().unwrap()
+                        * l["parts_per_actuator"].as_f64().unwrap()
+                        * 1e-3
+                })
+                .sum();
+            assert!(
+                ((drawn - model) / model).abs() < 1e-9,
+                "{name} {label}: drawn {drawn} mg vs model {model} mg"
+            );
+            let bond_mg = r["predicted"]["mass_breakdown_mg"]["bond"]
+                .as_f64()
+                .unwrap();
+            let has_bond_layer = r["layers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|l| l["layer"] == "pyralux");
+            assert_eq!(bond_mg > 0.0, has_bond_layer, "{name} {label}");
+            cut += 1;
+        }
+    }
+    // Method 1 with no bond and its own, method 2 and ply by ply with none.
+    assert_eq!(cut, 4);
+}
