@@ -700,7 +700,7 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
         (
             design_c_with(&[("length_mm", "length_mm = 400")]),
             vec![],
-            "larger than",
+            "layers.pzt.sheet_width_mm = 72.4: a 5.00 x 218.22 mm PZT plate does not fit the sheet",
         ),
     ];
     for (i, (text, extra, needle)) in cases.into_iter().enumerate() {
