@@ -4,14 +4,14 @@
 //!    of each thesis example design. Median of 7 runs per design.
 //! 2. Large quantities through the binary: `cut-sheet examples/thesis-C.toml
 //!    --quantity q` for q = 1000, 5000, 20000, as a lab runs it, into a fresh temporary folder. For each
-//!    run: wall time, CPU time (user and system apart) and peak resident memory. The binary runs as a child and
-//!    the figures are the kernel's own account of that child, read with `wait4` (its `rusage`): the peak
-//!    RSS is the high-water mark of exactly that process, with no sampling gap, and needs no external
-//!    tool (`/usr/bin/time` is not on every machine, and GNU and BSD print it differently). With
-//!    `ACTUATOR_CAM_PEER=/path/to/other/actuator-cam` set, that binary runs the same quantity just before
-//!    ours, so both are measured side by side at the same load. `CUT_SHEET_QUANTITIES=1000,5000` picks
-//!    other quantities.
+//!    run: wall time, CPU time (user and system apart) and peak resident memory, the kernel's own
+//!    account of the child (`common/child.rs`). With `ACTUATOR_CAM_PEER=/path/to/other/actuator-cam`
+//!    set, that binary runs the same quantity just before ours, so both are measured side by side at the
+//!    same load. `CUT_SHEET_QUANTITIES=1000,5000` picks other quantities, `CUT_SHEET_DESIGNS=thesis-7`
+//!    other example designs.
 
+#[path = "common/child.rs"]
+mod child;
 #[path = "../tests/common/fixtures.rs"]
 mod fixtures;
 
@@ -20,7 +20,7 @@ use actuator_cam::design::Design;
 use actuator_model::ModelKind;
 use fixtures::{example, example_path, THESIS_DESIGNS};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::Instant;
 
 fn main() {
@@ -81,66 +81,60 @@ fn large_quantities() {
                 .collect()
         })
         .unwrap_or_else(|| vec![1000, 5000, 20000]);
+    let designs: Vec<String> = std::env::var("CUT_SHEET_DESIGNS")
+        .ok()
+        .map(|s| s.split(',').map(|d| d.trim().to_string()).collect())
+        .unwrap_or_else(|| vec!["thesis-C".into()]);
     let ours = env!("CARGO_BIN_EXE_actuator-cam").to_string();
     let peer = std::env::var("ACTUATOR_CAM_PEER").ok();
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!(
-        "\ncut-sheet examples/thesis-C.toml --quantity q -o <new folder>, the binary as a child (load {})",
-        load.split_whitespace().take(3).collect::<Vec<_>>().join(" ")
+        "\ncut-sheet examples/DESIGN.toml --quantity q -o <new folder>, the binary as a child (load {})",
+        child::load()
     );
     // System time is mostly the file system creating ~3 files per actuator; it varies with what else
     // the machine's file system is doing, so it is shown apart from the user time of rendering.
-    println!("  binary   quantity     wall s     user s      sys s   peak RSS MB   files");
-    for q in quantities {
-        for (label, binary) in peer
-            .iter()
-            .map(|p| ("peer", p.as_str()))
-            .chain([("ours", ours.as_str())])
-        {
-            let r = run_child(binary, q);
-            println!(
-                "  {label:<8} {q:>8} {:>10.2} {:>10.2} {:>10.2} {:>13.1} {:>7}",
-                r.wall_s, r.user_s, r.sys_s, r.peak_mb, r.files
-            );
+    println!(
+        "  design     binary   quantity     wall s     user s      sys s   peak RSS MB   files"
+    );
+    for design in &designs {
+        for &q in &quantities {
+            for (label, binary) in peer
+                .iter()
+                .map(|p| ("peer", p.as_str()))
+                .chain([("ours", ours.as_str())])
+            {
+                let r = run_child(binary, design, q);
+                println!(
+                    "  {design:<10} {label:<8} {q:>8} {:>10.2} {:>10.2} {:>10.2} {:>13.1} {:>7}",
+                    r.wall_s, r.user_s, r.sys_s, r.peak_mb, r.files
+                );
+            }
         }
     }
+    println!("  (load after: {})", child::load());
 }
 
-/// Run `binary cut-sheet` for `q` actuators into a fresh folder and account for the child alone. The child
-/// is reaped by `wait4` (which returns its rusage), not by `Child::wait`.
-#[allow(clippy::zombie_processes)]
-fn run_child(binary: &str, q: usize) -> Run {
+/// Run `binary cut-sheet` of `design` for `q` actuators into a fresh folder and account for the child
+/// alone.
+fn run_child(binary: &str, design: &str, q: usize) -> Run {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("out");
-    let start = Instant::now();
-    let child = Command::new(binary)
-        .args(["cut-sheet", &example("thesis-C.toml"), "--quantity"])
+    let mut command = Command::new(binary);
+    command
+        .args([
+            "cut-sheet",
+            &example(&format!("{design}.toml")),
+            "--quantity",
+        ])
         .arg(q.to_string())
         .arg("-o")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("the binary starts");
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: `rusage` is plain data the kernel fills; `pid` is our own child, waited for exactly once
-    // (the `Child` handle is not waited on again).
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    let wall_s = start.elapsed().as_secs_f64();
-    assert_eq!(waited, pid, "wait4 on the child");
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{binary} failed at q = {q}"
-    );
-    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        .arg(&out);
+    let u = child::measure(command);
     Run {
-        wall_s,
-        user_s: seconds(usage.ru_utime),
-        sys_s: seconds(usage.ru_stime),
-        // Linux reports ru_maxrss in kilobytes.
-        peak_mb: usage.ru_maxrss as f64 / 1024.0,
+        wall_s: u.wall_s,
+        user_s: u.user_s,
+        sys_s: u.sys_s,
+        peak_mb: u.peak_mb,
         files: count_files(&out),
     }
 }

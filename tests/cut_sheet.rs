@@ -737,7 +737,7 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
         (
             design_c_with(&[("length_mm", "length_mm = 400")]),
             vec![],
-            "larger than",
+            "layers.pzt.sheet_width_mm = 72.4: a 5.00 x 218.22 mm PZT plate does not fit the sheet",
         ),
     ];
     for (i, (text, extra, needle)) in cases.into_iter().enumerate() {
@@ -1297,4 +1297,115 @@ fn method_1_bond_parts_sit_inside_the_plate_by_the_template_inset() {
         inset < plate && (inset - expected).abs() < 4.0 * 0.15 * 0.15 * 2.0,
         "bond part {inset} mm², plate {plate} mm², plate less perimeter x inset {expected} mm²"
     );
+}
+
+/// Issue 31, item 7: the model and the cut files hold the same layers. For every process (both shipped
+/// templates, and method 2 cut ply by ply) and with and without a bond the design declares, either the
+/// drawn areas times the areal densities (Σ A t ρ over the layer rows, kerf 0) equal the predicted mass,
+/// or the run is refused naming `laminate.bond` and writes nothing.
+#[test]
+fn a_declared_bond_is_cut_or_refused_and_the_drawn_mass_is_the_predicted_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply_by_ply = method_2_with("passive_cut = \"stack\"", "passive_cut = \"ply-by-ply\"");
+    let processes: [(&str, String); 3] = [
+        ("method-1.toml", shipped_template("method-1.toml")),
+        ("method-2.toml", method_2()),
+        ("plies.toml", ply_by_ply),
+    ];
+    // The bond method 1 cuts (Pyralux LF, 25 µm, 1100 kg/m³, as the library has it), one it does not
+    // (50 µm), and none.
+    let bonds: [(&str, Option<&str>); 3] = [
+        ("none", None),
+        (
+            "pyralux-25um",
+            Some("bond = \"Pyralux-LF\"\nbond_thickness_mm = 0.025"),
+        ),
+        (
+            "pyralux-50um",
+            Some("bond = \"Pyralux-LF\"\nbond_thickness_mm = 0.05"),
+        ),
+    ];
+    let mut cut = 0;
+    for (name, template) in &processes {
+        for (label, bond) in &bonds {
+            let case = dir.path().join(format!("{name}-{label}"));
+            std::fs::create_dir(&case).unwrap();
+            std::fs::write(case.join(name), template).unwrap();
+            let process = format!("process = \"{name}\"");
+            let layup = format!("layup_deg = [0, 90, 0]\n{}", bond.unwrap_or_default());
+            let design = case.join("d.toml");
+            std::fs::write(
+                &design,
+                design_c_with(&[
+                    ("process", &process),
+                    ("base_tab_mm", "base_tab_mm = 2.0"),
+                    ("layup_deg", &layup),
+                ]),
+            )
+            .unwrap();
+            let out = case.join("out");
+            let o = cut_sheet(design.to_str().unwrap(), &out, &["--kerf-mm", "0"]);
+            let cuts_a_bond = name.starts_with("method-1");
+            let matches = bond.is_none() || (cuts_a_bond && *label == "pyralux-25um");
+            if !matches {
+                let err = stderr(&o);
+                assert!(!o.status.success(), "{name} {label}: accepted");
+                assert_eq!(err.trim().lines().count(), 1, "{err}");
+                assert!(
+                    err.contains("d.toml: laminate.bond = \"Pyralux-LF\" ("),
+                    "{name} {label}: {err}"
+                );
+                assert!(!out.exists(), "{name} {label}: half-written output");
+                continue;
+            }
+            assert!(o.status.success(), "{name} {label}: {}", stderr(&o));
+            let r = report_json(&out);
+            let model = r["predicted"]["mass_mg"].as_f64().unwrap();
+            // Σ A t ρ from the layer rows as drawn (mm² x mm x kg/m³ = 1e-3 mg), times the parts per
+            // actuator.
+            let drawn: f64 = r["layers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|l| {
+                    l["part_area_mm2"].as_f64().unwrap()
+                        * l["thickness_mm"].as_f64().unwrap()
+                        * l["density_kg_per_m3"].as_f64().unwrap()
+                        * l["parts_per_actuator"].as_f64().unwrap()
+                        * 1e-3
+                })
+                .sum();
+            // The model bonds the whole plate; method 1's bond parts are inset from its edge (docs/cam.md
+            // §1): the inset strip is the only mass the drawing lacks, and the report's geometry mass is
+            // the drawing's.
+            let rows = r["layers"].as_array().unwrap();
+            let row = |n: &str| rows.iter().find(|l| l["layer"] == n);
+            let inset_mg = row("pyralux").map_or(0.0, |b| {
+                let v = |l: &serde_json::Value, k: &str| l[k].as_f64().unwrap();
+                (v(row("pzt").unwrap(), "part_area_mm2") - v(b, "part_area_mm2"))
+                    * v(b, "thickness_mm")
+                    * v(b, "density_kg_per_m3")
+                    * v(b, "parts_per_actuator")
+                    * 1e-3
+            });
+            assert!(
+                ((drawn + inset_mg - model) / model).abs() < 1e-9,
+                "{name} {label}: drawn {drawn} mg + bond inset {inset_mg} mg vs model {model} mg"
+            );
+            let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
+            assert!(((geometry - drawn) / drawn).abs() < 1e-9, "{name} {label}");
+            let bond_mg = r["predicted"]["mass_breakdown_mg"]["bond"]
+                .as_f64()
+                .unwrap();
+            let has_bond_layer = r["layers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|l| l["layer"] == "pyralux");
+            assert_eq!(bond_mg > 0.0, has_bond_layer, "{name} {label}");
+            cut += 1;
+        }
+    }
+    // Method 1 with no bond and its own, method 2 and ply by ply with none.
+    assert_eq!(cut, 4);
 }

@@ -469,10 +469,8 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
     fails_without_output(
         &dir,
         &[
-            "passive sheets",
-            "thesis-C",
-            "larger than the sheet",
-            "20 x 20 mm",
+            "batch.toml: sheets.prepreg.height_mm = 20: the passive part of thesis-C",
+            "does not fit the sheet; it needs at least 43.30 mm",
         ],
     );
 

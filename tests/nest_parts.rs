@@ -1043,6 +1043,28 @@ fn a_self_intersecting_contour_is_refused_naming_its_entity() {
         err.contains("<polygon> #1 (no id): self-intersecting contour"),
         "{err}"
     );
+    // A symmetric bow-tie: its two lobes cancel to a signed area of zero, yet its points do not lie
+    // on one line, so it is a crossing, not a degenerate contour.
+    let symmetric = svg(
+        "20mm",
+        "20mm",
+        " viewBox=\"0 0 20 20\"",
+        "<polygon id=\"tie\" points=\"0,0 10,10 10,0 0,10\"/>",
+    );
+    let err = refused("symmetric-bow-tie.svg", &symmetric, "");
+    assert!(
+        err.contains("<polygon id=\"tie\">: self-intersecting contour"),
+        "{err}"
+    );
+    // Points on one line are still a zero-area contour.
+    let flat = svg(
+        "20mm",
+        "20mm",
+        " viewBox=\"0 0 20 20\"",
+        "<polygon id=\"flat\" points=\"0,0 5,5 10,10\"/>",
+    );
+    let err = refused("flat.svg", &flat, "");
+    assert!(err.contains("<polygon id=\"flat\">: zero area"), "{err}");
 }
 
 #[test]

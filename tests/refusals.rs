@@ -159,3 +159,268 @@ fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
     );
     assert!(!out.exists(), "no half-written output");
 }
+
+/// A template beside a copy of thesis design C (method 1, with its Pyralux bond layers) that uses it,
+/// with one template line replaced: `(dir, design path, template path)`.
+fn method_1_with(old: &str, new: &str) -> (tempfile::TempDir, String, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let template = std::fs::read_to_string("templates/method-1.toml").unwrap();
+    assert!(template.contains(old), "the template holds {old:?}");
+    let tpl = dir.path().join("tpl.toml");
+    std::fs::write(&tpl, template.replace(old, new)).unwrap();
+    let design = std::fs::read_to_string(example("thesis-C-method-1.toml"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            if l.starts_with("process") {
+                "process = \"tpl.toml\"".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let path = dir.path().join("d.toml");
+    std::fs::write(&path, design + "\n").unwrap();
+    (dir, path.to_str().unwrap().to_string(), tpl)
+}
+
+#[test]
+fn an_unbounded_range_is_said_in_words() {
+    let spec = std::fs::read_to_string(example("optimize-thesis.toml"))
+        .unwrap()
+        .replace("max_peak_pzt_strain = 0.0009", "max_peak_pzt_strain = -1");
+    let (_d, f) = write_temp("spec.toml", &spec);
+    let err = refused_in_one_line(&run(&["optimize", f.to_str().unwrap()]));
+    assert!(
+        err.contains(
+            "spec.toml: constraints.max_peak_pzt_strain = -1: outside the allowed range: greater than 0"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("inf"), "{err}");
+}
+
+#[test]
+fn weibull_prints_six_significant_digits_at_any_scale() {
+    // Strains in plain units: a fixed six decimals would print every threshold as 0.000000.
+    let (_d, f) = write_temp(
+        "strain.csv",
+        "strain\n1.1e-9\n1.3e-9\n1.2e-9\n1.25e-9\n1.15e-9\n1.05e-9\n",
+    );
+    let out = ok_stdout(&run(&["weibull", f.to_str().unwrap()]));
+    assert!(!out.contains("0.000000"), "{out}");
+    for line in out.lines().skip(1) {
+        let number = line.split_whitespace().last().unwrap();
+        let x: f64 = number.parse().unwrap_or_else(|_| panic!("{line}"));
+        assert!(x > 1e-9 && x < 2e-9 || line.contains("shape"), "{line}");
+        assert!(number.len() <= 12, "{line}");
+    }
+    // Stresses in Pa: no 19-digit numbers either.
+    let (_d, f) = write_temp(
+        "stress.csv",
+        "stress_Pa\n1.1e11\n1.3e11\n1.2e11\n1.25e11\n1.15e11\n1.05e11\n",
+    );
+    let out = ok_stdout(&run(&["weibull", f.to_str().unwrap()]));
+    for line in out.lines().skip(1) {
+        assert!(
+            line.split_whitespace().last().unwrap().len() <= 12,
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn a_tiny_modulus_blames_the_modulus() {
+    let glass = |e1: &str| {
+        design_c_with(&[("ply =", "ply = \"my-glass\"")])
+            + &format!(
+                "[materials.my-glass]\ne1_GPa = {e1}\ne2_GPa = 14\ng12_GPa = 5\nnu12 = 0.28\ndensity_kg_per_m3 = 1780\nply_thickness_mm = 0.1\n"
+            )
+    };
+    let (_d, f) = write_temp("g.toml", &glass("1e-300"));
+    let err = refused_in_one_line(&run(&["predict", f.to_str().unwrap()]));
+    assert!(
+        err.contains("g.toml: materials.my-glass.e1_GPa = 1e-300: outside the allowed range [0.001, 2000] GPa"),
+        "{err}"
+    );
+    // In range, but too soft against E2 for a plane-stress stiffness: E1 is named, with its bound
+    // ν12² E2 = 0.28² x 14 = 1.0976 GPa.
+    let (_d, f) = write_temp("g.toml", &glass("0.5"));
+    let err = refused_in_one_line(&run(&["predict", f.to_str().unwrap()]));
+    assert!(
+        err.contains("g.toml: materials.my-glass.e1_GPa = 0.5: with e2_GPa = 14 and nu12 = 0.28")
+            && err.contains("e1_GPa must be greater than 1.0976"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_voltage_cap_that_holds_the_energy_down_is_the_field_blamed() {
+    for cap in ["1e-300", "5"] {
+        let spec = std::fs::read_to_string(example("optimize-thesis.toml"))
+            .unwrap()
+            .replace("max_voltage_V = 300", &format!("max_voltage_V = {cap}"));
+        let (dir, f) = write_temp("spec.toml", &spec);
+        let best = dir.path().join("best.toml");
+        let err = refused_in_one_line(&run(&[
+            "optimize",
+            f.to_str().unwrap(),
+            "-o",
+            best.to_str().unwrap(),
+        ]));
+        assert!(
+            err.contains(&format!(
+                "spec.toml: drive.max_voltage_V = {cap}: infeasible"
+            )),
+            "{err}"
+        );
+        assert!(!err.contains("requirement.energy_mJ"), "{err}");
+        assert!(!best.exists());
+    }
+}
+
+#[test]
+fn a_via_at_the_plate_end_is_refused_naming_the_template_field() {
+    let (dir, design, _) = method_1_with("via_position = 0.25", "via_position = 0.999999");
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("tpl.toml: layers.pyralux.via_position = 0.999999: the 0.5 mm via"),
+        "{err}"
+    );
+    assert!(err.contains("allowed range [0.01"), "{err}");
+    assert!(!out.exists(), "no half-written output");
+}
+
+#[test]
+fn pin_holes_through_the_panel_are_refused_naming_the_template_field() {
+    let (dir, design, _) = method_1_with("pin_radius_mm = 0.79", "pin_radius_mm = 20");
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("tpl.toml: clamp.pin_radius_mm = 20:")
+            && err.contains("allowed range (0.05, 2.9] mm"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // Inside the border but through the outline: 3 mm from the edge, a 2.95 mm hole leaves 0.05 mm.
+    let (dir, design, _) = method_1_with("pin_radius_mm = 0.79", "pin_radius_mm = 2.95");
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("clamp.pin_radius_mm = 2.95: the pin holes, centred clamp.pin_inset_mm = 3 mm from the panel edges, would cut through the panel outline"),
+        "{err}"
+    );
+    // The largest allowed radius is cut, and the panel label keeps clear of the pin.
+    let (dir, design, _) = method_1_with("pin_radius_mm = 0.79", "pin_radius_mm = 2.9");
+    let out = dir.path().join("out");
+    ok_stdout(&cut_sheet(&design, &out, &[]));
+}
+
+#[test]
+fn a_sheet_too_small_for_a_plate_names_the_sheet_field() {
+    let (dir, design, _) = method_1_with("sheet_width_mm = 72.4", "sheet_width_mm = 0.001");
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("tpl.toml: layers.pzt.sheet_width_mm = 0.001: a ")
+            && err.contains("PZT plate does not fit the sheet; it needs at least"),
+        "{err}"
+    );
+    assert!(!err.contains("usable"), "{err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_batch_sheet_too_small_names_the_batch_field() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in [
+        "thesis-A.toml",
+        "thesis-B.toml",
+        "thesis-C.toml",
+        "thesis-1.toml",
+    ] {
+        std::fs::copy(example(f), dir.path().join(f)).unwrap();
+    }
+    let batch = std::fs::read_to_string(example("batch.toml")).unwrap();
+    let line = batch
+        .lines()
+        .find(|l| l.starts_with("pzt = {"))
+        .expect("the batch overrides the PZT sheet");
+    let batch = batch.replace(line, "pzt = { width_mm = 3, height_mm = 72.4 }");
+    let path = dir.path().join("b.toml");
+    std::fs::write(&path, batch).unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&run(&[
+        "nest",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("b.toml: sheets.pzt.width_mm = 3: a ") && err.contains("it needs at least"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_fit_that_cannot_run_names_the_measured_file() {
+    // Two actuators: too few for the largest model.
+    let text = std::fs::read_to_string(example("measured-thesis-like.csv")).unwrap();
+    let few: Vec<&str> = text.lines().take(12).collect();
+    let (dir, f) = write_temp("few.csv", &(few.join("\n") + "\n"));
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&run(&[
+        "calibrate",
+        f.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(err.contains("few.csv: fit: 2 actuators"), "{err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn names_and_materials_are_escaped_in_markdown_and_stay_one_line_in_dxf() {
+    // A name with Markdown's table, emphasis and HTML characters, and a template material holding a
+    // line break and DXF group codes that would end the file early if written as they are.
+    let (dir, design, tpl) = method_1_with(
+        "material = \"PTFE, non-porous\"",
+        "material = \"PTFE|<b>\\n0\\nEOF\"",
+    );
+    let text = std::fs::read_to_string(&design)
+        .unwrap()
+        .replace("name = \"thesis-C-method-1\"", "name = \"C|*x*_<i>\"");
+    assert!(text.contains("C|*x*_<i>"), "{text}");
+    std::fs::write(&design, text).unwrap();
+    assert!(std::fs::read_to_string(&tpl).unwrap().contains("EOF"));
+    let out = dir.path().join("out");
+    ok_stdout(&cut_sheet(&design, &out, &[]));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("# Cut sheet: C\\|\\*x\\*\\_\\<i\\> x "), "{md}");
+    assert!(md.contains("| PTFE\\|\\<b\\> 0 EOF |"), "{md}");
+    // Every table row keeps its column count.
+    for table_row in md.lines().filter(|l| l.starts_with("| ")) {
+        let cells = table_row.replace("\\|", "").matches('|').count();
+        assert!(cells >= 3, "{table_row}");
+    }
+    // report.json keeps the name as written.
+    assert_eq!(report_json(&out)["design"]["name"], "C|*x*_<i>");
+    // Each DXF holds exactly one EOF and pairs every group code with one value line.
+    for (name, bytes) in files(&out) {
+        if !name.ends_with(".dxf") {
+            continue;
+        }
+        let text = String::from_utf8(bytes).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len() % 2, 0, "{name}");
+        let eofs = lines
+            .chunks(2)
+            .filter(|pair| pair[0].trim() == "0" && pair[1] == "EOF")
+            .count();
+        assert_eq!(eofs, 1, "{name}");
+        assert_eq!(lines.last(), Some(&"EOF"), "{name}");
+    }
+}

@@ -5,6 +5,7 @@ use super::flags::{JsonFlag, OutputDir};
 use actuator_cam::calibrate::library::Declared;
 use actuator_cam::calibrate::{calibrate, csv, effects_file, report, Settings};
 use actuator_cam::output::Output;
+use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -54,7 +55,9 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
         declared,
         ..Settings::default()
     };
-    let calibration = calibrate(&data, &settings)?;
+    // The library's fit and row errors name the line, not the file.
+    let calibration =
+        calibrate(&data, &settings).with_context(|| args.measured.display().to_string())?;
     let source = args
         .measured
         .file_name()

@@ -2,8 +2,9 @@
 //! mechanical energy, with the winning design and the Pareto front written on request.
 
 use super::flags::{ForceFlag, ModelFlag};
+use actuator_cam::input::short_number;
 use actuator_cam::optimize::model::SearchModel;
-use actuator_cam::optimize::search::{Design, Objective, Problem};
+use actuator_cam::optimize::search::{Design, FieldLimit, Objective, Problem};
 use actuator_cam::optimize::spec::Spec;
 use actuator_cam::optimize::{
     optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS,
@@ -132,9 +133,21 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
         None => &Silent,
     };
     let outcome = optimize(problem, progress).map_err(|e| match e {
-        OptimizeError::Infeasible { .. } => {
-            anyhow::anyhow!("{file}: requirement.energy_mJ = {}: {e}", spec.energy * 1e3)
-        }
+        // Blame what holds the energy down: a voltage or strain cap the user wrote, or else the
+        // requirement itself.
+        OptimizeError::Infeasible { limit, .. } => match (limit, spec.max_voltage) {
+            (FieldLimit::Voltage, Some(v)) => {
+                anyhow::anyhow!("{file}: drive.max_voltage_V = {}: {e}", short_number(v))
+            }
+            (FieldLimit::Strain, _) => anyhow::anyhow!(
+                "{file}: constraints.max_peak_pzt_strain = {}: {e}",
+                spec.max_peak_pzt_strain.map_or("-".into(), short_number)
+            ),
+            _ => anyhow::anyhow!(
+                "{file}: requirement.energy_mJ = {}: {e}",
+                short_number(spec.energy * 1e3)
+            ),
+        },
     })?;
     let best = outcome.best;
     let perf = outcome

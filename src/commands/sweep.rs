@@ -2,14 +2,14 @@
 //! of two models, with every design as CSV on request.
 
 use super::flags::{parse_model, ForceFlag, ModelFlag};
-use actuator_cam::output::Output;
-use actuator_cam::sweep::analysis::{self, Comparison, MainEffects};
+use actuator_cam::output::{in_words, Output};
+use actuator_cam::sweep::analysis::{self, ComparisonSums, CsvRows, EffectSums};
 use actuator_cam::sweep::spec::SweepSpec;
-use actuator_cam::sweep::{check_models, evaluate};
-use actuator_model::{ModelChoice, ModelKind};
+use actuator_cam::sweep::{check_models, for_each_design};
+use actuator_model::{ModelChoice, ModelError, ModelKind};
 use anyhow::{bail, Context};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `sweep`.
 #[derive(Debug, Clone, Args)]
@@ -46,6 +46,27 @@ fn built_in(flag: &str, choice: &ModelChoice) -> anyhow::Result<ModelKind> {
     }
 }
 
+/// Why a sweep stopped: a design the model refuses, or the CSV could not be written.
+enum SweepFailure {
+    Model(ModelError),
+    Csv(anyhow::Error),
+}
+
+impl From<ModelError> for SweepFailure {
+    fn from(e: ModelError) -> Self {
+        SweepFailure::Model(e)
+    }
+}
+
+/// A CSV write error (a full disk), in words, naming the file.
+fn csv_error(path: &Path, e: csv::Error) -> SweepFailure {
+    let why = match e.kind() {
+        csv::ErrorKind::Io(io) => in_words(io),
+        _ => e.to_string(),
+    };
+    SweepFailure::Csv(anyhow::anyhow!("--csv {}: {why}", path.display()))
+}
+
 /// Run `sweep`.
 pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let kind = built_in("--model", &args.model.model)?;
@@ -60,25 +81,52 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let spec = SweepSpec::from_file(&args.factors)?;
     let file = args.factors.display().to_string();
     check_models(&spec, kind, compare).with_context(|| file.clone())?;
-    let designs = evaluate(&spec, kind, compare)
-        .with_context(|| format!("{file}: a design cannot be predicted"))?;
-    let effects = MainEffects::new(&spec, &designs);
-    print!(
-        "{}",
-        analysis::report(&spec, &file, kind, &designs, &effects)
-    );
+    // The CSV is held and checked against the output policy before any design is evaluated, then
+    // written row by row: memory stays the same whatever the number of designs.
+    let mut csv = match &args.csv {
+        Some(path) => {
+            let stream = Output::new("sweep")
+                .force(args.force.force)
+                .inputs([&args.factors])
+                .stream_file("--csv", path)?;
+            Some(CsvRows::new(stream, &spec, compare, args.thesis_eq_2_36)?)
+        }
+        None => None,
+    };
+    let csv_path = args.csv.as_deref().unwrap_or(Path::new(""));
+    let mut effects = EffectSums::new(&spec);
+    let mut comparison = ComparisonSums::default();
+    for_each_design(&spec, kind, compare, |index, design| {
+        effects.add(design);
+        comparison.add(design, args.thesis_eq_2_36);
+        if let Some(rows) = &mut csv {
+            rows.row(index, design)
+                .map_err(|e| csv_error(csv_path, e))?;
+        }
+        Ok::<(), SweepFailure>(())
+    })
+    .map_err(|e| match e {
+        SweepFailure::Model(e) => {
+            anyhow::Error::new(e).context(format!("{file}: a design cannot be predicted"))
+        }
+        SweepFailure::Csv(e) => e,
+    })?;
+    let effects = effects.finish(&spec);
+    print!("{}", analysis::report(&spec, &file, kind, &effects));
     if let Some(other) = compare {
-        let c = Comparison::new(&designs, args.thesis_eq_2_36);
+        let c = comparison.finish();
         print!("\n{}", c.report(kind, other, args.thesis_eq_2_36));
     }
-    if let Some(path) = &args.csv {
-        let text = analysis::to_csv(&spec, &designs, compare, args.thesis_eq_2_36)?;
-        Output::new("sweep")
-            .force(args.force.force)
-            .inputs([&args.factors])
-            .file("--csv", path, text)
-            .write()?;
-        println!("\nwrote {} ({} designs)", path.display(), designs.len());
+    if let (Some(rows), Some(path)) = (csv, &args.csv) {
+        let stream = rows
+            .finish()
+            .map_err(|e| csv_error(path, e))
+            .map_err(|e| match e {
+                SweepFailure::Csv(e) => e,
+                SweepFailure::Model(e) => e.into(),
+            })?;
+        stream.finish()?;
+        println!("\nwrote {} ({} designs)", path.display(), spec.count());
     }
     Ok(())
 }

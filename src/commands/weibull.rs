@@ -1,6 +1,7 @@
 //! `actuator-cam weibull failures.csv`: maximum-likelihood Weibull fit and survival thresholds.
 
 use actuator_cam::input::failures::read_column;
+use actuator_cam::input::short_number;
 use actuator_model::Weibull;
 use anyhow::{anyhow, bail};
 use clap::Args;
@@ -23,7 +24,10 @@ pub struct WeibullArgs {
 pub fn run(args: &WeibullArgs) -> anyhow::Result<()> {
     for s in &args.survival {
         if !(*s > 0.0 && *s < 1.0) {
-            bail!("--survival {s}: outside the allowed range (0, 1)");
+            bail!(
+                "--survival {}: outside the allowed range (0, 1)",
+                short_number(*s)
+            );
         }
     }
     let column = match args.column.as_slice() {
@@ -42,13 +46,15 @@ pub fn run(args: &WeibullArgs) -> anyhow::Result<()> {
         "Weibull fit (maximum likelihood) of {} failure values in column {name}",
         values.len()
     );
-    println!("  scale lambda  {:.6}", fit.scale);
-    println!("  shape k       {:.6}", fit.shape);
+    // Six significant digits whatever the unit: failure values run from 1e-12 (a strain in some
+    // unit) to 1e12 (a stress in Pa), where a fixed count of decimals prints 0.000000 or 19 digits.
+    println!("  scale lambda  {}", short_number(fit.scale));
+    println!("  shape k       {}", short_number(fit.shape));
     for s in &args.survival {
         println!(
-            "  {:>5.1}% survive up to {:.6}",
+            "  {:>5.1}% survive up to {}",
             s * 100.0,
-            fit.threshold(*s)?
+            short_number(fit.threshold(*s)?)
         );
     }
     Ok(())

@@ -11,6 +11,7 @@ pub mod drive;
 pub mod input;
 pub mod layout;
 pub mod linkage;
+pub mod markdown;
 pub mod optimize;
 pub mod output;
 pub mod parts;

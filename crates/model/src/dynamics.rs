@@ -288,7 +288,7 @@ impl ActuatorBeam {
                 Err(ModelError::OutOfRange {
                     name,
                     value: v,
-                    range: "(0, inf)",
+                    range: "greater than 0",
                 })
             }
         };
@@ -305,7 +305,7 @@ impl ActuatorBeam {
                 Err(ModelError::OutOfRange {
                     name,
                     value: v,
-                    range: "[0, inf)",
+                    range: "at least 0",
                 })
             }
         };

@@ -229,7 +229,7 @@ impl Effects {
             "d31_scale",
             self.d31_scale,
             self.d31_scale > 0.0,
-            "(0, inf)",
+            "greater than 0",
         )?;
         check(
             "d31_field_coefficient",
@@ -247,31 +247,31 @@ impl Effects {
             "bond_thickness",
             self.bond_thickness,
             self.bond_thickness >= 0.0,
-            "[0, inf) m",
+            "at least 0 m",
         )?;
         check(
             "extension_flexibility",
             self.extension_flexibility,
             self.extension_flexibility >= 0.0,
-            "[0, inf)",
+            "at least 0",
         )?;
         check(
             "clamp_compliance",
             self.clamp_compliance,
             self.clamp_compliance >= 0.0,
-            "[0, inf) rad/(N m)",
+            "at least 0 rad/(N m)",
         )?;
         check(
             "ply_thickness_scale",
             self.ply_thickness_scale,
             self.ply_thickness_scale > 0.25,
-            "(0.25, inf)",
+            "greater than 0.25",
         )?;
         check(
             "stiffness_scale",
             self.stiffness_scale,
             self.stiffness_scale > 0.0,
-            "(0, inf)",
+            "greater than 0",
         )?;
         check(
             "rigid_root",
@@ -295,19 +295,19 @@ impl Effects {
             "added_mass",
             self.added_mass,
             self.added_mass >= 0.0,
-            "[0, inf) kg",
+            "at least 0 kg",
         )?;
         check(
             "added_mass_per_length",
             self.added_mass_per_length,
             self.added_mass_per_length >= 0.0,
-            "[0, inf) kg/m",
+            "at least 0 kg/m",
         )?;
         check(
             "added_mass_per_area",
             self.added_mass_per_area,
             self.added_mass_per_area >= 0.0,
-            "[0, inf) kg/m2",
+            "at least 0 kg/m2",
         )
     }
 

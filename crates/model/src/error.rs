@@ -6,7 +6,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
     /// A scalar parameter is outside its allowed range.
-    #[error("{name} = {value} is outside the allowed range {range}")]
+    #[error("{name} = {value} is outside the allowed range: {range}")]
     OutOfRange {
         /// Parameter name as the model knows it (SI).
         name: &'static str,

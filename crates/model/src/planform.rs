@@ -26,17 +26,23 @@ impl Planform {
         width_ratio: f64,
         base_tab: f64,
     ) -> Result<Self, ModelError> {
-        check_open("length", length, 0.0, f64::INFINITY, "(0, inf) m")?;
+        check_open("length", length, 0.0, f64::INFINITY, "greater than 0 m")?;
         check_half_open(
             "extension_ratio",
             extension_ratio,
             0.0,
             f64::INFINITY,
-            "[0, inf)",
+            "at least 0",
         )?;
-        check_open("base_width", base_width, 0.0, f64::INFINITY, "(0, inf) m")?;
+        check_open(
+            "base_width",
+            base_width,
+            0.0,
+            f64::INFINITY,
+            "greater than 0 m",
+        )?;
         check_open("width_ratio", width_ratio, 0.0, 2.0, "(0, 2)")?;
-        check_half_open("base_tab", base_tab, 0.0, f64::INFINITY, "[0, inf) m")?;
+        check_half_open("base_tab", base_tab, 0.0, f64::INFINITY, "at least 0 m")?;
         Ok(Planform {
             length,
             extension_ratio,

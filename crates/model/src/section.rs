@@ -58,7 +58,7 @@ impl Section {
             return Err(ModelError::OutOfRange {
                 name: "field",
                 value: drive.field,
-                range: "[0, inf) V/m",
+                range: "at least 0 V/m",
             });
         }
         let fields = drive.mode.layer_fields(drive.field);

@@ -51,7 +51,7 @@ impl Linkage {
                 return Err(ModelError::OutOfRange {
                     name,
                     value: v,
-                    range: "(0, inf) m",
+                    range: "greater than 0 m",
                 });
             }
         }
@@ -145,7 +145,7 @@ impl Linkage {
     ) -> Result<Linkage, ModelError> {
         let bad = |name, value, range| Err(ModelError::OutOfRange { name, value, range });
         if !(travel.is_finite() && travel > 0.0) {
-            return bad("travel", travel, "(0, inf) m");
+            return bad("travel", travel, "greater than 0 m");
         }
         if !(angle_minus < angle_plus
             && angle_minus > -std::f64::consts::FRAC_PI_2

@@ -78,15 +78,15 @@ impl WingPlanform {
             ("air_density", self.air_density),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return bad(name, v, "(0, inf)");
+                return bad(name, v, "greater than 0");
             }
         }
         if !(self.root_offset.is_finite() && self.root_offset >= 0.0) {
-            return bad("root_offset", self.root_offset, "[0, inf) m");
+            return bad("root_offset", self.root_offset, "at least 0 m");
         }
         match &self.chord {
             Chord::Rectangle(c) | Chord::Elliptic(c) if !(c.is_finite() && *c > 0.0) => {
-                bad("chord", *c, "(0, inf) m")
+                bad("chord", *c, "greater than 0 m")
             }
             Chord::Table(p) => {
                 let ends = p.len() >= 2

@@ -102,6 +102,25 @@ pub struct Batch {
     pub source: PathBuf,
 }
 
+/// The template's sheet with the override `o` of the table `t` applied; the sizes the batch gives are
+/// named as the batch writes them.
+fn overridden(t: &TableReader<'_>, o: &SheetOverride, spec: &SheetSpec) -> SheetSpec {
+    let mut sheet = o.apply(spec);
+    sheet.origin.file = t.file().to_path_buf();
+    sheet.origin.width_field = t.path("width_mm");
+    if o.height_mm.is_some() {
+        sheet.origin.height_field = t.path("height_mm");
+    } else {
+        // The height stays the template's, written in another file: name it with its file.
+        sheet.origin.height_field = format!(
+            "{} (in {})",
+            spec.origin.height_field,
+            spec.origin.file.display()
+        );
+    }
+    sheet
+}
+
 /// `{ width_mm, height_mm, stock?, price_per_sheet? }`, or `{ width_mm, strip = true, price_per_m?,
 /// compare_with? }` where `roll` says the material may come on a roll; `template` is the sheet the
 /// template gives (a roll's default `compare_with`).
@@ -455,11 +474,12 @@ impl Batch {
         let (mut prepreg_roll, mut pyralux_roll) = (None, None);
         if let Some(s) = root.optional_table("sheets")? {
             if let Some(t) = s.optional_table("pzt")? {
-                template.pzt = sheet_override(&t, false, &template.pzt)?.apply(&template.pzt);
+                let o = sheet_override(&t, false, &template.pzt)?;
+                template.pzt = overridden(&t, &o, &template.pzt);
             }
             if let Some(t) = s.optional_table("prepreg")? {
                 let o = sheet_override(&t, true, &template.passive)?;
-                template.passive = o.apply(&template.passive);
+                template.passive = overridden(&t, &o, &template.passive);
                 prepreg_roll = o.roll_price;
             }
             if let Some(t) = s.optional_table("pyralux")? {
@@ -473,7 +493,7 @@ impl Batch {
                 };
                 let o = sheet_override(&t, true, &b.sheet)?;
                 pyralux_roll = o.roll_price;
-                b.sheet = o.apply(&b.sheet);
+                b.sheet = overridden(&t, &o, &b.sheet);
             }
             if let Some(spacing) = s.optional_number_in("spacing_mm", SPACING_MM)? {
                 template.passive.spacing_mm = spacing;

@@ -4,6 +4,7 @@
 
 use super::file::Batch;
 use crate::book::{BuildBook, DesignFacts};
+use crate::markdown::{code, text as md};
 use crate::parts::PartSheet;
 use crate::pipeline::{BaselineRow, Build, NestOptions, SearchRow, StockCount, WORKERS};
 use crate::prediction::Prediction;
@@ -511,19 +512,27 @@ impl NestReport {
     /// The readable report.
     pub fn markdown(&self) -> String {
         let mut s = String::new();
-        let _ = writeln!(s, "# Nest: {}\n", self.name);
+        let _ = writeln!(s, "# Nest: {}\n", md(&self.name));
         let _ = writeln!(
             s,
-            "Process `{}`; batch file `{}`; seed {}, {} optimiser iterations on {} workers (same batch and seed, same files).\n",
-            self.process, self.batch_file, self.seed, self.iterations, self.workers
+            "Process {}; batch file {}; seed {}, {} optimiser iterations on {} workers (same batch and seed, same files).\n",
+            code(&self.process),
+            code(&self.batch_file),
+            self.seed,
+            self.iterations,
+            self.workers
         );
         let _ = writeln!(s, "| design | quantity | PZT mm | layup | file |");
         let _ = writeln!(s, "|---|---|---|---|---|");
         for i in &self.items {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | `{}` |",
-                i.design, i.quantity, i.pzt_thickness_mm, i.layup_deg, i.file
+                "| {} | {} | {} | {} | {} |",
+                md(&i.design),
+                i.quantity,
+                i.pzt_thickness_mm,
+                i.layup_deg,
+                code(&i.file)
             );
         }
         if !self.parts.is_empty() {
@@ -538,15 +547,15 @@ impl NestReport {
                     p.rotations_deg.iter().map(|r| r.to_string()).collect();
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {:.3} | {} | `{}` | {} |",
-                    p.name,
+                    "| {} | {} | {} | {} | {:.3} | {} | {} | {} |",
+                    md(&p.name),
                     p.quantity,
-                    p.sheet,
+                    md(&p.sheet),
                     rotations.join("/"),
                     p.area_mm2,
                     p.cutouts,
-                    p.file,
-                    p.entity
+                    code(&p.file),
+                    md(&p.entity)
                 );
             }
             let _ = writeln!(
@@ -563,10 +572,10 @@ impl NestReport {
         for sh in &self.sheets {
             let _ = writeln!(
                 s,
-                "| `{}` | {} | {} | {} x {} | {} | {:.1}% |",
-                sh.file_stem,
-                sh.layer,
-                sh.material,
+                "| {} | {} | {} | {} x {} | {} | {:.1}% |",
+                code(&sh.file_stem),
+                md(&sh.layer),
+                md(&sh.material),
                 sh.width_mm,
                 sh.height_mm,
                 sh.parts.len(),
@@ -576,8 +585,10 @@ impl NestReport {
         for sh in self.sheets.iter().filter(|sh| sh.roll) {
             let _ = writeln!(
                 s,
-                "\n`{}` is a strip of roll stock {} mm wide: {} mm of the roll used.",
-                sh.file_stem, sh.width_mm, sh.height_mm
+                "\n{} is a strip of roll stock {} mm wide: {} mm of the roll used.",
+                code(&sh.file_stem),
+                sh.width_mm,
+                sh.height_mm
             );
         }
         let _ = writeln!(s, "\n## Irregular nest against the bounding-box baseline\n");
@@ -590,8 +601,8 @@ impl NestReport {
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {:.1}% | {:.1}% | {} | {:.1}% | {:.1}% |",
-                b.layer,
-                b.material,
+                md(&b.layer),
+                md(&b.material),
                 b.parts,
                 b.sheets,
                 b.utilization * 100.0,
@@ -623,8 +634,8 @@ impl NestReport {
             let _ = writeln!(
                 s,
                 "| {} | {} | {sheets} | {price} | {} |",
-                r.layer,
-                r.material,
+                md(&r.layer),
+                md(&r.material),
                 money(r.cost)
             );
         }
@@ -646,9 +657,9 @@ impl NestReport {
                     .unwrap_or_else(|| "-".into());
                 let _ = writeln!(
                     s,
-                    "| `{}` | {} | {} | {:.1} | {} | {} | {sheets} | {} |",
-                    r.file_stem,
-                    r.material,
+                    "| {} | {} | {} | {:.1} | {} | {} | {sheets} | {} |",
+                    code(&r.file_stem),
+                    md(&r.material),
                     r.width_mm,
                     r.length_mm,
                     money(r.price_per_m),
@@ -668,7 +679,7 @@ impl NestReport {
             let who: Vec<String> = p
                 .actuators
                 .iter()
-                .map(|a| format!("{} #{}", a.design, a.actuator))
+                .map(|a| format!("{} #{}", md(&a.design), a.actuator))
                 .collect();
             let films: Vec<String> = p.mold_films_mm.iter().map(|t| t.to_string()).collect();
             let _ = writeln!(
@@ -676,7 +687,11 @@ impl NestReport {
                 "- panel {} ({} layers: {}; mold films bottom to top {} mm): {}",
                 p.index,
                 p.stacking_order.len(),
-                p.stacking_order.join(" → "),
+                p.stacking_order
+                    .iter()
+                    .map(|l| md(l))
+                    .collect::<Vec<_>>()
+                    .join(" → "),
                 films.join(" + "),
                 who.join(", ")
             );
@@ -686,21 +701,26 @@ impl NestReport {
         let _ = writeln!(s, "\n## Parts on each sheet\n");
         let _ = writeln!(s, "Position: {COORDINATES}\n");
         for sh in &self.sheets {
-            let _ = writeln!(s, "### `{}` ({})\n", sh.file_stem, sh.material);
+            let _ = writeln!(s, "### {} ({})\n", code(&sh.file_stem), md(&sh.material));
             let _ = writeln!(s, "| design | actuator | part | rotation ° | x mm | y mm |");
             let _ = writeln!(s, "|---|---|---|---|---|---|");
             for p in &sh.parts {
                 let _ = writeln!(
                     s,
                     "| {} | {} | {} | {} | {:.3} | {:.3} |",
-                    p.design, p.actuator, p.part, p.rotation_deg, p.x_mm, p.y_mm
+                    md(&p.design),
+                    p.actuator,
+                    md(&p.part),
+                    p.rotation_deg,
+                    p.x_mm,
+                    p.y_mm
                 );
             }
             let _ = writeln!(s);
         }
         let _ = writeln!(s, "## Placement map\n");
         for line in &self.placement_map {
-            let _ = writeln!(s, "- {line}");
+            let _ = writeln!(s, "- {}", md(line));
         }
         let _ = writeln!(s, "\n## Files\n");
         for f in &self.files {

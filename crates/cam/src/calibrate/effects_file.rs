@@ -28,7 +28,7 @@
 //! one [`InputError`] naming the file, the field, the value and what is allowed.
 
 use super::library::{DeclaredParameter, DeclaredSpec, EffectId};
-use crate::input::{InputError, Range, TableReader};
+use crate::input::{short_number, InputError, Range, TableReader};
 use actuator_model::effects::EFFECT_NAMES;
 use actuator_model::primitives::{Link, Map, Primitive, Property, Target};
 use std::path::Path;
@@ -278,9 +278,18 @@ fn parameter_of(
         for end in [lo, hi] {
             let v = link.map.of(end).unwrap_or(f64::NAN);
             if crosses_zero || !link.primitive.allows(v) {
-                let open = if inclusive { '[' } else { '(' };
+                let physical = Range {
+                    lo: p_lo,
+                    lo_inclusive: inclusive,
+                    hi: p_hi,
+                    hi_inclusive: false,
+                    unit: "",
+                };
                 return Err(bad_bounds(format!(
-                    "{field} would take the value {v} at {end}; its physical range is {open}{p_lo}, {p_hi})"
+                    "{field} would take the value {}, at {}: outside its physical range, {}",
+                    short_number(v),
+                    short_number(end),
+                    physical.bounds()
                 )));
             }
         }
@@ -467,7 +476,7 @@ primitives = [
                 .unwrap_err()
                 .to_string();
             let want = format!(
-                "effects.toml: effect[1].bounds = [-0.0001, {}]: effect[1].primitives[1] would take the value -0.0001 at -0.0001; its physical range is [0, inf)",
+                "effects.toml: effect[1].bounds = [-0.0001, {}]: effect[1].primitives[1] would take the value -0.0001, at -0.0001: outside its physical range, at least 0",
                 hi.parse::<f64>().unwrap()
             );
             assert_eq!(e, want);
@@ -496,7 +505,7 @@ primitives = [
             ),
             (
                 held("bounds = [0.0, 5e-3]", "bounds = [-1e-3, 5e-3]"),
-                "effects.toml: effect[1].primitives[1].bounds = [-0.001, 0.005]: effect[1].primitives[1] would take the value -0.001 at -0.001; its physical range is [0, inf)",
+                "effects.toml: effect[1].primitives[1].bounds = [-0.001, 0.005]: effect[1].primitives[1] would take the value -0.001, at -0.001: outside its physical range, at least 0",
             ),
             (
                 held(", null = 0.0, bounds = [0.0, 0.05]", ""),
@@ -553,11 +562,11 @@ primitives = [
             ),
             (
                 soft("null = 1.0", "null = nan"),
-                "effects.toml: effect[1].null = NaN: outside the allowed range (-inf, inf)",
+                "effects.toml: effect[1].null = NaN: outside the allowed range: any finite number",
             ),
             (
                 soft("bounds = [0.3, 1.2]", "bounds = [0.3, nan]"),
-                "effects.toml: effect[1].bounds[1] = NaN: outside the allowed range (-inf, inf)",
+                "effects.toml: effect[1].bounds[1] = NaN: outside the allowed range: any finite number",
             ),
             (
                 soft("target = \"passive\"", "target = \"glue\""),
@@ -577,7 +586,7 @@ primitives = [
             ),
             (
                 soft("bounds = [0.3, 1.2]", "bounds = [-0.5, 1.2]"),
-                "effects.toml: effect[1].bounds = [-0.5, 1.2]: effect[1].primitives[1] would take the value -0.5 at -0.5; its physical range is (0, inf)",
+                "effects.toml: effect[1].bounds = [-0.5, 1.2]: effect[1].primitives[1] would take the value -0.5, at -0.5: outside its physical range, greater than 0",
             ),
             (
                 soft("null = 1.0", "null = 0.5"),

@@ -17,6 +17,7 @@ pub use report::{DesignSummary, Report};
 use crate::cam::drawing::Drawing;
 use crate::cam::palette::Palette;
 use crate::design::Design;
+use crate::input::{short_number, InputError};
 use crate::pipeline::{build_into, DrawingSink, Names, Packing};
 use crate::prediction::Prediction;
 use actuator_model::model::ModelChoice;
@@ -60,8 +61,44 @@ pub struct CutSheet {
 }
 
 /// The design as the process builds it: method 1 adds its Pyralux bond layers to the stack so the
-/// prediction's mass and stiffness include them.
+/// prediction's mass and stiffness include them. The model and the cut files must hold the same
+/// layers, so a bond the design declares is refused when the process cuts none (method 2 co-cures
+/// its prepreg: the bond would be mass no file cuts), or cuts one of another thickness or density.
 pub fn design_for_process(design: &Design, template: &Template) -> Result<Design, BuildError> {
+    if let Some((m, t)) = &design.bond {
+        let refuse = |why: String| {
+            BuildError::Input(InputError::invalid(
+                &design.source,
+                "laminate.bond",
+                format!("{:?} ({} mm)", m.name, short_number(t * 1e3)),
+                why,
+            ))
+        };
+        match &template.bond {
+            None => {
+                return Err(refuse(format!(
+                    "process {:?} ({}) cuts no bond layer, so the predicted mass would count a layer \
+                     no file cuts; remove laminate.bond, or use a process with a [layers.pyralux] table",
+                    template.name,
+                    template.source.display()
+                )))
+            }
+            Some(b)
+                if (b.thickness_mm - t * 1e3).abs() > 1e-9
+                    || (b.density_kg_per_m3 - m.density).abs() > 1e-9 =>
+            {
+                return Err(refuse(format!(
+                    "process {:?} ({}) cuts its own bond layer, {} mm at {} kg/m^3; remove \
+                     laminate.bond (the process adds its layer) or match it",
+                    template.name,
+                    template.source.display(),
+                    short_number(b.thickness_mm),
+                    short_number(b.density_kg_per_m3)
+                )))
+            }
+            Some(_) => {}
+        }
+    }
     let mut d = design.clone();
     if let (Some(b), None) = (&template.bond, &design.bond) {
         let mut m = Material::builtin(&b.bond_material).ok_or_else(|| BuildError::Geometry {

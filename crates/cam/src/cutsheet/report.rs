@@ -6,6 +6,7 @@ use super::template::Template;
 use crate::book::{BuildBook, DesignFacts};
 use crate::design::Design;
 use crate::input::{ensure_finite, short_number, InputError};
+use crate::markdown::{code, text as md};
 use crate::pipeline::{Build, Label, MoldBand, MoldChoice, StockCount};
 use crate::prediction::Prediction;
 use serde::Serialize;
@@ -304,8 +305,13 @@ impl Report {
         let d = &self.design;
         let p = &self.predicted;
         let mut s = String::new();
-        let _ = writeln!(s, "# Cut sheet: {} x {}\n", d.name, self.quantity);
-        let _ = writeln!(s, "Process `{}`; design file `{}`.\n", d.process, d.file);
+        let _ = writeln!(s, "# Cut sheet: {} x {}\n", md(&d.name), self.quantity);
+        let _ = writeln!(
+            s,
+            "Process {}; design file {}.\n",
+            code(&d.process),
+            code(&d.file)
+        );
         let _ = writeln!(s, "![assembled actuator](preview-actuator.svg)\n");
         let _ = writeln!(s, "## Design\n");
         let _ = writeln!(s, "| l_tot mm | l_r | l_p mm | l_ext mm | w_0 mm | w_r | w_tip mm | tab mm | t_p mm | layup | drive |");
@@ -319,7 +325,7 @@ impl Report {
         let _ = writeln!(
             s,
             "| {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {} {} | {} |\n",
-            d.length_mm, d.extension_ratio, d.piezo_length_mm, d.extension_length_mm, d.base_width_mm, d.width_ratio, d.tip_width_mm, d.base_tab_mm, d.pzt_thickness_mm, d.ply, layup, d.drive_mode
+            d.length_mm, d.extension_ratio, d.piezo_length_mm, d.extension_length_mm, d.base_width_mm, d.width_ratio, d.tip_width_mm, d.base_tab_mm, d.pzt_thickness_mm, md(&d.ply), layup, d.drive_mode
         );
         let _ = writeln!(s, "## Predicted performance ({} model)\n", p.model);
         let _ = writeln!(s, "```\n{}```\n", p.table());
@@ -349,8 +355,8 @@ impl Report {
             let _ = writeln!(
                 s,
                 "| {} | {} | {:.4} | {:.0} | {:.3} | {} | {:.3} | {} | {} |",
-                l.layer,
-                l.material,
+                md(&l.layer),
+                md(&l.material),
                 l.thickness_mm,
                 l.density_kg_per_m3,
                 l.part_area_mm2,
@@ -401,7 +407,11 @@ impl Report {
             s,
             "Clamp stack, bottom to top ({} panel(s)): {}",
             self.clamp_panels,
-            self.stacking_order.join(" → ")
+            self.stacking_order
+                .iter()
+                .map(|l| md(l))
+                .collect::<Vec<_>>()
+                .join(" → ")
         );
         let _ = write!(s, "{}", self.build_book.markdown());
         if let Some(l) = &self.linkage {
@@ -413,7 +423,7 @@ impl Report {
         );
         let _ = writeln!(s, "## Placement map\n");
         for line in &self.placement_map {
-            let _ = writeln!(s, "- {line}");
+            let _ = writeln!(s, "- {}", md(line));
         }
         let _ = writeln!(s, "\n## Files\n");
         for f in &self.files {

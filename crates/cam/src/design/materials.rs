@@ -4,7 +4,7 @@ use crate::input::limits::{
     D31_PM_PER_V, DENSITY_KG_PER_M3 as DENSITY, MODULUS_GPA, PERMITTIVITY, PLY_THICKNESS_MM,
     POISSON,
 };
-use crate::input::{InputError, TableReader};
+use crate::input::{short_number, InputError, TableReader};
 use actuator_model::material::builtin_names;
 use actuator_model::Material;
 use std::collections::BTreeMap;
@@ -42,13 +42,22 @@ pub fn material_from_table(name: &str, t: &TableReader<'_>) -> Result<Material, 
             .optional_number_in("ply_thickness_mm", PLY_THICKNESS_MM)?
             .map(|x| x * 1e-3),
     };
-    // Plane-stress stiffness needs 1 - ν12 ν21 > 0.
+    // Plane-stress stiffness needs 1 - ν12 ν21 = 1 - ν12² E2 / E1 > 0. Only E1 is in the
+    // denominator, and a small E1 is what breaks it (E2 and ν12 are bounded by their ranges), so E1 is
+    // the field blamed, with the bound the other two set.
     if m.nu12 * m.nu21() >= 1.0 {
+        let floor_gpa = nu12 * nu12 * e2 * 1e-9;
         return Err(InputError::invalid(
             t.file(),
-            &t.path("nu12"),
-            nu12,
-            "gives ν12 ν21 >= 1: no plane-stress stiffness",
+            &t.path("e1_GPa"),
+            short_number(e1 * 1e-9),
+            format!(
+                "with e2_GPa = {} and nu12 = {}, ν12² E2 / E1 >= 1: no plane-stress stiffness; \
+                 e1_GPa must be greater than {}",
+                short_number(e2 * 1e-9),
+                short_number(nu12),
+                short_number(floor_gpa)
+            ),
         ));
     }
     t.finish()?;

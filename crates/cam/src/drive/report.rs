@@ -377,11 +377,11 @@ impl DriveReport {
     /// report.md: the table with a title.
     pub fn markdown(&self) -> String {
         format!(
-            "# Drive: {} at {} Hz\n\nDrive file `{}`, model {}. The frequency response is in \
+            "# Drive: {} at {} Hz\n\nDrive file {}, model {}. The frequency response is in \
              frequency-response.svg.\n\n```text\n{}```\n",
-            self.design,
+            crate::markdown::text(&self.design),
             fixed(self.frequency_Hz, 1),
-            self.drive_file,
+            crate::markdown::code(&self.drive_file),
             self.model,
             self.table()
         )

@@ -42,8 +42,8 @@ pub const MAX_PLIES: usize = 64;
 
 // Materials (`[materials.NAME]`, sweep property levels).
 
-/// Young's and shear moduli.
-pub const MODULUS_GPA: Range = Range::positive_up_to(2000.0, "GPa");
+/// Young's and shear moduli: from a soft silicone (about 1 MPa) to diamond.
+pub const MODULUS_GPA: Range = Range::closed(0.001, 2000.0, "GPa");
 /// In-plane Poisson ratio ν12.
 pub const POISSON: Range = Range::closed(0.0, 0.5, "");
 /// Density of a material or a clamp layer.
@@ -93,7 +93,8 @@ pub const GRID: (i64, i64) = (2, 500);
 /// Most levels of one sweep factor, or choices of one optimize search variable (PZT thicknesses,
 /// layups).
 pub const MAX_LEVELS: usize = 1000;
-/// Largest sweep: every design is kept in memory and written to the CSV.
+/// Largest sweep: designs are evaluated a batch at a time and streamed to the CSV, so the bound is the
+/// run's time and the CSV's size on disk (about 140 bytes a design), not memory.
 pub const MAX_DESIGNS: usize = 10_000_000;
 /// Largest optimiser budget of the irregular nester.
 pub const MAX_ITERATIONS: i64 = 10_000_000;

@@ -94,24 +94,41 @@ impl Range {
     }
 }
 
-impl fmt::Display for Range {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let open = if self.lo_inclusive { '[' } else { '(' };
-        let close = if self.hi_inclusive && self.hi.is_finite() {
-            ']'
-        } else {
-            ')'
+impl Range {
+    /// The interval alone: in brackets when finite (`[1, 1000] mm`), an unbounded side in words
+    /// (`greater than 0 mg`), since `inf` reads as a value a user could write.
+    pub fn bounds(&self) -> String {
+        let lo = super::short_number(self.lo);
+        let hi = super::short_number(self.hi);
+        let text = match (self.lo.is_finite(), self.hi.is_finite()) {
+            (true, true) => {
+                let open = if self.lo_inclusive { '[' } else { '(' };
+                let close = if self.hi_inclusive { ']' } else { ')' };
+                format!("{open}{lo}, {hi}{close}")
+            }
+            (true, false) if self.lo_inclusive => format!("at least {lo}"),
+            (true, false) => format!("greater than {lo}"),
+            (false, true) if self.hi_inclusive => format!("at most {hi}"),
+            (false, true) => format!("less than {hi}"),
+            (false, false) => return "any finite number".to_string(),
         };
-        write!(
-            f,
-            "allowed range {open}{}, {}{close}",
-            super::short_number(self.lo),
-            super::short_number(self.hi)
-        )?;
-        if !self.unit.is_empty() {
-            write!(f, " {}", self.unit)?;
+        if self.unit.is_empty() {
+            text
+        } else {
+            format!("{text} {}", self.unit)
         }
-        Ok(())
+    }
+}
+
+impl fmt::Display for Range {
+    /// `allowed range [1, 1000] mm`, `allowed range: greater than 0 mg`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sep = if self.lo.is_finite() && self.hi.is_finite() {
+            " "
+        } else {
+            ": "
+        };
+        write!(f, "allowed range{sep}{}", self.bounds())
     }
 }
 
@@ -130,10 +147,18 @@ mod tests {
         );
         let p = Range::positive("mg");
         assert!(p.contains(1e30) && !p.contains(f64::INFINITY) && !p.contains(0.0));
-        assert_eq!(p.to_string(), "allowed range (0, inf) mg");
+        assert_eq!(p.to_string(), "allowed range: greater than 0 mg");
         assert_eq!(
             Range::at_least(0.0, "").to_string(),
-            "allowed range [0, inf)"
+            "allowed range: at least 0"
+        );
+        assert_eq!(
+            Range::open(f64::NEG_INFINITY, f64::INFINITY, "m").to_string(),
+            "allowed range: any finite number"
+        );
+        assert_eq!(
+            Range::open(f64::NEG_INFINITY, 1e300, "").to_string(),
+            "allowed range: less than 1e300"
         );
     }
 }

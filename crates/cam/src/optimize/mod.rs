@@ -15,8 +15,9 @@ pub mod spec;
 
 pub use progress::{Progress, Silent};
 
+use crate::input::short_number;
 use rayon::prelude::*;
-use search::{Design, GridResult, Problem};
+use search::{Design, FieldLimit, GridResult, Problem};
 
 /// Energy levels on the Pareto front.
 pub const PARETO_LEVELS: usize = 40;
@@ -40,13 +41,29 @@ pub struct Outcome {
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum OptimizeError {
     /// No design in the ranges delivers the energy.
-    #[error("infeasible: the most energy reachable in the search ranges is {most_energy_mj} mJ ({design}); lower the requirement or widen the ranges")]
+    #[error("infeasible: the most energy reachable in the search ranges is {most_energy_mj} mJ ({design}){}; lower the requirement or widen the ranges", capped_text(*.limit))]
     Infeasible {
         /// The most energy any design reaches, mJ.
         most_energy_mj: String,
         /// That design.
         design: String,
+        /// What set that design's field: a cap the user wrote is the field to change, not the
+        /// requirement.
+        limit: FieldLimit,
     },
+}
+
+/// The cap on the most energetic design's field, as the user wrote it.
+fn capped_text(limit: FieldLimit) -> &'static str {
+    match limit {
+        FieldLimit::Requested => "",
+        FieldLimit::Voltage => {
+            ", its field held down by drive.max_voltage_V: raise max_voltage_V or use thinner plates"
+        }
+        FieldLimit::Strain => {
+            ", its field held down by constraints.max_peak_pzt_strain: raise that limit"
+        }
+    }
 }
 
 /// Run both stages on a problem, reporting the exhaustive stage's progress to `progress`.
@@ -93,7 +110,10 @@ pub fn optimize(problem: Problem, progress: &dyn Progress) -> Result<Outcome, Op
                 }
             });
             Err(OptimizeError::Infeasible {
-                most_energy_mj: top.map_or("0".into(), |d| format!("{:.6}", d.energy * 1e3)),
+                most_energy_mj: top.map_or("0".into(), |d| short_number(d.energy * 1e3)),
+                limit: top.map_or(FieldLimit::Requested, |d| {
+                    problem.candidates[d.candidate].field_limit
+                }),
                 design: top.map_or("no design meets the tip width".into(), |d| {
                     let c = &problem.candidates[d.candidate];
                     format!(

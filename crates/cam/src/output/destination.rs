@@ -31,6 +31,11 @@ pub(super) struct Destination {
     pub(super) manifest: Option<Manifest>,
     /// Files the same command wrote here before and does not write now, found when the run is sealed.
     pub(super) stale: Vec<String>,
+    /// Names in the folder once it is held, in lower case (`None`: not read, or unreadable). A name not
+    /// among them needs no look-up of its own: a cut sheet writes a few hundred thousand files into a
+    /// new folder, and a look-up each in a folder that large is a good share of the run. Lower case, so
+    /// that on a file system that ignores case `Report.md` still counts as there for `report.md`.
+    present: Option<BTreeSet<String>>,
 }
 
 impl Destination {
@@ -42,7 +47,16 @@ impl Destination {
             kind,
             manifest: None,
             stale: Vec::new(),
+            present: None,
         }
+    }
+
+    /// True when `name` may exist in the held folder (it was there when the folder was held, or the
+    /// folder could not be listed).
+    fn may_hold(&self, name: &str) -> bool {
+        self.present
+            .as_ref()
+            .is_none_or(|names| names.contains(&name.to_lowercase()))
     }
 
     pub(super) fn error_stage(&self, what: impl Into<String>, source: io::Error) -> OutputError {
@@ -77,6 +91,13 @@ impl Destination {
             },
         })?;
         self.manifest = Manifest::read(&self.dir);
+        // Held from here on: no other run of the tool adds to it.
+        self.present = fs::read_dir(&self.dir).ok().and_then(|entries| {
+            entries
+                .map(|e| e.map(|e| e.file_name().to_string_lossy().to_lowercase()))
+                .collect::<io::Result<BTreeSet<String>>>()
+                .ok()
+        });
         Ok(claim)
     }
 }
@@ -144,7 +165,7 @@ pub(super) fn check_target(d: &Destination, name: &str, run: &Run) -> Result<(),
         });
     }
     let target = d.dir.join(name);
-    if fs::symlink_metadata(&target).is_err() {
+    if !d.may_hold(name) || fs::symlink_metadata(&target).is_err() {
         return Ok(());
     }
     if target.is_dir() {
@@ -189,7 +210,7 @@ pub(super) fn check_occupied(d: &Destination, force: bool) -> Result<(), OutputE
 
 /// The policy for replacing a file: only one the same command wrote, unless `--force`.
 pub(super) fn check_replace(d: &Destination, name: &str, run: &Run) -> Result<(), OutputError> {
-    if run.force || fs::symlink_metadata(d.dir.join(name)).is_err() {
+    if run.force || !d.may_hold(name) || fs::symlink_metadata(d.dir.join(name)).is_err() {
         return Ok(());
     }
     match d.manifest.as_ref().and_then(|m| m.owner(name)) {

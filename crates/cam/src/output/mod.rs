@@ -1,6 +1,8 @@
 //! The one writer of output files. Every command that writes files (cut-sheet, nest, calibrate,
-//! optimize `-o`/`--pareto`, sweep `--csv`) renders them in memory and hands them here, so one policy
-//! holds for all of them: nothing a user owns is deleted or overwritten unasked.
+//! optimize `-o`/`--pareto`, sweep `--csv`) hands them here, so one policy holds for all of them: nothing
+//! a user owns is deleted or overwritten unasked. Most render their files in memory first; a run too large
+//! for that streams them ([`Output::stream_folder`] file by file, [`Output::stream_file`] bit by bit)
+//! under the same policy.
 //!
 //! - **Where it writes.** Into a folder that does not exist, an empty folder, or a folder it wrote before,
 //!   which it recognises by the [`MANIFEST`] it leaves there (the files it wrote, and which command wrote
@@ -95,14 +97,7 @@ impl Output {
     /// One file at `path`, named on the command line by `flag` (e.g. `--csv`). Files of one run in the same
     /// folder share one destination, so the folder's manifest is written once.
     pub fn file(mut self, flag: &str, path: &Path, bytes: impl Into<Vec<u8>>) -> Output {
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let (dir, name) = split_file(path);
         let file = (name, bytes.into());
         match self
             .destinations
@@ -179,6 +174,90 @@ impl Output {
             run,
             staged: Staged::open(d, claim)?,
         })
+    }
+
+    /// Write one file at `path` (named by `flag`) bit by bit, for a file too large to hold in memory
+    /// (a sweep's CSV of every design): the destination is held and checked against the policy now,
+    /// before any work, and the file moves into place only at [`FileStream::finish`]. Dropping the
+    /// stream unfinished removes what it staged. Destinations added with [`Output::folder`] or
+    /// [`Output::file`] are not written by a stream.
+    pub fn stream_file(self, flag: &str, path: &Path) -> Result<FileStream, OutputError> {
+        if let Some(e) = self.conflict {
+            return Err(e);
+        }
+        let mut run = self.run;
+        run.resolve();
+        let (dir, name) = split_file(path);
+        let mut d = Destination::new(flag, path.display().to_string(), dir, Kind::Files);
+        let claim = d.claim(&run.command)?;
+        check_target(&d, &name, &run)?;
+        check_occupied(&d, run.force)?;
+        check_replace(&d, &name, &run)?;
+        let mut staged = Staged::open(d, claim)?;
+        let file = staged.create(&name)?;
+        Ok(FileStream {
+            run,
+            staged,
+            name,
+            writer: std::io::BufWriter::with_capacity(1 << 16, file),
+        })
+    }
+}
+
+/// The folder of a single output file (`.` for a bare name) and its name.
+fn split_file(path: &Path) -> (PathBuf, String) {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    (dir, name)
+}
+
+/// One file being written bit by bit ([`Output::stream_file`]): a [`std::io::Write`] into its staging
+/// folder, moved into place by [`FileStream::finish`].
+#[derive(Debug)]
+pub struct FileStream {
+    run: Run,
+    staged: Staged,
+    name: String,
+    writer: std::io::BufWriter<std::fs::File>,
+}
+
+impl std::io::Write for FileStream {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.writer.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.writer.flush()
+    }
+}
+
+impl FileStream {
+    /// Flush the file and move it into place (with the updated manifest); on an error nothing of this
+    /// run is left.
+    pub fn finish(self) -> Result<(), OutputError> {
+        let FileStream {
+            run,
+            mut staged,
+            name,
+            writer,
+        } = self;
+        let file = writer
+            .into_inner()
+            .map_err(|e| staged.dest.error_stage(&name, e.into_error()))?;
+        drop(file);
+        staged.seal(&run)?;
+        commit_all(std::slice::from_mut(&mut staged))
+    }
+
+    /// The error of a write into the stream, said as the writer says its own.
+    pub fn error(&self, e: std::io::Error) -> OutputError {
+        self.staged.dest.error_stage(&self.name, e)
     }
 }
 

@@ -71,6 +71,16 @@ impl Staged {
         Ok(())
     }
 
+    /// Create one file in the staging folder, to be written by the caller.
+    pub(super) fn create(&mut self, name: &str) -> Result<std::fs::File, OutputError> {
+        let file = self
+            .staging()
+            .create(&self.new_dir().join(name))
+            .map_err(|e| self.dest.error_stage(name, e))?;
+        self.written.push(name.to_string());
+        Ok(file)
+    }
+
     /// After the last file: find the stale files and write the manifest after this run.
     pub(super) fn seal(&mut self, run: &Run) -> Result<(), OutputError> {
         let written: BTreeSet<&str> = self.written.iter().map(String::as_str).collect();

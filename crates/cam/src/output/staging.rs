@@ -71,6 +71,14 @@ impl Staging {
         fs::create_dir(dir)
     }
 
+    /// Create a file inside the staging folder to write into bit by bit (made under the lock, see
+    /// [`Staging::create_dir`]; a write after an interrupt removed the folder goes to a file no longer
+    /// in it, and is lost with it).
+    pub(super) fn create(&self, path: &Path) -> std::io::Result<fs::File> {
+        let _active = lock(&ACTIVE);
+        fs::File::create(path)
+    }
+
     /// Write a file inside the staging folder (under the lock, see [`Staging::create_dir`]).
     pub(super) fn write(&self, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _active = lock(&ACTIVE);

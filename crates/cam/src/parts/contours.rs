@@ -111,6 +111,11 @@ fn simple_ring(file: &Path, contour: &Contour) -> Result<Vec<Point>, InputError>
         ));
     }
     let a = signed_area(&ring);
+    // A ring whose points do not lie on one line but whose signed area is nil crosses itself: the
+    // lobes of a symmetric bow-tie cancel.
+    if ring.len() >= 3 && a.abs() < 1e-9 && !on_one_line(&ring) {
+        return Err(self_intersecting(file, contour));
+    }
     if ring.len() < 3 || a.abs() < 1e-9 {
         return Err(entity_error(
             file,
@@ -123,13 +128,33 @@ fn simple_ring(file: &Path, contour: &Contour) -> Result<Vec<Point>, InputError>
     }
     let polygon = Polygon::new(line_string(&ring), Vec::new());
     if !polygon.validation_errors().is_empty() {
-        return Err(entity_error(
-            file,
-            &contour.entity,
-            "self-intersecting contour: its edges cross or touch; a part outline must be a simple closed curve",
-        ));
+        return Err(self_intersecting(file, contour));
     }
     Ok(ring)
+}
+
+fn self_intersecting(file: &Path, contour: &Contour) -> InputError {
+    entity_error(
+        file,
+        &contour.entity,
+        "self-intersecting contour: its edges cross or touch; a part outline must be a simple closed curve",
+    )
+}
+
+/// True when every point lies on the line through the first point and the one farthest from it
+/// (within 1e-9 of the ring's size).
+fn on_one_line(ring: &[Point]) -> bool {
+    let p0 = ring[0];
+    let d = |p: &Point| [p[0] - p0[0], p[1] - p0[1]];
+    let far = ring
+        .iter()
+        .map(d)
+        .max_by(|a, b| a[0].hypot(a[1]).total_cmp(&b[0].hypot(b[1])))
+        .unwrap_or([0.0, 0.0]);
+    let size = far[0].hypot(far[1]);
+    ring.iter()
+        .map(d)
+        .all(|v| (v[0] * far[1] - v[1] * far[0]).abs() <= 1e-9 * size.max(1.0) * size.max(1.0))
 }
 
 /// Nest the file's closed contours into parts: each contour not inside another is a part's outline,

@@ -372,11 +372,15 @@ pub fn clamp_layers(
             }
             let title = format!("{} {prefix} P{number}", names.title);
             let th = (c.border_mm * 0.3).min(2.5);
-            if th > 0.0 && label_width(&title, th) < c.panel_width_mm - 6.0 * c.pin_inset_mm {
+            // The label starts beside the fourth pin hole (centre 3 x inset from the left edge), at
+            // least 1 mm clear of it whatever its radius.
+            let shift = (c.pin_radius_mm + 1.0 - 2.0).max(0.0);
+            if th > 0.0 && label_width(&title, th) < c.panel_width_mm - 6.0 * c.pin_inset_mm - shift
+            {
                 for s in label_strokes(
                     &title,
                     [
-                        3.0 * c.pin_inset_mm + 2.0,
+                        3.0 * c.pin_inset_mm + 2.0 + shift,
                         c.panel_height_mm - (c.border_mm + th) / 2.0,
                     ],
                     th,

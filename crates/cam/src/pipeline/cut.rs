@@ -6,8 +6,9 @@ use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetReco
 use super::label::Label;
 use super::BuildError;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
+use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
-use crate::process::template::{PassiveCut, SheetSpec, Template};
+use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};
 use crate::process::{Feature, FeatureMap};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
@@ -266,10 +267,7 @@ pub fn pyralux_layer(
             [0.0, bond.via_position * g.piezo_length_mm],
             bond.via_diameter_mm / 2.0,
         );
-        let via_edge_room = g.plate_width_at_mm(via.0[1]) / 2.0 - bond.inset_mm - via.1;
-        if via_edge_room < 2.0 * spec.kerf_mm {
-            return Err(design_error(job.design, format!("pyralux: the {} mm via leaves {:.3} mm to the edge of the bond part (the plate inset by {} mm), less than twice the kerf", bond.via_diameter_mm, via_edge_room, bond.inset_mm)));
-        }
+        check_via(job, template, bond, spec.kerf_mm, via)?;
         let outline = kerfed(
             job.design,
             &g.pzt_outline(),
@@ -298,6 +296,72 @@ pub fn pyralux_layer(
         features: template.features,
         ply_deg: None,
     }))
+}
+
+/// The via must leave twice the kerf of Pyralux to every edge of the PZT-shaped bond part: its ends
+/// (the via's position along the plate) and its sides (the via's diameter against the plate's width
+/// there). A refusal names the template field to change, with the range this design allows.
+fn check_via(
+    job: &Job<'_>,
+    template: &Template,
+    bond: &BondSpec,
+    kerf_mm: f64,
+    (centre, radius): (Point, f64),
+) -> Result<(), BuildError> {
+    let g = &job.geometry;
+    // The bond part is the plate inset by `inset_mm` on every side: the via must fit in that.
+    let length = g.plate_length_mm() - bond.inset_mm;
+    let end_room = radius + 2.0 * kerf_mm + bond.inset_mm;
+    let design = job.design.source.display();
+    if centre[1] < end_room || centre[1] > length - end_room {
+        // The via's centre is `via_position` of l_p from the base; the plate (inset by the template's
+        // edge margin) may end short of l_p.
+        let (lo, hi) = (
+            end_room / g.piezo_length_mm,
+            (length - end_room) / g.piezo_length_mm,
+        );
+        let allowed = if lo < hi {
+            format!(
+                "allowed range [{}, {}] for this design",
+                short_number(lo),
+                short_number(hi)
+            )
+        } else {
+            "no position fits: the via is as long as the plate".to_string()
+        };
+        return Err(InputError::invalid(
+            &template.source,
+            "layers.pyralux.via_position",
+            short_number(bond.via_position),
+            format!(
+                "the {} mm via would sit {} mm from the end of {design}'s bond part (its {} mm plate \
+                 inset by {} mm), less than its radius and twice the {kerf_mm} mm kerf; {allowed}",
+                short_number(bond.via_diameter_mm),
+                short_number((centre[1] - bond.inset_mm).min(length - centre[1])),
+                short_number(g.plate_length_mm()),
+                short_number(bond.inset_mm)
+            ),
+        )
+        .into());
+    }
+    let side_room = g.plate_width_at_mm(centre[1]) / 2.0 - bond.inset_mm - radius;
+    if side_room < 2.0 * kerf_mm {
+        let largest = g.plate_width_at_mm(centre[1]) - 2.0 * bond.inset_mm - 4.0 * kerf_mm;
+        return Err(InputError::invalid(
+            &template.source,
+            "layers.pyralux.via_diameter_mm",
+            short_number(bond.via_diameter_mm),
+            format!(
+                "the via leaves {} mm to the side of {design}'s bond part (the plate inset by {} mm), \
+                 less than twice the {kerf_mm} mm kerf; at most {} mm fits there",
+                short_number(side_room),
+                short_number(bond.inset_mm),
+                short_number(largest.max(0.0))
+            ),
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is

@@ -142,7 +142,7 @@ impl StockCount {
         for r in rows {
             s.push_str(&format!(
                 "| {} | {} | {} x {} | {} |\n",
-                r.material,
+                crate::markdown::text(&r.material),
                 crate::cam::decimal::fmt_mm(r.thickness_mm),
                 crate::cam::decimal::fmt_mm(r.width_mm),
                 crate::cam::decimal::fmt_mm(r.height_mm),

@@ -12,8 +12,9 @@
 use super::cut::{CutItem, CutLayer};
 use super::jobs::{format_violations, Job, Names};
 use super::BuildError;
+use crate::input::{short_number, InputError};
 use crate::layout::{
-    layout_plates, verify_break_order, verify_offcuts, verify_snappable, PlateSpec,
+    layout_plates, verify_break_order, verify_offcuts, verify_snappable, LayoutError, PlateSpec,
 };
 use crate::process::template::SheetSpec;
 use cam_geometry::{place_ring, Point};
@@ -255,6 +256,65 @@ fn items_of(layer: &CutLayer, ring: fn(&CutItem) -> &Vec<Point>) -> Vec<NestItem
         .collect()
 }
 
+/// A part that fits no sheet: the refusal names the sheet field to change, where it was written (the
+/// template, or a batch's `[sheets]`), and the least size that holds the part. `border` is what the
+/// sheet loses across its width and height (edge margins, clearances); `turns` whether a quarter turn is
+/// allowed (PZT plates); other parts come at their best allowed rotation already.
+fn sheet_too_small(
+    spec: &SheetSpec,
+    what: &str,
+    part: [f64; 2],
+    border: [f64; 2],
+    turns: bool,
+) -> BuildError {
+    let (w, h) = (spec.width_mm, spec.height_mm);
+    let orientations: &[[f64; 2]] = if turns {
+        &[part, [part[1], part[0]]]
+    } else {
+        &[part]
+    };
+    // The least width that holds the part with the height as it is (a roll has no height); else the
+    // least height with the width as it is; else both.
+    let least = |side: usize, other: f64| {
+        orientations
+            .iter()
+            .filter(|p| spec.roll && side == 0 || p[1 - side] + border[1 - side] <= other)
+            .map(|p| p[side] + border[side])
+            .fold(f64::INFINITY, f64::min)
+    };
+    let origin = &spec.origin;
+    let (field, value, need) = if least(0, h).is_finite() {
+        (
+            &origin.width_field,
+            w,
+            format!("at least {:.2} mm", least(0, h)),
+        )
+    } else if !spec.roll && least(1, w).is_finite() {
+        (
+            &origin.height_field,
+            h,
+            format!("at least {:.2} mm", least(1, w)),
+        )
+    } else {
+        let p = orientations[0];
+        (
+            &origin.width_field,
+            w,
+            format!(
+                "at least {:.2} x {:.2} mm (width x height)",
+                p[0] + border[0],
+                p[1] + border[1]
+            ),
+        )
+    };
+    BuildError::Input(InputError::invalid(
+        &origin.file,
+        field,
+        short_number(value),
+        format!("{what} does not fit the sheet; it needs {need}"),
+    ))
+}
+
 /// Lay out two plates per actuator of every job on `spec` sheets (at most `stock`) as a snappable
 /// layout, and verify it: every copy once, the score lines snappable and listed in break order, each
 /// plate its nominal trapezoid placed, the kerf between plates and the margin to the sheet edge.
@@ -288,7 +348,27 @@ pub(crate) fn place_plates(
         spec.edge_margin_mm,
         min_strip_mm,
     )
-    .map_err(|e| names.error(format!("pzt layout: {e}")))?;
+    .map_err(|e| match e {
+        LayoutError::TooLarge {
+            width_mm,
+            height_mm,
+            sheet_width_mm,
+            sheet_height_mm,
+            usable_width_mm,
+            usable_height_mm,
+            ..
+        } => sheet_too_small(
+            spec,
+            &format!("a {width_mm:.2} x {height_mm:.2} mm PZT plate"),
+            [width_mm, height_mm],
+            [
+                sheet_width_mm - usable_width_mm,
+                sheet_height_mm - usable_height_mm,
+            ],
+            true,
+        ),
+        other => names.error(format!("pzt layout: {other}")),
+    })?;
     let fail = |what: String| names.error(format!("pzt (verifier) layout: {what}"));
     // PZT is in-plane isotropic: strips may run either way, so any quarter turn is allowed.
     let items: Vec<NestItem> = jobs
@@ -555,11 +635,16 @@ fn irregular(
             part_height_mm,
             separation_mm,
             ..
-        } => fail(format!(
-            "the {} part of {} is {part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation: larger than the sheet, it does not fit with {separation_mm} mm (kerf + spacing) to the sheet edge",
-            layer.layer,
-            layer.items[item].owner
-        )),
+        } => sheet_too_small(
+            spec,
+            &format!(
+                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge)",
+                layer.layer, layer.items[item].owner
+            ),
+            [part_width_mm, part_height_mm],
+            [2.0 * separation_mm; 2],
+            false,
+        ),
         NestError::StockTooSmall { needed, stock } => fail(format!(
             "stock too small: the batch needs {needed} sheets but the stock is {stock}"
         )),

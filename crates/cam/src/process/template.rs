@@ -7,11 +7,11 @@ use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
 use crate::input::limits::{
     ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM,
-    LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, PASSIVE_EDGE_MARGIN_MM,
-    PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES,
-    VIA_DIAMETER_MM,
+    LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, MIN_FEATURE_MM,
+    PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM,
+    SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
-use crate::input::{parse_toml, read_toml, InputError, TableReader};
+use crate::input::{parse_toml, read_toml, short_number, InputError, TableReader};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -44,6 +44,31 @@ pub struct SheetSpec {
     /// Roll stock: `width_mm` wide, as long as the parts need (`nest` nests a strip and reports its
     /// used length; `height_mm` is then not used). Set by a batch's `[sheets]` (`strip = true`).
     pub roll: bool,
+    /// Where the sheet's size was written.
+    pub origin: SheetOrigin,
+}
+
+/// Where a sheet's size was written (a template's `[layers.NAME]` or a batch's `[sheets.NAME]`), so a
+/// layout that does not fit names the file and the field to change.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SheetOrigin {
+    /// The template or batch file.
+    pub file: PathBuf,
+    /// Dotted path of the width field as written (`layers.pzt.sheet_width_mm`).
+    pub width_field: String,
+    /// Dotted path of the height field as written.
+    pub height_field: String,
+}
+
+impl SheetOrigin {
+    /// The sheet fields `width_key` and `height_key` of the table `t`.
+    pub fn of(t: &TableReader<'_>, width_key: &str, height_key: &str) -> SheetOrigin {
+        SheetOrigin {
+            file: t.file().to_path_buf(),
+            width_field: t.path(width_key),
+            height_field: t.path(height_key),
+        }
+    }
 }
 
 /// A clamp layer (mold, felt, Teflon, bleeder): material, thickness and kerf; cut on the clamp panel.
@@ -164,6 +189,9 @@ pub enum PassiveCut {
 /// A validated process template.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Template {
+    /// The template file (a built-in one is named `templates/NAME.toml (built in)`): refusals of a
+    /// template value name it.
+    pub source: PathBuf,
     /// Template name.
     pub name: String,
     /// One-line description.
@@ -197,8 +225,6 @@ pub struct Template {
     pub pzt_edge_margin_mm: f64,
     /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
     pub linkage: Option<super::linkage::LinkageProcess>,
-    /// Where the template came from, as messages name it.
-    pub source: PathBuf,
 }
 
 const METHOD_1: &str = include_str!("../../../../templates/method-1.toml");
@@ -221,7 +247,48 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         roll: false,
         min_snap_strip_thicknesses: 0.0,
         score_overrun_mm: 0.0,
+        origin: SheetOrigin::of(t, "sheet_width_mm", "sheet_height_mm"),
     })
+}
+
+/// The pin holes must stay inside the panel's border: clear of the panel outline by a web of at least
+/// [`MIN_FEATURE_MM`] (the kerf of both cuts falls outside that web: the hole is cut inside its radius,
+/// the outline outside the panel), and clear of the cavity region inside `border_mm`.
+fn check_pins(path: &Path, clamp: &ClampSpec, kerf_mm: f64) -> Result<(), InputError> {
+    let (r, inset) = (clamp.pin_radius_mm, clamp.pin_inset_mm);
+    let largest = (inset - MIN_FEATURE_MM).min(clamp.border_mm - inset);
+    if r <= largest && r > kerf_mm / 2.0 {
+        return Ok(());
+    }
+    let why = if r <= kerf_mm / 2.0 {
+        format!("the hole vanishes in the {kerf_mm} mm kerf")
+    } else if inset + r > clamp.border_mm {
+        format!(
+            "the pin holes, centred clamp.pin_inset_mm = {inset} mm from the panel edges, would cut into \
+             the cavities inside the {} mm border",
+            clamp.border_mm
+        )
+    } else {
+        format!(
+            "the pin holes, centred clamp.pin_inset_mm = {inset} mm from the panel edges, would cut \
+             through the panel outline"
+        )
+    };
+    let allowed = if largest > kerf_mm / 2.0 {
+        format!(
+            "allowed range ({}, {}] mm with this inset and border",
+            short_number(kerf_mm / 2.0),
+            short_number(largest)
+        )
+    } else {
+        "no radius fits: raise clamp.pin_inset_mm or clamp.border_mm".to_string()
+    };
+    Err(InputError::invalid(
+        path,
+        "clamp.pin_radius_mm",
+        short_number(r),
+        format!("{why}; {allowed}"),
+    ))
 }
 
 /// The optional `[operations]` table: `[operations.cut] colour = "#FF0000", aci = 1`, and likewise `score`,
@@ -452,6 +519,11 @@ impl Template {
                 "must contain \"mold\"",
             ));
         }
+        let widest_clamp_kerf = covers
+            .values()
+            .map(|l| l.kerf_mm)
+            .fold(mold.kerf_mm, f64::max);
+        check_pins(path, &clamp, widest_clamp_kerf)?;
         let palette = read_palette(path, &root)?;
         let features = FeatureMap::read(path, &root)?;
         let linkage = match root.optional_table("linkage")? {
@@ -464,6 +536,7 @@ impl Template {
         };
         root.finish()?;
         Ok(Template {
+            source: path.to_path_buf(),
             name,
             description,
             passive_cut,
@@ -480,7 +553,6 @@ impl Template {
             features,
             pzt_edge_margin_mm,
             linkage,
-            source: path.to_path_buf(),
         })
     }
 

@@ -74,29 +74,66 @@ impl MainEffects {
     /// Main effects of a full factorial: the mean at a level is over every design at that level, so each
     /// factor's effect is averaged over all combinations of the others.
     pub fn new(spec: &SweepSpec, designs: &[SweepDesign]) -> Self {
-        let n = designs.len().max(1) as f64;
-        let mut grand_mean = [0.0; 5];
-        for d in designs {
-            for (k, o) in OUTPUTS.iter().enumerate() {
-                grand_mean[k] += (o.value)(&d.primary) / n;
+        let mut sums = EffectSums::new(spec);
+        designs.iter().for_each(|d| sums.add(d));
+        sums.finish(spec)
+    }
+}
+
+/// The running sums behind [`MainEffects`], fed one design at a time in sweep order, so a sweep need
+/// not keep its designs.
+#[derive(Debug, Clone)]
+pub struct EffectSums {
+    /// Designs of the whole sweep (the grand mean adds each value divided by it).
+    count: f64,
+    grand_mean: [f64; 5],
+    /// Per varying factor: its slot in [`Factor::ALL`], the sum of each output and the designs at
+    /// each level.
+    factors: Vec<(usize, Vec<[f64; 5]>, Vec<usize>)>,
+}
+
+impl EffectSums {
+    /// Nothing added yet, for a sweep of `spec.count()` designs.
+    pub fn new(spec: &SweepSpec) -> Self {
+        EffectSums {
+            count: spec.count().max(1) as f64,
+            grand_mean: [0.0; 5],
+            factors: Factor::ALL
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| spec.level_count(**f) > 1)
+                .map(|(slot, f)| {
+                    let n = spec.level_count(*f);
+                    (slot, vec![[0.0; 5]; n], vec![0; n])
+                })
+                .collect(),
+        }
+    }
+
+    /// Add one design.
+    pub fn add(&mut self, d: &SweepDesign) {
+        let values = OUTPUTS.map(|o| (o.value)(&d.primary));
+        for (mean, v) in self.grand_mean.iter_mut().zip(values) {
+            *mean += v / self.count;
+        }
+        for (slot, sums, hits) in &mut self.factors {
+            let level = d.levels[*slot];
+            hits[level] += 1;
+            for (sum, v) in sums[level].iter_mut().zip(values) {
+                *sum += v;
             }
         }
-        let factors = Factor::ALL
-            .iter()
-            .enumerate()
-            .filter(|(_, f)| spec.level_count(**f) > 1)
-            .map(|(slot, &factor)| {
-                let count = spec.level_count(factor);
-                let mut sums = vec![[0.0; 5]; count];
-                let mut hits = vec![0usize; count];
-                for d in designs {
-                    let level = d.levels[slot];
-                    hits[level] += 1;
-                    for (k, o) in OUTPUTS.iter().enumerate() {
-                        sums[level][k] += (o.value)(&d.primary);
-                    }
-                }
-                let mut order: Vec<usize> = (0..count).collect();
+    }
+
+    /// The main effects of the designs added.
+    pub fn finish(self, spec: &SweepSpec) -> MainEffects {
+        let grand_mean = self.grand_mean;
+        let factors = self
+            .factors
+            .into_iter()
+            .map(|(slot, sums, hits)| {
+                let factor = Factor::ALL[slot];
+                let mut order: Vec<usize> = (0..sums.len()).collect();
                 order.sort_by(|a, b| {
                     spec.level_value(factor, *a)
                         .total_cmp(&spec.level_value(factor, *b))
@@ -153,6 +190,49 @@ pub struct Comparison {
     pub count: usize,
 }
 
+/// The running mean and spread behind [`Comparison`], one design at a time (Welford's update, so a
+/// sweep need not keep its percent differences: B. P. Welford, Technometrics 4(3), 1962).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ComparisonSums {
+    count: usize,
+    mean: [f64; 3],
+    /// Sum of squared deviations from the running mean.
+    m2: [f64; 3],
+}
+
+impl ComparisonSums {
+    /// Add one design (no change if it has no compared prediction).
+    pub fn add(&mut self, d: &SweepDesign, thesis_eq_2_36: bool) {
+        let Some(diff) = percent_differences(d, thesis_eq_2_36) else {
+            return;
+        };
+        self.count += 1;
+        let n = self.count as f64;
+        for ((mean, m2), x) in self.mean.iter_mut().zip(&mut self.m2).zip(diff) {
+            let delta = x - *mean;
+            *mean += delta / n;
+            *m2 += delta * (x - *mean);
+        }
+    }
+
+    /// Mean and sample standard deviation (n - 1) of the designs added.
+    pub fn finish(self) -> Comparison {
+        let n = self.count as f64;
+        let mean_std = [0, 1, 2].map(|k| {
+            let mean = if self.count == 0 {
+                f64::NAN
+            } else {
+                self.mean[k]
+            };
+            (mean, (self.m2[k] / (n - 1.0).max(1.0)).sqrt())
+        });
+        Comparison {
+            mean_std,
+            count: self.count,
+        }
+    }
+}
+
 /// The factor the thesis' eq. 2.36 puts on the rectangular blocked force (4/3 in place of 3/2).
 pub const EQ_2_36_FACTOR: f64 = 8.0 / 9.0;
 
@@ -169,20 +249,9 @@ fn percent_differences(d: &SweepDesign, thesis_eq_2_36: bool) -> Option<[f64; 3]
 impl Comparison {
     /// Summarise the designs that carry a compared prediction.
     pub fn new(designs: &[SweepDesign], thesis_eq_2_36: bool) -> Self {
-        let diffs: Vec<[f64; 3]> = designs
-            .iter()
-            .filter_map(|d| percent_differences(d, thesis_eq_2_36))
-            .collect();
-        let n = diffs.len() as f64;
-        let mean_std = [0, 1, 2].map(|k| {
-            let mean = diffs.iter().map(|d| d[k]).sum::<f64>() / n;
-            let var = diffs.iter().map(|d| (d[k] - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-            (mean, var.sqrt())
-        });
-        Comparison {
-            mean_std,
-            count: diffs.len(),
-        }
+        let mut sums = ComparisonSums::default();
+        designs.iter().for_each(|d| sums.add(d, thesis_eq_2_36));
+        sums.finish()
     }
 
     /// The thesis Table 4.1 layout.
@@ -217,18 +286,12 @@ impl Comparison {
 }
 
 /// The text summary: designs, main effects, means per level.
-pub fn report(
-    spec: &SweepSpec,
-    file: &str,
-    kind: ModelKind,
-    designs: &[SweepDesign],
-    effects: &MainEffects,
-) -> String {
+pub fn report(spec: &SweepSpec, file: &str, kind: ModelKind, effects: &MainEffects) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
         "actuator-cam sweep {file}: {} designs, model {}, {} drive at {:.1} V/mm, PZT {} / {} plies",
-        designs.len(),
+        spec.count(),
         kind.name(),
         spec.mode.name(),
         spec.field * 1e-3,
@@ -285,40 +348,57 @@ pub fn report(
     s
 }
 
-/// Every design as CSV: levels, outputs, and with a comparison the other model's δ, F_b, U and the
-/// percent differences. Numbers in Rust's shortest form that reads back to the same `f64`.
-pub fn to_csv(
-    spec: &SweepSpec,
-    designs: &[SweepDesign],
-    compare: Option<ModelKind>,
+/// Every design as CSV, one row at a time: levels, outputs, and with a comparison the other model's δ,
+/// F_b, U and the percent differences. Numbers in Rust's shortest form that reads back to the same
+/// `f64`.
+pub struct CsvRows<'s, W: std::io::Write> {
+    spec: &'s SweepSpec,
     thesis_eq_2_36: bool,
-) -> Result<String, csv::Error> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header: Vec<String> = vec!["design".into()];
-    header.extend(Factor::ALL.iter().map(|f| f.name().to_string()));
-    header.extend(OUTPUTS.iter().map(|o| o.column.to_string()));
-    if let Some(b) = compare {
-        let b = b.name();
-        header.extend([
-            format!("{b}_free_deflection_mm"),
-            format!("{b}_blocked_force_mN"),
-            format!("{b}_energy_mJ"),
-            "diff_free_deflection_percent".into(),
-            "diff_blocked_force_percent".into(),
-            "diff_energy_percent".into(),
-        ]);
+    writer: csv::Writer<W>,
+}
+
+impl<'s, W: std::io::Write> CsvRows<'s, W> {
+    /// Write the header into `out`.
+    pub fn new(
+        out: W,
+        spec: &'s SweepSpec,
+        compare: Option<ModelKind>,
+        thesis_eq_2_36: bool,
+    ) -> Result<Self, csv::Error> {
+        let mut writer = csv::Writer::from_writer(out);
+        let mut header: Vec<String> = vec!["design".into()];
+        header.extend(Factor::ALL.iter().map(|f| f.name().to_string()));
+        header.extend(OUTPUTS.iter().map(|o| o.column.to_string()));
+        if let Some(b) = compare {
+            let b = b.name();
+            header.extend([
+                format!("{b}_free_deflection_mm"),
+                format!("{b}_blocked_force_mN"),
+                format!("{b}_energy_mJ"),
+                "diff_free_deflection_percent".into(),
+                "diff_blocked_force_percent".into(),
+                "diff_energy_percent".into(),
+            ]);
+        }
+        writer.write_record(&header)?;
+        Ok(CsvRows {
+            spec,
+            thesis_eq_2_36,
+            writer,
+        })
     }
-    w.write_record(&header)?;
-    for (i, d) in designs.iter().enumerate() {
-        let mut row: Vec<String> = vec![(i + 1).to_string()];
+
+    /// Write design `index` (0-based; the CSV numbers designs from 1).
+    pub fn row(&mut self, index: usize, d: &SweepDesign) -> Result<(), csv::Error> {
+        let mut row: Vec<String> = vec![(index + 1).to_string()];
         row.extend(
             Factor::ALL
                 .iter()
                 .zip(d.levels)
-                .map(|(f, l)| spec.level_label(*f, l)),
+                .map(|(f, l)| self.spec.level_label(*f, l)),
         );
         row.extend(OUTPUTS.iter().map(|o| (o.value)(&d.primary).to_string()));
-        if let (Some(b), Some(diff)) = (d.compared, percent_differences(d, thesis_eq_2_36)) {
+        if let (Some(b), Some(diff)) = (d.compared, percent_differences(d, self.thesis_eq_2_36)) {
             row.extend(
                 [
                     b.free_deflection * 1e3,
@@ -330,11 +410,13 @@ pub fn to_csv(
                 .map(|x| x.to_string()),
             );
         }
-        w.write_record(&row)?;
+        self.writer.write_record(&row)
     }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| csv::Error::from(e.into_error()))?;
-    // Every field is a `String`, so the bytes are UTF-8.
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+
+    /// Flush and hand back the writer.
+    pub fn finish(self) -> Result<W, csv::Error> {
+        self.writer
+            .into_inner()
+            .map_err(|e| csv::Error::from(e.into_error()))
+    }
 }

@@ -35,87 +35,113 @@ fn predict(
     }
 }
 
-/// Evaluate every design, in factor order (the first factor outermost).
-pub fn evaluate(
+/// Designs evaluated together (in parallel) before they are handed on in order: enough to keep both
+/// cores busy, few enough that memory does not grow with the sweep (about 25 MB of designs).
+const BATCH: usize = 1 << 16;
+
+/// Designs of one laminate evaluated by one task: the laminate is solved once per task.
+const TASK: usize = 1024;
+
+/// Level indices of design `index` over factors with these level counts, the first factor outermost
+/// (mixed-radix digits of the index).
+fn digits<const N: usize>(mut index: usize, counts: &[usize]) -> [usize; N] {
+    let mut out = [0; N];
+    for k in (0..N).rev() {
+        out[k] = index % counts[k];
+        index /= counts[k];
+    }
+    out
+}
+
+/// Evaluate every design in factor order (the first factor outermost) and hand each to `visit` with
+/// its index, in that order. Designs are evaluated a batch at a time, so memory stays the same
+/// whatever the number of designs; the first error (a design the model refuses, or `visit`'s own)
+/// ends the sweep.
+pub fn for_each_design<E: From<ModelError> + Send>(
     spec: &SweepSpec,
     kind: ModelKind,
     compare: Option<ModelKind>,
-) -> Result<Vec<SweepDesign>, ModelError> {
-    let laminates: Vec<[usize; 4]> = cartesian(
-        &Factor::ALL[..4]
-            .iter()
-            .map(|f| spec.level_count(*f))
-            .collect::<Vec<_>>(),
-    )
-    .into_iter()
-    .map(|v| [v[0], v[1], v[2], v[3]])
-    .collect();
-    let planforms = cartesian(
-        &Factor::ALL[4..]
-            .iter()
-            .map(|f| spec.level_count(*f))
-            .collect::<Vec<_>>(),
-    );
-    let per_laminate: Vec<Vec<SweepDesign>> = laminates
-        .par_iter()
-        .map(|&[i_e, i_d, i_t, i_l]| {
-            let mut pzt = spec.pzt.clone();
-            pzt.e1 = spec.pzt_modulus[i_e];
-            pzt.e2 = pzt.e1;
-            pzt.g12 = pzt.e1 / (2.0 * (1.0 + pzt.nu12));
-            pzt.d31 = spec.pzt_d31[i_d];
-            let laminate = Laminate::bimorph(
-                &pzt,
-                spec.pzt_thickness[i_t],
-                &spec.ply,
-                spec.ply_thickness,
-                &spec.layups[i_l],
-                None,
-            )?;
-            let section = Section::new(
-                &laminate,
-                actuator_model::Drive {
-                    mode: spec.mode,
-                    field: spec.field,
-                },
-            )?;
-            planforms
-                .iter()
-                .map(|p| {
-                    let planform = Planform::new(
-                        spec.length[p[0]],
-                        spec.extension_ratio[p[1]],
-                        spec.base_width[p[2]],
-                        spec.width_ratio[p[3]],
-                        0.0,
-                    )?;
-                    Ok(SweepDesign {
-                        levels: [i_e, i_d, i_t, i_l, p[0], p[1], p[2], p[3]],
-                        primary: predict(kind, &laminate, &section, &planform)?,
-                        compared: compare
-                            .map(|k| predict(k, &laminate, &section, &planform))
-                            .transpose()?,
-                    })
-                })
-                .collect()
-        })
-        .collect::<Result<_, ModelError>>()?;
-    Ok(per_laminate.into_iter().flatten().collect())
+    mut visit: impl FnMut(usize, &SweepDesign) -> Result<(), E>,
+) -> Result<(), E> {
+    let counts: Vec<usize> = Factor::ALL.iter().map(|f| spec.level_count(*f)).collect();
+    let per_laminate: usize = counts[4..].iter().product();
+    let total = spec.count();
+    let mut start = 0;
+    while start < total {
+        let end = (start + BATCH).min(total);
+        // Tasks of at most TASK designs that share one laminate.
+        let mut tasks = Vec::new();
+        let mut i = start;
+        while i < end {
+            let laminate_end = (i / per_laminate + 1) * per_laminate;
+            let task_end = end.min(laminate_end).min(i + TASK);
+            tasks.push(i..task_end);
+            i = task_end;
+        }
+        let batch: Vec<Vec<SweepDesign>> = tasks
+            .into_par_iter()
+            .map(|range| {
+                let laminate: [usize; 4] = digits(range.start / per_laminate, &counts[..4]);
+                evaluate_laminate(spec, kind, compare, laminate, &counts[4..], range)
+            })
+            .collect::<Result<_, ModelError>>()?;
+        for (k, design) in batch.iter().flatten().enumerate() {
+            visit(start + k, design)?;
+        }
+        start = end;
+    }
+    Ok(())
 }
 
-/// Every combination of level indices, the first factor outermost.
-fn cartesian(counts: &[usize]) -> Vec<Vec<usize>> {
-    counts.iter().fold(vec![Vec::new()], |acc, &n| {
-        acc.into_iter()
-            .flat_map(|prefix| {
-                (0..n).map(move |i| {
-                    let mut v = prefix.clone();
-                    v.push(i);
-                    v
-                })
+/// The designs `range` (global indices), all on the laminate with level indices `laminate`.
+fn evaluate_laminate(
+    spec: &SweepSpec,
+    kind: ModelKind,
+    compare: Option<ModelKind>,
+    [i_e, i_d, i_t, i_l]: [usize; 4],
+    planform_counts: &[usize],
+    range: std::ops::Range<usize>,
+) -> Result<Vec<SweepDesign>, ModelError> {
+    let per_laminate: usize = planform_counts.iter().product();
+    let mut pzt = spec.pzt.clone();
+    pzt.e1 = spec.pzt_modulus[i_e];
+    pzt.e2 = pzt.e1;
+    pzt.g12 = pzt.e1 / (2.0 * (1.0 + pzt.nu12));
+    pzt.d31 = spec.pzt_d31[i_d];
+    let laminate = Laminate::bimorph(
+        &pzt,
+        spec.pzt_thickness[i_t],
+        &spec.ply,
+        spec.ply_thickness,
+        &spec.layups[i_l],
+        None,
+    )?;
+    let section = Section::new(
+        &laminate,
+        actuator_model::Drive {
+            mode: spec.mode,
+            field: spec.field,
+        },
+    )?;
+    range
+        .map(|index| {
+            let p: [usize; 4] = digits(index % per_laminate, planform_counts);
+            let planform = Planform::new(
+                spec.length[p[0]],
+                spec.extension_ratio[p[1]],
+                spec.base_width[p[2]],
+                spec.width_ratio[p[3]],
+                0.0,
+            )?;
+            Ok(SweepDesign {
+                levels: [i_e, i_d, i_t, i_l, p[0], p[1], p[2], p[3]],
+                primary: predict(kind, &laminate, &section, &planform)?,
+                compared: compare
+                    .map(|k| predict(k, &laminate, &section, &planform))
+                    .transpose()?,
             })
-            .collect()
-    })
+        })
+        .collect()
 }
 
 /// Why a sweep cannot run with these models.
