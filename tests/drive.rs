@@ -96,11 +96,30 @@ fn a_tiny_actuator_cannot_flap_the_hawk_moth_wing_and_says_why() {
         (o.field_V_per_mm / r.field_limit_V_per_mm - 1.0).abs() < 1e-6,
         "{o:?}"
     );
-    let out = stdout(&run_ok(&["drive", path.to_str().unwrap()]));
+    // The command prints the report, then fails with one line naming the file, the stroke and what
+    // binds.
+    let o = run(&["drive", path.to_str().unwrap()]);
+    let out = stdout(&o);
     assert!(
         out.contains("NOT REACHED") && out.contains("binding: the field limit"),
         "{out}"
     );
+    let err = refused_in_one_line(&o);
+    assert!(
+        err.contains("drive.toml: stroke_deg = 60: not reached at 25 Hz")
+            && err.contains("binding: the field limit"),
+        "{err}"
+    );
+    // With -o the report is written in full, as the explanation of the failure.
+    let folder = dir.path().join("out");
+    let o = run(&[
+        "drive",
+        path.to_str().unwrap(),
+        "-o",
+        folder.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(files(&folder).contains_key("report.md"));
 }
 
 #[test]
