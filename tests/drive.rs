@@ -4,28 +4,17 @@
 
 mod common;
 
-use actuator_cam::cutsheet::design_for_process;
-use actuator_cam::design::Design;
-use actuator_cam::drive::analyse;
 use actuator_cam::drive::spec::DriveSpec;
-use actuator_cam::process::template::Template;
-use actuator_model::model::{ModelChoice, ModelKind};
-use common::{example_path, files, refused_in_one_line, run, run_ok, stdout, write_temp};
-
-fn analysis(path: &std::path::Path) -> actuator_cam::drive::Analysis {
-    let spec = DriveSpec::load(path).unwrap();
-    let design = Design::load(&spec.design).unwrap();
-    let template = Template::resolve(&design.process, &design.source).unwrap();
-    let design = design_for_process(&design, &template).unwrap();
-    analyse(&spec, &design, &ModelChoice::Kind(ModelKind::Original)).unwrap()
-}
+use common::{
+    drive_analysis, example_path, files, refused_in_one_line, run, run_ok, stdout, write_temp,
+};
 
 #[test]
 fn both_examples_reach_the_stroke_and_the_time_integration_agrees() {
     for name in ["drive-hawkmoth.toml", "drive-robobee.toml"] {
         let path = example_path(name);
         let spec = DriveSpec::load(&path).unwrap();
-        let a = analysis(&path);
+        let a = drive_analysis(&path);
         let r = &a.report;
         assert!(r.reached, "{name}: {}", r.table());
         let s = a.state.unwrap();
@@ -84,7 +73,7 @@ fn a_tiny_actuator_cannot_flap_the_hawk_moth_wing_and_says_why() {
         .replace("design = \"thesis-7.toml\"", "design = \"tiny.toml\"");
     let path = dir.path().join("drive.toml");
     std::fs::write(&path, drive).unwrap();
-    let a = analysis(&path);
+    let a = drive_analysis(&path);
     let r = &a.report;
     assert!(!r.reached);
     let u = r.unreachable.as_ref().unwrap();

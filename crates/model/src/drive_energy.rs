@@ -110,9 +110,18 @@ impl WingLoad {
             })
             .filter(|s| (s.stroke_amplitude / self.stroke - 1.0).abs() < 1e-6)
             .or_else(|| {
-                system
-                    .force_for_stroke(self.stroke, self.frequency, f64::INFINITY)
-                    .ok()
+                // Continued from a small stroke, as `force_for_stroke` does, without its search for
+                // the best stroke when the continuation fails: here a failure only means no stroke.
+                let mut state: Option<SteadyState> = None;
+                for i in 1..=8 {
+                    let part = self.stroke * i as f64 / 8.0;
+                    state = Some(
+                        system
+                            .balance_at_stroke(part, self.frequency, state.as_ref())
+                            .ok()?,
+                    );
+                }
+                state
             })?;
         Some((state.force * reference.crank / v.sqrt(), state))
     }
@@ -152,7 +161,7 @@ impl WingLoad {
         let golden = (5f64.sqrt() - 1.0) / 2.0;
         let (mut x1, mut x2) = (b - golden * (b - a), a + golden * (b - a));
         let (mut f1, mut f2) = (at(x1), at(x2));
-        while b - a > 1e-4 {
+        while b - a > 1e-3 {
             if f1 <= f2 {
                 (b, x2, f2) = (x2, x1, f1);
                 x1 = b - golden * (b - a);
