@@ -6,8 +6,8 @@
 mod common;
 
 use common::{
-    cut_sheet, example, example_path, files, refused_in_one_line, report_json, run_ok, sheet_files,
-    sheet_name,
+    cut_sheet, example, example_path, files, refused_in_one_line, report_json, run, sheet_files,
+    sheet_name, stderr,
 };
 
 #[test]
@@ -74,9 +74,15 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
     assert!((sum - l["mass_mg"].as_f64().unwrap()).abs() < 1e-9);
     let md = String::from_utf8(written["report.md"].clone()).unwrap();
     assert!(md.contains("### Linkage build checklist") && md.contains("release cut"));
-    // `drive` takes the same linkage: its transmission is the drawn mass.
-    let json: serde_json::Value =
-        serde_json::from_slice(&run_ok(&["drive", &drive, "--json"]).stdout).unwrap();
+    // `drive` takes the same linkage: its transmission is the drawn mass. This insect-scale drive
+    // does not reach its stroke, so `drive` exits non-zero, after its report.
+    let o = run(&["drive", &drive, "--json"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("not reached"),
+        "{}",
+        stderr(&o)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let drawn = json["linkage_laminate"]["mass_mg"].as_f64().unwrap();
     assert!((json["mass"]["transmission_mg"].as_f64().unwrap() - drawn).abs() < 1e-12);
     assert!((drawn - l["mass_mg"].as_f64().unwrap()).abs() < 1e-12);

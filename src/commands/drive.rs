@@ -1,11 +1,14 @@
 //! `actuator-cam drive drive.toml`: will the design flap the wing to the required stroke at the flapping
-//! frequency, at what voltage and field, through which linkage and at what mass.
+//! frequency, at what voltage and field, through which linkage and at what mass. A stroke out of reach
+//! is a failed requirement: the report is printed (and written with `-o`, as the explanation), and the
+//! command exits non-zero with one line naming the binding constraint.
 
 use super::flags::{ForceFlag, JsonFlag, ModelFlag};
 use actuator_cam::cutsheet::design_for_process;
 use actuator_cam::design::Design;
 use actuator_cam::drive::spec::DriveSpec;
 use actuator_cam::drive::{analyse, DriveError};
+use actuator_cam::input::short_number;
 use actuator_cam::output::Output;
 use actuator_cam::process::template::Template;
 use clap::Args;
@@ -66,6 +69,16 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
         if !args.json.json {
             println!("\nwrote {}", dir.display());
         }
+    }
+    if let Some(u) = &report.unreachable {
+        anyhow::bail!(
+            "{}: stroke_deg = {}: not reached at {} Hz: the best stroke is ±{:.1}°; binding: {}",
+            args.drive.display(),
+            short_number(report.required_stroke_deg),
+            short_number(report.frequency_Hz),
+            u.best_stroke_deg,
+            u.binding
+        );
     }
     Ok(())
 }

@@ -2,7 +2,11 @@
 //! mechanical energy, with the winning design and the Pareto front written on request.
 
 use super::flags::{ForceFlag, ModelFlag};
+use actuator_cam::drive::analyse;
+use actuator_cam::drive::spec::{DriveSpec, LinkageSpec};
 use actuator_cam::input::short_number;
+use actuator_cam::optimize::flap::{optimize_flap, wing_load};
+use actuator_cam::optimize::flap_report;
 use actuator_cam::optimize::model::SearchModel;
 use actuator_cam::optimize::search::{Design, FieldLimit, Objective, Problem};
 use actuator_cam::optimize::spec::Spec;
@@ -124,6 +128,9 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
     let model = search_model(&args.model.model)?;
     let spec = Spec::from_file(&args.spec)?;
     let file = args.spec.display().to_string();
+    if let Some(flap) = &spec.flap {
+        return run_flap(args, &spec, model, flap);
+    }
     let problem = Problem::from_spec(&spec, model, args.objective.into())
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
     let bar =
@@ -190,6 +197,114 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
             path.display(),
             svg.display(),
             front.len()
+        ));
+    }
+    output.write()?;
+    for line in wrote {
+        println!("{line}");
+    }
+    Ok(())
+}
+
+/// `optimize` with `requirement.flap`: the lightest design that flaps the drive file's wing, its drive
+/// file beside the design file, and the front of mass against frequency margin.
+fn run_flap(
+    args: &OptimizeArgs,
+    spec: &Spec,
+    model: SearchModel,
+    flap: &std::path::Path,
+) -> anyhow::Result<()> {
+    let file = args.spec.display().to_string();
+    if args.objective != ObjectiveArg::MinMass {
+        bail!(
+            "{file}: requirement.flap: --objective {}: a wing is flapped by the lightest design (min-mass) only",
+            args.objective
+                .to_possible_value()
+                .map_or(String::new(), |v| v.get_name().to_string())
+        );
+    }
+    let drive = DriveSpec::load(flap)?;
+    let load = wing_load(&drive)?;
+    let problem = Problem::from_spec(spec, model, Objective::MinMass)
+        .with_context(|| format!("{file}: the laminate cannot be solved"))?;
+    let outcome = optimize_flap(spec, &problem, &load, &args.model.model)
+        .map_err(|e| anyhow::anyhow!("{file}: requirement.flap = {}: {e}", flap.display()))?;
+    let chosen = &outcome.chosen;
+    let cand = &problem.candidates[chosen.design.candidate];
+    let survival = flap_report::survival_at(cand.section.drive.field, cand.section.drive.mode);
+    // The chosen design driven as `drive` will drive it from the files written here.
+    let design_path = args
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("optimized.toml"));
+    let design_name = design_path
+        .file_name()
+        .map_or("optimized.toml".to_string(), |n| {
+            n.to_string_lossy().into_owned()
+        });
+    let check = DriveSpec {
+        design: design_path.clone(),
+        survival,
+        linkage: match drive.linkage {
+            LinkageSpec::Solve {
+                angle_minus,
+                angle_plus,
+                coupler_ratio,
+                ..
+            } => LinkageSpec::Solve {
+                angle_minus,
+                angle_plus,
+                coupler_ratio,
+                travel: Some(chosen.travel),
+            },
+            given => given,
+        },
+        ..drive.clone()
+    };
+    let analysis = analyse(&check, &chosen.built, &args.model.model)
+        .map_err(|e| anyhow::anyhow!("{file}: the optimized design's drive: {e}"))?;
+    if !analysis.report.reached {
+        bail!(
+            "internal: the optimized design does not reach the stroke when driven: {}",
+            analysis
+                .report
+                .unreachable
+                .as_ref()
+                .map_or(String::new(), |u| u.binding.clone())
+        );
+    }
+    print!(
+        "{}",
+        flap_report::text(spec, &file, &problem, &outcome, &analysis.report)
+    );
+    let mut output = Output::new("optimize")
+        .force(args.force.force)
+        .inputs([&args.spec, &flap.to_path_buf()]);
+    let mut wrote = Vec::new();
+    if let Some(path) = &args.output {
+        let drive_path = path.with_file_name(format!("drive-{design_name}"));
+        let drive_text =
+            flap_report::drive_toml(flap, &file, &design_name, survival, chosen.travel)?;
+        output =
+            output
+                .file("-o", path, chosen.design_toml.clone())
+                .file("-o", &drive_path, drive_text);
+        wrote.push(format!(
+            "\nwrote {} and {}",
+            path.display(),
+            drive_path.display()
+        ));
+    }
+    if let Some(path) = &args.pareto {
+        output = output.file(
+            "--pareto",
+            path,
+            flap_report::front_csv(&problem, &outcome.front),
+        );
+        wrote.push(format!(
+            "wrote {} ({} levels on the front)",
+            path.display(),
+            outcome.front.len()
         ));
     }
     output.write()?;

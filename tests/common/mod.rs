@@ -177,3 +177,17 @@ pub fn layer_file(out: &Path, name: &str) -> PathBuf {
     assert_eq!(found.len(), 1, "{name} in {}: {found:?}", out.display());
     found.into_iter().next().unwrap()
 }
+
+/// `drive`'s analysis of a drive file in memory, its design built for its process, under the original
+/// model (as `actuator-cam drive` runs it by default).
+pub fn drive_analysis(path: &Path) -> actuator_cam::drive::Analysis {
+    let spec = actuator_cam::drive::spec::DriveSpec::load(path).unwrap();
+    let design = actuator_cam::design::Design::load(&spec.design).unwrap();
+    let template =
+        actuator_cam::process::template::Template::resolve(&design.process, &design.source)
+            .unwrap();
+    let design = actuator_cam::cutsheet::design_for_process(&design, &template).unwrap();
+    let model =
+        actuator_model::model::ModelChoice::Kind(actuator_model::model::ModelKind::Original);
+    actuator_cam::drive::analyse(&spec, &design, &model).unwrap()
+}

@@ -10,16 +10,31 @@
 //! (`m`, `k` the lumped actuator, `I` wing + links about the hinge, `K` the wing's drag coefficient,
 //! `k_t` the flexures, unstrained at the rest angle `θ_r`, `c_s = η k / ω` the actuator's structural loss
 //! at the drive frequency, `F` the blocked-force amplitude). The harmonic balance keeps the mean and the
-//! first harmonic of `θ`; every nonlinear term (kinematics, drag) is integrated over the period as it
-//! is; what it neglects is the higher harmonics of `θ`. The time integration runs the same system in the
+//! first [`HARMONICS`] harmonics of `θ`; every nonlinear term (kinematics, drag) is integrated over the
+//! period as it is; what it neglects is the harmonics above those. The time integration runs the same system in the
 //! tip displacement `x` instead, so the two share no formulation.
 
 use crate::dynamics::LumpedActuator;
 use crate::error::ModelError;
 use crate::transmission::Linkage;
+use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
 
-/// Samples per period in the harmonic balance's projections.
+/// Harmonics of the stroke the balance keeps. The quadratic drag and the linkage's falling ratio put
+/// higher harmonics into a large stroke: the first harmonic alone is 0.5-1.5 % off the time
+/// integration at 30-52° (`harmonic_balance_agrees_with_time_integration`), three are within 0.05 %
+/// (docs/physics.md §14).
+pub const HARMONICS: usize = 3;
+
+/// Fourier coefficients of `θ`: the mean, then those of `cos kωt` and `sin kωt` for `k = 1..=HARMONICS`.
+pub const COEFFICIENTS: usize = 2 * HARMONICS + 1;
+
+/// Unknowns of the balance at a given stroke: mean, phase, force, first-harmonic amplitude, and the
+/// higher harmonics' coefficients.
+const AT_STROKE: usize = COEFFICIENTS + 1;
+
+/// Samples per period in the harmonic balance's projections (the nonlinear terms alias only from
+/// harmonic `SAMPLES - HARMONICS` up).
 const SAMPLES: usize = 64;
 
 /// The coupled system, SI.
@@ -44,11 +59,11 @@ pub struct SteadyState {
     pub frequency: f64,
     /// Blocked-force amplitude, N.
     pub force: f64,
-    /// Mean stroke angle, rad.
+    /// Mean stroke angle over the period, rad.
     pub mean_angle: f64,
     /// Half the peak-to-peak stroke angle, rad.
     pub stroke_amplitude: f64,
-    /// Phase of the stroke behind the force, rad.
+    /// Phase of the stroke's first harmonic behind the force, rad.
     pub phase: f64,
     /// Half the peak-to-peak tip displacement, m.
     pub displacement_amplitude: f64,
@@ -56,6 +71,122 @@ pub struct SteadyState {
     pub aero_power: f64,
     /// Peak load the tip carries, `max |F sin ωt - k x|`, N.
     pub peak_tip_load: f64,
+    /// `θ`'s Fourier coefficients ([`COEFFICIENTS`]), rad.
+    pub coefficients: [f64; COEFFICIENTS],
+}
+
+impl SteadyState {
+    /// Stroke angle at the drive phase `ωt`, rad.
+    pub fn angle_at(&self, phase: f64) -> f64 {
+        series(&self.coefficients, &basis(phase))[0]
+    }
+}
+
+/// `[1, cos φ, sin φ, cos 2φ, sin 2φ, …]` at the phase `φ = ωt`.
+fn basis(phase: f64) -> [f64; COEFFICIENTS] {
+    let (s1, c1) = phase.sin_cos();
+    let mut b = [1.0; COEFFICIENTS];
+    let (mut ck, mut sk) = (1.0, 0.0);
+    for k in 1..=HARMONICS {
+        (ck, sk) = (ck * c1 - sk * s1, sk * c1 + ck * s1);
+        b[2 * k - 1] = ck;
+        b[2 * k] = sk;
+    }
+    b
+}
+
+/// `θ`, `dθ/dφ` and `d²θ/dφ²` of the series `c` at a phase whose [`basis`] is `b`.
+fn series(c: &[f64; COEFFICIENTS], b: &[f64; COEFFICIENTS]) -> [f64; 3] {
+    let mut out = [c[0], 0.0, 0.0];
+    for k in 1..=HARMONICS {
+        let (i, j, kf) = (2 * k - 1, 2 * k, k as f64);
+        out[0] += c[i] * b[i] + c[j] * b[j];
+        out[1] += kf * (c[j] * b[i] - c[i] * b[j]);
+        out[2] -= kf * kf * (c[i] * b[i] + c[j] * b[j]);
+    }
+    out
+}
+
+/// Lowest and highest `θ` of the series over a period: the extreme of [`SAMPLES`] samples, each refined
+/// by Newton on `dθ/dφ = 0` (so the stroke is exact, not a sampled peak).
+fn extremes(c: &[f64; COEFFICIENTS]) -> (f64, f64) {
+    let n = SAMPLES;
+    let step = 2.0 * PI / n as f64;
+    let (mut lo, mut hi) = ((0.0, f64::INFINITY), (0.0, f64::NEG_INFINITY));
+    for i in 0..n {
+        let phase = i as f64 * step;
+        let angle = series(c, &basis(phase))[0];
+        if angle < lo.1 {
+            lo = (phase, angle);
+        }
+        if angle > hi.1 {
+            hi = (phase, angle);
+        }
+    }
+    let refine = |(mut phase, mut angle): (f64, f64)| {
+        for _ in 0..8 {
+            let [_, d1, d2] = series(c, &basis(phase));
+            if d2 == 0.0 {
+                break;
+            }
+            let next = phase - (d1 / d2).clamp(-step, step);
+            let at = series(c, &basis(next))[0];
+            // Keep a step only when it moves toward the extreme the sample bracketed.
+            if (at - angle) * d2.signum() >= 0.0 {
+                break;
+            }
+            (phase, angle) = (next, at);
+        }
+        angle
+    };
+    (refine(lo), refine(hi))
+}
+
+/// Damped Newton on `M` unknowns `u`, the residual `f(u)`; finite-difference Jacobian with `steps`.
+fn newton<const M: usize>(
+    mut u: [f64; M],
+    steps: [f64; M],
+    scale: f64,
+    f: impl Fn(&[f64; M]) -> Option<[f64; M]>,
+) -> Option<[f64; M]> {
+    let norm = |r: &[f64; M]| r.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut r = f(&u)?;
+    'iterations: for _ in 0..100 {
+        if norm(&r) < 1e-12 * scale {
+            break;
+        }
+        let mut jac = DMatrix::<f64>::zeros(M, M);
+        for j in 0..M {
+            let mut up = u;
+            up[j] += steps[j];
+            let rp = f(&up)?;
+            for i in 0..M {
+                jac[(i, j)] = (rp[i] - r[i]) / steps[j];
+            }
+        }
+        let step = jac
+            .lu()
+            .solve(&DVector::from_iterator(M, r.iter().map(|v| -v)))?;
+        let mut lambda = 1.0;
+        loop {
+            let mut trial = u;
+            for (t, s) in trial.iter_mut().zip(step.iter()) {
+                *t += lambda * s;
+            }
+            match f(&trial) {
+                Some(rt) if norm(&rt) < norm(&r) => {
+                    u = trial;
+                    r = rt;
+                    break;
+                }
+                // No descent left (the finite-difference Jacobian's noise floor): the final
+                // tolerance decides.
+                _ if lambda < 1e-4 => break 'iterations,
+                _ => lambda *= 0.5,
+            }
+        }
+    }
+    (norm(&r) < 1e-7 * scale).then_some(u)
 }
 
 impl FlappingSystem {
@@ -73,91 +204,35 @@ impl FlappingSystem {
             / (2.0 * PI)
     }
 
-    /// `x(θ)`, `x'` and `x''` of the linkage.
-    fn travel(&self, angle: f64) -> Option<(f64, f64, f64)> {
-        let x = self.linkage.travel(angle)?;
-        let d1 = 1.0 / self.linkage.ratio_at_angle(angle);
-        let h = 1e-5;
-        let d2 = (1.0 / self.linkage.ratio_at_angle(angle + h)
-            - 1.0 / self.linkage.ratio_at_angle(angle - h))
-            / (2.0 * h);
-        d1.is_finite().then_some((x, d1, d2))
-    }
-
-    /// The projections of the θ equation on 1, cos ωt, sin ωt for `θ = c0 + c1 cos ωt + c2 sin ωt`.
-    fn residual(&self, c: &[f64; 3], force: f64, omega: f64) -> Option<[f64; 3]> {
+    /// The projections of the θ equation on the basis `1, cos kωt, sin kωt` for the series `c`.
+    fn residual(
+        &self,
+        c: &[f64; COEFFICIENTS],
+        force: f64,
+        omega: f64,
+    ) -> Option<[f64; COEFFICIENTS]> {
         let a = &self.actuator;
         let structural = a.loss_factor * a.stiffness / omega;
         let rest = self.rest_angle();
-        let mut r = [0.0; 3];
+        let mut r = [0.0; COEFFICIENTS];
         for i in 0..SAMPLES {
-            let phase = 2.0 * PI * i as f64 / SAMPLES as f64;
-            let (cs, sn) = (phase.cos(), phase.sin());
-            let angle = c[0] + c[1] * cs + c[2] * sn;
-            let rate = omega * (-c[1] * sn + c[2] * cs);
-            let acc = -omega * omega * (c[1] * cs + c[2] * sn);
-            let (x, d1, d2) = self.travel(angle)?;
+            let b = basis(2.0 * PI * i as f64 / SAMPLES as f64);
+            let [angle, d1p, d2p] = series(c, &b);
+            let (rate, acc) = (omega * d1p, omega * omega * d2p);
+            let (x, d1, d2) = self.linkage.travel_derivatives(angle)?;
             let e = (a.mass * d1 * d1 + self.inertia) * acc
                 + a.mass * d1 * d2 * rate * rate
                 + a.stiffness * x * d1
                 + self.flexure_stiffness * (angle - rest)
                 + self.damping * rate * rate.abs()
                 + structural * d1 * d1 * rate
-                - force * d1 * sn;
+                - force * d1 * b[2];
             r[0] += e / SAMPLES as f64;
-            r[1] += 2.0 * e * cs / SAMPLES as f64;
-            r[2] += 2.0 * e * sn / SAMPLES as f64;
+            for (rj, bj) in r.iter_mut().zip(b.iter()).skip(1) {
+                *rj += 2.0 * e * bj / SAMPLES as f64;
+            }
         }
         Some(r)
-    }
-
-    /// Damped Newton on three unknowns `u`, the residual `f(u)`; finite-difference Jacobian.
-    fn newton(
-        &self,
-        mut u: [f64; 3],
-        steps: [f64; 3],
-        scale: f64,
-        f: impl Fn(&[f64; 3]) -> Option<[f64; 3]>,
-    ) -> Option<[f64; 3]> {
-        let norm = |r: &[f64; 3]| r.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let mut r = f(&u)?;
-        'iterations: for _ in 0..100 {
-            if norm(&r) < 1e-12 * scale {
-                break;
-            }
-            let mut jac = nalgebra::Matrix3::<f64>::zeros();
-            for j in 0..3 {
-                let mut up = u;
-                up[j] += steps[j];
-                let rp = f(&up)?;
-                for i in 0..3 {
-                    jac[(i, j)] = (rp[i] - r[i]) / steps[j];
-                }
-            }
-            let step = jac
-                .lu()
-                .solve(&nalgebra::Vector3::new(-r[0], -r[1], -r[2]))?;
-            let mut lambda = 1.0;
-            loop {
-                let trial = [
-                    u[0] + lambda * step[0],
-                    u[1] + lambda * step[1],
-                    u[2] + lambda * step[2],
-                ];
-                match f(&trial) {
-                    Some(rt) if norm(&rt) < norm(&r) => {
-                        u = trial;
-                        r = rt;
-                        break;
-                    }
-                    // No descent left (the finite-difference Jacobian's noise floor): the final
-                    // tolerance decides.
-                    _ if lambda < 1e-4 => break 'iterations,
-                    _ => lambda *= 0.5,
-                }
-            }
-        }
-        (norm(&r) < 1e-7 * scale).then_some(u)
     }
 
     fn torque_scale(&self) -> f64 {
@@ -165,28 +240,29 @@ impl FlappingSystem {
     }
 
     /// The steady state at a blocked-force amplitude (N) and frequency (Hz): harmonic balance in the
-    /// stroke's mean and first harmonic, from `start` (`[mean, cos, sin]` coefficients of θ) or from a
-    /// small stroke, continuing in the force where Newton alone does not converge. A fold near
-    /// resonance (two stable strokes at one force) shows as the branch continued from `start`.
+    /// stroke's mean and first [`HARMONICS`] harmonics, from `start` or from rest, continuing in the
+    /// force where Newton alone does not converge. A fold near resonance (two stable strokes at one
+    /// force) shows as the branch continued from `start`.
     pub fn harmonic_balance(
         &self,
         force: f64,
         frequency: f64,
-        start: Option<[f64; 3]>,
+        start: Option<&SteadyState>,
     ) -> Result<SteadyState, ModelError> {
         let omega = 2.0 * PI * frequency;
-        let solve = |f: f64, u: [f64; 3]| {
-            self.newton(u, [1e-7; 3], self.torque_scale(), |c| {
+        let solve = |f: f64, u: [f64; COEFFICIENTS]| {
+            newton(u, [1e-7; COEFFICIENTS], self.torque_scale(), |c| {
                 self.residual(c, f, omega)
             })
         };
-        let rest = self.rest_angle();
-        let mut found = start.and_then(|u| solve(force, u));
+        let mut at_rest = [0.0; COEFFICIENTS];
+        at_rest[0] = self.rest_angle();
+        let mut found = start.and_then(|s| solve(force, s.coefficients));
         for steps in [1, 8, 32] {
             if found.is_some() {
                 break;
             }
-            let mut u = Some([rest, 0.0, 0.0]);
+            let mut u = Some(at_rest);
             for i in 1..=steps {
                 u = u.and_then(|u| solve(force * i as f64 / steps as f64, u));
             }
@@ -200,54 +276,92 @@ impl FlappingSystem {
         self.evaluate(force, frequency, c)
     }
 
-    /// The balance with the stroke amplitude given and the force unknown: `θ = θ0 + Θ sin(ωt - φ)`,
-    /// unknowns `(θ0, φ, F)`. The force is a function of the stroke even where the stroke is not a
-    /// function of the force (a fold near resonance), so this is how a required stroke is solved.
+    /// The balance with the stroke (half the peak-to-peak angle) given and the force unknown: the
+    /// unknowns are the mean, the first harmonic's phase and amplitude, the force and the higher
+    /// harmonics, the extra equation the stroke. The force is a function of the stroke even where the
+    /// stroke is not a function of the force (a fold near resonance), so this is how a required stroke
+    /// is solved.
     pub fn balance_at_stroke(
         &self,
         stroke: f64,
         frequency: f64,
-        start: Option<[f64; 3]>,
+        start: Option<&SteadyState>,
     ) -> Result<SteadyState, ModelError> {
         let omega = 2.0 * PI * frequency;
-        let coefficients = |u: &[f64; 3]| [u[0], -stroke * u[1].sin(), stroke * u[1].cos()];
-        let guess = start.unwrap_or([
-            self.rest_angle(),
-            0.5 * PI,
-            self.actuator.stiffness * stroke * self.linkage.crank,
-        ]);
-        let scale = self.torque_scale();
-        let u = self
-            .newton(
-                guess,
-                [1e-7, 1e-7, 1e-7 * scale / self.linkage.crank],
-                scale,
-                |u| self.residual(&coefficients(u), u[2], omega),
-            )
-            .ok_or(ModelError::OutOfRange {
-                name: "stroke",
-                value: stroke,
-                range: "within the linkage's reach",
-            })?;
-        // A negative force is the same motion half a period on.
-        let (force, phase) = if u[2] < 0.0 {
-            (-u[2], u[1] + PI)
-        } else {
-            (u[2], u[1])
+        // u = [θ0, φ, F, A1, a2, b2, …]; θ - θ0 = A1 sin(ωt - φ) + higher harmonics.
+        let coefficients = |u: &[f64; AT_STROKE]| {
+            let mut c = [0.0; COEFFICIENTS];
+            c[0] = u[0];
+            c[1] = -u[3] * u[1].sin();
+            c[2] = u[3] * u[1].cos();
+            c[3..].copy_from_slice(&u[4..]);
+            c
         };
-        self.evaluate(force, frequency, coefficients(&[u[0], phase, force]))
+        let scale = self.torque_scale();
+        let guess = match start {
+            Some(s) => {
+                let c = &s.coefficients;
+                let mut u = [0.0; AT_STROKE];
+                u[0] = c[0];
+                u[1] = (-c[1]).atan2(c[2]);
+                u[2] = s.force;
+                u[3] = c[1].hypot(c[2]);
+                u[4..].copy_from_slice(&c[3..]);
+                u
+            }
+            None => {
+                let mut u = [0.0; AT_STROKE];
+                u[0] = self.rest_angle();
+                u[1] = 0.5 * PI;
+                u[2] = self.actuator.stiffness * stroke * self.linkage.crank;
+                u[3] = stroke;
+                u
+            }
+        };
+        let mut steps = [1e-7; AT_STROKE];
+        steps[2] = 1e-7 * scale / self.linkage.crank;
+        let u = newton(guess, steps, scale, |u| {
+            let c = coefficients(u);
+            let r = self.residual(&c, u[2], omega)?;
+            let (lo, hi) = extremes(&c);
+            let mut out = [0.0; AT_STROKE];
+            out[..COEFFICIENTS].copy_from_slice(&r);
+            // The stroke's equation in torque units, so that one tolerance serves all.
+            out[COEFFICIENTS] = scale * (0.5 * (hi - lo) - stroke);
+            Some(out)
+        })
+        .ok_or(ModelError::OutOfRange {
+            name: "stroke",
+            value: stroke,
+            range: "within the linkage's reach",
+        })?;
+        let (mut force, mut c) = (u[2], coefficients(&u));
+        if force < 0.0 {
+            // A negative force is the same motion half a period on: harmonic k changes sign when k is
+            // odd.
+            force = -force;
+            for k in (1..=HARMONICS).step_by(2) {
+                c[2 * k - 1] = -c[2 * k - 1];
+                c[2 * k] = -c[2 * k];
+            }
+        }
+        self.evaluate(force, frequency, c)
     }
 
-    /// The reported quantities of `θ = c0 + c1 cos ωt + c2 sin ωt`.
-    fn evaluate(&self, force: f64, frequency: f64, c: [f64; 3]) -> Result<SteadyState, ModelError> {
+    /// The reported quantities of the series `c`.
+    fn evaluate(
+        &self,
+        force: f64,
+        frequency: f64,
+        c: [f64; COEFFICIENTS],
+    ) -> Result<SteadyState, ModelError> {
         let omega = 2.0 * PI * frequency;
         let n = 4 * SAMPLES;
         let (mut lo, mut hi, mut power, mut load) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0.0f64);
         for i in 0..n {
-            let phase = 2.0 * PI * i as f64 / n as f64;
-            let (cs, sn) = (phase.cos(), phase.sin());
-            let angle = c[0] + c[1] * cs + c[2] * sn;
-            let rate = omega * (-c[1] * sn + c[2] * cs);
+            let b = basis(2.0 * PI * i as f64 / n as f64);
+            let [angle, d1p, _] = series(&c, &b);
+            let rate = omega * d1p;
             let x = self.linkage.travel(angle).ok_or(ModelError::OutOfRange {
                 name: "stroke",
                 value: angle,
@@ -256,18 +370,20 @@ impl FlappingSystem {
             lo = lo.min(x);
             hi = hi.max(x);
             power += self.damping * rate.abs().powi(3) / n as f64;
-            load = load.max((force * sn - self.actuator.stiffness * x).abs());
+            load = load.max((force * b[2] - self.actuator.stiffness * x).abs());
         }
+        let (angle_lo, angle_hi) = extremes(&c);
         Ok(SteadyState {
             frequency,
             force,
             mean_angle: c[0],
-            stroke_amplitude: c[1].hypot(c[2]),
-            // θ - θ0 = Θ sin(ωt - φ): c1 = -Θ sin φ, c2 = Θ cos φ.
+            stroke_amplitude: 0.5 * (angle_hi - angle_lo),
+            // First harmonic A1 sin(ωt - φ): c1 = -A1 sin φ, c2 = A1 cos φ.
             phase: (-c[1]).atan2(c[2]),
             displacement_amplitude: 0.5 * (hi - lo),
             aero_power: power,
             peak_tip_load: load,
+            coefficients: c,
         })
     }
 
@@ -336,21 +452,18 @@ impl FlappingSystem {
         force_limit: f64,
     ) -> Result<SteadyState, Unreached> {
         // Continue from a small stroke so Newton stays on the branch that starts at rest.
-        let mut start = None;
-        let mut last = None;
+        let mut start: Option<SteadyState> = None;
         for i in 1..=8 {
-            match self.balance_at_stroke(stroke * i as f64 / 8.0, frequency, start) {
-                Ok(s) => {
-                    start = Some([s.mean_angle, s.phase, s.force]);
-                    last = Some(s);
+            match self.balance_at_stroke(stroke * i as f64 / 8.0, frequency, start.as_ref()) {
+                Ok(s) => start = Some(s),
+                Err(_) => {
+                    start = None;
+                    break;
                 }
-                Err(_) => break,
             }
         }
-        match last {
-            Some(s) if s.stroke_amplitude >= stroke * (1.0 - 1e-12) && s.force <= force_limit => {
-                Ok(s)
-            }
+        match start {
+            Some(s) if s.force <= force_limit => Ok(s),
             _ => {
                 // The largest stroke within the force limit (the force grows with the stroke).
                 let (mut a, mut b) = (0.0, stroke);
@@ -365,17 +478,20 @@ impl FlappingSystem {
                         _ => b = mid,
                     }
                 }
-                Err(Unreached { best })
+                Err(Unreached {
+                    best: best.map(Box::new),
+                })
             }
         }
     }
 }
 
 /// The required stroke is out of reach: the best steady state found within the force limit.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Unreached {
-    /// The largest stroke reached, if any steady state was found.
-    pub best: Option<SteadyState>,
+    /// The largest stroke reached, if any steady state was found (boxed: a steady state carries its
+    /// series).
+    pub best: Option<Box<SteadyState>>,
 }
 
 #[cfg(test)]
@@ -400,8 +516,9 @@ mod tests {
 
     #[test]
     fn harmonic_balance_agrees_with_time_integration() {
-        // The check: stroke amplitude within 2 % at, below and above resonance, at strokes of
-        // 30-53° where the linkage's ratio has fallen by a third (the balance in θ, the integration in x).
+        // The check asks for the stroke amplitude within 2 % at, below and above resonance; at
+        // strokes of 28-52° where the linkage's ratio has fallen by a third (the balance in θ, the
+        // integration in x) three harmonics are within 0.05 %, held here to 0.2 %.
         let s = system();
         let f_r = s.linear_resonance();
         for (ratio, force) in [(0.5, 0.07), (0.9, 0.04), (1.0, 0.08), (1.3, 0.08)] {
@@ -409,7 +526,7 @@ mod tests {
             let ti = s.integrate(force, ratio * f_r, 80).unwrap();
             let rel = hb.stroke_amplitude / ti - 1.0;
             assert!(
-                rel.abs() < 0.02,
+                rel.abs() < 0.002,
                 "f/f_r {ratio}: HB {:.2}° vs time {:.2}°",
                 hb.stroke_amplitude.to_degrees(),
                 ti.to_degrees()

@@ -6,6 +6,7 @@
 //! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
 
 pub mod drive;
+pub mod drive_energy;
 pub mod dynamics;
 pub mod effects;
 pub mod empirical;

@@ -95,6 +95,28 @@ impl Linkage {
         1.0 / (self.crank * angle.cos() + self.crank * rise * angle.sin() / root)
     }
 
+    /// Actuator tip displacement `x(θ)` from rest and its first two derivatives in `θ` (m, m/rad,
+    /// m/rad²), from `δ(θ)` above with `q = 1 - cos θ`, `R = √(L1² - L3² q²)`:
+    /// `δ' = L3 cos θ + L3² q sin θ / R`,
+    /// `δ'' = -L3 sin θ + L3² (sin² θ + q cos θ) / R + L3⁴ q² sin² θ / R³`. `None` beyond the coupler's
+    /// reach.
+    pub fn travel_derivatives(&self, angle: f64) -> Option<(f64, f64, f64)> {
+        let (sin, cos) = angle.sin_cos();
+        let (l1, l3) = (self.coupler, self.crank);
+        let q = 1.0 - cos;
+        let under = l1 * l1 - l3 * l3 * q * q;
+        if under <= 0.0 {
+            return None;
+        }
+        let root = under.sqrt();
+        let x = l1 + l3 * sin - root - self.offset;
+        let d1 = l3 * cos + l3 * l3 * q * sin / root;
+        let d2 = -l3 * sin
+            + l3 * l3 * (sin * sin + q * cos) / root
+            + l3.powi(4) * q * q * sin * sin / (root * root * root);
+        Some((x, d1, d2))
+    }
+
     /// Local ratio `T(x) = dθ/dx` at actuator displacement `x`, rad/m.
     pub fn ratio(&self, x: f64) -> Option<f64> {
         self.stroke_angle(x).map(|a| self.ratio_at_angle(a))
@@ -263,6 +285,26 @@ mod tests {
         let rates = link.joint_rates_at_rest().unwrap();
         for (i, rate) in rates.iter().enumerate() {
             assert!((rate - fd(i)).abs() < 1e-7, "{i}: {rate} vs {}", fd(i));
+        }
+    }
+
+    #[test]
+    fn travel_derivatives_are_those_of_the_inverse() {
+        // Against central differences of `travel` (the inverse of eq. 2.5).
+        let link = Linkage::solve(0.5e-3, -PI / 3.0, PI / 3.0, 2.5).unwrap();
+        let h = 1e-5;
+        for i in -12..=12 {
+            let a = 0.09 * i as f64;
+            let (x, d1, d2) = link.travel_derivatives(a).unwrap();
+            let t = |a: f64| link.travel(a).unwrap();
+            assert!((x - t(a)).abs() < 1e-18, "{a}");
+            let fd1 = (t(a + h) - t(a - h)) / (2.0 * h);
+            // A wider step for the second difference, whose rounding error grows as 1/h².
+            let h2 = 1e-3;
+            let fd2 = (t(a + h2) - 2.0 * t(a) + t(a - h2)) / (h2 * h2);
+            assert!((d1 / fd1 - 1.0).abs() < 1e-8, "{a}: {d1} vs {fd1}");
+            assert!((d2 - fd2).abs() < 1e-6 * link.crank, "{a}: {d2} vs {fd2}");
+            assert!((d1 * link.ratio_at_angle(a) - 1.0).abs() < 1e-12);
         }
     }
 

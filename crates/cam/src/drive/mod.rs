@@ -180,7 +180,8 @@ pub fn analyse(
             let best = system
                 .force_for_stroke(spec.stroke, f, force_limit)
                 .err()
-                .and_then(|u| u.best);
+                .and_then(|u| u.best)
+                .map(|b| *b);
             let field = s.force / per_field;
             let change = format!(
                 "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm at survival {}: it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
@@ -210,7 +211,8 @@ pub fn analyse(
             let best = system
                 .force_for_stroke(spec.stroke, f, force_limit)
                 .err()
-                .and_then(|u| u.best);
+                .and_then(|u| u.best)
+                .map(|b| *b);
             let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.stroke).is_some());
             let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
             let (binding, change) = if at_limit {
@@ -355,7 +357,7 @@ fn operating_row(
     let (mut stress, mut strain) = (0.0f64, 0.0f64);
     for i in 0..PERIOD_SAMPLES {
         let phase = 2.0 * PI * i as f64 / PERIOD_SAMPLES as f64;
-        let angle = s.mean_angle + s.stroke_amplitude * (phase - s.phase).sin();
+        let angle = s.angle_at(phase);
         let x = system.linkage.travel(angle).unwrap_or(0.0);
         // The tip load: what holds the tip back from its free motion (`F sin ωt - k x`).
         let load = s.force * phase.sin() - system.actuator.stiffness * x;
@@ -406,13 +408,9 @@ pub fn sweep(system: &FlappingSystem, force: f64, frequency: f64) -> Vec<SweepPo
     let mut points = Vec::with_capacity(SWEEP_POINTS);
     for i in 0..SWEEP_POINTS {
         let f = lo + (hi - lo) * i as f64 / (SWEEP_POINTS - 1) as f64;
-        match system.harmonic_balance(force, f, start) {
+        match system.harmonic_balance(force, f, start.as_ref()) {
             Ok(s) => {
-                start = Some([
-                    s.mean_angle,
-                    -s.stroke_amplitude * s.phase.sin(),
-                    s.stroke_amplitude * s.phase.cos(),
-                ]);
+                start = Some(s);
                 points.push(SweepPoint {
                     frequency_Hz: f,
                     stroke_deg: s.stroke_amplitude.to_degrees(),

@@ -5,6 +5,8 @@
 //! then a continuous refinement from the best grid cells of each laminate ([`refine`]). The laminate is
 //! solved once per `(t_p, layup, field)`.
 
+pub mod flap;
+pub mod flap_report;
 pub mod model;
 pub mod pareto;
 pub mod progress;

@@ -233,7 +233,8 @@ impl SearchModel {
     }
 }
 
-fn unit_planform(extension_ratio: f64, width_ratio: f64) -> Planform {
+/// The planform of a shape `(l_r, w_r)` at `l_tot = w_0 = 1 m`, no base tab.
+pub(crate) fn unit_planform(extension_ratio: f64, width_ratio: f64) -> Planform {
     Planform {
         length: 1.0,
         extension_ratio,

@@ -9,7 +9,7 @@ use crate::input::limits::{
 };
 use crate::input::{read_toml, InputError, TableReader};
 use actuator_model::{DriveMode, Material};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use crate::input::FieldSource;
 
@@ -87,8 +87,11 @@ pub struct Bounds {
 /// A validated spec, SI units.
 #[derive(Debug, Clone)]
 pub struct Spec {
-    /// Minimum mechanical energy, J.
+    /// Minimum mechanical energy, J (0 with a flapping requirement).
     pub energy: f64,
+    /// The drive file whose wing the design must flap (`requirement.flap`), resolved against the spec's
+    /// folder; `None` for an energy requirement.
+    pub flap: Option<PathBuf>,
     /// Drive mode.
     pub mode: DriveMode,
     /// Requested peak plate field, V/m (before the voltage and strain limits).
@@ -130,7 +133,30 @@ impl Spec {
         root.only_keys(&["requirement", "drive", "search", "laminate", "constraints"])?;
 
         let r = root.table("requirement")?;
-        let energy = r.number_in("energy_mJ", ENERGY_MJ)? * 1e-3;
+        // Either an energy, or a drive file whose wing the design must flap (optimize for a wing).
+        let flap = if r.has("flap") {
+            let written = r.string("flap", "a drive file (a path relative to this file)")?;
+            let resolved = path.parent().unwrap_or(Path::new(".")).join(written);
+            if r.has("energy_mJ") || !resolved.is_file() {
+                return Err(InputError::invalid(
+                    path,
+                    "requirement.flap",
+                    format!("{written:?}"),
+                    if resolved.is_file() {
+                        "give energy_mJ or flap, not both".to_string()
+                    } else {
+                        format!("expected an existing drive file ({})", resolved.display())
+                    },
+                ));
+            }
+            Some(resolved)
+        } else {
+            None
+        };
+        let energy = match flap {
+            Some(_) => 0.0,
+            None => r.number_in("energy_mJ", ENERGY_MJ)? * 1e-3,
+        };
         r.finish()?;
 
         let d = root.table("drive")?;
@@ -179,6 +205,7 @@ impl Spec {
 
         let spec = Spec {
             energy,
+            flap,
             mode,
             field,
             field_source,

@@ -1,0 +1,170 @@
+//! `actuator-cam optimize` for a wing (`requirement.flap`): the chosen design, driven by `drive` from
+//! the files optimize writes, reaches the stroke within the field limit, and a time integration at that
+//! voltage agrees; a narrower base width or another crank does not reach it; the output is the same
+//! bytes twice; what the optimizer cannot take is refused in one line.
+
+mod common;
+
+use common::{drive_analysis, example_path, refused_in_one_line, run, run_ok, stdout};
+use std::path::PathBuf;
+
+/// A smaller search than the example's (two laminates, grid 12) so the test is quick; the wing is the
+/// hawk moth's of examples/drive-hawkmoth.toml.
+const SPEC: &str = r#"
+[requirement]
+flap = "drive-hawkmoth.toml"
+[drive]
+mode = "parallel"
+field_V_per_mm = 800
+[search]
+length_mm = [40, 60]
+base_width_mm = [2, 20]
+extension_ratio = [0, 1.5]
+width_ratio = [1, 1.95]
+pzt_thickness_mm = [0.191, 0.267]
+layups_deg = [[0, 90, 0]]
+grid = 12
+[laminate]
+pzt = "PZT-5H"
+ply = "CF-thesis"
+[constraints]
+min_tip_width_mm = 0.5
+"#;
+
+/// A folder with the spec, the drive file and its design.
+fn folder(spec: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["drive-hawkmoth.toml", "thesis-7.toml"] {
+        std::fs::copy(example_path(name), dir.path().join(name)).unwrap();
+    }
+    let path = dir.path().join("wing.toml");
+    std::fs::write(&path, spec).unwrap();
+    (dir, path)
+}
+
+/// A TOML text with the number of `key = …` (at a line's start) multiplied by `factor`.
+fn scaled(text: &str, key: &str, factor: f64) -> String {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&format!("{key} =")))
+        .unwrap();
+    let value: f64 = line.split('=').nth(1).unwrap().trim().parse().unwrap();
+    text.replace(line, &format!("{key} = {}", value * factor))
+}
+
+#[test]
+fn the_chosen_design_flaps_the_wing_at_the_voltage_optimize_reports() {
+    let (dir, spec) = folder(SPEC);
+    let best = dir.path().join("best.toml");
+    let out = stdout(&run_ok(&[
+        "optimize",
+        spec.to_str().unwrap(),
+        "-o",
+        best.to_str().unwrap(),
+    ]));
+    let drive = dir.path().join("drive-best.toml");
+    assert!(best.is_file() && drive.is_file(), "{out}");
+    // `drive` on the written files: reached, within the limit, the voltage optimize printed.
+    let a = drive_analysis(&drive);
+    let r = &a.report;
+    assert!(r.reached, "{}", r.table());
+    let o = r.operating.as_ref().unwrap();
+    assert!(o.field_V_per_mm <= r.field_limit_V_per_mm);
+    assert!((o.field_V_per_mm / 800.0 - 1.0).abs() < 1e-3, "{o:?}");
+    assert!(
+        out.contains(&format!("at {:.1} V parallel", o.voltage_V)),
+        "{out}"
+    );
+    // The time integration of the same system at that voltage: the stroke within the issue's 2 %.
+    let force = o.field_V_per_mm * 1e3 * r.actuator.blocked_force_per_field_mN_per_V_per_mm * 1e-6;
+    let integrated = a.system.integrate(force, r.frequency_Hz, 80).unwrap();
+    assert!(
+        (integrated.to_degrees() / r.required_stroke_deg - 1.0).abs() < 0.02,
+        "{}",
+        integrated.to_degrees()
+    );
+    // The lightest width: 1 % narrower, the same crank, no longer reaches the stroke.
+    let text = std::fs::read_to_string(&best).unwrap();
+    std::fs::write(&best, scaled(&text, "base_width_mm", 0.99)).unwrap();
+    assert!(!drive_analysis(&drive).report.reached);
+    std::fs::write(&best, &text).unwrap();
+    // The best crank: a linkage sized for 0.8 or 1.25 times the travel needs more than the limit.
+    let drive_text = std::fs::read_to_string(&drive).unwrap();
+    for factor in [0.8, 1.25] {
+        std::fs::write(&drive, scaled(&drive_text, "travel_mm", factor)).unwrap();
+        assert!(!drive_analysis(&drive).report.reached, "travel x{factor}");
+    }
+}
+
+#[test]
+fn the_same_bytes_twice_with_the_front() {
+    let (dir, spec) = folder(SPEC);
+    let s = spec.to_str().unwrap();
+    let csv = dir.path().join("front.csv");
+    let one = run_ok(&["optimize", s, "--pareto", csv.to_str().unwrap()]).stdout;
+    let front = std::fs::read(&csv).unwrap();
+    let two = run_ok(&["optimize", s, "--pareto", csv.to_str().unwrap(), "--force"]).stdout;
+    assert_eq!(one, two);
+    assert_eq!(std::fs::read(&csv).unwrap(), front);
+    let text = String::from_utf8(front).unwrap();
+    assert!(
+        text.starts_with("margin_percent,actuator_mass_mg,"),
+        "{text}"
+    );
+    // Mass does not fall as the margin rises.
+    let masses: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(!masses.is_empty() && masses.windows(2).all(|w| w[1] >= w[0]));
+}
+
+#[test]
+fn what_the_wing_optimizer_cannot_take_is_refused_in_one_line() {
+    // Another model, another objective, both requirements, a missing drive file, a linkage of given
+    // lengths.
+    let (dir, spec) = folder(SPEC);
+    let s = spec.to_str().unwrap();
+    let err = refused_in_one_line(&run(&["optimize", s, "--model", "thesis-adjusted"]));
+    assert!(err.contains("--model original"), "{err}");
+    let err = refused_in_one_line(&run(&["optimize", s, "--objective", "max-energy-density"]));
+    assert!(
+        err.contains("requirement.flap") && err.contains("min-mass"),
+        "{err}"
+    );
+    for (from, to, expect) in [
+        (
+            "flap = \"drive-hawkmoth.toml\"",
+            "flap = \"drive-hawkmoth.toml\"\nenergy_mJ = 1",
+            "not both",
+        ),
+        (
+            "flap = \"drive-hawkmoth.toml\"",
+            "flap = \"nowhere.toml\"",
+            "expected an existing drive file",
+        ),
+    ] {
+        std::fs::write(&spec, SPEC.replace(from, to)).unwrap();
+        let err = refused_in_one_line(&run(&["optimize", s]));
+        assert!(
+            err.contains("wing.toml: requirement.flap") && err.contains(expect),
+            "{err}"
+        );
+    }
+    std::fs::write(&spec, SPEC).unwrap();
+    let drive = dir.path().join("drive-hawkmoth.toml");
+    let text = std::fs::read_to_string(&drive).unwrap();
+    std::fs::write(
+        &drive,
+        text.replace("solve_for_stroke = true", "coupler_mm = 4\ncrank_mm = 1")
+            .replace("coupler_ratio = 4\n", "")
+            .replace("travel_mm = 0.75\n", ""),
+    )
+    .unwrap();
+    let err = refused_in_one_line(&run(&["optimize", s]));
+    assert!(
+        err.contains("drive-hawkmoth.toml: transmission") && err.contains("optimize chooses"),
+        "{err}"
+    );
+}
