@@ -177,3 +177,46 @@ fn a_nest_batch_writes_the_same_book_for_every_design() {
     let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
     assert!(md.contains("## Build book") && md.contains("### Cure and clamp"));
 }
+
+/// The Build book section of a report, as `docs/build-book.md` quotes it.
+fn book_section(report_md: &str, end: &str) -> String {
+    let start = report_md.find("## Build book").expect("a build book");
+    let body = &report_md[start..];
+    let body = &body[body.find('\n').unwrap() + 1..body.find(end).unwrap()];
+    body.trim_matches('\n').to_string()
+}
+
+#[test]
+fn the_books_in_the_docs_are_what_the_tool_writes() {
+    // docs/build-book.md quotes the books of three shipped examples in full: it must not drift from them.
+    let doc = std::fs::read_to_string("docs/build-book.md").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for (i, (example, end)) in [
+        ("thesis-C.toml", "\nKerf values"),
+        ("thesis-C-method-1.toml", "\nKerf values"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = dir.path().join(format!("c{i}"));
+        let o = cut_sheet(&format!("examples/{example}"), &out, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+        assert!(
+            doc.contains(&book_section(&md, end)),
+            "docs/build-book.md does not hold the book of {example}"
+        );
+    }
+    let out = dir.path().join("nest");
+    let o = bin()
+        .args(["nest", "examples/batch.toml", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(
+        doc.contains(&book_section(&md, "\n## Parts on each sheet")),
+        "docs/build-book.md does not hold the batch's book"
+    );
+}

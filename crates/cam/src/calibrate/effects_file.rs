@@ -433,10 +433,7 @@ primitives = [
         assert_eq!(p.primitives[0].map, Map::Micro);
         assert_eq!(p.applied(15.0).next().unwrap().value, 15e-6);
         let e = read(&layer("[-2.0, 40.0]")).unwrap_err().to_string();
-        assert!(
-            e.contains("effect[1].bounds") && e.contains("-0.000002"),
-            "{e}"
-        );
+        assert!(e.contains("effect[1].bounds") && e.contains("-2e-6"), "{e}");
         let power = "[[effect]]\nname = \"trend\"\nnull = 0.0\nbounds = [-0.5, 0.5]\nprimitives = [{ kind = \"d31-thickness-power\" }]\n";
         let specs = read(power).unwrap();
         let p = &specs[0].parameters[0];
