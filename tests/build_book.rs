@@ -142,16 +142,22 @@ fn method_1_cures_the_passive_first_and_fills_the_vias_at_stacking() {
     assert!(s[first(&s, "Cure in the oven")].1.contains("1 h at 177 °C"));
 }
 
-#[test]
-fn a_nest_batch_writes_the_same_book_for_every_design() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
+/// `nest examples/batch.toml` into `dir/nest`; the output folder.
+fn nest_example_batch(dir: &Path) -> std::path::PathBuf {
+    let out = dir.join("nest");
     let o = bin()
         .args(["nest", "examples/batch.toml", "-o"])
         .arg(&out)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
+    out
+}
+
+#[test]
+fn a_nest_batch_writes_the_same_book_for_every_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = nest_example_batch(dir.path());
     let r: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
             .unwrap();
@@ -207,13 +213,7 @@ fn the_books_in_the_docs_are_what_the_tool_writes() {
             "docs/build-book.md does not hold the book of {example}"
         );
     }
-    let out = dir.path().join("nest");
-    let o = bin()
-        .args(["nest", "examples/batch.toml", "-o"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    let out = nest_example_batch(dir.path());
     let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
     assert!(
         doc.contains(&book_section(&md, "\n## Parts on each sheet")),
