@@ -356,7 +356,9 @@ def check_press_fit(folder, report):
     mold = report["mold"]
     thickness = {row["layer"]: row["thickness_mm"] for row in report["layers"]}
     t_p = thickness["pzt"]
-    core = thickness["passive"] + 2.0 * thickness.get("pyralux", 0.0)
+    # The passive core: one stack row, or one row per ply when the plies are cut one by one.
+    passive = sum(t for layer, t in thickness.items() if layer.startswith("passive"))
+    core = passive + 2.0 * thickness.get("pyralux", 0.0)
     tops, height = {}, 0.0
     for film, holds in zip(mold["films_mm"], mold["holds"]):
         height += film
