@@ -1360,3 +1360,48 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn an_extra_part_is_reported_at_its_own_base_point_on_the_sheet() {
+    // Issue 28 item 6: a drawing's part was reported at the drawing's origin, so flexures drawn away from
+    // it were reported at y = -1.64 mm, off the sheet. The base point is the centre of the part's bounding
+    // box: on the part's sheet, whatever the drawing's origin, and at the centre of the placed outline.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bin()
+        .args(["nest", "examples/batch-with-parts.toml", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    let extra: Vec<String> = r["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap().to_string())
+        .collect();
+    assert!(!extra.is_empty());
+    let mut seen = 0;
+    for sheet in r["sheets"].as_array().unwrap() {
+        let (w, h) = (
+            sheet["width_mm"].as_f64().unwrap(),
+            sheet["height_mm"].as_f64().unwrap(),
+        );
+        for p in sheet["parts"].as_array().unwrap() {
+            if !extra.iter().any(|n| p["design"] == n.as_str()) {
+                continue;
+            }
+            seen += 1;
+            let (x, y) = (p["x_mm"].as_f64().unwrap(), p["y_mm"].as_f64().unwrap());
+            assert!(
+                (0.0..=w).contains(&x) && (0.0..=h).contains(&y),
+                "{} at ({x}, {y}) is off its {w} x {h} mm sheet",
+                p["design"]
+            );
+        }
+    }
+    assert!(seen > 0, "no extra part on any sheet");
+}

@@ -412,7 +412,7 @@ fn part_orders(
                 } else {
                     stem.clone()
                 },
-                part,
+                part: part.at_base_point(),
                 quantity,
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),

@@ -45,7 +45,7 @@ pub struct PartItemRow {
 
 /// The coordinate convention of the parts' positions, as the report states it.
 pub const COORDINATES: &str = "x_mm, y_mm are where the centre of the part's base (its clamped \
-root end) lands after the rotation, in millimetres from the sheet's lower-left corner with y up, \
+root end; for a part from a drawing, the centre of its outline's bounding box) lands after the rotation, in millimetres from the sheet's lower-left corner with y up, \
 as in the DXF files. In the SVG files y runs down: y_svg = page height - y_mm (the clamp-panel \
 pages, grown to hold the kerf-offset outline, add their margin to both).";
 

@@ -39,6 +39,31 @@ pub struct ImportedPart {
 }
 
 impl ImportedPart {
+    /// The part moved so that its base point, the centre of its outline's bounding box, is the origin.
+    /// Where a drawing puts its origin is arbitrary (a part drawn at (40, -2) in its file); the reports
+    /// give where this point lands on the sheet, as they give the centre of an actuator's clamped base,
+    /// so a part's reported position is on the part whatever the drawing's origin.
+    pub fn at_base_point(self) -> ImportedPart {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &self.outer {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+        let shift = |ring: Vec<Point>| -> Vec<Point> {
+            ring.into_iter()
+                .map(|[x, y]| [x - c[0], y - c[1]])
+                .collect()
+        };
+        ImportedPart {
+            outer: shift(self.outer),
+            holes: self.holes.into_iter().map(shift).collect(),
+            ..self
+        }
+    }
+
     /// Area of the material: outline less cut-outs, mm².
     pub fn area_mm2(&self) -> f64 {
         signed_area(&self.outer) - self.holes.iter().map(|h| signed_area(h)).sum::<f64>()
