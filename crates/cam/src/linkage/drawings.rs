@@ -8,7 +8,7 @@ use super::pattern::{Rect, STACK};
 use super::LinkageLaminate;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::input::InputError;
-use crate::pipeline::{panel_outline, pin_centres, SheetDrawing};
+use crate::pipeline::{grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::Template;
 use crate::process::Feature;
 use cam_geometry::offset::offset_ring;
@@ -26,10 +26,7 @@ pub fn layout(
     let spacing = laminate.process.spacing_mm;
     let cell_w = p.length_mm + 2.0 * over + spacing;
     let cell_h = p.strip_width_mm + 2.0 * over + spacing;
-    let usable_w = c.panel_width_mm - 2.0 * c.border_mm + spacing;
-    let usable_h = c.panel_height_mm - 2.0 * c.border_mm + spacing;
-    let cols = (usable_w / cell_w).floor().max(0.0) as usize;
-    let rows = (usable_h / cell_h).floor().max(0.0) as usize;
+    let (cols, rows) = grid(c, cell_w, cell_h, spacing);
     if cols * rows == 0 {
         return Err(InputError::invalid(
             &template.source,
@@ -43,14 +40,11 @@ pub fn layout(
             ),
         ));
     }
-    let capacity = cols * rows;
     let mut panels: Vec<Vec<Point>> = Vec::new();
-    for i in 0..count {
-        let slot = i % capacity;
-        if slot == 0 {
+    for (panel, col, row) in grid_slots(count, cols, rows) {
+        if panel == panels.len() {
             panels.push(Vec::new());
         }
-        let (col, row) = (slot % cols, slot / cols);
         let origin = [
             c.border_mm + col as f64 * cell_w + over,
             c.border_mm + row as f64 * cell_h + over + p.strip_width_mm / 2.0,

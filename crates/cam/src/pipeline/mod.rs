@@ -30,7 +30,7 @@ pub use cut::CutLayer;
 pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount};
 pub use label::Label;
 pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
-pub use panel::{panel_outline, pin_centres};
+pub use panel::{grid, grid_slots, panel_outline, pin_centres};
 pub use parts::PartGeometry;
 pub use place::{
     sheets_instead_of_roll, BaselineRow, NestObserver, NestOptions, Packing, SearchRow, TimeBudget,

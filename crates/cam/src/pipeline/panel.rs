@@ -31,6 +31,28 @@ pub struct PanelTooSmall {
     border_mm: f64,
 }
 
+/// Columns and rows of cells `cell_w` x `cell_h` (each holding a part and the `spacing` after it) inside a
+/// panel's border: the grid both the actuators' cavities and the linkages are laid out on.
+pub fn grid(spec: &ClampSpec, cell_w: f64, cell_h: f64, spacing: f64) -> (usize, usize) {
+    let usable_w = spec.panel_width_mm - 2.0 * spec.border_mm + spacing;
+    let usable_h = spec.panel_height_mm - 2.0 * spec.border_mm + spacing;
+    (
+        (usable_w / cell_w).floor().max(0.0) as usize,
+        (usable_h / cell_h).floor().max(0.0) as usize,
+    )
+}
+
+/// `count` parts filled into panels of `cols` x `rows` cells, row by row: for each part its panel
+/// (0-based), column and row. `cols * rows` must not be zero.
+pub fn grid_slots(
+    count: usize,
+    cols: usize,
+    rows: usize,
+) -> impl Iterator<Item = (usize, usize, usize)> {
+    let capacity = cols * rows;
+    (0..count).map(move |i| (i / capacity, i % capacity % cols, i % capacity / cols))
+}
+
 /// Actuators on a grid of cavities, row by row, as many panels as needed.
 pub fn layout_panels(
     spec: &ClampSpec,
@@ -42,10 +64,7 @@ pub fn layout_panels(
         + spec.cavity_spacing_mm;
     let cell_h =
         parts.passive_length_mm() + 2.0 * spec.cavity_clearance_mm + spec.cavity_spacing_mm;
-    let usable_w = spec.panel_width_mm - 2.0 * spec.border_mm + spec.cavity_spacing_mm;
-    let usable_h = spec.panel_height_mm - 2.0 * spec.border_mm + spec.cavity_spacing_mm;
-    let cols = (usable_w / cell_w).floor().max(0.0) as usize;
-    let rows = (usable_h / cell_h).floor().max(0.0) as usize;
+    let (cols, rows) = grid(spec, cell_w, cell_h, spec.cavity_spacing_mm);
     let capacity = cols * rows;
     if capacity == 0 {
         return Err(PanelTooSmall {
@@ -60,12 +79,10 @@ pub fn layout_panels(
     let x0 = (spec.panel_width_mm - (cols as f64 * cell_w - spec.cavity_spacing_mm)) / 2.0;
     let y0 = (spec.panel_height_mm - (rows as f64 * cell_h - spec.cavity_spacing_mm)) / 2.0;
     let mut panels: Vec<Vec<(usize, Point)>> = Vec::new();
-    for i in 0..quantity {
-        let slot = i % capacity;
-        if slot == 0 {
+    for (i, (panel, col, row)) in grid_slots(quantity, cols, rows).enumerate() {
+        if panel == panels.len() {
             panels.push(Vec::new());
         }
-        let (col, row) = (slot % cols, slot / cols);
         let base = [
             x0 + col as f64 * cell_w + (cell_w - spec.cavity_spacing_mm) / 2.0,
             y0 + row as f64 * cell_h + spec.cavity_clearance_mm + parts.base_tab_mm,
