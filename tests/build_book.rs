@@ -220,3 +220,23 @@ fn the_books_in_the_docs_are_what_the_tool_writes() {
         "docs/build-book.md does not hold the batch's book"
     );
 }
+
+#[test]
+fn a_design_name_is_written_into_the_book_as_literal_text() {
+    // A name with Markdown's table, emphasis and HTML characters must not become a table cell,
+    // emphasis or a vanishing tag in the checklist.
+    let (dir, design) = write_temp(
+        "c.toml",
+        &design_c_with(&[("name = \"thesis-C\"", "name = \"C|*x*_<b>\"")]),
+    );
+    let out = dir.path().join("out");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let book = book_section(&md, "### Wiring");
+    assert!(
+        book.contains(r"C\|\*x\*\_\<b\>: measure each PZT layer"),
+        "{book}"
+    );
+    assert!(!book.contains("C|*x*"), "{book}");
+}

@@ -3,6 +3,7 @@
 //! their stock, the order the plates snap in, what goes into the mold after which sheet, the cure, the
 //! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
 
+use crate::markdown;
 use crate::pipeline::{Build, MoldBand};
 use crate::process::template::{CureStep, Template};
 use serde::Serialize;
@@ -12,7 +13,8 @@ use serde::Serialize;
 pub struct Section {
     /// The stage (`Cut`, `Stack clamp 1`, …).
     pub title: String,
-    /// The steps, in order.
+    /// The steps, in order, as CommonMark inline text: the user's names and the template's wording
+    /// are escaped ([`markdown::text`]), file names are code spans.
     pub steps: Vec<String>,
 }
 
@@ -54,15 +56,15 @@ fn cure_text(c: &CureStep) -> String {
         "{} at {}, {}",
         duration(c.time_min),
         temperature(c.temperature_c),
-        c.pressure
+        markdown::text(&c.pressure)
     )
 }
 
-/// `names` as a list in backticks.
+/// `names` as a list of code spans.
 fn listed(names: &[String]) -> String {
     names
         .iter()
-        .map(|n| format!("`{n}`"))
+        .map(|n| markdown::code(n))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -253,7 +255,7 @@ impl BuildBook {
         sections.push(Section {
             title: "Cure and clamp".into(),
             steps: vec![
-                format!("Close the clamp: {}.", c.pressure),
+                format!("Close the clamp: {}.", markdown::text(&c.pressure)),
                 format!(
                     "Cure in the oven {} at {}.",
                     duration(c.time_min),
@@ -284,7 +286,7 @@ impl BuildBook {
             checks.push(format!(
                 "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
                  at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
-                d.name
+                markdown::text(&d.name)
             ));
         }
         checks.push(
@@ -308,7 +310,7 @@ impl BuildBook {
             wiring.push(format!(
                 "{}: wires on with silver epoxy, cured with a heat gun: white to the carbon {ground}; \
                  red to the + face; black to the - face.",
-                d.name
+                markdown::text(&d.name)
             ));
         }
         sections.push(Section {
