@@ -285,7 +285,7 @@ fn scratch(kerf_mm: f64, items: &str, tail: &str) -> (tempfile::TempDir, PathBuf
 
 const ITEMS: &str = "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 6\n\n[[item]]\ndesign = \"thesis-A.toml\"\nquantity = 3\n";
 
-const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nrotations_deg = [0, 90, 180, 270]\n";
+const PARTS: &str = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 5\nlayup_deg = [0, 90, 0]\nfibre_axis_deg = 90\n\n[[part]]\nfile = \"parts/flexure.svg\"\nquantity = 4\nsheet = \"prepreg\"\nlayup_deg = [0, 0, 90, 0, 0]\nfibre_axis_deg = 90\nrotations_deg = [0, 90, 180, 270]\n";
 
 /// Run `nest` on `batch` into a new folder beside it; it must be refused in one line with nothing
 /// written. Returns the line.
@@ -430,8 +430,88 @@ fn parts_from_a_dxf_and_an_svg_nest_with_actuators_and_read_back_with_their_area
     let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
     assert!(md.contains("## Parts from drawings"));
     assert!(
-        md.contains("| spar | 5 | prepreg, layup 0/90/0 | 0/180 |"),
+        md.contains("| spar | 5 | prepreg, layup 0/90/0 | 90 | 0/180 |"),
         "{md}"
+    );
+}
+
+/// Width and height of the bounding box of the spar outlines (by area) on the passive sheets.
+fn spar_boxes(out: &Path, r: &serde_json::Value) -> Vec<[f64; 2]> {
+    let tol = SPAR_ARCS_MM * TOLERANCE_MM + 1e-5;
+    let mut boxes = Vec::new();
+    for s in r["sheets"].as_array().unwrap() {
+        if s["layer"] != "passive" {
+            continue;
+        }
+        let rings = dxf_rings(&out.join(format!("{}.dxf", s["file_stem"].as_str().unwrap())));
+        for (i, a) in net_areas(&rings) {
+            if (a - SPAR_AREA_MM2).abs() <= tol {
+                boxes.push(box_size(&rings[i]));
+            }
+        }
+    }
+    boxes
+}
+
+#[test]
+fn a_prepreg_part_is_cut_with_its_fibre_axis_along_the_sheets_fibres() {
+    // The spar is drawn along x (60 x 4 mm). The sheet's 0° fibres run along its y axis, as the
+    // actuators' passive parts lie. Declared with its fibres along its length (0° in the drawing),
+    // every spar is cut standing along y; declared across (90°), lying along x. Rotations are the
+    // default half turns, which keep the axis.
+    for (axis, long_along_y) in [(0, true), (90, false)] {
+        let parts = format!(
+            "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 4\nlayup_deg = [0, 90, 0]\nfibre_axis_deg = {axis}\n"
+        );
+        let (dir, batch) = scratch(0.0, ITEMS, &parts);
+        let out = dir.path().join("out");
+        nest_ok(&batch, &out, "30");
+        let r = report(&out);
+        assert_eq!(r["parts"][0]["fibre_axis_deg"], f64::from(axis));
+        let boxes = spar_boxes(&out, &r);
+        assert_eq!(boxes.len(), 4);
+        // 60 mm of taper and the 1 mm radius of the round tip, 4 mm at the root.
+        let expected = if long_along_y {
+            [4.0, 61.0]
+        } else {
+            [61.0, 4.0]
+        };
+        for b in boxes {
+            assert!(
+                (b[0] - expected[0]).abs() < 0.01 && (b[1] - expected[1]).abs() < 0.01,
+                "fibre axis {axis}°: a spar's box is {b:?} mm, expected {expected:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_prepreg_part_without_its_fibre_axis_is_refused_naming_the_field() {
+    let (_dir, batch) = scratch(
+        0.05,
+        ITEMS,
+        "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n",
+    );
+    let err = refusal(&batch);
+    assert!(err.contains("part[1].fibre_axis_deg"), "{err}");
+    // On Pyralux (method 1) there are no fibres to declare.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        example_path("thesis-C-method-1.toml"),
+        dir.path().join("m1.toml"),
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("flexure.svg"), flexure_svg()).unwrap();
+    let batch = dir.path().join("batch.toml");
+    std::fs::write(
+        &batch,
+        "name = \"m1\"\n[[item]]\ndesign = \"m1.toml\"\nquantity = 2\n[[part]]\nfile = \"flexure.svg\"\nquantity = 1\nsheet = \"pyralux\"\nfibre_axis_deg = 0\n",
+    )
+    .unwrap();
+    let err = refusal(&batch);
+    assert!(
+        err.contains("part[1].fibre_axis_deg") && err.contains("no fibres"),
+        "{err}"
     );
 }
 
@@ -704,8 +784,8 @@ fn box_size(ring: &[[f64; 2]]) -> [f64; 2] {
 fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
     // Spars (60 x 4 mm, drawn along x) on C's 0/90/0 and flexures (16 x 6 mm, along x) on A's
     // 0/0/90/0/0, both allowed 0/180 only. Kerf 0: the outlines read back are the drawn ones.
-    let parts = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 3\nlayup_deg = [0, 90, 0]\n\n\
-                 [[part]]\nfile = \"parts/flexure.svg\"\nquantity = 2\nlayup_deg = [0, 0, 90, 0, 0]\n";
+    let parts = "[[part]]\nfile = \"parts/spar.dxf\"\nquantity = 3\nlayup_deg = [0, 90, 0]\nfibre_axis_deg = 90\n\n\
+                 [[part]]\nfile = \"parts/flexure.svg\"\nquantity = 2\nlayup_deg = [0, 0, 90, 0, 0]\nfibre_axis_deg = 90\n";
     let (dir, batch) = scratch_ply_by_ply(0.0, ITEMS, parts);
     let out = dir.path().join("out");
     nest_ok(&batch, &out, "40");
@@ -974,7 +1054,7 @@ fn refused(name: &str, drawing: &str, part_extra: &str) -> String {
         0.05,
         "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 2\n",
         &format!(
-            "[[part]]\nfile = \"parts/{name}\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n{part_extra}"
+            "[[part]]\nfile = \"parts/{name}\"\nquantity = 1\nlayup_deg = [0, 90, 0]\nfibre_axis_deg = 90\n{part_extra}"
         ),
     );
     std::fs::write(dir.path().join("parts").join(name), drawing).unwrap();
@@ -1147,7 +1227,7 @@ fn a_part_the_nester_would_refuse_is_refused_by_the_batch_reader_naming_its_enti
     let (dir, batch) = scratch(
         0.05,
         "[[item]]\ndesign = \"thesis-C.toml\"\nquantity = 2\n",
-        "[[part]]\nfile = \"parts/bar.dxf\"\nquantity = 1\nlayup_deg = [0, 90, 0]\n\n\
+        "[[part]]\nfile = \"parts/bar.dxf\"\nquantity = 1\nlayup_deg = [0, 90, 0]\nfibre_axis_deg = 90\n\n\
          [sheets]\nprepreg = { width_mm = 80, strip = true }\nspacing_mm = 0.3\n",
     );
     let bar = |width: f64| {

@@ -78,6 +78,20 @@ fn check_folder(out: &Path, report: &str) {
                 title.contains(&format!("{t} mm thick")),
                 "{name}: the title names no thickness: {title}"
             );
+            // A carbon-fibre sheet, cured or not (and no other), says which way its fibres must lie, in the
+            // title and as data; its parts were placed for that direction.
+            let prepreg = material.contains("carbon-fibre");
+            assert_eq!(
+                title.contains("0° fibres along the sheet's y axis"),
+                prepreg,
+                "{name}: the fibre direction in the title: {title}"
+            );
+            let stock_tag = start_tag(&text, "<stock ").unwrap();
+            assert_eq!(
+                attr(&stock_tag, "fibre_axis").as_deref(),
+                prepreg.then_some("y"),
+                "{name}"
+            );
             // The DXF twin states the same stock in its leading comments.
             let dxf = std::fs::read_to_string(path.with_extension("dxf")).unwrap();
             let head: String = dxf.lines().take(4).collect::<Vec<_>>().join("\n");

@@ -94,14 +94,16 @@ impl BuildBook {
         )];
         let passive_cut = if ply_by_ply {
             format!(
-                "Cut each prepreg ply on its own sheet, fibres along the sheet's x axis, turned to its ply \
-                 angle in the file: {}. Stack the plies on the registration pins through their holes.",
+                "Cut each prepreg ply on its own sheet, laid with its fibres along the sheet's y axis (up \
+                 the page); each part is turned to its ply angle in the file: {}. Stack the plies on the \
+                 registration pins through their holes.",
                 listed(&passive)
             )
         } else {
             format!(
-                "Lay up the prepreg plies in the design's layup order and cut the passive parts from the \
-                 stack: {}.",
+                "Lay up the prepreg plies in the design's layup order, each at its angle from the stack's \
+                 0° direction, and cut the passive parts from the stack laid with that direction along \
+                 the sheet's y axis (up the page), as each file says: {}.",
                 listed(&passive)
             )
         };
@@ -115,7 +117,8 @@ impl BuildBook {
                 ));
             }
             cut.push(format!(
-                "Cut the passive parts from the cured layup: {}.",
+                "Cut the passive parts from the cured layup, laid with its 0° fibres along the sheet's \
+                 y axis (up the page), as each file says: {}.",
                 listed(&passive)
             ));
             cut.push(format!(

@@ -306,12 +306,25 @@ fn part_orders(
                     ),
                 ));
             }
+            let fibre_axis_deg = t.number_in("fibre_axis_deg", PART_ROTATION_DEG)?;
             (
-                PartSheet::Prepreg { layup_deg, like },
+                PartSheet::Prepreg {
+                    layup_deg,
+                    like,
+                    fibre_axis_deg,
+                },
                 template.passive.clone(),
                 // Fibre direction matters: only half turns keep it.
                 vec![0.0, 180.0],
             )
+        }
+        "pyralux" if t.has("fibre_axis_deg") => {
+            return Err(InputError::invalid(
+                path,
+                &t.path("fibre_axis_deg"),
+                "(given)",
+                "a Pyralux part has no fibres: fibre_axis_deg is for prepreg parts",
+            ))
         }
         "pyralux" => match &template.bond {
             Some(b) => (
@@ -351,6 +364,12 @@ fn part_orders(
         }
         _ => vec![0.0],
     };
+    // The sheet's fibres run along its y axis; the part's fibre axis is turned onto it, and its
+    // rotations (half turns by default) come on top.
+    let fibre_turn_deg = match &sheet {
+        PartSheet::Prepreg { fibre_axis_deg, .. } => 90.0 - fibre_axis_deg,
+        PartSheet::Pyralux => 0.0,
+    };
     let name = t.optional_string("name", "a part name (text)")?;
     t.finish()?;
     let drawing = existing_file(t, "file", base, file, "no such drawing")?;
@@ -366,6 +385,7 @@ fn part_orders(
         .into_iter()
         .enumerate()
         .map(|(k, part)| {
+            let part = part.turned(fibre_turn_deg).at_base_point();
             for (ply, turn) in ply_turns_deg.iter().enumerate() {
                 let turned: Vec<f64> = rotations_deg.iter().map(|r| r + turn).collect();
                 // The nester's own check (kerf + spacing apart, as the pipeline nests a part), so
@@ -412,7 +432,7 @@ fn part_orders(
                 } else {
                     stem.clone()
                 },
-                part: part.at_base_point(),
+                part,
                 quantity,
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),

@@ -33,7 +33,12 @@ pub struct PartItemRow {
     pub quantity: usize,
     /// `prepreg, layup [0/90/0]` or `pyralux`.
     pub sheet: String,
+    /// Rotations on top of the fibre turn, degrees.
     pub rotations_deg: Vec<f64>,
+    /// On prepreg: the direction of the part's 0° fibres in its drawing (degrees from the drawing's x
+    /// axis), turned onto the sheet's fibres (its y axis) before the rotations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fibre_axis_deg: Option<f64>,
     /// Ply-by-ply cutting: the pieces cut of each part, one per ply of its layup, each on its ply's
     /// sheet turned to the ply's fibre angle.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -418,6 +423,10 @@ impl NestReport {
                         PartSheet::Pyralux => "pyralux".into(),
                     },
                     rotations_deg: p.rotations_deg.clone(),
+                    fibre_axis_deg: match &p.sheet {
+                        PartSheet::Prepreg { fibre_axis_deg, .. } => Some(*fibre_axis_deg),
+                        PartSheet::Pyralux => None,
+                    },
                     pieces_per_part: match &p.sheet {
                         PartSheet::Prepreg { layup_deg, .. } if by_ply => Some(layup_deg.len()),
                         _ => None,
@@ -539,18 +548,19 @@ impl NestReport {
             let _ = writeln!(s, "\n## Parts from drawings\n");
             let _ = writeln!(
                 s,
-                "| part | quantity | sheet | rotations ° | area mm² | cut-outs | drawing | entity |"
+                "| part | quantity | sheet | fibre axis in the drawing ° | rotations ° | area mm² | cut-outs | drawing | entity |"
             );
-            let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+            let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
             for p in &self.parts {
                 let rotations: Vec<String> =
                     p.rotations_deg.iter().map(|r| r.to_string()).collect();
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {:.3} | {} | {} | {} |",
+                    "| {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |",
                     md(&p.name),
                     p.quantity,
                     md(&p.sheet),
+                    p.fibre_axis_deg.map_or("-".into(), |a| a.to_string()),
                     rotations.join("/"),
                     p.area_mm2,
                     p.cutouts,
@@ -560,7 +570,7 @@ impl NestReport {
             }
             let _ = writeln!(
                 s,
-                "\nIn the sheet lists below an extra part's design column holds its name and the actuator column its copy number.\n"
+                "\nA prepreg part is turned so that its fibre axis lies along the sheet's fibres (the sheet's y axis), then rotated; a part's rotation below is from that turned position. In the sheet lists below an extra part's design column holds its name and the actuator column its copy number.\n"
             );
         }
         let _ = writeln!(s, "\n## Sheets\n");

@@ -176,7 +176,14 @@ pub struct Stock {
     pub material: String,
     /// Thickness of the sheet, mm.
     pub thickness_mm: f64,
+    /// Prepreg: the sheet has a fibre direction, and every part on it is placed for its 0° fibres to
+    /// run along the sheet's y axis (up the page), as the actuators' passive parts lie. The stock
+    /// line says so, for the technician who lays the sheet on the bed.
+    pub fibres_along_y: bool,
 }
+
+/// How a file states the fibre direction of a prepreg sheet.
+pub const FIBRES_ALONG_Y: &str = "0° fibres along the sheet's y axis (up the page)";
 
 impl Stock {
     /// The stock as a file name carries it: the material in lower-case letters and digits joined by
@@ -293,13 +300,17 @@ impl Drawing {
     /// in any file.
     pub fn stock_line(&self) -> Option<String> {
         self.stock.as_ref().map(|s| {
-            let text = format!(
+            let mut text = format!(
                 "{}, {} mm thick, {} x {} mm sheet",
                 s.material,
                 super::decimal::fmt_mm(s.thickness_mm),
                 super::decimal::fmt_mm(self.width_mm),
                 super::decimal::fmt_mm(self.height_mm)
             );
+            if s.fibres_along_y {
+                text.push_str(", ");
+                text.push_str(FIBRES_ALONG_Y);
+            }
             one_line(&text)
         })
     }
@@ -401,6 +412,7 @@ mod tests {
         let stock = |material: &str, t: f64| Stock {
             material: material.into(),
             thickness_mm: t,
+            fibres_along_y: false,
         };
         assert_eq!(
             stock("PTFE, non-porous", 0.05).slug(),

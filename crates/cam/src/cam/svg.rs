@@ -217,11 +217,16 @@ pub fn write_svg(
             let _ = write!(
                 out,
                 "  <metadata><stock xmlns=\"urn:actuator-cam:stock\" material=\"{}\" thickness_mm=\"{}\" \
-                 width_mm=\"{}\" height_mm=\"{}\"/>",
+                 width_mm=\"{}\" height_mm=\"{}\"{}/>",
                 xml_escape(&s.material),
                 fmt_mm(s.thickness_mm),
                 fmt_mm(drawing.width_mm),
-                fmt_mm(drawing.height_mm)
+                fmt_mm(drawing.height_mm),
+                if s.fibres_along_y {
+                    " fibre_axis=\"y\""
+                } else {
+                    ""
+                }
             );
         }
         None => {

@@ -126,6 +126,7 @@ pub fn linkage_drawings(
                 Stock {
                     material: sheet.material.clone(),
                     thickness_mm: sheet.thickness_mm,
+                    fibres_along_y: false,
                 },
             );
             d.add(
@@ -158,6 +159,7 @@ pub fn linkage_drawings(
             Stock {
                 material: "the laminated linkage stack".to_string(),
                 thickness_mm: laminate.stack_thickness_mm(),
+                fibres_along_y: false,
             },
         );
         pins(&mut d);

@@ -22,7 +22,7 @@ pub mod flatten;
 pub mod svg;
 
 use crate::input::InputError;
-use cam_geometry::{signed_area, Point};
+use cam_geometry::{place_ring, signed_area, Point};
 use std::path::{Path, PathBuf};
 
 /// One part read from a drawing: its outline and cut-outs, in mm, y up.
@@ -64,6 +64,22 @@ impl ImportedPart {
         }
     }
 
+    /// The part turned by `deg` counter-clockwise about the drawing's origin.
+    pub fn turned(self, deg: f64) -> ImportedPart {
+        if deg == 0.0 {
+            return self;
+        }
+        ImportedPart {
+            outer: place_ring(&self.outer, deg, [0.0, 0.0]),
+            holes: self
+                .holes
+                .iter()
+                .map(|h| place_ring(h, deg, [0.0, 0.0]))
+                .collect(),
+            ..self
+        }
+    }
+
     /// Area of the material: outline less cut-outs, mm².
     pub fn area_mm2(&self) -> f64 {
         signed_area(&self.outer) - self.holes.iter().map(|h| signed_area(h)).sum::<f64>()
@@ -99,6 +115,10 @@ pub enum PartSheet {
         layup_deg: Vec<f64>,
         /// A design of the batch laid up this way.
         like: usize,
+        /// The direction of the part's 0° fibres in its drawing, degrees counter-clockwise from the
+        /// drawing's x axis. The part is turned so that this direction lies along the sheet's
+        /// fibres, the y axis, as the actuators' passive parts lie ([`ImportedPart::turned`]).
+        fibre_axis_deg: f64,
     },
     /// The Pyralux bond-layer sheets (method 1).
     Pyralux,

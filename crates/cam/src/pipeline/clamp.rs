@@ -312,6 +312,7 @@ pub fn clamp_layers(
                     } else {
                         spec.thickness_mm
                     },
+                    fibres_along_y: false,
                 },
             );
             for centre in pin_centres(c) {

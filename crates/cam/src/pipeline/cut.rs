@@ -80,6 +80,8 @@ pub struct CutLayer {
     /// The fibre angle of the one ply this layer cuts (ply-by-ply cutting), degrees CCW from a
     /// part's axis; `None` for a layer cut from the laid-up stack or with no fibres.
     pub ply_deg: Option<f64>,
+    /// Prepreg (cured or not): the parts lie with their 0° fibres along the sheet's y axis.
+    pub prepreg: bool,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -172,6 +174,7 @@ pub fn passive_layers(
                 items,
                 features: template.features,
                 ply_deg: None,
+                prepreg: true,
             }])
         }
         PassiveCut::PlyByPly => {
@@ -188,6 +191,7 @@ pub fn passive_layers(
                     items: Vec::new(),
                     features: template.features,
                     ply_deg: Some(*angle),
+                    prepreg: true,
                 })
                 .collect();
             for (i, job) in jobs {
@@ -295,6 +299,7 @@ pub fn pyralux_layer(
         items,
         features: template.features,
         ply_deg: None,
+        prepreg: false,
     }))
 }
 
@@ -379,6 +384,7 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             Stock {
                 material: layer.material.clone(),
                 thickness_mm: layer.thickness_mm,
+                fibres_along_y: layer.prepreg,
             },
         );
         for p in &layout.parts {
