@@ -111,8 +111,84 @@ fn method_2_cuts_the_prepreg_last_and_presses_it_between_the_plates() {
     let short = first(&s, "Check for shorts");
     let wires = first(&s, "wires on with silver epoxy");
     assert!(scrape < capacitance && capacitance < short && short < wires);
-    // Design C has no base tab: the wiring says where the ground goes and how to get a pad.
-    assert!(s[wires].1.contains("no base") && s[wires].1.contains("base_tab_mm"));
+    // Design C has no base tab: the process adds its ground tab, and the wiring puts the ground there.
+    assert!(
+        s[wires]
+            .1
+            .contains("ground tab behind the PZT root (1.5 mm of bare carbon, added"),
+        "{}",
+        s[wires].1
+    );
+}
+
+#[test]
+fn a_design_without_a_tab_gets_the_process_ground_tab_with_its_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report_json(&out);
+    let tab = r["ground_tab"]["length_mm"].as_f64().unwrap();
+    assert_eq!(tab, 1.5, "the shipped templates' ground_tab_mm");
+    assert_eq!(r["design"]["base_tab_mm"].as_f64().unwrap(), tab);
+    // Its mass is the passive plies' over the tab, l_tab x w_0 x t x rho (no PZT, no bond there).
+    let passive = r["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["layer"] == "passive")
+        .unwrap();
+    let t_mm = passive["thickness_mm"].as_f64().unwrap();
+    let rho = passive["density_kg_per_m3"].as_f64().unwrap();
+    let w0 = r["design"]["base_width_mm"].as_f64().unwrap();
+    let expected_mg = tab * w0 * t_mm * rho * 1e-3; // mm³ x kg/m³ = 1e-9 kg = 1e-3 mg
+    let mass = r["ground_tab"]["mass_mg"].as_f64().unwrap();
+    assert!(
+        (mass - expected_mg).abs() < 1e-9,
+        "{mass} against {expected_mg}"
+    );
+    // The drawn parts include it: the geometry mass and the model's still agree.
+    let geometry = r["mass_from_geometry_mg"].as_f64().unwrap();
+    let model = r["predicted"]["mass_mg"].as_f64().unwrap();
+    assert!(
+        (geometry - model).abs() < 1e-6 * model,
+        "{geometry} against {model}"
+    );
+
+    // A design with its own tab keeps it; a template with ground_tab_mm = 0 adds none, and the book
+    // sends the ground wire to the laminate's edge.
+    let (dir, design) = write_temp(
+        "c.toml",
+        &design_c_with(&[("base_tab_mm", "base_tab_mm = 2.0")]),
+    );
+    let out = dir.path().join("out");
+    assert!(cut_sheet(design.to_str().unwrap(), &out, &[])
+        .status
+        .success());
+    let r = report_json(&out);
+    assert!(r.get("ground_tab").is_none());
+    assert_eq!(r["design"]["base_tab_mm"].as_f64().unwrap(), 2.0);
+    let template =
+        shipped_template("method-2.toml").replace("ground_tab_mm = 1.5\n", "ground_tab_mm = 0\n");
+    assert!(template.contains("ground_tab_mm = 0\n"));
+    std::fs::write(dir.path().join("no-tab.toml"), template).unwrap();
+    let text = design_c_with(&[(
+        "process",
+        &format!("process = \"{}\"", dir.path().join("no-tab.toml").display()),
+    )]);
+    std::fs::write(&design, text).unwrap();
+    let out = dir.path().join("out2");
+    let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report_json(&out);
+    assert!(r.get("ground_tab").is_none());
+    let s = steps(&r["build_book"]);
+    let wires = first(&s, "wires on with silver epoxy");
+    assert!(
+        s[wires].1.contains("edge at the root end"),
+        "{}",
+        s[wires].1
+    );
 }
 
 #[test]

@@ -452,8 +452,24 @@ fn ply_by_ply_template_turns_each_ply_and_registers_it() {
         };
         assert_eq!(span(&xs) > span(&ys), *angle == 90, "ply {i}");
     }
-    // Without a base tab there is no room for the holes: a clear error.
-    let no_tab = design_c_with(&[("process", "process = \"plies.toml\"")]);
+    // A design without a tab of its own gets the process's 1.5 mm ground tab, which holds the holes.
+    let own = design_c_with(&[("process", "process = \"plies.toml\"")]);
+    std::fs::write(dir.path().join("g.toml"), own).unwrap();
+    let o = cut_sheet(
+        dir.path().join("g.toml").to_str().unwrap(),
+        &dir.path().join("out1"),
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        report_json(&dir.path().join("out1"))["ground_tab"]["length_mm"],
+        1.5
+    );
+    // With no ground tab either there is no room for the holes: a clear error.
+    let no_ground = template.replace("ground_tab_mm = 1.5\n", "ground_tab_mm = 0\n");
+    assert!(no_ground.contains("ground_tab_mm = 0\n"));
+    std::fs::write(dir.path().join("plies-no-ground.toml"), no_ground).unwrap();
+    let no_tab = design_c_with(&[("process", "process = \"plies-no-ground.toml\"")]);
     std::fs::write(dir.path().join("e.toml"), no_tab).unwrap();
     let o = cut_sheet(
         dir.path().join("e.toml").to_str().unwrap(),
@@ -1408,4 +1424,44 @@ fn a_declared_bond_is_cut_or_refused_and_the_drawn_mass_is_the_predicted_mass() 
     }
     // Method 1 with no bond and its own, method 2 and ply by ply with none.
     assert_eq!(cut, 4);
+}
+
+#[test]
+fn each_pzt_sheet_has_a_snapping_order_picture_numbering_its_score_lines() {
+    // Every example: one picture per PZT sheet, numbering each score line of the sheet's file once,
+    // 1 to n, with nothing a laser follows (no stroke) and not at true size; the book names it.
+    for design in ["thesis-C", "thesis-7", "thesis-C-method-1"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = cut_sheet(&format!("examples/{design}.toml"), &out, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let r = report_json(&out);
+        let sheets = r["stock_list"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| s["material"].as_str().unwrap().starts_with("PZT"))
+            .map(|s| s["sheets"].as_u64().unwrap())
+            .sum::<u64>();
+        assert!(sheets > 0);
+        let book = r["build_book"].to_string();
+        for n in 1..=sheets {
+            let name = format!("preview-snap-order-pzt-{n}.svg");
+            let guide = std::fs::read_to_string(out.join(&name)).unwrap();
+            let pzt = std::fs::read_to_string(layer_file(&out, &format!("pzt-{n}.svg"))).unwrap();
+            let lines = svg_paths(&pzt, "SCORE").len();
+            assert!(lines > 0, "{design}: pzt-{n} has score lines");
+            let numbers: Vec<usize> = guide
+                .split("</text>")
+                .filter_map(|t| t.rsplit('>').next().and_then(|n| n.parse().ok()))
+                .collect();
+            assert_eq!(numbers, (1..=lines).collect::<Vec<_>>(), "{design}: {name}");
+            assert!(
+                !guide.contains("stroke=\"#"),
+                "{design}: {name} has a stroke"
+            );
+            assert!(guide.contains("drawn at 4:1") && guide.contains("not for cutting"));
+            assert!(book.contains(&name), "{design}: the book names {name}");
+        }
+    }
 }

@@ -26,7 +26,7 @@ struct Outlines {
     passive: Vec<[f64; 2]>,
 }
 
-fn outlines(design_file: &Path) -> Outlines {
+fn outlines(design_file: &Path, ground_tab_mm: Option<f64>) -> Outlines {
     let t: toml::Table = std::fs::read_to_string(design_file)
         .unwrap()
         .parse()
@@ -42,13 +42,24 @@ fn outlines(design_file: &Path) -> Outlines {
         num("extension_ratio"),
         num("base_width_mm"),
         num("width_ratio"),
-        num("base_tab_mm"),
+        // A design without a tab is cut with the process's ground tab, which the report states.
+        ground_tab_mm.unwrap_or(num("base_tab_mm")),
     );
     let lp = l / (1.0 + lr);
     let wnom = w0 / wr;
     let (b, t) = (w0 / 2.0, (2.0 - wr) * wnom / 2.0);
     let pzt = vec![[-b, 0.0], [b, 0.0], [t, lp], [-t, lp]];
-    let mut passive = vec![[-b, -tab], [b, -tab], [t, lp], [t, l], [-t, l], [-t, lp]];
+    // The tab is a rectangle w_0 x l_tab behind the root.
+    let mut passive = vec![
+        [-b, -tab],
+        [b, -tab],
+        [b, 0.0],
+        [t, lp],
+        [t, l],
+        [-t, l],
+        [-t, lp],
+        [-b, 0.0],
+    ];
     if tab == 0.0 {
         passive = vec![[-b, 0.0], [b, 0.0], [t, lp], [t, l], [-t, l], [-t, lp]];
     }
@@ -70,8 +81,18 @@ fn check_report(
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
             .unwrap();
-    let shapes: BTreeMap<&String, Outlines> =
-        designs.iter().map(|(n, (f, _))| (n, outlines(f))).collect();
+    let ground_tab = |name: &str| {
+        report["items"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|i| i["design"] == name)
+            .and_then(|i| i["ground_tab_mm"].as_f64())
+    };
+    let shapes: BTreeMap<&String, Outlines> = designs
+        .iter()
+        .map(|(n, (f, _))| (n, outlines(f, ground_tab(n))))
+        .collect();
     let mut seen: BTreeMap<(String, usize, String), usize> = BTreeMap::new();
     for sheet in report["sheets"].as_array().unwrap() {
         let layer = sheet["layer"].as_str().unwrap();
@@ -470,7 +491,8 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
         &dir,
         &[
             "batch.toml: sheets.prepreg.height_mm = 20: the passive part of thesis-C",
-            "does not fit the sheet; it needs at least 43.30 mm",
+            // 42.2 mm of part, the process's 1.5 mm ground tab and 0.55 mm to each edge.
+            "does not fit the sheet; it needs at least 44.80 mm",
         ],
     );
 

@@ -175,6 +175,12 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             palette: batch.template.palette.clone(),
         },
     )?;
+    files.extend(
+        planned
+            .snap_guides
+            .into_iter()
+            .map(|(name, svg)| (name, svg.into_bytes())),
+    );
     let mut report = planned.report;
     report.files = files
         .iter()

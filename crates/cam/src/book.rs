@@ -25,6 +25,8 @@ pub struct DesignFacts {
     pub name: String,
     /// Base tab length, mm: the ground wire's pad when it is not zero.
     pub base_tab_mm: f64,
+    /// The base tab is the process's ground tab, added because the design has none.
+    pub ground_tab_added: bool,
     /// Predicted capacitance of one PZT plate, nF, when the model gives one.
     pub capacitance_nf: Option<f64>,
 }
@@ -133,13 +135,15 @@ impl BuildBook {
              the + face, every plate's bevelled score edge marks its + face.",
             listed(&pzt)
         ));
-        cut.push(
-            "Snap the plates off: first along each line that crosses the whole sheet, the strip \
-             pressed over a straight edge, then along the slanted lines between the plates of each \
+        let guides: Vec<String> = built.snap_guides.iter().map(|(n, _)| n.clone()).collect();
+        cut.push(format!(
+            "Snap the plates off in the order the numbers give, line 1 first: {} (one picture per \
+             PZT sheet, its score lines numbered). The lines that cross the whole sheet come first, \
+             each strip pressed over a straight edge, then the slanted lines between the plates of each \
              strip, one plate at a time from one end; a slanted line breaks cleanly only once its strip \
-             is free. Put each plate + face up on a tray and mark the + face with a dot at its root."
-                .to_string(),
-        );
+             is free. Put each plate + face up on a tray and mark the + face with a dot at its root.",
+            listed(&guides)
+        ));
         for (k, clamp) in built.clamps.iter().enumerate() {
             let stack = if built.clamps.len() > 1 {
                 format!(" of clamp stack {}", k + 1)
@@ -303,11 +307,18 @@ impl BuildBook {
         });
         let mut wiring = Vec::new();
         for d in designs {
-            let ground = if d.base_tab_mm > 0.0 {
+            let ground = if d.ground_tab_added {
+                format!(
+                    "ground tab behind the PZT root ({} mm of bare carbon, added by the process: \
+                     the design has no base tab)",
+                    d.base_tab_mm
+                )
+            } else if d.base_tab_mm > 0.0 {
                 format!("base tab ({} mm of bare carbon)", d.base_tab_mm)
             } else {
                 "edge at the root end, the only carbon this design exposes (0.2-0.3 mm: it has no base \
-                 tab; a base_tab_mm of 1 mm or more in the design gives the wire a pad)"
+                 tab, and the process's ground_tab_mm is 0; a base tab of 1 mm or more gives the wire \
+                 a pad)"
                     .to_string()
             };
             wiring.push(format!(

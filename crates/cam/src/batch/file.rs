@@ -1,7 +1,7 @@
 //! The batch file (`batch.toml`): which designs, how many of each, the seed and optional sheet
 //! overrides; validated once into a [`Batch`] that the planner trusts.
 
-use crate::cutsheet::{design_for_process, Template};
+use crate::cutsheet::{design_for_process, with_ground_tab, Template};
 use crate::design::Design;
 use crate::input::limits::{
     MAX_ITERATIONS, MAX_PLIES, MAX_QUANTITY, MAX_STOCK, NEST_TIME_S, PART_ROTATION_DEG,
@@ -75,6 +75,9 @@ pub struct BatchItem {
     pub design: Design,
     /// Actuators to build.
     pub quantity: usize,
+    /// The ground tab the process added, mm, when the design has no base tab
+    /// ([`crate::cutsheet::with_ground_tab`]); the design above includes it.
+    pub ground_tab_mm: Option<f64>,
 }
 
 /// A validated batch.
@@ -488,7 +491,12 @@ impl Batch {
             let design = design_for_process(&design, tpl).map_err(|e| {
                 InputError::invalid(path, &t.path("design"), format!("{file:?}"), e.to_string())
             })?;
-            items.push(BatchItem { design, quantity });
+            let (design, ground_tab_mm) = with_ground_tab(design, tpl);
+            items.push(BatchItem {
+                design,
+                quantity,
+                ground_tab_mm,
+            });
         }
         let (mut template, _, _) = template.expect("tables() returns at least one item");
         let (mut prepreg_roll, mut pyralux_roll) = (None, None);

@@ -17,6 +17,8 @@ pub struct Planned {
     pub drawings: Vec<SheetDrawing>,
     /// The report (files filled in when rendered).
     pub report: NestReport,
+    /// The snapping-order picture of each PZT sheet, (file name, SVG).
+    pub snap_guides: Vec<(String, String)>,
 }
 
 /// Plan every layer of a batch.
@@ -92,5 +94,6 @@ pub fn plan_observed(
     Ok(Planned {
         drawings: built.drawings,
         report,
+        snap_guides: built.snap_guides,
     })
 }

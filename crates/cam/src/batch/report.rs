@@ -21,6 +21,9 @@ pub struct ItemRow {
     pub quantity: usize,
     pub pzt_thickness_mm: f64,
     pub layup_deg: String,
+    /// The ground tab the process added to a design with no base tab, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_tab_mm: Option<f64>,
 }
 
 /// One extra part from a drawing (`[[part]]`), as read.
@@ -402,6 +405,7 @@ impl NestReport {
                     quantity: i.quantity,
                     pzt_thickness_mm: i.design.pzt_thickness * 1e3,
                     layup_deg: i.design.layup_text(),
+                    ground_tab_mm: i.ground_tab_mm,
                 })
                 .collect(),
             parts: batch
@@ -456,6 +460,7 @@ impl NestReport {
                     .map(|item| DesignFacts {
                         name: item.design.name.clone(),
                         base_tab_mm: item.design.planform.base_tab * 1e3,
+                        ground_tab_added: item.ground_tab_mm.is_some(),
                         capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
                             .ok()
                             .map(|p| p.capacitance_nF),
@@ -531,16 +536,20 @@ impl NestReport {
             self.iterations,
             self.workers
         );
-        let _ = writeln!(s, "| design | quantity | PZT mm | layup | file |");
-        let _ = writeln!(s, "|---|---|---|---|---|");
+        let _ = writeln!(
+            s,
+            "| design | quantity | PZT mm | layup | ground tab added mm | file |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|");
         for i in &self.items {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} |",
                 md(&i.design),
                 i.quantity,
                 i.pzt_thickness_mm,
                 i.layup_deg,
+                i.ground_tab_mm.map_or("-".into(), |t| t.to_string()),
                 code(&i.file)
             );
         }

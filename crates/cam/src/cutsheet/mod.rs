@@ -56,6 +56,8 @@ pub struct CutSheet {
     pub report: Report,
     /// Preview of the assembled actuator.
     pub preview: Drawing,
+    /// The snapping-order picture of each PZT sheet, (file name, SVG).
+    pub snap_guides: Vec<(String, String)>,
     /// Operation colours of the process template.
     pub palette: Palette,
 }
@@ -114,6 +116,19 @@ pub fn design_for_process(design: &Design, template: &Template) -> Result<Design
     Ok(d)
 }
 
+/// The design with the ground tab the process gives a design that has no base tab
+/// ([`Template::ground_tab_mm`], docs/cam.md §6 "Ground access"): the ground wire needs bare carbon,
+/// and a design without a tab exposes only the 0.2-0.3 mm of the laminate's edge. Returns the tab
+/// added, mm, if one was. The tab is clamped and carries no PZT, so it changes the mass alone.
+pub fn with_ground_tab(design: Design, template: &Template) -> (Design, Option<f64>) {
+    if design.planform.base_tab > 0.0 || template.ground_tab_mm <= 0.0 {
+        return (design, None);
+    }
+    let mut d = design;
+    d.planform.base_tab = template.ground_tab_mm * 1e-3;
+    (d, Some(template.ground_tab_mm))
+}
+
 /// Plan all drawings and the report for a design (no I/O).
 pub fn plan(
     design: &Design,
@@ -133,7 +148,8 @@ pub fn plan_into<'s>(
     sink: Option<&'s mut DrawingSink<'s>>,
 ) -> Result<CutSheet, BuildError> {
     let template = process_template(template, opts);
-    let mut design = design_for_process(design, &template)?;
+    let (mut design, ground_tab_mm) =
+        with_ground_tab(design_for_process(design, &template)?, &template);
     if let Some(q) = opts.quantity {
         design.quantity = q;
     }
@@ -143,6 +159,19 @@ pub fn plan_into<'s>(
     let prediction = Prediction::with_model(&design, &opts.model)
         .map_err(|e| BuildError::Model(e, file.clone()))?;
     prediction.ensure_finite(&design)?;
+    let ground_tab = match ground_tab_mm {
+        Some(length_mm) => {
+            let mut bare = design.clone();
+            bare.planform.base_tab = 0.0;
+            let without = Prediction::with_model(&bare, &opts.model)
+                .map_err(|e| BuildError::Model(e, file.clone()))?;
+            Some(report::GroundTab {
+                length_mm,
+                mass_mg: prediction.mass_mg - without.mass_mg,
+            })
+        }
+        None => None,
+    };
     // A batch of one: the same pipeline as `nest`, with the shelf packer for the cut-through layers.
     let names = Names {
         title: design.name.clone(),
@@ -158,11 +187,12 @@ pub fn plan_into<'s>(
         sink,
     )?;
     let rows = layers::layer_rows(&design, &template, &built);
-    let report = Report::new(&design, &template, prediction, rows, &built);
+    let report = Report::new(&design, &template, prediction, rows, &built, ground_tab);
     report.ensure_finite(&design)?;
     Ok(CutSheet {
         preview: preview::preview(&built.geometry[0], &design.name),
         drawings: built.drawings,
+        snap_guides: built.snap_guides,
         report,
         palette: template.palette.clone(),
     })

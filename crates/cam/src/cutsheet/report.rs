@@ -142,6 +142,9 @@ pub struct Report {
     pub pzt_edge_margin_mm: f64,
     /// Set when some passive parts carry no engraved label: no room off the bonded PZT zone.
     pub label_note: Option<String>,
+    /// The ground tab the process added to a design that has no base tab (docs/cam.md §6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_tab: Option<GroundTab>,
     pub clamp_panels: usize,
     /// Sheets of each stock the files are cut from (material, thickness, sheet size).
     pub stock_list: Vec<StockCount>,
@@ -155,6 +158,14 @@ pub struct Report {
     /// The drive's linkage laminate, when cut with the actuator (`--drive`, docs/cam.md §7).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub linkage: Option<LinkageSection>,
+}
+
+/// A ground tab the process added behind the PZT root: its length and the mass it adds, which the
+/// predicted mass and the drawn parts include.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GroundTab {
+    pub length_mm: f64,
+    pub mass_mg: f64,
 }
 
 /// The linkage part of the report: the laminate, its panels, its build steps and how it compares with
@@ -209,6 +220,7 @@ impl Report {
         predicted: Prediction,
         layers: Vec<LayerRow>,
         built: &Build,
+        ground_tab: Option<GroundTab>,
     ) -> Report {
         let p = &design.planform;
         let mass_from_geometry_mg = layers
@@ -221,6 +233,7 @@ impl Report {
             &[DesignFacts {
                 name: design.name.clone(),
                 base_tab_mm: p.base_tab * 1e3,
+                ground_tab_added: ground_tab.is_some(),
                 capacitance_nf: Some(predicted.capacitance_nF),
             }],
         );
@@ -255,6 +268,7 @@ impl Report {
             pzt_edge_margin_mm: template.pzt_edge_margin_mm,
             label_note: Label::passive(built.geometry[0], &design.name, template)
                 .note(design.quantity),
+            ground_tab,
             clamp_panels: built.panels,
             stock_list: built.stock.clone(),
             mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
@@ -339,6 +353,13 @@ impl Report {
                 s,
                 "The process template insets the PZT plates {} mm from the passive edge (sides and tip end), so they are smaller than the design the model predicts; the geometry mass counts the plates as cut.\n",
                 self.pzt_edge_margin_mm
+            );
+        }
+        if let Some(g) = &self.ground_tab {
+            let _ = writeln!(
+                s,
+                "**Ground tab:** the design has no base tab, so the process adds {} mm of passive plies behind the PZT root, bare carbon for the ground wire (docs/cam.md §6): {:.2} mg, counted in both masses above.\n",
+                g.length_mm, g.mass_mg
             );
         }
         if let Some(note) = &self.label_note {

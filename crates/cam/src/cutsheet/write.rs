@@ -70,8 +70,9 @@ pub fn svg_options(palette: &Palette, stroke_mm: f64) -> SvgOptions {
     }
 }
 
-/// The files after the layer files: the preview, `report.json` (listing `layer_files`, the names of
-/// the layer files written before, then these three) and `report.md`.
+/// The files after the layer files: the preview, the PZT sheets' snapping-order pictures,
+/// `report.json` (listing `layer_files`, the names of the layer files written before, then these) and
+/// `report.md`.
 pub fn render_report(
     sheet: &CutSheet,
     layer_files: &[String],
@@ -82,20 +83,27 @@ pub fn render_report(
     report.files = layer_files
         .iter()
         .map(String::as_str)
-        .chain([preview, "report.json", "report.md"])
+        .chain([preview])
+        .chain(sheet.snap_guides.iter().map(|(name, _)| name.as_str()))
+        .chain(["report.json", "report.md"])
         .map(str::to_string)
         .collect();
-    Ok(vec![
-        (
-            preview.into(),
-            super::preview::preview_svg(&sheet.preview, stroke_mm, &sheet.palette).into_bytes(),
-        ),
-        (
-            "report.json".into(),
-            (serde_json::to_string_pretty(&report)? + "\n").into_bytes(),
-        ),
-        ("report.md".into(), report.markdown().into_bytes()),
-    ])
+    let mut files = vec![(
+        preview.into(),
+        super::preview::preview_svg(&sheet.preview, stroke_mm, &sheet.palette).into_bytes(),
+    )];
+    files.extend(
+        sheet
+            .snap_guides
+            .iter()
+            .map(|(name, svg)| (name.clone(), svg.clone().into_bytes())),
+    );
+    files.push((
+        "report.json".into(),
+        (serde_json::to_string_pretty(&report)? + "\n").into_bytes(),
+    ));
+    files.push(("report.md".into(), report.markdown().into_bytes()));
+    Ok(files)
 }
 
 /// File names and bytes of a cut sheet held in memory ([`super::plan`]), in a fixed order.

@@ -135,6 +135,8 @@ pub const SCORE_OVERRUN_MM: Range = Range::closed(0.0, 5.0, "mm");
 pub const PASSIVE_EDGE_MARGIN_MM: Range = Range::closed(0.0, 2.0, "mm");
 /// Pyralux bond part inset from the PZT plate edge (method 1 squeeze-out).
 pub const BOND_INSET_MM: Range = Range::closed(0.0, 2.0, "mm");
+/// The ground tab a process adds behind the PZT of a design that has no base tab.
+pub const GROUND_TAB_MM: Range = Range::closed(0.0, 20.0, "mm");
 /// Via for silver epoxy, diameter.
 pub const VIA_DIAMETER_MM: Range = Range::positive_up_to(10.0, "mm");
 /// A position as a fraction of a length, ends excluded.

@@ -47,6 +47,9 @@ pub struct Build {
     pub cut_layers: Vec<CutLayerSheets>,
     /// Clamp stacks, one per laminate height.
     pub clamps: Vec<ClampBuild>,
+    /// The snapping-order picture of each PZT sheet, (file name, SVG), in sheet order: written beside
+    /// the layer files, not a layer file.
+    pub snap_guides: Vec<(String, String)>,
 }
 
 /// Jobs grouped by a key, groups in order of first appearance, each member with its job index.
@@ -225,5 +228,6 @@ pub fn build_into<'s>(
         pzt_sheets,
         cut_layers,
         clamps,
+        snap_guides: drawn.snap_guides,
     })
 }

@@ -172,6 +172,8 @@ pub struct Drawn<'s> {
     pub stock: Vec<StockCount>,
     /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
     pub placement_map: Vec<String>,
+    /// The snapping-order picture of each PZT sheet, (file name, SVG) (`super::snap_guide`).
+    pub snap_guides: Vec<(String, String)>,
     /// Next sheet number of each layer (stems are numbered per layer across the whole build).
     numbers: BTreeMap<String, usize>,
     /// Takes each drawing as it is made, so a large build never holds them all.

@@ -23,6 +23,7 @@ mod panel;
 mod parts;
 mod place;
 mod pzt;
+pub mod snap_guide;
 
 pub use build::{build, build_into, Build, CutLayerSheets};
 pub use clamp::ClampBuild;

@@ -6,7 +6,7 @@ use super::panel::rect;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
-use cam_geometry::{signed_area, Point};
+use cam_geometry::{place_ring, signed_area, Point};
 use cam_nest::NestedBin;
 
 /// Draw verified PZT layouts ([`super::place::place_plates`]) of `jobs` on `spec` sheets of `stock`: the score
@@ -67,6 +67,21 @@ pub(crate) fn draw_pzt_sheets(
                 area_mm2: signed_area(&nominal[p.item]),
             });
         }
+        let plates: Vec<Vec<Point>> = layout
+            .parts
+            .iter()
+            .map(|p| place_ring(&nominal[p.item], p.rotation_deg, p.translation))
+            .collect();
+        drawn.snap_guides.push((
+            super::snap_guide::file_name(&format!("pzt-{n}")),
+            super::snap_guide::snap_guide(
+                &format!("{} PZT sheet {n}", names.title),
+                sheet.width_mm,
+                sheet.height_mm,
+                &plates,
+                &layout.score_lines,
+            ),
+        ));
         drawn.sheets.push(record);
         drawn.push(format!("pzt-{n}"), "pzt", d);
     }
@@ -75,17 +90,20 @@ pub(crate) fn draw_pzt_sheets(
 /// Ends closer than this to the sheet edge lie on it, mm (the planner puts them there exactly).
 const ON_EDGE_MM: f64 = 1e-6;
 
+/// Whether a score line's end `p` lies on the edge of a `width_mm` x `height_mm` sheet.
+pub(crate) fn on_sheet_edge(p: Point, width_mm: f64, height_mm: f64) -> bool {
+    p[0].abs() < ON_EDGE_MM
+        || p[1].abs() < ON_EDGE_MM
+        || (p[0] - width_mm).abs() < ON_EDGE_MM
+        || (p[1] - height_mm).abs() < ON_EDGE_MM
+}
+
 /// A score line as the laser runs it: each end on the sheet edge carried `spec.score_overrun_mm` past
 /// it along the line, so the score reaches the edge although the laser is still accelerating where a
 /// path starts (docs/cam.md §4). An end on an earlier score line stays there: running on would score
 /// the plate across that line. The verified layout keeps the exact lines; only the drawing overruns.
 fn overrun(line: [Point; 2], spec: &SheetSpec) -> [Point; 2] {
-    let on_edge = |p: Point| {
-        p[0].abs() < ON_EDGE_MM
-            || p[1].abs() < ON_EDGE_MM
-            || (p[0] - spec.width_mm).abs() < ON_EDGE_MM
-            || (p[1] - spec.height_mm).abs() < ON_EDGE_MM
-    };
+    let on_edge = |p: Point| on_sheet_edge(p, spec.width_mm, spec.height_mm);
     let [a, b] = line;
     let length = (b[0] - a[0]).hypot(b[1] - a[1]);
     if length == 0.0 {

@@ -6,10 +6,10 @@ use super::features::FeatureMap;
 use crate::cam::drawing::Operation;
 use crate::cam::palette::Palette;
 use crate::input::limits::{
-    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM, KERF_MM,
-    LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK, MIN_FEATURE_MM,
-    PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM,
-    SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
+    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM,
+    GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK,
+    MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM,
+    SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
 use crate::input::{parse_toml, read_toml, short_number, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -120,6 +120,11 @@ pub struct Cure {
 /// parts"): a starting point, to be set from the squeeze-out a lab sees on its first clamp.
 pub const DEFAULT_BOND_INSET_MM: f64 = 0.15;
 
+/// Default ground tab, mm (docs/cam.md §6, "Ground access"): the passive plies run this far behind
+/// the PZT root of a design with no base tab, bare carbon for the ground wire's drop of silver epoxy
+/// (about 1 mm across) with room for the engraved label.
+pub const DEFAULT_GROUND_TAB_MM: f64 = 1.5;
+
 /// Default run of a score line past the sheet edge, mm: docs/cam.md §4, "Scoring the ceramic".
 pub const DEFAULT_SCORE_OVERRUN_MM: f64 = 0.5;
 
@@ -225,6 +230,9 @@ pub struct Template {
     pub pzt_edge_margin_mm: f64,
     /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
     pub linkage: Option<super::linkage::LinkageProcess>,
+    /// The base tab the process gives a design that has none, mm (`[layers.passive] ground_tab_mm`,
+    /// default [`DEFAULT_GROUND_TAB_MM`]; 0 adds none): the wiring needs bare carbon to reach.
+    pub ground_tab_mm: f64,
 }
 
 const METHOD_1: &str = include_str!("../../../../templates/method-1.toml");
@@ -427,12 +435,6 @@ impl Template {
         c.finish()?;
 
         let layers = root.table("layers")?;
-        let sheet = |key: &str| -> Result<SheetSpec, InputError> {
-            let t = layers.table(key)?;
-            let s = read_sheet(&t)?;
-            t.finish()?;
-            Ok(s)
-        };
         let (pzt, pzt_edge_margin_mm) = {
             let t = layers.table("pzt")?;
             let mut spec = read_sheet(&t)?;
@@ -448,7 +450,15 @@ impl Template {
             t.finish()?;
             (spec, margin)
         };
-        let passive = sheet("passive")?;
+        let (passive, ground_tab_mm) = {
+            let t = layers.table("passive")?;
+            let s = read_sheet(&t)?;
+            let tab = t
+                .optional_number_in("ground_tab_mm", GROUND_TAB_MM)?
+                .unwrap_or(DEFAULT_GROUND_TAB_MM);
+            t.finish()?;
+            (s, tab)
+        };
         let bond = match layers.optional_table("pyralux")? {
             None => None,
             Some(t) => {
@@ -553,6 +563,7 @@ impl Template {
             features,
             pzt_edge_margin_mm,
             linkage,
+            ground_tab_mm,
         })
     }
 
