@@ -87,6 +87,22 @@ fn cavity_outline(g: &PartGeometry, band: MoldBand) -> Vec<Point> {
 /// (about 0.1 mm on the ProtoLaser), and the window's edge is where the felt and Teflon fray.
 const NUMBER_CLEARANCE_MM: f64 = 0.2;
 
+/// The engraved label of a clamp panel sheet: `{layer} {t}mm P{panel}`, the film's thickness with the
+/// layer since the molds of one stack differ by film and a sheet off the stack must say which film it
+/// is; without room for it at text height `th`, `{layer} P{panel}`; empty without room for either.
+fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: usize, th: f64, room: f64) -> String {
+    let thickness = thickness_mm.map_or(String::new(), |t| {
+        format!(" {}mm", crate::cam::decimal::fmt_mm(t))
+    });
+    [
+        format!("{layer}{thickness} P{panel}"),
+        format!("{layer} P{panel}"),
+    ]
+    .into_iter()
+    .find(|t| label_width(t, th) < room)
+    .unwrap_or_default()
+}
+
 /// Strokes of the number of stack level `level` (1-based), engraved in its own stacking window
 /// (position `level - 1`): as tall as 60 % of the window (at most 2 mm), made smaller if it would not
 /// fit within the window less `inset_mm` on each side, and centred on the window by the extent of its
@@ -371,13 +387,20 @@ pub fn clamp_layers(
             for s in window_number(c, k + 1, number_inset) {
                 d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
             }
-            let title = format!("{} {prefix} P{number}", names.title);
             let th = (c.border_mm * 0.3).min(2.5);
             // The label starts beside the fourth pin hole (centre 3 x inset from the left edge), at
             // least 1 mm clear of it whatever its radius.
             let shift = (c.pin_radius_mm + 1.0 - 2.0).max(0.0);
-            if th > 0.0 && label_width(&title, th) < c.panel_width_mm - 6.0 * c.pin_inset_mm - shift
-            {
+            let room = c.panel_width_mm - 6.0 * c.pin_inset_mm - shift;
+            let thickness_mm = d.stock.as_ref().map(|s| s.thickness_mm);
+            let title = panel_label(
+                &format!("{} {prefix}", names.title),
+                thickness_mm,
+                number,
+                th,
+                room,
+            );
+            if th > 0.0 && !title.is_empty() {
                 for s in label_strokes(
                     &title,
                     [
@@ -416,6 +439,20 @@ pub fn clamp_layers(
 mod tests {
     use super::*;
     use std::path::Path;
+
+    #[test]
+    fn a_panel_label_names_its_film_thickness_when_it_fits() {
+        assert_eq!(
+            panel_label("C mold-4", Some(0.05), 1, 2.0, 200.0),
+            "C mold-4 0.05mm P1"
+        );
+        let room = label_width("C mold-4 P1", 2.0) + 0.1;
+        assert_eq!(
+            panel_label("C mold-4", Some(0.05), 1, 2.0, room),
+            "C mold-4 P1"
+        );
+        assert_eq!(panel_label("C mold-4", Some(0.05), 1, 2.0, 1.0), "");
+    }
 
     #[test]
     fn window_numbers_fit_and_are_centred_for_1_to_20_layers() {
