@@ -8,6 +8,7 @@ use crate::input::limits::{
     PLY_ANGLE_DEG, PRICE, PRICE_PER_M, SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
+use super::linkage::{item_linkage, BatchLinkage};
 use crate::parts::{import, PartOrder, PartSheet};
 use crate::process::template::{PassiveCut, SheetSpec};
 use std::path::{Path, PathBuf};
@@ -92,8 +93,10 @@ pub struct Batch {
     pub iterations: Option<usize>,
     /// Wall-clock budget of the nest in seconds (`time_s`), if given.
     pub time_s: Option<f64>,
-    /// Extra parts from drawings (`[[part]]`), in file order.
+    /// Extra parts from drawings (`[[part]]`), in file order, then the items' linkage coupons.
     pub parts: Vec<PartOrder>,
+    /// The items' linkages (`drive` on an `[[item]]`), in item order.
+    pub linkages: Vec<BatchLinkage>,
     /// Prices of the prepreg roll (`[sheets] prepreg = { strip = true, price_per_m }`).
     pub prepreg_roll: Option<RollPrice>,
     /// Prices of the Pyralux roll.
@@ -416,6 +419,7 @@ fn part_orders(
                 quantity,
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),
+                pin_holes: Vec::new(),
             })
         })
         .collect()
@@ -442,9 +446,17 @@ impl Batch {
         let base = path.parent().unwrap_or(Path::new("."));
         let mut items: Vec<BatchItem> = Vec::new();
         let mut template: Option<(Template, String, String)> = None; // template, process, design file
+        let mut drives: Vec<(usize, String, PathBuf)> = Vec::new(); // item, field, drive file
         for t in root.tables("item")? {
             let file = t.string("design", "a design file path, relative to the batch file")?;
             let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
+            if let Some(drive) = t.optional_string(
+                "drive",
+                "a drive file whose linkage is cut with the item's actuators, relative to the batch file",
+            )? {
+                let found = existing_file(&t, "drive", base, drive, "no such drive file")?;
+                drives.push((items.len(), t.path("drive"), found));
+            }
             t.finish()?;
             let design_path = existing_file(&t, "design", base, file, "no such design file")?;
             let design = Design::load(&design_path)?;
@@ -509,6 +521,12 @@ impl Batch {
                 parts.extend(part_orders(&t, base, &items, &template)?);
             }
         }
+        let mut linkages = Vec::new();
+        for (item, field, drive) in &drives {
+            let (linkage, orders) = item_linkage(path, field, drive, *item, &items, &template)?;
+            linkages.push(linkage);
+            parts.extend(orders);
+        }
         root.finish()?;
         Ok(Batch {
             name,
@@ -518,6 +536,7 @@ impl Batch {
             iterations,
             time_s,
             parts,
+            linkages,
             prepreg_roll,
             pyralux_roll,
             source: path.to_path_buf(),

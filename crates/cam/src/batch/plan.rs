@@ -4,6 +4,7 @@
 
 use super::file::Batch;
 use super::file::RollPrice;
+use super::linkage::coupon_drawings;
 use super::report::NestReport;
 use crate::pipeline::{
     build, sheets_instead_of_roll, BuildError, Names, NestObserver, NestOptions, Packing,
@@ -88,9 +89,10 @@ pub fn plan_observed(
         })?;
         on_sheets[*i] = Some(sheets);
     }
-    let report = NestReport::new(batch, opts, &built, &on_sheets);
-    Ok(Planned {
-        drawings: built.drawings,
-        report,
-    })
+    let coupons = coupon_drawings(&batch.linkages, &batch.items, &batch.template)?;
+    let prefixes: Vec<String> = coupons.iter().map(|(p, _)| p.clone()).collect();
+    let report = NestReport::new(batch, opts, &built, &on_sheets, &prefixes);
+    let mut drawings = built.drawings;
+    drawings.extend(coupons.into_iter().flat_map(|(_, d)| d));
+    Ok(Planned { drawings, report })
 }

@@ -50,13 +50,8 @@ impl From<InputError> for LinkageCutError {
     }
 }
 
-/// Plan the linkage of `drive_file` for `design` (the design as given; it must be the drive's).
-pub fn plan_linkage(
-    drive_file: &std::path::Path,
-    design: &Design,
-    template: &Template,
-    opts: &CutSheetOptions,
-) -> Result<LinkageCut, LinkageCutError> {
+/// The drive file `drive_file`, refused unless it drives `design`.
+pub fn drive_of(drive_file: &std::path::Path, design: &Design) -> Result<DriveSpec, InputError> {
     let drive = DriveSpec::load(drive_file)?;
     let same = match (drive.design.canonicalize(), design.source.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
@@ -71,9 +66,19 @@ pub fn plan_linkage(
                 "the design being cut, {} (a drive file drives one design)",
                 design.source.display()
             ),
-        )
-        .into());
+        ));
     }
+    Ok(drive)
+}
+
+/// Plan the linkage of `drive_file` for `design` (the design as given; it must be the drive's).
+pub fn plan_linkage(
+    drive_file: &std::path::Path,
+    design: &Design,
+    template: &Template,
+    opts: &CutSheetOptions,
+) -> Result<LinkageCut, LinkageCutError> {
+    let drive = drive_of(drive_file, design)?;
     let template = process_template(template, opts);
     let built = super::design_for_process(design, &template).map_err(|e| {
         InputError::invalid(
@@ -87,16 +92,7 @@ pub fn plan_linkage(
     let count = opts.quantity.unwrap_or(design.quantity);
     let drawings = linkage_drawings(&laminate, &template, count, &design.name)?;
     let report = laminate.report();
-    let expected = Expected {
-        kerf_mm: report.kerf_mm,
-        film_margin_mm: report.film_margin_mm,
-        areal_densities: report
-            .layers
-            .iter()
-            .map(|l| l.areal_density_mg_per_mm2)
-            .collect(),
-        mass_mg: report.mass_mg,
-    };
+    let expected = Expected::of(&report);
     let per_panel = STACK.len() + 1;
     let problems: Vec<String> = drawings
         .chunks(per_panel)

@@ -114,8 +114,19 @@ pub fn linkage_laminate(
     design: &Design,
     model: &ModelChoice,
 ) -> Result<LinkageLaminate, DriveError> {
-    let perf = performance(design, model)?;
     let template = Template::resolve(&design.process, &design.source)?;
+    linkage_laminate_in(spec, design, model, &template)
+}
+
+/// [`linkage_laminate`] with the materials and rules of `template`'s `[linkage]` (a batch's template,
+/// whose kerf is the larger of the linkage's and the prepreg sheet's).
+pub fn linkage_laminate_in(
+    spec: &DriveSpec,
+    design: &Design,
+    model: &ModelChoice,
+    template: &Template,
+) -> Result<LinkageLaminate, DriveError> {
+    let perf = performance(design, model)?;
     let Some(process) = template.linkage.as_ref() else {
         return Err(InputError::invalid(
             &template.source,

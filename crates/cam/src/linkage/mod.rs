@@ -9,11 +9,13 @@
 //! | `pattern.rs` | the flat pattern: pivots, gaps, cut-outs of each layer, the release outline |
 //! | `mass.rs` | mass and inertia from the drawn areas |
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
+//! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
 pub mod checklist;
 pub mod checks;
+pub mod coupon;
 pub mod drawings;
 pub mod flexures;
 pub mod mass;
