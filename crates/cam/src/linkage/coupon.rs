@@ -43,21 +43,23 @@ pub struct CouponPart {
 }
 
 impl Coupon {
-    /// The coupon of `laminate` with the pins of `template`'s clamp panel: each pin hole `slot_overrun_mm`
-    /// from the coupon's edges and the same again from the cut-outs, which run `slot_overrun_mm` past
-    /// the linkage.
+    /// The coupon of `laminate` with the pins of `template`'s clamp panel: each pin hole a radius and
+    /// `slot_overrun_mm` from the coupon's edges (room for the pin's head and for a viewer's bounding box
+    /// of the hole's arcs) and `slot_overrun_mm` from the cut-outs, which run `slot_overrun_mm` past the
+    /// linkage.
     pub fn of(laminate: &LinkageLaminate, template: &Template) -> Coupon {
         let p = &laminate.pattern;
         let over = p.overrun_mm;
         let r = template.clamp.pin_radius_mm;
-        let border = 2.0 * r + 2.0 * over;
+        let inset = 2.0 * r + over;
+        let border = inset + r + over;
         Coupon {
             clamp: ClampSpec {
                 panel_width_mm: p.length_mm + 2.0 * over + 2.0 * border,
                 panel_height_mm: p.strip_width_mm + 2.0 * over + 2.0 * border,
                 border_mm: border,
                 pin_radius_mm: r,
-                pin_inset_mm: r + over,
+                pin_inset_mm: inset,
                 ..template.clamp.clone()
             },
             origin: [border + over, border + over + p.strip_width_mm / 2.0],
