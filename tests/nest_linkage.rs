@@ -1,0 +1,159 @@
+//! `nest` with linkages (`drive` on an `[[item]]`, docs/cam.md §7): the coupons of
+//! examples/batch-linkage.toml checked on their sheets from the report alone, independent of the
+//! planner: every coupon once per layer and linkage, inside its sheet and apart from every other part
+//! by kerf and spacing, the carbon only half-turned with its links along the sheet's fibres.
+
+mod common;
+use common::*;
+use geo::{Distance, Euclidean};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// templates/method-2.toml: `[linkage] kerf_mm`, `slot_overrun_mm`; `[clamp] pin_radius_mm`.
+const LINKAGE_KERF_MM: f64 = 0.02;
+const OVERRUN_MM: f64 = 0.5;
+const PIN_RADIUS_MM: f64 = 0.79;
+/// examples/batch-linkage.toml `[sheets] spacing_mm`.
+const SPACING_MM: f64 = 0.3;
+
+/// A coupon's outline about its centre, links along +x: the clamp panel's outline (docs/cam.md §2),
+/// chamfered at the top-left corner by twice the pin inset, at most a quarter of a side.
+fn coupon(w: f64, h: f64) -> Vec<[f64; 2]> {
+    let inset = 2.0 * PIN_RADIUS_MM + OVERRUN_MM;
+    let c = (2.0 * inset).min(w / 4.0).min(h / 4.0);
+    [[0.0, 0.0], [w, 0.0], [w, h], [c, h], [0.0, h - c]]
+        .iter()
+        .map(|q| [q[0] - w / 2.0, q[1] - h / 2.0])
+        .collect()
+}
+
+fn turned(ring: &[[f64; 2]], deg: f64, at: [f64; 2]) -> Vec<[f64; 2]> {
+    let (s, c) = deg.to_radians().sin_cos();
+    ring.iter()
+        .map(|q| [c * q[0] - s * q[1] + at[0], s * q[0] + c * q[1] + at[1]])
+        .collect()
+}
+
+#[test]
+fn actuators_with_their_linkages_nest_and_every_coupon_checks_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let batch = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/batch-linkage.toml");
+    let o = run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        "200",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    let linkages = report["linkages"].as_array().unwrap();
+    assert_eq!(linkages.len(), 2);
+    let mut want: BTreeMap<String, (usize, [f64; 2])> = BTreeMap::new();
+    for l in linkages {
+        let design = l["design"].as_str().unwrap();
+        let q = l["quantity"].as_u64().unwrap() as usize;
+        let size = [
+            l["coupon_width_mm"].as_f64().unwrap(),
+            l["coupon_height_mm"].as_f64().unwrap(),
+        ];
+        // The coupon holds the linkage, its slot overrun and a pin border on each side.
+        let length = l["length_mm"].as_f64().unwrap();
+        assert!(size[0] > length + 2.0 * OVERRUN_MM + 4.0 * PIN_RADIUS_MM);
+        for (layer, per) in [("carbon", 2), ("adhesive", 2), ("film", 1)] {
+            want.insert(format!("{design}-linkage-{layer}"), (per * q, size));
+        }
+        // Its coupon files were checked across layers before writing; they are all there.
+        let prefix = l["prefix"].as_str().unwrap();
+        let files: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(prefix) && n.ends_with(".dxf"))
+            .collect();
+        assert_eq!(files.len(), 6, "{files:?}");
+    }
+    let mut seen: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for sheet in report["sheets"].as_array().unwrap() {
+        let layer = sheet["layer"].as_str().unwrap();
+        if !layer.starts_with("linkage-") {
+            // Actuators' parts share no sheet with a coupon here: no design has the linkage's layup.
+            assert!(sheet["parts"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|p| !p["design"].as_str().unwrap().contains("-linkage-")));
+            continue;
+        }
+        let (w, h) = (
+            sheet["width_mm"].as_f64().unwrap(),
+            sheet["height_mm"].as_f64().unwrap(),
+        );
+        let gap = LINKAGE_KERF_MM + SPACING_MM;
+        let mut placed = Vec::new();
+        for p in sheet["parts"].as_array().unwrap() {
+            let name = p["design"].as_str().unwrap().to_string();
+            assert!(name.ends_with(&layer["linkage-".len()..]), "{name} on {layer}");
+            let (_, size) = want[&name];
+            seen.entry(name.clone())
+                .or_default()
+                .push(p["actuator"].as_u64().unwrap() as usize);
+            let rot = p["rotation_deg"].as_f64().unwrap();
+            let allowed: &[f64] = if layer == "linkage-carbon" {
+                &[0.0, 180.0]
+            } else {
+                &[0.0, 90.0, 180.0, 270.0]
+            };
+            assert!(allowed.contains(&rot), "{name}: rotation {rot}");
+            // The part is the coupon turned a quarter (links along +y), then by its rotation.
+            let at = [p["x_mm"].as_f64().unwrap(), p["y_mm"].as_f64().unwrap()];
+            let ring = turned(&coupon(size[0], size[1]), 90.0 + rot, at);
+            if layer == "linkage-carbon" {
+                // Fibres along the sheet's y axis: the links (the coupon's long side) run along y.
+                let ys: Vec<f64> = ring.iter().map(|q| q[1]).collect();
+                let span = ys.iter().cloned().fold(f64::MIN, f64::max)
+                    - ys.iter().cloned().fold(f64::MAX, f64::min);
+                assert!((span - size[0]).abs() < 1e-9, "{name}: links not along y");
+            }
+            for q in &ring {
+                assert!(
+                    q[0] >= gap - 1e-6
+                        && q[1] >= gap - 1e-6
+                        && q[0] <= w - gap + 1e-6
+                        && q[1] <= h - gap + 1e-6,
+                    "{name} vertex {q:?} within {gap} mm of the sheet's edge"
+                );
+            }
+            placed.push((name, polygon(&ring)));
+        }
+        for i in 0..placed.len() {
+            for j in i + 1..placed.len() {
+                let d = Euclidean.distance(&placed[i].1, &placed[j].1);
+                assert!(
+                    d >= gap - 1e-6,
+                    "{} and {} are {d} mm apart (gap {gap})",
+                    placed[i].0,
+                    placed[j].0
+                );
+            }
+        }
+    }
+    for (name, (count, _)) in &want {
+        let mut copies = seen.remove(name).unwrap_or_default();
+        copies.sort();
+        assert_eq!(copies, (1..=*count).collect::<Vec<_>>(), "{name}");
+    }
+    assert!(seen.is_empty(), "{seen:?}");
+    // The build book has a section for each item's linkages.
+    let sections: Vec<&str> = report["build_book"]["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["title"].as_str().unwrap())
+        .collect();
+    assert!(sections.contains(&"Linkages of thesis-7 (docs/cam.md §7)"));
+    assert!(sections.contains(&"Linkages of robobee-class (docs/cam.md §7)"));
+}
