@@ -116,7 +116,7 @@ pub fn item_linkage(
     };
     let model = ModelChoice::Kind(ModelKind::Original);
     let laminate =
-        linkage_laminate_in(&drive, &item.design, &model, &tpl).map_err(|e| match e {
+        linkage_laminate_in(&drive.transmission(), &drive.source, &item.design, &model, &tpl).map_err(|e| match e {
             DriveError::Input(e) => e,
             DriveError::Model(e) => refuse(e.to_string()),
         })?;

@@ -11,6 +11,7 @@
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
 //! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
+//! | `transmission.rs` | the `[transmission]` table of a drive or design file |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
 pub mod checklist;
@@ -20,6 +21,7 @@ pub mod drawings;
 pub mod flexures;
 pub mod mass;
 pub mod pattern;
+pub mod transmission;
 
 use crate::input::InputError;
 use crate::process::linkage as process;
