@@ -129,3 +129,97 @@ fn a_flexure_that_cannot_be_made_writes_nothing() {
     assert!(err.contains(": design = "), "{err}");
     assert!(!out.exists());
 }
+
+/// robobee-class.toml with the `[transmission]` of drive-robobee-linkage.toml and its stroke, written
+/// into `dir` as `design.toml` beside a copy of the drive file that drives it (`drive.toml`).
+fn design_with_transmission(dir: &std::path::Path) -> (String, String) {
+    let drive = std::fs::read_to_string(example_path("drive-robobee-linkage.toml")).unwrap();
+    let table = &drive[drive.find("[transmission]").unwrap()..];
+    let design = std::fs::read_to_string(example_path("robobee-class.toml")).unwrap()
+        + "\n"
+        + &table.replace("[transmission]", "[transmission]\nstroke_deg = 50");
+    let d = dir.join("design.toml");
+    std::fs::write(&d, design).unwrap();
+    let dr = dir.join("drive.toml");
+    std::fs::write(
+        &dr,
+        drive.replace(
+            "design = \"robobee-class.toml\"",
+            "design = \"design.toml\"",
+        ),
+    )
+    .unwrap();
+    (
+        d.to_str().unwrap().to_string(),
+        dr.to_str().unwrap().to_string(),
+    )
+}
+
+#[test]
+fn a_transmission_in_the_design_file_cuts_the_same_linkage_as_the_drive_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (design, drive) = design_with_transmission(dir.path());
+    let own = dir.path().join("own");
+    let o = cut_sheet(&design, &own, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let by_drive = dir.path().join("by-drive");
+    let o = cut_sheet(
+        &example("robobee-class.toml"),
+        &by_drive,
+        &["--drive", &example("drive-robobee-linkage.toml")],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Every linkage layer file the same, byte for byte; the reports name their own source.
+    let linkage = |m: std::collections::BTreeMap<String, Vec<u8>>| {
+        m.into_iter()
+            .filter(|(n, _)| n.starts_with("linkage-"))
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (linkage(files(&own)), linkage(files(&by_drive)));
+    assert_eq!(a.len(), 12);
+    assert_eq!(a, b);
+    let r = report_json(&own);
+    assert!(r["linkage"]["drive_file"]
+        .as_str()
+        .unwrap()
+        .ends_with("design.toml"));
+    assert_eq!(
+        r["linkage"]["mass_mg"],
+        report_json(&by_drive)["linkage"]["mass_mg"]
+    );
+    // Both given and the same: accepted, the same files.
+    let both = dir.path().join("both");
+    let o = cut_sheet(&design, &both, &["--drive", &drive]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(linkage(files(&both)), b);
+}
+
+#[test]
+fn a_design_transmission_that_disagrees_with_the_drive_or_is_out_of_range_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (design, drive) = design_with_transmission(dir.path());
+    // The drive file asks for ±45°, the design for ±50°.
+    let text = std::fs::read_to_string(&drive)
+        .unwrap()
+        .replace("stroke_deg = 50", "stroke_deg = 45");
+    std::fs::write(&drive, text).unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &["--drive", &drive]));
+    assert!(
+        err.contains("design.toml: transmission = (given): the [transmission] (and stroke_deg) of the drive file"),
+        "{err}"
+    );
+    assert!(err.contains("may not disagree"), "{err}");
+    assert!(!out.exists(), "nothing is written");
+    // A stroke out of its range, named as written.
+    let text = std::fs::read_to_string(&design)
+        .unwrap()
+        .replace("stroke_deg = 50", "stroke_deg = 200");
+    std::fs::write(&design, text).unwrap();
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("design.toml: transmission.stroke_deg = 200"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -96,7 +96,10 @@ fn actuators_with_their_linkages_nest_and_every_coupon_checks_out() {
         let mut placed = Vec::new();
         for p in sheet["parts"].as_array().unwrap() {
             let name = p["design"].as_str().unwrap().to_string();
-            assert!(name.ends_with(&layer["linkage-".len()..]), "{name} on {layer}");
+            assert!(
+                name.ends_with(&layer["linkage-".len()..]),
+                "{name} on {layer}"
+            );
             let (_, size) = want[&name];
             seen.entry(name.clone())
                 .or_default()

@@ -1,6 +1,7 @@
 //! The batch file (`batch.toml`): which designs, how many of each, the seed and optional sheet
 //! overrides; validated once into a [`Batch`] that the planner trusts.
 
+use super::linkage::{item_linkage, BatchLinkage};
 use crate::cutsheet::{design_for_process, Template};
 use crate::design::Design;
 use crate::input::limits::{
@@ -8,7 +9,6 @@ use crate::input::limits::{
     PLY_ANGLE_DEG, PRICE, PRICE_PER_M, SHEET_SIDE_MM, SPACING_MM,
 };
 use crate::input::{read_toml, InputError, TableReader};
-use super::linkage::{item_linkage, BatchLinkage};
 use crate::parts::{import, PartOrder, PartSheet};
 use crate::process::template::{PassiveCut, SheetSpec};
 use std::path::{Path, PathBuf};
@@ -446,17 +446,18 @@ impl Batch {
         let base = path.parent().unwrap_or(Path::new("."));
         let mut items: Vec<BatchItem> = Vec::new();
         let mut template: Option<(Template, String, String)> = None; // template, process, design file
-        let mut drives: Vec<(usize, String, PathBuf)> = Vec::new(); // item, field, drive file
+        let mut drives: Vec<(String, Option<PathBuf>)> = Vec::new(); // per item: field, drive file
         for t in root.tables("item")? {
             let file = t.string("design", "a design file path, relative to the batch file")?;
             let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
-            if let Some(drive) = t.optional_string(
-                "drive",
-                "a drive file whose linkage is cut with the item's actuators, relative to the batch file",
-            )? {
-                let found = existing_file(&t, "drive", base, drive, "no such drive file")?;
-                drives.push((items.len(), t.path("drive"), found));
-            }
+            let drive = t
+                .optional_string(
+                    "drive",
+                    "a drive file whose linkage is cut with the item's actuators, relative to the batch file",
+                )?
+                .map(|drive| existing_file(&t, "drive", base, drive, "no such drive file"))
+                .transpose()?;
+            drives.push((t.path("drive"), drive));
             t.finish()?;
             let design_path = existing_file(&t, "design", base, file, "no such design file")?;
             let design = Design::load(&design_path)?;
@@ -522,10 +523,13 @@ impl Batch {
             }
         }
         let mut linkages = Vec::new();
-        for (item, field, drive) in &drives {
-            let (linkage, orders) = item_linkage(path, field, drive, *item, &items, &template)?;
-            linkages.push(linkage);
-            parts.extend(orders);
+        for (item, (field, drive)) in drives.iter().enumerate() {
+            if let Some((linkage, orders)) =
+                item_linkage(path, field, drive.as_deref(), item, &items, &template)?
+            {
+                linkages.push(linkage);
+                parts.extend(orders);
+            }
         }
         root.finish()?;
         Ok(Batch {

@@ -1,4 +1,5 @@
-//! A batch item's linkage (`drive = "drive.toml"` on an `[[item]]`, docs/cam.md §7): the drive's
+//! A batch item's linkage (`drive = "drive.toml"` on an `[[item]]`, or its design's `[transmission]`;
+//! docs/cam.md §7): the
 //! linkage laminate for as many linkages as the item has actuators, its layers as coupons nested with
 //! the actuators' parts ([`crate::linkage::coupon`]). The carbon goes on the prepreg sheets of a design
 //! of the batch laid up as the linkage's carbon (the template's `[linkage] carbon_ply` and
@@ -6,13 +7,13 @@
 //! own, the prepreg sheet's size.
 
 use super::file::BatchItem;
-use crate::cutsheet::linkage::drive_of;
+use crate::cutsheet::linkage::transmission_of;
 use crate::drive::{linkage_laminate_in, DriveError};
 use crate::input::InputError;
+use crate::linkage::checks::{check_linkage_drawings, Expected};
 use crate::linkage::coupon::Coupon;
 use crate::linkage::pattern::Ply;
 use crate::linkage::LinkageLaminate;
-use crate::linkage::checks::{check_linkage_drawings, Expected};
 use crate::parts::{OwnSheet, PartOrder, PartSheet};
 use crate::pipeline::{BuildError, SheetDrawing};
 use crate::process::template::{PassiveCut, SheetSpec, Template};
@@ -30,7 +31,7 @@ const SHEET_ROTATIONS_DEG: [f64; 4] = [0.0, 90.0, 180.0, 270.0];
 pub struct BatchLinkage {
     /// The item (index into the batch's items).
     pub item: usize,
-    /// The drive file.
+    /// The file that gives the transmission: the drive file, or the design file.
     pub drive: PathBuf,
     /// Linkages to build: one per actuator of the item.
     pub quantity: usize,
@@ -92,20 +93,29 @@ fn own_sheet(
     })
 }
 
-/// The linkage of item `index` (field `field` of the batch file `batch`, naming `drive_file` as
-/// written) and its coupons as extra parts.
+/// The linkage of item `index` and its coupons as extra parts: of its `drive` file (`field` of the
+/// batch file `batch`) or its design's `[transmission]`, which must agree when both are given
+/// ([`transmission_of`]); `None` without either.
 pub fn item_linkage(
     batch: &Path,
     field: &str,
-    drive_file: &Path,
+    drive: Option<&Path>,
     index: usize,
     items: &[BatchItem],
     template: &Template,
-) -> Result<(BatchLinkage, Vec<PartOrder>), InputError> {
+) -> Result<Option<(BatchLinkage, Vec<PartOrder>)>, InputError> {
     let item = &items[index];
-    let drive = drive_of(drive_file, &item.design)?;
+    let Some((drive_file, spec)) = transmission_of(drive, &item.design)? else {
+        return Ok(None);
+    };
+    let drive_file = drive_file.as_path();
+    // The design's own `[transmission]` is named by the item's design.
+    let field = match drive {
+        Some(_) => field.to_string(),
+        None => field.replace(".drive", ".design"),
+    };
     let refuse = |what: String| {
-        InputError::invalid(batch, field, format!("{:?}", drive_file.display()), what)
+        InputError::invalid(batch, &field, format!("{:?}", drive_file.display()), what)
     };
     let like = carbon_like(items, template);
     let Some(tpl) = linkage_template(template, like.is_some()) else {
@@ -115,11 +125,12 @@ pub fn item_linkage(
         )));
     };
     let model = ModelChoice::Kind(ModelKind::Original);
-    let laminate =
-        linkage_laminate_in(&drive.transmission(), &drive.source, &item.design, &model, &tpl).map_err(|e| match e {
+    let laminate = linkage_laminate_in(&spec, drive_file, &item.design, &model, &tpl).map_err(
+        |e| match e {
             DriveError::Input(e) => e,
             DriveError::Model(e) => refuse(e.to_string()),
-        })?;
+        },
+    )?;
     let process = &laminate.process;
     let kerf = process.kerf_mm;
     let coupon = Coupon::of(&laminate, &tpl);
@@ -149,7 +160,10 @@ pub fn item_linkage(
                 None => (
                     own_sheet(
                         "linkage-carbon",
-                        &format!("{} ({})", process.carbon.material, template.passive.material),
+                        &format!(
+                            "{} ({})",
+                            process.carbon.material, template.passive.material
+                        ),
                         process.carbon.thickness_mm,
                         process.carbon.density_kg_per_m3,
                         &template.passive,
@@ -225,7 +239,7 @@ pub fn item_linkage(
             part: part.part,
         });
     }
-    Ok((
+    Ok(Some((
         BatchLinkage {
             item: index,
             drive: drive_file.to_path_buf(),
@@ -235,7 +249,7 @@ pub fn item_linkage(
             sheets,
         },
         orders,
-    ))
+    )))
 }
 
 /// The coupon files of the batch's linkages, `linkage-<design>-N-<layer>-1` (the design's name in
@@ -264,9 +278,12 @@ pub fn coupon_drawings(
         }
         let tpl = linkage_template(template, carbon_like(items, template).is_some())
             .unwrap_or_else(|| template.clone());
-        let drawings = l
-            .coupon
-            .drawings(&l.laminate, &tpl, &format!("{name} linkage coupon"), &prefix)?;
+        let drawings = l.coupon.drawings(
+            &l.laminate,
+            &tpl,
+            &format!("{name} linkage coupon"),
+            &prefix,
+        )?;
         let problems = check_linkage_drawings(&drawings, &Expected::of(&l.laminate.report()));
         if !problems.is_empty() {
             return Err(BuildError::Geometry {

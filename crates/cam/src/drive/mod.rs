@@ -12,6 +12,7 @@ pub mod spec;
 
 use crate::design::Design;
 use crate::input::InputError;
+use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
 use crate::process::template::Template;
@@ -25,7 +26,6 @@ use report::{
     ActuatorRow, DriveReport, LinkageRow, MassRow, ModeRow, OperatingRow, SweepPoint, Unreachable,
     WingRow,
 };
-use crate::linkage::transmission::TransmissionSpec;
 use spec::{DriveSpec, LinkageSpec};
 use std::f64::consts::PI;
 

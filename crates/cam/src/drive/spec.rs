@@ -4,8 +4,7 @@
 use crate::input::limits::{
     AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, DRAG_COEFFICIENT,
     FLAPPING_FREQUENCY_HZ, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG,
-    SURVIVAL,
-    TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
+    SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
 pub use crate::linkage::transmission::LinkageSpec;
@@ -47,7 +46,6 @@ impl WingSpec {
     }
 }
 
-
 /// A validated drive file, SI inside.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveSpec {
@@ -80,7 +78,6 @@ pub struct DriveSpec {
     /// the design's process cuts.
     pub flexures: Option<FlexureRequest>,
 }
-
 
 impl DriveSpec {
     /// The transmission of the drive file, as a design file's `[transmission]` gives it too.
@@ -165,7 +162,6 @@ impl DriveSpec {
         })
     }
 }
-
 
 /// `[wing]`: a planform (`span_mm`, a chord, `areal_density_g_per_m2`, `drag_coefficient`) or the wing
 /// directly (`inertia_mg_mm2`, `damping_nN_m_s2`).
@@ -267,4 +263,3 @@ fn read_chord_table(t: &TableReader<'_>, span: f64) -> Result<Vec<(f64, f64)>, I
     }
     Ok(points)
 }
-

@@ -78,7 +78,14 @@ pub fn linkage_drawings(
     title: &str,
 ) -> Result<Vec<SheetDrawing>, InputError> {
     let panels = layout(laminate, template, count)?;
-    draw_panels(laminate, template, &template.clamp, &panels, title, "linkage-")
+    draw_panels(
+        laminate,
+        template,
+        &template.clamp,
+        &panels,
+        title,
+        "linkage-",
+    )
 }
 
 /// The layer files of linkages with their patterns' origins at `panels` (per panel) on panels of
