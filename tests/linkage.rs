@@ -223,3 +223,52 @@ fn a_design_transmission_that_disagrees_with_the_drive_or_is_out_of_range_is_ref
     );
     assert!(!out.exists());
 }
+
+/// The worked example of docs/cam.md §7, the Berkeley MFI thorax (Wood, Avadhanula, Sahai, Steltz &
+/// Fearing, J. Mech. Des. 130, 2008: flexures 112.5, 112.5 and 50 µm long, 2, 3 and 2 mm wide, in
+/// 7.6 µm Kapton): every line the document prints is what `drive` prints, and the published flexures'
+/// stiffness k = E w t³ / (12 L) and strain t φ / (2 L) it quotes are the closed forms at E = 2.5 GPa.
+#[test]
+fn the_mfi_thorax_worked_example_is_what_the_tool_prints() {
+    let doc = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/cam.md"),
+    )
+    .unwrap();
+    let at = doc
+        .find("$ actuator-cam drive examples/drive-mfi-thorax.toml")
+        .unwrap();
+    let block = &doc[at..at + doc[at..].find("```").unwrap()];
+    let o = run(&["drive", &example("drive-mfi-thorax.toml")]);
+    let out = common::stdout(&o);
+    let mut lines = 0;
+    for line in block
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty() && *l != "...")
+    {
+        assert!(
+            out.contains(line),
+            "the tool does not print {line:?}:\n{out}"
+        );
+        lines += 1;
+    }
+    assert_eq!(lines, 9);
+    // The published flexures (O, B, A) and their turns at ±60° of wing (the prose's 60°, 64.8°, 4.8°).
+    let e = 2.5e9;
+    let t = 7.6e-6;
+    let published: [(f64, f64, f64, f64, f64); 3] = [
+        (112.5e-6, 2e-3, 1.626, 60.0, 3.54),
+        (112.5e-6, 3e-3, 2.439, 64.8, 3.82),
+        (50e-6, 2e-3, 3.658, 4.8, 0.63),
+    ];
+    for (l, w, k_doc, phi_deg, eps_doc) in published {
+        let k = e * w * t * t * t / (12.0 * l) * 1e6;
+        assert!((k - k_doc).abs() < 5e-4, "k = {k} vs {k_doc}");
+        assert!(doc.contains(&format!("{k_doc:.3}")));
+        let eps = t * f64::to_radians(phi_deg) / (2.0 * l) * 100.0;
+        // Within the printed precision: ε to 0.005 %, φ to 0.05°.
+        let slack = 5e-3 + t * f64::to_radians(0.05) / (2.0 * l) * 100.0;
+        assert!((eps - eps_doc).abs() <= slack, "ε = {eps} vs {eps_doc}");
+        assert!(doc.contains(&format!("{eps_doc:.2} %")));
+    }
+}
