@@ -160,3 +160,100 @@ fn actuators_with_their_linkages_nest_and_every_coupon_checks_out() {
     assert!(sections.contains(&"Linkages of thesis-7 (docs/cam.md §7)"));
     assert!(sections.contains(&"Linkages of robobee-class (docs/cam.md §7)"));
 }
+
+/// The hawk-moth batch in `dir` with a template whose linkage carbon is laid up as thesis-7's prepreg
+/// (`[0, 0, 90, 0, 0]` of CF-thesis) and a drive file with flexures of at least two prepreg kerfs:
+/// `passive_cut` as given. Returns the batch file.
+fn shared_prepreg(dir: &Path, passive_cut: &str) -> std::path::PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
+    let template = read("templates/method-2.toml")
+        .replace(
+            "carbon_layup_deg = [0, 90]",
+            "carbon_layup_deg = [0, 0, 90, 0, 0]",
+        )
+        .replace(
+            "passive_cut = \"stack\"",
+            &format!("passive_cut = \"{passive_cut}\""),
+        );
+    std::fs::write(dir.join("tpl.toml"), template).unwrap();
+    let design = read("examples/thesis-7.toml")
+        .replace("process = \"method-2\"", "process = \"tpl.toml\"")
+        .replace("base_tab_mm = 0.0", "base_tab_mm = 2.0");
+    std::fs::write(dir.join("thesis-7.toml"), design).unwrap();
+    let drive = read("examples/drive-hawkmoth.toml")
+        .replace(
+            "flexure_stiffness_uNm_per_rad = 250",
+            "flexure_length_um = [240, 256, 120]",
+        )
+        .replace("link_inertia_mg_mm2 = 0", "")
+        .replace("mass_mg = 20", "");
+    std::fs::write(dir.join("drive.toml"), drive).unwrap();
+    let batch = dir.join("batch.toml");
+    std::fs::write(
+        &batch,
+        "name = \"shared\"\n[[item]]\ndesign = \"thesis-7.toml\"\nquantity = 2\ndrive = \"drive.toml\"\n",
+    )
+    .unwrap();
+    batch
+}
+
+#[test]
+fn the_carbon_shares_the_prepreg_sheets_of_a_design_laid_up_alike() {
+    for cut in ["stack", "ply-by-ply"] {
+        let dir = tempfile::tempdir().unwrap();
+        let batch = shared_prepreg(dir.path(), cut);
+        let out = dir.path().join("out");
+        let o = run(&[
+            "nest",
+            batch.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--iterations",
+            "100",
+        ]);
+        assert!(o.status.success(), "{cut}: {}", stderr(&o));
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+                .unwrap();
+        let l = &report["linkages"][0];
+        assert!(
+            l["sheets"][0]
+                .as_str()
+                .unwrap()
+                .starts_with("layer 1 and 5 on prepreg, layup 0/0/90/0/0"),
+            "{cut}: {}",
+            l["sheets"][0]
+        );
+        // Designed with the prepreg's kerf, the larger.
+        assert_eq!(l["kerf_mm"].as_f64().unwrap(), 0.05);
+        // Every prepreg sheet holds actuators' parts and carbon coupons together, each coupon half-turned;
+        // ply by ply, one sheet per ply, each with every coupon (2 per linkage).
+        let sheets: Vec<&serde_json::Value> = report["sheets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| s["layer"].as_str().unwrap().starts_with("passive"))
+            .collect();
+        assert_eq!(sheets.len(), if cut == "stack" { 1 } else { 5 }, "{cut}");
+        for s in sheets {
+            let parts = s["parts"].as_array().unwrap();
+            let coupons: Vec<&serde_json::Value> = parts
+                .iter()
+                .filter(|p| p["design"] == "thesis-7-linkage-carbon")
+                .collect();
+            assert_eq!(coupons.len(), 4, "{cut}: {}", s["file_stem"]);
+            assert_eq!(
+                parts.len() - coupons.len(),
+                2,
+                "{cut}: the actuators' parts"
+            );
+            for c in coupons {
+                // The rotation on top of the ply's turn (the sheet of a ply at θ turns its parts by
+                // -θ first, as the actuators' plies): half turns only.
+                let r = c["rotation_deg"].as_f64().unwrap();
+                assert!(r == 0.0 || r == 180.0, "{cut} {}: rotation {r}", s["layer"]);
+            }
+        }
+    }
+}

@@ -162,5 +162,23 @@ mod tests {
         let drawings = coupon.drawings(&l, &template, "t", "linkage-x-").unwrap();
         assert_eq!(drawings.len(), STACK.len() + 1);
         assert!(drawings[0].stem.starts_with("linkage-x-1-carbon-1_"));
+        // The coupon's carbon, read back, gives the drive's θ_w(δ) at five points (eq. 2.5).
+        let read = crate::linkage::checks::pivots_read_back(&drawings[0]);
+        assert_eq!(read.len(), 1);
+        let [o, b, a] = read[0];
+        let back = actuator_model::transmission::Linkage::new(
+            (a - b) * 1e-3,
+            (b - o) * 1e-3,
+            l.linkage.offset,
+        )
+        .unwrap();
+        for x in [-1.0, -0.5, 0.0, 0.5, 1.0] {
+            let x = x * 0.75e-3;
+            let (drawn, solved) = (
+                back.stroke_angle(x).unwrap(),
+                l.linkage.stroke_angle(x).unwrap(),
+            );
+            assert!((drawn - solved).abs() < 1e-6, "{x}: {drawn} vs {solved}");
+        }
     }
 }
