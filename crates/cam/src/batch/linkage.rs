@@ -77,7 +77,7 @@ fn own_sheet(
     passive: &SheetSpec,
     kerf_mm: f64,
 ) -> PartSheet {
-    PartSheet::Own(OwnSheet {
+    PartSheet::Own(Box::new(OwnSheet {
         layer: layer.to_string(),
         material: material.to_string(),
         thickness_mm,
@@ -90,7 +90,7 @@ fn own_sheet(
             roll: false,
             ..passive.clone()
         },
-    })
+    }))
 }
 
 /// The linkage of item `index` and its coupons as extra parts: of its `drive` file (`field` of the

@@ -104,7 +104,7 @@ pub enum PartSheet {
     Pyralux,
     /// Sheets of their own: a linkage's film or adhesive, or its carbon when no design of the batch
     /// has its layup (docs/cam.md §7).
-    Own(OwnSheet),
+    Own(Box<OwnSheet>),
 }
 
 /// A cut layer of its own for parts no actuator shares a sheet with.
