@@ -523,9 +523,11 @@ impl Batch {
             }
         }
         let mut linkages = Vec::new();
+        let designs: Vec<(&Design, usize)> =
+            items.iter().map(|i| (&i.design, i.quantity)).collect();
         for (item, (field, drive)) in drives.iter().enumerate() {
             if let Some((linkage, orders)) =
-                item_linkage(path, field, drive.as_deref(), item, &items, &template)?
+                item_linkage(path, field, drive.as_deref(), item, &designs, &template)?
             {
                 linkages.push(linkage);
                 parts.extend(orders);

@@ -6,8 +6,8 @@
 //! `carbon_layup_deg`), else on prepreg sheets of its own; the film and the adhesive on sheets of their
 //! own, the prepreg sheet's size.
 
-use super::file::BatchItem;
 use crate::cutsheet::linkage::transmission_of;
+use crate::design::Design;
 use crate::drive::{linkage_laminate_in, DriveError};
 use crate::input::InputError;
 use crate::linkage::checks::{check_linkage_drawings, Expected};
@@ -58,13 +58,13 @@ pub fn linkage_template(template: &Template, on_prepreg: bool) -> Option<Templat
 
 /// The design of the batch whose prepreg sheets the linkage's carbon shares: the first laid up as the
 /// template's `[linkage]` carbon (ply, ply thickness and layup).
-fn carbon_like(items: &[BatchItem], template: &Template) -> Option<usize> {
+fn carbon_like(items: &[(&Design, usize)], template: &Template) -> Option<usize> {
     let process = template.linkage.as_ref()?;
     let (ply_name, ply_thickness) = &process.carbon_ply;
     items.iter().position(|i| {
-        i.design.layup_deg == process.carbon_layup_deg
-            && i.design.ply.name == *ply_name
-            && (i.design.ply_thickness - ply_thickness).abs() <= 1e-12
+        i.0.layup_deg == process.carbon_layup_deg
+            && i.0.ply.name == *ply_name
+            && (i.0.ply_thickness - ply_thickness).abs() <= 1e-12
     })
 }
 
@@ -101,11 +101,11 @@ pub fn item_linkage(
     field: &str,
     drive: Option<&Path>,
     index: usize,
-    items: &[BatchItem],
+    items: &[(&Design, usize)],
     template: &Template,
 ) -> Result<Option<(BatchLinkage, Vec<PartOrder>)>, InputError> {
-    let item = &items[index];
-    let Some((drive_file, spec)) = transmission_of(drive, &item.design)? else {
+    let (design, quantity) = items[index];
+    let Some((drive_file, spec)) = transmission_of(drive, design)? else {
         return Ok(None);
     };
     let drive_file = drive_file.as_path();
@@ -125,16 +125,15 @@ pub fn item_linkage(
         )));
     };
     let model = ModelChoice::Kind(ModelKind::Original);
-    let laminate = linkage_laminate_in(&spec, drive_file, &item.design, &model, &tpl).map_err(
-        |e| match e {
+    let laminate =
+        linkage_laminate_in(&spec, drive_file, design, &model, &tpl).map_err(|e| match e {
             DriveError::Input(e) => e,
             DriveError::Model(e) => refuse(e.to_string()),
-        },
-    )?;
+        })?;
     let process = &laminate.process;
     let kerf = process.kerf_mm;
     let coupon = Coupon::of(&laminate, &tpl);
-    let name = &item.design.name;
+    let name = &design.name;
     let layup = &process.carbon_layup_deg;
     let mut orders = Vec::new();
     let mut sheets = Vec::new();
@@ -149,7 +148,7 @@ pub fn item_linkage(
                     &CARBON_ROTATIONS_DEG,
                     format!(
                         "prepreg, layup {}{}",
-                        items[like].design.layup_text(),
+                        items[like].0.layup_text(),
                         if template.passive_cut == PassiveCut::PlyByPly {
                             ", cut ply by ply"
                         } else {
@@ -232,7 +231,7 @@ pub fn item_linkage(
         };
         orders.push(PartOrder {
             name: format!("{name}-linkage-{layer_name}"),
-            quantity: item.quantity * part.layers.len(),
+            quantity: quantity * part.layers.len(),
             rotations_deg: rotations.to_vec(),
             sheet,
             pin_holes: part.pins,
@@ -243,7 +242,7 @@ pub fn item_linkage(
         BatchLinkage {
             item: index,
             drive: drive_file.to_path_buf(),
-            quantity: item.quantity,
+            quantity,
             laminate,
             coupon,
             sheets,
@@ -257,12 +256,12 @@ pub fn item_linkage(
 /// layers as a panel's are; with each linkage's file prefix.
 pub fn coupon_drawings(
     linkages: &[BatchLinkage],
-    items: &[BatchItem],
+    items: &[(&Design, usize)],
     template: &Template,
 ) -> Result<Vec<(String, Vec<SheetDrawing>)>, BuildError> {
     let mut out: Vec<(String, Vec<SheetDrawing>)> = Vec::new();
     for l in linkages {
-        let name = &items[l.item].design.name;
+        let name = &items[l.item].0.name;
         let mut slug = String::new();
         for c in name.chars() {
             if c.is_ascii_alphanumeric() {

@@ -89,7 +89,7 @@ pub fn plan_observed(
         })?;
         on_sheets[*i] = Some(sheets);
     }
-    let coupons = coupon_drawings(&batch.linkages, &batch.items, &batch.template)?;
+    let coupons = coupon_drawings(&batch.linkages, &designs, &batch.template)?;
     let prefixes: Vec<String> = coupons.iter().map(|(p, _)| p.clone()).collect();
     let report = NestReport::new(batch, opts, &built, &on_sheets, &prefixes);
     let mut drawings = built.drawings;

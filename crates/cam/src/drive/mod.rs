@@ -12,10 +12,10 @@ pub mod spec;
 
 use crate::design::Design;
 use crate::input::InputError;
-use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
 use crate::process::template::Template;
+use crate::transmission::TransmissionSpec;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};

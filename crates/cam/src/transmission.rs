@@ -8,7 +8,33 @@ use crate::input::limits::{
     LINK_OFFSET_MM, PART_MASS_MG, TRAVEL_MM,
 };
 use crate::input::{short_number, InputError, TableReader};
-use crate::linkage::FlexureRequest;
+
+/// The flexures a drive file asks for (SI); lists of one value hold for all three joints.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FlexureRequest {
+    /// Gap lengths at O, B, A, m (one value: all three); `None`: the shortest the film allows.
+    pub lengths: Option<Vec<f64>>,
+    /// Widths, m (one value: all three); `None`: the template's.
+    pub widths: Option<Vec<f64>>,
+    /// Film thickness, m; `None`: the template's.
+    pub film_thickness: Option<f64>,
+}
+
+impl FlexureRequest {
+    pub(crate) fn pick(values: &Option<Vec<f64>>, i: usize) -> Option<f64> {
+        values
+            .as_ref()
+            .map(|v| if v.len() == 1 { v[0] } else { v[i] })
+    }
+
+    /// The field of joint `i`'s value as the drive file wrote it.
+    pub(crate) fn field(values: &Option<Vec<f64>>, key: &str, i: usize) -> String {
+        match values {
+            Some(v) if v.len() > 1 => format!("transmission.{key}[{i}]"),
+            _ => format!("transmission.{key}"),
+        }
+    }
+}
 
 /// mg·mm² in kg·m².
 pub const MG_MM2: f64 = 1e-12;
