@@ -257,3 +257,60 @@ fn the_carbon_shares_the_prepreg_sheets_of_a_design_laid_up_alike() {
         }
     }
 }
+
+#[test]
+fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let drive = std::fs::read_to_string(root.join("drive-robobee-linkage.toml")).unwrap();
+    let table = &drive[drive.find("[transmission]").unwrap()..];
+    let design = std::fs::read_to_string(root.join("robobee-class.toml")).unwrap()
+        + "\n"
+        + &table.replace("[transmission]", "[transmission]\nstroke_deg = 50");
+    std::fs::write(dir.path().join("bee.toml"), design).unwrap();
+    let batch = dir.path().join("batch.toml");
+    std::fs::write(
+        &batch,
+        "name = \"own\"\n[[item]]\ndesign = \"bee.toml\"\nquantity = 2\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
+            .unwrap();
+    let l = &report["linkages"][0];
+    assert!(l["drive_file"].as_str().unwrap().ends_with("bee.toml"));
+    assert_eq!(l["quantity"], 2);
+    // The same flexures as the drive file's: 112.5, 120 and 50 µm.
+    let lengths: Vec<f64> = l["flexures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["length_um"].as_f64().unwrap())
+        .collect();
+    for (got, want) in lengths.iter().zip([112.5, 120.0, 50.0]) {
+        assert!((got - want).abs() < 1e-9, "{lengths:?}");
+    }
+    // A drive file on the item that asks for another stroke is refused, naming the design file.
+    std::fs::write(
+        dir.path().join("drive.toml"),
+        drive
+            .replace("design = \"robobee-class.toml\"", "design = \"bee.toml\"")
+            .replace("stroke_deg = 50", "stroke_deg = 45"),
+    )
+    .unwrap();
+    std::fs::write(
+        &batch,
+        "name = \"own\"\n[[item]]\ndesign = \"bee.toml\"\nquantity = 2\ndrive = \"drive.toml\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out2");
+    let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("bee.toml: transmission = (given)"), "{err}");
+    assert!(!out.exists());
+}
