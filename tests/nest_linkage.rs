@@ -290,9 +290,7 @@ fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
         .iter()
         .map(|f| f["length_um"].as_f64().unwrap())
         .collect();
-    for (got, want) in lengths.iter().zip([112.5, 120.0, 50.0]) {
-        assert!((got - want).abs() < 1e-9, "{lengths:?}");
-    }
+    assert_eq!(lengths, vec![112.5, 120.0, 50.0]);
     // A drive file on the item that asks for another stroke is refused, naming the design file.
     std::fs::write(
         dir.path().join("drive.toml"),
