@@ -129,3 +129,146 @@ fn a_flexure_that_cannot_be_made_writes_nothing() {
     assert!(err.contains(": design = "), "{err}");
     assert!(!out.exists());
 }
+
+/// robobee-class.toml with the `[transmission]` of drive-robobee-linkage.toml and its stroke, written
+/// into `dir` as `design.toml` beside a copy of the drive file that drives it (`drive.toml`).
+fn design_with_transmission(dir: &std::path::Path) -> (String, String) {
+    let drive = std::fs::read_to_string(example_path("drive-robobee-linkage.toml")).unwrap();
+    let table = &drive[drive.find("[transmission]").unwrap()..];
+    let design = std::fs::read_to_string(example_path("robobee-class.toml")).unwrap()
+        + "\n"
+        + &table.replace("[transmission]", "[transmission]\nstroke_deg = 50");
+    let d = dir.join("design.toml");
+    std::fs::write(&d, design).unwrap();
+    let dr = dir.join("drive.toml");
+    std::fs::write(
+        &dr,
+        drive.replace(
+            "design = \"robobee-class.toml\"",
+            "design = \"design.toml\"",
+        ),
+    )
+    .unwrap();
+    (
+        d.to_str().unwrap().to_string(),
+        dr.to_str().unwrap().to_string(),
+    )
+}
+
+#[test]
+fn a_transmission_in_the_design_file_cuts_the_same_linkage_as_the_drive_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (design, drive) = design_with_transmission(dir.path());
+    let own = dir.path().join("own");
+    let o = cut_sheet(&design, &own, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let by_drive = dir.path().join("by-drive");
+    let o = cut_sheet(
+        &example("robobee-class.toml"),
+        &by_drive,
+        &["--drive", &example("drive-robobee-linkage.toml")],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Every linkage layer file the same, byte for byte; the reports name their own source.
+    let linkage = |m: std::collections::BTreeMap<String, Vec<u8>>| {
+        m.into_iter()
+            .filter(|(n, _)| n.starts_with("linkage-"))
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (linkage(files(&own)), linkage(files(&by_drive)));
+    assert_eq!(a.len(), 12);
+    assert_eq!(a, b);
+    let r = report_json(&own);
+    assert!(r["linkage"]["drive_file"]
+        .as_str()
+        .unwrap()
+        .ends_with("design.toml"));
+    assert_eq!(
+        r["linkage"]["mass_mg"],
+        report_json(&by_drive)["linkage"]["mass_mg"]
+    );
+    // Both given and the same: accepted, the same files.
+    let both = dir.path().join("both");
+    let o = cut_sheet(&design, &both, &["--drive", &drive]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(linkage(files(&both)), b);
+}
+
+#[test]
+fn a_design_transmission_that_disagrees_with_the_drive_or_is_out_of_range_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (design, drive) = design_with_transmission(dir.path());
+    // The drive file asks for ±45°, the design for ±50°.
+    let text = std::fs::read_to_string(&drive)
+        .unwrap()
+        .replace("stroke_deg = 50", "stroke_deg = 45");
+    std::fs::write(&drive, text).unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &["--drive", &drive]));
+    assert!(
+        err.contains("design.toml: transmission = (given): the [transmission] (and stroke_deg) of the drive file"),
+        "{err}"
+    );
+    assert!(err.contains("may not disagree"), "{err}");
+    assert!(!out.exists(), "nothing is written");
+    // A stroke out of its range, named as written.
+    let text = std::fs::read_to_string(&design)
+        .unwrap()
+        .replace("stroke_deg = 50", "stroke_deg = 200");
+    std::fs::write(&design, text).unwrap();
+    let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
+    assert!(
+        err.contains("design.toml: transmission.stroke_deg = 200"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+/// The worked example of docs/cam.md §7, the Berkeley MFI thorax (Wood, Avadhanula, Sahai, Steltz &
+/// Fearing, J. Mech. Des. 130, 2008: flexures 112.5, 112.5 and 50 µm long, 2, 3 and 2 mm wide, in
+/// 7.6 µm Kapton): every line the document prints is what `drive` prints, and the published flexures'
+/// stiffness k = E w t³ / (12 L) and strain t φ / (2 L) it quotes are the closed forms at E = 2.5 GPa.
+#[test]
+fn the_mfi_thorax_worked_example_is_what_the_tool_prints() {
+    let doc = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/cam.md"),
+    )
+    .unwrap();
+    let at = doc
+        .find("$ actuator-cam drive examples/drive-mfi-thorax.toml")
+        .unwrap();
+    let block = &doc[at..at + doc[at..].find("```").unwrap()];
+    let o = run(&["drive", &example("drive-mfi-thorax.toml")]);
+    let out = common::stdout(&o);
+    let mut lines = 0;
+    for line in block
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty() && *l != "...")
+    {
+        assert!(
+            out.contains(line),
+            "the tool does not print {line:?}:\n{out}"
+        );
+        lines += 1;
+    }
+    assert_eq!(lines, 9);
+    // The published flexures (O, B, A) and their turns at ±60° of wing (the prose's 60°, 64.8°, 4.8°).
+    let e = 2.5e9;
+    let t = 7.6e-6;
+    let published: [(f64, f64, f64, f64, f64); 3] = [
+        (112.5e-6, 2e-3, 1.626, 60.0, 3.54),
+        (112.5e-6, 3e-3, 2.439, 64.8, 3.82),
+        (50e-6, 2e-3, 3.658, 4.8, 0.63),
+    ];
+    for (l, w, k_doc, phi_deg, eps_doc) in published {
+        let k = e * w * t * t * t / (12.0 * l) * 1e6;
+        assert!((k - k_doc).abs() < 5e-4, "k = {k} vs {k_doc}");
+        assert!(doc.contains(&format!("{k_doc:.3}")));
+        let eps = t * f64::to_radians(phi_deg) / (2.0 * l) * 100.0;
+        // Within the printed precision: ε to 0.005 %, φ to 0.05°.
+        let slack = 5e-3 + t * f64::to_radians(0.05) / (2.0 * l) * 100.0;
+        assert!((eps - eps_doc).abs() <= slack, "ε = {eps} vs {eps_doc}");
+        assert!(doc.contains(&format!("{eps_doc:.2} %")));
+    }
+}

@@ -33,6 +33,8 @@ Cross-layer checks (issue 16):
          every web between cut-outs in a row, every release-outline edge and every hole is at least two
          kerfs; the pin holes are the same on every layer; the drawn areas (kerf taken off) times each
          layer's mass per area give the reported linkage mass to 1e-6.
+  nest-report.json with "linkages"  the same checks on each linkage's coupon files (<prefix>N-<layer>-1),
+         the nested coupons' shapes; and two carbon, two adhesive and one film coupon per linkage placed.
 Prints one line per failing file, then `check_outputs: N passed, M failed`.
 Exits 1 if any file failed or no file was found. Needs `pip install ezdxf`.
 """
@@ -463,8 +465,9 @@ def unkerf_outline(ring, d):
     return out
 
 
-def check_linkage(report_path, linkage):
-    """Cross-layer problems of the linkage panels written beside a cut-sheet report."""
+def check_linkage(report_path, linkage, prefix="linkage-"):
+    """Cross-layer problems of the linkage panels written beside a cut-sheet report, or of a nest's
+    linkage coupon (files `<prefix>N-<layer>-1`)."""
     problems = []
     folder = report_path.parent
     kerf, margin = linkage["kerf_mm"], linkage["film_margin_mm"]
@@ -472,14 +475,14 @@ def check_linkage(report_path, linkage):
     sigmas = [l["areal_density_mg_per_mm2"] for l in linkage["layers"]]
     names = [l["layer"] for l in linkage["layers"]]
     for panel in range(1, linkage["panels"] + 1):
-        tag = f"linkage panel {panel}"
+        tag = f"{prefix}* panel {panel}"
         def sheet(stem):
             """The DXF of sheet `stem`, whatever stock its name carries after `_`."""
             found = sorted(folder.glob(f"{stem}_*.dxf")) or [folder / f"{stem}.dxf"]
             return found[0]
 
-        files = [sheet(f"linkage-{n}-{panel}") for n in names]
-        release = sheet(f"linkage-{len(names) + 1}-release-{panel}")
+        files = [sheet(f"{prefix}{n}-{panel}") for n in names]
+        release = sheet(f"{prefix}{len(names) + 1}-release-{panel}")
         if not all(f.exists() for f in files + [release]):
             problems.append(f"{tag}: DXF files missing")
             continue
@@ -600,6 +603,19 @@ def check_nest_report(path):
         alt = roll.get("on_sheets")
         if alt and alt.get("price_per_sheet") is not None and abs(alt["cost"] - alt["sheets"] * alt["price_per_sheet"]) > 1e-9:
             problems.append(f"{stem}: the compared sheets' cost {alt['cost']} is not {alt['sheets']} x {alt['price_per_sheet']}")
+    for linkage in report.get("linkages", []):
+        # The coupon's files across their layers, as a cut sheet's panels; then every coupon nested:
+        # two carbon, two adhesive and one film per linkage on the sheets.
+        problems += check_linkage(Path(path), linkage, linkage["prefix"])
+        placed = {}
+        for sheet in report.get("sheets", []):
+            for part in sheet["parts"]:
+                placed[part["design"]] = placed.get(part["design"], 0) + 1
+        for layer, per in (("carbon", 2), ("adhesive", 2), ("film", 1)):
+            name = f"{linkage['design']}-linkage-{layer}"
+            want = per * linkage["quantity"]
+            if placed.get(name, 0) != want:
+                problems.append(f"{name}: {placed.get(name, 0)} coupon(s) on the sheets, {want} wanted")
     return problems
 
 

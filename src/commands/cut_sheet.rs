@@ -1,7 +1,7 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
 use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use actuator_cam::cutsheet::linkage::plan_linkage;
+use actuator_cam::cutsheet::linkage::{plan_linkage, transmission_of};
 use actuator_cam::cutsheet::report::LinkageSection;
 use actuator_cam::cutsheet::stream::plan_and_put;
 use actuator_cam::cutsheet::{write, CutSheetOptions, Template};
@@ -35,7 +35,7 @@ pub struct CutSheetArgs {
     #[command(flatten)]
     pub stroke: StrokeFlag,
     /// Drive file whose linkage is cut with the actuator: its laminate layers and release cut
-    /// (docs/cam.md §7).
+    /// (docs/cam.md §7); a design's own `[transmission]` is cut without it.
     #[arg(long, value_name = "FILE")]
     pub drive: Option<PathBuf>,
 }
@@ -66,10 +66,8 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         stroke_mm: args.stroke.stroke_mm,
     };
     // The linkage is planned and checked before any file is written.
-    let linkage = args
-        .drive
-        .as_ref()
-        .map(|drive| plan_linkage(drive, &design, &template, &opts))
+    let linkage = transmission_of(args.drive.as_deref(), &design)?
+        .map(|(source, spec)| plan_linkage(&source, &spec, &design, &template, &opts))
         .transpose()?;
     // Checked against the output policy before any work; the files then go into its staging folder one
     // drawing at a time, so memory holds one sheet's drawing and the report, whatever the quantity.

@@ -213,12 +213,18 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             .map(|b| b.summary())
             .chain(report.rolls.iter().filter_map(|r| r.summary()))
             .collect();
-        let extra: usize = report.parts.iter().map(|p| p.quantity).sum();
-        let extra = if extra > 0 {
+        // The linkages' coupons are parts too: counted with the linkages, not as drawn parts.
+        let coupons: usize = report.linkages.iter().map(|l| 5 * l.quantity).sum();
+        let extra: usize = report.parts.iter().map(|p| p.quantity).sum::<usize>() - coupons;
+        let linkages: usize = report.linkages.iter().map(|l| l.quantity).sum();
+        let mut extra = if extra > 0 {
             format!(" and {extra} parts from drawings")
         } else {
             String::new()
         };
+        if linkages > 0 {
+            extra.push_str(&format!(" and {linkages} linkages ({coupons} coupons)"));
+        }
         println!(
             "{}: {} actuators{extra}, {} files in {}; {} PZT sheet(s), {}; {} clamp panel(s)",
             report.name,

@@ -20,3 +20,4 @@ pub mod plot;
 pub mod prediction;
 pub mod process;
 pub mod sweep;
+pub mod transmission;

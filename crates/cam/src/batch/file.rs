@@ -1,6 +1,7 @@
 //! The batch file (`batch.toml`): which designs, how many of each, the seed and optional sheet
 //! overrides; validated once into a [`Batch`] that the planner trusts.
 
+use super::linkage::{item_linkage, BatchLinkage};
 use crate::cutsheet::{design_for_process, with_ground_tab, Template};
 use crate::design::Design;
 use crate::input::limits::{
@@ -95,8 +96,10 @@ pub struct Batch {
     pub iterations: Option<usize>,
     /// Wall-clock budget of the nest in seconds (`time_s`), if given.
     pub time_s: Option<f64>,
-    /// Extra parts from drawings (`[[part]]`), in file order.
+    /// Extra parts from drawings (`[[part]]`), in file order, then the items' linkage coupons.
     pub parts: Vec<PartOrder>,
+    /// The items' linkages (`drive` on an `[[item]]`), in item order.
+    pub linkages: Vec<BatchLinkage>,
     /// Prices of the prepreg roll (`[sheets] prepreg = { strip = true, price_per_m }`).
     pub prepreg_roll: Option<RollPrice>,
     /// Prices of the Pyralux roll.
@@ -371,7 +374,7 @@ fn part_orders(
     // rotations (half turns by default) come on top.
     let fibre_turn_deg = match &sheet {
         PartSheet::Prepreg { fibre_axis_deg, .. } => 90.0 - fibre_axis_deg,
-        PartSheet::Pyralux => 0.0,
+        PartSheet::Pyralux | PartSheet::Own(_) => 0.0,
     };
     let name = t.optional_string("name", "a part name (text)")?;
     t.finish()?;
@@ -439,6 +442,7 @@ fn part_orders(
                 quantity,
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),
+                pin_holes: Vec::new(),
             })
         })
         .collect()
@@ -465,9 +469,18 @@ impl Batch {
         let base = path.parent().unwrap_or(Path::new("."));
         let mut items: Vec<BatchItem> = Vec::new();
         let mut template: Option<(Template, String, String)> = None; // template, process, design file
+        let mut drives: Vec<(String, Option<PathBuf>)> = Vec::new(); // per item: field, drive file
         for t in root.tables("item")? {
             let file = t.string("design", "a design file path, relative to the batch file")?;
             let quantity = t.count("quantity", 1, MAX_QUANTITY)?;
+            let drive = t
+                .optional_string(
+                    "drive",
+                    "a drive file whose linkage is cut with the item's actuators, relative to the batch file",
+                )?
+                .map(|drive| existing_file(&t, "drive", base, drive, "no such drive file"))
+                .transpose()?;
+            drives.push((t.path("drive"), drive));
             t.finish()?;
             let design_path = existing_file(&t, "design", base, file, "no such design file")?;
             let design = Design::load(&design_path)?;
@@ -537,6 +550,17 @@ impl Batch {
                 parts.extend(part_orders(&t, base, &items, &template)?);
             }
         }
+        let mut linkages = Vec::new();
+        let designs: Vec<(&Design, usize)> =
+            items.iter().map(|i| (&i.design, i.quantity)).collect();
+        for (item, (field, drive)) in drives.iter().enumerate() {
+            if let Some((linkage, orders)) =
+                item_linkage(path, field, drive.as_deref(), item, &designs, &template)?
+            {
+                linkages.push(linkage);
+                parts.extend(orders);
+            }
+        }
         root.finish()?;
         Ok(Batch {
             name,
@@ -546,6 +570,7 @@ impl Batch {
             iterations,
             time_s,
             parts,
+            linkages,
             prepreg_roll,
             pyralux_roll,
             source: path.to_path_buf(),

@@ -2,6 +2,7 @@
 //! with the same layer files as `cut-sheet` and a report of where every part went.
 
 pub mod file;
+pub mod linkage;
 pub mod plan;
 pub mod report;
 

@@ -4,6 +4,7 @@
 
 use super::file::Batch;
 use super::file::RollPrice;
+use super::linkage::coupon_drawings;
 use super::report::NestReport;
 use crate::pipeline::{
     build, sheets_instead_of_roll, BuildError, Names, NestObserver, NestOptions, Packing,
@@ -90,9 +91,13 @@ pub fn plan_observed(
         })?;
         on_sheets[*i] = Some(sheets);
     }
-    let report = NestReport::new(batch, opts, &built, &on_sheets);
+    let coupons = coupon_drawings(&batch.linkages, &designs, &batch.template)?;
+    let prefixes: Vec<String> = coupons.iter().map(|(p, _)| p.clone()).collect();
+    let report = NestReport::new(batch, opts, &built, &on_sheets, &prefixes);
+    let mut drawings = built.drawings;
+    drawings.extend(coupons.into_iter().flat_map(|(_, d)| d));
     Ok(Planned {
-        drawings: built.drawings,
+        drawings,
         report,
         snap_guides: built.snap_guides,
     })

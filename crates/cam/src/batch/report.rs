@@ -3,7 +3,8 @@
 //! `nest-report.md`.
 
 use super::file::Batch;
-use crate::book::{BuildBook, DesignFacts};
+use crate::book::{BuildBook, DesignFacts, Section};
+use crate::linkage::checklist::coupon_steps;
 use crate::markdown::{code, text as md};
 use crate::parts::PartSheet;
 use crate::pipeline::{BaselineRow, Build, NestOptions, SearchRow, StockCount, WORKERS};
@@ -183,9 +184,32 @@ pub struct NestReport {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub rolls: Vec<RollRow>,
     pub placement_map: Vec<String>,
+    /// The items' linkages, nested as coupons (docs/cam.md §7).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub linkages: Vec<NestLinkageRow>,
     /// The build book: the process step by step for the whole batch (crate::book).
     pub build_book: BuildBook,
     pub files: Vec<String>,
+}
+
+/// One item's linkage: the laminate as designed, where its coupons are cut, the coupon's files and
+/// its build steps (keys as a cut sheet's `linkage`, with `panels` the one coupon of its files).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NestLinkageRow {
+    pub design: String,
+    pub drive_file: String,
+    /// Linkages: one per actuator of the item.
+    pub quantity: usize,
+    /// The coupon's files: `<prefix>N-<layer>-1`.
+    pub prefix: String,
+    pub panels: usize,
+    pub coupon_width_mm: f64,
+    pub coupon_height_mm: f64,
+    /// `layer N and M on <sheet>`, in stack order of first use.
+    pub sheets: Vec<String>,
+    #[serde(flatten)]
+    pub laminate: crate::linkage::LinkageReport,
+    pub build_steps: Vec<String>,
 }
 
 /// Add `sheets` of a material to the totals; `roll`: the length of roll they use, mm, and the price
@@ -260,6 +284,7 @@ impl NestReport {
         opts: &NestOptions,
         built: &Build,
         on_sheets: &[Option<usize>],
+        linkage_prefixes: &[String],
     ) -> NestReport {
         let t = &batch.template;
         let by_ply = t.passive_cut == PassiveCut::PlyByPly;
@@ -270,6 +295,7 @@ impl NestReport {
         };
         let roll = |layer: &str| match layer {
             "pzt" => false,
+            l if l.starts_with("linkage-") => false,
             "pyralux" => t.bond.as_ref().is_some_and(|b| b.sheet.roll),
             _ => t.passive.roll,
         };
@@ -307,6 +333,7 @@ impl NestReport {
         for s in &sheets {
             let price = match s.layer.as_str() {
                 "pzt" => t.pzt.price_per_sheet,
+                l if l.starts_with("linkage-") => None,
                 "pyralux" => t.bond.as_ref().and_then(|b| b.sheet.price_per_sheet),
                 _ => t.passive.price_per_sheet,
             };
@@ -387,6 +414,55 @@ impl NestReport {
         }
         let priced: Vec<&TotalRow> = totals.iter().filter(|r| r.cost.is_some()).collect();
         let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
+        let linkages: Vec<NestLinkageRow> = batch
+            .linkages
+            .iter()
+            .zip(linkage_prefixes)
+            .map(|(l, prefix)| {
+                let laminate = l.laminate.report();
+                NestLinkageRow {
+                    design: batch.items[l.item].design.name.clone(),
+                    drive_file: l.drive.display().to_string(),
+                    quantity: l.quantity,
+                    prefix: prefix.clone(),
+                    panels: 1,
+                    coupon_width_mm: l.coupon.clamp.panel_width_mm,
+                    coupon_height_mm: l.coupon.clamp.panel_height_mm,
+                    sheets: l
+                        .sheets
+                        .iter()
+                        .map(|(layers, sheet)| {
+                            let n: Vec<String> = layers.iter().map(|k| k.to_string()).collect();
+                            format!("layer {} on {sheet}", n.join(" and "))
+                        })
+                        .collect(),
+                    build_steps: coupon_steps(&laminate, l.quantity, &l.sheets, prefix),
+                    laminate,
+                }
+            })
+            .collect();
+        let mut build_book = BuildBook::new(
+            t,
+            built,
+            &batch
+                .items
+                .iter()
+                .map(|item| DesignFacts {
+                    name: item.design.name.clone(),
+                    base_tab_mm: item.design.planform.base_tab * 1e3,
+                    ground_tab_added: item.ground_tab_mm.is_some(),
+                    capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
+                        .ok()
+                        .map(|p| p.capacitance_nF),
+                })
+                .collect::<Vec<_>>(),
+        );
+        for l in &linkages {
+            build_book.sections.push(Section {
+                title: format!("Linkages of {} (docs/cam.md §7)", l.design),
+                steps: l.build_steps.clone(),
+            });
+        }
         NestReport {
             name: batch.name.clone(),
             coordinates: COORDINATES.to_string(),
@@ -425,11 +501,12 @@ impl NestReport {
                             format!("prepreg, layup {}", batch.items[*like].design.layup_text())
                         }
                         PartSheet::Pyralux => "pyralux".into(),
+                        PartSheet::Own(o) => format!("{}, {}", o.layer, o.material),
                     },
                     rotations_deg: p.rotations_deg.clone(),
                     fibre_axis_deg: match &p.sheet {
                         PartSheet::Prepreg { fibre_axis_deg, .. } => Some(*fibre_axis_deg),
-                        PartSheet::Pyralux => None,
+                        PartSheet::Pyralux | PartSheet::Own(_) => None,
                     },
                     pieces_per_part: match &p.sheet {
                         PartSheet::Prepreg { layup_deg, .. } if by_ply => Some(layup_deg.len()),
@@ -451,22 +528,8 @@ impl NestReport {
             total_cost,
             rolls,
             placement_map: built.placement_map.clone(),
-            build_book: BuildBook::new(
-                t,
-                built,
-                &batch
-                    .items
-                    .iter()
-                    .map(|item| DesignFacts {
-                        name: item.design.name.clone(),
-                        base_tab_mm: item.design.planform.base_tab * 1e3,
-                        ground_tab_added: item.ground_tab_mm.is_some(),
-                        capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
-                            .ok()
-                            .map(|p| p.capacitance_nF),
-                    })
-                    .collect::<Vec<_>>(),
-            ),
+            linkages,
+            build_book,
             files: Vec::new(),
         }
     }
@@ -580,6 +643,21 @@ impl NestReport {
             let _ = writeln!(
                 s,
                 "\nA prepreg part is turned so that its fibre axis lies along the sheet's fibres (the sheet's y axis), then rotated; a part's rotation below is from that turned position. In the sheet lists below an extra part's design column holds its name and the actuator column its copy number.\n"
+            );
+        }
+        for l in &self.linkages {
+            let _ = writeln!(
+                s,
+                "\n## Linkages of {} (docs/cam.md §7)\n\n{} linkage(s) of {}, each cut as five {:.3} x {:.3} mm coupons ({}) and released from its laminated coupon by {}; the coupon's files {} are its layers as nested, checked across layers:\n\n```text\n{}```",
+                md(&l.design),
+                l.quantity,
+                code(&l.drive_file),
+                l.coupon_width_mm,
+                l.coupon_height_mm,
+                md(&l.sheets.join("; ")),
+                code(&format!("{}{}-release-1", l.prefix, l.laminate.layers.len() + 1)),
+                code(&format!("{}*", l.prefix)),
+                l.laminate.table()
             );
         }
         let _ = writeln!(s, "\n## Sheets\n");

@@ -1,23 +1,25 @@
-//! `cut-sheet design.toml --drive drive.toml`: the drive's linkage laminate cut with the actuator
-//! (docs/cam.md §7). Its layers are drawn for as many linkages as actuators, checked across layers
-//! before anything is written, and listed in the report with their build steps.
+//! `cut-sheet design.toml --drive drive.toml`, or a design with a `[transmission]`: the linkage laminate
+//! cut with the actuator (docs/cam.md §7). Its layers are drawn for as many linkages as actuators,
+//! checked across layers before anything is written, and listed in the report with their build steps.
 
 use super::{process_template, CutSheetOptions, SheetDrawing, Template};
 use crate::design::Design;
 use crate::drive::spec::DriveSpec;
-use crate::drive::{linkage_laminate, DriveError};
+use crate::drive::{linkage_laminate_in, DriveError};
 use crate::input::InputError;
 use crate::linkage::checks::{check_linkage_drawings, Expected};
 use crate::linkage::drawings::linkage_drawings;
 use crate::linkage::pattern::STACK;
 use crate::linkage::LinkageLaminate;
+use crate::transmission::TransmissionSpec;
+use std::path::PathBuf;
 
 /// The linkage of a cut sheet: the laminate, its drawings (file order) and, when the drive file gives
 /// the transmission's stiffness and mass instead of flexures, how the drawn ones compare.
 #[derive(Debug, Clone)]
 pub struct LinkageCut {
-    /// The drive file.
-    pub drive: DriveSpec,
+    /// The file that gives the transmission: the drive file, or the design file's `[transmission]`.
+    pub source: PathBuf,
     /// The laminate.
     pub laminate: LinkageLaminate,
     /// Its layer drawings.
@@ -50,13 +52,8 @@ impl From<InputError> for LinkageCutError {
     }
 }
 
-/// Plan the linkage of `drive_file` for `design` (the design as given; it must be the drive's).
-pub fn plan_linkage(
-    drive_file: &std::path::Path,
-    design: &Design,
-    template: &Template,
-    opts: &CutSheetOptions,
-) -> Result<LinkageCut, LinkageCutError> {
+/// The drive file `drive_file`, refused unless it drives `design`.
+pub fn drive_of(drive_file: &std::path::Path, design: &Design) -> Result<DriveSpec, InputError> {
     let drive = DriveSpec::load(drive_file)?;
     let same = match (drive.design.canonicalize(), design.source.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
@@ -71,9 +68,47 @@ pub fn plan_linkage(
                 "the design being cut, {} (a drive file drives one design)",
                 design.source.display()
             ),
-        )
-        .into());
+        ));
     }
+    Ok(drive)
+}
+
+/// The transmission a cut sheet cuts, and the file that gives it: a `--drive` file (which must drive
+/// `design`), the design's own `[transmission]`, or both when they are the same (a design's
+/// `[transmission]` and its drive file's may not disagree: refused naming both); `None` without either.
+pub fn transmission_of(
+    drive_file: Option<&std::path::Path>,
+    design: &Design,
+) -> Result<Option<(PathBuf, TransmissionSpec)>, InputError> {
+    let from_drive = drive_file
+        .map(|f| drive_of(f, design).map(|d| (f.to_path_buf(), d.transmission())))
+        .transpose()?;
+    match (from_drive, &design.transmission) {
+        (Some((file, t)), Some(own)) if t != *own => Err(InputError::invalid(
+            &design.source,
+            "transmission",
+            "(given)",
+            format!(
+                "the [transmission] (and stroke_deg) of the drive file {}, or left out: a design's transmission and its drive file's may not disagree",
+                file.display()
+            ),
+        )),
+        (Some(given), _) => Ok(Some(given)),
+        (None, Some(own)) => Ok(Some((design.source.clone(), own.clone()))),
+        (None, None) => Ok(None),
+    }
+}
+
+/// Plan the linkage of the transmission `spec` given in `source` (a drive file or the design file) for
+/// `design` (the design as given).
+pub fn plan_linkage(
+    source: &std::path::Path,
+    spec: &TransmissionSpec,
+    design: &Design,
+    template: &Template,
+    opts: &CutSheetOptions,
+) -> Result<LinkageCut, LinkageCutError> {
+    let drive_file = source;
     let template = process_template(template, opts);
     let built = super::design_for_process(design, &template).map_err(|e| {
         InputError::invalid(
@@ -83,20 +118,12 @@ pub fn plan_linkage(
             e.to_string(),
         )
     })?;
-    let laminate = linkage_laminate(&drive, &built, &opts.model)?;
+    let own = Template::resolve(&design.process, &design.source)?;
+    let laminate = linkage_laminate_in(spec, source, &built, &opts.model, &own)?;
     let count = opts.quantity.unwrap_or(design.quantity);
     let drawings = linkage_drawings(&laminate, &template, count, &design.name)?;
     let report = laminate.report();
-    let expected = Expected {
-        kerf_mm: report.kerf_mm,
-        film_margin_mm: report.film_margin_mm,
-        areal_densities: report
-            .layers
-            .iter()
-            .map(|l| l.areal_density_mg_per_mm2)
-            .collect(),
-        mass_mg: report.mass_mg,
-    };
+    let expected = Expected::of(&report);
     let per_panel = STACK.len() + 1;
     let problems: Vec<String> = drawings
         .chunks(per_panel)
@@ -108,20 +135,20 @@ pub fn plan_linkage(
             problems: problems.join("; "),
         });
     }
-    let note = drive.flexures.is_none().then(|| {
+    let note = spec.flexures.is_none().then(|| {
         format!(
             "{} gives the transmission as {} µN·m/rad, {} mg·mm² and {} mg; the drawn linkage has {} µN·m/rad, {} mg·mm² and {} mg: give its flexures (flexure_length_um, flexure_width_mm, film_thickness_um) for `drive` to use the drawn linkage",
             drive_file.display(),
-            crate::drive::fixed(drive.flexure_stiffness * 1e6, 3),
-            crate::drive::fixed(drive.link_inertia * 1e12, 3),
-            crate::drive::fixed(drive.transmission_mass * 1e6, 3),
+            crate::drive::fixed(spec.flexure_stiffness * 1e6, 3),
+            crate::drive::fixed(spec.link_inertia * 1e12, 3),
+            crate::drive::fixed(spec.transmission_mass * 1e6, 3),
             crate::drive::fixed(report.flexure_stiffness_uNm_per_rad, 3),
             crate::drive::fixed(report.link_inertia_mg_mm2, 3),
             crate::drive::fixed(report.mass_mg, 3),
         )
     });
     Ok(LinkageCut {
-        drive,
+        source: source.to_path_buf(),
         laminate,
         panels: drawings.len() / per_panel,
         drawings,

@@ -186,7 +186,7 @@ impl LinkageSection {
     pub fn new(cut: &super::linkage::LinkageCut) -> LinkageSection {
         let laminate = cut.laminate.report();
         LinkageSection {
-            drive_file: cut.drive.source.display().to_string(),
+            drive_file: cut.source.display().to_string(),
             panels: cut.panels,
             build_steps: crate::linkage::checklist::linkage_steps(&laminate, cut.panels),
             laminate,

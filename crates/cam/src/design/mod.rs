@@ -11,9 +11,11 @@ pub use materials::{material_from_table, resolve_material};
 use crate::input::library::read_drive_mode;
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, EXTENSION_RATIO, FIELD_V_PER_MM, LENGTH_MM, MAX_PLIES,
-    MAX_QUANTITY, PLY_ANGLE_DEG, PLY_THICKNESS_MM, PZT_THICKNESS_MM, VOLTAGE_V, WIDTH_RATIO,
+    MAX_QUANTITY, PLY_ANGLE_DEG, PLY_THICKNESS_MM, PZT_THICKNESS_MM, STROKE_DEG, VOLTAGE_V,
+    WIDTH_RATIO,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
+use crate::transmission::TransmissionSpec;
 use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -43,6 +45,8 @@ pub struct Design {
     pub bond: Option<(Material, f64)>,
     /// Drive mode and field.
     pub drive: Drive,
+    /// The transmission cut with it (`[transmission]`, docs/cam.md §7), if the file gives one.
+    pub transmission: Option<TransmissionSpec>,
     /// The file it came from (for relative paths and messages).
     pub source: PathBuf,
 }
@@ -176,6 +180,17 @@ impl Design {
             ));
         }
         d.finish()?;
+        // The drive file's `[transmission]`, with the stroke its linkage is built for, which a drive
+        // file gives at its top level.
+        let transmission = match root.optional_table("transmission")? {
+            Some(t) => {
+                let stroke = t.number_in("stroke_deg", STROKE_DEG)?.to_radians();
+                let spec = TransmissionSpec::read(&t, stroke)?;
+                t.finish()?;
+                Some(spec)
+            }
+            None => None,
+        };
         root.finish()?;
 
         Ok(Design {
@@ -190,6 +205,7 @@ impl Design {
             layup_deg,
             bond,
             drive: Drive { mode, field },
+            transmission,
             source: path.to_path_buf(),
         })
     }

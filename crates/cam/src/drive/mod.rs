@@ -15,6 +15,7 @@ use crate::input::InputError;
 use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
 use crate::process::template::Template;
+use crate::transmission::TransmissionSpec;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
@@ -74,8 +75,8 @@ fn force_per_field(
 }
 
 /// The linkage of the spec; a solved one from the actuator's free deflection unless a travel is given.
-fn linkage(spec: &DriveSpec, performance: &Performance) -> Result<Linkage, ModelError> {
-    match spec.linkage {
+fn linkage(spec: &LinkageSpec, performance: &Performance) -> Result<Linkage, ModelError> {
+    match *spec {
         LinkageSpec::Given {
             coupler,
             crank,
@@ -97,14 +98,7 @@ fn linkage(spec: &DriveSpec, performance: &Performance) -> Result<Linkage, Model
 
 /// The stroke's end angles the linkage is built for, rad: a solved linkage's, else ±stroke.
 pub fn end_angles(spec: &DriveSpec) -> (f64, f64) {
-    match spec.linkage {
-        LinkageSpec::Solve {
-            angle_minus,
-            angle_plus,
-            ..
-        } => (angle_minus, angle_plus),
-        LinkageSpec::Given { .. } => (-spec.stroke, spec.stroke),
-    }
+    spec.transmission().end_angles()
 }
 
 /// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
@@ -114,8 +108,21 @@ pub fn linkage_laminate(
     design: &Design,
     model: &ModelChoice,
 ) -> Result<LinkageLaminate, DriveError> {
-    let perf = performance(design, model)?;
     let template = Template::resolve(&design.process, &design.source)?;
+    linkage_laminate_in(&spec.transmission(), &spec.source, design, model, &template)
+}
+
+/// The linkage laminate of the transmission `spec` (given in the file `source`, which refusals name)
+/// with the materials and rules of `template`'s `[linkage]` (a batch's template, whose kerf is the
+/// larger of the linkage's and the prepreg sheet's when the carbon shares the prepreg sheets).
+pub fn linkage_laminate_in(
+    spec: &TransmissionSpec,
+    source: &std::path::Path,
+    design: &Design,
+    model: &ModelChoice,
+    template: &Template,
+) -> Result<LinkageLaminate, DriveError> {
+    let perf = performance(design, model)?;
     let Some(process) = template.linkage.as_ref() else {
         return Err(InputError::invalid(
             &template.source,
@@ -126,11 +133,11 @@ pub fn linkage_laminate(
         .into());
     };
     Ok(LinkageLaminate::design(
-        linkage(spec, &perf)?,
-        end_angles(spec),
+        linkage(&spec.linkage, &perf)?,
+        spec.end_angles(),
         &spec.flexures.clone().unwrap_or_default(),
         process,
-        &spec.source,
+        source,
         &template.source,
     )?)
 }
@@ -146,7 +153,7 @@ pub fn analyse(
     let modal = actuator_modes(design, model, &perf)?;
     let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor);
     let wing = spec.wing.wing();
-    let linkage = linkage(spec, &perf)?;
+    let linkage = linkage(&spec.linkage, &perf)?;
     let laminate = match spec.flexures {
         Some(_) => Some(linkage_laminate(spec, design, model)?),
         None => None,

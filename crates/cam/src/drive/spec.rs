@@ -2,14 +2,14 @@
 //! input layer (every number checked against `input::limits`, unknown keys refused).
 
 use crate::input::limits::{
-    AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, COUPLER_RATIO, DRAG_COEFFICIENT,
-    END_ANGLE_DEG, FILM_THICKNESS_UM, FLAPPING_FREQUENCY_HZ, FLEXURE_LENGTH_UM,
-    FLEXURE_STIFFNESS_UNM_PER_RAD, FLEXURE_WIDTH_MM, INERTIA_MG_MM2, LINK_LENGTH_MM,
-    LINK_OFFSET_MM, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG, SURVIVAL,
-    TABLE_CHORD_MM, TRAVEL_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
+    AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, DRAG_COEFFICIENT,
+    FLAPPING_FREQUENCY_HZ, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG,
+    SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-use crate::linkage::FlexureRequest;
+use crate::transmission::FlexureRequest;
+pub use crate::transmission::LinkageSpec;
+use crate::transmission::{TransmissionSpec, MG_MM2};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
 use std::path::{Path, PathBuf};
@@ -46,32 +46,6 @@ impl WingSpec {
     }
 }
 
-/// The linkage as given.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum LinkageSpec {
-    /// Lengths given: coupler `L1`, crank `L3`, the linkage's `δ` at rest (m).
-    Given {
-        /// Coupler, m.
-        coupler: f64,
-        /// Crank, m.
-        crank: f64,
-        /// Offset, m.
-        offset: f64,
-    },
-    /// Solved for end angles (rad) from the actuator's travel (m; the actuator's free deflection at
-    /// its design field when `None`), with the coupler `coupler_ratio` times the crank.
-    Solve {
-        /// Lower end angle, rad.
-        angle_minus: f64,
-        /// Upper end angle, rad.
-        angle_plus: f64,
-        /// `L1 / L3`.
-        coupler_ratio: f64,
-        /// One-sided actuator travel, m.
-        travel: Option<f64>,
-    },
-}
-
 /// A validated drive file, SI inside.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveSpec {
@@ -105,10 +79,19 @@ pub struct DriveSpec {
     pub flexures: Option<FlexureRequest>,
 }
 
-/// mg·mm² in kg·m².
-const MG_MM2: f64 = 1e-12;
-
 impl DriveSpec {
+    /// The transmission of the drive file, as a design file's `[transmission]` gives it too.
+    pub fn transmission(&self) -> TransmissionSpec {
+        TransmissionSpec {
+            stroke: self.stroke,
+            linkage: self.linkage,
+            flexure_stiffness: self.flexure_stiffness,
+            link_inertia: self.link_inertia,
+            transmission_mass: self.transmission_mass,
+            flexures: self.flexures.clone(),
+        }
+    }
+
     /// Read and check a drive file.
     pub fn load(path: &Path) -> Result<DriveSpec, InputError> {
         let table = read_toml(path)?;
@@ -152,21 +135,14 @@ impl DriveSpec {
             .map_or(DEFAULT_MASS_BUDGET, |m| m * 1e-6);
         let wing = read_wing(&root.table("wing")?)?;
         let t = root.table("transmission")?;
-        let linkage = read_linkage(&t, stroke)?;
-        let flexures = read_flexures(&t)?;
-        let (flexure_stiffness, link_inertia, transmission_mass) = if flexures.is_some() {
-            // Computed from the drawn linkage when the drive is analysed.
-            (0.0, 0.0, 0.0)
-        } else {
-            (
-                t.number_in(
-                    "flexure_stiffness_uNm_per_rad",
-                    FLEXURE_STIFFNESS_UNM_PER_RAD,
-                )? * 1e-6,
-                t.number_in("link_inertia_mg_mm2", INERTIA_MG_MM2)? * MG_MM2,
-                t.number_in("mass_mg", PART_MASS_MG)? * 1e-6,
-            )
-        };
+        let TransmissionSpec {
+            linkage,
+            flexure_stiffness,
+            link_inertia,
+            transmission_mass,
+            flexures,
+            ..
+        } = TransmissionSpec::read(&t, stroke)?;
         t.finish()?;
         root.finish()?;
         Ok(DriveSpec {
@@ -185,46 +161,6 @@ impl DriveSpec {
             flexures,
         })
     }
-}
-
-/// The flexures of a drawn linkage, if `[transmission]` gives any of `flexure_length_um`,
-/// `flexure_width_mm` (each a number for all three joints or `[O, B, A]`) or `film_thickness_um`; then
-/// the stiffness, inertia and mass come from the drawn linkage and may not be given too.
-fn read_flexures(t: &TableReader<'_>) -> Result<Option<FlexureRequest>, InputError> {
-    let drawn = ["flexure_length_um", "flexure_width_mm", "film_thickness_um"]
-        .iter()
-        .any(|k| t.has(k));
-    if !drawn {
-        return Ok(None);
-    }
-    for key in [
-        "flexure_stiffness_uNm_per_rad",
-        "link_inertia_mg_mm2",
-        "mass_mg",
-    ] {
-        if t.has(key) {
-            return Err(InputError::invalid(
-                t.file(),
-                &t.path(key),
-                "(given)",
-                "left out with flexure_length_um, flexure_width_mm or film_thickness_um: the drawn linkage gives it",
-            ));
-        }
-    }
-    let scaled = |v: Option<Vec<f64>>, by: f64| v.map(|v| v.iter().map(|x| x * by).collect());
-    Ok(Some(FlexureRequest {
-        lengths: scaled(
-            t.optional_number_or_numbers_in("flexure_length_um", FLEXURE_LENGTH_UM, 3)?,
-            1e-6,
-        ),
-        widths: scaled(
-            t.optional_number_or_numbers_in("flexure_width_mm", FLEXURE_WIDTH_MM, 3)?,
-            1e-3,
-        ),
-        film_thickness: t
-            .optional_number_in("film_thickness_um", FILM_THICKNESS_UM)?
-            .map(|x| x * 1e-6),
-    }))
 }
 
 /// `[wing]`: a planform (`span_mm`, a chord, `areal_density_g_per_m2`, `drag_coefficient`) or the wing
@@ -326,53 +262,4 @@ fn read_chord_table(t: &TableReader<'_>, span: f64) -> Result<Vec<(f64, f64)>, I
         ));
     }
     Ok(points)
-}
-
-/// The linkage of `[transmission]`: `coupler_mm` and `crank_mm` (and `offset_mm`), or `end_angles_deg`
-/// with `coupler_ratio` (and `travel_mm`); `solve_for_stroke = true` solves for `±stroke_deg`.
-fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputError> {
-    let given = t.has("crank_mm");
-    let angles = t.has("end_angles_deg");
-    let symmetric = t.optional_bool("solve_for_stroke")?.unwrap_or(false);
-    let ways = [given, angles, symmetric].iter().filter(|w| **w).count();
-    if ways != 1 {
-        return Err(InputError::invalid(
-            t.file(),
-            &t.prefix_or("transmission"),
-            format!("{ways} linkages given"),
-            "give exactly one of: coupler_mm and crank_mm; end_angles_deg and coupler_ratio; solve_for_stroke = true and coupler_ratio",
-        ));
-    }
-    if given {
-        return Ok(LinkageSpec::Given {
-            coupler: t.number_in("coupler_mm", LINK_LENGTH_MM)? * 1e-3,
-            crank: t.number_in("crank_mm", LINK_LENGTH_MM)? * 1e-3,
-            offset: t
-                .optional_number_in("offset_mm", LINK_OFFSET_MM)?
-                .unwrap_or(0.0)
-                * 1e-3,
-        });
-    }
-    let (angle_minus, angle_plus) = if angles {
-        let a = t.numbers_in("end_angles_deg", END_ANGLE_DEG, 2, 2)?;
-        if a[0] >= a[1] {
-            return Err(InputError::invalid(
-                t.file(),
-                &t.path("end_angles_deg"),
-                format!("[{}, {}]", short_number(a[0]), short_number(a[1])),
-                "expected [lower, upper] with lower < upper",
-            ));
-        }
-        (a[0].to_radians(), a[1].to_radians())
-    } else {
-        (-stroke, stroke)
-    };
-    Ok(LinkageSpec::Solve {
-        angle_minus,
-        angle_plus,
-        coupler_ratio: t.number_in("coupler_ratio", COUPLER_RATIO)?,
-        travel: t
-            .optional_number_in("travel_mm", TRAVEL_MM)?
-            .map(|x| x * 1e-3),
-    })
 }

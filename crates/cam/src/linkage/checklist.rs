@@ -1,5 +1,5 @@
 //! The build steps of the linkage laminate (docs/cam.md §7), a section of their own that the cut sheet's
-//! build checklist calls after the actuator's.
+//! build checklist calls after the actuator's, and the nest's build book after the batch's.
 
 use super::LinkageReport;
 
@@ -21,6 +21,56 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
         ),
         "Cure under the clamp as the adhesive's datasheet asks, on the same pins.".to_string(),
         "Put the laminated stack back on the laser's pins and run the release cut (linkage-6-release-*): it cuts the outlines and the mounting holes through the stack, and the film alone across each gap.".to_string(),
+    ]
+    .into_iter()
+    .chain(assembly(l))
+    .collect()
+}
+
+/// The steps for `quantity` linkages nested as coupons (docs/cam.md §7, "Nested with the actuators"):
+/// `sheets` says where each layer's coupons are (stack positions, sheet), `prefix` names the coupon's
+/// files.
+pub fn coupon_steps(
+    l: &LinkageReport,
+    quantity: usize,
+    sheets: &[(Vec<usize>, String)],
+    prefix: &str,
+) -> Vec<String> {
+    let whereabouts: Vec<String> = sheets
+        .iter()
+        .map(|(layers, sheet)| {
+            let numbers: Vec<String> = layers.iter().map(|n| n.to_string()).collect();
+            format!("layer {} on {sheet}", numbers.join(" and "))
+        })
+        .collect();
+    let stack: Vec<String> = l
+        .layers
+        .iter()
+        .map(|x| format!("{} ({})", x.layer, x.material))
+        .collect();
+    let release = l.layers.len() + 1;
+    vec![
+        format!(
+            "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pins: {}. Keep each adhesive coupon on its release liner. `{prefix}*-1` are one coupon of each layer as nested, before its turn on the sheet.",
+            whereabouts.join("; ")
+        ),
+        format!(
+            "For each linkage stack its coupons on four pins through their pin holes, the chamfered corner matching, bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            stack.join(" → ")
+        ),
+        "Cure the coupons under the clamp as the adhesive's datasheet asks, on their pins.".to_string(),
+        format!(
+            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap."
+        ),
+    ]
+    .into_iter()
+    .chain(assembly(l))
+    .collect()
+}
+
+/// Assembling a released linkage to its actuator and checking it.
+fn assembly(l: &LinkageReport) -> Vec<String> {
+    vec![
         format!(
             "Fold the crank up against the coupler at joint B and fix the airframe tab through its {:.2} mm hole; bond the tip tab (beyond joint A) onto the actuator's extension end with the coupler along the actuator's travel.",
             l.hole_diameter_mm

@@ -30,6 +30,22 @@ pub struct Expected {
     pub mass_mg: f64,
 }
 
+impl Expected {
+    /// What a laminate's report says its drawings must give.
+    pub fn of(report: &super::LinkageReport) -> Expected {
+        Expected {
+            kerf_mm: report.kerf_mm,
+            film_margin_mm: report.film_margin_mm,
+            areal_densities: report
+                .layers
+                .iter()
+                .map(|l| l.areal_density_mg_per_mm2)
+                .collect(),
+            mass_mg: report.mass_mg,
+        }
+    }
+}
+
 /// A cut-out read back: `[x0, x1] × [y0, y1]` after the kerf.
 type Band = [f64; 4];
 

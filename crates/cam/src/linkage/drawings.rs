@@ -9,7 +9,7 @@ use super::LinkageLaminate;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
-use crate::process::template::Template;
+use crate::process::template::{ClampSpec, Template};
 use crate::process::Feature;
 use cam_geometry::offset::offset_ring;
 use cam_geometry::Point;
@@ -77,12 +77,32 @@ pub fn linkage_drawings(
     count: usize,
     title: &str,
 ) -> Result<Vec<SheetDrawing>, InputError> {
-    let c = &template.clamp;
+    let panels = layout(laminate, template, count)?;
+    draw_panels(
+        laminate,
+        template,
+        &template.clamp,
+        &panels,
+        title,
+        "linkage-",
+    )
+}
+
+/// The layer files of linkages with their patterns' origins at `panels` (per panel) on panels of
+/// `c`'s outline and pins, `<prefix>N-<layer>-<panel>`, bottom to top, then the release: the clamp
+/// panels of `cut-sheet` and the one-linkage coupons of `nest` ([`super::coupon`]) alike.
+pub(crate) fn draw_panels(
+    laminate: &LinkageLaminate,
+    template: &Template,
+    c: &ClampSpec,
+    panels: &[Vec<Point>],
+    title: &str,
+    prefix: &str,
+) -> Result<Vec<SheetDrawing>, InputError> {
     let features = &template.features;
     let p = &laminate.pattern;
     let kerf = laminate.process.kerf_mm;
     let half = kerf / 2.0;
-    let panels = layout(laminate, template, count)?;
     let outline = offset(&panel_outline(c), half, "panel outline", template)?;
     let pin_radius = c.pin_radius_mm - half;
     if pin_radius <= 0.0 {
@@ -145,7 +165,7 @@ pub fn linkage_drawings(
             }
             drawings.push(SheetDrawing {
                 stem: file_stem(
-                    &format!("linkage-{}-{name}-{panel}", k + 1),
+                    &format!("{prefix}{}-{name}-{panel}", k + 1),
                     d.stock.as_ref(),
                 ),
                 layer: format!("linkage-{name}"),
@@ -183,7 +203,7 @@ pub fn linkage_drawings(
         }
         drawings.push(SheetDrawing {
             stem: file_stem(
-                &format!("linkage-{levels}-release-{panel}"),
+                &format!("{prefix}{levels}-release-{panel}"),
                 d.stock.as_ref(),
             ),
             layer: "linkage-release".to_string(),

@@ -169,7 +169,9 @@ pub fn check_flexures(
         };
         rows.push(FlexureRow {
             joint: JOINTS[i].to_string(),
-            length_um: length * 1e3,
+            // To a nanometre, as the drawing's decimals go: a length given as 50 µm is not reported
+            // as 49.99999999999999 after its trip through metres.
+            length_um: (length * 1e6).round() / 1e3,
             width_mm: f.width_mm,
             film_um: t * 1e3,
             stiffness_uNm_per_rad: drawn.stiffness() * 1e6,

@@ -9,11 +9,13 @@
 //! | `pattern.rs` | the flat pattern: pivots, gaps, cut-outs of each layer, the release outline |
 //! | `mass.rs` | mass and inertia from the drawn areas |
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
+//! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
 pub mod checklist;
 pub mod checks;
+pub mod coupon;
 pub mod drawings;
 pub mod flexures;
 pub mod mass;
@@ -22,39 +24,13 @@ pub mod pattern;
 use crate::input::InputError;
 use crate::process::linkage as process;
 pub use crate::process::linkage::LinkageProcess;
+pub use crate::transmission::FlexureRequest;
 use actuator_model::transmission::Linkage;
 use flexures::{check_flexures, FlexureRow};
 use mass::{linkage_mass, LinkageMass};
 use pattern::{FlexureSize, Pattern, JOINTS};
 use serde::Serialize;
 use std::path::Path;
-
-/// The flexures a drive file asks for (SI); lists of one value hold for all three joints.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct FlexureRequest {
-    /// Gap lengths at O, B, A, m (one value: all three); `None`: the shortest the film allows.
-    pub lengths: Option<Vec<f64>>,
-    /// Widths, m (one value: all three); `None`: the template's.
-    pub widths: Option<Vec<f64>>,
-    /// Film thickness, m; `None`: the template's.
-    pub film_thickness: Option<f64>,
-}
-
-impl FlexureRequest {
-    fn pick(values: &Option<Vec<f64>>, i: usize) -> Option<f64> {
-        values
-            .as_ref()
-            .map(|v| if v.len() == 1 { v[0] } else { v[i] })
-    }
-
-    /// The field of joint `i`'s value as the drive file wrote it.
-    fn field(values: &Option<Vec<f64>>, key: &str, i: usize) -> String {
-        match values {
-            Some(v) if v.len() > 1 => format!("transmission.{key}[{i}]"),
-            _ => format!("transmission.{key}"),
-        }
-    }
-}
 
 /// One linkage laminate, designed, checked and laid out.
 #[derive(Debug, Clone, PartialEq)]

@@ -122,6 +122,26 @@ pub enum PartSheet {
     },
     /// The Pyralux bond-layer sheets (method 1).
     Pyralux,
+    /// Sheets of their own: a linkage's film or adhesive, or its carbon when no design of the batch
+    /// has its layup (docs/cam.md §7).
+    Own(Box<OwnSheet>),
+}
+
+/// A cut layer of its own for parts no actuator shares a sheet with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OwnSheet {
+    /// Layer name and file-stem prefix (`linkage-film`).
+    pub layer: String,
+    /// Material as bought.
+    pub material: String,
+    /// Thickness, mm.
+    pub thickness_mm: f64,
+    /// Density, kg/m³.
+    pub density_kg_per_m3: f64,
+    /// The sheet: size, kerf and spacing.
+    pub spec: crate::process::template::SheetSpec,
+    /// Carbon fibre: its 0° fibres lie along the sheet's y axis, as on the prepreg sheets.
+    pub prepreg: bool,
 }
 
 /// An extra part of a batch: what, how many, where, at which rotations.
@@ -137,4 +157,7 @@ pub struct PartOrder {
     pub rotations_deg: Vec<f64>,
     /// Its sheets.
     pub sheet: PartSheet,
+    /// Round holes (centre, radius; mm, part coordinates) cut as registration holes: a linkage
+    /// coupon's pins. A drawing's circles are cut-outs instead (circumscribed polygons).
+    pub pin_holes: Vec<(Point, f64)>,
 }

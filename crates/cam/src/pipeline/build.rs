@@ -187,6 +187,38 @@ pub fn build_into<'s>(
         }
         layers.push(layer);
     }
+    // Parts on sheets of their own (a linkage's film and adhesive): one layer per sheet, in order of
+    // first use.
+    let mut own: Vec<CutLayer> = Vec::new();
+    for (k, order) in parts.iter().enumerate() {
+        let PartSheet::Own(sheet) = &order.sheet else {
+            continue;
+        };
+        let at = match own.iter().position(|l| {
+            l.layer == sheet.layer
+                && l.material == sheet.material
+                && l.thickness_mm == sheet.thickness_mm
+        }) {
+            Some(at) => at,
+            None => {
+                own.push(CutLayer {
+                    layer: sheet.layer.clone(),
+                    material: sheet.material.clone(),
+                    thickness_mm: sheet.thickness_mm,
+                    density_kg_per_m3: sheet.density_kg_per_m3,
+                    spec: sheet.spec.clone(),
+                    items: Vec::new(),
+                    features: template.features,
+                    ply_deg: None,
+                    prepreg: sheet.prepreg,
+                });
+                own.len() - 1
+            }
+        };
+        let item = extra_item(jobs.len() + k, order, &own[at], names)?;
+        own[at].items.push(item);
+    }
+    layers.extend(own);
     let mut cut_layers = Vec::with_capacity(layers.len());
     let placed = place_cut_layers(&layers, packing, names);
     for (mut layer, placed) in layers.into_iter().zip(placed) {

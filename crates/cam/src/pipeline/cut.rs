@@ -481,6 +481,22 @@ pub fn extra_item(
     };
     let outer = turned(&part.outer);
     let cutouts: Vec<Vec<Point>> = part.holes.iter().map(|h| turned(h)).collect();
+    let mut pins = Vec::with_capacity(order.pin_holes.len());
+    for (centre, radius) in &order.pin_holes {
+        if radius - spec.kerf_mm / 2.0 <= 0.0 {
+            return Err(names.error(format!(
+                "{owner}: a {:.3} mm pin hole vanishes inside the {} mm kerf",
+                2.0 * radius,
+                spec.kerf_mm
+            )));
+        }
+        let c = if turn == 0.0 {
+            *centre
+        } else {
+            place_point(*centre, turn, [0.0, 0.0])
+        };
+        pins.push((c, *radius));
+    }
     let offset = |ring: &[Point], delta: f64, what: &str| {
         if delta == 0.0 {
             return Ok(ring.to_vec());
@@ -497,7 +513,7 @@ pub fn extra_item(
         part: "part".into(),
         cut: offset(&outer, spec.kerf_mm / 2.0, "outline")?,
         nominal: outer,
-        holes: Vec::new(),
+        holes: pins,
         hole: Feature::RegistrationHole,
         per_actuator: 1,
         count: order.quantity,

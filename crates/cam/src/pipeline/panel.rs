@@ -150,6 +150,17 @@ pub fn rect(origin: Point, w: f64, h: f64) -> Vec<Point> {
     ]
 }
 
+/// Ends closer than this to the sheet edge lie on it, mm (the PZT planner puts them there exactly).
+const ON_EDGE_MM: f64 = 1e-6;
+
+/// Whether a score line's end `p` lies on the edge of a `width_mm` x `height_mm` sheet.
+pub(crate) fn on_sheet_edge(p: Point, width_mm: f64, height_mm: f64) -> bool {
+    p[0].abs() < ON_EDGE_MM
+        || p[1].abs() < ON_EDGE_MM
+        || (p[0] - width_mm).abs() < ON_EDGE_MM
+        || (p[1] - height_mm).abs() < ON_EDGE_MM
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

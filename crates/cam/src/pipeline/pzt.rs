@@ -2,7 +2,7 @@
 //! verified.
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
-use super::panel::rect;
+use super::panel::{on_sheet_edge, rect};
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
@@ -85,17 +85,6 @@ pub(crate) fn draw_pzt_sheets(
         drawn.sheets.push(record);
         drawn.push(format!("pzt-{n}"), "pzt", d);
     }
-}
-
-/// Ends closer than this to the sheet edge lie on it, mm (the planner puts them there exactly).
-const ON_EDGE_MM: f64 = 1e-6;
-
-/// Whether a score line's end `p` lies on the edge of a `width_mm` x `height_mm` sheet.
-pub(crate) fn on_sheet_edge(p: Point, width_mm: f64, height_mm: f64) -> bool {
-    p[0].abs() < ON_EDGE_MM
-        || p[1].abs() < ON_EDGE_MM
-        || (p[0] - width_mm).abs() < ON_EDGE_MM
-        || (p[1] - height_mm).abs() < ON_EDGE_MM
 }
 
 /// A score line as the laser runs it: each end on the sheet edge carried `spec.score_overrun_mm` past

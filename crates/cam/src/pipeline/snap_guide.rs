@@ -124,7 +124,7 @@ pub fn snap_guide(
 /// Where a line's number goes: past the end on the sheet edge, off the sheet, if the line reaches the
 /// edge; else at its middle.
 fn number_position([a, b]: [Point; 2], width_mm: f64, height_mm: f64) -> Point {
-    let on_edge = |p: Point| super::pzt::on_sheet_edge(p, width_mm, height_mm);
+    let on_edge = |p: Point| super::panel::on_sheet_edge(p, width_mm, height_mm);
     let length = (b[0] - a[0]).hypot(b[1] - a[1]);
     let away = |from: Point, to: Point| -> Point {
         let u = [(to[0] - from[0]) / length, (to[1] - from[1]) / length];

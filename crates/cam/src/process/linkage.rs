@@ -37,6 +37,9 @@ pub struct LinkageProcess {
     pub carbon: Sheet,
     /// Ply angles of one carbon layer from the link axis, deg.
     pub carbon_layup_deg: Vec<f64>,
+    /// The library ply of the carbon and its thickness, m: a batch cuts the carbon on the prepreg
+    /// sheets of a design laid up alike.
+    pub carbon_ply: (String, f64),
     /// The flexure film.
     pub film: Sheet,
     /// The film's Young's modulus, Pa.
@@ -103,6 +106,7 @@ impl LinkageProcess {
             kerf_mm: t.number_in("kerf_mm", KERF_MM)?,
             carbon,
             carbon_layup_deg: layup,
+            carbon_ply: (ply.name.clone(), ply.ply_thickness.unwrap_or(0.0)),
             film: sheet("film")?,
             film_modulus: t.number_in("film_modulus_GPa", FILM_MODULUS_GPA)? * 1e9,
             film_fatigue_strain: t.number_in("film_fatigue_strain", FATIGUE_STRAIN)?,
