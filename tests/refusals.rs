@@ -153,11 +153,64 @@ fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
     .unwrap();
     let out = dir.path().join("out");
     let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+    // The template is the file to change, and its field is named as the template spells it.
     assert!(
-        err.contains("[layers.mold] stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
+        err.contains("tpl.toml: layers.mold.stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
         "{err}"
     );
     assert!(!out.exists(), "no half-written output");
+}
+
+#[test]
+fn a_film_thinner_than_any_sold_is_refused_with_a_short_bound() {
+    // 1e-300 mm is positive, and was cut as a mold film printed with 300 digits in the report.
+    let dir = tempfile::tempdir().unwrap();
+    let template = std::fs::read_to_string("templates/method-2.toml")
+        .unwrap()
+        .replace(
+            "stock_thicknesses_mm = [0.05, 0.127, 0.25]",
+            "stock_thicknesses_mm = [1e-300]",
+        );
+    std::fs::write(dir.path().join("tpl.toml"), template).unwrap();
+    let design = dir.path().join("c.toml");
+    std::fs::write(
+        &design,
+        design_c_with(&[("process", "process = \"tpl.toml\"")]),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+    assert!(
+        err.contains("tpl.toml: layers.mold.stock_thicknesses_mm[0] = 1e-300: outside the allowed range [0.001, 20] mm"),
+        "{err}"
+    );
+    assert!(err.len() < 200, "{err}");
+    assert!(!out.exists(), "no half-written output");
+}
+
+#[test]
+fn a_huge_command_line_number_prints_short() {
+    let err = refused_in_one_line(&run(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "--kerf-mm",
+        "1e300",
+    ]));
+    assert!(
+        err.contains("--kerf-mm = 1e300: outside the allowed range [0, 2] mm"),
+        "{err}"
+    );
+    let err = refused_in_one_line(&run(&[
+        "laminate",
+        "--layup",
+        "0/90/0",
+        "--pzt-thickness-mm",
+        "1e300",
+    ]));
+    assert!(
+        err.contains("--pzt-thickness-mm = 1e300: outside the allowed range [0.05, 2] mm"),
+        "{err}"
+    );
 }
 
 /// A template beside a copy of thesis design C (method 1, with its Pyralux bond layers) that uses it,
