@@ -134,15 +134,15 @@ fn a_closed_stdout_ends_the_run_quietly() {
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
 
-#[test]
-fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
-    // Films all thicker than the 0.267 mm plate: no mold layer could hold or press a part.
+/// Cut thesis design C with the method-2 template's mold stock replaced by `stock`: the refusal, after
+/// checking that nothing was written.
+fn mold_stock_refusal(stock: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let template = std::fs::read_to_string("templates/method-2.toml")
         .unwrap()
         .replace(
             "stock_thicknesses_mm = [0.05, 0.127, 0.25]",
-            "stock_thicknesses_mm = [5]",
+            &format!("stock_thicknesses_mm = {stock}"),
         );
     std::fs::write(dir.path().join("tpl.toml"), template).unwrap();
     let design = dir.path().join("c.toml");
@@ -153,39 +153,30 @@ fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
     .unwrap();
     let out = dir.path().join("out");
     let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
-    // The template is the file to change, and its field is named as the template spells it.
+    assert!(!out.exists(), "no half-written output");
+    err
+}
+
+#[test]
+fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
+    // Films all thicker than the 0.267 mm plate: no mold layer could hold or press a part. The template
+    // is the file to change, and its field is named as the template spells it.
+    let err = mold_stock_refusal("[5]");
     assert!(
         err.contains("tpl.toml: layers.mold.stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
         "{err}"
     );
-    assert!(!out.exists(), "no half-written output");
 }
 
 #[test]
 fn a_film_thinner_than_any_sold_is_refused_with_a_short_bound() {
-    // 1e-300 mm is positive, and was cut as a mold film printed with 300 digits in the report.
-    let dir = tempfile::tempdir().unwrap();
-    let template = std::fs::read_to_string("templates/method-2.toml")
-        .unwrap()
-        .replace(
-            "stock_thicknesses_mm = [0.05, 0.127, 0.25]",
-            "stock_thicknesses_mm = [1e-300]",
-        );
-    std::fs::write(dir.path().join("tpl.toml"), template).unwrap();
-    let design = dir.path().join("c.toml");
-    std::fs::write(
-        &design,
-        design_c_with(&[("process", "process = \"tpl.toml\"")]),
-    )
-    .unwrap();
-    let out = dir.path().join("out");
-    let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+    // 1e-300 mm is positive, but no film is that thin, and its thickness would print with 300 digits.
+    let err = mold_stock_refusal("[1e-300]");
     assert!(
         err.contains("tpl.toml: layers.mold.stock_thicknesses_mm[0] = 1e-300: outside the allowed range [0.001, 20] mm"),
         "{err}"
     );
     assert!(err.len() < 200, "{err}");
-    assert!(!out.exists(), "no half-written output");
 }
 
 #[test]

@@ -68,7 +68,10 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         Some(t) => {
             let allowed = actuator_cam::input::limits::PZT_THICKNESS_MM;
             if !allowed.contains(t) {
-                bail!("--pzt-thickness-mm = {}: outside the {allowed}", short_number(t));
+                bail!(
+                    "--pzt-thickness-mm = {}: outside the {allowed}",
+                    short_number(t)
+                );
             }
             let pzt = Material::builtin(&args.pzt)
                 .ok_or_else(|| anyhow!("--pzt: unknown material {:?}", args.pzt))?;

@@ -494,7 +494,10 @@ impl Effects {
                 * ply_density
                 * t_ply
                 * (a_pzt + pl.extension_area() + pl.tab_area()),
-            bond: 2.0 * (bond_builtin().density * self.bond_scale.density) * self.bond_thickness * a_pzt,
+            bond: 2.0
+                * (bond_builtin().density * self.bond_scale.density)
+                * self.bond_thickness
+                * a_pzt,
             added: self.added_mass(pl),
         }
     }

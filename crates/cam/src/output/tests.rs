@@ -412,8 +412,14 @@ fn system_errors_are_said_in_words() {
     // "No such file or directory") say nothing a user can act on.
     let said = |errno: i32| in_words(&std::io::Error::from_raw_os_error(errno));
     assert_eq!(said(13), "the folder is read-only (permission denied)");
-    assert_eq!(said(30), "the folder is read-only (a read-only file system)");
-    assert_eq!(said(18), "the files would have to move to another file system");
+    assert_eq!(
+        said(30),
+        "the folder is read-only (a read-only file system)"
+    );
+    assert_eq!(
+        said(18),
+        "the files would have to move to another file system"
+    );
     assert_eq!(
         said(2),
         "a folder on the way does not exist (was it removed?)"
