@@ -111,7 +111,17 @@ fn command_line_errors_are_one_line() {
         "-1",
     ]));
     assert!(err.contains("--flag=-1"), "{err}");
-    refused_in_one_line(&run(&["predict", "--no-such-flag"]));
+    let err = refused_in_one_line(&run(&["predict", "--no-such-flag"]));
+    assert!(
+        err.contains("unexpected argument '--no-such-flag' found;") && !err.contains("negative"),
+        "{err}"
+    );
+    // A missing argument is named on the same line.
+    let err = refused_in_one_line(&run(&["laminate", "--pzt-thickness-mm", "0.2"]));
+    assert!(
+        err.contains("the following required arguments were not provided: --layup <LAYUP>"),
+        "{err}"
+    );
 }
 
 #[test]
