@@ -77,13 +77,28 @@ fn value_error(e: &clap::Error) -> Option<String> {
 /// where to look, exit status 2 as clap gives.
 fn usage_error(e: &clap::Error) -> ExitCode {
     let text = e.to_string();
+    // The message is its first paragraph: one line, or a line and the list it introduces (the missing
+    // arguments), which stays with it. Usage and tips follow an empty line.
     let first = text
         .lines()
         .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("invalid arguments");
+        .skip_while(|l| l.is_empty())
+        .take_while(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let first = if first.is_empty() {
+        "invalid arguments"
+    } else {
+        first.as_str()
+    };
     let first = first.strip_prefix("error: ").unwrap_or(first);
-    let hint = if text.contains("tip: to pass") {
+    // clap suggests `-- ARG` for any unknown argument; only a number wants `--flag=-1`.
+    let negative = matches!(
+        e.get(ContextKind::InvalidArg),
+        Some(ContextValue::String(arg))
+            if arg.strip_prefix('-').is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit() || c == '.'))
+    );
+    let hint = if negative && text.contains("tip: to pass") {
         " (a negative number goes after `=`: --flag=-1)"
     } else {
         ""

@@ -111,7 +111,17 @@ fn command_line_errors_are_one_line() {
         "-1",
     ]));
     assert!(err.contains("--flag=-1"), "{err}");
-    refused_in_one_line(&run(&["predict", "--no-such-flag"]));
+    let err = refused_in_one_line(&run(&["predict", "--no-such-flag"]));
+    assert!(
+        err.contains("unexpected argument '--no-such-flag' found;") && !err.contains("negative"),
+        "{err}"
+    );
+    // A missing argument is named on the same line.
+    let err = refused_in_one_line(&run(&["laminate", "--pzt-thickness-mm", "0.2"]));
+    assert!(
+        err.contains("the following required arguments were not provided: --layup <LAYUP>"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -134,15 +144,15 @@ fn a_closed_stdout_ends_the_run_quietly() {
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
 
-#[test]
-fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
-    // Films all thicker than the 0.267 mm plate: no mold layer could hold or press a part.
+/// Cut thesis design C with the method-2 template's mold stock replaced by `stock`: the refusal, after
+/// checking that nothing was written.
+fn mold_stock_refusal(stock: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let template = std::fs::read_to_string("templates/method-2.toml")
         .unwrap()
         .replace(
             "stock_thicknesses_mm = [0.05, 0.127, 0.25]",
-            "stock_thicknesses_mm = [5]",
+            &format!("stock_thicknesses_mm = {stock}"),
         );
     std::fs::write(dir.path().join("tpl.toml"), template).unwrap();
     let design = dir.path().join("c.toml");
@@ -153,11 +163,55 @@ fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
     .unwrap();
     let out = dir.path().join("out");
     let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+    assert!(!out.exists(), "no half-written output");
+    err
+}
+
+#[test]
+fn a_mold_stock_with_no_film_under_a_plate_is_refused() {
+    // Films all thicker than the 0.267 mm plate: no mold layer could hold or press a part. The template
+    // is the file to change, and its field is named as the template spells it.
+    let err = mold_stock_refusal("[5]");
     assert!(
-        err.contains("[layers.mold] stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
+        err.contains("tpl.toml: layers.mold.stock_thicknesses_mm = [5]: no stocked film is as thin as the 0.267 mm PZT plate"),
         "{err}"
     );
-    assert!(!out.exists(), "no half-written output");
+}
+
+#[test]
+fn a_film_thinner_than_any_sold_is_refused_with_a_short_bound() {
+    // 1e-300 mm is positive, but no film is that thin, and its thickness would print with 300 digits.
+    let err = mold_stock_refusal("[1e-300]");
+    assert!(
+        err.contains("tpl.toml: layers.mold.stock_thicknesses_mm[0] = 1e-300: outside the allowed range [0.001, 20] mm"),
+        "{err}"
+    );
+    assert!(err.len() < 200, "{err}");
+}
+
+#[test]
+fn a_huge_command_line_number_prints_short() {
+    let err = refused_in_one_line(&run(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "--kerf-mm",
+        "1e300",
+    ]));
+    assert!(
+        err.contains("--kerf-mm = 1e300: outside the allowed range [0, 2] mm"),
+        "{err}"
+    );
+    let err = refused_in_one_line(&run(&[
+        "laminate",
+        "--layup",
+        "0/90/0",
+        "--pzt-thickness-mm",
+        "1e300",
+    ]));
+    assert!(
+        err.contains("--pzt-thickness-mm = 1e300: outside the allowed range [0.05, 2] mm"),
+        "{err}"
+    );
 }
 
 /// A template beside a copy of thesis design C (method 1, with its Pyralux bond layers) that uses it,

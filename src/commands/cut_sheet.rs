@@ -6,6 +6,7 @@ use actuator_cam::cutsheet::report::LinkageSection;
 use actuator_cam::cutsheet::stream::plan_and_put;
 use actuator_cam::cutsheet::{write, CutSheetOptions, Template};
 use actuator_cam::design::Design;
+use actuator_cam::input::short_number;
 use actuator_cam::output::Output;
 use anyhow::bail;
 use clap::Args;
@@ -44,8 +45,9 @@ pub struct CutSheetArgs {
 pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
     if let Some(k) = args.kerf_mm {
-        if !(k.is_finite() && (0.0..=2.0).contains(&k)) {
-            bail!("--kerf-mm = {k}: outside the allowed range [0, 2] mm");
+        let allowed = actuator_cam::input::limits::KERF_MM;
+        if !allowed.contains(k) {
+            bail!("--kerf-mm = {}: outside the {allowed}", short_number(k));
         }
     }
     let quantity = match args.quantity {

@@ -3,6 +3,7 @@
 
 use super::flags::JsonFlag;
 use actuator_cam::design::layup::parse_layup;
+use actuator_cam::input::short_number;
 use actuator_model::{Laminate, LayerRole, Material};
 use anyhow::{anyhow, bail};
 use clap::Args;
@@ -67,7 +68,10 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
         Some(t) => {
             let allowed = actuator_cam::input::limits::PZT_THICKNESS_MM;
             if !allowed.contains(t) {
-                bail!("--pzt-thickness-mm = {t}: outside the {allowed}");
+                bail!(
+                    "--pzt-thickness-mm = {}: outside the {allowed}",
+                    short_number(t)
+                );
             }
             let pzt = Material::builtin(&args.pzt)
                 .ok_or_else(|| anyhow!("--pzt: unknown material {:?}", args.pzt))?;

@@ -41,6 +41,12 @@ pub const RESIN_DENSITY: f64 = 1200.0;
 /// Built-in material of the bond layer (acrylic sheet adhesive, docs/physics.md §8).
 pub const BOND_MATERIAL: &str = "Pyralux-LF";
 
+/// The built-in bond material, looked up once: the library is built anew on every lookup.
+fn bond_builtin() -> &'static Material {
+    static BOND: std::sync::OnceLock<Material> = std::sync::OnceLock::new();
+    BOND.get_or_init(|| Material::builtin(BOND_MATERIAL).expect("the bond material is built in"))
+}
+
 /// Names of the library effects, in report order.
 pub const EFFECT_NAMES: [&str; 7] = [
     "d31-scale",
@@ -349,7 +355,7 @@ impl Effects {
     /// The bond layer's material: the built-in one with [`Effects::bond_scale`] applied (isotropic, so
     /// G12 follows E and ν as in `Material::isotropic`).
     fn bond_material(&self) -> Material {
-        let m = Material::builtin(BOND_MATERIAL).expect("the bond material is built in");
+        let m = bond_builtin().clone();
         let k = self.bond_scale;
         let (e, nu) = (m.e1 * k.modulus, m.nu12 * k.poisson);
         Material {
@@ -475,16 +481,23 @@ impl Effects {
     /// Mass by layer kind with `ply-thickness` and `bond-layer` applied, without solving the stack
     /// (same numbers as the laminate's areal masses; docs/physics.md §4).
     pub fn mass(&self, a: &Actuator) -> MassBreakdown {
-        let (ply, t_ply) = self.ply_material(a.ply, a.ply_thickness);
+        // The densities alone, as `ply_material` and `bond_material` give them: a calibration evaluates
+        // the mass of every actuator at every step of every fit, and the whole materials are not needed.
+        let s = self.ply_thickness_scale;
+        let ply_density = (a.ply.density + (s - 1.0) * RESIN_DENSITY) / s;
+        let t_ply = s * a.ply_thickness;
         let pl = &a.planform;
         let a_pzt = pl.piezo_area();
         MassBreakdown {
             pzt: 2.0 * a.pzt.density * a.pzt_thickness * a_pzt,
             passive: a.layup_deg.len() as f64
-                * ply.density
+                * ply_density
                 * t_ply
                 * (a_pzt + pl.extension_area() + pl.tab_area()),
-            bond: 2.0 * self.bond_material().density * self.bond_thickness * a_pzt,
+            bond: 2.0
+                * (bond_builtin().density * self.bond_scale.density)
+                * self.bond_thickness
+                * a_pzt,
             added: self.added_mass(pl),
         }
     }

@@ -112,6 +112,10 @@ impl EffectModel {
     /// The stack basis of an actuator with the stack effects and stack primitives applied (η, β and the
     /// boundary primitives are left to [`EffectModel::outputs`]).
     pub fn basis(&self, a: &Actuator) -> Result<StackBasis, ModelError> {
+        // No primitive: the effects' own basis, without copying the materials into a stack.
+        if self.primitives.is_empty() {
+            return self.effects.basis(a);
+        }
         let s = primitives::stack(&self.primitives, &self.effects, a)?;
         s.effects.basis(&s.actuator(a))
     }

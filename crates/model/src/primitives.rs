@@ -419,6 +419,11 @@ pub fn mass(
     base: &Effects,
     a: &Actuator,
 ) -> Result<MassBreakdown, ModelError> {
+    // Nothing applied: the base effects' mass, without copying the materials into a stack (a
+    // calibration asks for the mass of every actuator at every step of every fit).
+    if applied.is_empty() {
+        return Ok(base.mass(a));
+    }
     let s = stack(applied, base, a)?;
     Ok(s.effects.mass(&s.actuator(a)))
 }

@@ -111,8 +111,9 @@ pub const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
 pub const GAP_MM: Range = Range::closed(0.0, 50.0, "mm");
 /// Gap between parts on top of the kerf.
 pub const SPACING_MM: Range = GAP_MM;
-/// Thickness of a clamp layer or a bond film.
-pub const LAYER_THICKNESS_MM: Range = Range::positive_up_to(20.0, "mm");
+/// Thickness of a clamp layer, a mold film or a bond film: no film a laser cuts and a hand lays is
+/// thinner than 1 µm.
+pub const LAYER_THICKNESS_MM: Range = Range::closed(0.001, 20.0, "mm");
 /// Largest sheet stock.
 pub const MAX_STOCK: i64 = 100_000;
 /// Rotations an extra part of a batch may be cut at: any angle, written within one turn either way.

@@ -405,3 +405,27 @@ fn a_stream_checks_the_folder_first_and_each_name_as_it_comes() {
     assert_eq!(listing(&out), ["notes.txt"]);
     assert_eq!(listing(root.path()), ["out"]);
 }
+
+#[test]
+fn system_errors_are_said_in_words() {
+    // Linux error numbers (asm-generic/errno-base.h), whose raw messages ("Invalid cross-device link",
+    // "No such file or directory") say nothing a user can act on.
+    let said = |errno: i32| in_words(&std::io::Error::from_raw_os_error(errno));
+    assert_eq!(said(13), "the folder is read-only (permission denied)");
+    assert_eq!(
+        said(30),
+        "the folder is read-only (a read-only file system)"
+    );
+    assert_eq!(
+        said(18),
+        "the files would have to move to another file system"
+    );
+    assert_eq!(
+        said(2),
+        "a folder on the way does not exist (was it removed?)"
+    );
+    assert_eq!(said(28), "the disk is full");
+    for errno in [2, 13, 18, 28, 30] {
+        assert!(!said(errno).contains("os error"), "{}", said(errno));
+    }
+}

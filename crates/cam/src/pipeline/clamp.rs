@@ -9,6 +9,7 @@ use super::BuildError;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::cam::label::{label_strokes, label_width};
 use crate::design::Design;
+use crate::input::{short_number, InputError};
 use crate::process::template::{ClampSpec, Template};
 use crate::process::Feature;
 use cam_geometry::place_ring;
@@ -262,15 +263,20 @@ pub fn clamp_layers(
             .mold_stock
             .films_mm
             .iter()
-            .map(|t| t.to_string())
+            .map(|t| short_number(*t))
             .collect();
-        return Err(names.error(format!(
-            "[layers.mold] stock_thicknesses_mm = [{}]: no stocked film is as thin as the {} mm PZT plate, \
-             so no mold layer can hold it; stock a film of at most {} mm",
-            films.join(", "),
-            first.design.pzt_thickness * 1e3,
-            first.design.pzt_thickness * 1e3
-        )));
+        let plate_mm = short_number(first.design.pzt_thickness * 1e3);
+        return Err(InputError::invalid(
+            &template.source,
+            "layers.mold.stock_thicknesses_mm",
+            format!("[{}]", films.join(", ")),
+            format!(
+                "no stocked film is as thin as the {plate_mm} mm PZT plate of {}, so no mold layer can \
+                 hold it; stock a film of at most {plate_mm} mm",
+                first.design.source.display()
+            ),
+        )
+        .into());
     }
     let bands = &mold.bands;
     // Expand the stack: "mold" becomes mold-1..n; other layers are numbered by occurrence.

@@ -211,12 +211,14 @@ impl<'a> JointData<'a> {
         let rows = &act.data.rows;
         let mut stack_of = Vec::with_capacity(act.obs.len());
         let mut stacks: Vec<StackModel> = Vec::new();
-        // (group, row the stack was solved for) of each stack model.
-        let mut solved_for: Vec<(usize, usize)> = Vec::new();
+        // For each actuator, (row the stack was solved for, stack model) of each drive mode it was
+        // measured in: looked up by actuator, so the solves stay linear in the actuators.
+        let mut solved_for: Vec<Vec<(usize, usize)>> = vec![Vec::new(); act.groups];
         for o in &act.obs {
-            let same = solved_for.iter().position(|&(g, row)| {
-                g == o.group && rows[row].drive_mode == rows[o.row].drive_mode
-            });
+            let same = solved_for[o.group]
+                .iter()
+                .find(|&&(row, _)| rows[row].drive_mode == rows[o.row].drive_mode)
+                .map(|&(_, s)| s);
             if let Some(s) = same {
                 stack_of.push(s);
                 continue;
@@ -236,7 +238,7 @@ impl<'a> JointData<'a> {
                 beam_compliance: quad(|b| b.beam_compliance),
                 extension_compliance: quad(|b| b.extension_compliance),
             });
-            solved_for.push((o.group, o.row));
+            solved_for[o.group].push((o.row, stacks.len() - 1));
             stack_of.push(stacks.len() - 1);
         }
         let mut masses = Vec::new();
