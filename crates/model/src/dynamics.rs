@@ -764,7 +764,7 @@ mod tests {
         // and d_r the extension's mass per length over the active region's,
         // M = (33 + 7 l_r (13 + 9 l_r + 5 d_r (4 + 3 l_r (6 + l_r (11 + 2 l_r (5 + 2 l_r))))))
         //     / (140 (1 + d_r l_r) (1 + 3 l_r (1 + l_r))²).
-        for l_r in [0.0, 0.25, 0.833, 2.0] {
+        for l_r in [0.0f64, 0.25, 0.833, 2.0] {
             for d_r in [0.0, 0.1, 0.3, 1.5] {
                 let published = (33.0
                     + 7.0
