@@ -172,7 +172,7 @@ fn resonance_error(cal: &Calibration, truth: Truth, designs: &[Design]) -> f64 {
 fn model_resonance_error(model: &EffectModel, truth: Truth, designs: &[Design]) -> f64 {
     let sum: f64 = designs
         .iter()
-        .map(|d| (resonance_of(&model, d) / resonance(truth, d)).ln().powi(2))
+        .map(|d| (resonance_of(model, d) / resonance(truth, d)).ln().powi(2))
         .sum();
     (sum / designs.len() as f64).sqrt()
 }

@@ -34,8 +34,8 @@ use std::path::Path;
 /// Points of the requirement table over the grid's range of `f1`.
 const TABLE: usize = 16;
 
-/// The screen's modal solves use the coarse mesh ([`ActuatorBeam::solve_coarse`], `f1` within 1e-4 of
-/// the converged mesh: test `the_screens_mesh_is_within_1e_4`); the exact stage uses the full mesh.
+// The screen's modal solves use the coarse mesh (`ActuatorBeam::solve_coarse`, `f1` within 1e-4 of the
+// converged mesh: test `the_screens_mesh_is_within_1e_4`); the exact stage uses the full mesh.
 
 /// Screened designs re-solved exactly.
 const EXACT: usize = 4;
