@@ -526,6 +526,45 @@ mod tests {
     }
 
     #[test]
+    fn resonance_and_quality_factor_are_shared_per_actuator_and_checked() {
+        let head = format!("{HEADER},resonance_Hz,quality_factor");
+        let d = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,212.5,28\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,,\n"
+        ))
+        .unwrap();
+        assert_eq!(d.rows[1].resonance, Some(212.5));
+        assert_eq!(d.rows[1].quality_factor, Some(28.0));
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,2e6,28\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("m.csv: line 2, column resonance_Hz = 2e6: outside the allowed range [0.1, 1000000] Hz"),
+            "{e}"
+        );
+        let e = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,0.5\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("quality_factor = 0.5") && !e.contains('\n'),
+            "{e}"
+        );
+        let e = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,210,\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("resonance_Hz = 210") && e.contains("must agree"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn a_short_row_names_its_line() {
         let e = parse_file(Path::new("m.csv"), &format!("{HEADER}\nA,40,0.5\n"))
             .unwrap_err()
