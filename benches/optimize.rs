@@ -68,8 +68,8 @@ fn wing(load: &str) {
     let spec = Spec::from_file(&path).expect("the example spec reads");
     let drive =
         DriveSpec::load(spec.flap.as_ref().expect("a flap requirement")).expect("drive file");
-    let wing = wing_load(&drive).expect("a solved linkage");
     let model = ModelChoice::Kind(ModelKind::Original);
+    let wing = wing_load(&drive, &model).expect("a solved linkage");
     let mut fastest = f64::INFINITY;
     let mut points = 0;
     let cpu_before = process_cpu_seconds();

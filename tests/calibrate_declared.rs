@@ -292,6 +292,7 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
             ..Effects::default()
         },
         declared: vec![Declared::all(declarations().remove(0))[0].record(C_W)],
+        loss: None,
     };
     let model_path = dir.path().join("calibrated-model.toml");
     std::fs::write(

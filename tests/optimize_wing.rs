@@ -120,6 +120,39 @@ fn the_same_bytes_twice_with_the_front() {
     assert!(!masses.is_empty() && masses.windows(2).all(|w| w[1] >= w[0]));
 }
 
+/// The front is a trade, not one point: the designs that just meet the energy at their best crank all
+/// sit near one margin, and a higher margin is bought with a stiffer crank and more energy, so more mass
+/// (docs/physics.md §17.4).
+#[test]
+fn the_front_trades_mass_for_margin() {
+    let (dir, spec) = folder(SPEC);
+    let csv = dir.path().join("front.csv");
+    run_ok(&[
+        "optimize",
+        spec.to_str().unwrap(),
+        "--pareto",
+        csv.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<(f64, f64)> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut cells = l.split(',');
+            let margin = cells.next().unwrap().parse().unwrap();
+            (margin, cells.next().unwrap().parse().unwrap())
+        })
+        .collect();
+    assert!(rows.len() >= 5, "{text}");
+    assert!(
+        rows.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 >= w[0].1),
+        "{text}"
+    );
+    let (first, last) = (rows[0], rows[rows.len() - 1]);
+    assert!(last.0 - first.0 >= 50.0, "margins {first:?} to {last:?}");
+    assert!(last.1 > 1.1 * first.1, "masses {first:?} to {last:?}");
+}
+
 #[test]
 fn what_the_wing_optimizer_cannot_take_is_refused_in_one_line() {
     // Another model, another objective, both requirements, a missing drive file, a linkage of given

@@ -224,7 +224,7 @@ fn run_flap(
         );
     }
     let drive = DriveSpec::load(flap)?;
-    let load = wing_load(&drive)?;
+    let load = wing_load(&drive, &args.model.model)?;
     let problem = Problem::from_spec(spec, model, Objective::MinMass)
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
     let outcome = optimize_flap(spec, &problem, &load, &args.model.model)

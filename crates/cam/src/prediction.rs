@@ -94,19 +94,11 @@ pub fn actuator_modes(
         ModelChoice::Calibrated(calibrated) => {
             let physics = calibrated.effect_model()?;
             let a = actuator(design);
-            let basis = physics.basis(&a)?;
-            let effects = physics.boundary_effects(&basis.planform);
-            ActuatorBeam::from_effects(&effects, &basis, &physics.mass(&a)?)
+            physics.beam(&physics.basis(&a)?, &physics.mass(&a)?)
         }
     };
-    let modal = beam.solve()?;
     // A uniform stiffness factor moves k and ω1² together (§11.3).
-    let factor = performance.stiffness / modal.static_stiffness;
-    Ok(Modal {
-        frequency: modal.frequency * factor.sqrt(),
-        static_stiffness: performance.stiffness,
-        rayleigh_mass: modal.rayleigh_mass,
-    })
+    Ok(beam.solve()?.with_stiffness(performance.stiffness))
 }
 
 /// The model's performance of a design at its drive (SI): a built-in model on the design's laminate, a

@@ -200,6 +200,52 @@ impl WingLoad {
     }
 }
 
+impl WingLoad {
+    /// The least energy `½ (τ(v)/√v)²` that holds the stroke with the system's small-stroke resonance
+    /// at least `resonance` (Hz), for an actuator of bare resonance `actuator_frequency` whose best crank
+    /// gives `optimum` (docs/physics.md §17.4). The resonance rises with `v` (the actuator's stiffness
+    /// over its mass seen through the crank, from the wing's `√(k_t/I)` towards the actuator's own
+    /// `ω1`), so above the optimum's resonance the cheapest crank is the one that puts it at
+    /// `resonance` exactly: a stiffer actuator coupling than the energy optimum, bought with energy.
+    /// `None` when no crank reaches that resonance or holds the stroke there.
+    pub fn energy_at_resonance(&self, optimum: &Requirement, resonance: f64) -> Option<f64> {
+        if optimum.resonance >= resonance {
+            return Some(optimum.energy);
+        }
+        let reference = self.reference_linkage().ok()?;
+        let omega1 = 2.0 * PI * optimum.actuator_frequency;
+        let at = |log_v: f64| {
+            self.system(&reference, log_v.exp(), omega1)
+                .linear_resonance()
+        };
+        let (mut a, mut b) = (
+            optimum.reflected_stiffness.ln(),
+            optimum.reflected_stiffness.ln(),
+        );
+        // Bracket: the resonance approaches the actuator's own as v grows.
+        for _ in 0..40 {
+            if at(b) >= resonance {
+                break;
+            }
+            a = b;
+            b += 10f64.ln();
+        }
+        if at(b) < resonance {
+            return None;
+        }
+        while b - a > 1e-6 {
+            let mid = 0.5 * (a + b);
+            if at(mid) >= resonance {
+                b = mid;
+            } else {
+                a = mid;
+            }
+        }
+        let (g, _) = self.cost(&reference, b.exp(), omega1, None)?;
+        Some(0.5 * g * g)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -30,6 +30,11 @@ pub const ACTIVE_ELEMENTS: usize = 32;
 /// Elements over a compliant extension in [`ActuatorBeam::solve`].
 pub const EXTENSION_ELEMENTS: usize = 12;
 
+/// Elements over the active region and a compliant extension in [`ActuatorBeam::solve_coarse`]: `f1`
+/// within 1e-4 of [`ActuatorBeam::solve`] (tests `the_screens_mesh_is_within_1e_4` in the optimizer and
+/// `the_coarse_mesh_holds_with_added_masses_and_a_soft_clamp` here), at a tenth of the cost.
+pub const COARSE_ELEMENTS: (usize, usize) = (8, 4);
+
 /// The actuator as a beam: what its first mode depends on, SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ActuatorBeam {
@@ -49,6 +54,11 @@ pub struct ActuatorBeam {
     pub rigid_root: f64,
     /// Uniform factor on the active region's bending stiffness (`s_k`, docs/calibration.md §2).
     pub stiffness_scale: f64,
+    /// Line mass along the active region from mass on the PZT plates' long edges (adhesive fillets,
+    /// the `added-mass-per-length` primitive), kg/m of beam length.
+    pub edge_line_mass: f64,
+    /// Point mass at the end of the active region `x = l_p` (the fillets on the plates' tip edges), kg.
+    pub tip_point_mass: f64,
 }
 
 /// The first mode and the static tip stiffness of an [`ActuatorBeam`], SI.
@@ -71,6 +81,17 @@ impl Modal {
     /// Lumped tip mass `m = k / ω1²` (docs/physics.md §11.3), kg.
     pub fn modal_mass(&self) -> f64 {
         self.static_stiffness / self.angular_frequency().powi(2)
+    }
+
+    /// The mode with its static stiffness replaced by the statics' `k` (`F_b / δ` of the model): a
+    /// uniform stiffness factor moves `k` and `ω1²` together and leaves `m = k / ω1²` alone (§11.3),
+    /// so `f1 = √(k / m) / 2π`.
+    pub fn with_stiffness(&self, stiffness: f64) -> Modal {
+        Modal {
+            frequency: self.frequency * (stiffness / self.static_stiffness).sqrt(),
+            static_stiffness: stiffness,
+            rayleigh_mass: self.rayleigh_mass,
+        }
     }
 }
 
@@ -117,18 +138,28 @@ impl ActuatorBeam {
             clamp_compliance: 0.0,
             rigid_root: 0.0,
             stiffness_scale: 1.0,
+            edge_line_mass: 0.0,
+            tip_point_mass: 0.0,
         }
     }
 
     /// The beam of a model with effects: `C44` back from the basis' beam compliance
     /// (`c = C44 l_p³ G / (3 w_nom)`), the extension's from its bare-ply compliance times φ, the
     /// boundary effects as in [`Effects::outputs`], the areal masses from the effects' mass.
+    ///
+    /// The mass no layer carries is placed where its primitive puts it (docs/physics.md §11.4): the
+    /// adhesive under the plates (`added-mass-per-area` μ) on the active region, `2 μ` per unit area; the
+    /// fillets along the plates' outlines (`added-mass-per-length` λ) as a line mass `4 λ sec α` per unit
+    /// length from the two long edges of both plates (α the half-taper angle) and a point mass `2 λ w_tip`
+    /// from their tip edges, the root edges lying on the clamp line; the mass per actuator
+    /// (`added-mass`: leads and solder on the base tab) in the clamp, where it does not move.
     pub fn from_effects(effects: &Effects, basis: &StackBasis, mass: &MassBreakdown) -> Self {
         let pl = basis.planform;
         let l_p = pl.piezo_length();
         let c44 =
             basis.beam_compliance * 3.0 * pl.nominal_width() / (l_p.powi(3) * pl.shape_factor());
         let a_pzt = pl.piezo_area();
+        let half_taper = 0.5 * (pl.base_width - pl.tip_width());
         let passive_areal = mass.passive / (a_pzt + pl.extension_area() + pl.tab_area());
         let extension =
             (effects.extension_flexibility > 0.0 && pl.extension_ratio > 0.0).then(|| {
@@ -138,26 +169,39 @@ impl ActuatorBeam {
         ActuatorBeam {
             planform: pl,
             bending_compliance: c44,
-            areal_mass: (mass.pzt + mass.bond) / a_pzt + passive_areal,
+            areal_mass: (mass.pzt + mass.bond) / a_pzt
+                + passive_areal
+                + 2.0 * effects.added_mass_per_area,
             extension_areal_mass: passive_areal,
             extension_bending_compliance: extension,
             clamp_compliance: effects.clamp_compliance,
             // Clipped as the statics clip it (effects.rs `held_root`).
             rigid_root: effects.rigid_root.min(0.95 * l_p),
             stiffness_scale: effects.stiffness_scale,
+            edge_line_mass: 4.0 * effects.added_mass_per_length * l_p.hypot(half_taper) / l_p,
+            tip_point_mass: 2.0 * effects.added_mass_per_length * pl.tip_width(),
         }
     }
 
     /// Mass of the parts that move (active region from the clamp line and extension), kg.
     pub fn moving_mass(&self) -> f64 {
         let pl = &self.planform;
-        self.areal_mass * pl.piezo_area() + self.extension_areal_mass * pl.extension_area()
+        self.areal_mass * pl.piezo_area()
+            + self.extension_areal_mass * pl.extension_area()
+            + self.edge_line_mass * pl.piezo_length()
+            + self.tip_point_mass
     }
 
     /// First mode and static stiffness with the default mesh ([`ACTIVE_ELEMENTS`],
     /// [`EXTENSION_ELEMENTS`]).
     pub fn solve(&self) -> Result<Modal, ModelError> {
         self.solve_with(ACTIVE_ELEMENTS, EXTENSION_ELEMENTS)
+    }
+
+    /// First mode and static stiffness on the coarse mesh ([`COARSE_ELEMENTS`]): the optimizer's screen
+    /// and the calibration's fit, which solve it many times.
+    pub fn solve_coarse(&self) -> Result<Modal, ModelError> {
+        self.solve_with(COARSE_ELEMENTS.0, COARSE_ELEMENTS.1)
     }
 
     /// First mode and static stiffness with `active` elements over the free active length and
@@ -175,7 +219,7 @@ impl ActuatorBeam {
             let a = h + (l_p - h) * i as f64 / active as f64;
             let b = h + (l_p - h) * (i + 1) as f64 / active as f64;
             let stiff = |x: f64| self.stiffness_scale * pl.width_at(x) / self.bending_compliance;
-            let line = |x: f64| self.areal_mass * pl.width_at(x);
+            let line = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
             elements.push(Element {
                 a,
                 b,
@@ -213,6 +257,8 @@ impl ActuatorBeam {
                 }
             }
         }
+        // The tip edges' fillets at the end of the active region (node `active`).
+        m[(2 * active, 2 * active)] += self.tip_point_mass;
         let last = 2 * (nodes - 1);
         let mut load = DVector::<f64>::zeros(full);
         load[last] = 1.0;
@@ -229,25 +275,35 @@ impl ActuatorBeam {
         // The root: clamped (drop the first node's two degrees of freedom), or turning with the clamp's
         // spring about x = 0, the held root `[0, h]` rigid with it: (v, θ) at x = h is (h ψ, ψ).
         let spring = self.clamp_compliance > 0.0;
-        let reduced = if spring { full - 1 } else { full - 2 };
-        let mut t = DMatrix::<f64>::zeros(full, reduced);
-        let shift = if spring {
-            t[(0, 0)] = h;
-            t[(1, 0)] = 1.0;
-            1
+        let (mut kr, mut mr, fr) = if spring {
+            // The root turns by ψ: (v, θ) at x = h is (h ψ, ψ), the other degrees of freedom as they are.
+            let reduce = |a: &DMatrix<f64>| {
+                let n = full - 1;
+                let mut r = DMatrix::<f64>::zeros(n, n);
+                let row = |j: usize| h * a[(0, j)] + a[(1, j)];
+                r[(0, 0)] = h * row(0) + row(1);
+                for j in 2..full {
+                    let v = row(j);
+                    r[(0, j - 1)] = v;
+                    r[(j - 1, 0)] = v;
+                }
+                r.view_mut((1, 1), (full - 2, full - 2))
+                    .copy_from(&a.view((2, 2), (full - 2, full - 2)));
+                r
+            };
+            let mut fr = DVector::<f64>::zeros(full - 1);
+            fr[0] = h * load[0] + load[1];
+            fr.rows_mut(1, full - 2).copy_from(&load.rows(2, full - 2));
+            (reduce(&k), reduce(&m), fr)
         } else {
-            0
+            // Clamped: the first node's two degrees of freedom dropped.
+            let keep = |a: &DMatrix<f64>| a.view((2, 2), (full - 2, full - 2)).into_owned();
+            (keep(&k), keep(&m), load.rows(2, full - 2).into_owned())
         };
-        for j in 2..full {
-            t[(j, j - 2 + shift)] = 1.0;
-        }
-        let mut kr = t.transpose() * &k * &t;
-        let mut mr = t.transpose() * &m * &t;
-        let fr = t.transpose() * &load;
         if spring {
             kr[(0, 0)] += 1.0 / self.clamp_compliance;
             // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
-            let mu = |x: f64| self.areal_mass * pl.width_at(x);
+            let mu = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
             mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
         }
         let chol = kr.clone().cholesky().ok_or_else(|| {
@@ -312,6 +368,8 @@ impl ActuatorBeam {
         nonneg("extension_areal_mass", self.extension_areal_mass)?;
         nonneg("clamp_compliance", self.clamp_compliance)?;
         nonneg("rigid_root", self.rigid_root)?;
+        nonneg("edge_line_mass", self.edge_line_mass)?;
+        nonneg("tip_point_mass", self.tip_point_mass)?;
         if self.rigid_root >= self.planform.piezo_length() {
             return Err(ModelError::OutOfRange {
                 name: "rigid_root",
@@ -420,7 +478,8 @@ impl Element {
 }
 
 /// Rayleigh static-shape tip mass of a rectangular actuator with a rigid extension (docs/physics.md
-/// §11.2; the form of Wood, Steltz & Fearing 2005, a function of the extension ratio and the mass ratio):
+/// §11.2; the published form of Finio & Wood, ICRA 2005, after Wood, Steltz & Fearing 2005, a function of
+/// the extension ratio and the mass ratio, test `rigid_extension_tip_mass_is_the_published_one`):
 ///
 /// `m_eff / m_p = [(1+r)²/20 - (1+r)/36 + 1/252 + m_r ((a + b r)³ - a³) / (3 b r)] / D²`,
 ///
@@ -458,6 +517,8 @@ mod tests {
             clamp_compliance: 0.0,
             rigid_root: 0.0,
             stiffness_scale: 1.0,
+            edge_line_mass: 0.0,
+            tip_point_mass: 0.0,
         }
     }
 
@@ -504,6 +565,68 @@ mod tests {
         assert!(((got.rayleigh_mass - 33.0 / 140.0 * m_beam) / m_beam).abs() < 1e-10);
         let lumped = 3.0 / 1.875_104_068_7f64.powi(4) * m_beam;
         assert!(((got.modal_mass() - lumped) / lumped).abs() < 2e-4);
+    }
+
+    #[test]
+    fn a_tip_mass_gives_the_classical_frequency_equation() {
+        // Source: cantilever with a tip mass M, Blevins, Formulas for Natural Frequency and Mode Shape,
+        // Table 8-1 case 8 (no rotary inertia): 1 + cos λ cosh λ + (M / m_b) λ (cos λ sinh λ -
+        // sin λ cosh λ) = 0, f1 = λ² / (2π) √(EI / (μ L⁴)). The tip edges' fillets are such a mass.
+        let bare = uniform(30e-3, 0.0);
+        let (ei, mu, l) = (5e-3 / 2.0e-3, 4.0 * 5e-3, 30e-3f64);
+        for ratio in [0.1, 0.5, 2.0] {
+            let tip = ActuatorBeam {
+                tip_point_mass: ratio * mu * l,
+                ..bare
+            };
+            let g = |x: f64| {
+                1.0 + x.cos() * x.cosh() + ratio * x * (x.cos() * x.sinh() - x.sin() * x.cosh())
+            };
+            let (mut lo, mut hi) = (0.5, 1.875_104_068_7);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if g(lo) * g(mid) <= 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            let lambda = 0.5 * (lo + hi);
+            let want =
+                lambda * lambda / (2.0 * std::f64::consts::PI) * (ei / (mu * l.powi(4))).sqrt();
+            let got = tip.solve().unwrap().frequency;
+            assert!(
+                ((got - want) / want).abs() < 1e-4,
+                "M/m {ratio}: {got} vs {want}"
+            );
+        }
+        // A line mass along the edges adds to μ: f1 falls as √(μ / (μ + μ_e)), the shape unchanged.
+        let edged = ActuatorBeam {
+            edge_line_mass: 0.25 * mu,
+            ..bare
+        };
+        let ratio = edged.solve().unwrap().frequency / bare.solve().unwrap().frequency;
+        assert!((ratio - (1.0f64 / 1.25).sqrt()).abs() < 1e-9, "{ratio}");
+    }
+
+    #[test]
+    fn the_coarse_mesh_holds_with_added_masses_and_a_soft_clamp() {
+        let bare = ActuatorBeam {
+            planform: Planform::new(30e-3, 0.6, 6e-3, 1.5, 0.0).unwrap(),
+            ..uniform(30e-3, 0.6)
+        };
+        let heavy = ActuatorBeam {
+            edge_line_mass: 0.3 * bare.areal_mass * 6e-3,
+            tip_point_mass: 0.2 * bare.areal_mass * 6e-3 * 18.75e-3,
+            clamp_compliance: 5.0,
+            extension_bending_compliance: Some(3.0 * bare.bending_compliance),
+            ..bare
+        };
+        for beam in [bare, heavy] {
+            let coarse = beam.solve_coarse().unwrap().frequency;
+            let fine = beam.solve().unwrap().frequency;
+            assert!((coarse / fine - 1.0).abs() < 1e-4, "{coarse} vs {fine}");
+        }
     }
 
     #[test]
@@ -630,6 +753,38 @@ mod tests {
             );
         }
         assert!((rigid_extension_tip_mass_ratio(0.0, 0.0) - 33.0 / 140.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rigid_extension_tip_mass_is_the_published_one() {
+        // Source: the effective tip mass of a rectangular actuator with a rigid extension, Finio & Wood,
+        // "Nonlinear performance limits for high energy density piezoelectric bending actuators", ICRA
+        // 2005 (DOI 10.1109/ROBOT.2005.1570673), its Fig. 10, after Wood, Steltz & Fearing, Sens.
+        // Actuators A 119 (2005) 476-488: over the whole actuator's mass, with l_r the extension ratio
+        // and d_r the extension's mass per length over the active region's,
+        // M = (33 + 7 l_r (13 + 9 l_r + 5 d_r (4 + 3 l_r (6 + l_r (11 + 2 l_r (5 + 2 l_r))))))
+        //     / (140 (1 + d_r l_r) (1 + 3 l_r (1 + l_r))²).
+        for l_r in [0.0f64, 0.25, 0.833, 2.0] {
+            for d_r in [0.0, 0.1, 0.3, 1.5] {
+                let published = (33.0
+                    + 7.0
+                        * l_r
+                        * (13.0
+                            + 9.0 * l_r
+                            + 5.0
+                                * d_r
+                                * (4.0
+                                    + 3.0
+                                        * l_r
+                                        * (6.0 + l_r * (11.0 + 2.0 * l_r * (5.0 + 2.0 * l_r))))))
+                    / (140.0 * (1.0 + d_r * l_r) * (1.0 + 3.0 * l_r * (1.0 + l_r)).powi(2));
+                let ours = rigid_extension_tip_mass_ratio(l_r, d_r * l_r) / (1.0 + d_r * l_r);
+                assert!(
+                    (ours / published - 1.0).abs() < 1e-12,
+                    "{l_r} {d_r}: {ours} vs {published}"
+                );
+            }
+        }
     }
 
     #[test]

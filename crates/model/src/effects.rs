@@ -467,15 +467,22 @@ impl Effects {
             let margins = (2.0 * self.edge_margin).min(0.95 * pl.narrowest_width());
             delta -= curvature * margins * pl.arm_over_width_from(start);
         }
+        (delta, delta / self.tip_compliance(b))
+    }
+
+    /// Tip compliance `c = c_beam(h) / s_k + φ c_ext + c_θ l_tot²` of a basis, m/N: `δ / F_b` of
+    /// [`Effects::outputs`], whatever the drive.
+    pub fn tip_compliance(&self, b: &StackBasis) -> f64 {
+        let pl = &b.planform;
+        let held = self.held_root(pl);
         let beam = if held > 0.0 {
             b.beam_compliance * pl.shape_factor_from(held) / pl.shape_factor()
         } else {
             b.beam_compliance
         };
-        let compliance = beam / self.stiffness_scale
+        beam / self.stiffness_scale
             + self.extension_flexibility * b.extension_compliance
-            + self.clamp_compliance * pl.length * pl.length;
-        (delta, delta / compliance)
+            + self.clamp_compliance * pl.length * pl.length
     }
 
     /// Mass by layer kind with `ply-thickness` and `bond-layer` applied, without solving the stack

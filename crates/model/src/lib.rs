@@ -32,7 +32,9 @@ pub use effects::{Actuator, Effects};
 pub use error::ModelError;
 pub use laminate::{Laminate, Layer, LayerRole};
 pub use material::Material;
-pub use model::{CalibratedModel, DeclaredEffect, EffectModel, ModelChoice, ModelKind};
+pub use model::{
+    CalibratedModel, DeclaredEffect, EffectModel, MeasuredLoss, ModelChoice, ModelKind,
+};
 pub use performance::{MassBreakdown, Performance};
 pub use planform::Planform;
 pub use section::Section;

@@ -2,6 +2,7 @@
 //! Euler-Bernoulli beam.
 
 use crate::drive::Drive;
+use crate::dynamics::{ActuatorBeam, Modal};
 use crate::effects::{Actuator, Effects, StackBasis};
 use crate::empirical;
 use crate::error::ModelError;
@@ -137,6 +138,39 @@ impl EffectModel {
     pub fn mass(&self, a: &Actuator) -> Result<MassBreakdown, ModelError> {
         primitives::mass(&self.primitives, &self.effects, a)
     }
+
+    /// The actuator's beam under these effects (docs/physics.md §11.4): the stack from `basis`
+    /// ([`EffectModel::basis`]), the boundary effects and the masses with the declared primitives
+    /// applied, the added masses where their primitives put them.
+    pub fn beam(&self, basis: &StackBasis, mass: &MassBreakdown) -> ActuatorBeam {
+        let mut effects = self.boundary_effects(&basis.planform);
+        for x in &self.primitives {
+            match x.primitive {
+                primitives::Primitive::AddedMassPerLength => {
+                    effects.added_mass_per_length += x.value
+                }
+                primitives::Primitive::AddedMassPerArea => effects.added_mass_per_area += x.value,
+                _ => {}
+            }
+        }
+        ActuatorBeam::from_effects(&effects, basis, mass)
+    }
+
+    /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and
+    /// `calibrate` fits to a measured one: the beam's mode ([`EffectModel::beam`]) with its stiffness
+    /// scaled to the statics' `k = F_b / δ` of `basis` ([`Modal::with_stiffness`]).
+    pub fn modes(&self, basis: &StackBasis, mass: &MassBreakdown) -> Result<Modal, ModelError> {
+        Ok(self
+            .beam(basis, mass)
+            .solve()?
+            .with_stiffness(self.tip_stiffness(basis)))
+    }
+
+    /// The statics' tip stiffness `k = F_b / δ` of a basis, N/m (at any drive, even one that gives no
+    /// deflection).
+    pub fn tip_stiffness(&self, basis: &StackBasis) -> f64 {
+        1.0 / self.boundary_effects(&basis.planform).tip_compliance(basis)
+    }
 }
 
 /// One parameter of an effect a lab declared (`calibrate --effects FILE`) as the calibrated model
@@ -201,6 +235,22 @@ pub struct CalibratedModel {
     /// Declared effects the calibration selected, with their compositions and fitted values.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub declared: Vec<DeclaredEffect>,
+    /// The structural loss factor from the measured quality factors, when the data carried them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loss: Option<MeasuredLoss>,
+}
+
+/// The structural loss factor of the measured actuators: `η = 1/Q` of each actuator's first resonance
+/// (hysteretic damping `k (1 + i η)` has `Q = 1/η` at resonance), their mean and its 95 % interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeasuredLoss {
+    /// Mean `η = 1/Q` over the actuators.
+    pub loss_factor: f64,
+    /// 95 % interval of the mean (Student t over the actuators).
+    pub interval: [f64; 2],
+    /// How many actuators carried a quality factor.
+    pub actuators: usize,
 }
 
 impl CalibratedModel {
@@ -219,6 +269,17 @@ impl CalibratedModel {
     /// Check every value is physical.
     pub fn validate(&self) -> Result<(), ModelError> {
         self.effects.validate()?;
+        if let Some(loss) = &self.loss {
+            let [lo, hi] = loss.interval;
+            let inside = |v: f64| v.is_finite() && v > 0.0 && v <= 1.0;
+            if !(inside(loss.loss_factor) && inside(lo) && inside(hi) && lo <= hi) {
+                return Err(ModelError::OutOfRange {
+                    name: "loss.loss_factor",
+                    value: loss.loss_factor,
+                    range: "(0, 1], inside its interval (0, 1]",
+                });
+            }
+        }
         self.effect_model().map(|_| ())
     }
 
@@ -382,6 +443,7 @@ mod tests {
                         &[(Primitive::InactiveSurfaceLayer, Map::Identity)],
                     ),
                 ],
+                loss: None,
             };
             let m = model.effect_model().unwrap();
             assert_eq!(m.primitives.len(), 7);
@@ -431,6 +493,7 @@ mod tests {
                 selected_effects: vec![],
                 effects: Effects::default(),
                 declared: vec![declared("soft", bad, 1.0, &[(soft, Map::Identity)])],
+                loss: None,
             };
             assert!(model.validate().is_err(), "{bad}");
         }

@@ -1,7 +1,8 @@
 //! Measured-data CSV → validated [`Measurement`]s grouped by actuator.
 //!
 //! Columns: `id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N`,
-//! optional `drive` (parallel), `pzt` (PZT-5H), `ply` (CF-thesis), `base_tab_mm` (0). `#` lines are
+//! optional `drive` (parallel), `pzt` (PZT-5H), `ply` (CF-thesis), `base_tab_mm` (0), and per actuator
+//! the bare clamped actuator's first resonance `resonance_Hz` and its `quality_factor`. `#` lines are
 //! comments; an empty cell is "not measured". Units convert to SI here and nowhere else.
 //!
 //! The raw representation is the CSV record with its header; [`parse_file`] is the one validating
@@ -12,7 +13,8 @@ use crate::design::layup::parse_layup;
 use crate::input::library::{drive_mode, library_ply, library_pzt};
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, BLOCKED_FORCE_N, EXTENSION_RATIO, FREE_DEFLECTION_MM, LENGTH_MM,
-    MASS_MG, MAX_PLIES, MEASURED_VOLTAGE_V, PLY_ANGLE_DEG, PZT_THICKNESS_MM, WIDTH_RATIO,
+    MASS_MG, MAX_PLIES, MEASURED_VOLTAGE_V, PLY_ANGLE_DEG, PZT_THICKNESS_MM, QUALITY_FACTOR,
+    RESONANCE_HZ, WIDTH_RATIO,
 };
 use crate::input::{InputError, Range};
 use actuator_model::effects::{drive_at_voltage, Actuator};
@@ -35,8 +37,16 @@ pub const REQUIRED_COLUMNS: [&str; 11] = [
     "blocked_force_N",
 ];
 
-/// The columns a file may add: `drive`, `pzt`, `ply`, `base_tab_mm` (in this order).
-pub const OPTIONAL_COLUMNS: [&str; 4] = ["drive", "pzt", "ply", "base_tab_mm"];
+/// The columns a file may add: `drive`, `pzt`, `ply`, `base_tab_mm`, `resonance_Hz`,
+/// `quality_factor` (in this order).
+pub const OPTIONAL_COLUMNS: [&str; 6] = [
+    "drive",
+    "pzt",
+    "ply",
+    "base_tab_mm",
+    "resonance_Hz",
+    "quality_factor",
+];
 
 /// One measured actuator at one drive level, validated and in SI units.
 #[derive(Debug, Clone)]
@@ -71,6 +81,10 @@ pub struct Measurement {
     pub free_deflection: Option<f64>,
     /// Measured blocked force, N.
     pub blocked_force: Option<f64>,
+    /// Measured first resonance of the bare clamped actuator, Hz (shared by all rows of the id).
+    pub resonance: Option<f64>,
+    /// Measured quality factor of that resonance (shared by all rows of the id).
+    pub quality_factor: Option<f64>,
 }
 
 impl Measurement {
@@ -120,6 +134,7 @@ impl Dataset {
         for g in &groups {
             let first = &rows[g[0]];
             let mut mass: Option<(f64, u64)> = None;
+            let (mut resonance, mut quality) = (None, None);
             for &i in g {
                 let r = &rows[i];
                 let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
@@ -173,11 +188,23 @@ impl Dataset {
                         _ => mass = Some((m, r.line)),
                     }
                 }
-            }
-            if let Some((m, _)) = mass {
-                for &i in g {
-                    rows[i].mass = Some(m);
+                for (column, v, shared) in [
+                    ("resonance_Hz", r.resonance, &mut resonance),
+                    ("quality_factor", r.quality_factor, &mut quality),
+                ] {
+                    match (v, *shared) {
+                        (Some(v), Some(v0)) if !same(v, v0) => {
+                            return Err(inconsistent(file, r, column, v, v0))
+                        }
+                        (Some(v), _) => *shared = Some(v),
+                        _ => {}
+                    }
                 }
+            }
+            for &i in g {
+                rows[i].mass = mass.map(|(m, _)| m).or(rows[i].mass);
+                rows[i].resonance = resonance;
+                rows[i].quality_factor = quality;
             }
         }
         Ok(Dataset {
@@ -339,7 +366,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
             )
         })?;
     }
-    let [c_drive, c_pzt, c_ply, c_tab] = OPTIONAL_COLUMNS.map(col);
+    let [c_drive, c_pzt, c_ply, c_tab, c_f1, c_q] = OPTIONAL_COLUMNS.map(col);
     let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = required;
     let mut rows = Vec::new();
     for record in reader.records() {
@@ -372,6 +399,14 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
         let mass = row.number(c_m, MASS_MG)?;
         let delta = row.number(c_d, FREE_DEFLECTION_MM)?;
         let force = row.number(c_f, BLOCKED_FORCE_N)?;
+        let resonance = match c_f1 {
+            Some(c) => row.number(c, RESONANCE_HZ)?,
+            None => None,
+        };
+        let quality_factor = match c_q {
+            Some(c) => row.number(c, QUALITY_FACTOR)?,
+            None => None,
+        };
         let layup_text = row.cell(c_layup).to_string();
         let layup_deg = parse_layup(&layup_text).map_err(|_| {
             row.error(
@@ -411,6 +446,8 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
             mass: mass.map(|m| m * 1e-6),
             free_deflection: delta.map(|d| d * 1e-3),
             blocked_force: force,
+            resonance,
+            quality_factor,
         });
     }
     if rows.is_empty() {
@@ -486,6 +523,45 @@ mod tests {
             &format!("{HEADER}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05\n"),
         );
         assert_eq!(d.unwrap().unknown_columns_warning(f), None);
+    }
+
+    #[test]
+    fn resonance_and_quality_factor_are_shared_per_actuator_and_checked() {
+        let head = format!("{HEADER},resonance_Hz,quality_factor");
+        let d = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,212.5,28\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,,\n"
+        ))
+        .unwrap();
+        assert_eq!(d.rows[1].resonance, Some(212.5));
+        assert_eq!(d.rows[1].quality_factor, Some(28.0));
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,2e6,28\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("m.csv: line 2, column resonance_Hz = 2e6: outside the allowed range [0.1, 1000000] Hz"),
+            "{e}"
+        );
+        let e = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,0.5\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("quality_factor = 0.5") && !e.contains('\n'),
+            "{e}"
+        );
+        let e = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,210,\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("resonance_Hz = 210") && e.contains("must agree"),
+            "{e}"
+        );
     }
 
     #[test]

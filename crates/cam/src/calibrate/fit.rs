@@ -34,6 +34,10 @@ impl FitResult {
         if p == 0 {
             return DMatrix::zeros(0, 0);
         }
+        if self.jacobian.iter().any(|x| !x.is_finite()) {
+            // The model cannot be evaluated beside the optimum: no interval.
+            return DMatrix::from_element(p, p, f64::INFINITY);
+        }
         let dof = (self.n as f64 - p as f64).max(1.0);
         let sigma2 = self.rss / dof;
         let jtj = self.jacobian.transpose() * &self.jacobian;
@@ -48,7 +52,7 @@ impl FitResult {
     /// Leverage `h_ii` of each residual (diagonal of `J (JᵀJ)⁺ Jᵀ`).
     pub fn leverage(&self) -> Vec<f64> {
         let p = self.theta.len();
-        if p == 0 {
+        if p == 0 || self.jacobian.iter().any(|x| !x.is_finite()) {
             return vec![0.0; self.n];
         }
         let jtj = self.jacobian.transpose() * &self.jacobian;

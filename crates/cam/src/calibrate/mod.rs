@@ -23,7 +23,9 @@ pub use self::csv::{Dataset, Measurement};
 pub use select::{Selection, Settings, Verdict};
 
 use actuator_model::empirical;
-use actuator_model::{CalibratedModel, DeclaredEffect, Effects, ModelError, Performance};
+use actuator_model::{
+    CalibratedModel, DeclaredEffect, Effects, MeasuredLoss, ModelError, Performance,
+};
 use baseline::{
     error_table, predict_all, residual_correlations, ErrorTable, ResidualCorrelation, RowError,
 };
@@ -127,7 +129,7 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
     let suggestions = discovery.as_ref().map_or_else(Vec::new, |d| {
         discover::suggest::suggestions(d, mass_first, settings.min_delta_aicc)
     });
-    let model = calibrated_model(&selection);
+    let model = calibrated_model(&selection, measured_loss(fitted));
     let original = Effects::default();
     let predictions_before = predict_all(data, |m| original.predict(&m.actuator()))?;
     let predictions_after = predict_all(data, |m| predict_row(&model, m))?;
@@ -168,8 +170,36 @@ pub fn calibrate(data: &Dataset, settings: &Settings) -> Result<Calibration, Cal
     })
 }
 
+/// The loss factor of the actuators with a measured quality factor: `η = 1/Q` each, their mean and the
+/// 95 % Student-t interval of the mean, held above the smallest η measured (a loss factor is positive)
+/// and at most 1 (docs/calibration.md §3, "The resonance"). One actuator gives its own η with no spread
+/// to widen it.
+pub fn measured_loss(data: &Dataset) -> Option<MeasuredLoss> {
+    let etas: Vec<f64> = (0..data.actuators())
+        .filter_map(|g| data.rows[data.groups[g][0]].quality_factor)
+        .map(|q| 1.0 / q)
+        .collect();
+    let n = etas.len();
+    if n == 0 {
+        return None;
+    }
+    let mean = etas.iter().sum::<f64>() / n as f64;
+    let half = if n > 1 {
+        let var = etas.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+        stats::t_quantile_two_sided(0.95, (n - 1) as f64) * (var / n as f64).sqrt()
+    } else {
+        0.0
+    };
+    let smallest = etas.iter().copied().fold(f64::INFINITY, f64::min);
+    Some(MeasuredLoss {
+        loss_factor: mean,
+        interval: [(mean - half).max(smallest), (mean + half).min(1.0)],
+        actuators: n,
+    })
+}
+
 /// The model file's contents for a selection.
-fn calibrated_model(selection: &Selection) -> CalibratedModel {
+fn calibrated_model(selection: &Selection, loss: Option<MeasuredLoss>) -> CalibratedModel {
     CalibratedModel {
         model: "calibrated".into(),
         verdict: selection.verdict.name().into(),
@@ -180,6 +210,7 @@ fn calibrated_model(selection: &Selection) -> CalibratedModel {
             .collect(),
         effects: selection.model.effects,
         declared: declared_records(selection),
+        loss,
     }
 }
 
@@ -190,7 +221,7 @@ fn library_only(fitted: &Dataset, settings: &Settings) -> Result<LibraryOnly, Ca
         ..settings.clone()
     };
     let selection = select::select(fitted, &library)?;
-    let model = calibrated_model(&selection);
+    let model = calibrated_model(&selection, measured_loss(fitted));
     let predictions = predict_all(fitted, |m| predict_row(&model, m))?;
     Ok(LibraryOnly {
         table: error_table(fitted, &predictions),

@@ -8,6 +8,7 @@
 //! field can be named, instead of as a non-finite prediction for the design.
 
 use crate::calibrate::library::EffectId;
+use crate::input::limits::LOSS_FACTOR;
 use crate::input::{parse_toml, toml_error_line, InputError, Range, TableReader};
 use actuator_model::{CalibratedModel, EffectModel, Effects};
 use std::path::Path;
@@ -137,6 +138,9 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
             field.check(&effects)?;
         }
     }
+    if let Some(loss) = root.optional_table("loss")? {
+        loss.number_in("loss_factor", LOSS_FACTOR)?;
+    }
     // The structure (verdict, selected effects, declared effects, no unknown key) is serde's.
     let model: CalibratedModel = toml::from_str(text).map_err(|e| {
         let line = toml_error_line(text, &e);
@@ -172,6 +176,7 @@ mod tests {
             selected_effects: vec!["dead-length".into()],
             effects,
             declared: vec![],
+            loss: None,
         }
     }
 
@@ -239,6 +244,7 @@ mod tests {
                 ..Effects::default()
             },
             declared: vec![bond(property)],
+            loss: None,
         };
         let good = model(Property::E1);
         let text = to_toml(&good).unwrap();
@@ -288,6 +294,7 @@ mod tests {
                 declared("fillet", 3e-5, Primitive::AddedMassPerLength),
                 declared("glue", 0.01, Primitive::AddedMassPerArea),
             ],
+            loss: None,
         };
         let text = to_toml(&model).unwrap();
         for kind in [

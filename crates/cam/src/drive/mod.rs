@@ -151,7 +151,7 @@ pub fn analyse(
 ) -> Result<Analysis, DriveError> {
     let perf = performance(design, model)?;
     let modal = actuator_modes(design, model, &perf)?;
-    let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor);
+    let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor(model));
     let wing = spec.wing.wing();
     let linkage = linkage(&spec.linkage, &perf)?;
     let laminate = match spec.flexures {
@@ -309,7 +309,7 @@ pub fn analyse(
             modal_mass_mg: actuator.mass * 1e6,
             blocked_force_per_field_mN_per_V_per_mm: per_field * 1e6,
             free_deflection_mm: perf.free_deflection * 1e3,
-            loss_factor: spec.loss_factor,
+            loss_factor: actuator.loss_factor,
         },
         linkage: LinkageRow {
             coupler_mm: linkage.coupler * 1e3,

@@ -12,6 +12,7 @@ pub use crate::transmission::LinkageSpec;
 use crate::transmission::{TransmissionSpec, MG_MM2};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
+use actuator_model::ModelChoice;
 use std::path::{Path, PathBuf};
 
 /// Actuator + transmission mass per wing of the thesis' hawk-moth-sized vehicle: half the thorax
@@ -59,8 +60,8 @@ pub struct DriveSpec {
     pub stroke: f64,
     /// Field survival share that bounds the drive.
     pub survival: f64,
-    /// Structural loss factor of the actuator.
-    pub loss_factor: f64,
+    /// Structural loss factor of the actuator as the file gives it (None: see [`DriveSpec::loss_factor`]).
+    pub loss_factor_given: Option<f64>,
     /// Mass budget of actuator + transmission, kg.
     pub mass_budget: f64,
     /// The wing.
@@ -90,6 +91,19 @@ impl DriveSpec {
             transmission_mass: self.transmission_mass,
             flexures: self.flexures.clone(),
         }
+    }
+
+    /// The actuator's structural loss factor: the file's `loss_factor`, else a calibrated model's
+    /// measured one (`η = 1/Q` of its actuators, docs/calibration.md §3), else the PZT's
+    /// [`DEFAULT_LOSS_FACTOR`].
+    pub fn loss_factor(&self, model: &ModelChoice) -> f64 {
+        let measured = match model {
+            ModelChoice::Calibrated(c) => c.loss.map(|l| l.loss_factor),
+            ModelChoice::Kind(_) => None,
+        };
+        self.loss_factor_given
+            .or(measured)
+            .unwrap_or(DEFAULT_LOSS_FACTOR)
     }
 
     /// Read and check a drive file.
@@ -127,9 +141,7 @@ impl DriveSpec {
         let survival = root
             .optional_number_in("survival", SURVIVAL)?
             .unwrap_or(DEFAULT_SURVIVAL);
-        let loss_factor = root
-            .optional_number_in("loss_factor", LOSS_FACTOR)?
-            .unwrap_or(DEFAULT_LOSS_FACTOR);
+        let loss_factor_given = root.optional_number_in("loss_factor", LOSS_FACTOR)?;
         let mass_budget = root
             .optional_number_in("mass_budget_mg", MASS_BUDGET_MG)?
             .map_or(DEFAULT_MASS_BUDGET, |m| m * 1e-6);
@@ -151,7 +163,7 @@ impl DriveSpec {
             frequency,
             stroke,
             survival,
-            loss_factor,
+            loss_factor_given,
             mass_budget,
             wing,
             linkage,

@@ -78,6 +78,10 @@ pub const MASS_MG: Range = Range::closed(0.01, 1e7, "mg");
 pub const FREE_DEFLECTION_MM: Range = Range::closed(1e-4, 1000.0, "mm");
 /// Measured blocked force: a micronewton up to a kilonewton.
 pub const BLOCKED_FORCE_N: Range = Range::closed(1e-6, 1000.0, "N");
+/// Measured first resonance of the bare clamped actuator: the bending modes the geometry ranges allow.
+pub const RESONANCE_HZ: Range = Range::closed(0.1, 1e6, "Hz");
+/// Measured quality factor of that resonance: a resonance (above 1) up to a hard PZT's `Q_m`.
+pub const QUALITY_FACTOR: Range = Range::closed(1.0, 10_000.0, "");
 /// A failure value of the Weibull fit (field, strain or stress, any unit): within 12 decades of 1.
 pub const FAILURE_VALUE: Range = Range::closed(1e-12, 1e12, "");
 /// Largest ratio of the highest to the lowest failure value of one fit.

@@ -34,10 +34,8 @@ use std::path::Path;
 /// Points of the requirement table over the grid's range of `f1`.
 const TABLE: usize = 16;
 
-/// Elements over the active region and the extension in the screen's modal solves: `f1` within 1e-4 of
-/// the converged mesh (test `the_screens_mesh_is_within_1e_4`); the exact stage uses the full mesh.
-const SCREEN_ACTIVE: usize = 8;
-const SCREEN_EXTENSION: usize = 4;
+// The screen's modal solves use the coarse mesh (`ActuatorBeam::solve_coarse`, `f1` within 1e-4 of the
+// converged mesh: test `the_screens_mesh_is_within_1e_4`); the exact stage uses the full mesh.
 
 /// Screened designs re-solved exactly.
 const EXACT: usize = 4;
@@ -45,8 +43,12 @@ const EXACT: usize = 4;
 /// Margin levels of the front of mass against frequency margin.
 pub const FRONT_LEVELS: usize = 40;
 
-/// The drive file's wing, flexures, linkage shape, frequency and stroke as the optimizer needs them.
-pub fn wing_load(drive: &DriveSpec) -> Result<WingLoad, InputError> {
+/// Step between the front's margin levels (5 %).
+const LEVEL_STEP: f64 = 0.05;
+
+/// The drive file's wing, flexures, linkage shape, frequency and stroke as the optimizer needs them, with
+/// the loss factor the drive takes under `model` ([`DriveSpec::loss_factor`]).
+pub fn wing_load(drive: &DriveSpec, model: &ModelChoice) -> Result<WingLoad, InputError> {
     let LinkageSpec::Solve {
         angle_minus,
         angle_plus,
@@ -71,7 +73,7 @@ pub fn wing_load(drive: &DriveSpec) -> Result<WingLoad, InputError> {
         damping: wing.damping,
         frequency: drive.frequency,
         stroke: drive.stroke,
-        loss_factor: drive.loss_factor,
+        loss_factor: drive.loss_factor(model),
     })
 }
 
@@ -136,15 +138,18 @@ pub enum FlapError {
 }
 
 /// `U_req` and the system resonance interpolated in `log f1` from a table (infinite outside it or
-/// where a point holds no stroke).
+/// where a point holds no stroke), and for each margin level of the front the energy that puts the
+/// system resonance at least that far above the flapping frequency ([`WingLoad::energy_at_resonance`]).
 struct Table {
     points: Vec<(f64, f64, f64)>,
+    /// Per point, `ln U` for each margin level (infinite where no crank reaches it).
+    levels: Vec<Vec<f64>>,
 }
 
 impl Table {
     fn new(load: &WingLoad, lo: f64, hi: f64) -> Table {
         let n = if hi > lo { TABLE } else { 1 };
-        let points = (0..n)
+        let (points, levels) = (0..n)
             .into_par_iter()
             .map(|i| {
                 let f = if n == 1 {
@@ -153,23 +158,54 @@ impl Table {
                     lo * (hi / lo).powf(i as f64 / (n - 1) as f64)
                 };
                 match load.requirement(f) {
-                    Ok(r) => (f.ln(), r.energy.ln(), r.resonance),
-                    Err(_) => (f.ln(), f64::INFINITY, 0.0),
+                    Ok(r) => {
+                        let mut levels = vec![f64::INFINITY; FRONT_LEVELS];
+                        for (k, slot) in levels.iter_mut().enumerate() {
+                            let target = load.frequency * (1.0 + LEVEL_STEP * k as f64);
+                            // A higher level needs a stiffer crank still: past the first out of
+                            // reach, all are.
+                            match load.energy_at_resonance(&r, target) {
+                                Some(u) => *slot = u.ln(),
+                                None => break,
+                            }
+                        }
+                        ((f.ln(), r.energy.ln(), r.resonance), levels)
+                    }
+                    Err(_) => (
+                        (f.ln(), f64::INFINITY, 0.0),
+                        vec![f64::INFINITY; FRONT_LEVELS],
+                    ),
                 }
             })
-            .collect();
-        Table { points }
+            .unzip();
+        Table { points, levels }
     }
 
-    fn at(&self, f1: f64) -> (f64, f64) {
+    /// Where `f1` falls between two points: their indices and the weight of the second.
+    fn bracket(&self, f1: f64) -> (usize, usize, f64) {
         let x = f1.ln();
         let p = &self.points;
         if p.len() == 1 {
-            return (p[0].1.exp(), p[0].2);
+            return (0, 0, 0.0);
         }
         let i = p.partition_point(|q| q.0 <= x).clamp(1, p.len() - 1);
         let (a, b) = (p[i - 1], p[i]);
-        let t = ((x - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
+        (i - 1, i, ((x - a.0) / (b.0 - a.0)).clamp(0.0, 1.0))
+    }
+
+    /// The energy that gives margin level `k` at `f1`, J (infinite where out of reach).
+    fn at_level(&self, f1: f64, k: usize) -> f64 {
+        let (a, b, t) = self.bracket(f1);
+        let (ua, ub) = (self.levels[a][k], self.levels[b][k]);
+        if ua.is_infinite() || ub.is_infinite() {
+            return f64::INFINITY;
+        }
+        (ua + t * (ub - ua)).exp()
+    }
+
+    fn at(&self, f1: f64) -> (f64, f64) {
+        let (a, b, t) = self.bracket(f1);
+        let (a, b) = (self.points[a], self.points[b]);
         ((a.1 + t * (b.1 - a.1)).exp(), a.2 + t * (b.2 - a.2))
     }
 }
@@ -192,7 +228,7 @@ fn screen(
         .par_iter()
         .map(|&(c, l_r, w_r)| {
             ActuatorBeam::from_section(&problem.candidates[c].section, &unit_planform(l_r, w_r))
-                .solve_with(SCREEN_ACTIVE, SCREEN_EXTENSION)
+                .solve_coarse()
                 .map_or(f64::NAN, |m| m.frequency)
         })
         .collect();
@@ -212,7 +248,7 @@ fn screen(
     let f = load.frequency;
     let level = |margin: f64| -> Option<usize> {
         // Levels 0, 0.05, …: the margin of resonance above the flapping frequency.
-        (margin >= 0.0).then(|| ((margin / 0.05).floor() as usize).min(FRONT_LEVELS - 1))
+        (margin >= 0.0).then(|| ((margin / LEVEL_STEP).floor() as usize).min(FRONT_LEVELS - 1))
     };
     let per: Vec<(Option<Screened>, Vec<Option<Screened>>)> = shapes
         .par_iter()
@@ -249,6 +285,30 @@ fn screen(
                 if let Some(k) = level(s.margin) {
                     if levels[k].is_none_or(|b| design.mass < b.design.mass) {
                         levels[k] = Some(s);
+                    }
+                }
+                // Above its own margin, the same shape and length widened to the energy a stiffer
+                // crank needs for each higher level (the front's other points).
+                let f1 = f_unit / (length * length);
+                for (k, slot) in levels.iter_mut().enumerate() {
+                    let needed = LEVEL_STEP * k as f64;
+                    if needed <= s.margin {
+                        continue;
+                    }
+                    let energy = table.at_level(f1, k);
+                    let width = (energy / (length * rates.energy)).max(narrowest);
+                    if !width.is_finite()
+                        || width > bounds.base_width.hi * (1.0 + 1e-12)
+                        || tip_width(width, w_r) < problem.min_tip_width * (1.0 - 1e-12)
+                    {
+                        continue;
+                    }
+                    let design = problem.design(c, rates, length, width, l_r, w_r);
+                    if slot.is_none_or(|b| design.mass < b.design.mass) {
+                        *slot = Some(Screened {
+                            design,
+                            margin: needed,
+                        });
                     }
                 }
             }
@@ -416,7 +476,7 @@ mod tests {
             for l_r in [0.0, 0.5, 1.5] {
                 for w_r in [1.0, 1.5, 1.95] {
                     let beam = ActuatorBeam::from_section(&section, &unit_planform(l_r, w_r));
-                    let coarse = beam.solve_with(SCREEN_ACTIVE, SCREEN_EXTENSION).unwrap();
+                    let coarse = beam.solve_coarse().unwrap();
                     let fine = beam.solve().unwrap();
                     let rel = coarse.frequency / fine.frequency - 1.0;
                     assert!(rel.abs() < 1e-4, "l_r {l_r} w_r {w_r}: {rel}");

@@ -125,6 +125,8 @@ fn sweep_lines(act: &ActuationData, r: &[f64]) -> (f64, usize, usize) {
 pub(super) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
     let mut r = Vec::new();
     act.residuals(model, None, &mut r);
+    // The deflections and forces only: a resonance has no sweep.
+    r.truncate(act.labels().len());
     let (rss_full, q, sweeps) = sweep_lines(act, &r);
     let df = r.len() as f64 - q as f64;
     (sweeps >= 3 && df >= 5.0 && rss_full > 0.0).then(|| rss_full / df)
@@ -141,8 +143,11 @@ pub(super) fn adequacy_of_fit(
 ) -> Adequacy {
     let mut r = Vec::new();
     act.residuals(model, None, &mut r);
-    let rss: f64 = r.iter().map(|x| x * x).sum();
     let labels = act.labels();
+    // The resonances' residuals follow the deflections' and forces': they enter the correlation tests
+    // below, and the lack-of-fit test is that of the sweeps.
+    let frequency_res = r.split_off(labels.len().min(r.len()));
+    let rss: f64 = r.iter().map(|x| x * x).sum();
     let groups = data.actuators();
     let mut row_res: Vec<[Option<f64>; 2]> = vec![[None, None]; act.obs.len()];
     for (&(i, output), &res) in labels.iter().zip(&r) {
@@ -207,6 +212,14 @@ pub(super) fn adequacy_of_fit(
         .filter_map(|g| mass_res[g].map(|v| (g, v)))
         .collect();
     push_variable_tests(&mut tests, "mass", &mass_pts, &first_row);
+    let frequency_pts: Vec<(usize, f64)> = act
+        .resonances
+        .obs
+        .iter()
+        .zip(&frequency_res)
+        .map(|(o, &v)| (o.group, v))
+        .collect();
+    push_variable_tests(&mut tests, "resonance", &frequency_pts, &first_row);
     // Within-sweep trend with the field.
     for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
         let (mut xs, mut ys) = (Vec::new(), Vec::new());

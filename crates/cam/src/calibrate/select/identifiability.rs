@@ -55,6 +55,20 @@ pub fn not_identifiable(
     let j = &fit.jacobian;
     let (n, p) = (j.nrows(), j.ncols());
     let mut out = Vec::new();
+    if j.iter().any(|x| !x.is_finite()) {
+        return effects
+            .iter()
+            .map(|id| {
+                (
+                    *id,
+                    format!(
+                        "the model cannot be evaluated beside the fit of {} (a parameter at a physical limit)",
+                        id.name()
+                    ),
+                )
+            })
+            .collect();
+    }
     for (k, id) in effects.iter().enumerate() {
         if matches!(id, EffectId::D31Scale | EffectId::StiffnessScale) {
             continue;

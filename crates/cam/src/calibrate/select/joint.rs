@@ -185,8 +185,10 @@ pub(crate) struct JointData<'a> {
     /// thicker resin-rich ply adds resin, a bond adds its layer), so this is exact.
     masses: Vec<(usize, f64, f64, Vec<f64>)>,
     mass_weight: f64,
-    /// Number of deflection and force residuals.
+    /// Number of deflection, force and resonance residuals.
     scored: usize,
+    /// Per measured resonance, the stack model of its actuator.
+    resonance_stack: Vec<Option<usize>>,
 }
 
 impl<'a> JointData<'a> {
@@ -254,7 +256,21 @@ impl<'a> JointData<'a> {
             .obs
             .iter()
             .map(|o| o.ln_delta.is_some() as usize + o.ln_force.is_some() as usize)
-            .sum();
+            .sum::<usize>()
+            + act.resonances.len();
+        // Each resonance's stack: its actuator's first (None: no deflection or force measured, so no
+        // stack was solved; its basis stays the frozen one).
+        let resonance_stack = act
+            .resonances
+            .obs
+            .iter()
+            .map(|r| {
+                solved_for
+                    .get(r.group)
+                    .and_then(|solved| solved.first())
+                    .map(|&(_, stack)| stack)
+            })
+            .collect();
         Ok(JointData {
             act,
             carried,
@@ -263,6 +279,7 @@ impl<'a> JointData<'a> {
             masses,
             mass_weight,
             scored,
+            resonance_stack,
         })
     }
 
@@ -326,6 +343,30 @@ impl<'a> JointData<'a> {
                 out.push(f - force.ln());
             }
         }
+        let res = &self.act.resonances;
+        for (k, (o, stack)) in res.obs.iter().zip(&self.resonance_stack).enumerate() {
+            if keep.is_some_and(|k| !k[o.group]) {
+                continue;
+            }
+            let basis = match *stack {
+                Some(s) => self.stacks[s].at(&t, o.basis.planform),
+                None => o.basis,
+            };
+            out.push(res.residual(self.act.data, k, effects, &basis));
+        }
+    }
+}
+
+impl StackModel {
+    /// The stack basis at stencil coordinates `t`.
+    fn at(&self, t: &[f64], planform: actuator_model::Planform) -> StackBasis {
+        StackBasis {
+            free_curvature: self.free_curvature.eval(t),
+            beam_compliance: self.beam_compliance.eval(t),
+            extension_compliance: self.extension_compliance.eval(t),
+            field: self.field,
+            planform,
+        }
     }
 }
 
@@ -358,11 +399,25 @@ impl StageData for JointData<'_> {
             .zip(self.bases(effects))
             .map(|(o, basis)| ActuationObs { basis, ..*o })
             .collect();
+        let t = self.coordinates(effects);
+        let resonances = self.act.resonances.with_bases(|r| {
+            let k = self
+                .act
+                .resonances
+                .obs
+                .iter()
+                .position(|x| x.group == r.group);
+            match k.and_then(|k| self.resonance_stack[k]) {
+                Some(s) => self.stacks[s].at(&t, r.basis.planform),
+                None => r.basis,
+            }
+        });
         Some(ActuationData {
             data: self.act.data,
             obs,
             groups: self.act.groups,
             frozen_primitives: 0,
+            resonances,
         })
     }
 }

@@ -32,7 +32,7 @@ use adequacy::adequacy;
 use cross_validation::folds;
 use fitter::Fitter;
 use joint::{can_carry, CarriedParameter, JointData};
-use observations::{ActuationData, ActuationObs, MassData, StageData};
+use observations::{ActuationData, ActuationObs, MassData, ResonanceObs, Resonances, StageData};
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
@@ -414,6 +414,7 @@ fn actuation_stage<'a>(
         obs,
         groups,
         frozen_primitives: base.primitives.len(),
+        resonances: resonance_obs(data, &base)?,
     };
     // With a carried mass model, every model starts from the original and applies the mass parameters
     // it fits; the stacks are held as quadratics in them (joint.rs).
@@ -645,7 +646,26 @@ pub(crate) fn actuation_data<'a>(
         obs: actuation_obs(data, base)?,
         groups: data.actuators(),
         frozen_primitives: base.primitives.len(),
+        resonances: resonance_obs(data, base)?,
     })
+}
+
+/// The actuators with a measured first resonance, each with its stack solved under `base`.
+fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, ModelError> {
+    let mut obs = Vec::new();
+    for (group, rows) in data.groups.iter().enumerate() {
+        let row = rows[0];
+        let r = &data.rows[row];
+        if let Some(f) = r.resonance {
+            obs.push(ResonanceObs {
+                group,
+                row,
+                basis: base.basis(&r.actuator())?,
+                ln_frequency: f.ln(),
+            });
+        }
+    }
+    Ok(Resonances::new(obs))
 }
 
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the

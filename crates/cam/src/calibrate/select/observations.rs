@@ -1,9 +1,12 @@
 //! The data each stage fits: log residuals of the measured masses (mass stage) and of the measured
-//! deflections and forces (actuation stage), with whole actuators maskable for cross-validation.
+//! deflections and forces, then the measured first resonances (actuation stage), with whole actuators
+//! maskable for cross-validation.
 
 use crate::calibrate::csv::Dataset;
+use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::StackBasis;
 use actuator_model::EffectModel;
+use std::sync::Mutex;
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
 /// cannot evaluate (a declared primitive driven out of range) gives NaN residuals, which the fit refuses.
@@ -69,6 +72,104 @@ pub(crate) struct ActuationData<'a> {
     /// How many declared primitives the bases were solved with (the frozen mass stage's): a model
     /// whose further primitives change the stack needs its bases solved again.
     pub(crate) frozen_primitives: usize,
+    /// The measured first resonances, one per actuator that has one; their log residuals follow the
+    /// deflections' and forces' (docs/calibration.md §3, "The resonance").
+    pub(crate) resonances: Resonances,
+}
+
+/// One actuator's measured first resonance.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ResonanceObs {
+    pub(crate) group: usize,
+    /// The actuator's first row.
+    pub(crate) row: usize,
+    /// Its stack basis under the stage's base model (any field: `k = F_b / δ` does not depend on it).
+    pub(crate) basis: StackBasis,
+    pub(crate) ln_frequency: f64,
+}
+
+/// The measured resonances with the last beams each was solved for: a fit moves one parameter at a
+/// time, and most (d31, field, dead length, edge margin) leave the beam as it was, so its mode is
+/// reused (`ActuatorBeam` compares every input of the mode). A few are kept, for the models fitted in
+/// parallel on the same data.
+#[derive(Debug, Default)]
+pub(crate) struct Resonances {
+    pub(crate) obs: Vec<ResonanceObs>,
+    last: Vec<Mutex<Vec<(ActuatorBeam, Modal)>>>,
+}
+
+/// Beams kept per resonance.
+const KEPT_BEAMS: usize = 4;
+
+impl Clone for Resonances {
+    fn clone(&self) -> Self {
+        Resonances::new(self.obs.clone())
+    }
+}
+
+impl Resonances {
+    pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
+        let last = obs.iter().map(|_| Mutex::new(Vec::new())).collect();
+        Resonances { obs, last }
+    }
+
+    /// The same resonances with each basis replaced (the joint data's bases at the carried values).
+    pub(crate) fn with_bases(&self, basis: impl Fn(&ResonanceObs) -> StackBasis) -> Self {
+        Resonances::new(
+            self.obs
+                .iter()
+                .map(|o| ResonanceObs {
+                    basis: basis(o),
+                    ..*o
+                })
+                .collect(),
+        )
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.obs.len()
+    }
+
+    /// Log residual of resonance `k` under `effects` on `basis`: measured over the model's `f1` as
+    /// [`EffectModel::modes`] computes it, on the coarse mesh (`ActuatorBeam::solve_coarse`, within
+    /// 1e-4 of `predict`'s, a hundredth of a 1 % reading); NaN where the model cannot evaluate it.
+    pub(crate) fn residual(
+        &self,
+        data: &Dataset,
+        k: usize,
+        effects: &EffectModel,
+        basis: &StackBasis,
+    ) -> f64 {
+        let o = &self.obs[k];
+        let Ok(mass) = effects.mass(&data.rows[o.row].actuator()) else {
+            return f64::NAN;
+        };
+        let beam = effects.beam(basis, &mass);
+        let cached = self.last[k]
+            .lock()
+            .ok()
+            .and_then(|c| c.iter().find(|(b, _)| *b == beam).map(|(_, m)| *m));
+        let modal = match cached {
+            Some(m) => m,
+            None => match beam.solve_coarse() {
+                Ok(m) => {
+                    if let Ok(mut c) = self.last[k].lock() {
+                        if c.len() >= KEPT_BEAMS {
+                            c.remove(0);
+                        }
+                        c.push((beam, m));
+                    }
+                    m
+                }
+                Err(_) => return f64::NAN,
+            },
+        };
+        o.ln_frequency
+            - modal
+                .with_stiffness(effects.tip_stiffness(basis))
+                .frequency
+                .ln()
+    }
 }
 
 impl StageData for ActuationData<'_> {
@@ -107,6 +208,22 @@ impl StageData for ActuationData<'_> {
             if let Some(f) = o.ln_force {
                 out.push(f - force.ln());
             }
+        }
+        for (k, o) in self.resonances.obs.iter().enumerate() {
+            if keep.is_some_and(|k| !k[o.group]) {
+                continue;
+            }
+            let basis = if resolve {
+                match solved[o.group] {
+                    Some((_, b)) => Ok(b),
+                    None => effects.basis(&self.data.rows[o.row].actuator()),
+                }
+            } else {
+                Ok(o.basis)
+            };
+            out.push(basis.map_or(f64::NAN, |b| {
+                self.resonances.residual(self.data, k, effects, &b)
+            }));
         }
     }
     fn groups(&self) -> usize {
