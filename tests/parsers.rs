@@ -347,10 +347,26 @@ fn mutate_csv(text: &str, edits: &[CsvEdit]) -> String {
 proptest! {
     #![proptest_config(config(CSV_CASES))]
     #[test]
-    fn measured_csv(edits in prop::collection::vec(csv_edit(), 1..4)) {
+    fn measured_csv(edits in prop::collection::vec(csv_edit(), 1..4), dynamics in any::<bool>()) {
         let file = Path::new("m.csv");
-        // The first 12 rows keep each case fast.
-        let base: String = read("examples/measured-thesis-like.csv").lines().take(14).collect::<Vec<_>>().join("\n");
+        // The first 12 rows keep each case fast; half the cases carry the dynamic columns (a first
+        // resonance and a quality factor, the same for every row, so one per actuator).
+        let mut header_seen = false;
+        let base: String = read("examples/measured-thesis-like.csv")
+            .lines()
+            .take(14)
+            .map(|l| {
+                if !dynamics || l.starts_with('#') || l.trim().is_empty() {
+                    l.to_string()
+                } else if !header_seen {
+                    header_seen = true;
+                    format!("{l},resonance_Hz,quality_factor")
+                } else {
+                    format!("{l},900,60")
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
         let text = mutate_csv(&base, &edits);
         match csv::parse_file(file, &text) {
             Ok(data) => {
@@ -553,4 +569,29 @@ fn calibrate_refuses_a_repeated_column_and_names_unknown_ones() {
         std::fs::read(out_dir.join("calibrated-model.toml")).unwrap(),
         std::fs::read(plain_dir.join("calibrated-model.toml")).unwrap()
     );
+}
+
+#[test]
+fn the_dynamic_columns_of_the_property_cases_are_known_columns() {
+    // The base of `measured_csv`'s dynamic half parses as it is, with no column ignored, so its
+    // mutations exercise the resonance and quality-factor readers rather than the unknown-column path.
+    let text: Vec<String> = read("examples/measured-thesis-like.csv")
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                format!("{l},resonance_Hz,quality_factor")
+            } else {
+                format!("{l},900,60")
+            }
+        })
+        .collect();
+    let file = Path::new("m.csv");
+    let data = csv::parse_file(file, &(text.join("\n") + "\n")).unwrap();
+    assert!(data.unknown_columns_warning(file).is_none());
+    // And a resonance out of its range is refused naming the column.
+    let bad = text.join("\n").replacen(",900,60", ",0,60", 1) + "\n";
+    let e = csv::parse_file(file, &bad).unwrap_err().to_string();
+    assert!(e.contains("resonance_Hz"), "{e}");
 }
