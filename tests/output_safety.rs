@@ -679,3 +679,58 @@ fn two_commands_into_one_folder_at_once_never_mix() {
         }
     }
 }
+
+#[test]
+fn a_signal_while_the_files_move_waits_for_them_and_the_run_exits_0() {
+    // SIGINT or SIGTERM arriving during the moves (after the first, or after the last) waits until
+    // every file is in place, then changes nothing: the run ends with exit 0 and its whole output,
+    // as a run no signal reached.
+    let dir = tempfile::tempdir().unwrap();
+    let want_dir = dir.path().join("want");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        want_dir.to_str().unwrap(),
+        "--format",
+        "svg",
+    ]);
+    let want = outputs(&want_dir);
+    let moves = want.len() + 2; // the intent log, every file, the manifest
+    for (k, signal) in [
+        (1, libc::SIGINT),
+        (moves / 2, libc::SIGTERM),
+        (moves, libc::SIGINT),
+    ] {
+        let out = dir.path().join(format!("k{k}"));
+        let mut child = bin()
+            .env("ACTUATOR_CAM_PAUSE_AFTER_MOVE", k.to_string())
+            .args([
+                "cut-sheet",
+                "examples/thesis-C.toml",
+                "-o",
+                out.to_str().unwrap(),
+                "--format",
+                "svg",
+            ])
+            .stderr(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+        let mut line = String::new();
+        loop {
+            line.clear();
+            let n = std::io::BufRead::read_line(&mut stderr, &mut line).unwrap();
+            assert!(n > 0, "move {k}: the run ended before its pause");
+            if line.starts_with(&format!("paused after move {k}")) {
+                break;
+            }
+        }
+        // SAFETY: a plain kill(2) of our own child.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
+        let status = child.wait().unwrap();
+        assert!(status.success(), "signal {signal} after move {k}: {status}");
+        assert_eq!(outputs(&out), want, "signal {signal} after move {k}");
+    }
+}

@@ -6,8 +6,10 @@
 //! written before the log was, so the folder ends as the dead run meant it, every file in it listed by
 //! its manifest. Any other staging folder there is a dead run's unfinished staging, and goes.
 //!
-//! Test hook: `ACTUATOR_CAM_STOP_AFTER_MOVE=k` aborts the process right after its k-th move (the intent
+//! Test hooks: `ACTUATOR_CAM_STOP_AFTER_MOVE=k` aborts the process right after its k-th move (the intent
 //! log going into place is move 1), as a SIGKILL would, so tests can stop a run at every stage.
+//! `ACTUATOR_CAM_PAUSE_AFTER_MOVE=k` says `paused after move k` on stderr and sleeps two seconds after
+//! its k-th move, so a test can send SIGINT or SIGTERM while the files move.
 
 use super::manifest::{Manifest, MANIFEST};
 use super::staging::STAGING_PREFIX;
@@ -194,8 +196,18 @@ fn moved() {
             .ok()
             .and_then(|k| k.parse().ok())
     });
+    static PAUSE_AFTER: OnceLock<Option<usize>> = OnceLock::new();
+    let pause = PAUSE_AFTER.get_or_init(|| {
+        std::env::var("ACTUATOR_CAM_PAUSE_AFTER_MOVE")
+            .ok()
+            .and_then(|k| k.parse().ok())
+    });
     let n = MOVES.fetch_add(1, Ordering::SeqCst) + 1;
     if *stop == Some(n) {
         std::process::abort();
+    }
+    if *pause == Some(n) {
+        eprintln!("paused after move {n}");
+        std::thread::sleep(std::time::Duration::from_secs(2));
     }
 }
