@@ -1,10 +1,10 @@
 //! Strip packing on instances in the JSON form of jagua-rs and sparrow (the ESICUP instances as
 //! those projects distribute them): `cargo bench -p cam-nest --bench strip_instances`.
 //!
-//! Reads every `*.json` in the folder `NEST_STRIP_INSTANCES` names, else in `NEST_ESICUP_DIR`,
-//! else in `../shared/data/esicup` beside the repository (the twelve public ESICUP instances,
-//! which are not shipped here: their licences are not stated); if that folder is missing it
-//! says so and stops. `NEST_STRIP_INSTANCES=crates/nest/benches/instances` runs the committed
+//! Reads every `*.json` in the folder `NEST_STRIP_INSTANCES` names, else in `NEST_ESICUP_DIR` (a
+//! folder holding the twelve public ESICUP instances as sparrow's repository distributes them in
+//! `data/input`; they are not shipped here, their licences are not stated); without either, or if
+//! the folder is missing, it says so and stops. `NEST_STRIP_INSTANCES=crates/nest/benches/instances` runs the committed
 //! instance. The form: `{"name", "strip_height", "items": [{"demand", "allowed_orientations",
 //! "shape": {"type": "simple_polygon", "data": [[x, y], ...]}}]}`, where the strip runs along x
 //! with the fixed height `strip_height`. Our strip runs along y with a fixed width, so every
@@ -32,14 +32,11 @@ use serde_json::{json, Value};
 #[path = "../tests/fixtures/mod.rs"]
 mod fixtures;
 
-/// The instances' folder (see the module doc).
-fn instances_dir() -> PathBuf {
+/// The instances' folder (see the module doc), if one is named.
+fn instances_dir() -> Option<PathBuf> {
     std::env::var_os("NEST_STRIP_INSTANCES")
         .or_else(|| std::env::var_os("NEST_ESICUP_DIR"))
-        .map_or_else(
-            || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/esicup"),
-            PathBuf::from,
-        )
+        .map(PathBuf::from)
 }
 
 /// Our items and strip width from an instance, or why it cannot be read.
@@ -114,7 +111,12 @@ fn main() {
         write_example(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/instances"));
         return;
     }
-    let dir = instances_dir();
+    let Some(dir) = instances_dir() else {
+        println!(
+            "strip instances: set NEST_ESICUP_DIR (the ESICUP instances) or NEST_STRIP_INSTANCES; nothing to measure"
+        );
+        return;
+    };
     let time_s: Option<f64> = std::env::var("NEST_TIME_S").ok().map(|t| {
         t.parse()
             .ok()
