@@ -2,7 +2,7 @@
 //! (`drive` reads it beside the design file) and the front of mass against frequency margin as CSV.
 
 use super::flap::{FlapOutcome, Screened, FRONT_LEVELS};
-use super::report::{decimal, layup_label};
+use super::report::{decimal, geometry_line, layup_label};
 use super::search::Problem;
 use super::spec::Spec;
 use crate::drive::report::DriveReport;
@@ -41,19 +41,6 @@ pub fn drive_toml(
     ))
 }
 
-fn one_line(problem: &Problem, s: &Screened) -> String {
-    let d = &s.design;
-    let c = &problem.candidates[d.candidate];
-    format!(
-        "t_p {:.3} mm {}, l_tot {:.2} mm, l_r {:.3}, w_0 {:.3} mm, w_r {:.3}",
-        c.pzt_thickness * 1e3,
-        layup_label(&c.layup),
-        d.length * 1e3,
-        d.extension_ratio,
-        d.base_width * 1e3,
-        d.width_ratio
-    )
-}
 
 /// The text report: the requirement, the chosen design, its drive as `drive` computes it, the mass
 /// budget and the front.
@@ -149,7 +136,7 @@ pub fn text(
             "  {:>8.1}   {:>11.3}   {}",
             p.margin * 100.0,
             p.design.mass * 1e6,
-            one_line(problem, p)
+            geometry_line(problem, &p.design, 3)
         );
     }
     if outcome.front.is_empty() {

@@ -37,17 +37,25 @@ fn describe(range: &Range, scale: f64, unit: &str) -> String {
     }
 }
 
-/// One-line summary of a design.
-fn one_line(problem: &Problem, d: &Design) -> String {
+/// A design's stack and planform on one line, lengths to `digits` decimals (`t_p` always to µm).
+pub(super) fn geometry_line(problem: &Problem, d: &Design, digits: usize) -> String {
     let c = &problem.candidates[d.candidate];
     format!(
-        "t_p {:.3} mm {}, l_tot {:.4} mm, l_r {:.4}, w_0 {:.4} mm, w_r {:.4}: mass {:.3} mg, U {:.6} mJ",
+        "t_p {:.3} mm {}, l_tot {:.digits$} mm, l_r {:.digits$}, w_0 {:.digits$} mm, w_r {:.digits$}",
         c.pzt_thickness * 1e3,
         layup_label(&c.layup),
         d.length * 1e3,
         d.extension_ratio,
         d.base_width * 1e3,
         d.width_ratio,
+    )
+}
+
+/// One-line summary of a design.
+fn one_line(problem: &Problem, d: &Design) -> String {
+    format!(
+        "{}: mass {:.3} mg, U {:.6} mJ",
+        geometry_line(problem, d, 4),
         d.mass * 1e6,
         d.energy * 1e3
     )
