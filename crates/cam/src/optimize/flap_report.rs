@@ -41,7 +41,6 @@ pub fn drive_toml(
     ))
 }
 
-
 /// The text report: the requirement, the chosen design, its drive as `drive` computes it, the mass
 /// budget and the front.
 pub fn text(
