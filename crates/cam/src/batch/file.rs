@@ -394,15 +394,8 @@ fn part_orders(
             let part = part.turned(fibre_turn_deg).at_base_point();
             for (ply, turn) in ply_turns_deg.iter().enumerate() {
                 let turned: Vec<f64> = rotations_deg.iter().map(|r| r + turn).collect();
-                // The nester's own check (kerf + spacing apart, as the pipeline nests a part), so
-                // that what passes here also passes there, refused here naming the entity.
-                let fit = cam_nest::fits_empty_sheet(
-                    &part.outer,
-                    &turned,
-                    spec.width_mm,
-                    if spec.roll { f64::INFINITY } else { spec.height_mm },
-                    spec.kerf_mm + spec.spacing_mm,
-                );
+                // The nester's own check, refused here naming the entity.
+                let fit = spec.empty_sheet_fit(&part.outer, &turned);
                 if fit.fits {
                     continue;
                 }

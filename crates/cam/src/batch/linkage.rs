@@ -204,17 +204,7 @@ pub fn item_linkage(
             PartSheet::Own(o) => &o.spec,
             _ => &template.passive,
         };
-        let fit = cam_nest::fits_empty_sheet(
-            &part.part.outer,
-            rotations,
-            spec.width_mm,
-            if spec.roll {
-                f64::INFINITY
-            } else {
-                spec.height_mm
-            },
-            spec.kerf_mm + spec.spacing_mm,
-        );
+        let fit = spec.empty_sheet_fit(&part.part.outer, rotations);
         if !fit.fits {
             return Err(refuse(format!(
                 "a linkage coupon that fits its sheet: the {:.3} x {:.3} mm coupon of layer(s) {:?} does not fit the {} x {} mm sheet with {} mm (kerf + spacing) to every edge",
@@ -254,8 +244,8 @@ pub fn item_linkage(
     )))
 }
 
-/// The coupon files of the batch's linkages, `linkage-<design>-N-<layer>-1` (the design's name in
-/// lower-case letters and digits, numbered by item when two items share it), checked across their
+/// The coupon files of the batch's linkages, `linkage-<design>-N-<layer>-1` (the design's name as a
+/// file name carries it, [`crate::cam::drawing::slug`], numbered by item when two items share it), checked across their
 /// layers as a panel's are; with each linkage's file prefix.
 pub fn coupon_drawings(
     linkages: &[BatchLinkage],
@@ -265,15 +255,7 @@ pub fn coupon_drawings(
     let mut out: Vec<(String, Vec<SheetDrawing>)> = Vec::new();
     for l in linkages {
         let name = &items[l.item].0.name;
-        let mut slug = String::new();
-        for c in name.chars() {
-            if c.is_ascii_alphanumeric() {
-                slug.push(c.to_ascii_lowercase());
-            } else if !slug.is_empty() && !slug.ends_with('-') {
-                slug.push('-');
-            }
-        }
-        let slug = slug.trim_end_matches('-');
+        let slug = crate::cam::drawing::slug(name, 32);
         let mut prefix = format!("linkage-{slug}-");
         if out.iter().any(|(p, _)| *p == prefix) {
             prefix = format!("linkage-{slug}-item{}-", l.item + 1);

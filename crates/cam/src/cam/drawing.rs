@@ -191,37 +191,7 @@ impl Stock {
     /// technician picks the sheet by the file's name before opening it; no character in it needs quoting
     /// in a shell or is refused by a file system.
     pub fn slug(&self) -> String {
-        const MAX: usize = 32;
-        let mut words: Vec<String> = Vec::new();
-        let mut word = String::new();
-        for c in self.material.chars() {
-            if c.is_ascii_alphanumeric() || c == '.' {
-                word.push(c.to_ascii_lowercase());
-            } else if !word.is_empty() {
-                words.push(std::mem::take(&mut word));
-            }
-        }
-        if !word.is_empty() {
-            words.push(word);
-        }
-        let mut material = String::new();
-        for w in words {
-            let w = w.trim_matches('.');
-            if w.is_empty() {
-                continue;
-            }
-            let extra = w.len() + usize::from(!material.is_empty());
-            if material.len() + extra > MAX {
-                if material.is_empty() {
-                    material.push_str(&w[..MAX]);
-                }
-                break;
-            }
-            if !material.is_empty() {
-                material.push('-');
-            }
-            material.push_str(w);
-        }
+        let material = slug(&self.material, 32);
         let thickness = format!("{}mm", super::decimal::fmt_mm(self.thickness_mm));
         if material.is_empty() {
             thickness
@@ -229,6 +199,43 @@ impl Stock {
             format!("{material}-{thickness}")
         }
     }
+}
+
+/// `text` as a name a file system and a shell take as it is: its words (ASCII letters, digits and
+/// inner dots) in lower case joined by `-`, at most `max` characters, cut at a word (one over-long
+/// word is cut inside it). Empty when `text` has no such word.
+pub fn slug(text: &str, max: usize) -> String {
+    let mut words: Vec<String> = Vec::new();
+    let mut word = String::new();
+    for c in text.chars() {
+        if c.is_ascii_alphanumeric() || c == '.' {
+            word.push(c.to_ascii_lowercase());
+        } else if !word.is_empty() {
+            words.push(std::mem::take(&mut word));
+        }
+    }
+    if !word.is_empty() {
+        words.push(word);
+    }
+    let mut out = String::new();
+    for w in words {
+        let w = w.trim_matches('.');
+        if w.is_empty() {
+            continue;
+        }
+        let extra = w.len() + usize::from(!out.is_empty());
+        if out.len() + extra > max {
+            if out.is_empty() {
+                out.push_str(&w[..max]);
+            }
+            break;
+        }
+        if !out.is_empty() {
+            out.push('-');
+        }
+        out.push_str(w);
+    }
+    out
 }
 
 /// The file stem of a sheet named `stem` (`mold-4-1`): on a named stock, the stock follows it after

@@ -48,6 +48,30 @@ pub struct SheetSpec {
     pub origin: SheetOrigin,
 }
 
+impl SheetSpec {
+    /// Whether `outline` fits an empty sheet of this stock at one of `rotations_deg` as the nester
+    /// places a cut part: kerf + spacing to every edge, a roll unbounded in length. The readers of
+    /// extra parts refuse on it before any nesting, naming the drawing, so that what passes them also
+    /// passes the nester.
+    pub fn empty_sheet_fit(
+        &self,
+        outline: &[[f64; 2]],
+        rotations_deg: &[f64],
+    ) -> cam_nest::EmptySheetFit {
+        cam_nest::fits_empty_sheet(
+            outline,
+            rotations_deg,
+            self.width_mm,
+            if self.roll {
+                f64::INFINITY
+            } else {
+                self.height_mm
+            },
+            self.kerf_mm + self.spacing_mm,
+        )
+    }
+}
+
 /// Where a sheet's size was written (a template's `[layers.NAME]` or a batch's `[sheets.NAME]`), so a
 /// layout that does not fit names the file and the field to change.
 #[derive(Debug, Clone, PartialEq, Default)]
