@@ -14,6 +14,7 @@ use actuator_cam::optimize::{
     optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS,
 };
 use actuator_cam::output::Output;
+use actuator_cam::transmission::TransmissionSpec;
 use actuator_model::primitives::Primitive;
 use actuator_model::ModelChoice;
 use anyhow::{bail, Context};
@@ -245,19 +246,22 @@ fn run_flap(
     let check = DriveSpec {
         design: design_path.clone(),
         survival,
-        linkage: match drive.linkage {
-            LinkageSpec::Solve {
-                angle_minus,
-                angle_plus,
-                coupler_ratio,
-                ..
-            } => LinkageSpec::Solve {
-                angle_minus,
-                angle_plus,
-                coupler_ratio,
-                travel: Some(chosen.travel),
+        transmission: TransmissionSpec {
+            linkage: match drive.transmission.linkage {
+                LinkageSpec::Solve {
+                    angle_minus,
+                    angle_plus,
+                    coupler_ratio,
+                    ..
+                } => LinkageSpec::Solve {
+                    angle_minus,
+                    angle_plus,
+                    coupler_ratio,
+                    travel: Some(chosen.travel),
+                },
+                given => given,
             },
-            given => given,
+            ..drive.transmission.clone()
         },
         ..drive.clone()
     };

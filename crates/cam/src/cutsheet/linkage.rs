@@ -81,7 +81,7 @@ pub fn transmission_of(
     design: &Design,
 ) -> Result<Option<(PathBuf, TransmissionSpec)>, InputError> {
     let from_drive = drive_file
-        .map(|f| drive_of(f, design).map(|d| (f.to_path_buf(), d.transmission())))
+        .map(|f| drive_of(f, design).map(|d| (f.to_path_buf(), d.transmission)))
         .transpose()?;
     match (from_drive, &design.transmission) {
         (Some((file, t)), Some(own)) if t != *own => Err(InputError::invalid(

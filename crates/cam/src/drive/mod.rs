@@ -98,7 +98,7 @@ fn linkage(spec: &LinkageSpec, performance: &Performance) -> Result<Linkage, Mod
 
 /// The stroke's end angles the linkage is built for, rad: a solved linkage's, else ±stroke.
 pub fn end_angles(spec: &DriveSpec) -> (f64, f64) {
-    spec.transmission().end_angles()
+    spec.transmission.end_angles()
 }
 
 /// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
@@ -109,7 +109,7 @@ pub fn linkage_laminate(
     model: &ModelChoice,
 ) -> Result<LinkageLaminate, DriveError> {
     let template = Template::resolve(&design.process, &design.source)?;
-    linkage_laminate_in(&spec.transmission(), &spec.source, design, model, &template)
+    linkage_laminate_in(&spec.transmission, &spec.source, design, model, &template)
 }
 
 /// The linkage laminate of the transmission `spec` (given in the file `source`, which refusals name)
@@ -153,17 +153,17 @@ pub fn analyse(
     let modal = actuator_modes(design, model, &perf)?;
     let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor(model));
     let wing = spec.wing.wing();
-    let linkage = linkage(&spec.linkage, &perf)?;
-    let laminate = match spec.flexures {
+    let linkage = linkage(&spec.transmission.linkage, &perf)?;
+    let laminate = match spec.transmission.flexures {
         Some(_) => Some(linkage_laminate(spec, design, model)?),
         None => None,
     };
     let (flexure_stiffness, link_inertia, transmission_mass) = match &laminate {
         Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
         None => (
-            spec.flexure_stiffness,
-            spec.link_inertia,
-            spec.transmission_mass,
+            spec.transmission.flexure_stiffness,
+            spec.transmission.link_inertia,
+            spec.transmission.transmission_mass,
         ),
     };
     let system = FlappingSystem {
@@ -180,12 +180,12 @@ pub fn analyse(
     let f = spec.frequency;
 
     // The force the stroke needs whatever the field, then whether the field limit allows it.
-    let needed = system.force_for_stroke(spec.stroke, f, f64::INFINITY);
+    let needed = system.force_for_stroke(spec.transmission.stroke, f, f64::INFINITY);
     let (state, unreachable) = match needed {
         Ok(s) if s.force <= force_limit => (Some(s), None),
         Ok(s) => {
             let best = system
-                .force_for_stroke(spec.stroke, f, force_limit)
+                .force_for_stroke(spec.transmission.stroke, f, force_limit)
                 .err()
                 .and_then(|u| u.best)
                 .map(|b| *b);
@@ -216,11 +216,11 @@ pub fn analyse(
         }
         Err(_) => {
             let best = system
-                .force_for_stroke(spec.stroke, f, force_limit)
+                .force_for_stroke(spec.transmission.stroke, f, force_limit)
                 .err()
                 .and_then(|u| u.best)
                 .map(|b| *b);
-            let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.stroke).is_some());
+            let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.transmission.stroke).is_some());
             let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
             let (binding, change) = if at_limit {
                 (
@@ -239,7 +239,7 @@ pub fn analyse(
                 (
                     format!(
                         "no steady stroke of ±{:.1}° through this linkage (coupler {:.3} mm, crank {:.3} mm): the stroke's mean angle drifts toward the linkage's dead point",
-                        spec.stroke.to_degrees(),
+                        spec.transmission.stroke.to_degrees(),
                         linkage.coupler * 1e3,
                         linkage.crank * 1e3
                     ),
@@ -251,7 +251,7 @@ pub fn analyse(
                         "the linkage's reach: the coupler ({:.3} mm) cannot turn the crank ({:.3} mm) to ±{:.1}°",
                         linkage.coupler * 1e3,
                         linkage.crank * 1e3,
-                        spec.stroke.to_degrees()
+                        spec.transmission.stroke.to_degrees()
                     ),
                     "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)".to_string(),
                 )
@@ -300,7 +300,7 @@ pub fn analyse(
         model: model.name().to_string(),
         drive_mode: mode.name().to_string(),
         frequency_Hz: f,
-        required_stroke_deg: spec.stroke.to_degrees(),
+        required_stroke_deg: spec.transmission.stroke.to_degrees(),
         reached: unreachable.is_none(),
         resonance_Hz: system.linear_resonance(),
         actuator: ActuatorRow {

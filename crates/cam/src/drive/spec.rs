@@ -7,7 +7,6 @@ use crate::input::limits::{
     SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-use crate::transmission::FlexureRequest;
 pub use crate::transmission::LinkageSpec;
 use crate::transmission::{TransmissionSpec, MG_MM2};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
@@ -56,8 +55,6 @@ pub struct DriveSpec {
     pub design: PathBuf,
     /// Flapping frequency, Hz.
     pub frequency: f64,
-    /// Required stroke amplitude (half the peak-to-peak angle), rad.
-    pub stroke: f64,
     /// Field survival share that bounds the drive.
     pub survival: f64,
     /// Structural loss factor of the actuator as the file gives it (None: see [`DriveSpec::loss_factor`]).
@@ -66,33 +63,12 @@ pub struct DriveSpec {
     pub mass_budget: f64,
     /// The wing.
     pub wing: WingSpec,
-    /// The linkage.
-    pub linkage: LinkageSpec,
-    /// Flexure stiffness about the wing hinge, N·m/rad.
-    pub flexure_stiffness: f64,
-    /// Link inertia about the wing hinge, kg·m².
-    pub link_inertia: f64,
-    /// Transmission mass, kg.
-    pub transmission_mass: f64,
-    /// The flexures of a drawn linkage (`flexure_length_um`, `flexure_width_mm`, `film_thickness_um`):
-    /// then the stiffness, inertia and mass above are not given but computed from the linkage laminate
-    /// the design's process cuts.
-    pub flexures: Option<FlexureRequest>,
+    /// The `[transmission]`: the required stroke, the linkage, and either its stiffness, inertia and
+    /// mass or the flexures of the drawn linkage, computed from the laminate the design's process cuts.
+    pub transmission: TransmissionSpec,
 }
 
 impl DriveSpec {
-    /// The transmission of the drive file, as a design file's `[transmission]` gives it too.
-    pub fn transmission(&self) -> TransmissionSpec {
-        TransmissionSpec {
-            stroke: self.stroke,
-            linkage: self.linkage,
-            flexure_stiffness: self.flexure_stiffness,
-            link_inertia: self.link_inertia,
-            transmission_mass: self.transmission_mass,
-            flexures: self.flexures.clone(),
-        }
-    }
-
     /// The actuator's structural loss factor: the file's `loss_factor`, else a calibrated model's
     /// measured one (`η = 1/Q` of its actuators, docs/calibration.md §3), else the PZT's
     /// [`DEFAULT_LOSS_FACTOR`].
@@ -147,30 +123,18 @@ impl DriveSpec {
             .map_or(DEFAULT_MASS_BUDGET, |m| m * 1e-6);
         let wing = read_wing(&root.table("wing")?)?;
         let t = root.table("transmission")?;
-        let TransmissionSpec {
-            linkage,
-            flexure_stiffness,
-            link_inertia,
-            transmission_mass,
-            flexures,
-            ..
-        } = TransmissionSpec::read(&t, stroke)?;
+        let transmission = TransmissionSpec::read(&t, stroke)?;
         t.finish()?;
         root.finish()?;
         Ok(DriveSpec {
             source: path.to_path_buf(),
             design,
             frequency,
-            stroke,
             survival,
             loss_factor_given,
             mass_budget,
             wing,
-            linkage,
-            flexure_stiffness,
-            link_inertia,
-            transmission_mass,
-            flexures,
+            transmission,
         })
     }
 }

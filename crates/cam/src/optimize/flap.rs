@@ -55,7 +55,7 @@ pub fn wing_load(drive: &DriveSpec, model: &ModelChoice) -> Result<WingLoad, Inp
         coupler_ratio,
         // The travel is what the optimizer chooses; the drive file it writes replaces it.
         ..
-    } = drive.linkage
+    } = drive.transmission.linkage
     else {
         return Err(InputError::invalid(
             &drive.source,
@@ -68,11 +68,11 @@ pub fn wing_load(drive: &DriveSpec, model: &ModelChoice) -> Result<WingLoad, Inp
     Ok(WingLoad {
         end_angles: (angle_minus, angle_plus),
         coupler_ratio,
-        flexure_stiffness: drive.flexure_stiffness,
-        inertia: wing.inertia + drive.link_inertia,
+        flexure_stiffness: drive.transmission.flexure_stiffness,
+        inertia: wing.inertia + drive.transmission.link_inertia,
         damping: wing.damping,
         frequency: drive.frequency,
-        stroke: drive.stroke,
+        stroke: drive.transmission.stroke,
         loss_factor: drive.loss_factor(model),
     })
 }
