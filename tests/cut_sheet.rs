@@ -1465,3 +1465,64 @@ fn each_pzt_sheet_has_a_snapping_order_picture_numbering_its_score_lines() {
         }
     }
 }
+
+/// The lines of an SVG's cut layer: what the laser cuts through.
+fn cut_layer(svg: &str) -> &str {
+    let start = svg.find("id=\"layer-cut\"").expect("a cut layer");
+    let end = start + svg[start..].find("</g>").expect("the cut layer ends");
+    &svg[start..end]
+}
+
+#[test]
+fn identical_clamp_panels_share_one_file_cut_as_many_times() {
+    // thesis-7 holds three actuators per panel: 20 of them fill panels 1-6 alike and leave two on
+    // panel 7. Each clamp layer is one file for the run of six and one for the last panel, and the
+    // stock list still counts a sheet per panel.
+    let dir = tempfile::tempdir().unwrap();
+    let (many, one) = (dir.path().join("many"), dir.path().join("one"));
+    let o = cut_sheet(
+        &example("thesis-7.toml"),
+        &many,
+        &["--quantity", "20", "--format", "svg"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = cut_sheet(
+        &example("thesis-7.toml"),
+        &one,
+        &["--quantity", "3", "--format", "svg"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let names: Vec<String> = sheet_files(&many)
+        .into_keys()
+        .filter(|n| n.starts_with("mold-1-") || n.starts_with("felt-1-"))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "felt-1-1to6.svg",
+            "felt-1-7.svg",
+            "mold-1-1to6.svg",
+            "mold-1-7.svg"
+        ]
+    );
+    let svg = |dir: &Path, name: &str| std::fs::read_to_string(layer_file(dir, name)).unwrap();
+    let run = svg(&many, "mold-1-1to6.svg");
+    assert!(run.contains("panels 1-6: cut 6 sheets"), "{run}");
+    // The run's sheet cuts what one full panel cuts; the last panel cuts one cavity fewer.
+    assert_eq!(cut_layer(&run), cut_layer(&svg(&one, "mold-1-1.svg")));
+    assert_ne!(cut_layer(&run), cut_layer(&svg(&many, "mold-1-7.svg")));
+    let report = report_json(&many);
+    let felt: u64 = report["stock_list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["material"] == "felt pad")
+        .map(|s| s["sheets"].as_u64().unwrap())
+        .sum();
+    assert_eq!(felt, 14, "two felt pads on each of 7 panels");
+    let book = std::fs::read_to_string(many.join("report.md")).unwrap();
+    assert!(
+        book.contains("`mold-1-1to6_ptfe-non-porous-0.127mm` (6 sheets)"),
+        "the book says how many sheets a run's file cuts"
+    );
+}

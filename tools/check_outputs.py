@@ -16,7 +16,9 @@ Cross-layer checks (issue 16):
   report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
          tolerance below it (or the report carries its warning); the press fit of the laminate and of
          the extension, computed from the layer thicknesses and the films, within the tolerance (or
-         warned) and as the report states it; each mold-K file's stock is film K of the stack.
+         warned) and as the report states it; each mold-K file's stock is film K of the stack; each
+         clamp layer's files (one per panel or per run of identical panels, `mold-1-1to6_…`, titled
+         with the run and its sheet count) cover the report's panels once each.
   nest-report.json  every strip of roll stock (sheets[].roll): its DXF entities lie within the roll
          width and the reported length, the highest cut outline ends within 2 mm below that length
          (the separation and the 0.1 mm rounding), the SVG page is the roll width by that length, and
@@ -348,8 +350,33 @@ def check_report(path):
     if diff_um > mold["tolerance_um"] + 1e-3 and not mold.get("warning"):
         problems.append(f"mold {diff_um:.1f} um below the laminate, beyond {mold['tolerance_um']} um, without a warning")
     problems += check_press_fit(Path(path).parent, report)
+    problems += check_panel_runs(Path(path).parent, report)
     if "linkage" in report:
         problems += check_linkage(Path(path), report["linkage"])
+    return problems
+
+
+def check_panel_runs(folder, report):
+    """Every clamp layer's files cover panels 1..clamp_panels once each: `<layer>-P_` for one panel,
+    `<layer>-AtoB_` for a run of identical panels, whose SVG title names the run and its sheet count."""
+    problems = []
+    panels = report.get("clamp_panels", 0)
+    for layer in report.get("stacking_order", []):
+        covered = []
+        for svg in folder.glob(f"{layer}-*_*.svg"):
+            m = re.fullmatch(re.escape(layer) + r"-(\d+)(?:to(\d+))?_.*\.svg", svg.name)
+            if not m:
+                continue
+            first = int(m.group(1))
+            last = int(m.group(2) or first)
+            covered += range(first, last + 1)
+            if last > first:
+                title = ET.parse(svg).getroot().find(SVG_NS + "title")
+                want = f"panels {first}-{last}: cut {last - first + 1} sheets"
+                if title is None or want not in (title.text or ""):
+                    problems.append(f"{svg.name}: its title does not say {want!r}")
+        if sorted(covered) != list(range(1, panels + 1)):
+            problems.append(f"the {layer} files cover panels {sorted(covered)[:8]}..., not 1-{panels} once each")
     return problems
 
 

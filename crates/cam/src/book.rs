@@ -4,7 +4,7 @@
 //! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
 
 use crate::markdown;
-use crate::pipeline::{Build, MoldBand};
+use crate::pipeline::{Build, MoldBand, PanelRun};
 use crate::process::template::{CureStep, Template};
 use serde::Serialize;
 
@@ -67,6 +67,23 @@ fn listed(names: &[String]) -> String {
     names
         .iter()
         .map(|n| markdown::code(n))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Clamp files, one per run of identical panels, each with the sheets it is cut for when that is more
+/// than one: `` `mold-1-1to6_…` (6 sheets) ``.
+fn listed_runs(files: &[String], runs: &[PanelRun]) -> String {
+    files
+        .iter()
+        .zip(runs)
+        .map(|(f, run)| {
+            if run.count == 1 {
+                markdown::code(f)
+            } else {
+                format!("{} ({} sheets)", markdown::code(f), run.count)
+            }
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -150,25 +167,27 @@ impl BuildBook {
             } else {
                 String::new()
             };
-            let molds: Vec<String> = clamp
-                .stack
-                .iter()
-                .zip(&clamp.files)
-                .filter(|(name, _)| name.starts_with("mold-"))
-                .flat_map(|(_, f)| f.iter().cloned())
-                .collect();
+            let of_kind = |mold: bool| {
+                clamp
+                    .stack
+                    .iter()
+                    .zip(&clamp.files)
+                    .filter(|(name, _)| name.starts_with("mold-") == mold)
+                    .map(|(_, f)| listed_runs(f, &clamp.runs))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let repeats = if clamp.runs.iter().any(|r| r.count > 1) {
+                " A file marked with a number of sheets is cut that many times, once per panel of \
+                 the panels its name gives."
+            } else {
+                ""
+            };
             cut.push(format!(
                 "Cut the mold sheets{stack} from non-porous Teflon, each from the film its name gives \
-                 (the films differ: the mold must match the laminate band by band): {}.",
-                listed(&molds)
+                 (the films differ: the mold must match the laminate band by band): {}.{repeats}",
+                of_kind(true)
             ));
-            let covers: Vec<String> = clamp
-                .stack
-                .iter()
-                .zip(&clamp.files)
-                .filter(|(name, _)| !name.starts_with("mold-"))
-                .flat_map(|(_, f)| f.iter().cloned())
-                .collect();
             cut.push(format!(
                 "Cut the clamp covers{stack} (felt, Teflon{}): {}.",
                 if method_1 {
@@ -176,7 +195,7 @@ impl BuildBook {
                 } else {
                     ", porous Teflon, bleeder cloth"
                 },
-                listed(&covers)
+                of_kind(false)
             ));
         }
         if !method_1 {
@@ -225,7 +244,7 @@ impl BuildBook {
                 last_of(MoldBand::UpperPlate),
             );
             for (level, (name, files)) in clamp.stack.iter().zip(&clamp.files).enumerate() {
-                steps.push(format!("Lay {name}: {}.", listed(files)));
+                steps.push(format!("Lay {name}: {}.", listed_runs(files, &clamp.runs)));
                 if Some(level) == lower {
                     steps.push(
                         "Put a PZT plate in each cavity, + face up (the dot at its root, the \

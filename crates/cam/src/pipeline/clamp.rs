@@ -58,10 +58,66 @@ pub struct ClampBuild {
     pub panels: Vec<Vec<(usize, usize)>>,
     /// Number of the first panel (1-based).
     pub first_panel: usize,
-    /// The file stems of each stack level (as `stack`), one per panel: what the build book names.
+    /// The panels in runs of identical sheets, in panel order.
+    pub runs: Vec<PanelRun>,
+    /// The file stems of each stack level (as `stack`), one per run: what the build book names.
     pub files: Vec<Vec<String>>,
     /// The mold films, bottom to top, and how the mold height meets the laminate height.
     pub mold: MoldChoice,
+}
+
+/// Consecutive panels that hold the same actuators at the same places: every layer of them is the same
+/// drawing but for the engraved panel number, so one file per layer serves the run, cut `count` times
+/// and engraved with the run's numbers. A lab cuts a thousand identical panels from one file, and
+/// a large quantity would otherwise write a file per layer and panel, most of the run's time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PanelRun {
+    /// Number of the run's first panel (1-based, across the build).
+    pub first: usize,
+    /// Panels in the run.
+    pub count: usize,
+}
+
+impl PanelRun {
+    /// The run's panel numbers as engraved and named: `7`, or `1-6`.
+    pub fn numbers(&self) -> String {
+        if self.count == 1 {
+            self.first.to_string()
+        } else {
+            format!("{}-{}", self.first, self.first + self.count - 1)
+        }
+    }
+
+    /// The run's part of a file stem: `7`, or `1to6` (a `-` would read as one more name part).
+    pub fn stem(&self) -> String {
+        if self.count == 1 {
+            self.first.to_string()
+        } else {
+            format!("{}to{}", self.first, self.first + self.count - 1)
+        }
+    }
+}
+
+/// The panels (each a list of (job, actuator, base point)) as runs of identical sheets: the same jobs
+/// at bit-identical base points, numbered on from `first_panel`.
+fn panel_runs(panels: &[Vec<(usize, usize, Point)>], first_panel: usize) -> Vec<PanelRun> {
+    let same = |a: &Vec<(usize, usize, Point)>, b: &Vec<(usize, usize, Point)>| {
+        a.len() == b.len()
+            && a.iter().zip(b).all(|((ka, _, pa), (kb, _, pb))| {
+                ka == kb && pa[0].to_bits() == pb[0].to_bits() && pa[1].to_bits() == pb[1].to_bits()
+            })
+    };
+    let mut runs: Vec<PanelRun> = Vec::new();
+    for (p, members) in panels.iter().enumerate() {
+        match runs.last_mut() {
+            Some(run) if same(&panels[p - 1], members) => run.count += 1,
+            _ => runs.push(PanelRun {
+                first: first_panel + p,
+                count: 1,
+            }),
+        }
+    }
+    runs
 }
 
 /// The bands of a design's laminate, mm: a plate, and the passive core of plies and bond layers.
@@ -91,7 +147,8 @@ const NUMBER_CLEARANCE_MM: f64 = 0.2;
 /// The engraved label of a clamp panel sheet: `{layer} {t}mm P{panel}`, the film's thickness with the
 /// layer since the molds of one stack differ by film and a sheet off the stack must say which film it
 /// is; without room for it at text height `th`, `{layer} P{panel}`; empty without room for either.
-fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: usize, th: f64, room: f64) -> String {
+/// `panel` is a number or a run of them (`1-6`).
+fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: &str, th: f64, room: f64) -> String {
     let thickness = thickness_mm.map_or(String::new(), |t| {
         format!(" {}mm", crate::cam::decimal::fmt_mm(t))
     });
@@ -203,6 +260,7 @@ pub fn clamp_layers(
         return Ok(ClampBuild {
             stack: Vec::new(),
             panels: Vec::new(),
+            runs: Vec::new(),
             files: Vec::new(),
             first_panel: drawn.panels + 1,
             mold: choose_mold(
@@ -246,6 +304,7 @@ pub fn clamp_layers(
                 .collect()
         })
         .collect();
+    let runs = panel_runs(&panels, first_panel);
     for (p, members) in panels.iter().enumerate() {
         for (k, a, _) in members {
             drawn.placement_map.push(format!(
@@ -317,13 +376,19 @@ pub fn clamp_layers(
             &template.covers[kind]
         };
         let kerf = spec.kerf_mm;
-        for (p, members) in panels.iter().enumerate() {
-            let number = first_panel + p;
+        for run in &runs {
+            let members = &panels[run.first - first_panel];
+            let numbers = run.numbers();
             let mut d = Drawing::on_stock(
                 &format!(
-                    "{} clamp layer {}/{levels} ({prefix}), panel {number}",
+                    "{} clamp layer {}/{levels} ({prefix}), {}",
                     names.title,
                     k + 1,
+                    if run.count == 1 {
+                        format!("panel {numbers}")
+                    } else {
+                        format!("panels {numbers}: cut {} sheets", run.count)
+                    }
                 ),
                 c.panel_width_mm,
                 c.panel_height_mm,
@@ -402,7 +467,7 @@ pub fn clamp_layers(
             let title = panel_label(
                 &format!("{} {prefix}", names.title),
                 thickness_mm,
-                number,
+                &numbers,
                 th,
                 room,
             );
@@ -425,8 +490,9 @@ pub fn clamp_layers(
                 features.op(Feature::PanelOutline),
                 Shape::Polygon(offsets.kerfed(design, &outline, kerf / 2.0, "panel outline")?),
             );
-            files[k].push(file_stem(&format!("{prefix}-{number}"), d.stock.as_ref()));
-            drawn.push(format!("{prefix}-{number}"), kind, d);
+            let stem = format!("{prefix}-{}", run.stem());
+            files[k].push(file_stem(&stem, d.stock.as_ref()));
+            drawn.push_copies(stem, kind, d, run.count);
         }
     }
     Ok(ClampBuild {
@@ -436,6 +502,7 @@ pub fn clamp_layers(
             .map(|m| m.iter().map(|(k, a, _)| (jobs[*k].0, *a)).collect())
             .collect(),
         first_panel,
+        runs,
         files,
         mold,
     })
@@ -449,15 +516,19 @@ mod tests {
     #[test]
     fn a_panel_label_names_its_film_thickness_when_it_fits() {
         assert_eq!(
-            panel_label("C mold-4", Some(0.05), 1, 2.0, 200.0),
+            panel_label("C mold-4", Some(0.05), "1", 2.0, 200.0),
             "C mold-4 0.05mm P1"
         );
         let room = label_width("C mold-4 P1", 2.0) + 0.1;
         assert_eq!(
-            panel_label("C mold-4", Some(0.05), 1, 2.0, room),
+            panel_label("C mold-4", Some(0.05), "1", 2.0, room),
             "C mold-4 P1"
         );
-        assert_eq!(panel_label("C mold-4", Some(0.05), 1, 2.0, 1.0), "");
+        assert_eq!(panel_label("C mold-4", Some(0.05), "1", 2.0, 1.0), "");
+        assert_eq!(
+            panel_label("C mold-4", Some(0.05), "1-6", 2.0, 200.0),
+            "C mold-4 0.05mm P1-6"
+        );
     }
 
     #[test]

@@ -200,6 +200,12 @@ impl<'s> Drawn<'s> {
 
     /// Add a drawing: to the sink if there is one (nothing more after it failed), else to `drawings`.
     pub fn push(&mut self, stem: String, layer: &str, drawing: Drawing) {
+        self.push_copies(stem, layer, drawing, 1);
+    }
+
+    /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
+    /// the files hold the drawing once.
+    pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
         if let Some(s) = &drawing.stock {
             let same = |c: &&mut StockCount| {
                 c.material == s.material
@@ -208,13 +214,13 @@ impl<'s> Drawn<'s> {
                     && c.height_mm == drawing.height_mm
             };
             match self.stock.iter_mut().find(same) {
-                Some(c) => c.sheets += 1,
+                Some(c) => c.sheets += copies,
                 None => self.stock.push(StockCount {
                     material: s.material.clone(),
                     thickness_mm: s.thickness_mm,
                     width_mm: drawing.width_mm,
                     height_mm: drawing.height_mm,
-                    sheets: 1,
+                    sheets: copies,
                 }),
             }
         }

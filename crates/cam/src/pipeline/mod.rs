@@ -26,7 +26,7 @@ mod pzt;
 pub mod snap_guide;
 
 pub use build::{build, build_into, Build, CutLayerSheets};
-pub use clamp::ClampBuild;
+pub use clamp::{ClampBuild, PanelRun};
 pub use cut::CutLayer;
 pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount};
 pub use label::Label;
