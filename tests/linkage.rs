@@ -48,6 +48,53 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
             }
         }
     }
+    // The carbon layers say which way their fibres lie, along the links (x), and the other layers name
+    // no fibres; a carbon slot crosses the strip, so it is narrower in x than in y: the links run
+    // along x, the stated fibre direction.
+    for (name, bytes) in sheet_files(&out) {
+        if !name.starts_with("linkage-") || !name.ends_with(".svg") {
+            continue;
+        }
+        let svg = String::from_utf8(bytes).unwrap();
+        let carbon = name.contains("-carbon-");
+        assert_eq!(
+            svg.contains("0° fibres along the sheet's x axis") && svg.contains("fibre_axis=\"x\""),
+            carbon,
+            "{name}"
+        );
+        assert!(!svg.contains("fibre_axis=\"y\""), "{name}");
+        if carbon {
+            let cut = &svg[svg.find("id=\"layer-cut\"").unwrap()..];
+            let slots: Vec<(f64, f64)> = cut
+                .split("<path d=\"")
+                .skip(1)
+                .filter_map(|p| {
+                    let d = &p[..p.find('"').unwrap()];
+                    let nums: Vec<f64> = d
+                        .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
+                        .filter_map(|t| t.parse().ok())
+                        .collect();
+                    (!d.contains('A') && nums.len() >= 8).then(|| {
+                        let (xs, ys): (Vec<f64>, Vec<f64>) =
+                            nums.chunks(2).map(|c| (c[0], c[1])).unzip();
+                        let span = |v: &[f64]| {
+                            v.iter().cloned().fold(f64::MIN, f64::max)
+                                - v.iter().cloned().fold(f64::MAX, f64::min)
+                        };
+                        (span(&xs), span(&ys))
+                    })
+                })
+                .filter(|(w, h)| *w < 50.0 && *h < 50.0)
+                .collect();
+            assert!(!slots.is_empty(), "{name}: no slots");
+            for (w, h) in slots {
+                assert!(
+                    w < h,
+                    "{name}: a slot {w} x {h} mm does not cross a strip along x"
+                );
+            }
+        }
+    }
     // Twelve release outlines over the panels: one linkage per actuator.
     let outlines: usize = (1..=panels)
         .map(|p| {

@@ -177,13 +177,37 @@ pub struct Stock {
     /// Thickness of the sheet, mm.
     pub thickness_mm: f64,
     /// Prepreg: the sheet has a fibre direction, and every part on it is placed for its 0° fibres to
-    /// run along the sheet's y axis (up the page), as the actuators' passive parts lie. The stock
-    /// line says so, for the technician who lays the sheet on the bed.
-    pub fibres_along_y: bool,
+    /// run along this axis of the sheet. The stock line says so, for the technician who lays the sheet
+    /// on the bed. `None` for a material without fibres.
+    pub fibre_axis: Option<FibreAxis>,
 }
 
-/// How a file states the fibre direction of a prepreg sheet.
-pub const FIBRES_ALONG_Y: &str = "0° fibres along the sheet's y axis (up the page)";
+/// The sheet axis a prepreg's 0° fibres must lie along on the laser bed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FibreAxis {
+    /// Across the page: the linkage panels, whose links run along x.
+    X,
+    /// Up the page: the actuators' passive parts and every nested prepreg sheet.
+    Y,
+}
+
+impl FibreAxis {
+    /// How a file states it, after the stock.
+    pub fn statement(self) -> &'static str {
+        match self {
+            FibreAxis::X => "0° fibres along the sheet's x axis (across the page)",
+            FibreAxis::Y => "0° fibres along the sheet's y axis (up the page)",
+        }
+    }
+
+    /// The axis as the SVG metadata's `fibre_axis` gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FibreAxis::X => "x",
+            FibreAxis::Y => "y",
+        }
+    }
+}
 
 impl Stock {
     /// The stock as a file name carries it: the material in lower-case letters and digits joined by
@@ -314,9 +338,9 @@ impl Drawing {
                 super::decimal::fmt_mm(self.width_mm),
                 super::decimal::fmt_mm(self.height_mm)
             );
-            if s.fibres_along_y {
+            if let Some(axis) = s.fibre_axis {
                 text.push_str(", ");
-                text.push_str(FIBRES_ALONG_Y);
+                text.push_str(axis.statement());
             }
             one_line(&text)
         })
@@ -419,7 +443,7 @@ mod tests {
         let stock = |material: &str, t: f64| Stock {
             material: material.into(),
             thickness_mm: t,
-            fibres_along_y: false,
+            fibre_axis: None,
         };
         assert_eq!(
             stock("PTFE, non-porous", 0.05).slug(),

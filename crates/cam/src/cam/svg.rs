@@ -222,11 +222,8 @@ pub fn write_svg(
                 fmt_mm(s.thickness_mm),
                 fmt_mm(drawing.width_mm),
                 fmt_mm(drawing.height_mm),
-                if s.fibres_along_y {
-                    " fibre_axis=\"y\""
-                } else {
-                    ""
-                }
+                s.fibre_axis
+                    .map_or(String::new(), |a| format!(" fibre_axis=\"{}\"", a.name()))
             );
         }
         None => {

@@ -12,7 +12,7 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
         .collect();
     vec![
         format!(
-            "Cut each linkage layer on its own sheet ({panels} panel(s)): the carbon layers with their flexure gap slots, the adhesive with its windows over the gaps (kept on its release liner), the {:.1} µm film with its windows; every sheet is cut to the panel outline with the panel's pin holes.",
+            "Cut each linkage layer on its own sheet ({panels} panel(s)): the carbon layers with their flexure gap slots, from the layup laid with its 0° fibres along the sheet's x axis, the links' direction, as each file says; the adhesive with its windows over the gaps (kept on its release liner), the {:.1} µm film with its windows; every sheet is cut to the panel outline with the panel's pin holes.",
             l.layers[2].thickness_mm * 1e3
         ),
         format!(

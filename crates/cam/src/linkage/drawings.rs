@@ -6,7 +6,7 @@
 
 use super::pattern::{Rect, STACK};
 use super::LinkageLaminate;
-use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};
@@ -146,7 +146,9 @@ pub(crate) fn draw_panels(
                 Stock {
                     material: sheet.material.clone(),
                     thickness_mm: sheet.thickness_mm,
-                    fibres_along_y: false,
+                    // The carbon's 0° fibres along the links, which run along x on the panel: the
+                    // stiff direction of the links, as on the coupons the nester turns onto y.
+                    fibre_axis: (*ply == super::pattern::Ply::Carbon).then_some(FibreAxis::X),
                 },
             );
             d.add(
@@ -179,7 +181,7 @@ pub(crate) fn draw_panels(
             Stock {
                 material: "the laminated linkage stack".to_string(),
                 thickness_mm: laminate.stack_thickness_mm(),
-                fibres_along_y: false,
+                fibre_axis: None,
             },
         );
         pins(&mut d);

@@ -118,7 +118,7 @@ pub fn build_into<'s>(
         let stock = Stock {
             material: format!("{} ({})", d.pzt.name, template.pzt.material),
             thickness_mm: d.pzt_thickness * 1e3,
-            fibres_along_y: false,
+            fibre_axis: None,
         };
         let mut spec = template.pzt.clone();
         if names.name_designs {

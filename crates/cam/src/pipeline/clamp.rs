@@ -399,7 +399,7 @@ pub fn clamp_layers(
                     } else {
                         spec.thickness_mm
                     },
-                    fibres_along_y: false,
+                    fibre_axis: None,
                 },
             );
             for centre in pin_centres(c) {

@@ -5,7 +5,7 @@
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::BuildError;
-use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
+use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
 use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};
@@ -384,7 +384,7 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             Stock {
                 material: layer.material.clone(),
                 thickness_mm: layer.thickness_mm,
-                fibres_along_y: layer.prepreg,
+                fibre_axis: layer.prepreg.then_some(FibreAxis::Y),
             },
         );
         for p in &layout.parts {
