@@ -38,8 +38,91 @@ fn attr(tag: &str, key: &str) -> Option<String> {
     )
 }
 
-/// Every cut file of `out` with the stock it states, and the stock list of its report.
+/// The points of an SVG path's `d` (absolute M/L commands), and whether it is closed.
+fn path_points(d: &str) -> (Vec<[f64; 2]>, bool) {
+    let nums: Vec<f64> = d
+        .split(|c: char| c.is_ascii_alphabetic() || c == ' ' || c == ',')
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    (
+        nums.chunks(2).map(|c| [c[0], c[1]]).collect(),
+        d.contains('Z'),
+    )
+}
+
+/// The straight-segment paths of the SVG layer with `id`, each as its points and whether it is closed.
+fn layer_paths(svg: &str, id: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
+    let Some(start) = svg.find(&format!("id=\"{id}\"")) else {
+        return Vec::new();
+    };
+    let layer = &svg[start..start + svg[start..].find("</g>").unwrap()];
+    layer
+        .split("<path d=\"")
+        .skip(1)
+        .map(|p| &p[..p.find('"').unwrap()])
+        // Arcs (holes and vias, inside their parts) carry radii and flags among their points.
+        .filter(|d| !d.contains('A'))
+        .map(path_points)
+        .collect()
+}
+
+/// The stock label of a part sheet (the open paths of its reference layer) lies within the sheet and
+/// clear of every part: no closed cut outline's box and no score line comes within its box. Returns
+/// whether the sheet has a label.
+fn check_sheet_label(name: &str, svg: &str, w: f64, h: f64) -> bool {
+    let label: Vec<[f64; 2]> = layer_paths(svg, "layer-reference")
+        .into_iter()
+        .filter(|(_, closed)| !closed)
+        .flat_map(|(pts, _)| pts)
+        .collect();
+    if label.is_empty() {
+        return false;
+    }
+    let bbox = |pts: &[[f64; 2]]| {
+        pts.iter().fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(lo, hi), p| {
+                (
+                    [lo[0].min(p[0]), lo[1].min(p[1])],
+                    [hi[0].max(p[0]), hi[1].max(p[1])],
+                )
+            },
+        )
+    };
+    let (lo, hi) = bbox(&label);
+    assert!(
+        lo[0] > 0.0 && lo[1] > 0.0 && hi[0] < w && hi[1] < h,
+        "{name}: the stock label leaves the sheet"
+    );
+    let inside = |p: &[f64; 2]| p[0] > lo[0] && p[0] < hi[0] && p[1] > lo[1] && p[1] < hi[1];
+    for (pts, closed) in layer_paths(svg, "layer-cut") {
+        if closed {
+            let (a, b) = bbox(&pts);
+            assert!(
+                a[0] >= hi[0] || b[0] <= lo[0] || a[1] >= hi[1] || b[1] <= lo[1],
+                "{name}: the stock label {lo:?}-{hi:?} runs into a part {a:?}-{b:?}"
+            );
+        }
+    }
+    for (pts, _) in layer_paths(svg, "layer-score") {
+        for seg in pts.windows(2) {
+            for k in 0..=200 {
+                let t = k as f64 / 200.0;
+                let p = [
+                    seg[0][0] + t * (seg[1][0] - seg[0][0]),
+                    seg[0][1] + t * (seg[1][1] - seg[0][1]),
+                ];
+                assert!(!inside(&p), "{name}: a score line crosses the stock label");
+            }
+        }
+    }
+    true
+}
+
+/// Every cut file of `out` with the stock it states, and the stock list of its report; every part
+/// sheet with its stock label clear of its parts, but as many as the report says had no room.
 fn check_folder(out: &Path, report: &str) {
+    let mut unlabelled = 0;
     let json = {
         let text = std::fs::read_to_string(out.join(report)).unwrap();
         serde_json::from_str::<serde_json::Value>(&text).unwrap()
@@ -103,9 +186,23 @@ fn check_folder(out: &Path, report: &str) {
                 head.contains(&format!("{t} mm thick")),
                 "{name}: the DXF's stock comment: {head}"
             );
+            // A clamp file of a run of identical panels (`mold-1-1to6_…`) is cut once per panel.
+            let copies = name
+                .split_once('_')
+                .and_then(|(stem, _)| stem.rsplit_once('-'))
+                .and_then(|(_, run)| run.split_once("to"))
+                .map_or(1, |(a, b)| {
+                    b.parse::<usize>().unwrap() - a.parse::<usize>().unwrap() + 1
+                });
             *counted
                 .entry((material, t.to_string(), w.to_string(), h.to_string()))
-                .or_default() += 1;
+                .or_default() += copies;
+            let part_sheet = ["pzt-", "passive-", "pyralux-"]
+                .iter()
+                .any(|p| name.starts_with(p));
+            if part_sheet && !check_sheet_label(&name, &text, w, h) {
+                unlabelled += 1;
+            }
         }
     }
     let listed: BTreeMap<(String, String, String, String), usize> = json["stock_list"]
@@ -126,6 +223,11 @@ fn check_folder(out: &Path, report: &str) {
         })
         .collect();
     assert_eq!(counted, listed, "the stock list counts every cut file once");
+    assert_eq!(
+        json["sheets_without_stock_label"].as_u64(),
+        Some(unlabelled),
+        "the report counts the part sheets without a stock label"
+    );
 }
 
 #[test]
@@ -149,6 +251,17 @@ fn every_cut_sheet_file_names_its_stock_and_molds_their_own_film() {
             assert_eq!(t, film.as_f64().unwrap(), "{design}: mold-{}", k + 1);
         }
     }
+}
+
+#[test]
+fn a_run_of_identical_panels_counts_a_sheet_per_panel() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet("examples/thesis-7.toml", &out, &["--quantity", "20"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_folder(&out, "report.json");
+    // Its four PZT sheets and one passive sheet all have room for their stock label.
+    assert_eq!(report_json(&out)["sheets_without_stock_label"], 0);
 }
 
 #[test]

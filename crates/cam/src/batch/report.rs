@@ -178,6 +178,8 @@ pub struct NestReport {
     pub totals: Vec<TotalRow>,
     /// Sheets of each stock the files are cut from (material, thickness, sheet size).
     pub stock_list: Vec<StockCount>,
+    /// Part sheets with no room for a drawn stock label (docs/cam.md §3, "Stock labels").
+    pub sheets_without_stock_label: usize,
     /// Sum of the costs, when every cut material has a price.
     pub total_cost: Option<f64>,
     /// Strips of roll stock: length used, cost, and the cut sheets compared (only with a roll).
@@ -524,6 +526,7 @@ impl NestReport {
                 .collect(),
             clamp_panels,
             stock_list: built.stock.clone(),
+            sheets_without_stock_label: built.unlabelled_sheets,
             totals,
             total_cost,
             rolls,
@@ -771,6 +774,9 @@ impl NestReport {
         }
         let _ = writeln!(s, "\n## Stock list\n");
         let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
+        if let Some(note) = crate::pipeline::unlabelled_note(self.sheets_without_stock_label) {
+            let _ = writeln!(s, "\n{note}");
+        }
         let _ = writeln!(s, "\n## Clamp panels\n");
         for p in &self.clamp_panels {
             let who: Vec<String> = p

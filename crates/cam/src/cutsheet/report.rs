@@ -148,6 +148,8 @@ pub struct Report {
     pub clamp_panels: usize,
     /// Sheets of each stock the files are cut from (material, thickness, sheet size).
     pub stock_list: Vec<StockCount>,
+    /// Part sheets with no room for a drawn stock label (docs/cam.md §3, "Stock labels").
+    pub sheets_without_stock_label: usize,
     /// How the mold stack meets the laminate (docs/cam.md §1, "Mold layers").
     pub mold: MoldReport,
     pub stacking_order: Vec<String>,
@@ -271,6 +273,7 @@ impl Report {
             ground_tab,
             clamp_panels: built.panels,
             stock_list: built.stock.clone(),
+            sheets_without_stock_label: built.unlabelled_sheets,
             mold: MoldReport::new(&built.clamps[0].mold, template.mold_stock.tolerance_mm),
             stacking_order: built.clamps[0].stack.clone(),
             build_book,
@@ -423,6 +426,9 @@ impl Report {
         }
         let _ = writeln!(s, "\n## Stock list\n");
         let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
+        if let Some(note) = crate::pipeline::unlabelled_note(self.sheets_without_stock_label) {
+            let _ = writeln!(s, "\n{note}");
+        }
         let _ = writeln!(s, "\n## Build book\n");
         let _ = writeln!(
             s,

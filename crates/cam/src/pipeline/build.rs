@@ -39,6 +39,8 @@ pub struct Build {
     pub placement_map: Vec<String>,
     /// Clamp panels used.
     pub panels: usize,
+    /// Part sheets too full for their stock label (`super::sheet_label`).
+    pub unlabelled_sheets: usize,
     /// Plan geometry of each design as built (PZT plates inset by the template's margin).
     pub geometry: Vec<PartGeometry>,
     /// PZT sheets used.
@@ -256,6 +258,7 @@ pub fn build_into<'s>(
         sheets: drawn.sheets,
         placement_map: drawn.placement_map,
         panels: drawn.panels,
+        unlabelled_sheets: drawn.unlabelled_sheets,
         geometry: jobs.iter().map(|j| j.geometry).collect(),
         pzt_sheets,
         cut_layers,

@@ -4,6 +4,7 @@
 
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
+use super::sheet_label::part_box;
 use super::BuildError;
 use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::{short_number, InputError};
@@ -422,6 +423,15 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
                 }
             }
         }
+        let parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
+        let name = format!("{}-{n}", layer.layer);
+        drawn.label_sheet(
+            &mut d,
+            &name,
+            spec.edge_margin_mm,
+            &parts,
+            op(Feature::SheetLabel),
+        );
         let mut record = SheetRecord {
             stem: format!("{}-{n}", layer.layer),
             file_stem: file_stem(&format!("{}-{n}", layer.layer), d.stock.as_ref()),

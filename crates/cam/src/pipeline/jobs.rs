@@ -153,6 +153,17 @@ impl StockCount {
     }
 }
 
+/// The report's line under the stock list when part sheets had no room for their drawn stock label:
+/// the technician must then go by the file name, which always carries the stock.
+pub fn unlabelled_note(sheets: usize) -> Option<String> {
+    (sheets > 0).then(|| {
+        format!(
+            "{sheets} part sheet(s) are filled too far for a drawn stock label; their file names, titles \
+             and metadata name the stock: mark each sheet by hand as it comes off the shelf."
+        )
+    })
+}
+
 /// Why a drawing could not be handed on as it was made (rendering or writing it); the sink's own error.
 pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
 
@@ -168,6 +179,8 @@ pub struct Drawn<'s> {
     pub sheets: Vec<SheetRecord>,
     /// Clamp panels used.
     pub panels: usize,
+    /// Part sheets with no room left for their stock label (`super::sheet_label`).
+    pub unlabelled_sheets: usize,
     /// Sheets of each stock drawn, in the order each stock first appears.
     pub stock: Vec<StockCount>,
     /// Which clamp panel holds each actuator, and which PZT sheet holds each plate.
@@ -188,6 +201,26 @@ impl<'s> Drawn<'s> {
         Drawn {
             sink,
             ..Drawn::default()
+        }
+    }
+
+    /// Draw the stock label of part sheet `name` with `op` where none of `parts` is, or count the
+    /// sheet as one without room for it.
+    pub fn label_sheet(
+        &mut self,
+        d: &mut Drawing,
+        name: &str,
+        margin_mm: f64,
+        parts: &[super::sheet_label::Box2],
+        op: crate::cam::drawing::Operation,
+    ) {
+        match super::sheet_label::sheet_label(d, name, margin_mm, parts) {
+            Some(strokes) => {
+                for s in strokes {
+                    d.add(op, crate::cam::drawing::Shape::Polyline(s));
+                }
+            }
+            None => self.unlabelled_sheets += 1,
         }
     }
 

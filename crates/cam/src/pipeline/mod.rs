@@ -23,12 +23,15 @@ mod panel;
 mod parts;
 mod place;
 mod pzt;
+mod sheet_label;
 pub mod snap_guide;
 
 pub use build::{build, build_into, Build, CutLayerSheets};
 pub use clamp::{ClampBuild, PanelRun};
 pub use cut::CutLayer;
-pub use jobs::{DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount};
+pub use jobs::{
+    unlabelled_note, DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount,
+};
 pub use label::Label;
 pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
 pub use panel::{grid, grid_slots, panel_outline, pin_centres};

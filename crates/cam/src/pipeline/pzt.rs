@@ -3,6 +3,7 @@
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::{on_sheet_edge, rect};
+use super::sheet_label::part_box;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
 use crate::process::template::SheetSpec;
 use crate::process::{Feature, FeatureMap};
@@ -37,6 +38,19 @@ pub(crate) fn draw_pzt_sheets(
                 Shape::Polyline(overrun(*line, sheet).to_vec()),
             );
         }
+        let parts: Vec<_> = layout
+            .parts
+            .iter()
+            .map(|p| part_box(&place_ring(&nominal[p.item], p.rotation_deg, p.translation)))
+            .chain(layout.score_lines.iter().map(|l| part_box(l)))
+            .collect();
+        drawn.label_sheet(
+            &mut d,
+            &format!("pzt-{n}"),
+            sheet.edge_margin_mm,
+            &parts,
+            features.op(Feature::SheetLabel),
+        );
         // The sheet edge as an alignment reference (green, not a cut, by default).
         d.add(
             features.op(Feature::PztSheetOutline),

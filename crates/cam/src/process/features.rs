@@ -41,6 +41,8 @@ pub enum Feature {
     LinkageRelease,
     /// Mounting hole of a linkage's airframe tab, cut with the release.
     LinkageHole,
+    /// Name, material, thickness and size of a part sheet, where no part is.
+    SheetLabel,
 }
 
 /// Operations that leave a part or panel cut out: `secondary` is the lab's second cut pass.
@@ -56,7 +58,7 @@ const GUIDE: &[Operation] = &[Operation::Reference, Operation::Engrave, Operatio
 
 impl Feature {
     /// Every feature, in the order of the `[features]` table of the shipped templates.
-    pub const ALL: [Feature; 16] = [
+    pub const ALL: [Feature; 17] = [
         Feature::PztScoreLine,
         Feature::PztSheetOutline,
         Feature::PartOutline,
@@ -73,6 +75,7 @@ impl Feature {
         Feature::LinkageCutOut,
         Feature::LinkageRelease,
         Feature::LinkageHole,
+        Feature::SheetLabel,
     ];
 
     /// Key in the `[features]` table.
@@ -94,6 +97,7 @@ impl Feature {
             Feature::LinkageCutOut => "linkage-cut-out",
             Feature::LinkageRelease => "linkage-release",
             Feature::LinkageHole => "linkage-hole",
+            Feature::SheetLabel => "sheet-label",
         }
     }
 
@@ -101,7 +105,7 @@ impl Feature {
     pub fn default_operation(self) -> Operation {
         match self {
             Feature::PztScoreLine => Operation::Score,
-            Feature::PztSheetOutline => Operation::Reference,
+            Feature::PztSheetOutline | Feature::SheetLabel => Operation::Reference,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
@@ -114,7 +118,7 @@ impl Feature {
     pub fn allowed(self) -> &'static [Operation] {
         match self {
             Feature::PztScoreLine => SCORE_LINE,
-            Feature::PztSheetOutline => GUIDE,
+            Feature::PztSheetOutline | Feature::SheetLabel => GUIDE,
             Feature::PartLabel
             | Feature::WindowNumber
             | Feature::PanelLabel
