@@ -1,6 +1,7 @@
 //! `actuator-cam drive`: both examples reach their stroke at the reported voltage (re-checked by a time
 //! integration), a tiny actuator on the hawk-moth wing is out of reach and says what binds, bad input is
-//! one line, the output is the same bytes twice, and `-o` goes through the writer.
+//! one line, the output is the same bytes twice, `-o` goes through the writer, and the example wings agree
+//! with the published lift, incidence and aspect ratios of their vehicles (docs/drive.md §4).
 
 mod common;
 
