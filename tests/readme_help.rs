@@ -272,3 +272,50 @@ fn the_parsers_read_both_help_layouts() {
     assert!(has_token(&x, "--a") && has_token(&x, "--b") && !has_token(&x, "--c"));
     assert!(section(readme, "z").is_none());
 }
+
+/// Every worked example in the README (a fenced block whose first line is `$ actuator-cam …`) prints
+/// what the README shows: each shown line, but those eliding with `…` or `...`, is a line of the command's
+/// output. The commands run in a scratch folder that sees the repository's examples and fixtures, in
+/// README order, since later examples read what earlier ones wrote (`out/cal-lib`).
+#[test]
+fn the_worked_examples_print_what_the_readme_shows() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scratch = tempfile::tempdir().unwrap();
+    for dir in ["examples", "tests"] {
+        std::os::unix::fs::symlink(root.join(dir), scratch.path().join(dir)).unwrap();
+    }
+    let text = readme();
+    let lines: Vec<&str> = text.lines().collect();
+    let mut checked = 0;
+    for (i, line) in lines.iter().enumerate() {
+        let Some(command) = line.strip_prefix("$ actuator-cam ") else {
+            continue;
+        };
+        let shown: Vec<&str> = lines[i + 1..]
+            .iter()
+            .take_while(|l| !l.starts_with("```"))
+            .map(|l| l.trim())
+            .filter(|l| !l.is_empty() && !l.contains('…') && !l.contains("..."))
+            .collect();
+        let out = Command::new(env!("CARGO_BIN_EXE_actuator-cam"))
+            .args(command.split_whitespace())
+            .current_dir(scratch.path())
+            .output()
+            .expect("run actuator-cam");
+        let printed = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let printed: Vec<&str> = printed.lines().map(str::trim).collect();
+        for want in shown {
+            assert!(
+                printed.contains(&want),
+                "README line {}: `actuator-cam {command}` does not print\n  {want}",
+                i + 1
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} worked examples found");
+}
