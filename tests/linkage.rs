@@ -56,6 +56,16 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
             continue;
         }
         let svg = String::from_utf8(bytes).unwrap();
+        // Each panel engraves its layer, film and panel number on its border, as a clamp panel does.
+        let engraved = svg.find("id=\"layer-engrave\"").map(|at| {
+            svg[at..]
+                .split("</g>")
+                .next()
+                .unwrap()
+                .matches("<path")
+                .count()
+        });
+        assert!(engraved.unwrap_or(0) > 5, "{name}: no panel label");
         let carbon = name.contains("-carbon-");
         assert_eq!(
             svg.contains("0° fibres along the sheet's x axis") && svg.contains("fibre_axis=\"x\""),

@@ -163,18 +163,27 @@ fn check_folder(out: &Path, report: &str) {
             );
             // A carbon-fibre sheet, cured or not (and no other), says which way its fibres must lie, in the
             // title and as data; its parts were placed for that direction.
+            // A linkage panel's (or coupon's) carbon layer has its links, and so its fibres, along x.
             let prepreg = material.contains("carbon-fibre");
+            let linkage_carbon =
+                !prepreg && name.starts_with("linkage-") && name.contains("-carbon-");
+            let axis = if prepreg {
+                Some("y")
+            } else {
+                linkage_carbon.then_some("x")
+            };
             assert_eq!(
-                title.contains("0° fibres along the sheet's y axis"),
-                prepreg,
+                axis.map(|a| title.contains(&format!("0° fibres along the sheet's {a} axis"))),
+                (prepreg || linkage_carbon).then_some(true),
                 "{name}: the fibre direction in the title: {title}"
             );
-            let stock_tag = start_tag(&text, "<stock ").unwrap();
             assert_eq!(
-                attr(&stock_tag, "fibre_axis").as_deref(),
-                prepreg.then_some("y"),
-                "{name}"
+                title.contains("0° fibres"),
+                prepreg || linkage_carbon,
+                "{name}: {title}"
             );
+            let stock_tag = start_tag(&text, "<stock ").unwrap();
+            assert_eq!(attr(&stock_tag, "fibre_axis").as_deref(), axis, "{name}");
             // The DXF twin states the same stock in its leading comments.
             let dxf = std::fs::read_to_string(path.with_extension("dxf")).unwrap();
             let head: String = dxf.lines().take(4).collect::<Vec<_>>().join("\n");
@@ -186,6 +195,21 @@ fn check_folder(out: &Path, report: &str) {
                 head.contains(&format!("{t} mm thick")),
                 "{name}: the DXF's stock comment: {head}"
             );
+            // A nest's linkage coupon drawing (`linkage-<design>-<N>-<layer>-1`) shows one coupon as
+            // it is nested; the coupons are cut on the sheets the stock list counts.
+            let coupon = name.strip_prefix("linkage-").is_some_and(|rest| {
+                !rest.starts_with(|c: char| c.is_ascii_digit())
+                    && rest
+                        .split_once('_')
+                        .map_or(rest, |(stem, _)| stem)
+                        .split('-')
+                        .filter(|part| part.parse::<usize>().is_ok())
+                        .count()
+                        >= 2
+            });
+            if coupon {
+                continue;
+            }
             // A clamp file of a run of identical panels (`mold-1-1to6_…`) is cut once per panel.
             let copies = name
                 .split_once('_')
@@ -197,9 +221,14 @@ fn check_folder(out: &Path, report: &str) {
             *counted
                 .entry((material, t.to_string(), w.to_string(), h.to_string()))
                 .or_default() += copies;
-            let part_sheet = ["pzt-", "passive-", "pyralux-"]
-                .iter()
-                .any(|p| name.starts_with(p));
+            // A part sheet is named by its layer and one number (`pzt-3`, `linkage-carbon-1`); a
+            // clamp or linkage panel's name has a number inside it (`mold-1-1`, `linkage-1-carbon-1`).
+            let part_sheet = name.split_once('_').is_some_and(|(stem, _)| {
+                stem.rsplit_once('-').is_some_and(|(layer, n)| {
+                    n.parse::<usize>().is_ok()
+                        && layer.chars().all(|c| c.is_ascii_lowercase() || c == '-')
+                })
+            });
             if part_sheet && !check_sheet_label(&name, &text, w, h) {
                 unlabelled += 1;
             }
@@ -262,6 +291,22 @@ fn a_run_of_identical_panels_counts_a_sheet_per_panel() {
     check_folder(&out, "report.json");
     // Its four PZT sheets and one passive sheet all have room for their stock label.
     assert_eq!(report_json(&out)["sheets_without_stock_label"], 0);
+}
+
+#[test]
+fn every_nest_file_of_a_batch_with_linkages_names_its_stock() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(&[
+        "nest",
+        "examples/batch-linkage.toml",
+        "--iterations",
+        "50",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_folder(&out, "nest-report.json");
 }
 
 #[test]

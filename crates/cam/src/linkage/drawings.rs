@@ -8,7 +8,7 @@ use super::pattern::{Rect, STACK};
 use super::LinkageLaminate;
 use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::InputError;
-use crate::pipeline::{grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
+use crate::pipeline::{border_label, grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};
 use crate::process::Feature;
 use cam_geometry::offset::offset_ring;
@@ -119,6 +119,21 @@ pub(crate) fn draw_panels(
     let mut drawings = Vec::new();
     for (n, origins) in panels.iter().enumerate() {
         let panel = n + 1;
+        // The panel's stock on its top border, as a clamp panel engraves it: a sheet off the stack
+        // says which layer and film it is.
+        let label = |d: &mut Drawing, layer: &str, thickness_mm: Option<f64>| {
+            let t = thickness_mm.map_or(String::new(), |t| {
+                format!(" {}mm", crate::cam::decimal::fmt_mm(t))
+            });
+            let texts = [
+                format!("{title} {layer}{t} P{panel}"),
+                format!("{layer}{t} P{panel}"),
+                format!("{layer} P{panel}"),
+            ];
+            for s in border_label(c, &texts) {
+                d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
+            }
+        };
         let pins = |d: &mut Drawing| {
             for centre in pin_centres(c) {
                 d.add(
@@ -156,6 +171,8 @@ pub(crate) fn draw_panels(
                 Shape::Polygon(outline.clone()),
             );
             pins(&mut d);
+            let layer = format!("{prefix}{}-{name}", k + 1);
+            label(&mut d, &layer, Some(sheet.thickness_mm));
             for origin in origins {
                 for cut in p.cut_outs(*ply) {
                     let r: Rect = cut.moved(*origin).grown(-half);
@@ -185,6 +202,7 @@ pub(crate) fn draw_panels(
             },
         );
         pins(&mut d);
+        label(&mut d, &format!("{prefix}{levels}-release"), None);
         for origin in origins {
             d.add(
                 features.op(Feature::LinkageHole),

@@ -133,9 +133,11 @@ impl LinkageLaminate {
         drive_file: &Path,
         template: &Path,
     ) -> Result<LinkageLaminate, InputError> {
+        // The film's stock thickness in mm to the nanometre: 7.6 µm read as 7.6e-6 m comes back as
+        // 0.007599999999999999 mm, which the stock list would print as such.
         let film_thickness_mm = request
             .film_thickness
-            .map_or(process.film.thickness_mm, |t| t * 1e3);
+            .map_or(process.film.thickness_mm, |t| (t * 1e9).round() / 1e6);
         let process = &LinkageProcess {
             film: process::Sheet {
                 thickness_mm: film_thickness_mm,

@@ -3,11 +3,13 @@
 
 use super::jobs::{kerfed, Drawn, Job, Names};
 use super::mold::{choose_mold, LaminateBands, MoldBand, MoldChoice};
-use super::panel::{fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin};
+use super::panel::{
+    border_label, fiducials, layout_panels, panel_outline, pin_centres, rect, window_origin,
+};
 use super::parts::PartGeometry;
 use super::BuildError;
 use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
-use crate::cam::label::{label_strokes, label_width};
+use crate::cam::label::label_strokes;
 use crate::design::Design;
 use crate::input::{short_number, InputError};
 use crate::process::template::{ClampSpec, Template};
@@ -144,11 +146,10 @@ fn cavity_outline(g: &PartGeometry, band: MoldBand) -> Vec<Point> {
 /// (about 0.1 mm on the ProtoLaser), and the window's edge is where the felt and Teflon fray.
 const NUMBER_CLEARANCE_MM: f64 = 0.2;
 
-/// The engraved label of a clamp panel sheet: `{layer} {t}mm P{panel}`, the film's thickness with the
-/// layer since the molds of one stack differ by film and a sheet off the stack must say which film it
-/// is; without room for it at text height `th`, `{layer} P{panel}`; empty without room for either.
-/// `panel` is a number or a run of them (`1-6`).
-fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: &str, th: f64, room: f64) -> String {
+/// The engraved label texts of a clamp panel sheet, longest first: `{layer} {t}mm P{panel}`, the
+/// film's thickness with the layer since the molds of one stack differ by film and a sheet off the
+/// stack must say which film it is; then `{layer} P{panel}`. `panel` is a number or a run (`1-6`).
+fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: &str) -> [String; 2] {
     let thickness = thickness_mm.map_or(String::new(), |t| {
         format!(" {}mm", crate::cam::decimal::fmt_mm(t))
     });
@@ -156,9 +157,6 @@ fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: &str, th: f64, roo
         format!("{layer}{thickness} P{panel}"),
         format!("{layer} P{panel}"),
     ]
-    .into_iter()
-    .find(|t| label_width(t, th) < room)
-    .unwrap_or_default()
 }
 
 /// Strokes of the number of stack level `level` (1-based), engraved in its own stacking window
@@ -458,30 +456,10 @@ pub fn clamp_layers(
             for s in window_number(c, k + 1, number_inset) {
                 d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
             }
-            let th = (c.border_mm * 0.3).min(2.5);
-            // The label starts beside the fourth pin hole (centre 3 x inset from the left edge), at
-            // least 1 mm clear of it whatever its radius.
-            let shift = (c.pin_radius_mm + 1.0 - 2.0).max(0.0);
-            let room = c.panel_width_mm - 6.0 * c.pin_inset_mm - shift;
             let thickness_mm = d.stock.as_ref().map(|s| s.thickness_mm);
-            let title = panel_label(
-                &format!("{} {prefix}", names.title),
-                thickness_mm,
-                &numbers,
-                th,
-                room,
-            );
-            if th > 0.0 && !title.is_empty() {
-                for s in label_strokes(
-                    &title,
-                    [
-                        3.0 * c.pin_inset_mm + 2.0 + shift,
-                        c.panel_height_mm - (c.border_mm + th) / 2.0,
-                    ],
-                    th,
-                ) {
-                    d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
-                }
+            let texts = panel_label(&format!("{} {prefix}", names.title), thickness_mm, &numbers);
+            for s in border_label(c, &texts) {
+                d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
             }
             for f in fiducials(c) {
                 d.add(features.op(Feature::Fiducial), Shape::Polyline(f));
@@ -514,19 +492,13 @@ mod tests {
     use std::path::Path;
 
     #[test]
-    fn a_panel_label_names_its_film_thickness_when_it_fits() {
+    fn a_panel_label_names_its_film_thickness_then_falls_back_without_it() {
         assert_eq!(
-            panel_label("C mold-4", Some(0.05), "1", 2.0, 200.0),
-            "C mold-4 0.05mm P1"
+            panel_label("C mold-4", Some(0.05), "1"),
+            ["C mold-4 0.05mm P1", "C mold-4 P1"]
         );
-        let room = label_width("C mold-4 P1", 2.0) + 0.1;
         assert_eq!(
-            panel_label("C mold-4", Some(0.05), "1", 2.0, room),
-            "C mold-4 P1"
-        );
-        assert_eq!(panel_label("C mold-4", Some(0.05), "1", 2.0, 1.0), "");
-        assert_eq!(
-            panel_label("C mold-4", Some(0.05), "1-6", 2.0, 200.0),
+            panel_label("C mold-4", Some(0.05), "1-6")[0],
             "C mold-4 0.05mm P1-6"
         );
     }

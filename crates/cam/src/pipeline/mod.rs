@@ -34,7 +34,7 @@ pub use jobs::{
 };
 pub use label::Label;
 pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
-pub use panel::{grid, grid_slots, panel_outline, pin_centres};
+pub use panel::{border_label, grid, grid_slots, panel_outline, pin_centres};
 pub use parts::PartGeometry;
 pub use place::{
     sheets_instead_of_roll, BaselineRow, NestObserver, NestOptions, Packing, SearchRow, TimeBudget,

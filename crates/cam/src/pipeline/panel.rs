@@ -2,6 +2,7 @@
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
 use super::parts::PartGeometry;
+use crate::cam::label::{label_strokes, label_width};
 use crate::process::template::ClampSpec;
 use cam_geometry::Point;
 use thiserror::Error;
@@ -138,6 +139,31 @@ pub fn window_origin(spec: &ClampSpec, k: usize) -> Point {
         + 2.0
         + k as f64 * (spec.window_width_mm + 1.5);
     [x, (spec.border_mm - spec.window_height_mm) / 2.0]
+}
+
+/// The strokes of the first of `texts` that fits the top border of a panel of `c`, engraved beside the
+/// fourth pin hole: at 30 % of the border's height (at most 2.5 mm), starting 3 pin insets from the
+/// left edge and at least 1 mm clear of the pin whatever its radius. Nothing when none fits.
+pub fn border_label(spec: &ClampSpec, texts: &[String]) -> Vec<Vec<Point>> {
+    let th = (spec.border_mm * 0.3).min(2.5);
+    let shift = (spec.pin_radius_mm + 1.0 - 2.0).max(0.0);
+    let room = spec.panel_width_mm - 6.0 * spec.pin_inset_mm - shift;
+    if th <= 0.0 {
+        return Vec::new();
+    }
+    texts
+        .iter()
+        .find(|t| label_width(t, th) < room)
+        .map_or_else(Vec::new, |t| {
+            label_strokes(
+                t,
+                [
+                    3.0 * spec.pin_inset_mm + 2.0 + shift,
+                    spec.panel_height_mm - (spec.border_mm + th) / 2.0,
+                ],
+                th,
+            )
+        })
 }
 
 /// Rectangle ring.
