@@ -156,7 +156,7 @@ def check_bonded_zones(path, root):
     layer locks."""
     problems = []
     zones = [polyline_of(g.get("d", ""))[0] for g in root.iter(GUIDE) if g.get("kind") == "bonded-zone"]
-    labels, outlines = [], 0
+    strokes, boxes = [], []
     for group in root.iter(SVG_NS + "g"):
         for p in group.iter(SVG_NS + "path"):
             d = p.get("d", "")
@@ -164,9 +164,17 @@ def check_bonded_zones(path, root):
                 continue  # holes
             points, closed = polyline_of(d)
             if group.get(INKSCAPE_LABEL) == "CUT" and closed:
-                outlines += 1
+                xs, ys = [x for x, _ in points], [y for _, y in points]
+                boxes.append((min(xs), min(ys), max(xs), max(ys)))
             elif not closed:
-                labels.append(points)
+                strokes.append(points)
+    outlines = len(boxes)
+    # A part's label lies on the part; the sheet's stock label lies clear of every part, and says
+    # nothing about bonded zones.
+    labels = [
+        s for s in strokes
+        if s and any(b[0] <= s[0][0] <= b[2] and b[1] <= s[0][1] <= b[3] for b in boxes)
+    ]
     if not labels:
         return problems
     # Extra parts from drawings (a nest batch's [[part]]) are cut outlines with no PZT bonded on them:
