@@ -14,6 +14,7 @@ pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
+pub(crate) mod stacks;
 pub mod thickness;
 
 pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
@@ -26,6 +27,7 @@ use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId, Stage};
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
+use actuator_model::effects::StackBasis;
 use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use adequacy::adequacy;
@@ -36,6 +38,7 @@ use observations::{ActuationData, ActuationObs, MassData, ResonanceObs, Resonanc
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
+use stacks::Stacks;
 
 /// The verdict a calibration reports (docs/calibration.md §3).
 #[derive(Debug, Clone, PartialEq)]
@@ -398,7 +401,8 @@ fn actuation_stage<'a>(
 ) -> Result<ActuationStage<'a>, ModelError> {
     let mut notes = Vec::new();
     let groups = data.actuators();
-    let obs = actuation_obs(data, &base)?;
+    let stacks = Stacks::new(data);
+    let obs = actuation_obs(data, &base, &stacks)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
         return Err(ModelError::Fit(format!(
@@ -414,7 +418,8 @@ fn actuation_stage<'a>(
         obs,
         groups,
         frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, &base)?,
+        resonances: resonance_obs(data, &base, &stacks)?,
+        stacks,
     };
     // With a carried mass model, every model starts from the original and applies the mass parameters
     // it fits; the stacks are held as quadratics in them (joint.rs).
@@ -641,17 +646,38 @@ pub(crate) fn actuation_data<'a>(
     data: &'a Dataset,
     base: &EffectModel,
 ) -> Result<ActuationData<'a>, ModelError> {
+    let stacks = Stacks::new(data);
     Ok(ActuationData {
         data,
-        obs: actuation_obs(data, base)?,
+        obs: actuation_obs(data, base, &stacks)?,
         groups: data.actuators(),
         frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, base)?,
+        resonances: resonance_obs(data, base, &stacks)?,
+        stacks,
     })
 }
 
+/// Row `row`'s stack basis under `base` from the solved stacks, or the model's own error where it cannot
+/// be evaluated.
+fn basis_of(
+    data: &Dataset,
+    base: &EffectModel,
+    solver: &mut stacks::Solver,
+    row: usize,
+) -> Result<StackBasis, ModelError> {
+    match solver.basis(row) {
+        Some(b) => Ok(b),
+        None => base.basis(&data.rows[row].actuator()),
+    }
+}
+
 /// The actuators with a measured first resonance, each with its stack solved under `base`.
-fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, ModelError> {
+fn resonance_obs(
+    data: &Dataset,
+    base: &EffectModel,
+    stacks: &Stacks,
+) -> Result<Resonances, ModelError> {
+    let mut solver = stacks.solver(data, base);
     let mut obs = Vec::new();
     for (group, rows) in data.groups.iter().enumerate() {
         let row = rows[0];
@@ -660,7 +686,7 @@ fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, Model
             obs.push(ResonanceObs {
                 group,
                 row,
-                basis: base.basis(&r.actuator())?,
+                basis: basis_of(data, base, &mut solver, row)?,
                 ln_frequency: f.ln(),
             });
         }
@@ -670,7 +696,12 @@ fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, Model
 
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
 /// stack effects of `base`.
-fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>, ModelError> {
+fn actuation_obs(
+    data: &Dataset,
+    base: &EffectModel,
+    stacks: &Stacks,
+) -> Result<Vec<ActuationObs>, ModelError> {
+    let mut solver = stacks.solver(data, base);
     let mut obs = Vec::new();
     for (i, r) in data.rows.iter().enumerate() {
         if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {
@@ -679,7 +710,7 @@ fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>
         obs.push(ActuationObs {
             group: data.group_of[i],
             row: i,
-            basis: base.basis(&r.actuator())?,
+            basis: basis_of(data, base, &mut solver, i)?,
             ln_delta: r.free_deflection.map(f64::ln),
             ln_force: r.blocked_force.map(f64::ln),
         });
