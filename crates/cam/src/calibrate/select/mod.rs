@@ -143,6 +143,8 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     // Mass models to carry into the actuation stage: the one the masses choose, and every other whose own
     // effects are significant on the masses (docs/calibration.md §3, "Mass effects on all the data").
     let mut bases: Vec<Option<usize>> = vec![None];
+    // Index in `bases` of the original mass model carried beside a mass effect the masses chose.
+    let mut no_mass_effect: Option<usize> = None;
     let mut mass_ranking: Vec<usize> = Vec::new();
     if mass_data.obs.len() >= 4 {
         let fitter = Fitter {
@@ -186,6 +188,14 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
                     bases.push(Some(i));
                 }
             }
+        }
+        // With measured resonances the original mass model is carried too: `f1` measures the mass a
+        // second way, and a mass effect the masses chose by chance is one the resonances can refute
+        // (docs/calibration.md §3, "No mass effect").
+        let resonances = data.rows.iter().any(|r| r.resonance.is_some());
+        if resonances && chosen != 0 {
+            bases.push(Some(0));
+            no_mass_effect = Some(bases.len() - 1);
         }
     } else {
         notes.push(
@@ -233,9 +243,9 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             &shared,
         )?);
     }
-    // The mass model the masses chose stands unless another fits masses, deflections and forces together
-    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add; the masses' at the
-    // final model's mass parameters, where those were fitted on all the data).
+    // The mass model the masses chose stands unless another fits masses, deflections and forces (and
+    // resonances) together better by the acceptance margin (joint AICc: the two data sets' likelihoods
+    // add; the masses' at the final model's mass parameters, where those were fitted on all the data).
     let joint: Vec<f64> = bases
         .iter()
         .zip(&stages)
@@ -258,11 +268,29 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             pick = j;
         }
     }
+    // A mass effect is an added effect: on all the data it must beat no mass effect by the acceptance
+    // margin, as every candidate must beat its nulls (§3, step 4); else the original mass model stands
+    // (also where a joint AICc is not a number).
+    let beats = |j: usize, o: usize| joint[j] < joint[o] - settings.min_delta_aicc;
+    let refuted = no_mass_effect.filter(|&o| pick != o && !beats(pick, o));
+    let mass_pick = pick;
+    if let Some(o) = refuted {
+        pick = o;
+    }
     if let Some(i) = bases[pick] {
         final_mass_index = Some(i);
         selected.extend(mass_candidates[i].library_effects());
-        if pick != 0 {
-            let label = |k: usize| mass_candidates[k].label();
+        let label = |k: usize| mass_candidates[k].label();
+        if refuted.is_some() {
+            let best = bases[mass_pick].map_or("original".into(), label);
+            notes.push(format!(
+                "the masses alone chose {}; on the masses, deflections, forces and resonances together {best} does not beat no mass effect by more than {} (joint AICc {:.1} with it, {:.1} without), so no mass effect was kept",
+                bases[0].map_or("original".into(), label),
+                settings.min_delta_aicc,
+                joint[mass_pick],
+                joint[pick]
+            ));
+        } else if pick != 0 {
             notes.push(format!(
                 "the masses alone chose {}; {} fits the masses, deflections and forces together better (joint AICc {:.1} lower), so it was kept",
                 bases[0].map_or("original".into(), label),
