@@ -207,6 +207,8 @@ fn a_stiffness_effect_moves_the_force_and_the_resonance_together() {
         .map(|&s| calibrated(truth, s, random_designs, &Settings::default()))
         .collect();
     let (mut misses, mut named_other) = (0, 0);
+    // Seeds whose calibrated f1 is off the truth's (checked after every seed is printed).
+    let mut off_f1 = Vec::new();
     for (seed, (designs, _, cal)) in seeds.iter().zip(&rows) {
         let selected = &cal.model.selected_effects;
         let fit = fitted(cal, "clamp-compliance");
@@ -228,10 +230,18 @@ fn a_stiffness_effect_moves_the_force_and_the_resonance_together() {
         assert!((v / CLAMP - 1.0).abs() < 0.2, "seed {seed}: c_theta {v}");
         misses += usize::from(!(lo <= CLAMP && CLAMP <= hi));
         // The calibrated f1 is that of the truth, well inside the 1 % noise of one reading.
-        assert!(resonance_error(cal, truth, designs) < 0.005);
+        if resonance_error(cal, truth, designs) >= 0.005 {
+            off_f1.push(*seed);
+        }
     }
-    // At least 15 of 20 data sets name exactly the hidden effect (a mass-stage false alarm on the
-    // masses, which the resonances then contradict, leaves the others not explained).
+    println!(
+        "{} of {} data sets name exactly the hidden effect",
+        seeds.len() - named_other,
+        seeds.len()
+    );
+    // At least 15 of 20 data sets name exactly the hidden effect (where the masses alone choose a bond
+    // layer by chance, no mass effect is kept, but the adequacy test leaves that data set not explained:
+    // docs/calibration.md §3, "No mass effect").
     assert!(
         seeds.len() - named_other >= of_20(15, seeds.len()),
         "{named_other} of {} data sets named another effect",
@@ -240,6 +250,10 @@ fn a_stiffness_effect_moves_the_force_and_the_resonance_together() {
     assert!(
         misses <= allowed_misses(seeds.len()),
         "{misses} intervals missed"
+    );
+    assert!(
+        off_f1.is_empty(),
+        "seeds {off_f1:?}: the calibrated f1 is 0.5 % or more off the truth's"
     );
 }
 
@@ -272,8 +286,14 @@ fn a_d31_effect_leaves_the_resonance_alone() {
         misses += usize::from(!(lo <= D31 && D31 <= hi));
         assert!(resonance_error(cal, truth, designs) < 0.005);
     }
-    // At least 15 of 20 data sets name exactly the hidden effect (a mass-stage false alarm on the
-    // masses, which the resonances then contradict, leaves the others not explained).
+    println!(
+        "{} of {} data sets name exactly the hidden effect",
+        seeds.len() - named_other,
+        seeds.len()
+    );
+    // At least 15 of 20 data sets name exactly the hidden effect (where the masses alone choose a bond
+    // layer by chance, no mass effect is kept, but the adequacy test leaves that data set not explained:
+    // docs/calibration.md §3, "No mass effect").
     assert!(
         seeds.len() - named_other >= of_20(15, seeds.len()),
         "{named_other} of {} data sets named another effect",
@@ -283,6 +303,59 @@ fn a_d31_effect_leaves_the_resonance_alone() {
         misses <= allowed_misses(seeds.len()),
         "{misses} intervals missed"
     );
+}
+
+/// A mass effect the masses choose by chance is dropped when the resonances do not support it
+/// (docs/calibration.md §3, "No mass effect"). Seed 1003 of the d31 case is a data set whose masses alone
+/// choose a bond layer (a false alarm: the truth has no mass effect); with the `f1` column the selection
+/// keeps no mass effect, selects the d31 scale alone at its value and says why in a note; without the
+/// column the masses' pick stands, since nothing else measures the mass. (The verdict is the adequacy
+/// test's, not the fallback's: docs/calibration.md §3 gives it for this data set.)
+#[test]
+fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
+    let truth = Truth::Library(Effects {
+        d31_scale: D31,
+        ..Effects::default()
+    });
+    let (_, csv, with) = calibrated(truth, 1003, random_designs, &Settings::default());
+    let without = calibrate::calibrate(
+        &parse(&without_resonance(&csv)).unwrap(),
+        &Settings::default(),
+    )
+    .unwrap();
+    let masses_chose = |cal: &Calibration| {
+        cal.selection
+            .mass_candidates
+            .iter()
+            .filter(|c| c.accepted)
+            .min_by(|a, b| a.aicc.total_cmp(&b.aicc))
+            .map(|c| c.label())
+    };
+    assert_eq!(masses_chose(&with).as_deref(), Some("{bond-layer}"));
+    assert_eq!(masses_chose(&without).as_deref(), Some("{bond-layer}"));
+    assert!(
+        without
+            .model
+            .selected_effects
+            .contains(&"bond-layer".to_string()),
+        "without f1: {:?}",
+        without.model.selected_effects
+    );
+    assert_eq!(with.model.selected_effects, ["d31-scale"]);
+    assert!(with
+        .selection
+        .final_mass_index
+        .is_none_or(|i| with.selection.mass_candidates[i].effects.is_empty()));
+    assert!(
+        with.selection
+            .notes
+            .iter()
+            .any(|n| n.contains("so no mass effect was kept")),
+        "{:?}",
+        with.selection.notes
+    );
+    let (v, _) = fitted(&with, "d31-scale").unwrap();
+    assert!((v / D31 - 1.0).abs() < 0.02, "eta {v}");
 }
 
 #[test]

@@ -194,6 +194,50 @@ pub struct StackBasis {
     pub planform: Planform,
 }
 
+/// The part of a [`StackBasis`] that depends on the stack and its drive alone, not on the planform: the
+/// actuators of a data set that share a stack and a drive field share it, so a calibration solves each
+/// distinct stack once per evaluation rather than once per actuator. [`StackSection::basis`] gives the
+/// same numbers [`Effects::basis`] gives for each planform (it is the same arithmetic).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StackSection {
+    /// Free curvature with the nominal d31 at the drive field, 1/m.
+    pub free_curvature: f64,
+    /// Bending compliance `C44` of the stack, 1/(N·m).
+    pub bending_compliance: f64,
+    /// Bending compliance `C44` of the plies alone, 1/(N·m); solved only for an actuator with an
+    /// extension (None otherwise).
+    pub passive_bending_compliance: Option<f64>,
+    /// Drive field, V/m.
+    pub field: f64,
+}
+
+impl StackSection {
+    /// The stack basis of a planform: the tapered beam's tip compliance `C44 l_p³ G(w_r, l_r) / (3 w_nom)`
+    /// (thesis eqs. 2.29-2.34, docs/physics.md §3) and the bare plies' extension `C44_pass l_ext³ / (3 w_tip)`.
+    pub fn basis(&self, pl: &Planform) -> Result<StackBasis, ModelError> {
+        let l_p = pl.piezo_length();
+        let beam =
+            self.bending_compliance * l_p.powi(3) * pl.shape_factor() / (3.0 * pl.nominal_width());
+        let extension = if pl.extension_ratio > 0.0 {
+            let Some(passive) = self.passive_bending_compliance else {
+                return Err(ModelError::Laminate(
+                    "the stack was solved for an actuator without an extension".into(),
+                ));
+            };
+            passive * pl.extension_length().powi(3) / (3.0 * pl.tip_width())
+        } else {
+            0.0
+        };
+        Ok(StackBasis {
+            free_curvature: self.free_curvature,
+            beam_compliance: beam,
+            extension_compliance: extension,
+            field: self.field,
+            planform: *pl,
+        })
+    }
+}
+
 impl StackBasis {
     /// The same stack driven at another (positive) field of the same mode: the CLT free curvature is
     /// linear in the layer fields (`DriveMode::layer_fields`, thesis eq. 2.20's piezoelectric moment
@@ -320,9 +364,16 @@ impl Effects {
     /// The mass no layer carries: `m_a + 2 λ P_pzt + 2 μ A_pzt` over both plates
     /// ([`Planform::piezo_perimeter`], [`Planform::piezo_area`]), kg.
     pub fn added_mass(&self, planform: &Planform) -> f64 {
-        self.added_mass
-            + 2.0 * self.added_mass_per_length * planform.piezo_perimeter()
-            + 2.0 * self.added_mass_per_area * planform.piezo_area()
+        // A term whose parameter is zero adds exactly zero: skipped, since a calibration asks for the
+        // mass of every actuator at every step of every fit and the perimeter costs a square root.
+        let mut m = self.added_mass;
+        if self.added_mass_per_length != 0.0 {
+            m += 2.0 * self.added_mass_per_length * planform.piezo_perimeter();
+        }
+        if self.added_mass_per_area != 0.0 {
+            m += 2.0 * self.added_mass_per_area * planform.piezo_area();
+        }
+        m
     }
 
     /// Factor on d31 at a drive field: `η (1 + β E)`.
@@ -407,6 +458,12 @@ impl Effects {
     /// Stack basis for fast re-evaluation: the stack effects of `self` are applied, η and β are not
     /// (the curvature is at the nominal d31; CLT curvature is linear in d31).
     pub fn basis(&self, a: &Actuator) -> Result<StackBasis, ModelError> {
+        self.stack_section(a)?.basis(&a.planform)
+    }
+
+    /// The planform-free part of [`Effects::basis`]: the stack with the stack effects of `self` applied
+    /// (η and β not) solved at the drive, and the plies alone when the planform has an extension.
+    pub fn stack_section(&self, a: &Actuator) -> Result<StackSection, ModelError> {
         let nominal_d31 = Effects {
             d31_scale: 1.0,
             d31_field_coefficient: 0.0,
@@ -414,22 +471,16 @@ impl Effects {
         };
         let lam = nominal_d31.laminate(a)?;
         let section = Section::new(&lam, a.drive)?;
-        let pl = &a.planform;
-        let l_p = pl.piezo_length();
-        let beam = section.bending_compliance * l_p.powi(3) * pl.shape_factor()
-            / (3.0 * pl.nominal_width());
-        let extension = if pl.extension_ratio > 0.0 {
-            self.passive_bending_compliance(a)? * pl.extension_length().powi(3)
-                / (3.0 * pl.tip_width())
+        let passive = if a.planform.extension_ratio > 0.0 {
+            Some(self.passive_bending_compliance(a)?)
         } else {
-            0.0
+            None
         };
-        Ok(StackBasis {
+        Ok(StackSection {
             free_curvature: section.free_curvature,
-            beam_compliance: beam,
-            extension_compliance: extension,
+            bending_compliance: section.bending_compliance,
+            passive_bending_compliance: passive,
             field: a.drive.field,
-            planform: *pl,
         })
     }
 
@@ -632,6 +683,33 @@ mod tests {
             let q = off.predict(&a).unwrap();
             assert!((q.blocked_force / p.blocked_force - 1.0).abs() > 1e-3);
         }
+    }
+
+    /// The stack section does not depend on the planform: solved on one actuator, it gives another
+    /// planform's basis exactly; solved without an extension, it refuses a planform with one.
+    #[test]
+    fn a_stack_section_serves_every_planform_of_its_stack() {
+        let (pzt, cf) = materials();
+        let layup = [0.0, 90.0, 0.0];
+        let e = Effects {
+            bond_thickness: 20e-6,
+            ply_thickness_scale: 1.2,
+            ..Effects::null()
+        };
+        let a = actuator(&pzt, &cf, &layup);
+        let section = e.stack_section(&a).unwrap();
+        let mut b = a;
+        b.planform = Planform::new(25e-3, 0.3, 5e-3, 0.7, 0.0).unwrap();
+        assert_eq!(section.basis(&b.planform).unwrap(), e.basis(&b).unwrap());
+        let mut bare = a;
+        bare.planform = Planform::new(25e-3, 0.0, 5e-3, 0.7, 0.0).unwrap();
+        let without = e.stack_section(&bare).unwrap();
+        assert!(without.passive_bending_compliance.is_none());
+        assert_eq!(
+            without.basis(&bare.planform).unwrap(),
+            e.basis(&bare).unwrap()
+        );
+        assert!(without.basis(&a.planform).is_err());
     }
 
     #[test]

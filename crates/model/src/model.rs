@@ -3,7 +3,7 @@
 
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
-use crate::effects::{Actuator, Effects, StackBasis};
+use crate::effects::{Actuator, Effects, StackBasis, StackSection};
 use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
@@ -113,12 +113,19 @@ impl EffectModel {
     /// The stack basis of an actuator with the stack effects and stack primitives applied (η, β and the
     /// boundary primitives are left to [`EffectModel::outputs`]).
     pub fn basis(&self, a: &Actuator) -> Result<StackBasis, ModelError> {
-        // No primitive: the effects' own basis, without copying the materials into a stack.
+        self.stack_section(a)?.basis(&a.planform)
+    }
+
+    /// The planform-free part of [`EffectModel::basis`] ([`StackSection`]): the same for every actuator
+    /// of the same stack (materials, thicknesses, layup), drive field and presence of an extension, since
+    /// the stack primitives act on the stack's inputs alone.
+    pub fn stack_section(&self, a: &Actuator) -> Result<StackSection, ModelError> {
+        // No primitive: the effects' own section, without copying the materials into a stack.
         if self.primitives.is_empty() {
-            return self.effects.basis(a);
+            return self.effects.stack_section(a);
         }
         let s = primitives::stack(&self.primitives, &self.effects, a)?;
-        s.effects.basis(&s.actuator(a))
+        s.effects.stack_section(&s.actuator(a))
     }
 
     /// Free deflection and blocked force from a basis of [`EffectModel::basis`] (the same numbers as

@@ -128,10 +128,9 @@ pub(crate) fn fit(
             return b.clone();
         }
         let model = model_at(base, tried.primitive, None, p, 0.0);
-        let b: Vec<Option<StackBasis>> = points
-            .iter()
-            .map(|&row| model.basis(&data.rows[row].actuator()).ok())
-            .collect();
+        // Each distinct stack solved once.
+        let mut stacks = act.stacks.solver(act.data, &model);
+        let b: Vec<Option<StackBasis>> = points.iter().map(|&row| stacks.basis(row)).collect();
         let mut c = bases.borrow_mut();
         if c.len() >= 4 {
             c.remove(0);

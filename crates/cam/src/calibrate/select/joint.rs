@@ -211,6 +211,11 @@ impl<'a> JointData<'a> {
             })
             .collect();
         let rows = &act.data.rows;
+        // Each node's stacks solved once per distinct stack.
+        let mut solvers: Vec<_> = models
+            .iter()
+            .map(|m| act.stacks.solver(act.data, m))
+            .collect();
         let mut stack_of = Vec::with_capacity(act.obs.len());
         let mut stacks: Vec<StackModel> = Vec::new();
         // For each actuator, (row the stack was solved for, stack model) of each drive mode it was
@@ -225,10 +230,13 @@ impl<'a> JointData<'a> {
                 stack_of.push(s);
                 continue;
             }
-            let a = rows[o.row].actuator();
-            let bases = models
-                .iter()
-                .map(|m| m.basis(&a))
+            let bases = solvers
+                .iter_mut()
+                .zip(&models)
+                .map(|(s, m)| {
+                    s.basis(o.row)
+                        .map_or_else(|| m.basis(&rows[o.row].actuator()), Ok)
+                })
                 .collect::<Result<Vec<StackBasis>, _>>()?;
             let quad = |q: fn(&StackBasis) -> f64| {
                 Quadratic::fit(&bases.iter().map(q).collect::<Vec<_>>(), k)
@@ -243,6 +251,7 @@ impl<'a> JointData<'a> {
             solved_for[o.group].push((o.row, stacks.len() - 1));
             stack_of.push(stacks.len() - 1);
         }
+        drop(solvers);
         let mut masses = Vec::new();
         for &(g, row, ln_m) in mass.map_or(&[][..], |m| &m.obs[..]) {
             let a = act.data.rows[row].actuator();
@@ -418,6 +427,7 @@ impl StageData for JointData<'_> {
             groups: self.act.groups,
             frozen_primitives: 0,
             resonances,
+            stacks: self.act.stacks.clone(),
         })
     }
 }

@@ -14,6 +14,7 @@ pub(crate) mod observations;
 pub mod outliers;
 pub mod separating;
 pub mod settings;
+pub(crate) mod stacks;
 pub mod thickness;
 
 pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
@@ -26,6 +27,7 @@ use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId, Stage};
 use acceptance::{best_and_rivals, best_and_rivals_indices, judge};
 use actuator_model::effects::Effects;
+use actuator_model::effects::StackBasis;
 use actuator_model::EffectModel;
 use actuator_model::ModelError;
 use adequacy::adequacy;
@@ -36,6 +38,7 @@ use observations::{ActuationData, ActuationObs, MassData, ResonanceObs, Resonanc
 use outliers::outliers;
 use rayon::prelude::*;
 use separating::separate;
+use stacks::Stacks;
 
 /// The verdict a calibration reports (docs/calibration.md §3).
 #[derive(Debug, Clone, PartialEq)]
@@ -140,6 +143,8 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     // Mass models to carry into the actuation stage: the one the masses choose, and every other whose own
     // effects are significant on the masses (docs/calibration.md §3, "Mass effects on all the data").
     let mut bases: Vec<Option<usize>> = vec![None];
+    // Index in `bases` of the original mass model carried beside a mass effect the masses chose.
+    let mut no_mass_effect: Option<usize> = None;
     let mut mass_ranking: Vec<usize> = Vec::new();
     if mass_data.obs.len() >= 4 {
         let fitter = Fitter {
@@ -183,6 +188,14 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
                     bases.push(Some(i));
                 }
             }
+        }
+        // With measured resonances the original mass model is carried too: `f1` measures the mass a
+        // second way, and a mass effect the masses chose by chance is one the resonances can refute
+        // (docs/calibration.md §3, "No mass effect").
+        let resonances = data.rows.iter().any(|r| r.resonance.is_some());
+        if resonances && chosen != 0 {
+            bases.push(Some(0));
+            no_mass_effect = Some(bases.len() - 1);
         }
     } else {
         notes.push(
@@ -230,9 +243,9 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             &shared,
         )?);
     }
-    // The mass model the masses chose stands unless another fits masses, deflections and forces together
-    // better by the acceptance margin (joint AICc: the two data sets' likelihoods add; the masses' at the
-    // final model's mass parameters, where those were fitted on all the data).
+    // The mass model the masses chose stands unless another fits masses, deflections and forces (and
+    // resonances) together better by the acceptance margin (joint AICc: the two data sets' likelihoods
+    // add; the masses' at the final model's mass parameters, where those were fitted on all the data).
     let joint: Vec<f64> = bases
         .iter()
         .zip(&stages)
@@ -255,11 +268,29 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             pick = j;
         }
     }
+    // A mass effect is an added effect: on all the data it must beat no mass effect by the acceptance
+    // margin, as every candidate must beat its nulls (§3, step 4); else the original mass model stands
+    // (also where a joint AICc is not a number).
+    let beats = |j: usize, o: usize| joint[j] < joint[o] - settings.min_delta_aicc;
+    let refuted = no_mass_effect.filter(|&o| pick != o && !beats(pick, o));
+    let mass_pick = pick;
+    if let Some(o) = refuted {
+        pick = o;
+    }
     if let Some(i) = bases[pick] {
         final_mass_index = Some(i);
         selected.extend(mass_candidates[i].library_effects());
-        if pick != 0 {
-            let label = |k: usize| mass_candidates[k].label();
+        let label = |k: usize| mass_candidates[k].label();
+        if refuted.is_some() {
+            let best = bases[mass_pick].map_or("original".into(), label);
+            notes.push(format!(
+                "the masses alone chose {}; on the masses, deflections, forces and resonances together {best} does not beat no mass effect by more than {} (joint AICc {:.1} with it, {:.1} without), so no mass effect was kept",
+                bases[0].map_or("original".into(), label),
+                settings.min_delta_aicc,
+                joint[mass_pick],
+                joint[pick]
+            ));
+        } else if pick != 0 {
             notes.push(format!(
                 "the masses alone chose {}; {} fits the masses, deflections and forces together better (joint AICc {:.1} lower), so it was kept",
                 bases[0].map_or("original".into(), label),
@@ -398,7 +429,8 @@ fn actuation_stage<'a>(
 ) -> Result<ActuationStage<'a>, ModelError> {
     let mut notes = Vec::new();
     let groups = data.actuators();
-    let obs = actuation_obs(data, &base)?;
+    let stacks = Stacks::new(data);
+    let obs = actuation_obs(data, &base, &stacks)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
     if act_groups.len() < max_parameters(settings) + 2 {
         return Err(ModelError::Fit(format!(
@@ -414,7 +446,8 @@ fn actuation_stage<'a>(
         obs,
         groups,
         frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, &base)?,
+        resonances: resonance_obs(data, &base, &stacks)?,
+        stacks,
     };
     // With a carried mass model, every model starts from the original and applies the mass parameters
     // it fits; the stacks are held as quadratics in them (joint.rs).
@@ -641,17 +674,38 @@ pub(crate) fn actuation_data<'a>(
     data: &'a Dataset,
     base: &EffectModel,
 ) -> Result<ActuationData<'a>, ModelError> {
+    let stacks = Stacks::new(data);
     Ok(ActuationData {
         data,
-        obs: actuation_obs(data, base)?,
+        obs: actuation_obs(data, base, &stacks)?,
         groups: data.actuators(),
         frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, base)?,
+        resonances: resonance_obs(data, base, &stacks)?,
+        stacks,
     })
 }
 
+/// Row `row`'s stack basis under `base` from the solved stacks, or the model's own error where it cannot
+/// be evaluated.
+fn basis_of(
+    data: &Dataset,
+    base: &EffectModel,
+    solver: &mut stacks::Solver,
+    row: usize,
+) -> Result<StackBasis, ModelError> {
+    match solver.basis(row) {
+        Some(b) => Ok(b),
+        None => base.basis(&data.rows[row].actuator()),
+    }
+}
+
 /// The actuators with a measured first resonance, each with its stack solved under `base`.
-fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, ModelError> {
+fn resonance_obs(
+    data: &Dataset,
+    base: &EffectModel,
+    stacks: &Stacks,
+) -> Result<Resonances, ModelError> {
+    let mut solver = stacks.solver(data, base);
     let mut obs = Vec::new();
     for (group, rows) in data.groups.iter().enumerate() {
         let row = rows[0];
@@ -660,7 +714,7 @@ fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, Model
             obs.push(ResonanceObs {
                 group,
                 row,
-                basis: base.basis(&r.actuator())?,
+                basis: basis_of(data, base, &mut solver, row)?,
                 ln_frequency: f.ln(),
             });
         }
@@ -670,7 +724,12 @@ fn resonance_obs(data: &Dataset, base: &EffectModel) -> Result<Resonances, Model
 
 /// The rows with a measured deflection or force at a non-zero drive, each with its stack solved under the
 /// stack effects of `base`.
-fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>, ModelError> {
+fn actuation_obs(
+    data: &Dataset,
+    base: &EffectModel,
+    stacks: &Stacks,
+) -> Result<Vec<ActuationObs>, ModelError> {
+    let mut solver = stacks.solver(data, base);
     let mut obs = Vec::new();
     for (i, r) in data.rows.iter().enumerate() {
         if r.voltage <= 0.0 || (r.free_deflection.is_none() && r.blocked_force.is_none()) {
@@ -679,7 +738,7 @@ fn actuation_obs(data: &Dataset, base: &EffectModel) -> Result<Vec<ActuationObs>
         obs.push(ActuationObs {
             group: data.group_of[i],
             row: i,
-            basis: base.basis(&r.actuator())?,
+            basis: basis_of(data, base, &mut solver, i)?,
             ln_delta: r.free_deflection.map(f64::ln),
             ln_force: r.blocked_force.map(f64::ln),
         });

@@ -2,6 +2,7 @@
 //! deflections and forces, then the measured first resonances (actuation stage), with whole actuators
 //! maskable for cross-validation.
 
+use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::StackBasis;
@@ -75,6 +76,8 @@ pub(crate) struct ActuationData<'a> {
     /// The measured first resonances, one per actuator that has one; their log residuals follow the
     /// deflections' and forces' (docs/calibration.md §3, "The resonance").
     pub(crate) resonances: Resonances,
+    /// The data's distinct stacks: a model that changes the stack solves each once per evaluation.
+    pub(crate) stacks: Stacks,
 }
 
 /// One actuator's measured first resonance.
@@ -180,10 +183,11 @@ impl StageData for ActuationData<'_> {
             .iter()
             .skip(self.frozen_primitives)
             .any(|x| x.primitive.changes_stack());
-        // Re-solved bases, one stack solve per actuator: its other voltages move the basis to their
-        // field (same drive mode).
+        // Re-solved bases, one stack solve per distinct stack, one basis per actuator: its other
+        // voltages move the basis to their field (same drive mode).
         let mut solved: Vec<Option<(usize, StackBasis)>> =
             vec![None; if resolve { self.groups } else { 0 }];
+        let mut stacks = self.stacks.solver(self.data, effects);
         for o in &self.obs {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
@@ -192,9 +196,9 @@ impl StageData for ActuationData<'_> {
                 let rows = &self.data.rows;
                 let basis = match solved[o.group] {
                     Some((row, b)) if rows[row].drive_mode == rows[o.row].drive_mode => {
-                        Ok(b.at_field(o.basis.field))
+                        Some(b.at_field(o.basis.field))
                     }
-                    _ => effects.basis(&rows[o.row].actuator()).inspect(|b| {
+                    _ => stacks.basis(o.row).inspect(|b| {
                         solved[o.group] = Some((o.row, *b));
                     }),
                 };
@@ -215,11 +219,11 @@ impl StageData for ActuationData<'_> {
             }
             let basis = if resolve {
                 match solved[o.group] {
-                    Some((_, b)) => Ok(b),
-                    None => effects.basis(&self.data.rows[o.row].actuator()),
+                    Some((_, b)) => Some(b),
+                    None => stacks.basis(o.row),
                 }
             } else {
-                Ok(o.basis)
+                Some(o.basis)
             };
             out.push(basis.map_or(f64::NAN, |b| {
                 self.resonances.residual(self.data, k, effects, &b)
