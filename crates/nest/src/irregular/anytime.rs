@@ -44,10 +44,10 @@ pub(super) const BASE_ITERATIONS: usize = 1000;
 /// rate), and its search's moves over all workers on more than one sheet.
 pub(super) const ROUND_ITERATIONS: usize = 100;
 /// Rounds in a row without a shorter layout (fewer sheets, or a used length shorter by more
-/// than the score's tolerance) after which the rounds end: 20 million evaluations per chain, so
-/// that an exploration that breaks through only after many disruptions gets them (sparrow's
-/// exploration ends only on its time).
-const ROUND_STALL: usize = 400;
+/// than the score's tolerance) after which the rounds end: 200 million evaluations per chain,
+/// minutes of a time budget, so that an exploration that breaks through only after many
+/// disruptions gets them (sparrow's exploration ends only on its time).
+const ROUND_STALL: usize = 4000;
 /// Overlap evaluations each chain gets per round: a few separations, well under a second on a
 /// strip of a few dozen parts, so a deadline wastes little on the round it cuts.
 const ROUND_EVALUATIONS: usize = 50_000;
