@@ -80,9 +80,10 @@
 //! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
-//! * **Where it stands**: on the bench's 40 measuring strips (12-300 parts) 1.1 points ahead of
-//!   sparrow, the state-of-the-art strip packer, given 5 s (0.7-1.7 per set of 8), and 2.5
-//!   points ahead of it given our wall time of about 2.5 s (docs/benchmarks.md).
+//! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
+//!   the state-of-the-art strip packer, given 5 s; on the twelve public ESICUP instances behind
+//!   it, by about half a point in the mean at 5 s and two points at 30 s, where sparrow's
+//!   separation keeps finding lower ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
