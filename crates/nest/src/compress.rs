@@ -18,7 +18,9 @@
 //! ones more often), swaps two large parts of different designs in it and separates again. A
 //! swap moves a part into another row, which is how rows whose lengths do not add up to the
 //! sheet width get re-partitioned. A clear layout sends compression back to its small steps;
-//! `EXPLORE_FAILURES` failures in a row, or the budget, end it.
+//! `EXPLORE_FAILURES` failures in a row, or the budget, end it. A [`Chain`] holds all of this
+//! state, so that the anytime rounds can resume a *patient* chain, one that never gives up an
+//! exploration, slice after slice of budget.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.
@@ -95,9 +97,12 @@ const LARGE_AREA_SHARE: f32 = 0.75;
 /// (clipped below 1): mostly the least overlapping ones, now and then a worse one (sparrow's
 /// setting).
 const POOL_SPREAD: f32 = 0.25;
-/// Random positions anywhere on the sheet, and near the part, tried per move.
-const GLOBAL_SAMPLES: usize = 20;
-const LOCAL_SAMPLES: usize = 10;
+/// Random positions anywhere on the sheet, and near the part, tried per move: sparrow's 50 in the
+/// container and 25 focussed on the item (Gardeyn & Wauters 2025, its default configuration).
+/// For the same evaluations that is fewer moves, each to a better spot: where parts of a few
+/// whole-number sizes fill rows exactly, a move must find the one gap that takes a part.
+const GLOBAL_SAMPLES: usize = 50;
+const LOCAL_SAMPLES: usize = 25;
 /// Local samples fall within this share of the part's larger side of where it is.
 const LOCAL_RADIUS_SHARE: f32 = 0.25;
 /// Coordinate descent from the best sample: first and last step, mm.
@@ -112,12 +117,27 @@ const STALL_SWEEPS: usize = 40;
 /// batch) and 3.0 fewer.
 const WEIGHT_GROWTH: f32 = 2.0;
 const WEIGHT_DECAY: f32 = 0.95;
+/// The least fall of the least overlap in a stall that does not count as a strike (under 2 %
+/// is a strike: sparrow's 0.98).
+const STRIKE_GAIN: f32 = 0.98;
+
+/// How hard a separation tries: the stalls in a row it takes before it gives up.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Effort {
+    strikes: usize,
+}
+
+/// The compression within a budget: one stall ends a separation.
+const QUICK: Effort = Effort { strikes: 1 };
+/// The patient chains of the anytime rounds, which have time to spend: sparrow's strike limit
+/// in its exploration (Gardeyn & Wauters 2025, its default configuration).
+const PATIENT: Effort = Effort { strikes: 3 };
 
 /// The lowest-topped clear layout of `sheet`'s parts that compression finds within `budget`
 /// overlap evaluations (the input itself if none is lower). `clear` is the final judge of a
-/// layout (jagua-rs's collision test). `stop` is asked before every separation: once it says
-/// yes, compression returns the best layout so far, and `Compressed::stopped` tells the caller
-/// that the budget did not decide where it ended.
+/// layout (jagua-rs's collision test). `stop` is asked before every separation and every
+/// sweep of one: once it says yes, compression returns the best layout so far, and
+/// `Compressed::stopped` tells the caller that the budget did not decide where it ended.
 pub(crate) fn compress(
     footprints: &Footprints,
     sheet: &[Placement],
@@ -126,99 +146,12 @@ pub(crate) fn compress(
     clear: impl Fn(&[Placement]) -> bool,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Compressed {
-    let mut best = sheet.to_vec();
-    if best.len() < 2 {
-        return Compressed {
-            items: best,
-            stopped: false,
-        };
-    }
-    let top = |items: &[Placement]| {
-        items
-            .iter()
-            .map(|s| footprints[s.part][s.rot].pieces.bounds[3] + s.t.1)
-            .fold(f32::MIN, f32::max)
-    };
-    let bottom = best
-        .iter()
-        .map(|s| {
-            let f = &footprints[s.part][s.rot];
-            f.y.0 + f.pieces.bounds[1]
-        })
-        .fold(f32::MAX, f32::min);
-    let mut best_top = top(&best);
-    let length = best_top - bottom;
-    let mut step = SHRINK_FIRST * length;
-    let mut spent = 0;
-    let mut failed_at_last = 0;
-    // The guided local search's pair weights stay with the small steps from one attempt to the
-    // next (see `Separation::weights`); exploration, which is there to leave the structure the
-    // small steps are stuck in, starts every separation from unit weights.
-    let mut weights = vec![1.0; best.len() * best.len()];
-    loop {
-        while spent < budget && failed_at_last < STALL_ATTEMPTS {
-            if stop() {
-                return Compressed {
-                    items: best,
-                    stopped: true,
-                };
-            }
-            let ceiling = best_top - step;
-            let Some(trial) = all_under_ceiling(footprints, &best, ceiling) else {
-                // A part is taller than the room under this ceiling: no lower ceiling will do.
-                if step <= SHRINK_LAST * length {
-                    break;
-                }
-                step = (step * 0.5).max(SHRINK_LAST * length);
-                continue;
-            };
-            let trial_len = trial.len();
-            let mut separation = Separation::new(footprints, trial, ceiling, weights);
-            let separated = separation.run(rng, budget - spent);
-            weights = std::mem::take(&mut separation.weights);
-            // Setting up counts as one evaluation per part, so that attempts which need no moves
-            // (and a judge that rejects them) still spend the budget.
-            spent += separation.evaluations + trial_len;
-            if separated && clear(&separation.items) {
-                best = separation.items;
-                best_top = top(&best);
-            } else {
-                if step <= SHRINK_LAST * length {
-                    failed_at_last += 1;
-                }
-                step = (step * 0.5).max(SHRINK_LAST * length);
-            }
-        }
-
-        // The smallest step keeps failing: explore at it, and go back to small steps from
-        // whatever clear layout exploration finds.
-        if spent >= budget {
-            break;
-        }
-        let ceiling = best_top - SHRINK_LAST * length;
-        let (found, used) = explore(
-            footprints,
-            &best,
-            ceiling,
-            budget - spent,
-            rng,
-            &clear,
-            stop,
-        );
-        spent += used;
-        let Some(found) = found else {
-            return Compressed {
-                items: best,
-                stopped: stop(),
-            };
-        };
-        best = found;
-        best_top = top(&best);
-        failed_at_last = 0;
-    }
+    let mut chain = Chain::new(footprints, sheet, rng.clone(), false);
+    let stopped = chain.advance(budget, &clear, stop);
+    *rng = chain.rng;
     Compressed {
-        items: best,
-        stopped: false,
+        items: chain.best,
+        stopped,
     }
 }
 
@@ -230,11 +163,238 @@ pub(crate) struct Compressed {
     pub(crate) stopped: bool,
 }
 
+/// One compression chain: the lowest clear layout so far and where the search stands (the
+/// ceiling step, the pair weights, the exploration's pool), so that it can be resumed
+/// ([`Chain::advance`]) as often as there is budget. A chain that is not `patient` ends by the
+/// stall rules ([`compress`]); a patient one never leaves an exploration it has begun, as
+/// sparrow's exploration keeps its pool at a ceiling for as long as its time lasts: the
+/// anytime rounds give it that time in counted slices.
+pub(crate) struct Chain<'f> {
+    footprints: &'f Footprints,
+    best: Vec<Placement>,
+    best_top: f32,
+    /// The used length of the start, which the ceiling steps are shares of.
+    length: f32,
+    step: f32,
+    failed_at_last: usize,
+    /// The small steps' pair weights, carried from one attempt to the next (see
+    /// `Separation::weights`).
+    weights: Vec<f32>,
+    exploring: Option<Exploration>,
+    spent: usize,
+    patient: bool,
+    ended: bool,
+    rng: ChaCha8Rng,
+}
+
+impl<'f> Chain<'f> {
+    pub(crate) fn new(
+        footprints: &'f Footprints,
+        sheet: &[Placement],
+        rng: ChaCha8Rng,
+        patient: bool,
+    ) -> Self {
+        let best = sheet.to_vec();
+        let best_top = top(footprints, &best);
+        let bottom = best
+            .iter()
+            .map(|s| {
+                let f = &footprints[s.part][s.rot];
+                f.y.0 + f.pieces.bounds[1]
+            })
+            .fold(f32::MAX, f32::min);
+        let length = best_top - bottom;
+        Chain {
+            footprints,
+            weights: vec![1.0; best.len() * best.len()],
+            ended: best.len() < 2,
+            best,
+            best_top,
+            length,
+            step: SHRINK_FIRST * length,
+            failed_at_last: 0,
+            exploring: None,
+            spent: 0,
+            patient,
+            rng,
+        }
+    }
+
+    /// How hard this chain's separations try.
+    fn effort(&self) -> Effort {
+        if self.patient {
+            PATIENT
+        } else {
+            QUICK
+        }
+    }
+
+    /// True once the chain can do no more (too few parts, or no lower ceiling leaves room for
+    /// the tallest part, or, if not patient, its stall rules).
+    pub(crate) fn ended(&self) -> bool {
+        self.ended
+    }
+
+    /// The lowest clear layout so far.
+    pub(crate) fn best(&self) -> &[Placement] {
+        &self.best
+    }
+
+    /// Runs the chain for `budget` more overlap evaluations (the last separation may run past
+    /// them by its own count), or until its stall rules end it; true if `stop` ended it first.
+    pub(crate) fn advance(
+        &mut self,
+        budget: usize,
+        clear: &impl Fn(&[Placement]) -> bool,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        let footprints = self.footprints;
+        let target = self.spent.saturating_add(budget);
+        let last = SHRINK_LAST * self.length;
+        while !self.ended && self.spent < target {
+            if stop() {
+                return true;
+            }
+            let effort = self.effort();
+            if let Some(exploration) = self.exploring.as_mut() {
+                if !self.patient && exploration.failures >= EXPLORE_FAILURES {
+                    self.ended = true;
+                    break;
+                }
+                let (found, used) = exploration.separate(
+                    footprints,
+                    target - self.spent,
+                    &mut self.rng,
+                    clear,
+                    stop,
+                    effort,
+                );
+                self.spent += used;
+                if let Some(found) = found {
+                    self.best_top = top(footprints, &found);
+                    self.best = found;
+                    self.failed_at_last = 0;
+                    self.exploring = None;
+                }
+                continue;
+            }
+            if self.failed_at_last >= STALL_ATTEMPTS {
+                // The smallest step keeps failing: explore at it, and go back to small steps
+                // from whatever clear layout exploration finds.
+                self.exploring = Exploration::new(footprints, &self.best, self.best_top - last);
+                self.ended = self.exploring.is_none();
+                continue;
+            }
+            let ceiling = self.best_top - self.step;
+            let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
+                // A part is taller than the room under this ceiling: no lower ceiling will do.
+                if self.step <= last {
+                    self.ended = true;
+                    break;
+                }
+                self.step = (self.step * 0.5).max(last);
+                continue;
+            };
+            let trial_len = trial.len();
+            let weights = std::mem::take(&mut self.weights);
+            let mut separation = Separation::new(footprints, trial, ceiling, weights, effort);
+            let separated = separation.run(&mut self.rng, target - self.spent, stop);
+            self.weights = std::mem::take(&mut separation.weights);
+            // Setting up counts as one evaluation per part, so that attempts which need no moves
+            // (and a judge that rejects them) still spend the budget.
+            self.spent += separation.evaluations + trial_len;
+            if separated && clear(&separation.items) {
+                self.best = separation.items;
+                self.best_top = top(footprints, &self.best);
+            } else {
+                if self.step <= last {
+                    self.failed_at_last += 1;
+                }
+                self.step = (self.step * 0.5).max(last);
+            }
+        }
+        false
+    }
+}
+
+/// The top of a layout: its highest shape's top edge.
+fn top(footprints: &Footprints, items: &[Placement]) -> f32 {
+    items
+        .iter()
+        .map(|s| footprints[s.part][s.rot].pieces.bounds[3] + s.t.1)
+        .fold(f32::MIN, f32::max)
+}
+
 /// Sparrow's exploration (Gardeyn & Wauters 2025, "exploration phase") at a fixed `ceiling`
-/// below the top of `best`: separate; on a failure put the failed layout in a pool ordered by
-/// its remaining overlap, take one back (`POOL_SPREAD`), disrupt it ([`disrupt`]) and separate
-/// again. Returns the first clear layout (or none, after `EXPLORE_FAILURES` failures in a row
-/// or when `budget` overlap evaluations are spent) and the evaluations spent.
+/// below the top of the chain's best layout: separate; on a failure put the failed layout in a
+/// pool ordered by its remaining overlap, take one back (`POOL_SPREAD`), disrupt it
+/// ([`disrupt`]) and separate again.
+struct Exploration {
+    ceiling: f32,
+    current: Vec<Placement>,
+    large: Vec<usize>,
+    pool: Vec<(f32, Vec<Placement>)>,
+    failures: usize,
+}
+
+impl Exploration {
+    /// `None` if a part fits under `ceiling` at no rotation.
+    fn new(footprints: &Footprints, best: &[Placement], ceiling: f32) -> Option<Self> {
+        let current = all_under_ceiling(footprints, best, ceiling)?;
+        Some(Exploration {
+            ceiling,
+            large: large_parts(footprints, &current),
+            current,
+            pool: Vec::new(),
+            failures: 0,
+        })
+    }
+
+    /// One separation from the current layout, with unit weights (exploration is there to
+    /// leave the structure the small steps are stuck in): the clear layout it found, or none
+    /// (the failure goes to the pool and the next current layout is drawn and disrupted); and
+    /// the evaluations spent.
+    fn separate(
+        &mut self,
+        footprints: &Footprints,
+        budget: usize,
+        rng: &mut ChaCha8Rng,
+        clear: &impl Fn(&[Placement]) -> bool,
+        stop: &(dyn Fn() -> bool + Sync),
+        effort: Effort,
+    ) -> (Option<Vec<Placement>>, usize) {
+        let current = std::mem::take(&mut self.current);
+        let parts = current.len();
+        let weights = vec![1.0; parts * parts];
+        let mut separation = Separation::new(footprints, current, self.ceiling, weights, effort);
+        let separated = separation.run(rng, budget, stop);
+        let spent = separation.evaluations + parts;
+        if separated && clear(&separation.items) {
+            return (Some(separation.items), spent);
+        }
+        self.failures += 1;
+        let overlap = separation.total();
+        let at = self.pool.partition_point(|(o, _)| *o <= overlap);
+        self.pool.insert(at, (overlap, separation.items));
+        let rank = (POOL_SPREAD * standard_normal(rng)).abs().min(0.999);
+        self.current = self.pool[(rank * self.pool.len() as f32) as usize]
+            .1
+            .clone();
+        disrupt(
+            footprints,
+            &mut self.current,
+            &self.large,
+            self.ceiling,
+            rng,
+        );
+        (None, spent)
+    }
+}
+
+/// Exploration on its own, as [`Chain`] runs it: the first clear layout under `ceiling` (or
+/// none, after `EXPLORE_FAILURES` failures in a row or when `budget` overlap evaluations are
+/// spent) and the evaluations spent.
+#[cfg(test)]
 fn explore(
     footprints: &Footprints,
     best: &[Placement],
@@ -244,30 +404,17 @@ fn explore(
     clear: &impl Fn(&[Placement]) -> bool,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> (Option<Vec<Placement>>, usize) {
-    let Some(mut current) = all_under_ceiling(footprints, best, ceiling) else {
+    let Some(mut exploration) = Exploration::new(footprints, best, ceiling) else {
         return (None, 0);
     };
-    let large = large_parts(footprints, &current);
-    let mut pool: Vec<(f32, Vec<Placement>)> = Vec::new();
     let mut spent = 0;
-    for _ in 0..EXPLORE_FAILURES {
-        if spent >= budget || stop() {
-            break;
+    while exploration.failures < EXPLORE_FAILURES && spent < budget && !stop() {
+        let (found, used) =
+            exploration.separate(footprints, budget - spent, rng, clear, stop, QUICK);
+        spent += used;
+        if found.is_some() {
+            return (found, spent);
         }
-        let parts = current.len();
-        let weights = vec![1.0; parts * parts];
-        let mut separation = Separation::new(footprints, current, ceiling, weights);
-        let separated = separation.run(rng, budget - spent);
-        spent += separation.evaluations + parts;
-        if separated && clear(&separation.items) {
-            return (Some(separation.items), spent);
-        }
-        let overlap = separation.total();
-        let at = pool.partition_point(|(o, _)| *o <= overlap);
-        pool.insert(at, (overlap, separation.items));
-        let rank = (POOL_SPREAD * standard_normal(rng)).abs().min(0.999);
-        current = pool[(rank * pool.len() as f32) as usize].1.clone();
-        disrupt(footprints, &mut current, &large, ceiling, rng);
     }
     (None, spent)
 }
@@ -387,16 +534,18 @@ struct Separation<'a> {
     /// (denser layouts on most strips than unit weights at every step). Exploration starts from
     /// unit weights: it is there to leave the structure the small steps are stuck in.
     weights: Vec<f32>,
+    effort: Effort,
     evaluations: usize,
 }
 
 impl<'a> Separation<'a> {
-    /// `weights`: `n x n`, the chain's (see `weights`).
+    /// `weights`: `n x n`, the chain's (see `weights`); `effort`: how hard it tries.
     fn new(
         footprints: &'a Footprints,
         items: Vec<Placement>,
         ceiling: f32,
         weights: Vec<f32>,
+        effort: Effort,
     ) -> Self {
         let n = items.len();
         debug_assert_eq!(weights.len(), n * n, "one weight per ordered pair of parts");
@@ -407,6 +556,7 @@ impl<'a> Separation<'a> {
             weights,
             items,
             ceiling,
+            effort,
             evaluations: 0,
         };
         for i in 0..n {
@@ -463,16 +613,51 @@ impl<'a> Separation<'a> {
         self.overlaps[i * n..(i + 1) * n].iter().any(|&o| o > 0.0)
     }
 
-    /// Moves parts until nothing overlaps (true), or the total overlap stalls or the budget is
-    /// spent (false).
-    fn run(&mut self, rng: &mut ChaCha8Rng, budget: usize) -> bool {
+    /// Moves parts until nothing overlaps (true), or the total overlap stalls, the budget is
+    /// spent or `stop` says so (false). With `Effort::strikes` above 1 a stall is a strike, as in
+    /// sparrow's separator (Gardeyn & Wauters 2025, Algorithm 9): the parts go back to the
+    /// least overlapping layout of the separation, keeping their weights, and the sweeps go on,
+    /// until that many stalls in a row have each lowered the least overlap by under
+    /// `STRIKE_GAIN`; the parts are then left at that least overlapping layout.
+    fn run(
+        &mut self,
+        rng: &mut ChaCha8Rng,
+        budget: usize,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        let strikes = self.effort.strikes;
         let mut least = self.total();
         let mut stalled = 0;
+        let mut struck = 0;
+        let mut strike_start = least;
+        let mut least_layout = (strikes > 1).then(|| {
+            (
+                self.items.clone(),
+                self.bounds.clone(),
+                self.overlaps.clone(),
+            )
+        });
         loop {
             if least == 0.0 {
                 return true;
             }
-            if self.evaluations >= budget || stalled >= STALL_SWEEPS {
+            if stalled >= STALL_SWEEPS && strikes > 1 {
+                struck = if least > STRIKE_GAIN * strike_start {
+                    struck + 1
+                } else {
+                    0
+                };
+                if let Some((items, bounds, overlaps)) = least_layout.as_ref() {
+                    self.items.clone_from(items);
+                    self.bounds.clone_from(bounds);
+                    self.overlaps.clone_from(overlaps);
+                }
+                if struck < strikes {
+                    stalled = 0;
+                    strike_start = least;
+                }
+            }
+            if self.evaluations >= budget || stalled >= STALL_SWEEPS || stop() {
                 return false;
             }
             let mut order: Vec<usize> = (0..self.n()).filter(|&i| self.colliding(i)).collect();
@@ -487,6 +672,13 @@ impl<'a> Separation<'a> {
                 stalled = 0;
             } else {
                 stalled += 1;
+            }
+            if total < least && strikes > 1 {
+                least_layout = Some((
+                    self.items.clone(),
+                    self.bounds.clone(),
+                    self.overlaps.clone(),
+                ));
             }
             least = least.min(total);
             if total == 0.0 {
@@ -656,7 +848,7 @@ mod tests {
         let footprints = squares();
         let items = vec![at(0, 0.0, 0.0), at(0, 0.5, 0.0)];
         let carried = vec![1.0, 3.0, 3.0, 1.0];
-        let mut separation = Separation::new(&footprints, items, 10.0, carried);
+        let mut separation = Separation::new(&footprints, items, 10.0, carried, QUICK);
         assert_eq!(separation.weights, [1.0, 3.0, 3.0, 1.0]);
         assert!(separation.total() > 0.0);
         separation.reweigh();
@@ -800,6 +992,68 @@ mod tests {
         );
         assert!(found.is_none());
         assert!(spent > 0 && spent < usize::MAX);
+    }
+
+    #[test]
+    fn a_separation_with_strikes_ends_at_the_least_overlap_it_reached() {
+        // Three unit squares under a ceiling of 1 on a sheet 2.1 wide: one row holds two, so
+        // overlap never reaches zero. With strikes, the parts end where the total overlap was
+        // least, which is never above where they started.
+        let footprints = squares();
+        let start = vec![at(0, 0.0, 0.0), at(0, 0.5, 0.0), at(0, 1.1, 0.0)];
+        for seed in 0..5 {
+            let mut separation =
+                Separation::new(&footprints, start.clone(), 1.0, vec![1.0; 9], PATIENT);
+            let before = separation.total();
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            assert!(!separation.run(&mut rng, 200_000, &never));
+            assert!(separation.total() > 0.0);
+            assert!(separation.total() <= before, "seed {seed}");
+            // The overlaps kept are those of the parts where they are.
+            let total = separation.total();
+            for i in 0..3 {
+                separation.refresh(i);
+            }
+            assert_eq!(separation.total(), total);
+        }
+    }
+
+    #[test]
+    fn a_patient_chain_keeps_exploring_where_compression_gives_up_and_resumes_where_it_stopped() {
+        // Four bars of height 1 in rows of at most two: top 2 is the least, so every ceiling
+        // below fails. Compression ends by its stall rules well within an endless budget; a
+        // patient chain spends every slice it is given, a slice starts where the last one
+        // ended, and its layout stays clear, between the start and top 2.
+        let start = vec![
+            at(0, 0.0, 0.0),
+            at(1, 6.1, 0.0),
+            at(0, 0.0, 1.01),
+            at(1, 6.1, 1.01),
+        ];
+        let footprints = bars();
+        let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
+        assert!(!impatient.advance(usize::MAX / 2, &bars_clear, &never));
+        assert!(impatient.ended && impatient.spent < usize::MAX / 2);
+        let mut patient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        let slice = 2 * impatient.spent;
+        for k in 1..=3 {
+            assert!(!patient.advance(slice, &bars_clear, &never));
+            assert!(!patient.ended);
+            assert!(
+                patient.spent >= k * slice,
+                "slice {k}: {} spent",
+                patient.spent
+            );
+        }
+        assert!(patient.exploring.is_some());
+        let top = |items: &[Placement]| items.iter().map(|s| s.t.1 + 1.0).fold(0.0, f32::max);
+        let best = patient.best();
+        assert!(bars_clear(best));
+        assert!(
+            top(best) >= 2.0 && top(best) <= top(&start),
+            "top {}",
+            top(best)
+        );
     }
 
     #[test]

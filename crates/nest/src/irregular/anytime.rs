@@ -4,14 +4,18 @@
 //! The base search (`Model::run`) is built for a budget: its epochs, thresholds and final
 //! compression are all scaled to it, and its stop rules end it once it stalls. Giving it more
 //! iterations changes little (the compression stops on its own stall rules, however large its
-//! budget). Rounds instead start again from the best layout so far, each on streams of its own:
-//!
-//! 1. a short ruin-and-recreate search per worker (`ROUND_ITERATIONS` over the workers), which
-//!    may empty a sheet (fewer sheets first) or re-partition rows;
-//! 2. the compression of the sheet whose used length counts, with its exploration (sparrow's two
-//!    phases: shrink and separate by guided local search; at a ceiling the small steps cannot
-//!    reach, a pool of overlapping layouts restored and disrupted), `ROUND_ITERATIONS`' worth
-//!    of overlap evaluations, with fresh pair weights and a fresh pool.
+//! budget). The rounds instead run sparrow's exploration for as long as they are given
+//! (Gardeyn & Wauters 2025): patient compression chains ([`Chain`]), `COMPRESSION_CHAINS_PER_WORKER`
+//! per worker on streams of their own, each started from the best layout's sheet whose used
+//! length counts. A chain shrinks and separates by guided local search; at a ceiling its small
+//! steps cannot reach it keeps a pool of overlapping layouts, restores one and disrupts it, and
+//! it never gives that ceiling up (the base search's chains end after `EXPLORE_FAILURES`). Its
+//! separations take up to three stalls (sparrow's strikes). A round gives every chain
+//! `ROUND_EVALUATIONS` more overlap evaluations and resumes it where the last round left it, so
+//! the pool and the weights carry over from round to round; the lowest chain's layout replaces
+//! the sheet if it is lower. On more than one sheet a round first runs a short ruin-and-recreate
+//! search per worker (`ROUND_ITERATIONS` over the workers), which may empty a sheet (fewer
+//! sheets first); a better layout from it restarts the chains on it.
 //!
 //! A round's layout replaces the best only if it scores better, so the best layout never gets
 //! worse from one round to the next, and a budget of more rounds never ends worse than one of
@@ -20,10 +24,14 @@
 //! machine. `ROUND_STALL` rounds in a row without a shorter layout end the rounds, so a layout
 //! that cannot improve does not hold a time budget to its end.
 
+use std::sync::Mutex;
+
 use super::model::Model;
+use super::portfolio::COMPRESSION_CHAINS_PER_WORKER;
 use super::random::worker_rng;
 use super::score::Score;
-use super::threads::parallel;
+use super::threads::{parallel, shared_out};
+use crate::compress::Chain;
 use crate::limit::{SearchEnd, SearchLimit};
 use crate::placement::Sheets;
 use crate::progress::NestProgress;
@@ -32,16 +40,20 @@ use crate::progress::NestProgress;
 /// followed by rounds. It is [`crate::NestSettings`]'s default, so a default run is the base
 /// search alone.
 pub(super) const BASE_ITERATIONS: usize = 1000;
-/// Iterations a round counts for: its search's moves over all workers, and its compression's
-/// budget (as `Model::compressed` counts it). Small enough that a round of a 300-part strip
-/// takes well under a second, so a deadline wastes little on the round it cuts.
+/// Iterations a round counts for (`--iterations` above the base budget buys rounds at this
+/// rate), and its search's moves over all workers on more than one sheet.
 pub(super) const ROUND_ITERATIONS: usize = 100;
 /// Rounds in a row without a shorter layout (fewer sheets, or a used length shorter by more
-/// than the score's tolerance) after which the rounds end.
-const ROUND_STALL: usize = 50;
-/// Round `r` draws its streams from epochs `FIRST_ROUND_EPOCH + 2r` (search) and `+ 2r + 1`
-/// (compression): far above the base search's epochs (at most `MAX_EPOCHS + 1`), so no round
-/// shares a stream with the base search or with another round.
+/// than the score's tolerance) after which the rounds end: 200 million evaluations per chain,
+/// minutes of a time budget, so that an exploration that breaks through only after many
+/// disruptions gets them (sparrow's exploration ends only on its time).
+const ROUND_STALL: usize = 4000;
+/// Overlap evaluations each chain gets per round: a few separations, well under a second on a
+/// strip of a few dozen parts, so a deadline wastes little on the round it cuts.
+const ROUND_EVALUATIONS: usize = 50_000;
+/// Round `r` draws its search's streams from epoch `FIRST_ROUND_EPOCH + 2r`, and chains restarted
+/// after it from `+ 2r + 1`; the first chains draw from `FIRST_ROUND_EPOCH - 1`. All are far
+/// above the base search's epochs (at most `MAX_EPOCHS + 1`), so no two share a stream.
 const FIRST_ROUND_EPOCH: usize = 1 << 16;
 
 /// What the rounds came to.
@@ -65,6 +77,7 @@ impl Model<'_> {
         let settings = &self.job.settings;
         let workers = settings.workers;
         let mut best: (Score, Sheets) = (self.score(&self.rebuild(&start)), start);
+        let mut chains = self.chains(&best.1, FIRST_ROUND_EPOCH - 1);
         let mut since_shorter = 0;
         let ended_by_limit = || {
             if limit.interrupted() {
@@ -91,28 +104,74 @@ impl Model<'_> {
                 return cut(best.1);
             }
             let epoch = FIRST_ROUND_EPOCH + 2 * round;
-            let share =
-                |w: usize| ROUND_ITERATIONS / workers + usize::from(w < ROUND_ITERATIONS % workers);
-            let searched = parallel(workers, |w| {
-                self.improve(&best.1, share(w), worker_rng(settings.seed, epoch, w))
-            });
-            // Ties to the lower worker, as between the base search's epochs.
-            let mut pick = &searched[0];
-            for s in &searched[1..] {
-                if s.0.better_than(&pick.0) {
-                    pick = s;
+            let mut score = best.0;
+            // On more than one sheet, a short ruin-and-recreate search may empty a sheet or
+            // move parts between sheets, which compressing one sheet never does; and once
+            // every chain has ended (no lower ceiling leaves room for the tallest part), it is
+            // what may still find another structure. A better layout restarts the chains from
+            // it. Otherwise one sheet (a strip) is the chains' alone.
+            let exhausted = chains
+                .iter()
+                .all(|c| c.lock().expect("no thread panics").ended());
+            if best.1.len() > 1 || exhausted {
+                let share = |w: usize| {
+                    ROUND_ITERATIONS / workers + usize::from(w < ROUND_ITERATIONS % workers)
+                };
+                let searched = parallel(workers, |w| {
+                    self.improve(
+                        &best.1,
+                        share(w),
+                        worker_rng(settings.seed, epoch, w),
+                        limit,
+                    )
+                });
+                if limit.reached() {
+                    return cut(best.1);
+                }
+                // Ties to the lower worker, as between the base search's epochs.
+                let mut pick = &searched[0];
+                for s in &searched[1..] {
+                    if s.0.better_than(&pick.0) {
+                        pick = s;
+                    }
+                }
+                if pick.0.better_than(&best.0) {
+                    score = pick.0;
+                    chains = self.chains(&pick.1, epoch + 1);
+                    best.1 = pick.1.clone();
                 }
             }
-            let (sheets, stopped) =
-                self.compressed(pick.1.clone(), epoch + 1, ROUND_ITERATIONS, &|| {
-                    limit.reached()
-                });
+            let lowest = self.lowest_index(&best.1);
+            let stop = || limit.reached();
+            let stopped = shared_out(workers, chains.len(), |c| {
+                let mut chain = chains[c].lock().expect("no thread panics holding it");
+                chain.advance(ROUND_EVALUATIONS, &|items| self.clear(items), &stop)
+            });
             // A round the limit cut short is dropped whole; one that finished counts, even if
             // the deadline passed as it finished.
-            if stopped {
+            if stopped.iter().any(|&s| s) {
                 return cut(best.1);
             }
-            let score = self.score(&self.rebuild(&sheets));
+            // The lowest chain (ties to the lower one) replaces the sheet if it is lower.
+            let mut sheets = best.1.clone();
+            let tops: Vec<f32> = chains
+                .iter()
+                .map(|c| self.sheet_top(c.lock().expect("no thread panics").best()))
+                .collect();
+            let mut lowest_chain = 0;
+            for (c, t) in tops.iter().enumerate() {
+                if *t < tops[lowest_chain] {
+                    lowest_chain = c;
+                }
+            }
+            if tops[lowest_chain] < self.sheet_top(&sheets[lowest]) {
+                sheets[lowest] = chains[lowest_chain]
+                    .lock()
+                    .expect("no thread panics")
+                    .best()
+                    .to_vec();
+                score = self.score(&self.rebuild(&sheets));
+            }
             since_shorter += 1;
             if score.shorter_than(&best.0) {
                 since_shorter = 0;
@@ -128,5 +187,21 @@ impl Model<'_> {
             completed: rounds,
             ended: SearchEnd::Budget,
         }
+    }
+
+    /// Patient compression chains (`COMPRESSION_CHAINS_PER_WORKER` per worker) on the sheet of
+    /// `sheets` whose used length counts, on the streams of `epoch`.
+    fn chains(&self, sheets: &Sheets, epoch: usize) -> Vec<Mutex<Chain<'_>>> {
+        let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
+            return Vec::new();
+        };
+        let sheet = &sheets[self.lowest_index(sheets)];
+        let settings = &self.job.settings;
+        (0..settings.workers * COMPRESSION_CHAINS_PER_WORKER)
+            .map(|c| {
+                let rng = worker_rng(settings.seed, epoch, c);
+                Mutex::new(Chain::new(footprints, sheet, rng, true))
+            })
+            .collect()
     }
 }

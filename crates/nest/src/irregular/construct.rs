@@ -12,6 +12,7 @@ use super::model::{collision_free, slide, Model, COARSE_SLIDE, FINISH_SLIDE, NUD
 use super::random::{blink_shuffle, worker_rng};
 use super::score::Score;
 use super::threads::shared_out;
+use crate::limit::SearchLimit;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 
@@ -82,7 +83,15 @@ impl Model<'_> {
     /// as they come free (best-fit recipes cost several times a size order, and with two
     /// workers they would all fall to the second one); which thread builds a recipe does not
     /// change what it builds, so the starts are the same as built in worker order.
-    pub(super) fn construct_all(&self) -> Result<Vec<(Score, Sheets)>, NestError> {
+    ///
+    /// `limit` cuts the fill: a best-fit recipe it strikes in is dropped (`None`), a recipe not
+    /// yet begun is not built, and recipe 0, which every layout needs, finishes at the repair
+    /// effort. A worker left without a start takes recipe 0's. The flag says the limit struck,
+    /// so that the starts are not those of any budget.
+    pub(super) fn construct_all(
+        &self,
+        limit: &SearchLimit,
+    ) -> Result<(Vec<(Score, Sheets)>, bool), NestError> {
         let workers = self.job.settings.workers;
         let starts = if self.job.copies() <= PORTFOLIO_MAX_COPIES {
             STARTS_PER_WORKER
@@ -90,30 +99,48 @@ impl Model<'_> {
             1
         };
         let built = shared_out(workers, starts * workers, |recipe| {
-            if recipe % 2 == 1 {
+            if recipe == 0 {
+                self.construct_in_order(recipe, limit).map(Some)
+            } else if limit.reached() {
+                Ok(None)
+            } else if recipe % 2 == 1 {
                 let ties = BEST_FIT_TIES_MM;
-                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()])
+                self.construct_best_fit(recipe, ties[recipe / 2 % ties.len()], limit)
             } else {
-                self.construct_in_order(recipe)
+                self.construct_in_order(recipe, limit).map(Some)
             }
         });
+        let mut cut = false;
         let mut best: Vec<Option<(Score, Sheets)>> = vec![None; workers];
         for (recipe, start) in built.into_iter().enumerate() {
-            let start = start?;
+            let Some(start) = start? else {
+                cut = true;
+                continue;
+            };
             let own = &mut best[recipe % workers];
             if own.as_ref().is_none_or(|(s, _)| start.0.better_than(s)) {
                 *own = Some(start);
             }
         }
-        Ok(best
+        // A worker whose starts the limit cut takes the first worker's (recipe 0 always ends).
+        let first = best[0].clone().expect("recipe 0 always ends");
+        let starts = best
             .into_iter()
-            .map(|b| b.expect("at least one start per worker"))
-            .collect())
+            .map(|b| b.unwrap_or_else(|| first.clone()))
+            .collect();
+        Ok((starts, cut || limit.reached()))
     }
 
     /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from
     /// recipe 6 on), first sheet that takes a part.
-    pub(super) fn construct_in_order(&self, recipe: usize) -> Result<(Score, Sheets), NestError> {
+    /// Once `limit` is reached, the parts still to place go in with the repair effort (a
+    /// fraction of the greedy one), so that a deadline that strikes in the fill costs little
+    /// more time; recipes other than 0 are then not built at all (`construct_all`).
+    pub(super) fn construct_in_order(
+        &self,
+        recipe: usize,
+        limit: &SearchLimit,
+    ) -> Result<(Score, Sheets), NestError> {
         let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
         let mut order: Vec<usize> = self
             .job
@@ -144,7 +171,12 @@ impl Model<'_> {
         let mut problem = BPProblem::new(self.instance.clone());
         let mut sheets = Vec::new();
         for part in order {
-            self.insert(&mut problem, part, &mut sheets, &mut rng, Search::GREEDY)?;
+            let search = if limit.reached() {
+                Search::REPAIR
+            } else {
+                Search::GREEDY
+            };
+            self.insert(&mut problem, part, &mut sheets, &mut rng, search)?;
         }
         Ok((self.score(&problem), self.sheets(&problem)))
     }
@@ -154,12 +186,13 @@ impl Model<'_> {
     /// takes the one whose spot is lowest (ties within `tie_mm`: the largest part, then
     /// the lower placement cost). Low gaps are filled with whatever fits them, so rows mix
     /// designs whose widths add up to the sheet's, where a size order leaves every row of one
-    /// design short of the right edge.
+    /// design short of the right edge. `None` if `limit` was reached before the last part.
     pub(super) fn construct_best_fit(
         &self,
         recipe: usize,
         tie_mm: f32,
-    ) -> Result<(Score, Sheets), NestError> {
+        limit: &SearchLimit,
+    ) -> Result<Option<(Score, Sheets)>, NestError> {
         let mut rng = worker_rng(self.job.settings.seed, 0, recipe);
         let mut remaining: Vec<usize> = self.job.parts.iter().map(|p| p.demand).collect();
         let mut problem = BPProblem::new(self.instance.clone());
@@ -167,6 +200,9 @@ impl Model<'_> {
         // `full[s][p]`: design `p` found no room on sheet `s`; sheets only fill up, so it never will.
         let mut full: Vec<Vec<bool>> = Vec::new();
         while remaining.iter().any(|&r| r > 0) {
+            if limit.reached() {
+                return Ok(None);
+            }
             let designs = remaining.iter().filter(|&&r| r > 0).count();
             let effort = Effort {
                 random: (GREEDY_EFFORT.random / designs).max(BEST_FIT_MIN_EFFORT.random),
@@ -229,7 +265,7 @@ impl Model<'_> {
             };
             remaining[spot.part] -= 1;
         }
-        Ok((self.score(&problem), self.sheets(&problem)))
+        Ok(Some((self.score(&problem), self.sheets(&problem))))
     }
 
     /// Places `part` in the first of `sheets` with room, else on a new sheet (appended to

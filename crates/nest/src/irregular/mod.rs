@@ -60,10 +60,12 @@
 //!   the budget the search did not use); a chain stops early after `EXPLORE_FAILURES` failed
 //!   explorations in a row, and the lowest top wins.
 //! * **Anytime rounds** (`anytime`): iterations above the base budget of 1000 go to rounds of
-//!   100, each a short ruin-and-recreate search from the best layout so far and a compression
-//!   of the result on streams of their own; the best is kept, so more rounds never end worse.
-//!   A [`SearchLimit`](crate::SearchLimit) (deadline, interrupt) is checked between units of
-//!   counted work and drops a round it cuts, so the layout is that of the iterations reached.
+//!   100, in which patient compression chains carry on sparrow's exploration from the best
+//!   layout so far, resumed round after round with their pools and weights (on more than one
+//!   sheet, after a short ruin-and-recreate search); the best is kept, so more rounds never end
+//!   worse. A [`SearchLimit`](crate::SearchLimit) (deadline, interrupt) is checked in the greedy
+//!   fill, between search moves and inside the compression, and drops a round it cuts, so the
+//!   layout is that of the iterations reached.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
@@ -78,9 +80,10 @@
 //! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
-//! * **Where it stands**: on the bench's 40 measuring strips (12-300 parts) 1.1 points ahead of
-//!   sparrow, the state-of-the-art strip packer, given 5 s (0.7-1.7 per set of 8), and 2.5
-//!   points ahead of it given our wall time of about 2.5 s (docs/benchmarks.md).
+//! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
+//!   the state-of-the-art strip packer, given 5 s; on the twelve public ESICUP instances behind
+//!   it, by about half a point in the mean at 5 s and two points at 30 s, where sparrow's
+//!   separation keeps finding lower ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the

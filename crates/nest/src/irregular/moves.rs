@@ -12,6 +12,7 @@ use super::construct::{Search, BEST_FIT_TIES_MM, RIGHT_WEIGHT};
 use super::model::{collision_free, slide_bottom_left, Model};
 use super::random::blink_shuffle;
 use super::score::Score;
+use crate::limit::SearchLimit;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 
@@ -39,18 +40,23 @@ const MAX_PULL: usize = 3;
 const MAX_SHRINK_RUIN: usize = 16;
 
 impl Model<'_> {
-    /// Ruin-and-recreate moves from `start` for `budget` iterations.
+    /// Ruin-and-recreate moves from `start` for `budget` iterations, or until `limit` is
+    /// reached (the caller then treats the result as cut short).
     pub(super) fn improve(
         &self,
         start: &Sheets,
         budget: usize,
         mut rng: ChaCha8Rng,
+        limit: &SearchLimit,
     ) -> (Score, Sheets) {
         let mut problem = self.rebuild(start);
         let mut score = self.score(&problem);
         let mut best = (score, start.clone());
         let mut saved = problem.save();
         for iteration in 0..budget {
+            if limit.reached() {
+                break;
+            }
             if self.ruin_and_recreate(&mut problem, &mut rng).is_err() {
                 problem.restore(&saved);
                 continue;
