@@ -607,6 +607,8 @@ fn interrupted_nest(
 ) -> (tempfile::TempDir, std::path::PathBuf, std::process::Output) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
+    // The run holds two seconds between an interrupted search and its writing, so the second
+    // interrupt, half a second after the first, lands before the writing on a loaded machine too.
     let child = bin()
         .args([
             "nest",
@@ -616,6 +618,7 @@ fn interrupted_nest(
             "--time",
             "600s",
         ])
+        .env("ACTUATOR_CAM_PAUSE_AFTER_SEARCH", "1")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -626,7 +629,7 @@ fn interrupted_nest(
             .args(["-INT", &child.id().to_string()])
             .status()
             .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        std::thread::sleep(std::time::Duration::from_millis(500));
     }
     let o = child.wait_with_output().unwrap();
     (dir, out, o)

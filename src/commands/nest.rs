@@ -163,6 +163,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     };
     let planned = plan_observed(&batch, &opts, observer);
     interrupt::search_finished();
+    interrupt::pause_after_interrupted_search();
     if let Some(b) = &bar {
         b.bar.finish_and_clear();
     }
