@@ -234,9 +234,7 @@ fn nest_example_batch(dir: &Path) -> std::path::PathBuf {
 fn a_nest_batch_writes_the_same_book_for_every_design() {
     let dir = tempfile::tempdir().unwrap();
     let out = nest_example_batch(dir.path());
-    let r: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let r: Value = nest_report_json(&out);
     let s = steps(&r["build_book"]);
     every_file_is_cut(&out, &s);
     let stacks = s

@@ -78,9 +78,7 @@ fn check_report(
     designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
     spacing_mm: f64,
 ) {
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let report: serde_json::Value = nest_report_json(&out);
     let ground_tab = |name: &str| {
         report["items"]
             .as_array()
@@ -330,10 +328,7 @@ fn method_1_batch_nests_pyralux_bond_layers_with_vias() {
     let report: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(
         report,
-        serde_json::from_str::<serde_json::Value>(
-            &std::fs::read_to_string(out.join("nest-report.json")).unwrap()
-        )
-        .unwrap(),
+        nest_report_json(&out),
         "--json prints the written report"
     );
     let mut bond_parts = BTreeMap::new();
@@ -394,9 +389,7 @@ fn ply_by_ply_batch_nests_each_ply_of_each_layup() {
     let out = dir.path().join("out");
     let o = nest(&dir.path().join("batch.toml"), &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let report: serde_json::Value = nest_report_json(&out);
     // C is 0/90/0 and A 0/0/90/0/0: one nest per ply of each layup, every ply of every actuator once.
     let mut per_layer: BTreeMap<String, usize> = BTreeMap::new();
     for sheet in report["sheets"].as_array().unwrap() {
@@ -583,7 +576,7 @@ fn a_time_budget_nests_until_it_runs_out_and_the_report_says_how_far_each_layer_
     let o = nest(Path::new(&example("batch.toml")), &out, &["--time", "3s"]);
     assert!(o.status.success(), "{}", stderr(&o));
     check_report(&out, &example_designs(), 0.3);
-    let report = report_file(&out);
+    let report = nest_report_json(&out);
     assert_eq!(report["time_budget_s"], 3.0);
     let layers = report["baseline"].as_array().unwrap();
     assert!(!layers.is_empty());
@@ -641,7 +634,7 @@ fn a_first_interrupt_ends_the_search_and_writes_the_best_layout_so_far() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("interrupted"), "{}", stderr(&o));
     check_report(&out, &example_designs(), 0.3);
-    let report = report_file(&out);
+    let report = nest_report_json(&out);
     for layer in report["baseline"].as_array().unwrap() {
         assert_eq!(layer["search"]["ended"], "interrupt", "{layer}");
     }
@@ -657,9 +650,4 @@ fn a_second_interrupt_aborts_and_leaves_nothing_behind() {
         "half-written output"
     );
     assert!(staging_left(dir.path()).is_empty());
-}
-
-/// `nest-report.json` of a written nest.
-fn report_file(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap()).unwrap()
 }

@@ -39,18 +39,7 @@ fn actuators_with_their_linkages_nest_and_every_coupon_checks_out() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let batch = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/batch-linkage.toml");
-    let o = run(&[
-        "nest",
-        batch.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--iterations",
-        "200",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let report = nest_ok(batch.to_str().unwrap(), &out, "200");
     let linkages = report["linkages"].as_array().unwrap();
     assert_eq!(linkages.len(), 2);
     let mut want: BTreeMap<String, (usize, [f64; 2])> = BTreeMap::new();
@@ -204,18 +193,7 @@ fn the_carbon_shares_the_prepreg_sheets_of_a_design_laid_up_alike() {
         let dir = tempfile::tempdir().unwrap();
         let batch = shared_prepreg(dir.path(), cut);
         let out = dir.path().join("out");
-        let o = run(&[
-            "nest",
-            batch.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--iterations",
-            "100",
-        ]);
-        assert!(o.status.success(), "{cut}: {}", stderr(&o));
-        let report: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-                .unwrap();
+        let report = nest_ok(batch.to_str().unwrap(), &out, "100");
         let l = &report["linkages"][0];
         assert!(
             l["sheets"][0]
@@ -277,9 +255,7 @@ fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
     let out = dir.path().join("out");
     let o = run(&["nest", batch.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let report = nest_report_json(&out);
     let l = &report["linkages"][0];
     assert!(l["drive_file"].as_str().unwrap().ends_with("bee.toml"));
     assert_eq!(l["quantity"], 2);

@@ -315,10 +315,6 @@ fn nest_ok(batch: &Path, out: &Path, iterations: &str) -> std::process::Output {
     o
 }
 
-fn report(out: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap()).unwrap()
-}
-
 /// Closed rings of the DXF's LWPOLYLINEs on the cut layer.
 fn dxf_rings(path: &Path) -> Vec<Vec<[f64; 2]>> {
     let drawing = dxf::Drawing::load_file(path).unwrap();
@@ -368,7 +364,7 @@ fn parts_from_a_dxf_and_an_svg_nest_with_actuators_and_read_back_with_their_area
     let (dir, batch) = scratch(0.0, ITEMS, PARTS);
     let out = dir.path().join("out");
     nest_ok(&batch, &out, "60");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     let parts = r["parts"].as_array().unwrap();
     assert_eq!(parts.len(), 2);
     assert_eq!(parts[0]["sheet"], "prepreg, layup 0/90/0");
@@ -466,7 +462,7 @@ fn a_prepreg_part_is_cut_with_its_fibre_axis_along_the_sheets_fibres() {
         let (dir, batch) = scratch(0.0, ITEMS, &parts);
         let out = dir.path().join("out");
         nest_ok(&batch, &out, "30");
-        let r = report(&out);
+        let r = nest_report_json(&out);
         assert_eq!(r["parts"][0]["fibre_axis_deg"], f64::from(axis));
         let boxes = spar_boxes(&out, &r);
         assert_eq!(boxes.len(), 4);
@@ -532,7 +528,7 @@ fn the_example_batches_with_parts_nest_and_are_deterministic() {
                 assert_eq!(v, &fb[k], "{name}: {k} differs between two runs");
             }
         }
-        let r = report(&a);
+        let r = nest_report_json(&a);
         assert_eq!(r["parts"].as_array().unwrap().len(), 2, "{name}");
         let listed = r["rolls"].as_array().map_or(0, |v| v.len());
         assert_eq!(listed, rolls, "{name}");
@@ -545,7 +541,7 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
     let o = nest_ok(&batch, &out, "60");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     let passive: Vec<&serde_json::Value> = r["sheets"]
         .as_array()
         .unwrap()
@@ -595,7 +591,7 @@ fn a_priced_roll_reports_its_cost_beside_the_same_parts_on_cut_sheets() {
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
     let o = nest_ok(&batch, &out, "40");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     let sheets = r["sheets"].as_array().unwrap();
     let rolls = r["rolls"].as_array().unwrap();
     assert_eq!(rolls.len(), 2, "one strip per layup");
@@ -681,7 +677,7 @@ fn a_roll_without_compare_with_is_compared_with_the_template_sheet() {
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
     nest_ok(&batch, &out, "20");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     for roll in r["rolls"].as_array().unwrap() {
         let alt = &roll["on_sheets"];
         assert_eq!(
@@ -695,7 +691,7 @@ fn a_roll_without_compare_with_is_compared_with_the_template_sheet() {
     let (dir, batch) = scratch(0.05, ITEMS, &format!("{PARTS}\n{tail}"));
     let out = dir.path().join("out");
     nest_ok(&batch, &out, "20");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     for roll in r["rolls"].as_array().unwrap() {
         assert!(
             roll["cost"].is_null() && roll["on_sheets"].is_null(),
@@ -789,7 +785,7 @@ fn prepreg_parts_cut_ply_by_ply_come_on_every_ply_at_its_fibre_angle() {
     let (dir, batch) = scratch_ply_by_ply(0.0, ITEMS, parts);
     let out = dir.path().join("out");
     nest_ok(&batch, &out, "40");
-    let r = report(&out);
+    let r = nest_report_json(&out);
     let rows = r["parts"].as_array().unwrap();
     assert_eq!(rows[0]["sheet"], "prepreg, layup 0/90/0, cut ply by ply");
     assert_eq!(rows[0]["pieces_per_part"], 3);
@@ -921,7 +917,7 @@ fn ply_by_ply_refuses_part_rotations_that_turn_the_fibres() {
         "20",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let r = report(&out);
+    let r = nest_report_json(&out);
     for s in r["sheets"].as_array().unwrap() {
         for p in s["parts"].as_array().unwrap() {
             if p["design"] == "flexure" {
@@ -1454,9 +1450,7 @@ fn an_extra_part_is_reported_at_its_own_base_point_on_the_sheet() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
+    let r: serde_json::Value = nest_report_json(&out);
     let extra: Vec<String> = r["parts"]
         .as_array()
         .unwrap()

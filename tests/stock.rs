@@ -297,15 +297,7 @@ fn a_run_of_identical_panels_counts_a_sheet_per_panel() {
 fn every_nest_file_of_a_batch_with_linkages_names_its_stock() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        "examples/batch-linkage.toml",
-        "--iterations",
-        "50",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    nest_ok("examples/batch-linkage.toml", &out, "50");
     check_folder(&out, "nest-report.json");
 }
 
@@ -313,19 +305,8 @@ fn every_nest_file_of_a_batch_with_linkages_names_its_stock() {
 fn every_nest_file_names_its_stock() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let o = run(&[
-        "nest",
-        "examples/batch.toml",
-        "--iterations",
-        "50",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let json = nest_ok("examples/batch.toml", &out, "50");
     check_folder(&out, "nest-report.json");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("nest-report.json")).unwrap())
-            .unwrap();
     for panel in json["clamp_panels"].as_array().unwrap() {
         let molds = panel["stacking_order"]
             .as_array()

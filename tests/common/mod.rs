@@ -54,6 +54,28 @@ pub fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> Output {
     run(&args)
 }
 
+/// `actuator-cam nest BATCH -o OUT --iterations N` (from the crate root), which must succeed; its
+/// `nest-report.json`.
+pub fn nest_ok(batch: &str, out: &Path, iterations: &str) -> serde_json::Value {
+    let o = run(&[
+        "nest",
+        batch,
+        "-o",
+        out.to_str().unwrap(),
+        "--iterations",
+        iterations,
+    ]);
+    assert!(o.status.success(), "{batch}: {}", stderr(&o));
+    nest_report_json(out)
+}
+
+/// The `nest-report.json` a nest wrote into `out`.
+pub fn nest_report_json(out: &Path) -> serde_json::Value {
+    let path = out.join("nest-report.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path:?}: {e}"))
+}
+
 /// The `report.json` a command wrote into `out`.
 pub fn report_json(out: &Path) -> serde_json::Value {
     let path = out.join("report.json");
