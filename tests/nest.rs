@@ -78,7 +78,7 @@ fn check_report(
     designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
     spacing_mm: f64,
 ) {
-    let report: serde_json::Value = nest_report_json(&out);
+    let report: serde_json::Value = nest_report_json(out);
     let ground_tab = |name: &str| {
         report["items"]
             .as_array()
