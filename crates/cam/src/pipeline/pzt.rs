@@ -38,10 +38,15 @@ pub(crate) fn draw_pzt_sheets(
                 Shape::Polyline(overrun(*line, sheet).to_vec()),
             );
         }
-        let parts: Vec<_> = layout
+        // The plates as placed: what the stock label keeps clear of, and what the snapping guide draws.
+        let plates: Vec<Vec<Point>> = layout
             .parts
             .iter()
-            .map(|p| part_box(&place_ring(&nominal[p.item], p.rotation_deg, p.translation)))
+            .map(|p| place_ring(&nominal[p.item], p.rotation_deg, p.translation))
+            .collect();
+        let parts: Vec<_> = plates
+            .iter()
+            .map(|ring| part_box(ring))
             .chain(layout.score_lines.iter().map(|l| part_box(l)))
             .collect();
         drawn.label_sheet(
@@ -81,11 +86,6 @@ pub(crate) fn draw_pzt_sheets(
                 area_mm2: signed_area(&nominal[p.item]),
             });
         }
-        let plates: Vec<Vec<Point>> = layout
-            .parts
-            .iter()
-            .map(|p| place_ring(&nominal[p.item], p.rotation_deg, p.translation))
-            .collect();
         drawn.snap_guides.push((
             super::snap_guide::file_name(&format!("pzt-{n}")),
             super::snap_guide::snap_guide(
