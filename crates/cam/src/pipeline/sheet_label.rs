@@ -129,6 +129,7 @@ pub fn sheet_label(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cam::drawing::Operation;
 
     fn stock() -> Stock {
         Stock {
@@ -178,8 +179,8 @@ mod tests {
     }
 
     #[test]
-    fn a_full_sheet_carries_no_label() {
-        let d = Drawing::on_stock("s", 72.4, 72.4, stock());
+    fn a_full_sheet_carries_no_label_and_is_counted() {
+        let mut d = Drawing::on_stock("s", 72.4, 72.4, stock());
         let parts = [part_box(&[
             [0.5, 0.5],
             [71.9, 0.5],
@@ -187,6 +188,15 @@ mod tests {
             [0.5, 71.9],
         ])];
         assert!(sheet_label(&d, "pzt-1", 0.3, &parts).is_none());
+        // What the builders call: a full sheet is counted for the report and gets no strokes; a sheet
+        // with room gets its label and is not counted.
+        let mut drawn = super::super::jobs::Drawn::new(None);
+        drawn.label_sheet(&mut d, "pzt-1", 0.3, &parts, Operation::Reference);
+        assert_eq!((drawn.unlabelled_sheets, d.items().len()), (1, 0));
+        drawn.label_sheet(&mut d, "pzt-2", 0.3, &[], Operation::Reference);
+        assert_eq!(drawn.unlabelled_sheets, 1);
+        assert!(!d.items().is_empty());
+        assert!(d.items().iter().all(|(op, _)| *op == Operation::Reference));
     }
 
     #[test]
