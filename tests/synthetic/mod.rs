@@ -181,21 +181,32 @@ pub fn cases() -> Vec<Case> {
     ]
 }
 
-/// True (δ m, F N, m kg) of a design at a field.
-pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64) {
+/// `f` of design `d` as an actuator (PZT-5H on CF-thesis plies, parallel drive at `voltage_v`).
+pub fn with_actuator<R>(d: &Design, voltage_v: f64, f: impl FnOnce(&Actuator) -> R) -> R {
     let pzt = Material::builtin("PZT-5H").unwrap();
     let cf = Material::builtin("CF-thesis").unwrap();
     let layup = actuator_cam::design::layup::parse_layup(LAYUPS[d.layup]).unwrap();
     let t_p = d.t_p_mm * 1e-3;
-    let a = Actuator {
+    f(&Actuator {
         pzt: &pzt,
         pzt_thickness: t_p,
         ply: &cf,
         ply_thickness: 61.8e-6,
         layup_deg: &layup,
         planform: Planform::new(d.l_tot_mm * 1e-3, d.l_r, d.w0_mm * 1e-3, d.w_r, 0.0).unwrap(),
-        drive: drive_at_voltage(DriveMode::Parallel, field_v_per_mm * d.t_p_mm, t_p),
-    };
+        drive: drive_at_voltage(DriveMode::Parallel, voltage_v, t_p),
+    })
+}
+
+/// True (δ m, F N, m kg) of a design at a field.
+pub fn truth_at(truth: Truth, d: &Design, field_v_per_mm: f64) -> (f64, f64, f64) {
+    with_actuator(d, field_v_per_mm * d.t_p_mm, |a| {
+        truth_of(truth, d, field_v_per_mm, *a)
+    })
+}
+
+/// True (δ m, F N, m kg) of design `d` at a field, built as actuator `a`.
+fn truth_of(truth: Truth, d: &Design, field_v_per_mm: f64, a: Actuator) -> (f64, f64, f64) {
     match truth {
         Truth::Library(e) => {
             let p = e.predict(&a).unwrap();
