@@ -122,15 +122,7 @@ pub(crate) fn draw_panels(
         // The panel's stock on its top border, as a clamp panel engraves it: a sheet off the stack
         // says which layer and film it is.
         let label = |d: &mut Drawing, layer: &str, thickness_mm: Option<f64>| {
-            let t = thickness_mm.map_or(String::new(), |t| {
-                format!(" {}mm", crate::cam::decimal::fmt_mm(t))
-            });
-            let texts = [
-                format!("{title} {layer}{t} P{panel}"),
-                format!("{layer}{t} P{panel}"),
-                format!("{layer} P{panel}"),
-            ];
-            for s in border_label(c, &texts) {
+            for s in border_label(c, title, layer, thickness_mm, &panel.to_string()) {
                 d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
             }
         };

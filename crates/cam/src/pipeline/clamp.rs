@@ -146,19 +146,6 @@ fn cavity_outline(g: &PartGeometry, band: MoldBand) -> Vec<Point> {
 /// (about 0.1 mm on the ProtoLaser), and the window's edge is where the felt and Teflon fray.
 const NUMBER_CLEARANCE_MM: f64 = 0.2;
 
-/// The engraved label texts of a clamp panel sheet, longest first: `{layer} {t}mm P{panel}`, the
-/// film's thickness with the layer since the molds of one stack differ by film and a sheet off the
-/// stack must say which film it is; then `{layer} P{panel}`. `panel` is a number or a run (`1-6`).
-fn panel_label(layer: &str, thickness_mm: Option<f64>, panel: &str) -> [String; 2] {
-    let thickness = thickness_mm.map_or(String::new(), |t| {
-        format!(" {}mm", crate::cam::decimal::fmt_mm(t))
-    });
-    [
-        format!("{layer}{thickness} P{panel}"),
-        format!("{layer} P{panel}"),
-    ]
-}
-
 /// Strokes of the number of stack level `level` (1-based), engraved in its own stacking window
 /// (position `level - 1`): as tall as 60 % of the window (at most 2 mm), made smaller if it would not
 /// fit within the window less `inset_mm` on each side, and centred on the window by the extent of its
@@ -457,8 +444,7 @@ pub fn clamp_layers(
                 d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
             }
             let thickness_mm = d.stock.as_ref().map(|s| s.thickness_mm);
-            let texts = panel_label(&format!("{} {prefix}", names.title), thickness_mm, &numbers);
-            for s in border_label(c, &texts) {
+            for s in border_label(c, &names.title, prefix, thickness_mm, &numbers) {
                 d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
             }
             for f in fiducials(c) {
@@ -490,18 +476,6 @@ pub fn clamp_layers(
 mod tests {
     use super::*;
     use std::path::Path;
-
-    #[test]
-    fn a_panel_label_names_its_film_thickness_then_falls_back_without_it() {
-        assert_eq!(
-            panel_label("C mold-4", Some(0.05), "1"),
-            ["C mold-4 0.05mm P1", "C mold-4 P1"]
-        );
-        assert_eq!(
-            panel_label("C mold-4", Some(0.05), "1-6")[0],
-            "C mold-4 0.05mm P1-6"
-        );
-    }
 
     #[test]
     fn window_numbers_fit_and_are_centred_for_1_to_20_layers() {

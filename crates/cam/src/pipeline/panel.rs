@@ -141,10 +141,34 @@ pub fn window_origin(spec: &ClampSpec, k: usize) -> Point {
     [x, (spec.border_mm - spec.window_height_mm) / 2.0]
 }
 
-/// The strokes of the first of `texts` that fits the top border of a panel of `c`, engraved beside the
-/// fourth pin hole: at 30 % of the border's height (at most 2.5 mm), starting 3 pin insets from the
-/// left edge and at least 1 mm clear of the pin whatever its radius. Nothing when none fits.
-pub fn border_label(spec: &ClampSpec, texts: &[String]) -> Vec<Vec<Point>> {
+/// The engraved label texts of a panel sheet (clamp or linkage), longest first:
+/// `{title} {layer} {t}mm P{panel}`, the sheet's thickness with its layer since the layers of one stack
+/// differ by film and a sheet off the stack must say which film it is; then without the thickness, then
+/// without the title. `panel` is a number or a run (`1-6`).
+fn border_texts(title: &str, layer: &str, thickness_mm: Option<f64>, panel: &str) -> [String; 4] {
+    let t = thickness_mm.map_or(String::new(), |t| {
+        format!(" {}mm", crate::cam::decimal::fmt_mm(t))
+    });
+    [
+        format!("{title} {layer}{t} P{panel}"),
+        format!("{title} {layer} P{panel}"),
+        format!("{layer}{t} P{panel}"),
+        format!("{layer} P{panel}"),
+    ]
+}
+
+/// The strokes of the label of panel `panel`'s sheet of `layer` ([`border_texts`], the first that
+/// fits) on the top border of a panel of `spec`, engraved beside the fourth pin hole: at 30 % of the
+/// border's height (at most 2.5 mm), starting 3 pin insets from the left edge and at least 1 mm clear
+/// of the pin whatever its radius. Nothing when none fits.
+pub fn border_label(
+    spec: &ClampSpec,
+    title: &str,
+    layer: &str,
+    thickness_mm: Option<f64>,
+    panel: &str,
+) -> Vec<Vec<Point>> {
+    let texts = border_texts(title, layer, thickness_mm, panel);
     let th = (spec.border_mm * 0.3).min(2.5);
     let shift = (spec.pin_radius_mm + 1.0 - 2.0).max(0.0);
     let room = spec.panel_width_mm - 6.0 * spec.pin_inset_mm - shift;
@@ -190,6 +214,23 @@ pub(crate) fn on_sheet_edge(p: Point, width_mm: f64, height_mm: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_panel_label_names_its_film_thickness_then_falls_back_without_it() {
+        assert_eq!(
+            border_texts("C", "mold-4", Some(0.05), "1"),
+            [
+                "C mold-4 0.05mm P1",
+                "C mold-4 P1",
+                "mold-4 0.05mm P1",
+                "mold-4 P1"
+            ]
+        );
+        assert_eq!(
+            border_texts("C", "mold-4", Some(0.05), "1-6")[0],
+            "C mold-4 0.05mm P1-6"
+        );
+    }
     use crate::process::template::Template;
     use std::path::Path;
 
