@@ -289,7 +289,7 @@ fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
         d31_scale: D31,
         ..Effects::default()
     });
-    let (_, csv, with) = calibrated(truth, 1003, random_designs, &Settings::default());
+    let (designs, csv, with) = calibrated(truth, 1003, random_designs, &Settings::default());
     let without = calibrate::calibrate(
         &parse(&without_resonance(&csv)).unwrap(),
         &Settings::default(),
@@ -328,6 +328,9 @@ fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
     );
     let (v, _) = fitted(&with, "d31-scale").unwrap();
     assert!((v / D31 - 1.0).abs() < 0.02, "eta {v}");
+    // Its f1 is the truth's to the beam's mesh: the resonance residual's trend in w_r that leaves this
+    // data set not explained is the draw of its 1 % noise, not a model error.
+    assert!(resonance_error(&with, truth, &designs) < 1e-4);
 }
 
 #[test]
@@ -344,7 +347,7 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
             (designs, with, without)
         })
         .collect();
-    let mut misses = 0;
+    let (mut misses, mut false_alarms) = (0, 0);
     for (seed, (designs, with, without)) in seeds.iter().zip(&rows) {
         println!(
             "seed {seed}: with f1 {} {:?} glue {:?}; without f1 {} {:?}",
@@ -354,21 +357,16 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
             without.selection.verdict.name(),
             without.model.selected_effects,
         );
-        // The hidden mass moves f1 by several times its noise, the deflections and forces not at all.
-        let moved = designs
+        // The hidden mass lowers f1 on every design, the deflections and forces not at all.
+        let fall: Vec<f64> = designs
             .iter()
-            .map(|d| (resonance(truth, d) / resonance(Truth::Library(Effects::default()), d)).ln())
-            .fold(0.0f64, |a, x| a.max(-x));
-        assert!(moved > 0.03, "f1 moved by {moved}");
-        assert!(
-            names_exactly(
-                &["glue"],
-                with.selection.verdict.name(),
-                &with.model.selected_effects
-            ),
-            "seed {seed}: {:?}",
-            with.model.selected_effects
-        );
+            .map(|d| -(resonance(truth, d) / resonance(Truth::Library(Effects::default()), d)).ln())
+            .collect();
+        assert!(fall.iter().all(|&x| x > 0.0), "{fall:?}");
+        // The resonance picks the glue on every data set; the verdict is the adequacy test's, whose
+        // false alarms on a true model are counted below.
+        assert_eq!(with.model.selected_effects, ["glue"], "seed {seed}");
+        false_alarms += usize::from(with.selection.verdict.name() != "explained");
         let (v, (lo, hi)) = fitted(with, "glue").unwrap();
         assert!((v / GLUE - 1.0).abs() < 0.2, "seed {seed}: glue {v}");
         misses += usize::from(!(lo <= GLUE && GLUE <= hi));
@@ -388,6 +386,11 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
     assert!(
         misses <= allowed_misses(seeds.len()),
         "{misses} intervals missed"
+    );
+    assert!(
+        false_alarms <= allowed_false_alarms(seeds.len()),
+        "{false_alarms} of {} verdicts not explained",
+        seeds.len()
     );
 }
 

@@ -444,7 +444,18 @@ pub fn of_20(k: usize, n: usize) -> usize {
 /// Misses allowed among `n` intervals of stated coverage 95 %: the smallest `m` with
 /// P(more than `m` misses) at most 1 % when each interval misses with probability 0.05 independently.
 pub fn allowed_misses(n: usize) -> usize {
-    let p: f64 = 0.05;
+    chance_allows(n, 0.05)
+}
+
+/// False alarms allowed among the verdicts on `n` data sets of a true model: the adequacy test
+/// rejects one at its two tests' level each (lack of fit, Holm-adjusted correlations: `Settings::alpha`
+/// = 0.01), so at most 2 % of the time.
+pub fn allowed_false_alarms(n: usize) -> usize {
+    chance_allows(n, 0.02)
+}
+
+/// The smallest `m` with P(more than `m` of `n` independent events of probability `p`) at most 1 %.
+fn chance_allows(n: usize, p: f64) -> usize {
     let mut term = (1.0 - p).powi(n as i32); // P(0 misses)
     let mut cdf = term;
     let mut m = 0;

@@ -12,6 +12,7 @@ pub mod identifiability;
 mod joint;
 pub(crate) mod observations;
 pub mod outliers;
+mod resonance_weight;
 pub mod separating;
 pub mod settings;
 pub(crate) mod stacks;
@@ -246,11 +247,32 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     // The mass model the masses chose stands unless another fits masses, deflections and forces (and
     // resonances) together better by the acceptance margin (joint AICc: the two data sets' likelihoods
     // add; the masses' at the final model's mass parameters, where those were fitted on all the data).
+    // With two resonances or more, the actuation part is that of each final model as estimated, with
+    // the resonances weighted by their noise, one weight for all (resonance_weight.rs): the resonances
+    // are the readings that tell a mass on the plates from a mass at the clamp, and they count by their
+    // precision.
+    let splits: Option<Vec<_>> = stages.iter().map(|st| st.split).collect();
+    let weighted = splits
+        .as_ref()
+        .and_then(|s| Some((s, resonance_weight::weight(s)?)));
     let joint: Vec<f64> = bases
         .iter()
         .zip(&stages)
-        .map(|(b, st)| {
-            let fin = &st.candidates[st.final_index];
+        .enumerate()
+        .map(|(j, (b, st))| {
+            let (fin, act) = match weighted {
+                Some((splits, w)) => {
+                    let s = &splits[j];
+                    let n = s.n_act + s.n_f1;
+                    let p = st.estimate.values.len();
+                    let aicc = crate::calibrate::stats::aicc(n, p, s.weighted(w));
+                    (&st.estimate, aicc)
+                }
+                None => {
+                    let fin = &st.candidates[st.final_index];
+                    (fin, fin.aicc)
+                }
+            };
             b.map_or(0.0, |i| {
                 if fin.carried.is_empty() {
                     return mass_candidates[i].aicc;
@@ -259,7 +281,7 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
                 mass_data.residuals(&fin.model, None, &mut r);
                 let rss = r.iter().map(|x| x * x).sum();
                 crate::calibrate::stats::aicc(r.len(), mass_candidates[i].values.len(), rss)
-            }) + fin.aicc
+            }) + act
         })
         .collect();
     let mut pick = 0;
@@ -292,9 +314,10 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
             ));
         } else if pick != 0 {
             notes.push(format!(
-                "the masses alone chose {}; {} fits the masses, deflections and forces together better (joint AICc {:.1} lower), so it was kept",
+                "the masses alone chose {}; {} fits the masses, deflections and forces{} together better (joint AICc {:.1} lower), so it was kept",
                 bases[0].map_or("original".into(), label),
                 label(i),
+                if weighted.is_some() { " (and resonances)" } else { "" },
                 joint[0] - joint[pick]
             ));
         }
@@ -320,14 +343,17 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
     }
     let ActuationStage {
         mut act_data,
-        candidates,
+        mut candidates,
+        estimate,
         rivals,
+        split: _,
         final_index,
         screening_index,
         notes: stage_notes,
     } = stages.swap_remove(pick);
     notes.extend(stage_notes);
     contenders.extend(rivals);
+    candidates[final_index] = estimate;
     let eta = EffectId::D31Scale;
     let chosen = &candidates[final_index];
     if let Some(k) = chosen.effects.iter().position(|e| *e == eta) {
@@ -407,6 +433,11 @@ pub fn select(data: &Dataset, settings: &Settings) -> Result<Selection, ModelErr
 struct ActuationStage<'a> {
     act_data: ActuationData<'a>,
     candidates: Vec<Candidate>,
+    /// The final candidate as estimated (resonance_weight.rs): its values, intervals and model.
+    estimate: Candidate,
+    /// The sums of squares of the estimate's deflections and forces and of its resonances (None
+    /// without two resonances).
+    split: Option<resonance_weight::Split>,
     /// Effect sets of the rivals of the best accepted model.
     rivals: Vec<Vec<String>>,
     final_index: usize,
@@ -576,15 +607,52 @@ fn actuation_stage<'a>(
             rivals.clear();
         }
     }
+    let (estimate, split) = weighted_estimate(&candidates[final_index], &stage_data, &fitter);
     drop(fitter);
     Ok(ActuationStage {
         act_data: stage_data.into_act(),
         candidates,
+        estimate,
+        split,
         rivals,
         final_index,
         screening_index,
         notes,
     })
+}
+
+/// The chosen candidate fitted again with the resonances weighted by their noise (resonance_weight.rs),
+/// or as it is without two resonances or anything to fit; with its residuals' sums of squares (None
+/// without two resonances).
+fn weighted_estimate(
+    chosen: &Candidate,
+    stage_data: &StageInput,
+    fitter: &Fitter,
+) -> (Candidate, Option<resonance_weight::Split>) {
+    let resonances = &stage_data.act().resonances;
+    let mut estimate = chosen.clone();
+    let mut used = 1.0;
+    let fixed = chosen.effects.is_empty() && chosen.carried.is_empty();
+    for _ in 0..if fixed { 0 } else { resonance_weight::ROUNDS } {
+        let Some(w) = resonance_weight::split(&estimate.fit.residuals, resonances.len(), used)
+            .and_then(|s| resonance_weight::weight(&[s]))
+        else {
+            break;
+        };
+        if (w / used - 1.0).abs() < resonance_weight::SETTLED {
+            break;
+        }
+        resonances.set_weight(w);
+        let refit = fitter.fit_without_cv(&chosen.effects, chosen.stage, chosen.role);
+        if refit.values.iter().any(|v| !v.is_finite()) {
+            break;
+        }
+        estimate = resonance_weight::with_estimate(chosen, refit);
+        used = w;
+    }
+    resonances.set_weight(1.0);
+    let split = resonance_weight::split(&estimate.fit.residuals, resonances.len(), used);
+    (estimate, split)
 }
 
 /// The data an actuation stage fits: deflection and force on a frozen mass model, or with the mass

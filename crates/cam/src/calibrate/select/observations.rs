@@ -7,6 +7,7 @@ use crate::calibrate::csv::Dataset;
 use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::StackBasis;
 use actuator_model::EffectModel;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
@@ -95,47 +96,76 @@ pub(crate) struct ResonanceObs {
 /// time, and most (d31, field, dead length, edge margin) leave the beam as it was, so its mode is
 /// reused (`ActuatorBeam` compares every input of the mode). A few are kept, for the models fitted in
 /// parallel on the same data.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct Resonances {
     pub(crate) obs: Vec<ResonanceObs>,
+    /// Factor on every log residual, as f64 bits: 1 while the models are compared (a resonance counts
+    /// as one more deflection or force reading), σ_actuation / σ_f1 while the chosen model is estimated
+    /// (`resonance_weight.rs`). Set between fits, on the data the fitter already holds.
+    weight: AtomicU64,
     last: Vec<Mutex<Vec<(ActuatorBeam, Modal)>>>,
 }
 
 /// Beams kept per resonance.
 const KEPT_BEAMS: usize = 4;
 
+impl Default for Resonances {
+    fn default() -> Self {
+        Resonances::new(Vec::new())
+    }
+}
+
 impl Clone for Resonances {
     fn clone(&self) -> Self {
-        Resonances::new(self.obs.clone())
+        let copy = Resonances::new(self.obs.clone());
+        copy.set_weight(self.weight());
+        copy
     }
 }
 
 impl Resonances {
     pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
         let last = obs.iter().map(|_| Mutex::new(Vec::new())).collect();
-        Resonances { obs, last }
+        Resonances {
+            obs,
+            weight: AtomicU64::new(1.0f64.to_bits()),
+            last,
+        }
+    }
+
+    /// The factor on every log residual.
+    pub(crate) fn weight(&self) -> f64 {
+        f64::from_bits(self.weight.load(Ordering::Relaxed))
+    }
+
+    /// Sets the factor on every log residual (between fits).
+    pub(crate) fn set_weight(&self, weight: f64) {
+        self.weight.store(weight.to_bits(), Ordering::Relaxed);
     }
 
     /// The same resonances with each basis replaced (the joint data's bases at the carried values).
     pub(crate) fn with_bases(&self, basis: impl Fn(&ResonanceObs) -> StackBasis) -> Self {
-        Resonances::new(
-            self.obs
-                .iter()
-                .map(|o| ResonanceObs {
-                    basis: basis(o),
-                    ..*o
-                })
-                .collect(),
-        )
+        let obs = self
+            .obs
+            .iter()
+            .map(|o| ResonanceObs {
+                basis: basis(o),
+                ..*o
+            })
+            .collect();
+        let copy = Resonances::new(obs);
+        copy.set_weight(self.weight());
+        copy
     }
 
     pub(crate) fn len(&self) -> usize {
         self.obs.len()
     }
 
-    /// Log residual of resonance `k` under `effects` on `basis`: measured over the model's `f1` as
-    /// [`EffectModel::modes`] computes it, on the coarse mesh (`ActuatorBeam::solve_coarse`, within
-    /// 1e-4 of `predict`'s, a hundredth of a 1 % reading); NaN where the model cannot evaluate it.
+    /// Log residual of resonance `k` under `effects` on `basis`, times [`Resonances::weight`]: measured
+    /// over the model's `f1` as [`EffectModel::modes`] computes it, on the coarse mesh
+    /// (`ActuatorBeam::solve_coarse`, within 1e-4 of `predict`'s, a hundredth of a 1 % reading); NaN
+    /// where the model cannot evaluate it.
     pub(crate) fn residual(
         &self,
         data: &Dataset,
@@ -167,11 +197,8 @@ impl Resonances {
                 Err(_) => return f64::NAN,
             },
         };
-        o.ln_frequency
-            - modal
-                .with_stiffness(effects.tip_stiffness(basis))
-                .frequency
-                .ln()
+        let model = modal.with_stiffness(effects.tip_stiffness(basis)).frequency;
+        (o.ln_frequency - model.ln()) * self.weight()
     }
 }
 
