@@ -169,6 +169,7 @@ pub(crate) struct Compressed {
 /// stall rules ([`compress`]); a patient one never leaves an exploration it has begun, as
 /// sparrow's exploration keeps its pool at a ceiling for as long as its time lasts: the
 /// anytime rounds give it that time in counted slices.
+#[derive(Clone)]
 pub(crate) struct Chain<'f> {
     footprints: &'f Footprints,
     best: Vec<Placement>,
@@ -233,6 +234,15 @@ impl<'f> Chain<'f> {
     /// the tallest part, or, if not patient, its stall rules).
     pub(crate) fn ended(&self) -> bool {
         self.ended
+    }
+
+    /// A copy of this chain (its layouts, ceiling step, weights and exploration pool) that
+    /// goes on drawing from `rng`.
+    pub(crate) fn fork(&self, rng: ChaCha8Rng) -> Self {
+        Chain {
+            rng,
+            ..self.clone()
+        }
     }
 
     /// The lowest clear layout so far.
@@ -329,6 +339,7 @@ fn top(footprints: &Footprints, items: &[Placement]) -> f32 {
 /// below the top of the chain's best layout: separate; on a failure put the failed layout in a
 /// pool ordered by its remaining overlap, take one back (`POOL_SPREAD`), disrupt it
 /// ([`disrupt`]) and separate again.
+#[derive(Clone)]
 struct Exploration {
     ceiling: f32,
     current: Vec<Placement>,
