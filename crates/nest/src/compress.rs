@@ -1068,6 +1068,38 @@ mod tests {
     }
 
     #[test]
+    fn a_fork_carries_on_from_the_chain_it_copies_and_draws_from_its_own_stream() {
+        // Four bars exploring at a ceiling they cannot clear (top 2 is the least): after a
+        // slice the chain holds a pool. A fork on the chain's own stream goes on exactly as the
+        // chain does; a fork on another stream starts from the same layout and pool and goes
+        // another way.
+        let start = vec![
+            at(0, 0.0, 0.0),
+            at(1, 6.1, 0.0),
+            at(0, 0.0, 1.01),
+            at(1, 6.1, 1.01),
+        ];
+        let footprints = bars();
+        let mut chain = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        assert!(!chain.advance(2_000_000, &bars_clear, &never));
+        let pool = |c: &Chain| c.exploring.as_ref().map(|e| e.pool.len());
+        assert!(pool(&chain).is_some_and(|n| n > 0));
+        let mut same = chain.fork(chain.rng.clone());
+        let mut other = chain.fork(ChaCha8Rng::seed_from_u64(6));
+        assert_eq!(other.best(), chain.best());
+        assert_eq!(pool(&other), pool(&chain));
+        assert_eq!(other.spent, chain.spent);
+        for c in [&mut chain, &mut same, &mut other] {
+            assert!(!c.advance(500_000, &bars_clear, &never));
+        }
+        assert_eq!(same.best(), chain.best());
+        assert_eq!(same.spent, chain.spent);
+        let current = |c: &Chain| c.exploring.as_ref().map(|e| e.current.clone());
+        assert_eq!(current(&same), current(&chain));
+        assert_ne!(current(&other), current(&chain));
+    }
+
+    #[test]
     fn a_disruption_swaps_two_large_parts_of_different_designs() {
         let footprints = bars();
         let before = vec![
