@@ -981,16 +981,22 @@ mod tests {
         assert_eq!(run(11).0, Some(found));
     }
 
-    #[test]
-    fn exploration_gives_up_when_nothing_fits_under_the_ceiling() {
-        // Four bars of height 1 in rows of at most two need a top of 2: under 1.5 nothing is
-        // clear, so exploration stops after its failures, well within an endless budget.
-        let start = vec![
+    /// A long and a short bar in each of two rows: a top of 2 (plus the gap), the least four
+    /// bars of height 1 in rows of at most two can have.
+    fn two_rows_of_bars() -> Vec<Placement> {
+        vec![
             at(0, 0.0, 0.0),
             at(1, 6.1, 0.0),
             at(0, 0.0, 1.01),
             at(1, 6.1, 1.01),
-        ];
+        ]
+    }
+
+    #[test]
+    fn exploration_gives_up_when_nothing_fits_under_the_ceiling() {
+        // Four bars of height 1 in rows of at most two need a top of 2: under 1.5 nothing is
+        // clear, so exploration stops after its failures, well within an endless budget.
+        let start = two_rows_of_bars();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let (found, spent) = explore(
             &bars(),
@@ -1035,12 +1041,7 @@ mod tests {
         // below fails. Compression ends by its stall rules well within an endless budget; a
         // patient chain spends every slice it is given, a slice starts where the last one
         // ended, and its layout stays clear, between the start and top 2.
-        let start = vec![
-            at(0, 0.0, 0.0),
-            at(1, 6.1, 0.0),
-            at(0, 0.0, 1.01),
-            at(1, 6.1, 1.01),
-        ];
+        let start = two_rows_of_bars();
         let footprints = bars();
         let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
         assert!(!impatient.advance(usize::MAX / 2, &bars_clear, &never));
@@ -1073,12 +1074,7 @@ mod tests {
         // slice the chain holds a pool. A fork on the chain's own stream goes on exactly as the
         // chain does; a fork on another stream starts from the same layout and pool and goes
         // another way.
-        let start = vec![
-            at(0, 0.0, 0.0),
-            at(1, 6.1, 0.0),
-            at(0, 0.0, 1.01),
-            at(1, 6.1, 1.01),
-        ];
+        let start = two_rows_of_bars();
         let footprints = bars();
         let mut chain = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
         assert!(!chain.advance(2_000_000, &bars_clear, &never));

@@ -175,7 +175,10 @@ impl Model<'_> {
                 }
             }
             // Chains above the lowest go on from a copy of it (see the module doc).
-            let follow = chains[lowest_chain].lock().expect("no thread panics").clone();
+            let follow = chains[lowest_chain]
+                .lock()
+                .expect("no thread panics")
+                .clone();
             for (c, t) in tops.iter().enumerate() {
                 if *t > tops[lowest_chain] {
                     let rng = worker_rng(settings.seed, epoch + 1, chains.len() + c);

@@ -83,7 +83,7 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
 //!   the state-of-the-art strip packer, given 5 s; on the twelve public ESICUP instances behind
-//!   it, by about half a point in the mean at 5 s and two points at 30 s, where sparrow's
+//!   it, by about 0.7 points in the mean at 5 s and 2.4 points at 30 s, where sparrow's
 //!   separation keeps finding lower ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
