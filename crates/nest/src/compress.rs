@@ -169,6 +169,7 @@ pub(crate) struct Compressed {
 /// stall rules ([`compress`]); a patient one never leaves an exploration it has begun, as
 /// sparrow's exploration keeps its pool at a ceiling for as long as its time lasts: the
 /// anytime rounds give it that time in counted slices.
+#[derive(Clone)]
 pub(crate) struct Chain<'f> {
     footprints: &'f Footprints,
     best: Vec<Placement>,
@@ -233,6 +234,15 @@ impl<'f> Chain<'f> {
     /// the tallest part, or, if not patient, its stall rules).
     pub(crate) fn ended(&self) -> bool {
         self.ended
+    }
+
+    /// A copy of this chain (its layouts, ceiling step, weights and exploration pool) that
+    /// goes on drawing from `rng`.
+    pub(crate) fn fork(&self, rng: ChaCha8Rng) -> Self {
+        Chain {
+            rng,
+            ..self.clone()
+        }
     }
 
     /// The lowest clear layout so far.
@@ -329,6 +339,7 @@ fn top(footprints: &Footprints, items: &[Placement]) -> f32 {
 /// below the top of the chain's best layout: separate; on a failure put the failed layout in a
 /// pool ordered by its remaining overlap, take one back (`POOL_SPREAD`), disrupt it
 /// ([`disrupt`]) and separate again.
+#[derive(Clone)]
 struct Exploration {
     ceiling: f32,
     current: Vec<Placement>,
@@ -970,16 +981,22 @@ mod tests {
         assert_eq!(run(11).0, Some(found));
     }
 
-    #[test]
-    fn exploration_gives_up_when_nothing_fits_under_the_ceiling() {
-        // Four bars of height 1 in rows of at most two need a top of 2: under 1.5 nothing is
-        // clear, so exploration stops after its failures, well within an endless budget.
-        let start = vec![
+    /// A long and a short bar in each of two rows: a top of 2 (plus the gap), the least four
+    /// bars of height 1 in rows of at most two can have.
+    fn two_rows_of_bars() -> Vec<Placement> {
+        vec![
             at(0, 0.0, 0.0),
             at(1, 6.1, 0.0),
             at(0, 0.0, 1.01),
             at(1, 6.1, 1.01),
-        ];
+        ]
+    }
+
+    #[test]
+    fn exploration_gives_up_when_nothing_fits_under_the_ceiling() {
+        // Four bars of height 1 in rows of at most two need a top of 2: under 1.5 nothing is
+        // clear, so exploration stops after its failures, well within an endless budget.
+        let start = two_rows_of_bars();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let (found, spent) = explore(
             &bars(),
@@ -1024,12 +1041,7 @@ mod tests {
         // below fails. Compression ends by its stall rules well within an endless budget; a
         // patient chain spends every slice it is given, a slice starts where the last one
         // ended, and its layout stays clear, between the start and top 2.
-        let start = vec![
-            at(0, 0.0, 0.0),
-            at(1, 6.1, 0.0),
-            at(0, 0.0, 1.01),
-            at(1, 6.1, 1.01),
-        ];
+        let start = two_rows_of_bars();
         let footprints = bars();
         let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
         assert!(!impatient.advance(usize::MAX / 2, &bars_clear, &never));
@@ -1054,6 +1066,33 @@ mod tests {
             "top {}",
             top(best)
         );
+    }
+
+    #[test]
+    fn a_fork_carries_on_from_the_chain_it_copies_and_draws_from_its_own_stream() {
+        // Four bars exploring at a ceiling they cannot clear (top 2 is the least): after a
+        // slice the chain holds a pool. A fork on the chain's own stream goes on exactly as the
+        // chain does; a fork on another stream starts from the same layout and pool and goes
+        // another way.
+        let start = two_rows_of_bars();
+        let footprints = bars();
+        let mut chain = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        assert!(!chain.advance(2_000_000, &bars_clear, &never));
+        let pool = |c: &Chain| c.exploring.as_ref().map(|e| e.pool.len());
+        assert!(pool(&chain).is_some_and(|n| n > 0));
+        let mut same = chain.fork(chain.rng.clone());
+        let mut other = chain.fork(ChaCha8Rng::seed_from_u64(6));
+        assert_eq!(other.best(), chain.best());
+        assert_eq!(pool(&other), pool(&chain));
+        assert_eq!(other.spent, chain.spent);
+        for c in [&mut chain, &mut same, &mut other] {
+            assert!(!c.advance(500_000, &bars_clear, &never));
+        }
+        assert_eq!(same.best(), chain.best());
+        assert_eq!(same.spent, chain.spent);
+        let current = |c: &Chain| c.exploring.as_ref().map(|e| e.current.clone());
+        assert_eq!(current(&same), current(&chain));
+        assert_ne!(current(&other), current(&chain));
     }
 
     #[test]

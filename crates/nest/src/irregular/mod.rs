@@ -61,8 +61,9 @@
 //!   explorations in a row, and the lowest top wins.
 //! * **Anytime rounds** (`anytime`): iterations above the base budget of 1000 go to rounds of
 //!   100, in which patient compression chains carry on sparrow's exploration from the best
-//!   layout so far, resumed round after round with their pools and weights (on more than one
-//!   sheet, after a short ruin-and-recreate search); the best is kept, so more rounds never end
+//!   layout so far, resumed round after round with their pools and weights, the chains above the
+//!   lowest going on from a copy of it (on more than one sheet, after a short ruin-and-recreate
+//!   search); the best is kept, so more rounds never end
 //!   worse. A [`SearchLimit`](crate::SearchLimit) (deadline, interrupt) is checked in the greedy
 //!   fill, between search moves and inside the compression, and drops a round it cuts, so the
 //!   layout is that of the iterations reached.
@@ -82,7 +83,7 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
 //!   the state-of-the-art strip packer, given 5 s; on the twelve public ESICUP instances behind
-//!   it, by about half a point in the mean at 5 s and two points at 30 s, where sparrow's
+//!   it, by about 0.7 points in the mean at 5 s and 2.4 points at 30 s, where sparrow's
 //!   separation keeps finding lower ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
