@@ -685,17 +685,22 @@ mod tests {
         }
     }
 
+    /// A bond layer and plies 20 % thicker: effects that change the stack.
+    fn bonded_thick_plies() -> Effects {
+        Effects {
+            bond_thickness: 20e-6,
+            ply_thickness_scale: 1.2,
+            ..Effects::null()
+        }
+    }
+
     /// The stack section does not depend on the planform: solved on one actuator, it gives another
     /// planform's basis exactly; solved without an extension, it refuses a planform with one.
     #[test]
     fn a_stack_section_serves_every_planform_of_its_stack() {
         let (pzt, cf) = materials();
         let layup = [0.0, 90.0, 0.0];
-        let e = Effects {
-            bond_thickness: 20e-6,
-            ply_thickness_scale: 1.2,
-            ..Effects::null()
-        };
+        let e = bonded_thick_plies();
         let a = actuator(&pzt, &cf, &layup);
         let section = e.stack_section(&a).unwrap();
         let mut b = a;
@@ -716,11 +721,7 @@ mod tests {
     fn a_basis_moves_to_another_field_exactly() {
         let (pzt, cf) = materials();
         let layup = [0.0, 90.0, 0.0];
-        let e = Effects {
-            bond_thickness: 20e-6,
-            ply_thickness_scale: 1.2,
-            ..Effects::null()
-        };
+        let e = bonded_thick_plies();
         for mode in DriveMode::ALL {
             let mut a = actuator(&pzt, &cf, &layup);
             a.drive.mode = mode;

@@ -214,6 +214,8 @@ pub(crate) fn on_sheet_edge(p: Point, width_mm: f64, height_mm: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::process::template::Template;
+    use std::path::Path;
 
     #[test]
     fn a_panel_label_names_its_film_thickness_then_falls_back_without_it() {
@@ -231,8 +233,6 @@ mod tests {
             "C mold-4 0.05mm P1-6"
         );
     }
-    use crate::process::template::Template;
-    use std::path::Path;
 
     #[test]
     fn panels_hold_every_actuator_once_inside_the_border() {

@@ -63,10 +63,10 @@
 //!   100, in which patient compression chains carry on sparrow's exploration from the best
 //!   layout so far, resumed round after round with their pools and weights, the chains above the
 //!   lowest going on from a copy of it (on more than one sheet, after a short ruin-and-recreate
-//!   search); the best is kept, so more rounds never end
-//!   worse. A [`SearchLimit`](crate::SearchLimit) (deadline, interrupt) is checked in the greedy
-//!   fill, between search moves and inside the compression, and drops a round it cuts, so the
-//!   layout is that of the iterations reached.
+//!   search); the best is kept, so more rounds never end worse. A
+//!   [`SearchLimit`] (deadline, interrupt) is checked in the greedy fill,
+//!   between search moves and inside the compression, and drops a round it cuts, so the layout
+//!   is that of the iterations reached.
 //! * **Determinism**: a fixed number of workers, each with its own ChaCha8 stream of the
 //!   seed (one stream per worker and epoch); work is cut into epochs by iteration count. In the first half of the epochs each
 //!   worker improves its own start; after each later epoch the best layout (ties to the lower
