@@ -11,7 +11,7 @@
 //! outline is turned by -90° on reading, which keeps each part's orientation to the strip (and
 //! an allowed angle stays allowed). `allowed_orientations` null (free rotation) becomes
 //! 0/90/180/270°: the engine turns by listed angles only. Separation 0, as in the ESICUP
-//! instances, 2 workers, seed 1.
+//! instances, 2 workers, seed 1 (`NEST_SEED` sets another).
 //!
 //! `NEST_TIME_S=30` gives each instance a 30 s time budget (the anytime search, iterations
 //! unbounded); without it the default iteration budget runs. One line per instance: name,
@@ -123,9 +123,13 @@ fn main() {
             .filter(|t: &f64| t.is_finite() && *t > 0.0)
             .unwrap_or_else(|| panic!("NEST_TIME_S = {t:?}: a number of seconds above 0"))
     });
+    let seed: u64 = std::env::var("NEST_SEED").ok().map_or(1, |s| {
+        s.parse()
+            .unwrap_or_else(|_| panic!("NEST_SEED = {s:?}: a whole number"))
+    });
     let settings = NestSettings {
         separation_mm: 0.0,
-        seed: 1,
+        seed,
         // A time budget runs the anytime search until its deadline.
         iterations: if time_s.is_some() {
             usize::MAX / 2
@@ -151,7 +155,7 @@ fn main() {
         None => format!("{} iterations", settings.iterations),
     };
     println!(
-        "strip instances in {}: separation 0, {budget}, {} workers, seed 1",
+        "strip instances in {}: separation 0, {budget}, {} workers, seed {seed}",
         dir.display(),
         settings.workers
     );
