@@ -9,9 +9,11 @@
 //! Hertel & Mehlhorn 1983). Between two convex pieces the separating-axis theorem gives the
 //! penetration depth: the least overlap of their projections on the edge normals of either,
 //! zero when one of those axes separates them. Summed over the piece pairs, it is zero iff the
-//! shapes are clear by at least [`CLEARANCE_MM`], and it shrinks as a part moves out.
+//! shapes are clear by at least [`CLEARANCE_MM`], and it shrinks as a part moves out. What the
+//! compression minimises is [`loss`]: that depth charged as sparrow charges a collision, with a
+//! floor and scaled by the parts' sizes.
 
-use geo::{Coord, LineString, Polygon, TriangulateEarcut};
+use geo::{Area, ConvexHull, Coord, LineString, MultiPoint, Point, Polygon, TriangulateEarcut};
 
 use cam_geometry::area;
 
@@ -41,6 +43,10 @@ struct Convex {
 pub(crate) struct Pieces {
     pieces: Vec<Convex>,
     pub(crate) bounds: Bounds,
+    /// Largest distance between two of its vertices.
+    diameter: f32,
+    /// Square root of its convex hull's area: a length that grows with the part.
+    size: f32,
     /// Index of the first piece in a [`Projections`] table, once one holds this shape.
     first_id: Option<usize>,
 }
@@ -94,9 +100,22 @@ impl Pieces {
             .fold([f32::MAX, f32::MAX, f32::MIN, f32::MIN], |b, piece| {
                 union(b, piece.bounds)
             });
+        let diameter = points
+            .iter()
+            .flat_map(|p| points.iter().map(move |q| (p[0] - q[0]).hypot(p[1] - q[1])))
+            .fold(0.0, f64::max) as f32;
+        let hull = MultiPoint::from(
+            points
+                .iter()
+                .map(|p| Point::new(p[0], p[1]))
+                .collect::<Vec<_>>(),
+        )
+        .convex_hull();
         Some(Pieces {
             pieces,
             bounds,
+            diameter,
+            size: hull.unsigned_area().sqrt() as f32,
             first_id: None,
         })
     }
@@ -196,6 +215,26 @@ pub(crate) fn overlap(
         }
     }
     total
+}
+
+/// Share of the larger diameter of two shapes that a collision between them costs at the least
+/// in [`loss`] (sparrow's ε, Gardeyn & Wauters 2025, Algorithm 4: 1 %).
+const LEAST_DEPTH_SHARE: f32 = 0.01;
+
+/// How much the separation is charged for a collision of shapes `a` and `b` whose [`overlap`]
+/// is `depth`: zero when it is, else `sqrt(depth² + ε²) · sqrt(size_a · size_b)`, with ε
+/// (`LEAST_DEPTH_SHARE` of the larger diameter) and `size` the square root of a shape's convex
+/// hull area, as sparrow quantifies a collision (Gardeyn & Wauters 2025, Algorithm 4). The floor
+/// ε makes every collision, however shallow, cost about a hundredth of a part, so a separation
+/// does not settle for many slight overlaps that each look nearly free; the size factor makes a
+/// large part's collisions dearer than a small one's of the same depth, so the small part is the
+/// one that moves to a gap.
+pub(crate) fn loss(depth: f32, a: &Pieces, b: &Pieces) -> f32 {
+    if depth == 0.0 {
+        return 0.0;
+    }
+    let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
+    (depth * depth + least * least).sqrt() * (a.size * b.size).sqrt()
 }
 
 /// Separating-axis penetration depth of convex `a` moved by `d` into convex `b`: the smallest
@@ -450,6 +489,27 @@ mod tests {
             0.0
         );
         assert!(overlap(&diamond, [0.9, 0.9], &diamond, [0.0, 0.0], None) > 0.0);
+    }
+
+    #[test]
+    fn the_loss_is_the_depth_with_a_floor_scaled_by_the_sizes() {
+        // Closed forms (sparrow's quantification, Gardeyn & Wauters 2025, Algorithm 4): a 2 x 2
+        // square has diameter 2√2 and size √4 = 2; an 8 x 2 bar diameter √68 and size 4.
+        let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
+        let bar = Pieces::new(&[[0., 0.], [8., 0.], [8., 2.], [0., 2.]]).unwrap();
+        assert!((square.diameter - 8f32.sqrt()).abs() < 1e-5);
+        assert!((square.size - 2.0).abs() < 1e-5 && (bar.size - 4.0).abs() < 1e-5);
+        assert_eq!(loss(0.0, &square, &bar), 0.0);
+        // Deep: about the depth times √(2 · 4).
+        let deep = loss(0.5, &square, &bar);
+        let floor = 0.01 * 68f32.sqrt();
+        let expected = (0.25 + floor * floor).sqrt() * 8f32.sqrt();
+        assert!((deep - expected).abs() < 1e-5, "{deep} against {expected}");
+        // Shallow: never under the floor, 1 % of the larger diameter, times the sizes.
+        let shallow = loss(1e-6, &square, &bar);
+        assert!(shallow >= floor * 8f32.sqrt() && shallow < 1.001 * floor * 8f32.sqrt());
+        // The same depth between two squares costs less than between a square and the bar.
+        assert!(loss(0.5, &square, &square) < deep);
     }
 
     #[test]
