@@ -5,14 +5,15 @@
 //! compression are all scaled to it, and its stop rules end it once it stalls. Giving it more
 //! iterations changes little (the compression stops on its own stall rules, however large its
 //! budget). The rounds instead run sparrow's exploration for as long as they are given
-//! (Gardeyn & Wauters 2025): patient compression chains ([`Chain`]), `COMPRESSION_CHAINS_PER_WORKER`
-//! per worker on streams of their own, each started from the best layout's sheet whose used
-//! length counts. A chain shrinks and separates by guided local search; at a ceiling its small
+//! (Gardeyn & Wauters 2025): patient compression chains ([`Chain`]), one per worker (so each
+//! has a thread to itself) on streams of their own, each started from the best layout's sheet
+//! whose used length counts. A chain shrinks and separates by guided local search; at a ceiling its small
 //! steps cannot reach it keeps a pool of overlapping layouts, restores one and disrupts it, and
 //! it never gives that ceiling up (the base search's chains end after `EXPLORE_FAILURES`). Its
 //! separations take up to three stalls (sparrow's strikes). A round gives every chain
-//! `ROUND_EVALUATIONS` more overlap evaluations and resumes it where the last round left it, so
-//! the pool and the weights carry over from round to round; the lowest chain's layout replaces
+//! `ROUND_EVALUATIONS` more overlap evaluations and resumes it where the last round left it, in
+//! the middle of a separation if need be, so the pool, the weights and each separation's own
+//! stall rules carry over from round to round; the lowest chain's layout replaces
 //! the sheet if it is lower. On more than one sheet a round first runs a short ruin-and-recreate
 //! search per worker (`ROUND_ITERATIONS` over the workers), which may empty a sheet (fewer
 //! sheets first); a better layout from it restarts the chains on it.
@@ -36,7 +37,6 @@
 use std::sync::Mutex;
 
 use super::model::Model;
-use super::portfolio::COMPRESSION_CHAINS_PER_WORKER;
 use super::random::worker_rng;
 use super::score::Score;
 use super::threads::{parallel, shared_out};
@@ -210,7 +210,7 @@ impl Model<'_> {
         }
     }
 
-    /// Patient compression chains (`COMPRESSION_CHAINS_PER_WORKER` per worker) on the sheet of
+    /// Patient compression chains (one per worker) on the sheet of
     /// `sheets` whose used length counts, on the streams of `epoch`.
     fn chains(&self, sheets: &Sheets, epoch: usize) -> Vec<Mutex<Chain<'_>>> {
         let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
@@ -218,7 +218,7 @@ impl Model<'_> {
         };
         let sheet = &sheets[self.lowest_index(sheets)];
         let settings = &self.job.settings;
-        (0..settings.workers * COMPRESSION_CHAINS_PER_WORKER)
+        (0..settings.workers)
             .map(|c| {
                 let rng = worker_rng(settings.seed, epoch, c);
                 Mutex::new(Chain::new(footprints, sheet, rng, true))
