@@ -21,7 +21,9 @@
 //! `tools/nest_reference.py --esicup` reads to run sparrow at the same budget beside them.
 //!
 //! The committed instance, `actuators-80.json`, is generated in that form from the fixtures
-//! (seed 7201, used nowhere else) by `-- --write-example`.
+//! (seed 7201, used nowhere else) by `-- --write-example`. `-- --write-lab 9300 DIR` writes the
+//! lab's measuring strips of seeds 9301-9308 in that form to `DIR`, to run them at a time budget
+//! beside sparrow as the ESICUP instances run.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -85,9 +87,23 @@ fn read_instance(text: &str) -> Result<(String, f64, Vec<NestItem>), String> {
 /// The committed example: an actuator batch in the instance form (our outlines turned by +90°,
 /// the inverse of reading).
 fn write_example(dir: &Path) {
-    let items = fixtures::random_designs(7201, 5, 16);
+    write_instance(dir, "actuators-80", &fixtures::random_designs(7201, 5, 16));
+}
+
+/// The lab's measuring strips of seeds `base + 1 ..= base + 8` (`fixtures::batches_from`) as
+/// instances in `dir`, named `lab<base>-<batch>`, so that they run here at a time budget and
+/// beside sparrow (`tools/nest_reference.py --esicup`) as the ESICUP instances do.
+fn write_lab(base: u64, dir: &Path) {
+    std::fs::create_dir_all(dir).expect("create the folder for the lab strips");
+    for (name, items) in fixtures::batches_from(base) {
+        write_instance(dir, &format!("lab{base}-{name}"), &items);
+    }
+}
+
+/// `items` on a 150 mm strip, in the instances' JSON form, as `dir/<name>.json`.
+fn write_instance(dir: &Path, name: &str, items: &[NestItem]) {
     let instance = json!({
-        "name": "actuators-80",
+        "name": name,
         "strip_height": 150.0,
         "items": items.iter().enumerate().map(|(id, item)| json!({
             "id": id,
@@ -100,15 +116,24 @@ fn write_example(dir: &Path) {
         })).collect::<Vec<_>>(),
     });
     std::fs::write(
-        dir.join("actuators-80.json"),
+        dir.join(format!("{name}.json")),
         serde_json::to_string_pretty(&instance).expect("json") + "\n",
     )
-    .expect("write the example instance");
+    .expect("write the instance");
 }
 
 fn main() {
     if std::env::args().any(|a| a == "--write-example") {
         write_example(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/instances"));
+        return;
+    }
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(at) = args.iter().position(|a| a == "--write-lab") {
+        let base = args.get(at + 1).and_then(|b| b.parse().ok());
+        let (Some(base), Some(dir)) = (base, args.get(at + 2)) else {
+            panic!("--write-lab BASE DIR: a seed base (e.g. 9300) and a folder");
+        };
+        write_lab(base, Path::new(dir));
         return;
     }
     let Some(dir) = instances_dir() else {
