@@ -141,6 +141,8 @@ const STALL_SWEEPS: usize = 40;
 /// overlap back and forth; 2.0 resolved more attempts (strip density +1.0 on the bench's first
 /// batch) and 3.0 fewer.
 const WEIGHT_GROWTH: f32 = 2.0;
+/// Every overlapping pair's weight grows by at least this factor (sparrow's 1.2), so that pairs
+/// much shallower than the worst still get heavier while they keep colliding.
 const WEIGHT_LEAST_GROWTH: f32 = 1.2;
 const WEIGHT_DECAY: f32 = 0.95;
 /// The least fall of the least overlap in a stall that does not count as a strike (under 2 %
@@ -313,44 +315,46 @@ impl<'f> Chain<'f> {
                 return true;
             }
             let effort = self.effort();
-            let (mut separation, explores) = if let Some(paused) = self.paused.take() {
-                paused
-            } else if let Some(exploration) = self.exploring.as_mut() {
-                if !self.patient && exploration.failures >= EXPLORE_FAILURES {
-                    self.ended = true;
-                    break;
-                }
-                (exploration.start(footprints, effort), true)
-            } else if self.failed_at_last >= STALL_ATTEMPTS {
-                // The smallest step keeps failing: explore at it, and go back to small steps
-                // from whatever clear layout exploration finds.
-                self.exploring = Exploration::new(footprints, &self.best, self.best_top - last);
-                self.ended = self.exploring.is_none();
-                continue;
-            } else {
-                let ceiling = self.best_top - self.step;
-                let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
-                    // A part is taller than the room under this ceiling: no lower ceiling will
-                    // do.
-                    if self.step <= last {
+            let (mut separation, explores, fresh) =
+                if let Some((paused, explores)) = self.paused.take() {
+                    (paused, explores, false)
+                } else if let Some(exploration) = self.exploring.as_mut() {
+                    if !self.patient && exploration.failures >= EXPLORE_FAILURES {
                         self.ended = true;
                         break;
                     }
-                    self.step = (self.step * 0.5).max(last);
+                    (exploration.start(footprints, effort), true, true)
+                } else if self.failed_at_last >= STALL_ATTEMPTS {
+                    // The smallest step keeps failing: explore at it, and go back to small steps
+                    // from whatever clear layout exploration finds.
+                    self.exploring = Exploration::new(footprints, &self.best, self.best_top - last);
+                    self.ended = self.exploring.is_none();
                     continue;
+                } else {
+                    let ceiling = self.best_top - self.step;
+                    let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
+                        // A part is taller than the room under this ceiling: no lower ceiling will
+                        // do.
+                        if self.step <= last {
+                            self.ended = true;
+                            break;
+                        }
+                        self.step = (self.step * 0.5).max(last);
+                        continue;
+                    };
+                    let weights = std::mem::take(&mut self.weights);
+                    (
+                        Separation::new(footprints, trial, ceiling, weights, effort),
+                        false,
+                        true,
+                    )
                 };
-                let weights = std::mem::take(&mut self.weights);
-                (
-                    Separation::new(footprints, trial, ceiling, weights, effort),
-                    false,
-                )
-            };
             // Setting up counts as one evaluation per part, so that attempts which need no moves
             // (and a judge that rejects them) still spend the budget.
-            let before = separation.evaluations;
-            if before == 0 {
+            if fresh {
                 self.spent += separation.n();
             }
+            let before = separation.evaluations;
             let outcome = separation.run(
                 &mut self.rng,
                 before + target.saturating_sub(self.spent),
