@@ -48,7 +48,8 @@
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they
 //!   overlap least until none do (guided local search on the penetration of convex pieces,
-//!   module `overlap`, whose pair weights carry over from one ceiling step to the next);
+//!   charged as sparrow charges a collision, module `overlap`, whose pair weights carry over
+//!   from one ceiling step to the next);
 //!   jagua-rs checks every layout it keeps. Where the smallest step keeps
 //!   failing, a chain explores as sparrow does: it stays at that ceiling, keeps the failed
 //!   layouts in a pool, and separates again from one of them with two large parts of
@@ -60,8 +61,9 @@
 //!   the budget the search did not use); a chain stops early after `EXPLORE_FAILURES` failed
 //!   explorations in a row, and the lowest top wins.
 //! * **Anytime rounds** (`anytime`): iterations above the base budget of 1000 go to rounds of
-//!   100, in which patient compression chains carry on sparrow's exploration from the best
-//!   layout so far, resumed round after round with their pools and weights, the chains above the
+//!   100, in which patient compression chains (one per worker) carry on sparrow's exploration
+//!   from the best layout so far, resumed round after round with their pools, weights and
+//!   unfinished separations, the chains above the
 //!   lowest going on from a copy of it (on more than one sheet, after a short ruin-and-recreate
 //!   search); the best is kept, so more rounds never end worse. A
 //!   [`SearchLimit`] (deadline, interrupt) is checked in the greedy fill,
@@ -82,9 +84,10 @@
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
-//!   the state-of-the-art strip packer, given 5 s; on the twelve public ESICUP instances behind
-//!   it, by about 0.7 points in the mean at 5 s and 2.4 points at 30 s, where sparrow's
-//!   separation keeps finding lower ceilings that ours does not.
+//!   the state-of-the-art strip packer, given 5 s and 30 s; on the twelve public ESICUP instances
+//!   ahead of it in the mean at 5 s (by about half a point) and behind at 30 s and 120 s (by
+//!   0.5-0.7 points), most on jakobs2 and shapes0/1, where sparrow's exploration keeps finding
+//!   lower ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
