@@ -4,7 +4,7 @@
 //! Reads every `*.json` in the folder `NEST_STRIP_INSTANCES` names, else in `NEST_ESICUP_DIR` (a
 //! folder holding the twelve public ESICUP instances as sparrow's repository distributes them in
 //! `data/input`; they are not shipped here, their licences are not stated); without either, or if
-//! the folder is missing, it says so and stops. `NEST_STRIP_INSTANCES=crates/nest/benches/instances` runs the committed
+//! the folder is missing, it says so and stops. `NEST_STRIP_INSTANCES=$PWD/crates/nest/benches/instances` runs the committed
 //! instance. The form: `{"name", "strip_height", "items": [{"demand", "allowed_orientations",
 //! "shape": {"type": "simple_polygon", "data": [[x, y], ...]}}]}`, where the strip runs along x
 //! with the fixed height `strip_height`. Our strip runs along y with a fixed width, so every
@@ -22,7 +22,8 @@
 //!
 //! The committed instance, `actuators-80.json`, is generated in that form from the fixtures
 //! (seed 7201, used nowhere else) by `-- --write-example`. `-- --write-lab 9300 DIR` writes the
-//! lab's measuring strips of seeds 9301-9308 in that form to `DIR`, to run them at a time budget
+//! lab's measuring strips of seeds 9301-9308 in that form to `DIR` (absolute, as cargo runs the
+//! bench in `crates/nest`), to run them at a time budget
 //! beside sparrow as the ESICUP instances run.
 
 use std::path::{Path, PathBuf};
