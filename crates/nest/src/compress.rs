@@ -1075,6 +1075,62 @@ mod tests {
     }
 
     #[test]
+    fn a_descent_in_steps_of_the_part_clears_a_part_as_well_in_hundreds_of_units_as_in_ones() {
+        // Two squares of side `side` on a sheet three sides wide, the second pushed 0.3 of a
+        // side into the first. The coarse descent starts at a quarter of the side, so it clears
+        // the pair in as few evaluations at side 100 as at side 1 (a descent in fixed mm steps
+        // would need a hundred times as many at side 100).
+        let spent = |side: f32| {
+            let footprints = Footprints::new(vec![vec![Footprint {
+                pieces: Pieces::new(&[[0., 0.], [side, 0.], [side, side], [0., side]]).unwrap(),
+                x: (0.0, 2.0 * side),
+                y: (0.0, 2.0 * side),
+            }]]);
+            let items = vec![at(0, 0.0, 0.0), at(0, 0.7 * side, 0.0)];
+            let mut separation =
+                Separation::new(&footprints, items, 3.0 * side, vec![1.0; 4], QUICK);
+            let start = (
+                separation.cost(1, 0, (0.7 * side, 0.0), f32::MAX),
+                0,
+                (0.7 * side, 0.0),
+            );
+            assert!(start.0 > 0.0);
+            let mut rng = ChaCha8Rng::seed_from_u64(4);
+            let before = separation.evaluations;
+            let end = separation.descend(1, start, COARSE_DESCENT, side, &mut rng);
+            assert_eq!(end.0, 0.0, "side {side}: {end:?}");
+            separation.evaluations - before
+        };
+        let (small, large) = (spent(1.0), spent(100.0));
+        assert!(
+            small <= 40 && large <= 40,
+            "{small} and {large} evaluations"
+        );
+    }
+
+    #[test]
+    fn the_kept_samples_are_the_best_few_apart_from_one_another() {
+        // Room for two, apart by more than 0.5: a better sample near a kept one replaces it, a
+        // worse one near it is dropped, and one far away takes its rank.
+        let mut starts = Starts::new(2, 0.5);
+        assert_eq!(starts.bound(), f32::MAX);
+        starts.offer((5.0, 0, (0.0, 0.0)));
+        starts.offer((4.0, 0, (0.2, 0.0)));
+        assert_eq!(starts.kept(), vec![(4.0, 0, (0.2, 0.0))]);
+        starts.offer((6.0, 0, (0.1, 0.1)));
+        assert_eq!(starts.kept(), vec![(4.0, 0, (0.2, 0.0))]);
+        // Near in place but at another rotation: apart.
+        starts.offer((7.0, 1, (0.2, 0.0)));
+        starts.offer((3.0, 0, (2.0, 2.0)));
+        assert_eq!(
+            starts.kept(),
+            vec![(3.0, 0, (2.0, 2.0)), (4.0, 0, (0.2, 0.0))]
+        );
+        assert_eq!(starts.bound(), 4.0);
+        assert_eq!(starts.best(), (3.0, 0, (2.0, 2.0)));
+    }
+
+    #[test]
     fn a_column_of_four_squares_compresses_into_two_rows() {
         // Closed form: four unit squares on a 2.1 wide sheet need two rows, top 2 (plus the
         // clearance); stacked in one column their top is 4.03.
