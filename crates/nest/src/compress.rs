@@ -649,8 +649,8 @@ impl Starts {
         }
     }
 
-    fn kept(&self) -> Vec<Sample> {
-        self.kept.clone()
+    fn kept(&self) -> &[Sample] {
+        &self.kept
     }
 
     fn best(&self) -> Sample {
@@ -999,15 +999,15 @@ impl<'a> Separation<'a> {
             let c = self.cost(i, rot, t, starts.bound());
             starts.offer((c, rot, t));
         }
-        // Every item starts under the ceiling (`under_ceiling`), so its rotation has a range.
+        // A coarse descent from each kept sample, a fine one from the best that comes of them.
         let min_side = (b[2] - b[0]).min(b[3] - b[1]);
-        let mut refined = Vec::with_capacity(self.effort.descents);
-        for start in starts.kept() {
-            refined.push(self.descend(i, start, COARSE_DESCENT, min_side, rng));
+        let mut best = starts.best();
+        for &start in starts.kept() {
+            let refined = self.descend(i, start, COARSE_DESCENT, min_side, rng);
+            if refined.0 < best.0 {
+                best = refined;
+            }
         }
-        let best = refined
-            .into_iter()
-            .fold(starts.best(), |a, b| if b.0 < a.0 { b } else { a });
         let best = self.descend(i, best, FINE_DESCENT, min_side, rng);
         let moved = Placement {
             part: now.part,
@@ -1116,16 +1116,13 @@ mod tests {
         assert_eq!(starts.bound(), f32::MAX);
         starts.offer((5.0, 0, (0.0, 0.0)));
         starts.offer((4.0, 0, (0.2, 0.0)));
-        assert_eq!(starts.kept(), vec![(4.0, 0, (0.2, 0.0))]);
+        assert_eq!(starts.kept(), [(4.0, 0, (0.2, 0.0))]);
         starts.offer((6.0, 0, (0.1, 0.1)));
-        assert_eq!(starts.kept(), vec![(4.0, 0, (0.2, 0.0))]);
+        assert_eq!(starts.kept(), [(4.0, 0, (0.2, 0.0))]);
         // Near in place but at another rotation: apart.
         starts.offer((7.0, 1, (0.2, 0.0)));
         starts.offer((3.0, 0, (2.0, 2.0)));
-        assert_eq!(
-            starts.kept(),
-            vec![(3.0, 0, (2.0, 2.0)), (4.0, 0, (0.2, 0.0))]
-        );
+        assert_eq!(starts.kept(), [(3.0, 0, (2.0, 2.0)), (4.0, 0, (0.2, 0.0))]);
         assert_eq!(starts.bound(), 4.0);
         assert_eq!(starts.best(), (3.0, 0, (2.0, 2.0)));
     }
