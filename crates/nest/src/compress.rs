@@ -285,8 +285,8 @@ impl<'f> Chain<'f> {
         self.ended
     }
 
-    /// A copy of this chain (its layouts, ceiling step, weights and exploration pool) that
-    /// goes on drawing from `rng`.
+    /// A copy of this chain (its layouts, ceiling step, weights, exploration pool and paused
+    /// separation) that goes on drawing from `rng`.
     pub(crate) fn fork(&self, rng: ChaCha8Rng) -> Self {
         Chain {
             rng,

@@ -19,13 +19,12 @@
 //! sheets first); a better layout from it restarts the chains on it.
 //!
 //! After each round, every chain whose layout is higher than the lowest chain's goes on as a copy
-//! of the lowest one ([`Chain::fork`]: its layout, weights and pool) on a stream of its own. An
-//! exploration breaks through rarely and at random: on jakobs1 at 20 s one chain of four
-//! cleared a lower ceiling after 21 rounds while the other three failed every one of 600
-//! separations from the layout they started on. Following the chain that got through puts every
-//! worker on the ceilings below it, as sparrow puts both of its workers on one separation, and
-//! chains that are level keep their own pools, so the search still tries as many ways down as
-//! there are chains.
+//! of the lowest one ([`Chain::fork`]: its layout, weights, pool and unfinished separation) on a
+//! stream of its own. An exploration breaks through rarely and at random, one chain clearing a
+//! lower ceiling while the other fails separation after separation from the layout it started
+//! on. Following the chain that got through puts every worker on the ceilings below it, as
+//! sparrow puts both of its workers on one separation, and chains that are level keep their own
+//! pools, so the search still tries as many ways down as there are chains.
 //!
 //! A round's layout replaces the best only if it scores better, so the best layout never gets
 //! worse from one round to the next, and a budget of more rounds never ends worse than one of
