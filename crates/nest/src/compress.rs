@@ -33,7 +33,9 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::overlap::{bounds_meet, loss, overlap, shifted, Bounds, Pieces, Projections};
+use crate::overlap::{
+    bounds_meet, depth_reaching, loss, overlap, shifted, Bounds, Pieces, Projections,
+};
 use crate::placement::Placement;
 
 /// A part at one of its rotations, as compression sees it.
@@ -765,8 +767,9 @@ impl<'a> Separation<'a> {
         shifted(self.pieces(s).bounds, [s.t.0, s.t.1])
     }
 
-    /// The collision loss of shape `a` at `t` against item `j` where it is.
-    fn loss_against(&self, a: &Pieces, t: (f32, f32), j: usize) -> f32 {
+    /// The collision loss of shape `a` at `t` against item `j` where it is, or some loss of at
+    /// least `enough` once it is known to reach that (`f32::MAX` for the exact loss).
+    fn loss_against(&self, a: &Pieces, t: (f32, f32), j: usize, enough: f32) -> f32 {
         let b = self.items[j];
         let pb = self.pieces(b);
         let depth = overlap(
@@ -775,6 +778,11 @@ impl<'a> Separation<'a> {
             pb,
             [b.t.0, b.t.1],
             self.footprints.table.as_ref(),
+            if enough == f32::MAX {
+                f32::MAX
+            } else {
+                depth_reaching(enough, a, pb)
+            },
         );
         loss(depth, a, pb)
     }
@@ -787,7 +795,7 @@ impl<'a> Separation<'a> {
             let o = if j == i || !bounds_meet(self.bounds[i], self.bounds[j]) {
                 0.0
             } else {
-                self.loss_against(a, ta, j)
+                self.loss_against(a, ta, j, f32::MAX)
             };
             self.overlaps[i * n + j] = o;
             self.overlaps[j * n + i] = o;
@@ -900,7 +908,13 @@ impl<'a> Separation<'a> {
             if j == i || !bounds_meet(bounds, self.bounds[j]) {
                 continue;
             }
-            sum += self.weights[i * n + j] * self.loss_against(a, t, j);
+            let w = self.weights[i * n + j];
+            let enough = if cutoff == f32::MAX {
+                f32::MAX
+            } else {
+                (cutoff - sum) / w
+            };
+            sum += w * self.loss_against(a, t, j, enough);
             if sum >= cutoff {
                 break;
             }
@@ -1072,6 +1086,37 @@ mod tests {
         assert!(separation.total() > 0.0);
         separation.reweigh();
         assert_eq!(separation.weights, [1.0, 6.0, 6.0, 1.0]);
+    }
+
+    #[test]
+    fn a_cost_under_its_cutoff_is_exact_and_one_over_it_is_at_least_the_cutoff() {
+        // Ells of two pieces each, crowded onto a small sheet: a cut-off sum (and an overlap
+        // stopped inside a pair of pieces) may only ever say "no better than the cutoff".
+        let ell = || Pieces::new(&[[0., 0.], [3., 0.], [3., 1.], [1., 1.], [1., 3.], [0., 3.]]);
+        let footprints = Footprints::new(vec![vec![Footprint {
+            pieces: ell().unwrap(),
+            x: (0.0, 4.0),
+            y: (0.0, 4.0),
+        }]]);
+        let items: Vec<Placement> = (0..4).map(|k| at(0, k as f32, 0.7 * k as f32)).collect();
+        let mut separation = Separation::new(&footprints, items, 7.0, vec![1.5; 16], QUICK);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut under, mut over) = (0, 0);
+        for _ in 0..200 {
+            let t = (rng.gen_range(0.0..4.0), rng.gen_range(0.0..4.0));
+            let exact = separation.cost(0, 0, t, f32::MAX);
+            for cutoff in [0.3 * exact, 0.9 * exact, 1.1 * exact, 3.0 * exact] {
+                let cut = separation.cost(0, 0, t, cutoff);
+                if exact < cutoff {
+                    assert_eq!(cut.to_bits(), exact.to_bits(), "{t:?} under {cutoff}");
+                    under += 1;
+                } else {
+                    assert!(cut >= cutoff && cut <= exact, "{t:?}: {cut} of {exact}");
+                    over += 1;
+                }
+            }
+        }
+        assert!(under > 100 && over > 100, "{under} under, {over} over");
     }
 
     #[test]

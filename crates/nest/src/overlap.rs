@@ -182,12 +182,15 @@ impl Projections {
 /// Penetration of shape `a` moved by `ta` into shape `b` moved by `tb`: the sum over piece
 /// pairs of their separating-axis depth (plus [`CLEARANCE_MM`]); zero when they are clear.
 /// With a table that holds both shapes the projections come from it, else they are computed.
+/// The sum stops once it reaches `enough` (`f32::MAX` for the whole of it): a caller that only
+/// asks whether a position beats a bound ([`depth_reaching`]) need not add up the rest.
 pub(crate) fn overlap(
     a: &Pieces,
     ta: [f32; 2],
     b: &Pieces,
     tb: [f32; 2],
     table: Option<&Projections>,
+    enough: f32,
 ) -> f32 {
     // `a` in the frame where `b` sits at the origin.
     let d = [ta[0] - tb[0], ta[1] - tb[1]];
@@ -211,6 +214,9 @@ pub(crate) fn overlap(
                     )
                 });
                 total += depth(pa, d, pb, projected);
+                if total > 0.0 && total >= enough {
+                    return total;
+                }
             }
         }
     }
@@ -236,6 +242,23 @@ pub(crate) fn loss(depth: f32, a: &Pieces, b: &Pieces) -> f32 {
     let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
     (depth * depth + least * least).sqrt() * (a.size * b.size).sqrt()
 }
+
+/// The least depth at which [`loss`] of shapes `a` and `b` reaches `target`, a little over it so
+/// that rounding never puts the loss of that depth under `target` (zero where any collision
+/// costs that much). It is what [`overlap`] may stop at when the caller only asks whether the
+/// loss stays under `target`.
+pub(crate) fn depth_reaching(target: f32, a: &Pieces, b: &Pieces) -> f32 {
+    let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
+    let per_size = target / (a.size * b.size).sqrt();
+    if per_size <= least {
+        return 0.0;
+    }
+    (per_size * per_size - least * least).sqrt() * (1.0 + REACH_MARGIN)
+}
+
+/// Relative margin of [`depth_reaching`]: far above f32 rounding, far below any difference
+/// between two samples' costs that matters.
+const REACH_MARGIN: f32 = 1e-3;
 
 /// Separating-axis penetration depth of convex `a` moved by `d` into convex `b`: the smallest
 /// overlap of their projections over the edge normals of both, or zero if one is negative.
@@ -450,8 +473,15 @@ mod tests {
                     (step % 20) as f32 * 0.3 - 3.0,
                     (step / 20) as f32 * 0.3 - 3.0,
                 ];
-                let known = overlap(&numbered[i], t, &numbered[j], [0.0, 0.0], Some(&table));
-                let computed = overlap(&plain[i], t, &plain[j], [0.0, 0.0], None);
+                let known = overlap(
+                    &numbered[i],
+                    t,
+                    &numbered[j],
+                    [0.0, 0.0],
+                    Some(&table),
+                    f32::MAX,
+                );
+                let computed = overlap(&plain[i], t, &plain[j], [0.0, 0.0], None, f32::MAX);
                 assert_eq!(known.to_bits(), computed.to_bits(), "{i} at {t:?} into {j}");
                 touching += usize::from(known > 0.0);
             }
@@ -474,21 +504,21 @@ mod tests {
         let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
         // Closed form: two axis-aligned squares overlapping by 0.5 in x (and fully in y)
         // penetrate 0.5 deep.
-        let o = overlap(&square, [1.5, 0.0], &square, [0.0, 0.0], None);
+        let o = overlap(&square, [1.5, 0.0], &square, [0.0, 0.0], None, f32::MAX);
         assert!((o - 0.5 - CLEARANCE_MM).abs() < 1e-5, "{o}");
         // Apart by more than the clearance: zero; closer than it: positive.
         assert_eq!(
-            overlap(&square, [2.01, 0.3], &square, [0.0, 0.0], None),
+            overlap(&square, [2.01, 0.3], &square, [0.0, 0.0], None, f32::MAX),
             0.0
         );
-        assert!(overlap(&square, [2.001, 0.3], &square, [0.0, 0.0], None) > 0.0);
+        assert!(overlap(&square, [2.001, 0.3], &square, [0.0, 0.0], None, f32::MAX) > 0.0);
         // Diagonal neighbours whose boxes overlap but whose edges do not meet.
         let diamond = Pieces::new(&[[1., 0.], [2., 1.], [1., 2.], [0., 1.]]).unwrap();
         assert_eq!(
-            overlap(&diamond, [1.4, 1.4], &diamond, [0.0, 0.0], None),
+            overlap(&diamond, [1.4, 1.4], &diamond, [0.0, 0.0], None, f32::MAX),
             0.0
         );
-        assert!(overlap(&diamond, [0.9, 0.9], &diamond, [0.0, 0.0], None) > 0.0);
+        assert!(overlap(&diamond, [0.9, 0.9], &diamond, [0.0, 0.0], None, f32::MAX) > 0.0);
     }
 
     #[test]
@@ -513,15 +543,47 @@ mod tests {
     }
 
     #[test]
+    fn the_depth_reaching_a_loss_is_the_inverse_of_the_loss_and_stops_the_sum_there() {
+        let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
+        let bar = Pieces::new(&[[0., 0.], [8., 0.], [8., 2.], [0., 2.]]).unwrap();
+        for target in [0.5f32, 1.0, 3.0, 10.0] {
+            let d = depth_reaching(target, &square, &bar);
+            // Its loss reaches the target, and a depth a little under it does not.
+            assert!(loss(d, &square, &bar) >= target, "{target}: {d}");
+            assert!(loss(0.99 * d, &square, &bar) < target, "{target}: {d}");
+        }
+        // Under the floor any collision costs the target: zero depth reaches it.
+        let floor = loss(1e-9, &square, &bar);
+        assert_eq!(depth_reaching(0.9 * floor, &square, &bar), 0.0);
+        // An ell of two pieces over a square: the whole sum, or part of it once it is enough.
+        let l = Pieces::new(&[[0., 0.], [3., 0.], [3., 1.], [1., 1.], [1., 3.], [0., 3.]]).unwrap();
+        assert!(l.pieces.len() == 2);
+        let big = Pieces::new(&[[0., 0.], [4., 0.], [4., 4.], [0., 4.]]).unwrap();
+        let whole = overlap(&l, [0.5, 0.5], &big, [0.0, 0.0], None, f32::MAX);
+        let part = overlap(&l, [0.5, 0.5], &big, [0.0, 0.0], None, 1e-6);
+        assert!(part > 0.0 && part < whole, "{part} of {whole}");
+        assert_eq!(
+            overlap(&l, [0.5, 0.5], &big, [0.0, 0.0], None, whole).to_bits(),
+            whole.to_bits()
+        );
+    }
+
+    #[test]
     fn an_ell_does_not_collide_with_a_square_in_its_notch() {
         // The notch of the L is [1, 4] x [1, 4]: a square there is clear of it, which a
         // convex hull or a box test would miss.
         let l = Pieces::new(&ell()).unwrap();
         let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
-        assert_eq!(overlap(&square, [1.5, 1.5], &l, [0.0, 0.0], None), 0.0);
-        assert_eq!(overlap(&l, [0.0, 0.0], &square, [1.5, 1.5], None), 0.0);
-        assert!(overlap(&square, [0.9, 1.5], &l, [0.0, 0.0], None) > 0.0);
-        assert!(overlap(&square, [1.5, 0.9], &l, [0.0, 0.0], None) > 0.0);
+        assert_eq!(
+            overlap(&square, [1.5, 1.5], &l, [0.0, 0.0], None, f32::MAX),
+            0.0
+        );
+        assert_eq!(
+            overlap(&l, [0.0, 0.0], &square, [1.5, 1.5], None, f32::MAX),
+            0.0
+        );
+        assert!(overlap(&square, [0.9, 1.5], &l, [0.0, 0.0], None, f32::MAX) > 0.0);
+        assert!(overlap(&square, [1.5, 0.9], &l, [0.0, 0.0], None, f32::MAX) > 0.0);
     }
 
     /// Independent check with geo's polygon distance: over random placements of two tapered
@@ -569,7 +631,7 @@ mod tests {
             if (distance - margin).abs() < 1e-3 {
                 continue;
             }
-            let o = overlap(&pieces, [0.0, 0.0], other, t, None);
+            let o = overlap(&pieces, [0.0, 0.0], other, t, None, f32::MAX);
             if distance > margin {
                 assert_eq!(o, 0.0, "apart by {distance} at {t:?} but overlap {o}");
                 apart += 1;
@@ -590,7 +652,7 @@ mod tests {
         let mut last = f32::MAX;
         for k in 1..=10 {
             let s = 0.5 * k as f32;
-            let o = overlap(&l, [s, s], &l, [0.0, 0.0], None);
+            let o = overlap(&l, [s, s], &l, [0.0, 0.0], None, f32::MAX);
             assert!(o <= last, "overlap rose from {last} to {o} at ({s}, {s})");
             last = o;
         }
