@@ -309,48 +309,14 @@ impl<'f> Chain<'f> {
         clear: &impl Fn(&[Placement]) -> bool,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> bool {
-        let footprints = self.footprints;
         let target = self.spent.saturating_add(budget);
-        let last = SHRINK_LAST * self.length;
         while !self.ended && self.spent < target {
             if stop() {
                 return true;
             }
-            let effort = self.effort();
-            let (mut separation, explores, fresh) =
-                if let Some((paused, explores)) = self.paused.take() {
-                    (paused, explores, false)
-                } else if let Some(exploration) = self.exploring.as_mut() {
-                    if !self.patient && exploration.failures >= EXPLORE_FAILURES {
-                        self.ended = true;
-                        break;
-                    }
-                    (exploration.start(footprints, effort), true, true)
-                } else if self.failed_at_last >= STALL_ATTEMPTS {
-                    // The smallest step keeps failing: explore at it, and go back to small steps
-                    // from whatever clear layout exploration finds.
-                    self.exploring = Exploration::new(footprints, &self.best, self.best_top - last);
-                    self.ended = self.exploring.is_none();
-                    continue;
-                } else {
-                    let ceiling = self.best_top - self.step;
-                    let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
-                        // A part is taller than the room under this ceiling: no lower ceiling will
-                        // do.
-                        if self.step <= last {
-                            self.ended = true;
-                            break;
-                        }
-                        self.step = (self.step * 0.5).max(last);
-                        continue;
-                    };
-                    let weights = std::mem::take(&mut self.weights);
-                    (
-                        Separation::new(footprints, trial, ceiling, weights, effort),
-                        false,
-                        true,
-                    )
-                };
+            let Some((mut separation, explores, fresh)) = self.next_separation() else {
+                continue;
+            };
             // Setting up counts as one evaluation per part, so that attempts which need no moves
             // (and a judge that rejects them) still spend the budget.
             if fresh {
@@ -369,30 +335,79 @@ impl<'f> Chain<'f> {
                 continue;
             }
             let separated = outcome == Outcome::Clear && clear(&separation.items);
-            if explores {
-                let exploration = self.exploring.as_mut().expect("an exploration separates");
-                if let Some(found) =
-                    exploration.finish(footprints, separation, separated, &mut self.rng)
-                {
-                    self.best_top = top(footprints, &found);
-                    self.best = found;
-                    self.failed_at_last = 0;
-                    self.exploring = None;
-                }
-                continue;
-            }
-            self.weights = std::mem::take(&mut separation.weights);
-            if separated {
-                self.best = separation.items;
-                self.best_top = top(footprints, &self.best);
-            } else {
-                if self.step <= last {
-                    self.failed_at_last += 1;
-                }
-                self.step = (self.step * 0.5).max(last);
-            }
+            self.settle(separation, separated, explores);
         }
         false
+    }
+
+    /// The separation to run next, whether it is an exploration's and whether it is new (not a
+    /// paused one resumed); `None` where the chain only changed its state (began an exploration,
+    /// halved its step, or ended), for the caller to ask again.
+    fn next_separation(&mut self) -> Option<(Separation<'f>, bool, bool)> {
+        let footprints = self.footprints;
+        let last = SHRINK_LAST * self.length;
+        let effort = self.effort();
+        if let Some((paused, explores)) = self.paused.take() {
+            return Some((paused, explores, false));
+        }
+        if let Some(exploration) = self.exploring.as_mut() {
+            if !self.patient && exploration.failures >= EXPLORE_FAILURES {
+                self.ended = true;
+                return None;
+            }
+            return Some((exploration.start(footprints, effort), true, true));
+        }
+        if self.failed_at_last >= STALL_ATTEMPTS {
+            // The smallest step keeps failing: explore at it, and go back to small steps from
+            // whatever clear layout exploration finds.
+            self.exploring = Exploration::new(footprints, &self.best, self.best_top - last);
+            self.ended = self.exploring.is_none();
+            return None;
+        }
+        let ceiling = self.best_top - self.step;
+        let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
+            // A part is taller than the room under this ceiling: no lower ceiling will do.
+            if self.step <= last {
+                self.ended = true;
+            }
+            self.step = (self.step * 0.5).max(last);
+            return None;
+        };
+        let weights = std::mem::take(&mut self.weights);
+        Some((
+            Separation::new(footprints, trial, ceiling, weights, effort),
+            false,
+            true,
+        ))
+    }
+
+    /// Takes the end of a separation that ran to its rules: an exploration's goes to the
+    /// exploration (a clear layout ends it), a small step's keeps its weights and either lowers
+    /// the best layout or halves the step.
+    fn settle(&mut self, mut separation: Separation<'f>, separated: bool, explores: bool) {
+        let footprints = self.footprints;
+        if explores {
+            let exploration = self.exploring.as_mut().expect("an exploration separates");
+            if let Some(found) =
+                exploration.finish(footprints, separation, separated, &mut self.rng)
+            {
+                self.best_top = top(footprints, &found);
+                self.best = found;
+                self.failed_at_last = 0;
+                self.exploring = None;
+            }
+            return;
+        }
+        self.weights = std::mem::take(&mut separation.weights);
+        if separated {
+            self.best = separation.items;
+            self.best_top = top(footprints, &self.best);
+        } else {
+            if self.step <= SHRINK_LAST * self.length {
+                self.failed_at_last += 1;
+            }
+            self.step = (self.step * 0.5).max(SHRINK_LAST * self.length);
+        }
     }
 }
 
