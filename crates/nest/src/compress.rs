@@ -211,10 +211,15 @@ pub(crate) struct Compressed {
 
 /// One compression chain: the lowest clear layout so far and where the search stands (the
 /// ceiling step, the pair weights, the exploration's pool), so that it can be resumed
-/// ([`Chain::advance`]) as often as there is budget. A chain that is not `patient` ends by the
-/// stall rules ([`compress`]); a patient one never leaves an exploration it has begun, as
-/// sparrow's exploration keeps its pool at a ceiling for as long as its time lasts: the
-/// anytime rounds give it that time in counted slices.
+/// ([`Chain::advance`]) as often as there is budget. A chain that is not `patient` halves its
+/// step from 1 % down to the smallest, explores once the smallest has failed
+/// `STALL_ATTEMPTS` times and ends by the stall rules ([`compress`]). A patient one is
+/// sparrow's exploration (Gardeyn & Wauters 2025): it shrinks by the smallest step alone,
+/// explores from the first failure (which goes into the pool) and never leaves an exploration
+/// it has begun, keeping its pool at a ceiling for as long as its time lasts: the anytime
+/// rounds give it that time in counted slices. A 1 % step is what a budget-bound compression
+/// needs to get down fast; a patient chain starts from a layout already compressed, where a
+/// step of 1 % fails, and each failure costs it millions of evaluations.
 #[derive(Clone)]
 pub(crate) struct Chain<'f> {
     footprints: &'f Footprints,
@@ -262,7 +267,7 @@ impl<'f> Chain<'f> {
             best,
             best_top,
             length,
-            step: SHRINK_FIRST * length,
+            step: if patient { SHRINK_LAST } else { SHRINK_FIRST } * length,
             failed_at_last: 0,
             exploring: None,
             paused: None,
@@ -402,6 +407,8 @@ impl<'f> Chain<'f> {
         if separated {
             self.best = separation.items;
             self.best_top = top(footprints, &self.best);
+        } else if self.patient && self.step <= SHRINK_LAST * self.length {
+            self.exploring = Some(Exploration::after(footprints, separation, &mut self.rng));
         } else {
             if self.step <= SHRINK_LAST * self.length {
                 self.failed_at_last += 1;
@@ -443,6 +450,21 @@ impl Exploration {
             pool: Vec::new(),
             failures: 0,
         })
+    }
+
+    /// Exploration at the ceiling of `failed`, a separation that gave up, with its layout as
+    /// the pool's first failure (the next separation is of that layout disrupted), as sparrow's
+    /// exploration takes every failed shrink.
+    fn after(footprints: &Footprints, failed: Separation, rng: &mut ChaCha8Rng) -> Self {
+        let mut exploration = Exploration {
+            ceiling: failed.ceiling,
+            large: large_parts(footprints, &failed.items),
+            current: Vec::new(),
+            pool: Vec::new(),
+            failures: 0,
+        };
+        exploration.finish(footprints, failed, false, rng);
+        exploration
     }
 
     /// A separation of the current layout, with unit weights (exploration is there to leave
@@ -1424,6 +1446,40 @@ mod tests {
             "top {}",
             top(best)
         );
+    }
+
+    #[test]
+    fn a_patient_chain_shrinks_by_the_smallest_step_and_explores_from_its_first_failure() {
+        // Two rows of bars 0.01 apart: steps of 0.1 % of the used length close the gap, and the
+        // first ceiling under top 2 fails. The patient chain never takes a larger step, and
+        // that first failure starts an exploration whose pool holds it, with a disrupted copy
+        // to separate next. The impatient chain halves its step on a failure instead.
+        let start = two_rows_of_bars();
+        let footprints = bars();
+        let mut patient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        let smallest = SHRINK_LAST * patient.length;
+        let mut slices = 0;
+        while patient.exploring.is_none() && slices < 1000 {
+            assert_eq!(patient.step, smallest);
+            patient.advance(200, &bars_clear, &never);
+            slices += 1;
+        }
+        let exploration = patient
+            .exploring
+            .as_ref()
+            .expect("a failure starts an exploration");
+        assert_eq!((exploration.failures, exploration.pool.len()), (1, 1));
+        assert!(exploration.pool[0].0 > 0.0);
+        assert_ne!(exploration.current, exploration.pool[0].1);
+        let top = |items: &[Placement]| items.iter().map(|s| s.t.1 + 1.0).fold(0.0, f32::max);
+        assert!(top(patient.best()) < top(&start) && top(patient.best()) >= 2.0);
+        assert!(exploration.ceiling < top(patient.best()));
+
+        let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
+        let first = impatient.step;
+        impatient.advance(2000, &bars_clear, &never);
+        assert!(impatient.exploring.is_none());
+        assert!(first > smallest && impatient.step < first);
     }
 
     #[test]

@@ -7,10 +7,11 @@
 //! budget). The rounds instead run sparrow's exploration for as long as they are given
 //! (Gardeyn & Wauters 2025): patient compression chains ([`Chain`]), one per worker (so each
 //! has a thread to itself) on streams of their own, each started from the best layout's sheet
-//! whose used length counts. A chain shrinks and separates by guided local search; at a ceiling its small
-//! steps cannot reach it keeps a pool of overlapping layouts, restores one and disrupts it, and
-//! it never gives that ceiling up (the base search's chains end after `EXPLORE_FAILURES`). Its
-//! separations take up to three stalls (sparrow's strikes). A round gives every chain
+//! whose used length counts. A chain lowers the ceiling by the smallest step and separates by
+//! guided local search; where a separation fails it keeps the failure in a pool of overlapping
+//! layouts, restores one and disrupts it, and it never gives that ceiling up (the base search's
+//! chains end after `EXPLORE_FAILURES`). Its separations take up to three stalls (sparrow's
+//! strikes). A round gives every chain
 //! `ROUND_EVALUATIONS` more overlap evaluations and resumes it where the last round left it, in
 //! the middle of a separation if need be, so the pool, the weights and each separation's own
 //! stall rules carry over from round to round; the lowest chain's layout replaces
