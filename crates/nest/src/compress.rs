@@ -17,9 +17,9 @@
 //! what holds it: which parts share a row across the sheet. Small steps never change that, so
 //! compression turns to sparrow's exploration ([`explore`]): it stays at the ceiling it failed
 //! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
-//! ones more often), swaps two large parts of different designs in it and separates again. A
-//! swap moves a part into another row, which is how rows whose lengths do not add up to the
-//! sheet width get re-partitioned. A clear layout sends compression back to its small steps;
+//! ones more often), swaps two large parts of different designs in it (the parts a swapped part
+//! now covers go to the room it left) and separates again. A swap moves a part into another
+//! row, which is how rows whose lengths do not add up to the sheet width get re-partitioned. A clear layout sends compression back to its small steps;
 //! `EXPLORE_FAILURES` failures in a row, or the budget, end it. A [`Chain`] holds all of this
 //! state, so that the anytime rounds can resume a *patient* chain, one that never gives up an
 //! exploration, slice after slice of budget, down to a separation a slice ended in the middle
@@ -569,7 +569,9 @@ fn large_parts(footprints: &[Vec<Footprint>], items: &[Placement]) -> Vec<usize>
 
 /// Swaps the places of a random large part and a large part of another design (any other
 /// part if all large ones are of one design), each kept at its own rotation and clamped to
-/// where it fits under `ceiling`.
+/// where it fits under `ceiling`; then moves the parts whose inner point a swapped part now
+/// covers by the way back to where that part was (the disruption of sparrow's exploration,
+/// Gardeyn & Wauters 2025).
 fn disrupt(
     footprints: &[Vec<Footprint>],
     items: &mut [Placement],
@@ -594,10 +596,30 @@ fn disrupt(
         others[rng.gen_range(0..others.len())]
     };
     let (ti, tj) = (items[i].t, items[j].t);
+    let shifted_under =
+        |s: Placement, t: (f32, f32)| match footprints[s.part][s.rot].range_under(ceiling) {
+            Some((x, y)) => (t.0.clamp(x.0, x.1), t.1.clamp(y.0, y.1)),
+            None => s.t,
+        };
     for (k, t) in [(i, tj), (j, ti)] {
-        let s = items[k];
-        if let Some((x, y)) = footprints[s.part][s.rot].range_under(ceiling) {
-            items[k].t = (t.0.clamp(x.0, x.1), t.1.clamp(y.0, y.1));
+        items[k].t = shifted_under(items[k], t);
+    }
+    // The parts a swapped part now covers go to the room it left, where they keep their places
+    // relative to it (sparrow's step 4): swapping a large part with a smaller one would
+    // otherwise bury the small one's neighbours under the large one.
+    for (k, old) in [(i, ti), (j, tj)] {
+        let at = items[k];
+        let shape = &footprints[at.part][at.rot].pieces;
+        let back = (old.0 - at.t.0, old.1 - at.t.1);
+        for (c, s) in items.iter_mut().enumerate() {
+            if c == i || c == j {
+                continue;
+            }
+            let inner = footprints[s.part][s.rot].pieces.inner_point();
+            let p = [inner[0] + s.t.0 - at.t.0, inner[1] + s.t.1 - at.t.1];
+            if shape.contains(p) {
+                s.t = shifted_under(*s, (s.t.0 + back.0, s.t.1 + back.1));
+            }
         }
     }
 }
@@ -1548,6 +1570,51 @@ mod tests {
             assert_eq!(after[i].t, clamp(i, before[j].t));
             assert_eq!(after[j].t, clamp(j, before[i].t));
         }
+    }
+
+    #[test]
+    fn a_disruption_moves_the_parts_a_swapped_part_now_covers_to_the_room_it_left() {
+        // A 4 x 4 square at the origin swaps with a unit square at (6, 0) whose neighbours sit
+        // at (7, 0) and (6, 1). The big square now covers them: they keep their places relative
+        // to it and go where it was, (1, 0) and (0, 1). A part far off stays put.
+        let square = |side: f32| {
+            vec![Footprint {
+                pieces: Pieces::new(&[[0., 0.], [side, 0.], [side, side], [0., side]]).unwrap(),
+                x: (0.0, 12.0 - side),
+                y: (0.0, 10.0),
+            }]
+        };
+        let footprints = Footprints::new(vec![square(4.0), square(1.0)]);
+        let before = vec![
+            at(0, 0.0, 0.0),
+            at(1, 6.0, 0.0),
+            at(1, 7.0, 0.0),
+            at(1, 6.0, 1.0),
+            at(1, 11.0, 5.0),
+        ];
+        for seed in 0..10 {
+            let mut after = before.clone();
+            disrupt(
+                &footprints,
+                &mut after,
+                &[0, 1],
+                10.0,
+                &mut ChaCha8Rng::seed_from_u64(seed),
+            );
+            let places: Vec<(f32, f32)> = after.iter().map(|s| s.t).collect();
+            assert_eq!(
+                places,
+                [(6.0, 0.0), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (11.0, 5.0)],
+                "seed {seed}"
+            );
+        }
+        // The inner point lies inside the shape, and `contains` is the closed form of a square.
+        let ell =
+            Pieces::new(&[[0., 0.], [3., 0.], [3., 1.], [1., 1.], [1., 3.], [0., 3.]]).unwrap();
+        assert!(ell.contains(ell.inner_point()));
+        let unit = &footprints[1][0].pieces;
+        assert!(unit.contains([0.5, 0.99]) && !unit.contains([0.5, 1.01]));
+        assert!(!unit.contains([-0.01, 0.5]) && !ell.contains([2.0, 2.0]));
     }
 
     /// The `stop` of a compression that only its budget and stall rules end.

@@ -52,6 +52,42 @@ pub(crate) struct Pieces {
 }
 
 impl Pieces {
+    /// A point well inside the shape: the vertex mean of its largest piece (where sparrow uses
+    /// the pole of inaccessibility, Gardeyn & Wauters 2025, to say which parts another part
+    /// practically contains).
+    pub(crate) fn inner_point(&self) -> [f32; 2] {
+        let area = |c: &Convex| {
+            let v = &c.vertices;
+            (0..v.len())
+                .map(|k| {
+                    let (p, q) = (v[k], v[(k + 1) % v.len()]);
+                    p[0] * q[1] - q[0] * p[1]
+                })
+                .sum::<f32>()
+        };
+        let largest = self
+            .pieces
+            .iter()
+            .max_by(|a, b| area(a).total_cmp(&area(b)))
+            .expect("a shape has a piece");
+        let k = largest.vertices.len() as f32;
+        let sum = largest
+            .vertices
+            .iter()
+            .fold([0.0, 0.0], |s, v| [s[0] + v[0], s[1] + v[1]]);
+        [sum[0] / k, sum[1] / k]
+    }
+
+    /// True if `p` (in the shape's own frame) lies inside one of its pieces.
+    pub(crate) fn contains(&self, p: [f32; 2]) -> bool {
+        self.pieces.iter().any(|c| {
+            c.normals
+                .iter()
+                .zip(&c.extents)
+                .all(|(n, e)| p[0] * n[0] + p[1] * n[1] <= e.1)
+        })
+    }
+
     /// Convex pieces of a simple polygon (vertices counter-clockwise, not closed). `None` if it
     /// does not triangulate into pieces that cover it (a degenerate ring).
     pub(crate) fn new(ring: &[[f32; 2]]) -> Option<Pieces> {
