@@ -19,12 +19,13 @@
 //! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
 //! ones more often), swaps two large parts of different designs in it (the parts a swapped part
 //! now covers go to the room it left) and separates again. A swap moves a part into another
-//! row, which is how rows whose lengths do not add up to the sheet width get re-partitioned. A clear layout sends compression back to its small steps;
-//! `EXPLORE_FAILURES` failures in a row, or the budget, end it. A [`Chain`] holds all of this
-//! state, so that the anytime rounds can resume a *patient* chain, one that never gives up an
-//! exploration, slice after slice of budget, down to a separation a slice ended in the middle
-//! of ([`Outcome::Paused`]): a separation cut short would count as failed however near it was
-//! to clear.
+//! row, which is how rows whose lengths do not add up to the sheet width get re-partitioned. A
+//! clear layout sends compression back to its small steps; `EXPLORE_FAILURES` failures in a
+//! row, or the budget, end it. A [`Chain`] holds all of this state, so that the anytime rounds
+//! can resume a *patient* chain, slice after slice of budget, down to a separation a slice
+//! ended in the middle of ([`Outcome::Paused`]): a separation cut short would count as failed
+//! however near it was to clear. A patient chain is sparrow's exploration alone: it shrinks by
+//! the smallest step, explores from its first failure and never gives an exploration up.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.
@@ -404,16 +405,17 @@ impl<'f> Chain<'f> {
             return;
         }
         self.weights = std::mem::take(&mut separation.weights);
+        let last = SHRINK_LAST * self.length;
         if separated {
             self.best = separation.items;
             self.best_top = top(footprints, &self.best);
-        } else if self.patient && self.step <= SHRINK_LAST * self.length {
+        } else if self.patient && self.step <= last {
             self.exploring = Some(Exploration::after(footprints, separation, &mut self.rng));
         } else {
-            if self.step <= SHRINK_LAST * self.length {
+            if self.step <= last {
                 self.failed_at_last += 1;
             }
-            self.step = (self.step * 0.5).max(SHRINK_LAST * self.length);
+            self.step = (self.step * 0.5).max(last);
         }
     }
 }
@@ -605,7 +607,7 @@ fn disrupt(
         items[k].t = shifted_under(items[k], t);
     }
     // The parts a swapped part now covers go to the room it left, where they keep their places
-    // relative to it (sparrow's step 4): swapping a large part with a smaller one would
+    // relative to it, as in sparrow's disruption: swapping a large part with a smaller one would
     // otherwise bury the small one's neighbours under the large one.
     for (k, old) in [(i, ti), (j, tj)] {
         let at = items[k];

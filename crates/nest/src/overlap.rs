@@ -279,9 +279,10 @@ pub(crate) fn loss(depth: f32, a: &Pieces, b: &Pieces) -> f32 {
     (depth * depth + least * least).sqrt() * (a.size * b.size).sqrt()
 }
 
-/// The least depth at which [`loss`] of shapes `a` and `b` reaches `target`, a little over it so
-/// that rounding never puts the loss of that depth under `target` (zero where any collision
-/// costs that much). It is what [`overlap`] may stop at when the caller only asks whether the
+/// The least depth at which [`loss`] of shapes `a` and `b` reaches `target`: the loss solved for
+/// the depth, `sqrt((target / sqrt(size_a · size_b))² − ε²)`, a little over it so that rounding
+/// never puts the loss of that depth under `target` (zero where any collision costs that much,
+/// `target / sqrt(size_a · size_b) ≤ ε`). It is what [`overlap`] may stop at when the caller only asks whether the
 /// loss stays under `target`.
 pub(crate) fn depth_reaching(target: f32, a: &Pieces, b: &Pieces) -> f32 {
     let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
