@@ -839,11 +839,7 @@ impl<'a> Separation<'a> {
             pb,
             [b.t.0, b.t.1],
             self.footprints.table.as_ref(),
-            if enough == f32::MAX {
-                f32::MAX
-            } else {
-                depth_reaching(enough, a, pb)
-            },
+            depth_reaching(enough, a, pb),
         );
         loss(depth, a, pb)
     }
@@ -970,12 +966,7 @@ impl<'a> Separation<'a> {
                 continue;
             }
             let w = self.weights[i * n + j];
-            let enough = if cutoff == f32::MAX {
-                f32::MAX
-            } else {
-                (cutoff - sum) / w
-            };
-            sum += w * self.loss_against(a, t, j, enough);
+            sum += w * self.loss_against(a, t, j, (cutoff - sum) / w);
             if sum >= cutoff {
                 break;
             }

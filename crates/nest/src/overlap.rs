@@ -47,35 +47,18 @@ pub(crate) struct Pieces {
     diameter: f32,
     /// Square root of its convex hull's area: a length that grows with the part.
     size: f32,
+    /// The vertex mean of its largest piece: a point well inside the shape, where sparrow uses
+    /// the pole of inaccessibility (Gardeyn & Wauters 2025) to say which parts another part
+    /// practically contains.
+    inner: [f32; 2],
     /// Index of the first piece in a [`Projections`] table, once one holds this shape.
     first_id: Option<usize>,
 }
 
 impl Pieces {
-    /// A point well inside the shape: the vertex mean of its largest piece (where sparrow uses
-    /// the pole of inaccessibility, Gardeyn & Wauters 2025, to say which parts another part
-    /// practically contains).
+    /// A point well inside the shape (see `inner`).
     pub(crate) fn inner_point(&self) -> [f32; 2] {
-        let area = |c: &Convex| {
-            let v = &c.vertices;
-            (0..v.len())
-                .map(|k| {
-                    let (p, q) = (v[k], v[(k + 1) % v.len()]);
-                    p[0] * q[1] - q[0] * p[1]
-                })
-                .sum::<f32>()
-        };
-        let largest = self
-            .pieces
-            .iter()
-            .max_by(|a, b| area(a).total_cmp(&area(b)))
-            .expect("a shape has a piece");
-        let k = largest.vertices.len() as f32;
-        let sum = largest
-            .vertices
-            .iter()
-            .fold([0.0, 0.0], |s, v| [s[0] + v[0], s[1] + v[1]]);
-        [sum[0] / k, sum[1] / k]
+        self.inner
     }
 
     /// True if `p` (in the shape's own frame) lies inside one of its pieces.
@@ -121,6 +104,17 @@ impl Pieces {
             return None;
         }
         merge_while_convex(&mut polygons, &points);
+        let corners = |poly: &Vec<usize>| poly.iter().map(|&i| points[i]).collect::<Vec<_>>();
+        let largest = polygons
+            .iter()
+            .map(corners)
+            .max_by(|a, b| area(a).total_cmp(&area(b)))
+            .expect("at least one piece");
+        let k = largest.len() as f64;
+        let inner = [
+            (largest.iter().map(|p| p[0]).sum::<f64>() / k) as f32,
+            (largest.iter().map(|p| p[1]).sum::<f64>() / k) as f32,
+        ];
         let pieces: Vec<Convex> = polygons
             .iter()
             .map(|poly| {
@@ -152,6 +146,7 @@ impl Pieces {
             bounds,
             diameter,
             size: hull.unsigned_area().sqrt() as f32,
+            inner,
             first_id: None,
         })
     }
@@ -282,8 +277,8 @@ pub(crate) fn loss(depth: f32, a: &Pieces, b: &Pieces) -> f32 {
 /// The least depth at which [`loss`] of shapes `a` and `b` reaches `target`: the loss solved for
 /// the depth, `sqrt((target / sqrt(size_a · size_b))² − ε²)`, a little over it so that rounding
 /// never puts the loss of that depth under `target` (zero where any collision costs that much,
-/// `target / sqrt(size_a · size_b) ≤ ε`). It is what [`overlap`] may stop at when the caller only asks whether the
-/// loss stays under `target`.
+/// `target / sqrt(size_a · size_b) ≤ ε`; infinite for `f32::MAX`). It is what [`overlap`] may
+/// stop at when the caller only asks whether the loss stays under `target`.
 pub(crate) fn depth_reaching(target: f32, a: &Pieces, b: &Pieces) -> f32 {
     let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
     let per_size = target / (a.size * b.size).sqrt();
