@@ -25,7 +25,9 @@
 //! can resume a *patient* chain, slice after slice of budget, down to a separation a slice
 //! ended in the middle of ([`Outcome::Paused`]): a separation cut short would count as failed
 //! however near it was to clear. A patient chain is sparrow's exploration alone: it shrinks by
-//! the smallest step, explores from its first failure and never gives an exploration up.
+//! the smallest step, explores from its first failure and never gives an exploration up. A
+//! *fine* chain is sparrow's compression phase: steps of 0.05 % down to 0.001 % and no
+//! exploration, for the rounds' compression passes.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.
@@ -88,6 +90,15 @@ impl std::ops::Deref for Footprints {
 /// `SHRINK_LAST`.
 const SHRINK_FIRST: f32 = 0.01;
 const SHRINK_LAST: f32 = 0.001;
+/// A fine chain's first and smallest step, as shares of the used length (sparrow's compression
+/// phase, Gardeyn & Wauters 2025, its default configuration: 0.05 % to 0.001 %). It halves the
+/// step on each failure (sparrow's failure-based decay), where sparrow lowers it with the time
+/// left, which an anytime search does not know.
+const FINE_FIRST: f32 = 0.0005;
+const FINE_LAST: f32 = 0.00001;
+/// Failed attempts in a row at a fine chain's smallest step after which it ends: its
+/// separations are the most patient of all, and a pass of them takes time from exploration.
+const FINE_ATTEMPTS: usize = 3;
 /// Failed attempts in a row at the smallest step after which compression stops: the layout is
 /// taken as one it can no longer improve (counted in attempts, so the stop is deterministic).
 /// The compression gets the job's whole budget however early the search stopped, and this rule
@@ -179,6 +190,13 @@ const PATIENT: Effort = Effort {
     stall: 200,
     descents: 3,
 };
+/// Fine chains: sparrow's compression separator (its default configuration), with 100 sweeps
+/// to a stall, five strikes and three samples refined per move.
+const FINE: Effort = Effort {
+    strikes: 5,
+    stall: 100,
+    descents: 3,
+};
 
 /// The lowest-topped clear layout of `sheet`'s parts that compression finds within `budget`
 /// overlap evaluations (the input itself if none is lower). `clear` is the final judge of a
@@ -193,7 +211,7 @@ pub(crate) fn compress(
     clear: impl Fn(&[Placement]) -> bool,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Compressed {
-    let mut chain = Chain::new(footprints, sheet, rng.clone(), false);
+    let mut chain = Chain::new(footprints, sheet, rng.clone(), Pace::Quick);
     let stopped = chain.advance(budget, &clear, stop);
     *rng = chain.rng;
     Compressed {
@@ -212,15 +230,17 @@ pub(crate) struct Compressed {
 
 /// One compression chain: the lowest clear layout so far and where the search stands (the
 /// ceiling step, the pair weights, the exploration's pool), so that it can be resumed
-/// ([`Chain::advance`]) as often as there is budget. A chain that is not `patient` halves its
-/// step from 1 % down to the smallest, explores once the smallest has failed
+/// ([`Chain::advance`]) as often as there is budget. Its [`Pace`] says how it steps. A quick
+/// chain halves its step from 1 % down to the smallest, explores once the smallest has failed
 /// `STALL_ATTEMPTS` times and ends by the stall rules ([`compress`]). A patient one is
 /// sparrow's exploration (Gardeyn & Wauters 2025): it shrinks by the smallest step alone,
 /// explores from the first failure (which goes into the pool) and never leaves an exploration
 /// it has begun, keeping its pool at a ceiling for as long as its time lasts: the anytime
 /// rounds give it that time in counted slices. A 1 % step is what a budget-bound compression
 /// needs to get down fast; a patient chain starts from a layout already compressed, where a
-/// step of 1 % fails, and each failure costs it millions of evaluations.
+/// step of 1 % fails, and each failure costs it millions of evaluations. A fine one is
+/// sparrow's compression phase: steps under the patient one's, which take the room left below
+/// a layout that exploration could not lower by a whole step.
 #[derive(Clone)]
 pub(crate) struct Chain<'f> {
     footprints: &'f Footprints,
@@ -239,9 +259,22 @@ pub(crate) struct Chain<'f> {
     /// stall and strike rules, never by where a slice happened to end.
     paused: Option<(Separation<'f>, bool)>,
     spent: usize,
-    patient: bool,
+    pace: Pace,
     ended: bool,
     rng: ChaCha8Rng,
+}
+
+/// How a [`Chain`] lowers its ceiling and what it does when a step fails.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Pace {
+    /// The budget-bound compression of [`compress`]: steps from 1 % down to 0.1 %, exploration
+    /// once the smallest keeps failing, an end by the stall rules.
+    Quick,
+    /// Sparrow's exploration: steps of 0.1 %, exploration from the first failure, no end.
+    Patient,
+    /// Sparrow's compression phase: steps from 0.05 % down to 0.001 %, no exploration, an end
+    /// after `FINE_ATTEMPTS` failures at the smallest.
+    Fine,
 }
 
 impl<'f> Chain<'f> {
@@ -249,7 +282,7 @@ impl<'f> Chain<'f> {
         footprints: &'f Footprints,
         sheet: &[Placement],
         rng: ChaCha8Rng,
-        patient: bool,
+        pace: Pace,
     ) -> Self {
         let best = sheet.to_vec();
         let best_top = top(footprints, &best);
@@ -268,22 +301,36 @@ impl<'f> Chain<'f> {
             best,
             best_top,
             length,
-            step: if patient { SHRINK_LAST } else { SHRINK_FIRST } * length,
+            step: length
+                * match pace {
+                    Pace::Quick => SHRINK_FIRST,
+                    Pace::Patient => SHRINK_LAST,
+                    Pace::Fine => FINE_FIRST,
+                },
             failed_at_last: 0,
             exploring: None,
             paused: None,
             spent: 0,
-            patient,
+            pace,
             rng,
         }
     }
 
+    /// The smallest ceiling step.
+    fn last_step(&self) -> f32 {
+        let share = match self.pace {
+            Pace::Fine => FINE_LAST,
+            _ => SHRINK_LAST,
+        };
+        share * self.length
+    }
+
     /// How hard this chain's separations try.
     fn effort(&self) -> Effort {
-        if self.patient {
-            PATIENT
-        } else {
-            QUICK
+        match self.pace {
+            Pace::Quick => QUICK,
+            Pace::Patient => PATIENT,
+            Pace::Fine => FINE,
         }
     }
 
@@ -300,6 +347,24 @@ impl<'f> Chain<'f> {
             rng,
             ..self.clone()
         }
+    }
+
+    /// The ceiling the chain is working under: its exploration's, else one step below its best.
+    pub(crate) fn ceiling(&self) -> f32 {
+        match &self.exploring {
+            Some(exploration) => exploration.ceiling,
+            None => self.best_top - self.step,
+        }
+    }
+
+    /// The parts this chain places.
+    pub(crate) fn footprints(&self) -> &'f Footprints {
+        self.footprints
+    }
+
+    /// The top of the lowest clear layout so far.
+    pub(crate) fn top(&self) -> f32 {
+        self.best_top
     }
 
     /// The lowest clear layout so far.
@@ -335,7 +400,7 @@ impl<'f> Chain<'f> {
                 stop,
             );
             self.spent += separation.evaluations - before;
-            if outcome == Outcome::Paused && self.patient {
+            if outcome == Outcome::Paused && self.pace != Pace::Quick {
                 // Out of slice (or stopped): resume it in the next slice.
                 self.paused = Some((separation, explores));
                 continue;
@@ -351,17 +416,22 @@ impl<'f> Chain<'f> {
     /// halved its step, or ended), for the caller to ask again.
     fn next_separation(&mut self) -> Option<(Separation<'f>, bool, bool)> {
         let footprints = self.footprints;
-        let last = SHRINK_LAST * self.length;
+        let last = self.last_step();
         let effort = self.effort();
         if let Some((paused, explores)) = self.paused.take() {
             return Some((paused, explores, false));
         }
         if let Some(exploration) = self.exploring.as_mut() {
-            if !self.patient && exploration.failures >= EXPLORE_FAILURES {
+            if self.pace == Pace::Quick && exploration.failures >= EXPLORE_FAILURES {
                 self.ended = true;
                 return None;
             }
             return Some((exploration.start(footprints, effort), true, true));
+        }
+        if self.pace == Pace::Fine && self.failed_at_last >= FINE_ATTEMPTS {
+            // A fine chain's smallest step keeps failing: what is left takes exploration.
+            self.ended = true;
+            return None;
         }
         if self.failed_at_last >= STALL_ATTEMPTS {
             // The smallest step keeps failing: explore at it, and go back to small steps from
@@ -405,11 +475,11 @@ impl<'f> Chain<'f> {
             return;
         }
         self.weights = std::mem::take(&mut separation.weights);
-        let last = SHRINK_LAST * self.length;
+        let last = self.last_step();
         if separated {
             self.best = separation.items;
             self.best_top = top(footprints, &self.best);
-        } else if self.patient && self.step <= last {
+        } else if self.pace == Pace::Patient && self.step <= last {
             self.exploring = Some(Exploration::after(footprints, separation, &mut self.rng));
         } else {
             if self.step <= last {
@@ -1438,10 +1508,20 @@ mod tests {
         // ended, and its layout stays clear, between the start and top 2.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
+        let mut impatient = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Quick,
+        );
         assert!(!impatient.advance(usize::MAX / 2, &bars_clear, &never));
         assert!(impatient.ended && impatient.spent < usize::MAX / 2);
-        let mut patient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        let mut patient = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Patient,
+        );
         let slice = 2 * impatient.spent;
         for k in 1..=3 {
             assert!(!patient.advance(slice, &bars_clear, &never));
@@ -1471,7 +1551,12 @@ mod tests {
         // to separate next. The impatient chain halves its step on a failure instead.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut patient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        let mut patient = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Patient,
+        );
         let smallest = SHRINK_LAST * patient.length;
         let mut slices = 0;
         while patient.exploring.is_none() && slices < 1000 {
@@ -1490,11 +1575,58 @@ mod tests {
         assert!(top(patient.best()) < top(&start) && top(patient.best()) >= 2.0);
         assert!(exploration.ceiling < top(patient.best()));
 
-        let mut impatient = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), false);
+        let mut impatient = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Quick,
+        );
         let first = impatient.step;
         impatient.advance(2000, &bars_clear, &never);
         assert!(impatient.exploring.is_none());
         assert!(first > smallest && impatient.step < first);
+    }
+
+    #[test]
+    fn a_fine_chain_takes_a_gap_under_the_patient_step_and_ends_without_exploring() {
+        // Two rows of bars 0.0015 further apart than the overlap measure's clearance, which
+        // makes 2 + clearance the least top: the patient chain's step (0.1 % of the used
+        // length, about 0.002) is larger than that room, so no patient step can lower the top.
+        // A fine chain steps by at most 0.05 % (about 0.001), halving on each failure, never
+        // explores, takes some of the room and ends after its failures at its smallest step.
+        let room = 0.0015;
+        let row = 1.0 + crate::overlap::CLEARANCE_MM + room;
+        let start = vec![
+            at(0, 0.0, 0.0),
+            at(1, 6.1, 0.0),
+            at(0, 0.0, row),
+            at(1, 6.1, row),
+        ];
+        let footprints = bars();
+        let mut fine = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Fine,
+        );
+        assert!(SHRINK_LAST * fine.length > room);
+        let (first, smallest) = (FINE_FIRST * fine.length, FINE_LAST * fine.length);
+        let mut slices = 0;
+        while !fine.ended && slices < 100_000 {
+            assert!(fine.step <= first && fine.step >= smallest);
+            assert!(fine.exploring.is_none());
+            fine.advance(1000, &bars_clear, &never);
+            slices += 1;
+        }
+        assert!(fine.ended, "ends by its own rule");
+        assert_eq!((fine.step, fine.failed_at_last), (smallest, FINE_ATTEMPTS));
+        assert!(bars_clear(fine.best()));
+        let least = 2.0 + crate::overlap::CLEARANCE_MM;
+        assert!(
+            fine.top() >= least - 1e-6 && fine.top() < row + 1.0 - first / 2.0,
+            "top {}",
+            fine.top()
+        );
     }
 
     #[test]
@@ -1505,7 +1637,12 @@ mod tests {
         // another way.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut chain = Chain::new(&footprints, &start, ChaCha8Rng::seed_from_u64(5), true);
+        let mut chain = Chain::new(
+            &footprints,
+            &start,
+            ChaCha8Rng::seed_from_u64(5),
+            Pace::Patient,
+        );
         assert!(!chain.advance(20_000_000, &bars_clear, &never));
         let pool = |c: &Chain| c.exploring.as_ref().map(|e| e.pool.len());
         assert!(pool(&chain).is_some_and(|n| n > 0));

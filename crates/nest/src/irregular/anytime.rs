@@ -26,6 +26,17 @@
 //! sparrow puts both of its workers on one separation, and chains that are level keep their own
 //! pools, so the search still tries as many ways down as there are chains.
 //!
+//! Once the best layout has not got shorter for `COMPRESS_AFTER` rounds, a compression pass
+//! (sparrow's compression phase) takes the rounds' place: fine chains ([`Pace::Fine`]), one per
+//! worker and followed as the patient ones are, lower the best layout by steps under the
+//! exploration's, for rounds that make `COMPRESS_SHARE_PERCENT` of those since the last pass
+//! (15 for every 85 explored) or until they end. Sparrow compresses once, in the last tenth to fifth of its time. An anytime
+//! search does not know when its time ends, and a pass placed by the end of the budget would make
+//! a longer budget a different search from a shorter one, no longer sure to end at least as low;
+//! so the passes are spread through the rounds in the same share, and every budget's rounds
+//! begin with a shorter budget's. After a pass, a patient chain exploring at a ceiling that the
+//! compressed layout is already under starts again from that layout.
+//!
 //! A round's layout replaces the best only if it scores better, so the best layout never gets
 //! worse from one round to the next, and a budget of more rounds never ends worse than one of
 //! fewer with the same seed. Rounds are counted, and a round that a [`SearchLimit`] cuts short is
@@ -39,7 +50,7 @@ use super::model::Model;
 use super::random::worker_rng;
 use super::score::Score;
 use super::threads::{parallel, shared_out};
-use crate::compress::Chain;
+use crate::compress::{Chain, Pace};
 use crate::limit::{SearchEnd, SearchLimit};
 use crate::placement::Sheets;
 use crate::progress::NestProgress;
@@ -59,11 +70,66 @@ const ROUND_STALL: usize = 4000;
 /// Overlap evaluations each chain gets per round: a few separations, well under a second on a
 /// strip of a few dozen parts, so a deadline wastes little on the round it cuts.
 const ROUND_EVALUATIONS: usize = 50_000;
-/// Round `r` draws its search's streams from epoch `FIRST_ROUND_EPOCH + 2r`, and chains restarted
-/// after it from `+ 2r + 1` (chain `c` of `n` from stream `c`, a copy of the lowest chain put in
-/// its place from stream `n + c`); the first chains draw from `FIRST_ROUND_EPOCH - 1`. All are
-/// far above the base search's epochs (at most `MAX_EPOCHS + 1`), so no two share a stream.
+/// Rounds without a shorter layout after which a compression pass may begin (see the module
+/// doc): half a second or so on a strip of a few dozen parts, long enough that exploration has
+/// stalled rather than paused between two successes.
+const COMPRESS_AFTER: usize = 25;
+/// The share of the rounds the compression passes take: 15 rounds of compression for every 85
+/// of exploration, in the range of sparrow's split of its time (a tenth to a fifth).
+const COMPRESS_SHARE_PERCENT: usize = 15;
+/// Round `r` draws its search's streams from epoch `FIRST_ROUND_EPOCH + 2r`, and chains started
+/// in it from `+ 2r + 1`: of `n` chains, chain `c` from stream `c`, a copy of the lowest chain put
+/// in its place from stream `n + c`, a compression pass's chain from `3n + c` and a patient chain
+/// restarted after a pass from `4n + c`. The first chains draw from `FIRST_ROUND_EPOCH - 1`. All
+/// are far above the base search's epochs (at most `MAX_EPOCHS + 1`), so no two share a stream.
 const FIRST_ROUND_EPOCH: usize = 1 << 16;
+
+/// When the rounds compress (see the module doc), counted in rounds so that the passes fall on
+/// the same rounds on any machine.
+#[derive(Debug, Default)]
+struct Passes {
+    /// Rounds of exploration since the last pass.
+    explored: usize,
+    /// Rounds left in the pass under way (0 between passes).
+    left: usize,
+}
+
+impl Passes {
+    /// True if a pass begins this round: none is under way, the best has not got shorter for
+    /// `COMPRESS_AFTER` rounds, and the exploration since the last pass has earned a round of
+    /// compression at least (`COMPRESS_SHARE_PERCENT`).
+    fn begins(&mut self, since_shorter: usize) -> bool {
+        if self.left > 0 || since_shorter < COMPRESS_AFTER {
+            return false;
+        }
+        self.left = self.explored * COMPRESS_SHARE_PERCENT / (100 - COMPRESS_SHARE_PERCENT);
+        if self.left > 0 {
+            self.explored = 0;
+        }
+        self.left > 0
+    }
+
+    /// True while a pass is under way.
+    fn compressing(&self) -> bool {
+        self.left > 0
+    }
+
+    /// Counts a round that ran; true if it was the last of a pass (its rounds are spent, or
+    /// `ended`: its chains can do no more).
+    fn count(&mut self, ended: bool) -> bool {
+        if self.left == 0 {
+            self.explored += 1;
+            return false;
+        }
+        self.left = if ended { 0 } else { self.left - 1 };
+        self.left == 0
+    }
+
+    /// Drops the pass under way (the layout it compressed has been replaced).
+    fn cancel(&mut self) {
+        self.left = 0;
+    }
+}
 
 /// What the rounds came to.
 pub(super) struct Rounds {
@@ -86,7 +152,10 @@ impl Model<'_> {
         let settings = &self.job.settings;
         let workers = settings.workers;
         let mut best: (Score, Sheets) = (self.score(&self.rebuild(&start)), start);
-        let mut chains = self.chains(&best.1, FIRST_ROUND_EPOCH - 1);
+        let mut chains = self.chains(&best.1, FIRST_ROUND_EPOCH - 1, Pace::Patient, 0);
+        // The chains of the compression pass under way (none between passes).
+        let mut compression: Vec<Mutex<Chain<'_>>> = Vec::new();
+        let mut passes = Passes::default();
         let mut since_shorter = 0;
         let ended_by_limit = || {
             if limit.interrupted() {
@@ -146,14 +215,24 @@ impl Model<'_> {
                 }
                 if pick.0.better_than(&best.0) {
                     score = pick.0;
-                    chains = self.chains(&pick.1, epoch + 1);
+                    chains = self.chains(&pick.1, epoch + 1, Pace::Patient, 0);
+                    compression.clear();
+                    passes.cancel();
                     best.1 = pick.1.clone();
                 }
             }
             let lowest = self.lowest_index(&best.1);
+            if !chains.is_empty() && passes.begins(since_shorter) {
+                compression = self.chains(&best.1, epoch + 1, Pace::Fine, 3 * workers);
+            }
+            let running = if passes.compressing() {
+                &compression
+            } else {
+                &chains
+            };
             let stop = || limit.reached();
-            let stopped = shared_out(workers, chains.len(), |c| {
-                let mut chain = chains[c].lock().expect("no thread panics holding it");
+            let stopped = shared_out(workers, running.len(), |c| {
+                let mut chain = running[c].lock().expect("no thread panics holding it");
                 chain.advance(ROUND_EVALUATIONS, &|items| self.clear(items), &stop)
             });
             // A round the limit cut short is dropped whole; one that finished counts, even if
@@ -161,36 +240,31 @@ impl Model<'_> {
             if stopped.iter().any(|&s| s) {
                 return cut(best.1);
             }
-            // The lowest chain (ties to the lower one) replaces the sheet if it is lower.
+            let lowest_chain = self.follow_lowest(running, epoch + 1);
             let mut sheets = best.1.clone();
-            let tops: Vec<f32> = chains
-                .iter()
-                .map(|c| self.sheet_top(c.lock().expect("no thread panics").best()))
-                .collect();
-            let mut lowest_chain = 0;
-            for (c, t) in tops.iter().enumerate() {
-                if *t < tops[lowest_chain] {
-                    lowest_chain = c;
-                }
-            }
-            // Chains above the lowest go on from a copy of it (see the module doc).
-            let follow = chains[lowest_chain]
-                .lock()
-                .expect("no thread panics")
-                .clone();
-            for (c, t) in tops.iter().enumerate() {
-                if *t > tops[lowest_chain] {
-                    let rng = worker_rng(settings.seed, epoch + 1, chains.len() + c);
-                    *chains[c].lock().expect("no thread panics") = follow.fork(rng);
-                }
-            }
-            if tops[lowest_chain] < self.sheet_top(&sheets[lowest]) {
-                sheets[lowest] = chains[lowest_chain]
-                    .lock()
-                    .expect("no thread panics")
-                    .best()
-                    .to_vec();
+            let candidate = running[lowest_chain].lock().expect("no thread panics");
+            if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
+                sheets[lowest] = candidate.best().to_vec();
                 score = self.score(&self.rebuild(&sheets));
+            }
+            let lowest_top = candidate.top();
+            drop(candidate);
+            let ended = running
+                .iter()
+                .all(|c| c.lock().expect("no thread panics").ended());
+            if passes.count(ended) {
+                compression.clear();
+                // A chain exploring at a ceiling the compressed layout is already under can
+                // find nothing lower: it starts again from that layout.
+                let n = chains.len();
+                for (c, chain) in chains.iter().enumerate() {
+                    let mut chain = chain.lock().expect("no thread panics");
+                    if lowest_top <= chain.ceiling() {
+                        let rng = worker_rng(settings.seed, epoch + 1, 4 * n + c);
+                        *chain =
+                            Chain::new(chain.footprints(), &sheets[lowest], rng, Pace::Patient);
+                    }
+                }
             }
             since_shorter += 1;
             if score.shorter_than(&best.0) {
@@ -209,9 +283,38 @@ impl Model<'_> {
         }
     }
 
-    /// Patient compression chains (one per worker) on the sheet of
-    /// `sheets` whose used length counts, on the streams of `epoch`.
-    fn chains(&self, sheets: &Sheets, epoch: usize) -> Vec<Mutex<Chain<'_>>> {
+    /// The lowest of `chains` (ties to the lower one); every chain above it goes on from a copy
+    /// of it (see the module doc) on stream `chains.len() + c` of `epoch`.
+    fn follow_lowest(&self, chains: &[Mutex<Chain<'_>>], epoch: usize) -> usize {
+        let tops: Vec<f32> = chains
+            .iter()
+            .map(|c| self.sheet_top(c.lock().expect("no thread panics").best()))
+            .collect();
+        let mut lowest = 0;
+        for (c, t) in tops.iter().enumerate() {
+            if *t < tops[lowest] {
+                lowest = c;
+            }
+        }
+        let follow = chains[lowest].lock().expect("no thread panics").clone();
+        for (c, t) in tops.iter().enumerate() {
+            if *t > tops[lowest] {
+                let rng = worker_rng(self.job.settings.seed, epoch, chains.len() + c);
+                *chains[c].lock().expect("no thread panics") = follow.fork(rng);
+            }
+        }
+        lowest
+    }
+
+    /// Compression chains of `pace` (one per worker) on the sheet of `sheets` whose used length
+    /// counts, on streams `first..` of `epoch`.
+    fn chains(
+        &self,
+        sheets: &Sheets,
+        epoch: usize,
+        pace: Pace,
+        first: usize,
+    ) -> Vec<Mutex<Chain<'_>>> {
         let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
             return Vec::new();
         };
@@ -219,9 +322,76 @@ impl Model<'_> {
         let settings = &self.job.settings;
         (0..settings.workers)
             .map(|c| {
-                let rng = worker_rng(settings.seed, epoch, c);
-                Mutex::new(Chain::new(footprints, sheet, rng, true))
+                let rng = worker_rng(settings.seed, epoch, first + c);
+                Mutex::new(Chain::new(footprints, sheet, rng, pace))
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Counts `rounds` rounds that run, none of them ending a pass's chains; true for each that
+    /// ended a pass.
+    fn run(passes: &mut Passes, rounds: usize, since_shorter: &mut usize) -> Vec<bool> {
+        (0..rounds)
+            .map(|_| {
+                passes.begins(*since_shorter);
+                *since_shorter += 1;
+                passes.count(false)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_pass_begins_after_a_stall_and_takes_its_share_of_the_rounds_explored() {
+        let mut passes = Passes::default();
+        // 85 rounds of exploration that keep getting shorter: no pass, however many rounds.
+        for _ in 0..85 {
+            assert!(!passes.begins(0));
+            assert!(!passes.count(false));
+        }
+        // A stall one round short of `COMPRESS_AFTER`: still none.
+        assert!(!passes.begins(COMPRESS_AFTER - 1));
+        // At the stall, 15 rounds of compression for the 85 explored (85 x 15 / 85).
+        assert!(passes.begins(COMPRESS_AFTER));
+        assert!(passes.compressing());
+        let mut since = COMPRESS_AFTER;
+        let ends = run(&mut passes, 15, &mut since);
+        assert_eq!(ends.iter().filter(|&&e| e).count(), 1);
+        assert!(ends[14] && !passes.compressing());
+        // The exploration's count starts again from the pass: 5 rounds earn none yet (5 x 15 / 85
+        // rounds down to 0), 6 earn one.
+        for _ in 0..5 {
+            assert!(!passes.count(false));
+        }
+        assert!(!passes.begins(since));
+        assert!(!passes.count(false));
+        assert!(passes.begins(since));
+        assert!(passes.count(false) && !passes.compressing());
+    }
+
+    #[test]
+    fn a_pass_ends_early_when_its_chains_end_or_its_layout_is_replaced() {
+        let mut passes = Passes::default();
+        for _ in 0..170 {
+            passes.count(false);
+        }
+        assert!(passes.begins(COMPRESS_AFTER));
+        assert!(!passes.count(false));
+        assert!(passes.count(true), "its chains can do no more");
+        assert!(!passes.compressing());
+        for _ in 0..170 {
+            passes.count(false);
+        }
+        assert!(passes.begins(COMPRESS_AFTER));
+        passes.cancel();
+        assert!(!passes.compressing());
+        assert!(
+            !passes.count(false),
+            "a round after a cancelled pass explores"
+        );
     }
 }
