@@ -17,7 +17,7 @@
 //! what holds it: which parts share a row across the sheet. Small steps never change that, so
 //! compression turns to sparrow's exploration ([`explore`]): it stays at the ceiling it failed
 //! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
-//! ones more often), swaps two large parts of different designs in it (the parts a swapped part
+//! ones more often), swaps two large parts of different shapes in it (the parts a swapped part
 //! now covers go to the room it left) and separates again. A swap moves a part into another
 //! row, which is how rows whose lengths do not add up to the sheet width get re-partitioned. A
 //! clear layout sends compression back to its small steps; `EXPLORE_FAILURES` failures in a
@@ -616,12 +616,9 @@ fn explore(
 }
 
 /// Indices of the large parts of a sheet (`LARGE_AREA_SHARE`), by the area of their shapes'
-/// bounding boxes.
+/// convex hulls, as sparrow ranks them.
 fn large_parts(footprints: &[Vec<Footprint>], items: &[Placement]) -> Vec<usize> {
-    let area = |s: &Placement| {
-        let b = footprints[s.part][s.rot].pieces.bounds;
-        (b[2] - b[0]) * (b[3] - b[1])
-    };
+    let area = |s: &Placement| footprints[s.part][s.rot].pieces.hull_area();
     let mut areas: Vec<f32> = items.iter().map(area).collect();
     areas.sort_by(|a, b| b.total_cmp(a));
     let total: f32 = areas.iter().sum();
@@ -639,8 +636,9 @@ fn large_parts(footprints: &[Vec<Footprint>], items: &[Placement]) -> Vec<usize>
         .collect()
 }
 
-/// Swaps the places of a random large part and a large part of another design (any other
-/// part if all large ones are of one design), each kept at its own rotation and clamped to
+/// Swaps the places of a random large part and a large part of another shape ([`Pieces::unlike`]:
+/// two copies of one shape listed as two designs swap to no effect), or any other part if all
+/// large ones are alike, each kept at its own rotation and clamped to
 /// where it fits under `ceiling`; then moves the parts whose inner point a swapped part now
 /// covers by the way back to where that part was (the disruption of sparrow's exploration,
 /// Gardeyn & Wauters 2025).
@@ -659,7 +657,10 @@ fn disrupt(
     let others: Vec<usize> = large
         .iter()
         .copied()
-        .filter(|&j| items[j].part != items[i].part)
+        .filter(|&j| {
+            let shape = |k: usize| &footprints[items[k].part][items[k].rot].pieces;
+            shape(j).unlike(shape(i))
+        })
         .collect();
     let j = if others.is_empty() {
         let j = rng.gen_range(0..n - 1);
@@ -1345,14 +1346,16 @@ mod tests {
 
     /// Bars 6 x 1 (design 0) and 4 x 1 (design 1) on a sheet 10.2 wide.
     fn bars() -> Footprints {
-        let bar = |length: f32| {
-            vec![Footprint {
-                pieces: Pieces::new(&[[0., 0.], [length, 0.], [length, 1.], [0., 1.]]).unwrap(),
-                x: (0.0, 10.2 - length),
-                y: (0.0, 10.0),
-            }]
-        };
         Footprints::new(vec![bar(6.0), bar(4.0)])
+    }
+
+    /// A bar `length` x 1 on a sheet 10.2 wide.
+    fn bar(length: f32) -> Vec<Footprint> {
+        vec![Footprint {
+            pieces: Pieces::new(&[[0., 0.], [length, 0.], [length, 1.], [0., 1.]]).unwrap(),
+            x: (0.0, 10.2 - length),
+            y: (0.0, 10.0),
+        }]
     }
 
     /// Independent of the overlap measure: axis-aligned bars are clear iff their boxes do not
@@ -1669,7 +1672,48 @@ mod tests {
     }
 
     #[test]
-    fn a_disruption_swaps_two_large_parts_of_different_designs() {
+    fn a_disruption_never_swaps_two_copies_of_one_shape_listed_as_two_designs() {
+        // Designs 0 and 1 are the same long bar, design 2 a short one: a swap of the two long
+        // bars would leave the layout as it was, so every swap takes a short bar.
+        let footprints = Footprints::new(vec![bar(6.0), bar(6.0), bar(4.0)]);
+        let before = vec![
+            at(0, 0.0, 0.0),
+            at(1, 0.0, 2.0),
+            at(2, 6.1, 0.0),
+            at(2, 6.1, 2.0),
+        ];
+        for (seed, _, moved) in swaps(&footprints, &before, 40) {
+            assert!(
+                moved.iter().any(|&k| before[k].part == 2),
+                "seed {seed}: {moved:?}"
+            );
+        }
+    }
+
+    /// `before` disrupted on streams `0..seeds` under a ceiling of 10: the seed, the layout after
+    /// and the two parts it moved (it must move two).
+    fn swaps(
+        footprints: &Footprints,
+        before: &[Placement],
+        seeds: u64,
+    ) -> Vec<(u64, Vec<Placement>, Vec<usize>)> {
+        let large = large_parts(footprints, before);
+        (0..seeds)
+            .map(|seed| {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let mut after = before.to_vec();
+                disrupt(footprints, &mut after, &large, 10.0, &mut rng);
+                let moved: Vec<usize> = (0..before.len())
+                    .filter(|&k| after[k] != before[k])
+                    .collect();
+                assert_eq!(moved.len(), 2, "seed {seed}: {after:?}");
+                (seed, after, moved)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_disruption_swaps_two_large_parts_of_different_shapes() {
         let footprints = bars();
         let before = vec![
             at(0, 0.0, 0.0),
@@ -1677,16 +1721,10 @@ mod tests {
             at(1, 6.1, 0.0),
             at(1, 6.1, 2.0),
         ];
-        // By box area the long bars make up 0.6 of the total: the third part (a short bar)
+        // By hull area the long bars make up 0.6 of the total: the third part (a short bar)
         // takes it past 3/4, and every part at least as large as that one counts as large.
-        let large = large_parts(&footprints, &before);
-        assert_eq!(large, vec![0, 1, 2, 3]);
-        for seed in 0..20 {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            let mut after = before.clone();
-            disrupt(&footprints, &mut after, &large, 10.0, &mut rng);
-            let moved: Vec<usize> = (0..4).filter(|&k| after[k] != before[k]).collect();
-            assert_eq!(moved.len(), 2, "seed {seed}: {after:?}");
+        assert_eq!(large_parts(&footprints, &before), vec![0, 1, 2, 3]);
+        for (_, after, moved) in swaps(&footprints, &before, 20) {
             let (i, j) = (moved[0], moved[1]);
             assert_ne!(before[i].part, before[j].part);
             // Each takes the other's place, clamped to its own x range (a long bar cannot

@@ -61,6 +61,18 @@ impl Pieces {
         self.inner
     }
 
+    /// The area of its convex hull, by which sparrow ranks parts by size.
+    pub(crate) fn hull_area(&self) -> f32 {
+        self.size * self.size
+    }
+
+    /// True unless the two shapes are within 1 % in hull area or in diameter: sparrow's test of
+    /// two parts different enough that swapping them disrupts a layout (Gardeyn & Wauters 2025).
+    pub(crate) fn unlike(&self, other: &Pieces) -> bool {
+        let near = |a: f32, b: f32| (a - b).abs() <= 0.01 * a;
+        !near(self.hull_area(), other.hull_area()) && !near(self.diameter, other.diameter)
+    }
+
     /// True if `p` (in the shape's own frame) lies inside one of its pieces.
     pub(crate) fn contains(&self, p: [f32; 2]) -> bool {
         self.pieces.iter().any(|c| {
@@ -572,6 +584,26 @@ mod tests {
         assert!(shallow >= floor * 8f32.sqrt() && shallow < 1.001 * floor * 8f32.sqrt());
         // The same depth between two squares costs less than between a square and the bar.
         assert!(loss(0.5, &square, &square) < deep);
+    }
+
+    #[test]
+    fn shapes_are_unlike_only_if_both_their_hull_areas_and_their_diameters_differ() {
+        // A 2 x 2 square (area 4, diameter √8), the same square turned 45° about its corner, a
+        // 1 x 4 bar (area 4, diameter √17) and an L of three unit squares in an ell of 2 x 2
+        // (hull area 3.5, diameter √8).
+        let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
+        let h = std::f32::consts::SQRT_2;
+        let turned = Pieces::new(&[[0., 0.], [h, h], [0., 2. * h], [-h, h]]).unwrap();
+        let bar = Pieces::new(&[[0., 0.], [4., 0.], [4., 1.], [0., 1.]]).unwrap();
+        let ell = Pieces::new(&[[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]]);
+        let ell = ell.unwrap();
+        let big = Pieces::new(&[[0., 0.], [3., 0.], [3., 3.], [0., 3.]]).unwrap();
+        assert!((ell.hull_area() - 3.5).abs() < 1e-5 && (bar.hull_area() - 4.0).abs() < 1e-5);
+        assert!(!square.unlike(&turned), "one shape at two angles");
+        assert!(!square.unlike(&bar), "the same area");
+        assert!(!square.unlike(&ell), "the same diameter");
+        assert!(square.unlike(&big) && big.unlike(&square));
+        assert!(bar.unlike(&ell));
     }
 
     #[test]

@@ -53,7 +53,7 @@
 //!   jagua-rs checks every layout it keeps. Where the smallest step keeps
 //!   failing, a chain explores as sparrow does: it stays at that ceiling, keeps the failed
 //!   layouts in a pool, and separates again from one of them with two large parts of
-//!   different designs swapped, which re-partitions rows the small steps cannot. Two chains
+//!   different shapes swapped, which re-partitions rows the small steps cannot. Two chains
 //!   per worker compress on their own streams, shared out to the threads as they come free,
 //!   each with half of `COMPRESSION_EVALUATIONS` overlap evaluations per worker and iteration
 //!   of the settings' full budget, not the smaller share a small job's search gets, and twice
