@@ -29,13 +29,13 @@
 //! Once the best layout has not got shorter for `COMPRESS_AFTER` rounds, a compression pass
 //! (sparrow's compression phase) takes the rounds' place: fine chains ([`Pace::Fine`]), one per
 //! worker and followed as the patient ones are, lower the best layout by steps under the
-//! exploration's, for rounds that make `COMPRESS_SHARE_PERCENT` of those since the last pass
-//! (15 for every 85 explored) or until they end. Sparrow compresses once, in the last tenth to fifth of its time. An anytime
-//! search does not know when its time ends, and a pass placed by the end of the budget would make
-//! a longer budget a different search from a shorter one, no longer sure to end at least as low;
-//! so the passes are spread through the rounds in the same share, and every budget's rounds
-//! begin with a shorter budget's. After a pass, a patient chain exploring at a ceiling that the
-//! compressed layout is already under starts again from that layout.
+//! exploration's, for rounds that make `COMPRESS_SHARE_PERCENT` of those since the last pass (15
+//! for every 85 explored) or until they end. Sparrow compresses once, in the last tenth to fifth
+//! of its time. An anytime search does not know when its time ends, and a pass placed by the
+//! end of the budget would make a longer budget a different search from a shorter one, no longer
+//! sure to end at least as low; so the passes are spread through the rounds in the same share, and
+//! every budget's rounds begin with a shorter budget's. After a pass, a patient chain exploring at
+//! a ceiling that the compressed layout is already under starts again from that layout.
 //!
 //! A round's layout replaces the best only if it scores better, so the best layout never gets
 //! worse from one round to the next, and a budget of more rounds never ends worse than one of
@@ -240,29 +240,31 @@ impl Model<'_> {
             if stopped.iter().any(|&s| s) {
                 return cut(best.1);
             }
-            let lowest_chain = self.follow_lowest(running, epoch + 1);
             let mut sheets = best.1.clone();
-            let candidate = running[lowest_chain].lock().expect("no thread panics");
-            if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
-                sheets[lowest] = candidate.best().to_vec();
-                score = self.score(&self.rebuild(&sheets));
-            }
-            let lowest_top = candidate.top();
-            drop(candidate);
-            let ended = running
-                .iter()
-                .all(|c| c.lock().expect("no thread panics").ended());
-            if passes.count(ended) {
-                compression.clear();
-                // A chain exploring at a ceiling the compressed layout is already under can
-                // find nothing lower: it starts again from that layout.
-                let n = chains.len();
-                for (c, chain) in chains.iter().enumerate() {
-                    let mut chain = chain.lock().expect("no thread panics");
-                    if lowest_top <= chain.ceiling() {
-                        let rng = worker_rng(settings.seed, epoch + 1, 4 * n + c);
-                        *chain =
-                            Chain::new(chain.footprints(), &sheets[lowest], rng, Pace::Patient);
+            // No chains where a part's shape has no footprint: the search above is all there is.
+            if let Some(lowest_chain) = self.follow_lowest(running, epoch + 1) {
+                let candidate = running[lowest_chain].lock().expect("no thread panics");
+                if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
+                    sheets[lowest] = candidate.best().to_vec();
+                    score = self.score(&self.rebuild(&sheets));
+                }
+                let lowest_top = candidate.top();
+                drop(candidate);
+                let ended = running
+                    .iter()
+                    .all(|c| c.lock().expect("no thread panics").ended());
+                if passes.count(ended) {
+                    compression.clear();
+                    // A chain exploring at a ceiling the compressed layout is already under can
+                    // find nothing lower: it starts again from that layout.
+                    let n = chains.len();
+                    for (c, chain) in chains.iter().enumerate() {
+                        let mut chain = chain.lock().expect("no thread panics");
+                        if lowest_top <= chain.ceiling() {
+                            let rng = worker_rng(settings.seed, epoch + 1, 4 * n + c);
+                            let sheet = &sheets[lowest];
+                            *chain = Chain::new(chain.footprints(), sheet, rng, Pace::Patient);
+                        }
                     }
                 }
             }
@@ -283,9 +285,13 @@ impl Model<'_> {
         }
     }
 
-    /// The lowest of `chains` (ties to the lower one); every chain above it goes on from a copy
-    /// of it (see the module doc) on stream `chains.len() + c` of `epoch`.
-    fn follow_lowest(&self, chains: &[Mutex<Chain<'_>>], epoch: usize) -> usize {
+    /// The lowest of `chains` (ties to the lower one; `None` if there are none); every chain
+    /// above it goes on from a copy of it (see the module doc) on stream `chains.len() + c` of
+    /// `epoch`.
+    fn follow_lowest(&self, chains: &[Mutex<Chain<'_>>], epoch: usize) -> Option<usize> {
+        if chains.is_empty() {
+            return None;
+        }
         let tops: Vec<f32> = chains
             .iter()
             .map(|c| self.sheet_top(c.lock().expect("no thread panics").best()))
@@ -303,7 +309,7 @@ impl Model<'_> {
                 *chains[c].lock().expect("no thread panics") = follow.fork(rng);
             }
         }
-        lowest
+        Some(lowest)
     }
 
     /// Compression chains of `pace` (one per worker) on the sheet of `sheets` whose used length
