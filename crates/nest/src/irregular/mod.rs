@@ -86,8 +86,8 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
 //!   the state-of-the-art strip packer, given 5 s and 30 s; on the twelve public ESICUP instances
-//!   ahead of it in the mean at 5 s (by about a third of a point) and behind at 30 s and 120 s
-//!   (by 0.2-0.3 points), most on jakobs2, where sparrow's exploration keeps finding lower
+//!   ahead of it in the mean at 5 s (by about half a point) and behind at 30 s (by 0.3 points)
+//!   and at 120 s, most on jakobs2 and fu, where sparrow's exploration keeps finding lower
 //!   ceilings that ours does not.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
