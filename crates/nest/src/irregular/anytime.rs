@@ -71,7 +71,7 @@ const ROUND_STALL: usize = 4000;
 /// strip of a few dozen parts, so a deadline wastes little on the round it cuts.
 const ROUND_EVALUATIONS: usize = 50_000;
 /// Rounds without a shorter layout after which a compression pass may begin (see the module
-/// doc): half a second or so on a strip of a few dozen parts, long enough that exploration has
+/// doc): about a second on a strip of two dozen parts, long enough that exploration has
 /// stalled rather than paused between two successes.
 const COMPRESS_AFTER: usize = 25;
 /// The share of the rounds the compression passes take: 15 rounds of compression for every 85
