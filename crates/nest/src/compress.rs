@@ -277,6 +277,26 @@ pub(crate) enum Pace {
     Fine,
 }
 
+impl Pace {
+    /// The first and the smallest ceiling step, as shares of the used length.
+    fn steps(self) -> (f32, f32) {
+        match self {
+            Pace::Quick => (SHRINK_FIRST, SHRINK_LAST),
+            Pace::Patient => (SHRINK_LAST, SHRINK_LAST),
+            Pace::Fine => (FINE_FIRST, FINE_LAST),
+        }
+    }
+
+    /// How hard its separations try.
+    fn effort(self) -> Effort {
+        match self {
+            Pace::Quick => QUICK,
+            Pace::Patient => PATIENT,
+            Pace::Fine => FINE,
+        }
+    }
+}
+
 impl<'f> Chain<'f> {
     pub(crate) fn new(
         footprints: &'f Footprints,
@@ -301,12 +321,7 @@ impl<'f> Chain<'f> {
             best,
             best_top,
             length,
-            step: length
-                * match pace {
-                    Pace::Quick => SHRINK_FIRST,
-                    Pace::Patient => SHRINK_LAST,
-                    Pace::Fine => FINE_FIRST,
-                },
+            step: pace.steps().0 * length,
             failed_at_last: 0,
             exploring: None,
             paused: None,
@@ -318,20 +333,7 @@ impl<'f> Chain<'f> {
 
     /// The smallest ceiling step.
     fn last_step(&self) -> f32 {
-        let share = match self.pace {
-            Pace::Fine => FINE_LAST,
-            _ => SHRINK_LAST,
-        };
-        share * self.length
-    }
-
-    /// How hard this chain's separations try.
-    fn effort(&self) -> Effort {
-        match self.pace {
-            Pace::Quick => QUICK,
-            Pace::Patient => PATIENT,
-            Pace::Fine => FINE,
-        }
+        self.pace.steps().1 * self.length
     }
 
     /// True once the chain can do no more (too few parts, or no lower ceiling leaves room for
@@ -355,11 +357,6 @@ impl<'f> Chain<'f> {
             Some(exploration) => exploration.ceiling,
             None => self.best_top - self.step,
         }
-    }
-
-    /// The parts this chain places.
-    pub(crate) fn footprints(&self) -> &'f Footprints {
-        self.footprints
     }
 
     /// The top of the lowest clear layout so far.
@@ -417,7 +414,7 @@ impl<'f> Chain<'f> {
     fn next_separation(&mut self) -> Option<(Separation<'f>, bool, bool)> {
         let footprints = self.footprints;
         let last = self.last_step();
-        let effort = self.effort();
+        let effort = self.pace.effort();
         if let Some((paused, explores)) = self.paused.take() {
             return Some((paused, explores, false));
         }
@@ -636,9 +633,9 @@ fn large_parts(footprints: &[Vec<Footprint>], items: &[Placement]) -> Vec<usize>
         .collect()
 }
 
-/// Swaps the places of a random large part and a large part of another shape ([`Pieces::unlike`]:
-/// two copies of one shape listed as two designs swap to no effect), or any other part if all
-/// large ones are alike, each kept at its own rotation and clamped to
+/// Swaps the places of a random large part and a large part of another shape
+/// ([`Pieces::unlike`]: two copies of one shape listed as two designs swap to no effect), or
+/// any other part if all large ones are alike, each kept at its own rotation and clamped to
 /// where it fits under `ceiling`; then moves the parts whose inner point a swapped part now
 /// covers by the way back to where that part was (the disruption of sparrow's exploration,
 /// Gardeyn & Wauters 2025).
@@ -1511,20 +1508,10 @@ mod tests {
         // ended, and its layout stays clear, between the start and top 2.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut impatient = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Quick,
-        );
+        let mut impatient = chain_from(&footprints, &start, Pace::Quick);
         assert!(!impatient.advance(usize::MAX / 2, &bars_clear, &never));
         assert!(impatient.ended && impatient.spent < usize::MAX / 2);
-        let mut patient = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Patient,
-        );
+        let mut patient = chain_from(&footprints, &start, Pace::Patient);
         let slice = 2 * impatient.spent;
         for k in 1..=3 {
             assert!(!patient.advance(slice, &bars_clear, &never));
@@ -1554,12 +1541,7 @@ mod tests {
         // to separate next. The impatient chain halves its step on a failure instead.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut patient = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Patient,
-        );
+        let mut patient = chain_from(&footprints, &start, Pace::Patient);
         let smallest = SHRINK_LAST * patient.length;
         let mut slices = 0;
         while patient.exploring.is_none() && slices < 1000 {
@@ -1578,12 +1560,7 @@ mod tests {
         assert!(top(patient.best()) < top(&start) && top(patient.best()) >= 2.0);
         assert!(exploration.ceiling < top(patient.best()));
 
-        let mut impatient = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Quick,
-        );
+        let mut impatient = chain_from(&footprints, &start, Pace::Quick);
         let first = impatient.step;
         impatient.advance(2000, &bars_clear, &never);
         assert!(impatient.exploring.is_none());
@@ -1606,12 +1583,7 @@ mod tests {
             at(1, 6.1, row),
         ];
         let footprints = bars();
-        let mut fine = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Fine,
-        );
+        let mut fine = chain_from(&footprints, &start, Pace::Fine);
         assert!(SHRINK_LAST * fine.length > room);
         let (first, smallest) = (FINE_FIRST * fine.length, FINE_LAST * fine.length);
         let mut slices = 0;
@@ -1640,12 +1612,7 @@ mod tests {
         // another way.
         let start = two_rows_of_bars();
         let footprints = bars();
-        let mut chain = Chain::new(
-            &footprints,
-            &start,
-            ChaCha8Rng::seed_from_u64(5),
-            Pace::Patient,
-        );
+        let mut chain = chain_from(&footprints, &start, Pace::Patient);
         assert!(!chain.advance(20_000_000, &bars_clear, &never));
         let pool = |c: &Chain| c.exploring.as_ref().map(|e| e.pool.len());
         assert!(pool(&chain).is_some_and(|n| n > 0));
@@ -1783,6 +1750,11 @@ mod tests {
         let unit = &footprints[1][0].pieces;
         assert!(unit.contains([0.5, 0.99]) && !unit.contains([0.5, 1.01]));
         assert!(!unit.contains([-0.01, 0.5]) && !ell.contains([2.0, 2.0]));
+    }
+
+    /// A chain of `pace` from `start` on stream 5, the stream every chain test draws from.
+    fn chain_from<'f>(footprints: &'f Footprints, start: &[Placement], pace: Pace) -> Chain<'f> {
+        Chain::new(footprints, start, ChaCha8Rng::seed_from_u64(5), pace)
     }
 
     /// The `stop` of a compression that only its budget and stall rules end.

@@ -52,7 +52,7 @@ use super::score::Score;
 use super::threads::{parallel, shared_out};
 use crate::compress::{Chain, Pace};
 use crate::limit::{SearchEnd, SearchLimit};
-use crate::placement::Sheets;
+use crate::placement::{Placement, Sheets};
 use crate::progress::NestProgress;
 
 /// The base search's largest budget: a budget above it is the base search at this budget
@@ -261,9 +261,9 @@ impl Model<'_> {
                     for (c, chain) in chains.iter().enumerate() {
                         let mut chain = chain.lock().expect("no thread panics");
                         if lowest_top <= chain.ceiling() {
-                            let rng = worker_rng(settings.seed, epoch + 1, 4 * n + c);
                             let sheet = &sheets[lowest];
-                            *chain = Chain::new(chain.footprints(), sheet, rng, Pace::Patient);
+                            let fresh = self.chain(sheet, epoch + 1, 4 * n + c, Pace::Patient);
+                            *chain = fresh.expect("chains have footprints");
                         }
                     }
                 }
@@ -321,17 +321,27 @@ impl Model<'_> {
         pace: Pace,
         first: usize,
     ) -> Vec<Mutex<Chain<'_>>> {
-        let Some(footprints) = self.footprints.as_ref().filter(|_| !sheets.is_empty()) else {
+        if sheets.is_empty() {
             return Vec::new();
-        };
+        }
         let sheet = &sheets[self.lowest_index(sheets)];
-        let settings = &self.job.settings;
-        (0..settings.workers)
-            .map(|c| {
-                let rng = worker_rng(settings.seed, epoch, first + c);
-                Mutex::new(Chain::new(footprints, sheet, rng, pace))
-            })
+        (0..self.job.settings.workers)
+            .map_while(|c| self.chain(sheet, epoch, first + c, pace).map(Mutex::new))
             .collect()
+    }
+
+    /// A compression chain of `pace` on `sheet`, on stream `stream` of `epoch`; `None` where a
+    /// part's shape has no footprint.
+    fn chain(
+        &self,
+        sheet: &[Placement],
+        epoch: usize,
+        stream: usize,
+        pace: Pace,
+    ) -> Option<Chain<'_>> {
+        let footprints = self.footprints.as_ref()?;
+        let rng = worker_rng(self.job.settings.seed, epoch, stream);
+        Some(Chain::new(footprints, sheet, rng, pace))
     }
 }
 
