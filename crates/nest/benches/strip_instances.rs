@@ -14,9 +14,11 @@
 //! instances, 2 workers, seed 1 (`NEST_SEED` sets another).
 //!
 //! `NEST_TIME_S=30` gives each instance a 30 s time budget (the anytime search, iterations
-//! unbounded); without it the default iteration budget runs. One line per instance: name,
-//! parts, density (part area / (strip height x used length)), wall and CPU seconds, and the
-//! iterations reached (`--iterations` replays a run whose time ran out in the anytime rounds).
+//! unbounded); without it `NEST_ITERATIONS` iterations run (the default budget if unset), which
+//! replays a timed run from the iterations it reached, or times a fixed amount of search. One
+//! line per instance: name, parts, density (part area / (strip height x used length)), wall and
+//! CPU seconds, and the iterations reached (`--iterations` replays a run whose time ran out in
+//! the anytime rounds).
 //! The figures also go to `target/nest-bench/esicup-<budget>.json`, which
 //! `tools/nest_reference.py --esicup` reads to run sparrow at the same budget beside them.
 //!
@@ -153,14 +155,20 @@ fn main() {
         s.parse()
             .unwrap_or_else(|_| panic!("NEST_SEED = {s:?}: a whole number"))
     });
+    let iterations: Option<usize> = std::env::var("NEST_ITERATIONS").ok().map(|n| {
+        n.parse()
+            .ok()
+            .filter(|n: &usize| *n > 0)
+            .unwrap_or_else(|| panic!("NEST_ITERATIONS = {n:?}: a whole number above 0"))
+    });
     let settings = NestSettings {
         separation_mm: 0.0,
         seed,
         // A time budget runs the anytime search until its deadline.
-        iterations: if time_s.is_some() {
-            usize::MAX / 2
-        } else {
-            NestSettings::default().iterations
+        iterations: match (time_s, iterations) {
+            (Some(_), _) => usize::MAX / 2,
+            (None, Some(n)) => n,
+            (None, None) => NestSettings::default().iterations,
         },
         ..NestSettings::default()
     };
@@ -235,7 +243,7 @@ fn main() {
     let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/nest-bench");
     let file = out.join(match time_s {
         Some(t) => format!("esicup-{t}s.json"),
-        None => "esicup-default.json".into(),
+        None => format!("esicup-{}-iterations.json", settings.iterations),
     });
     std::fs::create_dir_all(&out).expect("create target/nest-bench");
     std::fs::write(
