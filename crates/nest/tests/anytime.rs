@@ -137,3 +137,21 @@ fn on_fixed_sheets_more_rounds_never_give_more_sheets_or_a_longer_last_sheet() {
         previous = Some(now);
     }
 }
+
+#[test]
+fn a_layout_that_cannot_get_shorter_still_gets_every_round_it_is_given() {
+    // One part: no chain can lower the strip, and no search can shorten it. The rounds still
+    // run to their number (thousands of them without a shorter layout), as a time budget runs to
+    // its deadline: no stall rule ends them.
+    let items = vec![fixtures::fibre(
+        fixtures::actuator(20.0, 6.0, 3.0, 4.0, 2.0),
+        1,
+    )];
+    let rounds = 5000;
+    let s = settings(BASE + rounds * ROUND);
+    let (strip, reached) =
+        nest_strip_until(&items, 60.0, &s, &SearchLimit::default(), &|_| {}).expect("nest");
+    verify(&items, &strip.bin, &s, &strip.solution, 1e-9).expect("layout verifies");
+    assert_eq!(reached.ended, SearchEnd::Budget);
+    assert_eq!(reached.iterations, BASE + rounds * ROUND);
+}

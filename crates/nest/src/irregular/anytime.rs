@@ -41,8 +41,9 @@
 //! worse from one round to the next, and a budget of more rounds never ends worse than one of
 //! fewer with the same seed. Rounds are counted, and a round that a [`SearchLimit`] cuts short is
 //! thrown away whole, so the rounds completed, and with them the layout, are the same on any
-//! machine. `ROUND_STALL` rounds in a row without a shorter layout end the rounds, so a layout
-//! that cannot improve does not hold a time budget to its end.
+//! machine. Only the rounds' number or the limit ends them, never a stall: as sparrow's
+//! exploration ends only on its time, a time budget is used to its end, since an exploration
+//! may break through after thousands of rounds without a shorter layout.
 
 use std::sync::Mutex;
 
@@ -62,11 +63,6 @@ pub(super) const BASE_ITERATIONS: usize = 1000;
 /// Iterations a round counts for (`--iterations` above the base budget buys rounds at this
 /// rate), and its search's moves over all workers on more than one sheet.
 pub(super) const ROUND_ITERATIONS: usize = 100;
-/// Rounds in a row without a shorter layout (fewer sheets, or a used length shorter by more
-/// than the score's tolerance) after which the rounds end: 200 million evaluations per chain,
-/// minutes of a time budget, so that an exploration that breaks through only after many
-/// disruptions gets them (sparrow's exploration ends only on its time).
-const ROUND_STALL: usize = 4000;
 /// Overlap evaluations each chain gets per round: a few separations, well under a second on a
 /// strip of a few dozen parts, so a deadline wastes little on the round it cuts.
 const ROUND_EVALUATIONS: usize = 50_000;
@@ -166,13 +162,6 @@ impl Model<'_> {
         };
         let budget = done + rounds.saturating_mul(ROUND_ITERATIONS);
         for round in 0..rounds {
-            if since_shorter >= ROUND_STALL {
-                return Rounds {
-                    best: best.1,
-                    completed: round,
-                    ended: SearchEnd::Budget,
-                };
-            }
             let cut = |best: Sheets| Rounds {
                 best,
                 completed: round,
