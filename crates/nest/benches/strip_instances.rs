@@ -14,11 +14,11 @@
 //! instances, 2 workers, seed 1 (`NEST_SEED` sets another).
 //!
 //! `NEST_TIME_S=30` gives each instance a 30 s time budget (the anytime search, iterations
-//! unbounded); without it `NEST_ITERATIONS` iterations run (the default budget if unset), which
-//! replays a timed run from the iterations it reached, or times a fixed amount of search. One
-//! line per instance: name, parts, density (part area / (strip height x used length)), wall and
-//! CPU seconds, and the iterations reached (`--iterations` replays a run whose time ran out in
-//! the anytime rounds).
+//! unbounded unless `NEST_ITERATIONS` caps them); without it `NEST_ITERATIONS` iterations run
+//! (the default budget if unset), which replays a timed run from the iterations it reached, or
+//! runs a fixed amount of search whatever the machine's load. One line per instance: name,
+//! parts, density (part area / (strip height x used length)), wall and CPU seconds, and the
+//! iterations reached (`--iterations` replays a run whose time ran out in the anytime rounds).
 //! The figures also go to `target/nest-bench/esicup-<budget>.json`, which
 //! `tools/nest_reference.py --esicup` reads to run sparrow at the same budget beside them.
 //!
@@ -164,10 +164,11 @@ fn main() {
     let settings = NestSettings {
         separation_mm: 0.0,
         seed,
-        // A time budget runs the anytime search until its deadline.
+        // A time budget runs the anytime search until its deadline, or until `NEST_ITERATIONS`
+        // if that comes first (as `--iterations` caps `--time`).
         iterations: match (time_s, iterations) {
-            (Some(_), _) => usize::MAX / 2,
-            (None, Some(n)) => n,
+            (_, Some(n)) => n,
+            (Some(_), None) => usize::MAX / 2,
             (None, None) => NestSettings::default().iterations,
         },
         ..NestSettings::default()
