@@ -185,9 +185,18 @@ fn main() {
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     paths.sort();
-    let budget = match time_s {
-        Some(t) => format!("{t} s each"),
-        None => format!("{} iterations", settings.iterations),
+    // The budget as the header says it and as the figures' file is named: a capped time budget
+    // is not the plain one, so its figures never stand in for a plain run's beside sparrow.
+    let (budget, file_name) = match (time_s, iterations) {
+        (Some(t), None) => (format!("{t} s each"), format!("esicup-{t}s.json")),
+        (Some(t), Some(n)) => (
+            format!("{t} s each, at most {n} iterations"),
+            format!("esicup-{t}s-at-most-{n}-iterations.json"),
+        ),
+        (None, _) => (
+            format!("{} iterations", settings.iterations),
+            format!("esicup-{}-iterations.json", settings.iterations),
+        ),
     };
     println!(
         "strip instances in {}: separation 0, {budget}, {} workers, seed {seed}",
@@ -242,10 +251,7 @@ fn main() {
         }));
     }
     let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/nest-bench");
-    let file = out.join(match time_s {
-        Some(t) => format!("esicup-{t}s.json"),
-        None => format!("esicup-{}-iterations.json", settings.iterations),
-    });
+    let file = out.join(file_name);
     std::fs::create_dir_all(&out).expect("create target/nest-bench");
     std::fs::write(
         &file,
