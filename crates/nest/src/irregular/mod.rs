@@ -86,8 +86,8 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
 //!   the state-of-the-art strip packer, given 5 s and 30 s; on the twelve public ESICUP instances
-//!   ahead of it in the mean at 5 s (by about half a point) and behind at 30 s (by 0.3 points)
-//!   and at 120 s (by 0.7), most on jakobs2, where the rounds' exploration stays at one ceiling
+//!   ahead of it in the mean at 5 s (by about 0.8 points) and behind at 30 s (by 0.1 points)
+//!   and at 120 s (by 0.5), most on jakobs2, where the rounds' exploration stays at one ceiling
 //!   from 30 s on and sparrow's, in some runs, gets below it.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
