@@ -1048,7 +1048,8 @@ impl<'a> Separation<'a> {
         }
     }
 
-    /// The total weighted overlap: what a sweep's tries are compared by.
+    /// The weighted overlap summed over ordered pairs (so each pair twice): what a sweep's tries
+    /// are compared by.
     fn weighted(&self) -> f32 {
         self.overlaps
             .iter()
