@@ -3,7 +3,7 @@
 instances they are measured on, in the form `cargo bench -p cam-nest --bench strip_instances`
 reads:
 
-    python3 tools/tuning_strips.py DIR
+    python3 tools/tuning_strips.py DIR        # DIR an absolute path: cargo runs the bench in crates/nest
     NEST_STRIP_INSTANCES=DIR NEST_ITERATIONS=250000 NEST_SEED=2 cargo bench -p cam-nest --bench strip_instances
 
 - `rectilinear.json`: 25 parts with whole-number sides (rectangles, L, U and T shapes), 4
