@@ -115,6 +115,12 @@ const LARGE_AREA_SHARE: f32 = 0.75;
 /// (clipped below 1): mostly the least overlapping ones, now and then a worse one (sparrow's
 /// setting).
 const POOL_SPREAD: f32 = 0.25;
+/// The most failed layouts an exploration's pool keeps: past it the most overlapping goes. A
+/// rank drawn from `|N(0, POOL_SPREAD)|` falls past three quarters of the pool once in 370, so
+/// the worst of a long exploration's failures are all but never taken back, and without a bound
+/// a chain exploring one ceiling for an hour would hold every failure it met (each a copy of the
+/// layout), and copy them all each round it is followed ([`Chain::fork`]).
+const POOL_ROOM: usize = 1024;
 /// Random positions anywhere on the sheet, and near the part, tried per move: sparrow's 50 in the
 /// container and 25 focussed on the item (Gardeyn & Wauters 2025, its default configuration).
 /// For the same evaluations that is fewer moves, each to a better spot: where parts of a few
@@ -578,6 +584,7 @@ impl Exploration {
         let overlap = separation.total();
         let at = self.pool.partition_point(|(o, _)| *o <= overlap);
         self.pool.insert(at, (overlap, separation.items));
+        self.pool.truncate(POOL_ROOM);
         let rank = (POOL_SPREAD * standard_normal(rng)).abs().min(0.999);
         self.current = self.pool[(rank * self.pool.len() as f32) as usize]
             .1
@@ -1476,6 +1483,34 @@ mod tests {
 
     /// A long and a short bar in each of two rows: a top of 2 (plus the gap), the least four
     /// bars of height 1 in rows of at most two can have.
+    #[test]
+    fn an_exploration_pool_keeps_the_least_overlapping_failures_up_to_its_room() {
+        // Two long bars, one on the other, overlap by as much as the upper one's height makes
+        // them: failures of as many overlaps as there are heights, more than the pool holds,
+        // handed to the exploration out of order. It counts them all and keeps the least
+        // overlapping.
+        let footprints = bars();
+        let stack = |y: f32| vec![at(0, 0.0, 0.0), at(0, 0.0, y)];
+        let mut exploration = Exploration::new(&footprints, &stack(1.5), 3.0).expect("fits");
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let failures = POOL_ROOM + 200;
+        let mut overlaps = Vec::new();
+        for k in 0..failures {
+            // 7919 is prime, so k -> 7919 k mod failures visits every height once.
+            let y = 0.9 * ((k * 7919) % failures) as f32 / failures as f32;
+            let separation = Separation::new(&footprints, stack(y), 3.0, vec![1.0; 4], PATIENT);
+            overlaps.push(separation.total());
+            assert!(exploration
+                .finish(&footprints, separation, false, &mut rng)
+                .is_none());
+        }
+        assert_eq!(exploration.failures, failures);
+        overlaps.sort_by(f32::total_cmp);
+        assert!(overlaps[0] > 0.0 && overlaps[POOL_ROOM] > overlaps[0]);
+        let kept: Vec<f32> = exploration.pool.iter().map(|(o, _)| *o).collect();
+        assert_eq!(kept, overlaps[..POOL_ROOM]);
+    }
+
     fn two_rows_of_bars() -> Vec<Placement> {
         vec![
             at(0, 0.0, 0.0),
