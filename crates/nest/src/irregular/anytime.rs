@@ -31,7 +31,10 @@
 //! (sparrow's compression phase) takes the rounds' place: fine chains ([`Pace::Fine`]), one per
 //! worker and followed as the patient ones are, lower the best layout by steps under the
 //! exploration's, for rounds that make `COMPRESS_SHARE_PERCENT` of those since the last pass (15
-//! for every 85 explored) or until they end. Sparrow compresses once, in the last tenth to fifth
+//! for every 85 explored) or until they end. Its chains are kept when it ends, and the next pass
+//! goes on with them where they stopped (their step, weights and unfinished separation) rather
+//! than from the largest fine step again, unless all of them have ended or a layout they did not
+//! compress has become the best in between. Sparrow compresses once, in the last tenth to fifth
 //! of its time. An anytime search does not know when its time ends, and a pass placed by the
 //! end of the budget would make a longer budget a different search from a shorter one, no longer
 //! sure to end at least as low; so the passes are spread through the rounds in the same share, and
@@ -212,7 +215,7 @@ impl Model<'_> {
                 }
             }
             let lowest = self.lowest_index(&best.1);
-            if !chains.is_empty() && passes.begins(since_shorter) {
+            if !chains.is_empty() && passes.begins(since_shorter) && !resumable(&compression) {
                 compression = self.chains(&best.1, epoch + 1, Pace::Fine, 3 * workers);
             }
             let running = if passes.compressing() {
@@ -231,12 +234,17 @@ impl Model<'_> {
                 return cut(best.1);
             }
             let mut sheets = best.1.clone();
+            let mut stale = false;
             // No chains where a part's shape has no footprint: the search above is all there is.
             if let Some(lowest_chain) = self.follow_lowest(running, epoch + 1) {
                 let candidate = running[lowest_chain].lock().expect("no thread panics");
                 if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
                     sheets[lowest] = candidate.best().to_vec();
                     score = self.score(&self.rebuild(&sheets));
+                    if !passes.compressing() {
+                        // The last pass's layout is no longer the best.
+                        stale = true;
+                    }
                 }
                 let lowest_top = candidate.top();
                 drop(candidate);
@@ -244,7 +252,6 @@ impl Model<'_> {
                     .iter()
                     .all(|c| c.lock().expect("no thread panics").ended());
                 if passes.count(ended) {
-                    compression.clear();
                     // A chain exploring at a ceiling the compressed layout is already under can
                     // find nothing lower: it starts again from that layout.
                     let n = chains.len();
@@ -257,6 +264,9 @@ impl Model<'_> {
                         }
                     }
                 }
+            }
+            if stale {
+                compression.clear();
             }
             since_shorter += 1;
             if score.shorter_than(&best.0) {
@@ -335,6 +345,14 @@ impl Model<'_> {
     }
 }
 
+/// True if a pass's fine chains can go on in the next pass: they have been kept (the best layout
+/// is still the one they compressed) and one of them has not ended.
+fn resumable(compression: &[Mutex<Chain<'_>>]) -> bool {
+    compression
+        .iter()
+        .any(|c| !c.lock().expect("no thread panics").ended())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -377,6 +395,38 @@ mod tests {
         assert!(!passes.count(false));
         assert!(passes.begins(since));
         assert!(passes.count(false) && !passes.compressing());
+    }
+
+    #[test]
+    fn a_pass_resumes_the_last_passs_chains_while_one_of_them_can_go_on() {
+        use crate::compress::{Footprint, Footprints};
+        use crate::overlap::Pieces;
+        let squares = Footprints::new(vec![vec![Footprint {
+            pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]).expect("a square"),
+            x: (0.0, 9.0),
+            y: (0.0, 9.0),
+        }]]);
+        let at = |x: f32| Placement {
+            part: 0,
+            rot: 0,
+            t: (x, 0.0),
+        };
+        let chains = |sheet: &[Placement], n: u64| -> Vec<Mutex<Chain<'_>>> {
+            (0..n)
+                .map(|c| Chain::new(&squares, sheet, worker_rng(1, 0, c as usize), Pace::Fine))
+                .map(Mutex::new)
+                .collect()
+        };
+        // None kept (between passes, after a layout they did not compress became the best).
+        assert!(!resumable(&[]));
+        // One part: a chain has nothing to lower and has ended from the start.
+        let ended = chains(&[at(0.0)], 2);
+        assert!(!resumable(&ended));
+        // Two parts: the chains can go on, as long as one of them can.
+        let mut going_on = chains(&[at(0.0), at(2.0)], 2);
+        assert!(resumable(&going_on));
+        going_on.extend(ended);
+        assert!(resumable(&going_on));
     }
 
     #[test]
