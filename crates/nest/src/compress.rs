@@ -15,7 +15,7 @@
 //!
 //! Where the smallest step keeps failing (`STALL_ATTEMPTS` in a row), the layout's structure is
 //! what holds it: which parts share a row across the sheet. Small steps never change that, so
-//! compression turns to sparrow's exploration ([`explore`]): it stays at the ceiling it failed
+//! compression turns to sparrow's exploration ([`Exploration`]): it stays at the ceiling it failed
 //! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
 //! ones more often), swaps two large parts of different shapes in it (the parts a swapped part
 //! now covers go to the room it left) and separates again. A swap moves a part into another
@@ -526,31 +526,33 @@ struct Exploration {
 }
 
 impl Exploration {
-    /// `None` if a part fits under `ceiling` at no rotation.
+    /// Exploration at `ceiling` from `best` pushed under it; `None` if a part fits under
+    /// `ceiling` at no rotation.
     fn new(footprints: &Footprints, best: &[Placement], ceiling: f32) -> Option<Self> {
         let current = all_under_ceiling(footprints, best, ceiling)?;
-        Some(Exploration {
-            ceiling,
-            large: large_parts(footprints, &current),
-            current,
-            pool: Vec::new(),
-            failures: 0,
-        })
+        let mut exploration = Exploration::empty(footprints, &current, ceiling);
+        exploration.current = current;
+        Some(exploration)
     }
 
     /// Exploration at the ceiling of `failed`, a separation that gave up, with its layout as
     /// the pool's first failure (the next separation is of that layout disrupted), as sparrow's
     /// exploration takes every failed shrink.
     fn after(footprints: &Footprints, failed: Separation, rng: &mut ChaCha8Rng) -> Self {
-        let mut exploration = Exploration {
-            ceiling: failed.ceiling,
-            large: large_parts(footprints, &failed.items),
+        let mut exploration = Exploration::empty(footprints, &failed.items, failed.ceiling);
+        exploration.finish(footprints, failed, false, rng);
+        exploration
+    }
+
+    /// Exploration at `ceiling` of the parts of `items`, with no layout to separate yet.
+    fn empty(footprints: &Footprints, items: &[Placement], ceiling: f32) -> Self {
+        Exploration {
+            ceiling,
+            large: large_parts(footprints, items),
             current: Vec::new(),
             pool: Vec::new(),
             failures: 0,
-        };
-        exploration.finish(footprints, failed, false, rng);
-        exploration
+        }
     }
 
     /// A separation of the current layout, with unit weights (exploration is there to leave
@@ -598,36 +600,6 @@ impl Exploration {
         );
         None
     }
-}
-
-/// Exploration on its own, as [`Chain`] runs it: the first clear layout under `ceiling` (or
-/// none, after `EXPLORE_FAILURES` failures in a row or when `budget` overlap evaluations are
-/// spent) and the evaluations spent.
-#[cfg(test)]
-fn explore(
-    footprints: &Footprints,
-    best: &[Placement],
-    ceiling: f32,
-    budget: usize,
-    rng: &mut ChaCha8Rng,
-    clear: &impl Fn(&[Placement]) -> bool,
-    stop: &(dyn Fn() -> bool + Sync),
-) -> (Option<Vec<Placement>>, usize) {
-    let Some(mut exploration) = Exploration::new(footprints, best, ceiling) else {
-        return (None, 0);
-    };
-    let mut spent = 0;
-    while exploration.failures < EXPLORE_FAILURES && spent < budget && !stop() {
-        let mut separation = exploration.start(footprints, QUICK);
-        let outcome = separation.run(rng, budget - spent, stop);
-        spent += separation.evaluations + separation.n();
-        let separated = outcome == Outcome::Clear && clear(&separation.items);
-        let found = exploration.finish(footprints, separation, separated, rng);
-        if found.is_some() {
-            return (found, spent);
-        }
-    }
-    (None, spent)
 }
 
 /// Indices of the large parts of a sheet (`LARGE_AREA_SHARE`), by the area of their shapes'
@@ -1448,6 +1420,35 @@ mod tests {
         }
     }
 
+    /// An [`Exploration`] driven as a quick [`Chain`] drives it: the first clear layout under
+    /// `ceiling` (or none, after `EXPLORE_FAILURES` failures in a row or when `budget` overlap
+    /// evaluations are spent) and the evaluations spent. The chain itself only explores after
+    /// its small steps stall, which would hide the exploration's own behaviour behind theirs.
+    fn explore(
+        footprints: &Footprints,
+        best: &[Placement],
+        ceiling: f32,
+        budget: usize,
+        rng: &mut ChaCha8Rng,
+        clear: &impl Fn(&[Placement]) -> bool,
+    ) -> (Option<Vec<Placement>>, usize) {
+        let Some(mut exploration) = Exploration::new(footprints, best, ceiling) else {
+            return (None, 0);
+        };
+        let mut spent = 0;
+        while exploration.failures < EXPLORE_FAILURES && spent < budget {
+            let mut separation = exploration.start(footprints, QUICK);
+            let outcome = separation.run(rng, budget - spent, &never);
+            spent += separation.evaluations + separation.n();
+            let separated = outcome == Outcome::Clear && clear(&separation.items);
+            let found = exploration.finish(footprints, separation, separated, rng);
+            if found.is_some() {
+                return (found, spent);
+            }
+        }
+        (None, spent)
+    }
+
     #[test]
     fn exploration_repartitions_rows_whose_lengths_do_not_add_up() {
         // Closed form: two long bars (6) cannot share a row of 10.2, nor can a long bar and
@@ -1461,15 +1462,7 @@ mod tests {
         ];
         let run = |seed| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            explore(
-                &bars(),
-                &start,
-                2.05,
-                5_000_000,
-                &mut rng,
-                &bars_clear,
-                &never,
-            )
+            explore(&bars(), &start, 2.05, 5_000_000, &mut rng, &bars_clear)
         };
         let (found, spent) = run(11);
         let found = found.expect("a two-row layout exists");
@@ -1481,8 +1474,6 @@ mod tests {
         assert_eq!(run(11).0, Some(found));
     }
 
-    /// A long and a short bar in each of two rows: a top of 2 (plus the gap), the least four
-    /// bars of height 1 in rows of at most two can have.
     #[test]
     fn an_exploration_pool_keeps_the_least_overlapping_failures_up_to_its_room() {
         // Two long bars, one on the other, overlap by as much as the upper one's height makes
@@ -1511,6 +1502,8 @@ mod tests {
         assert_eq!(kept, overlaps[..POOL_ROOM]);
     }
 
+    /// A long and a short bar in each of two rows: a top of 2 (plus the gap), the least four
+    /// bars of height 1 in rows of at most two can have.
     fn two_rows_of_bars() -> Vec<Placement> {
         vec![
             at(0, 0.0, 0.0),
@@ -1526,15 +1519,7 @@ mod tests {
         // clear, so exploration stops after its failures, well within an endless budget.
         let start = two_rows_of_bars();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let (found, spent) = explore(
-            &bars(),
-            &start,
-            1.5,
-            usize::MAX,
-            &mut rng,
-            &bars_clear,
-            &never,
-        );
+        let (found, spent) = explore(&bars(), &start, 1.5, usize::MAX, &mut rng, &bars_clear);
         assert!(found.is_none());
         assert!(spent > 0 && spent < usize::MAX);
     }

@@ -84,29 +84,50 @@ const COMPRESS_SHARE_PERCENT: usize = 15;
 /// are far above the base search's epochs (at most `MAX_EPOCHS + 1`), so no two share a stream.
 const FIRST_ROUND_EPOCH: usize = 1 << 16;
 
-/// When the rounds compress (see the module doc), counted in rounds so that the passes fall on
-/// the same rounds on any machine.
-#[derive(Debug, Default)]
-struct Passes {
+/// The compression passes (see the module doc): when they run, counted in rounds so that they
+/// fall on the same rounds on any machine, and the fine chains they run.
+#[derive(Default)]
+struct Passes<'f> {
     /// Rounds of exploration since the last pass.
     explored: usize,
     /// Rounds left in the pass under way (0 between passes).
     left: usize,
+    /// The chains of the pass under way, or of the last one while the best layout is still the
+    /// one they compressed (none before the first pass or once another layout has replaced it).
+    chains: Vec<Mutex<Chain<'f>>>,
 }
 
-impl Passes {
+impl<'f> Passes<'f> {
     /// True if a pass begins this round: none is under way, the best has not got shorter for
     /// `COMPRESS_AFTER` rounds, and the exploration since the last pass has earned a round of
-    /// compression at least (`COMPRESS_SHARE_PERCENT`).
-    fn begins(&mut self, since_shorter: usize) -> bool {
+    /// compression at least (`COMPRESS_SHARE_PERCENT`). It goes on with the last pass's chains if
+    /// they are kept and one of them can go on, else with `fresh` ones.
+    fn begins(
+        &mut self,
+        since_shorter: usize,
+        fresh: impl FnOnce() -> Vec<Mutex<Chain<'f>>>,
+    ) -> bool {
         if self.left > 0 || since_shorter < COMPRESS_AFTER {
             return false;
         }
         self.left = self.explored * COMPRESS_SHARE_PERCENT / (100 - COMPRESS_SHARE_PERCENT);
-        if self.left > 0 {
-            self.explored = 0;
+        if self.left == 0 {
+            return false;
         }
-        self.left > 0
+        self.explored = 0;
+        let resumable = self
+            .chains
+            .iter()
+            .any(|c| !c.lock().expect("no thread panics").ended());
+        if !resumable {
+            self.chains = fresh();
+        }
+        true
+    }
+
+    /// The chains of the pass under way, or kept from the last one.
+    fn chains(&self) -> &[Mutex<Chain<'f>>] {
+        &self.chains
     }
 
     /// True while a pass is under way.
@@ -125,9 +146,10 @@ impl Passes {
         self.left == 0
     }
 
-    /// Drops the pass under way (the layout it compressed has been replaced).
+    /// Drops the pass under way, and its chains: the layout they compressed has been replaced.
     fn cancel(&mut self) {
         self.left = 0;
+        self.chains.clear();
     }
 }
 
@@ -153,8 +175,6 @@ impl Model<'_> {
         let workers = settings.workers;
         let mut best: (Score, Sheets) = (self.score(&self.rebuild(&start)), start);
         let mut chains = self.chains(&best.1, FIRST_ROUND_EPOCH - 1, Pace::Patient, 0);
-        // The chains of the compression pass under way (none between passes).
-        let mut compression: Vec<Mutex<Chain<'_>>> = Vec::new();
         let mut passes = Passes::default();
         let mut since_shorter = 0;
         let ended_by_limit = || {
@@ -209,17 +229,18 @@ impl Model<'_> {
                 if pick.0.better_than(&best.0) {
                     score = pick.0;
                     chains = self.chains(&pick.1, epoch + 1, Pace::Patient, 0);
-                    compression.clear();
                     passes.cancel();
                     best.1 = pick.1.clone();
                 }
             }
             let lowest = self.lowest_index(&best.1);
-            if !chains.is_empty() && passes.begins(since_shorter) && !resumable(&compression) {
-                compression = self.chains(&best.1, epoch + 1, Pace::Fine, 3 * workers);
+            if !chains.is_empty() {
+                passes.begins(since_shorter, || {
+                    self.chains(&best.1, epoch + 1, Pace::Fine, 3 * workers)
+                });
             }
             let running = if passes.compressing() {
-                &compression
+                passes.chains()
             } else {
                 &chains
             };
@@ -234,17 +255,14 @@ impl Model<'_> {
                 return cut(best.1);
             }
             let mut sheets = best.1.clone();
-            let mut stale = false;
+            let mut replaced = false;
             // No chains where a part's shape has no footprint: the search above is all there is.
             if let Some(lowest_chain) = self.follow_lowest(running, epoch + 1) {
                 let candidate = running[lowest_chain].lock().expect("no thread panics");
                 if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
                     sheets[lowest] = candidate.best().to_vec();
                     score = self.score(&self.rebuild(&sheets));
-                    if !passes.compressing() {
-                        // The last pass's layout is no longer the best.
-                        stale = true;
-                    }
+                    replaced = !passes.compressing();
                 }
                 let lowest_top = candidate.top();
                 drop(candidate);
@@ -265,8 +283,9 @@ impl Model<'_> {
                     }
                 }
             }
-            if stale {
-                compression.clear();
+            if replaced {
+                // The last pass's layout is no longer the best.
+                passes.cancel();
             }
             since_shorter += 1;
             if score.shorter_than(&best.0) {
@@ -345,14 +364,6 @@ impl Model<'_> {
     }
 }
 
-/// True if a pass's fine chains can go on in the next pass: they have been kept (the best layout
-/// is still the one they compressed) and one of them has not ended.
-fn resumable(compression: &[Mutex<Chain<'_>>]) -> bool {
-    compression
-        .iter()
-        .any(|c| !c.lock().expect("no thread panics").ended())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -362,7 +373,7 @@ mod tests {
     fn run(passes: &mut Passes, rounds: usize, since_shorter: &mut usize) -> Vec<bool> {
         (0..rounds)
             .map(|_| {
-                passes.begins(*since_shorter);
+                passes.begins(*since_shorter, Vec::new);
                 *since_shorter += 1;
                 passes.count(false)
             })
@@ -374,13 +385,13 @@ mod tests {
         let mut passes = Passes::default();
         // 85 rounds of exploration that keep getting shorter: no pass, however many rounds.
         for _ in 0..85 {
-            assert!(!passes.begins(0));
+            assert!(!passes.begins(0, Vec::new));
             assert!(!passes.count(false));
         }
         // A stall one round short of `COMPRESS_AFTER`: still none.
-        assert!(!passes.begins(COMPRESS_AFTER - 1));
+        assert!(!passes.begins(COMPRESS_AFTER - 1, Vec::new));
         // At the stall, 15 rounds of compression for the 85 explored (85 x 15 / 85).
-        assert!(passes.begins(COMPRESS_AFTER));
+        assert!(passes.begins(COMPRESS_AFTER, Vec::new));
         assert!(passes.compressing());
         let mut since = COMPRESS_AFTER;
         let ends = run(&mut passes, 15, &mut since);
@@ -391,16 +402,27 @@ mod tests {
         for _ in 0..5 {
             assert!(!passes.count(false));
         }
-        assert!(!passes.begins(since));
+        assert!(!passes.begins(since, Vec::new));
         assert!(!passes.count(false));
-        assert!(passes.begins(since));
+        assert!(passes.begins(since, Vec::new));
         assert!(passes.count(false) && !passes.compressing());
     }
 
+    /// Explores long enough to earn a pass, begins one with `fresh` chains unless it goes on
+    /// with the last pass's, and ends it at once.
+    fn pass<'f>(passes: &mut Passes<'f>, fresh: impl FnOnce() -> Vec<Mutex<Chain<'f>>>) {
+        for _ in 0..170 {
+            passes.count(false);
+        }
+        assert!(passes.begins(COMPRESS_AFTER, fresh));
+        assert!(passes.count(true) && !passes.compressing());
+    }
+
     #[test]
-    fn a_pass_resumes_the_last_passs_chains_while_one_of_them_can_go_on() {
+    fn a_pass_goes_on_with_the_last_passs_chains_while_one_of_them_can() {
         use crate::compress::{Footprint, Footprints};
         use crate::overlap::Pieces;
+        use std::cell::Cell;
         let squares = Footprints::new(vec![vec![Footprint {
             pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]).expect("a square"),
             x: (0.0, 9.0),
@@ -411,22 +433,32 @@ mod tests {
             rot: 0,
             t: (x, 0.0),
         };
-        let chains = |sheet: &[Placement], n: u64| -> Vec<Mutex<Chain<'_>>> {
-            (0..n)
-                .map(|c| Chain::new(&squares, sheet, worker_rng(1, 0, c as usize), Pace::Fine))
+        // Two parts: a chain has room to lower them. One part: it has ended from the start.
+        let two = [at(0.0), at(2.0)];
+        let one = [at(0.0)];
+        let made = Cell::new(0);
+        let fresh = |sheet: &[Placement]| {
+            made.set(made.get() + 1);
+            (0..2)
+                .map(|c| Chain::new(&squares, sheet, worker_rng(1, 0, c), Pace::Fine))
                 .map(Mutex::new)
-                .collect()
+                .collect::<Vec<_>>()
         };
-        // None kept (between passes, after a layout they did not compress became the best).
-        assert!(!resumable(&[]));
-        // One part: a chain has nothing to lower and has ended from the start.
-        let ended = chains(&[at(0.0)], 2);
-        assert!(!resumable(&ended));
-        // Two parts: the chains can go on, as long as one of them can.
-        let mut going_on = chains(&[at(0.0), at(2.0)], 2);
-        assert!(resumable(&going_on));
-        going_on.extend(ended);
-        assert!(resumable(&going_on));
+        let mut passes = Passes::default();
+        // The first pass starts chains; the next goes on with them, as they can go on.
+        pass(&mut passes, || fresh(&two));
+        pass(&mut passes, || fresh(&two));
+        assert_eq!((made.get(), passes.chains().len()), (1, 2));
+        // Once another layout has replaced the one they compressed, a pass starts new ones.
+        passes.cancel();
+        assert!(passes.chains().is_empty());
+        pass(&mut passes, || fresh(&one));
+        assert_eq!(made.get(), 2);
+        // Chains that have all ended are replaced too.
+        pass(&mut passes, || fresh(&two));
+        assert_eq!(made.get(), 3);
+        pass(&mut passes, || fresh(&two));
+        assert_eq!(made.get(), 3);
     }
 
     #[test]
@@ -435,14 +467,14 @@ mod tests {
         for _ in 0..170 {
             passes.count(false);
         }
-        assert!(passes.begins(COMPRESS_AFTER));
+        assert!(passes.begins(COMPRESS_AFTER, Vec::new));
         assert!(!passes.count(false));
         assert!(passes.count(true), "its chains can do no more");
         assert!(!passes.compressing());
         for _ in 0..170 {
             passes.count(false);
         }
-        assert!(passes.begins(COMPRESS_AFTER));
+        assert!(passes.begins(COMPRESS_AFTER, Vec::new));
         passes.cancel();
         assert!(!passes.compressing());
         assert!(
