@@ -11,8 +11,11 @@ reads:
   shorter only once the search finds another arrangement.
 - `stars.json`: 43 copies of 4 star-shaped polygons with whole-number vertices, one rotation, on
   a strip 40.004 wide: shaped like shapes0 and shapes1.
+- `slanted.json`: 25 parts of even whole-number sizes from 6 to 12 (rectangles, L and U shapes,
+  triangles, diamonds and blocks with their corners cut), 4 rotations, on a strip 70.007 wide:
+  shaped like jakobs2, where slanted edges let parts of rows of equal heights nest.
 
-The third strip of the set is ESICUP's blaz1, which sparrow does not ship; jagua-rs has it in its
+The fourth strip of the set is ESICUP's blaz1, which sparrow does not ship; jagua-rs has it in its
 `assets` (its `orientation` becomes `allowed_orientations`). The parts are drawn from a fixed
 stream, so every run writes the same files.
 """
@@ -72,6 +75,27 @@ def star_part(rng):
     return points
 
 
+def slanted_part(rng):
+    """A part of even whole-number width and height from 6 to 12: a rectilinear one, or one with
+    slanted edges (a triangle, a diamond, or a block with its corners cut)."""
+    w, h = rng.choice([6, 8, 10, 12]), rng.choice([6, 8, 10, 12])
+    kind = rng.choice(["rectilinear", "triangle", "diamond", "chamfer"])
+    if kind == "rectilinear":
+        a, b = rng.randint(2, w - 2), rng.randint(2, h - 2)
+        shape = rng.choice(["rect", "L", "U"])
+        if shape == "rect":
+            return [[0, 0], [w, 0], [w, h], [0, h]]
+        if shape == "L":
+            return [[0, 0], [w, 0], [w, b], [a, b], [a, h], [0, h]]
+        return [[0, 0], [w, 0], [w, h], [w - 2, h], [w - 2, 2], [2, 2], [2, h], [0, h]]
+    if kind == "triangle":
+        return [[0, 0], [w, 0], [w // 2, h]]
+    if kind == "diamond":
+        return [[w // 2, 0], [w, h // 2], [w // 2, h], [0, h // 2]]
+    c = 2
+    return [[c, 0], [w - c, 0], [w, c], [w, h - c], [w - c, h], [c, h], [0, h - c], [0, c]]
+
+
 def area(ring):
     n = len(ring)
     twice = sum(ring[i][0] * ring[(i + 1) % n][1] - ring[(i + 1) % n][0] * ring[i][1] for i in range(n))
@@ -91,10 +115,13 @@ def main():
         if len(ring) >= 4 and area(ring) > 8 and len({tuple(p) for p in ring}) == len(ring):
             stars.append(ring)
     stars = [(ring, rng.randint(9, 13), [0.0]) for ring in stars]
+    # Drawn after the others, so that they stay the files they were.
+    slanted = [(slanted_part(rng), 1, [0.0, 90.0, 180.0, 270.0]) for _ in range(25)]
     strips = {
         out / f"{name}.json": instance(name, items, 40.004)
         for name, items in (("rectilinear", rectilinear), ("stars", stars))
     }
+    strips[out / "slanted.json"] = instance("slanted", slanted, 70.007)
     for path in strips:
         if path.exists():
             sys.exit(f"{path}: already there; tuning_strips.py writes only new files")
