@@ -992,25 +992,33 @@ impl<'a> Separation<'a> {
     /// evaluations. That is still the better use of them where a separation has to get out of
     /// a deep collision: a try that makes the weighted overlap worse is thrown away instead of
     /// being the next sweep's start.
+    ///
+    /// Layouts change hands rather than being copied: a try's layout is swapped out for the
+    /// start, which only the last try takes as it is; a sweep of two tries copies the layout
+    /// once.
     fn sweep(&mut self, rng: &mut ChaCha8Rng) {
         let tries = self.effort.sweeps;
-        let start = (tries > 1).then(|| self.layout());
+        let mut start = (tries > 1).then(|| self.layout());
         let mut kept: Option<(Layout, f32)> = None;
         for k in 0..tries {
-            if k > 0 {
-                self.restore(start.as_ref().expect("kept for a second try"));
-            }
             self.move_colliding(rng);
-            if k + 1 < tries {
-                let weighted = self.weighted();
-                if kept.as_ref().is_none_or(|(_, w)| weighted <= *w) {
-                    kept = Some((self.layout(), weighted));
-                }
+            if k + 1 == tries {
+                break;
+            }
+            let weighted = self.weighted();
+            let next = if k + 2 == tries {
+                start.take()
+            } else {
+                start.clone()
+            };
+            let tried = self.replace(next.expect("kept for the tries after the first"));
+            if kept.as_ref().is_none_or(|(_, w)| weighted <= *w) {
+                kept = Some((tried, weighted));
             }
         }
         if let Some((layout, weighted)) = kept {
             if weighted < self.weighted() {
-                self.restore(&layout);
+                self.replace(layout);
             }
         }
     }
@@ -1035,6 +1043,15 @@ impl<'a> Separation<'a> {
             .zip(&self.weights)
             .map(|(o, w)| o * w)
             .sum()
+    }
+
+    /// Puts the parts where `layout` has them, and hands back the layout they leave.
+    fn replace(&mut self, layout: Layout) -> Layout {
+        (
+            std::mem::replace(&mut self.items, layout.0),
+            std::mem::replace(&mut self.bounds, layout.1),
+            std::mem::replace(&mut self.overlaps, layout.2),
+        )
     }
 
     /// Puts the parts back where `layout` has them.
