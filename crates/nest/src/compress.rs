@@ -177,8 +177,12 @@ pub(crate) struct Effort {
     stall: usize,
     /// Samples of a move refined by a coarse descent (see `COARSE_DESCENT`).
     descents: usize,
-    /// Tries per sweep, of which the best is kept ([`Separation::sweep`]).
-    sweeps: usize,
+    /// Whether a sweep is the better of two tries from the same layout
+    /// ([`Separation::sweep`]): sparrow's separator with two workers, as the benchmarks run it
+    /// (Gardeyn & Wauters 2025, Algorithm 10). On strips of parts of whole-number sizes, where
+    /// a layout gets shorter only once exploration finds another arrangement, the better of two
+    /// tries cleared ceilings that as many evaluations in single sweeps did not.
+    best_of_two: bool,
 }
 
 /// The compression within a budget, where evaluations are the cost: one stall of
@@ -189,30 +193,25 @@ const QUICK: Effort = Effort {
     strikes: 1,
     stall: STALL_SWEEPS,
     descents: 1,
-    sweeps: 1,
+    best_of_two: false,
 };
-/// Tries per sweep of the anytime rounds' chains: sparrow's separator with two workers, as the
-/// benchmarks run it (Gardeyn & Wauters 2025, Algorithm 10). On strips of parts of whole-number
-/// sizes, where a layout gets shorter only once exploration finds another arrangement, the best
-/// of two tries cleared ceilings that as many evaluations in single sweeps did not.
-const SWEEP_TRIES: usize = 2;
 /// The patient chains of the anytime rounds, which have time to spend: sparrow's exploration
 /// separator (Gardeyn & Wauters 2025, its default configuration), with 200 sweeps to a stall,
-/// three strikes, three samples refined per move and the best of `SWEEP_TRIES` tries a sweep.
+/// three strikes, three samples refined per move and the better of two tries a sweep.
 const PATIENT: Effort = Effort {
     strikes: 3,
     stall: 200,
     descents: 3,
-    sweeps: SWEEP_TRIES,
+    best_of_two: true,
 };
 /// Fine chains: sparrow's compression separator (its default configuration), with 100 sweeps
-/// to a stall, five strikes, three samples refined per move and the best of `SWEEP_TRIES` tries
-/// a sweep.
+/// to a stall, five strikes, three samples refined per move and the better of two tries a
+/// sweep.
 const FINE: Effort = Effort {
     strikes: 5,
     stall: 100,
     descents: 3,
-    sweeps: SWEEP_TRIES,
+    best_of_two: true,
 };
 
 /// The lowest-topped clear layout of `sheet`'s parts that compression finds within `budget`
@@ -983,43 +982,30 @@ impl<'a> Separation<'a> {
         }
     }
 
-    /// One sweep of the separation: `Effort::sweeps` tries from the same layout, each moving
-    /// the colliding parts once in an order of its own, of which the one that ends with the least
-    /// weighted overlap is kept (ties to the later), as sparrow's separator gives every worker
-    /// the same layout, lets each move the parts in its own order and keeps the best
-    /// (Gardeyn & Wauters 2025, Algorithm 10). Its workers run side by side; here the tries run
-    /// one after the other on the chain's own thread, so a sweep costs that many times the
-    /// evaluations. That is still the better use of them where a separation has to get out of
-    /// a deep collision: a try that makes the weighted overlap worse is thrown away instead of
-    /// being the next sweep's start.
+    /// One sweep of the separation: every colliding part moved once, in a random order. With
+    /// [`Effort::best_of_two`], two tries from the same layout, each in an order of its own, of
+    /// which the one that ends with the less weighted overlap is kept (a tie to the second), as
+    /// sparrow's separator gives every worker the same layout, lets each move the parts in its
+    /// own order and keeps the best (Gardeyn & Wauters 2025, Algorithm 10). Its workers run side
+    /// by side; here the tries run one after the other on the chain's own thread, so the sweep
+    /// costs twice the evaluations. That is still the better use of them where a separation has
+    /// to get out of a deep collision: a try that makes the weighted overlap worse is thrown away
+    /// instead of being the next sweep's start.
     ///
-    /// Layouts change hands rather than being copied: a try's layout is swapped out for the
-    /// start, which only the last try takes as it is; a sweep of two tries copies the layout
-    /// once.
+    /// Layouts change hands rather than being copied: the first try's layout is swapped out for
+    /// the start, so the sweep copies the layout once.
     fn sweep(&mut self, rng: &mut ChaCha8Rng) {
-        let tries = self.effort.sweeps;
-        let mut start = (tries > 1).then(|| self.layout());
-        let mut kept: Option<(Layout, f32)> = None;
-        for k in 0..tries {
+        if !self.effort.best_of_two {
             self.move_colliding(rng);
-            if k + 1 == tries {
-                break;
-            }
-            let weighted = self.weighted();
-            let next = if k + 2 == tries {
-                start.take()
-            } else {
-                start.clone()
-            };
-            let tried = self.replace(next.expect("kept for the tries after the first"));
-            if kept.as_ref().is_none_or(|(_, w)| weighted <= *w) {
-                kept = Some((tried, weighted));
-            }
+            return;
         }
-        if let Some((layout, weighted)) = kept {
-            if weighted < self.weighted() {
-                self.replace(layout);
-            }
+        let start = self.layout();
+        self.move_colliding(rng);
+        let first = self.weighted();
+        let first_layout = self.replace(start);
+        self.move_colliding(rng);
+        if first < self.weighted() {
+            self.replace(first_layout);
         }
     }
 
@@ -1548,10 +1534,10 @@ mod tests {
         let footprints = squares();
         let start = vec![at(0, 0.0, 0.0), at(0, 0.5, 0.0), at(0, 1.1, 0.0)];
         let single = Effort {
-            sweeps: 1,
+            best_of_two: false,
             ..PATIENT
         };
-        assert_eq!(PATIENT.sweeps, 2);
+        assert!(PATIENT.best_of_two);
         let mut differed = 0;
         for seed in 0..10 {
             let fresh =
