@@ -1537,7 +1537,7 @@ mod tests {
             best_of_two: false,
             ..PATIENT
         };
-        assert!(PATIENT.best_of_two);
+        const { assert!(PATIENT.best_of_two) };
         let mut differed = 0;
         for seed in 0..10 {
             let fresh =
