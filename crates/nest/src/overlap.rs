@@ -484,6 +484,26 @@ mod tests {
     }
 
     #[test]
+    fn smaller_and_larger_agree_with_min_and_max_on_numbers() {
+        let values = [
+            f32::MIN,
+            -3.5,
+            -0.0,
+            0.0,
+            1e-7,
+            2.0,
+            2.0 + f32::EPSILON * 2.0,
+            f32::MAX,
+        ];
+        for a in values {
+            for b in values {
+                assert_eq!(smaller(a, b), a.min(b), "{a} {b}");
+                assert_eq!(larger(a, b), a.max(b), "{a} {b}");
+            }
+        }
+    }
+
+    #[test]
     fn pieces_are_convex_and_cover_the_ring() {
         let pieces = Pieces::new(&ell()).expect("an L triangulates");
         // Hertel–Mehlhorn leaves at most 4x the optimum (2 pieces for an L).
