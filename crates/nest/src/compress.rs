@@ -264,6 +264,8 @@ pub(crate) struct Chain<'f> {
     best_top: f32,
     /// The used length of the start, which the ceiling steps are shares of.
     length: f32,
+    /// The bottom of the start's lowest shape: the used length runs from it.
+    bottom: f32,
     step: f32,
     failed_at_last: usize,
     /// The small steps' pair weights, carried from one attempt to the next (see
@@ -337,6 +339,7 @@ impl<'f> Chain<'f> {
             best,
             best_top,
             length,
+            bottom,
             step: pace.steps().0 * length,
             failed_at_last: 0,
             exploring: None,
@@ -454,7 +457,13 @@ impl<'f> Chain<'f> {
             return None;
         }
         let ceiling = self.best_top - self.step;
-        let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
+        let split = match self.pace {
+            // The budget-bound compression pushes only the parts above the ceiling down.
+            Pace::Quick => self.best_top,
+            Pace::Patient => self.bottom + 0.5 * (self.best_top - self.bottom),
+            Pace::Fine => self.rng.gen_range(self.bottom..self.best_top),
+        };
+        let Some(trial) = shrunk(footprints, &self.best, split, self.step, ceiling) else {
             // A part is taller than the room under this ceiling: no lower ceiling will do.
             if self.step <= last {
                 self.ended = true;
@@ -688,6 +697,36 @@ fn standard_normal(rng: &mut ChaCha8Rng) -> f32 {
     let u: f32 = rng.gen_range(f32::EPSILON..1.0);
     let v: f32 = rng.gen();
     (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
+}
+
+/// The parts of `items` whose middle lies above `split` moved down by `shift`, as sparrow
+/// shrinks its strip (Gardeyn & Wauters 2025: the items past a split line move in by the
+/// shrink), then every part still above `ceiling` pushed under it ([`all_under_ceiling`]); no
+/// part goes below the sheet's floor. The overlap a step makes then lies along the split line,
+/// where the parts around it have room on both sides to give way, and not only under the top.
+fn shrunk(
+    footprints: &[Vec<Footprint>],
+    items: &[Placement],
+    split: f32,
+    shift: f32,
+    ceiling: f32,
+) -> Option<Vec<Placement>> {
+    let moved: Vec<Placement> = items
+        .iter()
+        .map(|&s| {
+            let f = &footprints[s.part][s.rot];
+            let middle = s.t.1 + 0.5 * (f.pieces.bounds[1] + f.pieces.bounds[3]);
+            if middle > split {
+                Placement {
+                    t: (s.t.0, (s.t.1 - shift).max(f.y.0)),
+                    ..s
+                }
+            } else {
+                s
+            }
+        })
+        .collect();
+    all_under_ceiling(footprints, &moved, ceiling)
 }
 
 /// The parts of `items` that reach above `ceiling` pushed down into their neighbours (turned to
@@ -1658,6 +1697,32 @@ mod tests {
             "top {}",
             top(best)
         );
+    }
+
+    #[test]
+    fn a_shrink_moves_the_parts_past_its_split_down_by_the_step_and_keeps_the_floor() {
+        // A column of four unit squares (bottoms 0, 1, 2, 3), top 4, shrunk by 0.5 to a
+        // ceiling of 3.5.
+        let footprints = squares();
+        let start: Vec<Placement> = (0..4).map(|k| at(0, 0.0, k as f32)).collect();
+        let bottoms = |items: &[Placement]| items.iter().map(|s| s.t.1).collect::<Vec<_>>();
+        // Split at the middle: the two upper squares move down by the step, into the ones below;
+        // the overlap lies along the split, not under the top alone.
+        let middle = shrunk(&footprints, &start, 2.0, 0.5, 3.5).expect("fits");
+        assert_eq!(bottoms(&middle), [0.0, 1.0, 1.5, 2.5]);
+        // A split at the top moves only the part above the ceiling, as the budget-bound
+        // compression does ([`all_under_ceiling`]).
+        let at_top = shrunk(&footprints, &start, 4.0, 0.5, 3.5).expect("fits");
+        assert_eq!(
+            at_top,
+            all_under_ceiling(&footprints, &start, 3.5).expect("fits")
+        );
+        assert_eq!(bottoms(&at_top), [0.0, 1.0, 2.0, 2.5]);
+        // A split under the floor moves every part, and none below the floor (y >= 0).
+        let all = shrunk(&footprints, &start, -1.0, 0.5, 3.5).expect("fits");
+        assert_eq!(bottoms(&all), [0.0, 0.5, 1.5, 2.5]);
+        // No rotation of a square fits under a ceiling lower than its height.
+        assert!(shrunk(&footprints, &start, 2.0, 3.5, 0.5).is_none());
     }
 
     #[test]
