@@ -5,11 +5,14 @@
 //! after Egeblad et al. 2007 and Umetani et al. 2009) do better by letting them overlap: lower
 //! the ceiling a little, push every part that reaches above it down into its neighbours, and
 //! move parts one at a time to where they overlap the others least (a guided local search on
-//! the collision loss of [`super::overlap`]) until no overlap is left. A move samples spots on
+//! the collision loss of [`super::overlap`]) until no overlap is left. The patient and fine
+//! chains below lower the ceiling as sparrow shrinks its strip: the parts past a split line
+//! (the middle of the sheet, or a random line) move down by the step ([`shrunk`]), so the
+//! overlap lies along that line, with room on both sides to give way. A move samples spots on
 //! the sheet and near the part and refines the best by coordinate descent in steps that are
 //! shares of the part's size (`Separation::descend`). Pairs that keep overlapping get
 //! heavier weights, so the search stops trading the same collision back and forth; the weights
-//! carry over from one ceiling step to the next, as sparrow's do. If the
+//! carry over from one ceiling step to the next (sparrow starts each width afresh). If the
 //! overlap does not reach zero within a few rounds the attempt fails and the ceiling is lowered
 //! by less next time; a layout that comes out clear is checked by jagua-rs before it is kept.
 //!
@@ -828,11 +831,12 @@ struct Separation<'a> {
     bounds: Vec<Bounds>,
     /// `n x n`, symmetric: unweighted loss of each pair ([`loss`]).
     overlaps: Vec<f32>,
-    /// Kept from one small step to the next, as sparrow keeps its weights: a pair that kept
-    /// colliding under the last ceiling will likely collide under the next, and starting it
-    /// heavy separates it sooner, which leaves more of the budget for lowering the ceiling
-    /// (denser layouts on most strips than unit weights at every step). Exploration starts from
-    /// unit weights: it is there to leave the structure the small steps are stuck in.
+    /// Kept from one small step to the next (where sparrow starts each strip width from unit
+    /// weights): a pair that kept colliding under the last ceiling will likely collide under
+    /// the next, and starting it heavy separates it sooner, which leaves more of the budget for
+    /// lowering the ceiling (denser layouts on most strips than unit weights at every step, in
+    /// the budget-bound compression and the anytime rounds alike). Exploration starts from unit
+    /// weights: it is there to leave the structure the small steps are stuck in.
     weights: Vec<f32>,
     effort: Effort,
     evaluations: usize,
