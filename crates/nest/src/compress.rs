@@ -5,10 +5,7 @@
 //! after Egeblad et al. 2007 and Umetani et al. 2009) do better by letting them overlap: lower
 //! the ceiling a little, push every part that reaches above it down into its neighbours, and
 //! move parts one at a time to where they overlap the others least (a guided local search on
-//! the collision loss of [`super::overlap`]) until no overlap is left. The patient and fine
-//! chains below lower the ceiling as sparrow shrinks its strip: the parts past a split line
-//! (the middle of the sheet, or a random line) move down by the step ([`shrunk`]), so the
-//! overlap lies along that line, with room on both sides to give way. A move samples spots on
+//! the collision loss of [`super::overlap`]) until no overlap is left. A move samples spots on
 //! the sheet and near the part and refines the best by coordinate descent in steps that are
 //! shares of the part's size (`Separation::descend`). Pairs that keep overlapping get
 //! heavier weights, so the search stops trading the same collision back and forth; the weights
@@ -267,8 +264,6 @@ pub(crate) struct Chain<'f> {
     best_top: f32,
     /// The used length of the start, which the ceiling steps are shares of.
     length: f32,
-    /// The bottom of the start's lowest shape: the used length runs from it.
-    bottom: f32,
     step: f32,
     failed_at_last: usize,
     /// The small steps' pair weights, carried from one attempt to the next (see
@@ -342,7 +337,6 @@ impl<'f> Chain<'f> {
             best,
             best_top,
             length,
-            bottom,
             step: pace.steps().0 * length,
             failed_at_last: 0,
             exploring: None,
@@ -460,13 +454,7 @@ impl<'f> Chain<'f> {
             return None;
         }
         let ceiling = self.best_top - self.step;
-        let split = match self.pace {
-            // The budget-bound compression pushes only the parts above the ceiling down.
-            Pace::Quick => self.best_top,
-            Pace::Patient => self.bottom + 0.5 * (self.best_top - self.bottom),
-            Pace::Fine => self.rng.gen_range(self.bottom..self.best_top),
-        };
-        let Some(trial) = shrunk(footprints, &self.best, split, self.step, ceiling) else {
+        let Some(trial) = all_under_ceiling(footprints, &self.best, ceiling) else {
             // A part is taller than the room under this ceiling: no lower ceiling will do.
             if self.step <= last {
                 self.ended = true;
@@ -702,36 +690,6 @@ fn standard_normal(rng: &mut ChaCha8Rng) -> f32 {
     (-2.0 * u.ln()).sqrt() * (std::f32::consts::TAU * v).cos()
 }
 
-/// The parts of `items` whose middle lies above `split` moved down by `shift`, as sparrow
-/// shrinks its strip (Gardeyn & Wauters 2025: the items past a split line move in by the
-/// shrink), then every part still above `ceiling` pushed under it ([`all_under_ceiling`]); no
-/// part goes below the sheet's floor. The overlap a step makes then lies along the split line,
-/// where the parts around it have room on both sides to give way, and not only under the top.
-fn shrunk(
-    footprints: &[Vec<Footprint>],
-    items: &[Placement],
-    split: f32,
-    shift: f32,
-    ceiling: f32,
-) -> Option<Vec<Placement>> {
-    let moved: Vec<Placement> = items
-        .iter()
-        .map(|&s| {
-            let f = &footprints[s.part][s.rot];
-            let middle = s.t.1 + 0.5 * (f.pieces.bounds[1] + f.pieces.bounds[3]);
-            if middle > split {
-                Placement {
-                    t: (s.t.0, (s.t.1 - shift).max(f.y.0)),
-                    ..s
-                }
-            } else {
-                s
-            }
-        })
-        .collect();
-    all_under_ceiling(footprints, &moved, ceiling)
-}
-
 /// The parts of `items` that reach above `ceiling` pushed down into their neighbours (turned to
 /// a rotation that fits under it if theirs does not), or `None` if a part fits under it at no
 /// rotation.
@@ -834,9 +792,9 @@ struct Separation<'a> {
     /// Kept from one small step to the next (where sparrow starts each strip width from unit
     /// weights): a pair that kept colliding under the last ceiling will likely collide under
     /// the next, and starting it heavy separates it sooner, which leaves more of the budget for
-    /// lowering the ceiling (denser layouts on most strips than unit weights at every step, in
-    /// the budget-bound compression and the anytime rounds alike). Exploration starts from unit
-    /// weights: it is there to leave the structure the small steps are stuck in.
+    /// lowering the ceiling (denser layouts on most strips than unit weights at every step).
+    /// Exploration starts from unit weights: it is there to leave the structure the small steps
+    /// are stuck in.
     weights: Vec<f32>,
     effort: Effort,
     evaluations: usize,
@@ -1701,32 +1659,6 @@ mod tests {
             "top {}",
             top(best)
         );
-    }
-
-    #[test]
-    fn a_shrink_moves_the_parts_past_its_split_down_by_the_step_and_keeps_the_floor() {
-        // A column of four unit squares (bottoms 0, 1, 2, 3), top 4, shrunk by 0.5 to a
-        // ceiling of 3.5.
-        let footprints = squares();
-        let start: Vec<Placement> = (0..4).map(|k| at(0, 0.0, k as f32)).collect();
-        let bottoms = |items: &[Placement]| items.iter().map(|s| s.t.1).collect::<Vec<_>>();
-        // Split at the middle: the two upper squares move down by the step, into the ones below;
-        // the overlap lies along the split, not under the top alone.
-        let middle = shrunk(&footprints, &start, 2.0, 0.5, 3.5).expect("fits");
-        assert_eq!(bottoms(&middle), [0.0, 1.0, 1.5, 2.5]);
-        // A split at the top moves only the part above the ceiling, as the budget-bound
-        // compression does ([`all_under_ceiling`]).
-        let at_top = shrunk(&footprints, &start, 4.0, 0.5, 3.5).expect("fits");
-        assert_eq!(
-            at_top,
-            all_under_ceiling(&footprints, &start, 3.5).expect("fits")
-        );
-        assert_eq!(bottoms(&at_top), [0.0, 1.0, 2.0, 2.5]);
-        // A split under the floor moves every part, and none below the floor (y >= 0).
-        let all = shrunk(&footprints, &start, -1.0, 0.5, 3.5).expect("fits");
-        assert_eq!(bottoms(&all), [0.0, 0.5, 1.5, 2.5]);
-        // No rotation of a square fits under a ceiling lower than its height.
-        assert!(shrunk(&footprints, &start, 2.0, 3.5, 0.5).is_none());
     }
 
     #[test]

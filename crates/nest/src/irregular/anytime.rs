@@ -7,8 +7,7 @@
 //! budget). The rounds instead run sparrow's exploration for as long as they are given
 //! (Gardeyn & Wauters 2025): patient compression chains ([`Chain`]), one per worker (so each
 //! has a thread to itself) on streams of their own, each started from the best layout's sheet
-//! whose used length counts. A chain lowers the ceiling by the smallest step, moving the parts
-//! past the middle of the used length down by it as sparrow shrinks its strip, and separates by
+//! whose used length counts. A chain lowers the ceiling by the smallest step and separates by
 //! guided local search; where a separation fails it keeps the failure in a pool of overlapping
 //! layouts, restores one and disrupts it, and it never gives that ceiling up (the base search's
 //! chains end after `EXPLORE_FAILURES`). Its separations take up to three stalls (sparrow's
