@@ -136,10 +136,15 @@ impl<'f> Passes<'f> {
     }
 
     /// Counts a round that ran; true if it was the last of a pass (its rounds are spent, or
-    /// `ended`: its chains can do no more).
-    fn count(&mut self, ended: bool) -> bool {
+    /// `ended`: its chains can do no more). `lowered`: the round's chains lowered the best
+    /// layout. Lowered by exploration, the best is no longer the layout the last pass
+    /// compressed, so that pass's kept chains are dropped; lowered by a pass, they go on.
+    fn count(&mut self, ended: bool, lowered: bool) -> bool {
         if self.left == 0 {
             self.explored += 1;
+            if lowered {
+                self.chains.clear();
+            }
             return false;
         }
         self.left = if ended { 0 } else { self.left - 1 };
@@ -255,21 +260,20 @@ impl Model<'_> {
                 return cut(best.1);
             }
             let mut sheets = best.1.clone();
-            let mut replaced = false;
             // No chains where a part's shape has no footprint: the search above is all there is.
             if let Some(lowest_chain) = self.follow_lowest(running, epoch + 1) {
                 let candidate = running[lowest_chain].lock().expect("no thread panics");
-                if self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]) {
+                let lowered = self.sheet_top(candidate.best()) < self.sheet_top(&sheets[lowest]);
+                if lowered {
                     sheets[lowest] = candidate.best().to_vec();
                     score = self.score(&self.rebuild(&sheets));
-                    replaced = !passes.compressing();
                 }
                 let lowest_top = candidate.top();
                 drop(candidate);
                 let ended = running
                     .iter()
                     .all(|c| c.lock().expect("no thread panics").ended());
-                if passes.count(ended) {
+                if passes.count(ended, lowered) {
                     // A chain exploring at a ceiling the compressed layout is already under can
                     // find nothing lower: it starts again from that layout.
                     let n = chains.len();
@@ -282,10 +286,6 @@ impl Model<'_> {
                         }
                     }
                 }
-            }
-            if replaced {
-                // The last pass's layout is no longer the best.
-                passes.cancel();
             }
             since_shorter += 1;
             if score.shorter_than(&best.0) {
@@ -367,6 +367,9 @@ impl Model<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::compress::{Footprint, Footprints};
+    use crate::overlap::Pieces;
+    use std::cell::Cell;
 
     /// Counts `rounds` rounds that run, none of them ending a pass's chains; true for each that
     /// ended a pass.
@@ -375,7 +378,7 @@ mod tests {
             .map(|_| {
                 passes.begins(*since_shorter, Vec::new);
                 *since_shorter += 1;
-                passes.count(false)
+                passes.count(false, false)
             })
             .collect()
     }
@@ -386,7 +389,7 @@ mod tests {
         // 85 rounds of exploration that keep getting shorter: no pass, however many rounds.
         for _ in 0..85 {
             assert!(!passes.begins(0, Vec::new));
-            assert!(!passes.count(false));
+            assert!(!passes.count(false, false));
         }
         // A stall one round short of `COMPRESS_AFTER`: still none.
         assert!(!passes.begins(COMPRESS_AFTER - 1, Vec::new));
@@ -400,50 +403,62 @@ mod tests {
         // The exploration's count starts again from the pass: 5 rounds earn none yet (5 x 15 / 85
         // rounds down to 0), 6 earn one.
         for _ in 0..5 {
-            assert!(!passes.count(false));
+            assert!(!passes.count(false, false));
         }
         assert!(!passes.begins(since, Vec::new));
-        assert!(!passes.count(false));
+        assert!(!passes.count(false, false));
         assert!(passes.begins(since, Vec::new));
-        assert!(passes.count(false) && !passes.compressing());
+        assert!(passes.count(false, false) && !passes.compressing());
     }
 
     /// Explores long enough to earn a pass, begins one with `fresh` chains unless it goes on
     /// with the last pass's, and ends it at once.
     fn pass<'f>(passes: &mut Passes<'f>, fresh: impl FnOnce() -> Vec<Mutex<Chain<'f>>>) {
         for _ in 0..170 {
-            passes.count(false);
+            passes.count(false, false);
         }
         assert!(passes.begins(COMPRESS_AFTER, fresh));
-        assert!(passes.count(true) && !passes.compressing());
+        assert!(passes.count(true, false) && !passes.compressing());
+    }
+
+    /// A unit square's footprint, with room to move on a 10-by-10 sheet.
+    fn squares() -> Footprints {
+        Footprints::new(vec![vec![Footprint {
+            pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]).expect("a square"),
+            x: (0.0, 9.0),
+            y: (0.0, 9.0),
+        }]])
+    }
+
+    fn at(x: f32) -> Placement {
+        Placement {
+            part: 0,
+            rot: 0,
+            t: (x, 0.0),
+        }
+    }
+
+    /// Two fine chains on `sheet`, counting them in `made`.
+    fn fine_chains<'f>(
+        squares: &'f Footprints,
+        sheet: &[Placement],
+        made: &Cell<usize>,
+    ) -> Vec<Mutex<Chain<'f>>> {
+        made.set(made.get() + 1);
+        (0..2)
+            .map(|c| Chain::new(squares, sheet, worker_rng(1, 0, c), Pace::Fine))
+            .map(Mutex::new)
+            .collect()
     }
 
     #[test]
     fn a_pass_goes_on_with_the_last_passs_chains_while_one_of_them_can() {
-        use crate::compress::{Footprint, Footprints};
-        use crate::overlap::Pieces;
-        use std::cell::Cell;
-        let squares = Footprints::new(vec![vec![Footprint {
-            pieces: Pieces::new(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]]).expect("a square"),
-            x: (0.0, 9.0),
-            y: (0.0, 9.0),
-        }]]);
-        let at = |x: f32| Placement {
-            part: 0,
-            rot: 0,
-            t: (x, 0.0),
-        };
+        let squares = squares();
         // Two parts: a chain has room to lower them. One part: it has ended from the start.
         let two = [at(0.0), at(2.0)];
         let one = [at(0.0)];
         let made = Cell::new(0);
-        let fresh = |sheet: &[Placement]| {
-            made.set(made.get() + 1);
-            (0..2)
-                .map(|c| Chain::new(&squares, sheet, worker_rng(1, 0, c), Pace::Fine))
-                .map(Mutex::new)
-                .collect::<Vec<_>>()
-        };
+        let fresh = |sheet: &[Placement]| fine_chains(&squares, sheet, &made);
         let mut passes = Passes::default();
         // The first pass starts chains; the next goes on with them, as they can go on.
         pass(&mut passes, || fresh(&two));
@@ -462,23 +477,52 @@ mod tests {
     }
 
     #[test]
+    fn a_round_that_explores_lower_drops_the_last_passs_chains_and_a_pass_that_does_keeps_them() {
+        let squares = squares();
+        let two = [at(0.0), at(2.0)];
+        let made = Cell::new(0);
+        let fresh = || fine_chains(&squares, &two, &made);
+        let mut passes = Passes::default();
+        pass(&mut passes, fresh);
+        // Exploring rounds that do not lower the best layout leave the pass's chains kept.
+        assert!(!passes.count(false, false));
+        assert_eq!(passes.chains().len(), 2);
+        // A pass's own round that lowers the best keeps them: that layout is theirs.
+        for _ in 0..170 {
+            passes.count(false, false);
+        }
+        assert!(passes.begins(COMPRESS_AFTER, fresh));
+        assert_eq!(made.get(), 1, "the pass goes on with the kept chains");
+        assert!(!passes.count(false, true));
+        assert_eq!(passes.chains().len(), 2);
+        while !passes.count(false, false) {}
+        assert!(!passes.compressing());
+        assert_eq!(passes.chains().len(), 2, "kept when the pass ends");
+        // An exploring round that lowers the best drops them, and the next pass starts anew.
+        assert!(!passes.count(false, true));
+        assert!(passes.chains().is_empty());
+        pass(&mut passes, fresh);
+        assert_eq!((made.get(), passes.chains().len()), (2, 2));
+    }
+
+    #[test]
     fn a_pass_ends_early_when_its_chains_end_or_its_layout_is_replaced() {
         let mut passes = Passes::default();
         for _ in 0..170 {
-            passes.count(false);
+            passes.count(false, false);
         }
         assert!(passes.begins(COMPRESS_AFTER, Vec::new));
-        assert!(!passes.count(false));
-        assert!(passes.count(true), "its chains can do no more");
+        assert!(!passes.count(false, false));
+        assert!(passes.count(true, false), "its chains can do no more");
         assert!(!passes.compressing());
         for _ in 0..170 {
-            passes.count(false);
+            passes.count(false, false);
         }
         assert!(passes.begins(COMPRESS_AFTER, Vec::new));
         passes.cancel();
         assert!(!passes.compressing());
         assert!(
-            !passes.count(false),
+            !passes.count(false, false),
             "a round after a cancelled pass explores"
         );
     }
