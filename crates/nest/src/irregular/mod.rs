@@ -84,11 +84,12 @@
 //! * **Threads**: the greedy starts are shared out to the threads as they come free (a best-fit
 //!   start costs several times a size-order one), and each start is a function of its recipe
 //!   alone, so the starts do not depend on which thread built them.
-//! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of sparrow,
-//!   the state-of-the-art strip packer, given 5 s and 30 s; on the twelve public ESICUP instances
-//!   ahead of it in the mean at 5 s (by about 1 point) and level at 30 s and 120 s (0.2 behind
-//!   with one seed, 0.1-0.3 ahead over three); sparrow stays ahead on swim at every budget, and
-//!   jakobs2 turns on whether either engine's exploration gets below one ceiling.
+//! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of
+//!   sparrow, the state-of-the-art strip packer, given 5 s, 30 s and 120 s; on the twelve
+//!   public ESICUP instances ahead of it in the mean at 5 s (by about 1 point) and level at
+//!   30 s and 120 s (0.2 behind with one seed, 0.1-0.3 ahead over three); sparrow stays ahead on
+//!   swim at every budget, and jakobs2 turns on whether either engine's exploration gets below
+//!   one ceiling.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
