@@ -51,6 +51,19 @@ pub(crate) struct Footprint {
 }
 
 impl Footprint {
+    /// An axis-aligned `width` x `height` rectangle's footprint, free to move from the origin to
+    /// `x_max` across and `y_max` up: the shape the unit tests of the compression and of the
+    /// rounds nest.
+    #[cfg(test)]
+    pub(crate) fn rectangle(width: f32, height: f32, x_max: f32, y_max: f32) -> Footprint {
+        Footprint {
+            pieces: Pieces::new(&[[0., 0.], [width, 0.], [width, height], [0., height]])
+                .expect("a rectangle is a convex piece"),
+            x: (0.0, x_max),
+            y: (0.0, y_max),
+        }
+    }
+
     /// Translations (x range, y range) that keep the shape inside the usable sheet and its top
     /// at most `ceiling`; `None` if there are none.
     fn range_under(&self, ceiling: f32) -> Option<((f32, f32), (f32, f32))> {
@@ -1207,7 +1220,6 @@ mod tests {
     use rand::SeedableRng;
 
     use super::*;
-    use crate::test_support::rectangle;
 
     /// Unit squares on a sheet 2.1 wide: left edges in `[0, 1.1]`, bottoms in `[0, 10]`.
     fn squares() -> Footprints {
@@ -1215,7 +1227,7 @@ mod tests {
     }
 
     fn square_footprints() -> Vec<Footprint> {
-        vec![rectangle(1.0, 1.0, 1.1, 10.0)]
+        vec![Footprint::rectangle(1.0, 1.0, 1.1, 10.0)]
     }
 
     /// Independent of the overlap measure: axis-aligned unit squares are clear iff their boxes
@@ -1291,8 +1303,12 @@ mod tests {
         // the pair in as few evaluations at side 100 as at side 1 (a descent in fixed mm steps
         // would need a hundred times as many at side 100).
         let spent = |side: f32| {
-            let footprints =
-                Footprints::new(vec![vec![rectangle(side, side, 2.0 * side, 2.0 * side)]]);
+            let footprints = Footprints::new(vec![vec![Footprint::rectangle(
+                side,
+                side,
+                2.0 * side,
+                2.0 * side,
+            )]]);
             let items = vec![at(0, 0.0, 0.0), at(0, 0.7 * side, 0.0)];
             let mut separation =
                 Separation::new(&footprints, items, 3.0 * side, vec![1.0; 4], QUICK);
@@ -1355,7 +1371,7 @@ mod tests {
         // ceiling fails at once and compression must stop on its own, not on the budget.
         let footprints = Footprints::new(vec![
             square_footprints(),
-            vec![rectangle(1.0, 3.0, 1.1, 10.0)],
+            vec![Footprint::rectangle(1.0, 3.0, 1.1, 10.0)],
         ]);
         let start = vec![
             Placement {
@@ -1386,7 +1402,7 @@ mod tests {
 
     /// A bar `length` x 1 on a sheet 10.2 wide.
     fn bar(length: f32) -> Vec<Footprint> {
-        vec![rectangle(length, 1.0, 10.2 - length, 10.0)]
+        vec![Footprint::rectangle(length, 1.0, 10.2 - length, 10.0)]
     }
 
     /// Independent of the overlap measure: axis-aligned bars are clear iff their boxes do not
@@ -1826,7 +1842,7 @@ mod tests {
         // A 4 x 4 square at the origin swaps with a unit square at (6, 0) whose neighbours sit
         // at (7, 0) and (6, 1). The big square now covers them: they keep their places relative
         // to it and go where it was, (1, 0) and (0, 1). A part far off stays put.
-        let square = |side: f32| vec![rectangle(side, side, 12.0 - side, 10.0)];
+        let square = |side: f32| vec![Footprint::rectangle(side, side, 12.0 - side, 10.0)];
         let footprints = Footprints::new(vec![square(4.0), square(1.0)]);
         let before = vec![
             at(0, 0.0, 0.0),

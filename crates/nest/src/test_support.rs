@@ -1,7 +1,5 @@
 //! Small jobs the unit tests of several modules build on.
 
-use crate::compress::Footprint;
-use crate::overlap::Pieces;
 use crate::problem::{NestBin, NestItem};
 use cam_geometry::Point;
 
@@ -23,15 +21,4 @@ pub fn squares_job(demand: usize, stock: usize) -> (Vec<NestItem>, NestBin) {
         stock,
     };
     (items, bin)
-}
-
-/// An axis-aligned `width` x `height` rectangle's footprint, free to move from the origin to
-/// `x_max` across and `y_max` up.
-pub fn rectangle(width: f32, height: f32, x_max: f32, y_max: f32) -> Footprint {
-    Footprint {
-        pieces: Pieces::new(&[[0., 0.], [width, 0.], [width, height], [0., height]])
-            .expect("a rectangle is a convex piece"),
-        x: (0.0, x_max),
-        y: (0.0, y_max),
-    }
 }

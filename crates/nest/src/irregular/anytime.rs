@@ -367,8 +367,7 @@ impl Model<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::compress::Footprints;
-    use crate::test_support::rectangle;
+    use crate::compress::{Footprint, Footprints};
     use std::cell::Cell;
 
     /// Counts `rounds` rounds that run, none of them ending a pass's chains; true for each that
@@ -423,7 +422,7 @@ mod tests {
 
     /// A unit square's footprint, with room to move on a 10-by-10 sheet.
     fn squares() -> Footprints {
-        Footprints::new(vec![vec![rectangle(1.0, 1.0, 9.0, 9.0)]])
+        Footprints::new(vec![vec![Footprint::rectangle(1.0, 1.0, 9.0, 9.0)]])
     }
 
     fn at(x: f32) -> Placement {
