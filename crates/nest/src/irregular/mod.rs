@@ -104,6 +104,7 @@ mod moves;
 mod portfolio;
 mod random;
 mod score;
+mod settle;
 mod threads;
 
 use crate::job::Job;
