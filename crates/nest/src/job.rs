@@ -90,10 +90,7 @@ impl Job {
     }
 
     /// Gap the jagua-rs model keeps: the requested separation plus a margin that covers its f32
-    /// coordinates and the chords of its round offset joins (<= 0.125 % of the offset). The f32
-    /// part is 0.2 µm: a dozen f32 steps of a 150 mm coordinate, three of a metre's. It is paid
-    /// at every contact and at both edges, so it must stay small beside the slack a strip of
-    /// whole-number parts leaves (ESICUP's 40.004 for rows of 40).
+    /// coordinates and the chords of its round offset joins (<= 0.125 % of the offset).
     pub fn model_separation(&self) -> f64 {
         model_separation(self.settings.separation_mm)
     }
@@ -217,7 +214,7 @@ fn box_size(outline: &[Point], rotation_deg: f64) -> [f64; 2] {
 
 /// See [`Job::model_separation`].
 fn model_separation(separation_mm: f64) -> f64 {
-    separation_mm * 1.01 + 2e-4
+    separation_mm * 1.01 + 2e-3
 }
 
 /// Whether a part fits an empty sheet, as the nesters decide it ([`fits_empty_sheet`]).

@@ -27,9 +27,8 @@ use crate::overlap::Pieces;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 
-/// Gap that keeps a start position clear of the exact contact with a sheet edge or neighbour:
-/// half the model's f32 margin ([`Job::model_separation`]), as each edge is a contact.
-pub(super) const NUDGE_MM: f32 = 1e-4;
+/// Gap that keeps a start position clear of the exact contact with a sheet edge or neighbour.
+pub(super) const NUDGE_MM: f32 = 1e-3;
 /// First and last step of the bottom-left slide.
 const SLIDE_FIRST_STEP_MM: f32 = 16.0;
 const SLIDE_LAST_STEP_MM: f32 = 0.01;
