@@ -45,6 +45,9 @@ pub(crate) struct Job {
     pub parts: Vec<Part>,
     pub bin: NestBin,
     pub settings: NestSettings,
+    /// Largest coordinate a placement can reach, mm: the sheet's longer side, or for an endless
+    /// sheet (the strip's probe) the parts laid end to end.
+    extent_mm: f64,
 }
 
 impl Job {
@@ -80,10 +83,17 @@ impl Job {
                 parts.push(part);
             }
         }
+        // Each copy laid end to end, its box's diagonal (its longest side at any rotation) plus
+        // more than two gaps: no layout on the sheet reaches further.
+        let end_to_end: f64 = parts
+            .iter()
+            .map(|p| p.demand as f64 * (diagonal(&p.outline) + 3.0 * settings.separation_mm + 1.0))
+            .sum();
         let job = Self {
             parts,
             bin: *bin,
             settings: *settings,
+            extent_mm: bin.width_mm.max(bin.height_mm.min(end_to_end)),
         };
         job.check_sizes()?;
         Ok(job)
@@ -92,18 +102,24 @@ impl Job {
     /// Gap the jagua-rs model keeps: the requested separation plus a margin that covers its f32
     /// coordinates and the chords of its round offset joins (<= 0.125 % of the offset).
     pub fn model_separation(&self) -> f64 {
-        model_separation(self.settings.separation_mm)
+        model_separation(self.settings.separation_mm, self.model_margin())
+    }
+
+    /// The part of [`Job::model_separation`] that covers the model's f32 coordinates, mm.
+    pub fn model_margin(&self) -> f64 {
+        f32_margin(self.extent_mm)
     }
 
     /// Every part must fit an empty sheet at some allowed rotation.
     fn check_sizes(&self) -> Result<(), NestError> {
         for part in &self.parts {
-            let fit = fits_empty_sheet(
+            let fit = fits_with_gap(
                 &part.outline,
                 &part.rotations_deg,
                 self.bin.width_mm,
                 self.bin.height_mm,
                 self.settings.separation_mm,
+                self.model_margin(),
             );
             if !fit.fits {
                 return Err(NestError::PartLargerThanBin {
@@ -212,9 +228,29 @@ fn box_size(outline: &[Point], rotation_deg: f64) -> [f64; 2] {
     [b.width(), b.height()]
 }
 
-/// See [`Job::model_separation`].
-fn model_separation(separation_mm: f64) -> f64 {
-    separation_mm * 1.01 + 2e-3
+/// Fewest f32 steps of the largest coordinate that the model's margin spans: jagua-rs's
+/// collision test and the verifier's f64 one disagree by about a step where shapes touch.
+const MARGIN_F32_STEPS: f64 = 4.0;
+/// Least margin, mm, however small the coordinates: a dozen f32 steps of a 150 mm sheet.
+const MIN_MARGIN_MM: f64 = 2e-4;
+
+/// See [`Job::model_separation`]. The margin is paid at every contact and at both edges, so it
+/// is kept to a few f32 steps of `extent_mm` rather than a fixed length: on a strip of
+/// whole-number parts a few micrometres wider than a row (ESICUP's 40.004 for rows of 40) a fixed
+/// 2 µm used up the slack, while on coordinates of 10,000 (albano) 0.2 µm is less than one step.
+fn model_separation(separation_mm: f64, margin_mm: f64) -> f64 {
+    separation_mm * 1.01 + margin_mm
+}
+
+/// See [`Job::model_margin`].
+fn f32_margin(extent_mm: f64) -> f64 {
+    (MARGIN_F32_STEPS * f64::from(f32::EPSILON) * extent_mm).max(MIN_MARGIN_MM)
+}
+
+/// Diagonal of the outline's bounding box: no side of its box at any rotation is longer.
+fn diagonal(outline: &[Point]) -> f64 {
+    let [w, h] = box_size(outline, 0.0);
+    w.hypot(h)
 }
 
 /// Whether a part fits an empty sheet, as the nesters decide it ([`fits_empty_sheet`]).
@@ -241,8 +277,30 @@ pub fn fits_empty_sheet(
     height_mm: f64,
     separation_mm: f64,
 ) -> EmptySheetFit {
-    // The engine also keeps 1 µm start clearances; 0.01 mm (0.005 mm to each edge) covers them.
-    let edge_gap_mm = model_separation(separation_mm) + 0.005;
+    // The coordinates of one part on the sheet, which is all the check places.
+    let extent_mm = width_mm.max(height_mm.min(diagonal(outline) + 3.0 * separation_mm + 1.0));
+    fits_with_gap(
+        outline,
+        rotations_deg,
+        width_mm,
+        height_mm,
+        separation_mm,
+        f32_margin(extent_mm),
+    )
+}
+
+/// [`fits_empty_sheet`] with the model's f32 margin ([`Job::model_margin`]) given.
+fn fits_with_gap(
+    outline: &[Point],
+    rotations_deg: &[f64],
+    width_mm: f64,
+    height_mm: f64,
+    separation_mm: f64,
+    margin_mm: f64,
+) -> EmptySheetFit {
+    // The engine also keeps each start half a margin clear of the edge; 0.005 mm more to each edge
+    // covers the f32 rounding of the part's box.
+    let edge_gap_mm = model_separation(separation_mm, margin_mm) + margin_mm / 2.0 + 0.005;
     let gap = 2.0 * edge_gap_mm;
     let overshoot = |s: &[f64; 2]| (s[0] + gap - width_mm).max(s[1] + gap - height_mm);
     let size_mm = rotations_deg
@@ -402,6 +460,36 @@ mod tests {
         // ... unless the budget itself is smaller; 0 keeps the greedy fill.
         assert_eq!(budget(2, 40), 40);
         assert_eq!(budget(16, 0), 0);
+    }
+
+    #[test]
+    fn the_model_margin_spans_a_few_f32_steps_of_the_largest_coordinate() {
+        let margin = |demand: usize, width_mm: f64, height_mm: f64| {
+            let (items, _) = squares_job(demand, 1);
+            let bin = NestBin {
+                width_mm,
+                height_mm,
+                stock: 1,
+            };
+            let job = Job::new(&items, &bin, &NestSettings::default()).unwrap();
+            job.model_margin()
+        };
+        // A lab sheet takes the least margin.
+        assert_eq!(margin(20, 150.0, 150.0), MIN_MARGIN_MM);
+        // Coordinates of 20,000 (albano's strip) take at least four f32 steps of 20,000 ...
+        let far = 20_000.0_f32;
+        let step = f32::from_bits(far.to_bits() + 1) - far;
+        let wide = margin(2000, 4900.0, 20_000.0) as f32;
+        assert!(far + wide - far >= MARGIN_F32_STEPS as f32 * step, "{wide}");
+        // ... when the parts can reach them: 20 squares on the same sheet reach 4,900 at most.
+        assert!(margin(20, 4900.0, 20_000.0) < f64::from(wide) / 3.0);
+        // The strip's endless probe is bounded by the parts laid end to end: 2,000 squares of 10
+        // mm (14.1 on the diagonal) with their gaps reach no further than 2,000 x 20 mm, and no
+        // less than the 20,000 mm they fill in a single file, so the probe's gaps are never
+        // narrower than the nest's.
+        let probe = margin(2000, 40.0, f64::MAX / 4.0);
+        assert!(probe >= margin(2000, 40.0, 20_000.0), "{probe}");
+        assert!(probe <= margin(2000, 40.0, 2000.0 * 20.0), "{probe}");
     }
 
     #[test]

@@ -8,7 +8,7 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::model::{collision_free, slide, Model, COARSE_SLIDE, FINISH_SLIDE, NUDGE_MM};
+use super::model::{collision_free, slide, Model, COARSE_SLIDE, FINISH_SLIDE};
 use super::random::{blink_shuffle, worker_rng};
 use super::score::Score;
 use super::threads::shared_out;
@@ -350,10 +350,11 @@ impl Model<'_> {
                 let mut anchors: Vec<(f32, f32)> = placed
                     .iter()
                     .flat_map(|o| {
+                        let nudge = self.nudge_mm;
                         [
-                            (o.x_max - b.x_min + NUDGE_MM, o.y_min - b.y_min),
-                            (o.x_min - b.x_min, o.y_max - b.y_min + NUDGE_MM),
-                            (o.x_max - b.x_max, o.y_max - b.y_min + NUDGE_MM),
+                            (o.x_max - b.x_min + nudge, o.y_min - b.y_min),
+                            (o.x_min - b.x_min, o.y_max - b.y_min + nudge),
+                            (o.x_max - b.x_max, o.y_max - b.y_min + nudge),
                         ]
                     })
                     .filter(|&(x, y)| {

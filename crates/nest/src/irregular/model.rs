@@ -27,8 +27,6 @@ use crate::overlap::Pieces;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
 
-/// Gap that keeps a start position clear of the exact contact with a sheet edge or neighbour.
-pub(super) const NUDGE_MM: f32 = 1e-3;
 /// First and last step of the bottom-left slide.
 const SLIDE_FIRST_STEP_MM: f32 = 16.0;
 const SLIDE_LAST_STEP_MM: f32 = 0.01;
@@ -74,12 +72,17 @@ pub(super) struct Model<'a> {
     /// `[part][rotation]`: the collision shapes as convex pieces, for compression; `None` if
     /// one did not decompose (then the layout is not compressed).
     pub(super) footprints: Option<Footprints>,
+    /// Gap that keeps a start position clear of the exact contact with a sheet edge or
+    /// neighbour, mm: half the model's f32 margin ([`Job::model_margin`]), as each edge is a
+    /// contact.
+    pub(super) nudge_mm: f32,
 }
 
 impl<'a> Model<'a> {
     pub(super) fn new(job: &'a Job) -> Result<Self, NestError> {
         let instance = build_instance(job)?;
         let usable = instance.bins[0].container.outer_cd().bbox();
+        let nudge_mm = (job.model_margin() / 2.0) as f32;
         let mut shapes = Vec::with_capacity(job.parts.len());
         let mut centring = Vec::with_capacity(job.parts.len());
         for (p, part) in job.parts.iter().enumerate() {
@@ -89,7 +92,7 @@ impl<'a> Model<'a> {
             let rotated = part
                 .rotations_deg
                 .iter()
-                .map(|&deg| rotated_shape(item.shape_cd(), deg, usable))
+                .map(|&deg| rotated_shape(item.shape_cd(), deg, usable, nudge_mm))
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|reason| NestError::DegenerateOutline {
                     item: part.item,
@@ -122,6 +125,7 @@ impl<'a> Model<'a> {
             centring,
             usable,
             footprints,
+            nudge_mm,
         })
     }
 
@@ -132,10 +136,11 @@ impl<'a> Model<'a> {
         let mut key = None;
         for &spot in sheet {
             let shape = &self.shapes[spot.part][spot.rot];
-            if spot.t.0 < shape.x.0 - NUDGE_MM
-                || spot.t.0 > shape.x.1 + NUDGE_MM
-                || spot.t.1 < shape.y.0 - NUDGE_MM
-                || spot.t.1 > shape.y.1 + NUDGE_MM
+            let nudge = self.nudge_mm;
+            if spot.t.0 < shape.x.0 - nudge
+                || spot.t.0 > shape.x.1 + nudge
+                || spot.t.1 < shape.y.0 - nudge
+                || spot.t.1 > shape.y.1 + nudge
             {
                 return false;
             }
@@ -307,7 +312,12 @@ fn build_instance(job: &Job) -> Result<BPInstance, NestError> {
     ))
 }
 
-fn rotated_shape(shape_cd: &Arc<SPolygon>, deg: f64, usable: Rect) -> Result<RotatedShape, String> {
+fn rotated_shape(
+    shape_cd: &Arc<SPolygon>,
+    deg: f64,
+    usable: Rect,
+    nudge_mm: f32,
+) -> Result<RotatedShape, String> {
     let rotation_rad = (deg as f32).to_radians();
     let with_surrogate = shape_cd.transform_clone(&Transformation::from_rotation(rotation_rad));
     // A translated copy without surrogate is cheaper to move around; if rebuilding it fails
@@ -321,12 +331,12 @@ fn rotated_shape(shape_cd: &Arc<SPolygon>, deg: f64, usable: Rect) -> Result<Rot
     Ok(RotatedShape {
         rotation_rad,
         x: (
-            usable.x_min - b.x_min + NUDGE_MM,
-            usable.x_max - b.x_max - NUDGE_MM,
+            usable.x_min - b.x_min + nudge_mm,
+            usable.x_max - b.x_max - nudge_mm,
         ),
         y: (
-            usable.y_min - b.y_min + NUDGE_MM,
-            usable.y_max - b.y_max - NUDGE_MM,
+            usable.y_min - b.y_min + nudge_mm,
+            usable.y_max - b.y_max - nudge_mm,
         ),
         with_surrogate,
         plain,
