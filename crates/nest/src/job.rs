@@ -83,11 +83,10 @@ impl Job {
                 parts.push(part);
             }
         }
-        // Each copy laid end to end, its box's diagonal (its longest side at any rotation) plus
-        // more than two gaps: no layout on the sheet reaches further.
+        // Every copy laid end to end: no layout on the sheet reaches further.
         let end_to_end: f64 = parts
             .iter()
-            .map(|p| p.demand as f64 * (diagonal(&p.outline) + 3.0 * settings.separation_mm + 1.0))
+            .map(|p| p.demand as f64 * reach(&p.outline, settings.separation_mm))
             .sum();
         let job = Self {
             parts,
@@ -247,10 +246,11 @@ fn f32_margin(extent_mm: f64) -> f64 {
     (MARGIN_F32_STEPS * f64::from(f32::EPSILON) * extent_mm).max(MIN_MARGIN_MM)
 }
 
-/// Diagonal of the outline's bounding box: no side of its box at any rotation is longer.
-fn diagonal(outline: &[Point]) -> f64 {
+/// Length one copy of `outline` can take along a sheet, mm: its box's diagonal (no side of its
+/// box at any rotation is longer) plus more than its two gaps.
+fn reach(outline: &[Point], separation_mm: f64) -> f64 {
     let [w, h] = box_size(outline, 0.0);
-    w.hypot(h)
+    w.hypot(h) + 3.0 * separation_mm + 1.0
 }
 
 /// Whether a part fits an empty sheet, as the nesters decide it ([`fits_empty_sheet`]).
@@ -278,7 +278,7 @@ pub fn fits_empty_sheet(
     separation_mm: f64,
 ) -> EmptySheetFit {
     // The coordinates of one part on the sheet, which is all the check places.
-    let extent_mm = width_mm.max(height_mm.min(diagonal(outline) + 3.0 * separation_mm + 1.0));
+    let extent_mm = width_mm.max(height_mm.min(reach(outline, separation_mm)));
     fits_with_gap(
         outline,
         rotations_deg,
