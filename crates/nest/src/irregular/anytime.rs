@@ -15,9 +15,10 @@
 //! round gives every chain `ROUND_EVALUATIONS` more overlap evaluations and resumes it where the
 //! last round left it, in the middle of a separation if need be, so the pool, the weights and
 //! each separation's own stall rules carry over from round to round; the lowest chain's layout,
-//! its parts settled onto one another (`Model::settled`), replaces the sheet if it is lower. On more than one sheet a round first runs a short
-//! ruin-and-recreate search per worker (`ROUND_ITERATIONS` over the workers), which may empty a
-//! sheet (fewer sheets first); a better layout from it restarts the chains on it.
+//! its parts settled onto one another (`Model::settled`), replaces the sheet if it is lower. On
+//! more than one sheet a round first runs a short ruin-and-recreate search per worker
+//! (`ROUND_ITERATIONS` over the workers), which may empty a sheet (fewer sheets first); a better
+//! layout from it restarts the chains on it.
 //!
 //! After each round, every chain whose layout is higher than the lowest chain's goes on as a copy
 //! of the lowest one ([`Chain::fork`]: its layout, weights, pool and unfinished separation) on a
