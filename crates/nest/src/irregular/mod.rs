@@ -86,8 +86,8 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of
 //!   sparrow, the state-of-the-art strip packer, given 5 s, 30 s and 120 s; on the twelve
-//!   public ESICUP instances ahead of it in the mean at 5 s (by about 1 point) and level at
-//!   30 s and 120 s (0.2 behind with one seed, 0.1-0.3 ahead over three); sparrow stays ahead on
+//!   public ESICUP instances ahead of it in the mean at 5 s (by 1-1.5 points) and level at
+//!   30 s and 120 s (within 0.1 with one seed, 0.2-0.4 ahead over three); sparrow stays ahead on
 //!   swim at every budget, and jakobs2 turns on whether either engine's exploration gets below
 //!   one ceiling.
 //!
