@@ -1217,8 +1217,8 @@ fn units_other_than_mm_are_refused() {
 fn a_part_the_nester_would_refuse_is_refused_by_the_batch_reader_naming_its_entity() {
     // 0.35 mm separation (kerf 0.05 + spacing 0.3) on an 80 mm roll: a 79.29 mm part leaves
     // 0.355 mm to each edge, more than the separation, but not the nester's working gap (its
-    // model keeps 1 % more plus a margin of a few f32 steps, and half that margin of start
-    // clearance, cam_nest::fits_empty_sheet).
+    // model keeps 1 % more plus a margin of a few f32 steps, half that margin again of start
+    // clearance, and 5 µm more to each edge for rounding, cam_nest::fits_empty_sheet).
     // The reader applies the nester's own check, so the refusal names the entity before any
     // nesting, rather than the nester refusing it later without the drawing's entity.
     let (dir, batch) = scratch(
