@@ -484,10 +484,21 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
         &dir,
         &[
             "batch.toml: sheets.prepreg.height_mm = 20: the passive part of thesis-C",
-            // 42.2 mm of part, the process's 1.5 mm ground tab and 0.55 mm to each edge.
-            "does not fit the sheet; it needs at least 44.80 mm",
+            // 42.2 mm of part, the process's 1.5 mm ground tab and 0.55 mm to each edge, which the
+            // nester's working margin (1.01 x the separation and a few micrometres) makes 0.5608 mm.
+            "does not fit the sheet; it needs at least 44.83 mm",
         ],
     );
+    // The size the refusal names takes the part.
+    let dir = scratch_batch(
+        &format!(
+            "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = 44.83 }}\n",
+            item("c.toml", 2)
+        ),
+        &[("c.toml", &c)],
+    );
+    let o = nest(&dir.path().join("batch.toml"), &dir.path().join("out"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
 
     // 40 actuators of design C need 80 plates: more than one 72.4 mm PZT sheet.
     let dir = scratch_batch(

@@ -128,6 +128,7 @@ impl Job {
                     bin_width_mm: self.bin.width_mm,
                     bin_height_mm: self.bin.height_mm,
                     separation_mm: self.settings.separation_mm,
+                    edge_gap_mm: fit.edge_gap_mm,
                 });
             }
         }
@@ -156,6 +157,7 @@ impl Job {
             bin_width_mm: self.bin.width_mm,
             bin_height_mm: self.bin.height_mm,
             separation_mm: self.settings.separation_mm,
+            edge_gap_mm: edge_gap(self.settings.separation_mm, self.model_margin()),
         }
     }
 
@@ -269,6 +271,11 @@ pub struct EmptySheetFit {
 /// part in its own terms before nesting: whether `outline` fits an empty `width_mm` x
 /// `height_mm` sheet (`height_mm` infinite for a strip) at one of `rotations_deg`, with
 /// `separation_mm` to every edge plus the margin the nester's model works with.
+///
+/// On a sheet, what passes here passes the nester. On a strip the nester's margin grows with the
+/// whole job's length (a few f32 steps of it: about 0.01 mm for 20 m of parts), which a check of
+/// one part cannot know: a part within that of the strip's width passes here and is refused by the
+/// nester, whose [`NestError::PartLargerThanBin`] gives the edge gap it needed.
 #[must_use]
 pub fn fits_empty_sheet(
     outline: &[Point],
@@ -289,6 +296,13 @@ pub fn fits_empty_sheet(
     )
 }
 
+/// Gap a part needs to each edge of an empty sheet, mm: the model's separation, and the half margin
+/// the engine keeps each start clear of the edge; 0.005 mm more covers the f32 rounding of the
+/// part's box.
+fn edge_gap(separation_mm: f64, margin_mm: f64) -> f64 {
+    model_separation(separation_mm, margin_mm) + margin_mm / 2.0 + 0.005
+}
+
 /// [`fits_empty_sheet`] with the model's f32 margin ([`Job::model_margin`]) given.
 fn fits_with_gap(
     outline: &[Point],
@@ -298,9 +312,7 @@ fn fits_with_gap(
     separation_mm: f64,
     margin_mm: f64,
 ) -> EmptySheetFit {
-    // The engine also keeps each start half a margin clear of the edge; 0.005 mm more to each edge
-    // covers the f32 rounding of the part's box.
-    let edge_gap_mm = model_separation(separation_mm, margin_mm) + margin_mm / 2.0 + 0.005;
+    let edge_gap_mm = edge_gap(separation_mm, margin_mm);
     let gap = 2.0 * edge_gap_mm;
     let overshoot = |s: &[f64; 2]| (s[0] + gap - width_mm).max(s[1] + gap - height_mm);
     let size_mm = rotations_deg

@@ -218,12 +218,22 @@ impl NestedBin {
     }
 }
 
+/// A sheet as an error names it: a strip (roll stock) has no length.
+fn sheet_name(width_mm: f64, height_mm: f64) -> String {
+    if height_mm.is_finite() {
+        format!("{width_mm} x {height_mm} mm sheet")
+    } else {
+        format!("{width_mm} mm wide strip")
+    }
+}
+
 /// Why a nest could not be made.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum NestError {
     #[error(
         "item {item}: part is {part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, \
-         which with {separation_mm} mm edge separation does not fit the {bin_width_mm} x {bin_height_mm} mm sheet"
+         which with {separation_mm} mm edge separation ({edge_gap_mm:.4} mm to each edge with the nester's \
+         working margin) does not fit the {}", sheet_name(*.bin_width_mm, *.bin_height_mm)
     )]
     PartLargerThanBin {
         item: usize,
@@ -232,6 +242,9 @@ pub enum NestError {
         bin_width_mm: f64,
         bin_height_mm: f64,
         separation_mm: f64,
+        /// Gap the nester needed to each edge: the separation plus its working margin, so that a
+        /// sheet `part + 2 * edge_gap_mm` across (a little more) takes the part.
+        edge_gap_mm: f64,
     },
     #[error("stock too small: the parts need {needed} sheets but only {stock} are in stock")]
     StockTooSmall { needed: usize, stock: usize },

@@ -59,6 +59,7 @@ pub fn nest_shelves(
                 bin_width_mm: bin.width_mm,
                 bin_height_mm: bin.height_mm,
                 separation_mm: gap_mm,
+                edge_gap_mm: gap_mm,
             });
         }
         patterns.push(if item.demand > 0 {

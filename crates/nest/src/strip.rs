@@ -52,8 +52,13 @@ pub fn nest_strip_until(
         height_mm: f64::MAX / 4.0,
         stock: 1,
     };
-    // Validates the input against the width alone (the probe is endless).
-    let job = Job::new(items, &probe, settings)?;
+    // Validates the input against the width alone (the probe is endless, and a refusal says so).
+    let job = Job::new(items, &probe, settings).map_err(|mut e| {
+        if let NestError::PartLargerThanBin { bin_height_mm, .. } = &mut e {
+            *bin_height_mm = f64::INFINITY;
+        }
+        e
+    })?;
     let gap = 2.0 * job.model_separation() + 0.01;
     let area = job.part_area();
     // Per part, the shortest extent along the strip at a rotation that fits the width.

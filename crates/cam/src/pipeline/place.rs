@@ -282,18 +282,20 @@ fn sheet_too_small(
             .map(|p| p[side] + border[side])
             .fold(f64::INFINITY, f64::min)
     };
+    // Rounded up past the need, so that the size named takes the part: the nester's check is strict.
+    let up = |mm: f64| (mm * 100.0 + 1e-6).ceil() / 100.0;
     let origin = &spec.origin;
     let (field, value, need) = if least(0, h).is_finite() {
         (
             &origin.width_field,
             w,
-            format!("at least {:.2} mm", least(0, h)),
+            format!("at least {:.2} mm", up(least(0, h))),
         )
     } else if !spec.roll && least(1, w).is_finite() {
         (
             &origin.height_field,
             h,
-            format!("at least {:.2} mm", least(1, w)),
+            format!("at least {:.2} mm", up(least(1, w))),
         )
     } else {
         let p = orientations[0];
@@ -302,8 +304,8 @@ fn sheet_too_small(
             w,
             format!(
                 "at least {:.2} x {:.2} mm (width x height)",
-                p[0] + border[0],
-                p[1] + border[1]
+                up(p[0] + border[0]),
+                up(p[1] + border[1])
             ),
         )
     };
@@ -634,15 +636,16 @@ fn irregular(
             part_width_mm,
             part_height_mm,
             separation_mm,
+            edge_gap_mm,
             ..
         } => sheet_too_small(
             spec,
             &format!(
-                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge)",
+                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
                 layer.layer, layer.items[item].owner
             ),
             [part_width_mm, part_height_mm],
-            [2.0 * separation_mm; 2],
+            [2.0 * edge_gap_mm; 2],
             false,
         ),
         NestError::StockTooSmall { needed, stock } => fail(format!(

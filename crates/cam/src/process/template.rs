@@ -52,7 +52,8 @@ impl SheetSpec {
     /// Whether `outline` fits an empty sheet of this stock at one of `rotations_deg` as the nester
     /// places a cut part: kerf + spacing to every edge, a roll unbounded in length. The readers of
     /// extra parts refuse on it before any nesting, naming the drawing, so that what passes them also
-    /// passes the nester.
+    /// passes the nester; on a roll, all but a part within hundredths of a millimetre of its width,
+    /// which the nester refuses with the width it needs ([`cam_nest::fits_empty_sheet`]).
     pub fn empty_sheet_fit(
         &self,
         outline: &[[f64; 2]],
