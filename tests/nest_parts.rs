@@ -1314,6 +1314,59 @@ fn the_readers_size_check_is_the_nesters() {
 }
 
 #[test]
+fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
+    // 200 squares of 70 mm make about 20 m of strip, where the nester's f32 margin is some
+    // hundredths of a millimetre: a bar that one part's check lets through is refused, and the
+    // edge gap the refusal gives is the one that takes it.
+    let settings = cam_nest::NestSettings {
+        separation_mm: 0.35,
+        seed: 1,
+        iterations: 0,
+        workers: 1,
+    };
+    let square = cam_nest::NestItem {
+        outline: vec![[0.0, 0.0], [70.0, 0.0], [70.0, 70.0], [0.0, 70.0]],
+        demand: 200,
+        rotations_deg: vec![0.0],
+    };
+    let bar = |w: f64| cam_nest::NestItem {
+        outline: vec![[0.0, 0.0], [w, 0.0], [w, 3.0], [0.0, 3.0]],
+        demand: 1,
+        rotations_deg: vec![0.0],
+    };
+    let w = 79.27;
+    let alone = cam_nest::fits_empty_sheet(&bar(w).outline, &[0.0], 80.0, f64::INFINITY, 0.35);
+    assert!(alone.fits, "{alone:?}");
+    let err = cam_nest::nest_strip(&[square.clone(), bar(w)], 80.0, &settings, &|_| {})
+        .expect_err("the margin of 20 m of parts refuses the bar");
+    let message = err.to_string();
+    assert!(
+        message.ends_with("does not fit the 80 mm wide strip"),
+        "{message}"
+    );
+    let cam_nest::NestError::PartLargerThanBin {
+        item, edge_gap_mm, ..
+    } = err
+    else {
+        panic!("{err:?}")
+    };
+    assert_eq!(item, 1);
+    assert!(
+        edge_gap_mm > alone.edge_gap_mm && w + 2.0 * edge_gap_mm >= 80.0,
+        "{edge_gap_mm} against {alone:?}"
+    );
+    // Narrower by what the refusal says is missing (and a micrometre), or by up to a millimetre
+    // more, the bar is taken: its only room is a band at the top of the strip, which the
+    // construction's sampled starts can miss.
+    for k in 0..3 {
+        let narrower = 80.0 - 2.0 * edge_gap_mm - 0.001 - 0.4 * k as f64;
+        let strip =
+            cam_nest::nest_strip(&[square.clone(), bar(narrower)], 80.0, &settings, &|_| {});
+        assert!(strip.is_ok(), "{narrower} mm: {:?}", strip.err());
+    }
+}
+
+#[test]
 fn a_part_too_large_for_the_sheet_is_refused_naming_its_entity() {
     // The example batch's prepreg sheets are the template's; a 500 mm spar fits none of them.
     let long = dxf_text(

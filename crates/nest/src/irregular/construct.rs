@@ -386,6 +386,30 @@ impl Model<'_> {
                 }
             }
         }
+        if best.is_none() && ceiling.is_none() {
+            // Sampled starts can all miss a thin band of room, such as the top of a long strip
+            // for a part nearly its width; above every placed part, at the left edge, is room
+            // whenever the sheet has any there. Only a fallback, so that layouts the samples
+            // find stay as they are.
+            let top = placed.iter().map(|o| o.y_max).fold(f32::MIN, f32::max);
+            best = self.shapes[part]
+                .iter()
+                .enumerate()
+                .filter(|(_, shape)| shape.fits())
+                .filter_map(|(rot, shape)| {
+                    let b = shape.plain.bbox();
+                    let start = (shape.x.0, (top - b.y_min + self.nudge_mm).max(shape.y.0));
+                    let mut buffer = shape.plain.clone();
+                    (start.1 <= shape.y.1 && collision_free(cde, shape, &mut buffer, start)).then(
+                        || {
+                            let t = slide(cde, shape, &mut buffer, start, COARSE_SLIDE);
+                            let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
+                            (cost, Placement { part, rot, t })
+                        },
+                    )
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+        }
         // Candidates are ranked after the coarse steps; the winner takes the fine ones.
         best.map(|(_, spot)| {
             let shape = &self.shapes[part][spot.rot];
