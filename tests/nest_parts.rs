@@ -1355,8 +1355,8 @@ fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
         edge_gap_mm > alone.edge_gap_mm && w + 2.0 * edge_gap_mm >= 80.0,
         "{edge_gap_mm} against {alone:?}"
     );
-    // Narrower by what the refusal says is missing (and a micrometre), or by up to a millimetre
-    // more, the bar is taken: its only room is a band at the top of the strip, which the
+    // Narrower by what the refusal says is missing (and a micrometre), or by 0.4 or 0.8 mm more,
+    // the bar is taken: its only room is a band at the top of the strip, which the
     // construction's sampled starts can miss.
     for k in 0..3 {
         let narrower = 80.0 - 2.0 * edge_gap_mm - 0.001 - 0.4 * k as f64;
