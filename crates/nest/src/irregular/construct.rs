@@ -2,7 +2,7 @@
 //! first sheet with room, and the greedy fills (size orders and best fit) that start the search.
 
 use jagua_rs::entities::Layout;
-use jagua_rs::geometry::primitives::Rect;
+use jagua_rs::geometry::primitives::{Rect, SPolygon};
 use jagua_rs::probs::bpp::entities::{BPLayoutType, BPProblem, LayKey};
 use rand::seq::SliceRandom;
 use rand::Rng;
@@ -327,6 +327,17 @@ impl Model<'_> {
                     .collect()
             })
             .unwrap_or_default();
+        // A start that is clear, slid down and left by the coarse steps, with its cost.
+        let coarse = |rot: usize, start: (f32, f32), buffer: &mut SPolygon| {
+            let shape = &self.shapes[part][rot];
+            if !collision_free(cde, shape, buffer, start) {
+                return None;
+            }
+            let b = shape.plain.bbox();
+            let t = slide(cde, shape, buffer, start, COARSE_SLIDE);
+            let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
+            Some((cost, Placement { part, rot, t }))
+        };
         let mut best: Option<(f32, Placement)> = None;
         for (rot, shape) in self.shapes[part].iter().enumerate() {
             if !shape.fits() {
@@ -376,13 +387,10 @@ impl Model<'_> {
                 }));
             }
             for start in starts {
-                if !collision_free(cde, shape, &mut buffer, start) {
-                    continue;
-                }
-                let t = slide(cde, shape, &mut buffer, start, COARSE_SLIDE);
-                let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
-                if best.as_ref().is_none_or(|(c, _)| cost < *c) {
-                    best = Some((cost, Placement { part, rot, t }));
+                if let Some((cost, spot)) = coarse(rot, start, &mut buffer) {
+                    if best.as_ref().is_none_or(|(c, _)| cost < *c) {
+                        best = Some((cost, spot));
+                    }
                 }
             }
         }
@@ -399,14 +407,10 @@ impl Model<'_> {
                 .filter_map(|(rot, shape)| {
                     let b = shape.plain.bbox();
                     let start = (shape.x.0, (top - b.y_min + self.nudge_mm).max(shape.y.0));
-                    let mut buffer = shape.plain.clone();
-                    (start.1 <= shape.y.1 && collision_free(cde, shape, &mut buffer, start)).then(
-                        || {
-                            let t = slide(cde, shape, &mut buffer, start, COARSE_SLIDE);
-                            let cost = (b.y_max + t.1) + RIGHT_WEIGHT * (b.x_max + t.0);
-                            (cost, Placement { part, rot, t })
-                        },
-                    )
+                    if start.1 > shape.y.1 {
+                        return None;
+                    }
+                    coarse(rot, start, &mut shape.plain.clone())
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
         }
