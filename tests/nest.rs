@@ -499,6 +499,18 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
     );
     let o = nest(&dir.path().join("batch.toml"), &dir.path().join("out"), &[]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // And a hundredth less does not.
+    let dir = scratch_batch(
+        &format!(
+            "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = 44.82 }}\n",
+            item("c.toml", 2)
+        ),
+        &[("c.toml", &c)],
+    );
+    fails_without_output(
+        &dir,
+        &["sheets.prepreg.height_mm = 44.82", "at least 44.83 mm"],
+    );
 
     // 40 actuators of design C need 80 plates: more than one 72.4 mm PZT sheet.
     let dir = scratch_batch(

@@ -384,6 +384,23 @@ fn a_sheet_too_small_for_a_plate_names_the_sheet_field() {
     );
     assert!(!err.contains("usable"), "{err}");
     assert!(!out.exists());
+    // The width it names takes the plate.
+    let need = err
+        .split("it needs at least ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .expect("a width in the refusal");
+    let (_dir, design, _) =
+        method_1_with("sheet_width_mm = 72.4", &format!("sheet_width_mm = {need}"));
+    ok_stdout(&cut_sheet(&design, &out, &[]));
+    // And it is the least hundredth that does: the plate's border and the snappable rest beside it.
+    let less = need.parse::<f64>().expect("a number") - 0.01;
+    let (_dir, design, _) = method_1_with(
+        "sheet_width_mm = 72.4",
+        &format!("sheet_width_mm = {less:.2}"),
+    );
+    let err = refused_in_one_line(&cut_sheet(&design, &dir.path().join("out-less"), &[]));
+    assert!(err.contains("PZT plate does not fit the sheet"), "{err}");
 }
 
 #[test]
