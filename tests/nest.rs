@@ -473,15 +473,18 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
         &["batch.toml", "item[1].quantity", "0", "[1, 100000]"],
     );
 
-    let dir = scratch_batch(
-        &format!(
-            "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = 20 }}\n",
-            item("c.toml", 2)
-        ),
-        &[("c.toml", &c)],
-    );
+    // Two of design C on 20 mm wide prepreg sheets of the given height.
+    let prepreg = |height_mm: &str| {
+        scratch_batch(
+            &format!(
+                "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = {height_mm} }}\n",
+                item("c.toml", 2)
+            ),
+            &[("c.toml", &c)],
+        )
+    };
     fails_without_output(
-        &dir,
+        &prepreg("20"),
         &[
             "batch.toml: sheets.prepreg.height_mm = 20: the passive part of thesis-C",
             // 42.2 mm of part, the process's 1.5 mm ground tab and 0.55 mm to each edge, which the
@@ -489,26 +492,12 @@ fn bad_batches_exit_non_zero_with_a_clear_message_and_no_output() {
             "does not fit the sheet; it needs at least 44.83 mm",
         ],
     );
-    // The size the refusal names takes the part.
-    let dir = scratch_batch(
-        &format!(
-            "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = 44.83 }}\n",
-            item("c.toml", 2)
-        ),
-        &[("c.toml", &c)],
-    );
+    // The size the refusal names takes the part, and a hundredth less does not.
+    let dir = prepreg("44.83");
     let o = nest(&dir.path().join("batch.toml"), &dir.path().join("out"), &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    // And a hundredth less does not.
-    let dir = scratch_batch(
-        &format!(
-            "name = \"x\"\n{}[sheets]\nprepreg = {{ width_mm = 20, height_mm = 44.82 }}\n",
-            item("c.toml", 2)
-        ),
-        &[("c.toml", &c)],
-    );
     fails_without_output(
-        &dir,
+        &prepreg("44.82"),
         &["sheets.prepreg.height_mm = 44.82", "at least 44.83 mm"],
     );
 
