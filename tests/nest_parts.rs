@@ -1360,9 +1360,11 @@ fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
     // construction's sampled starts can miss.
     for k in 0..3 {
         let narrower = 80.0 - 2.0 * edge_gap_mm - 0.001 - 0.4 * k as f64;
-        let strip =
-            cam_nest::nest_strip(&[square.clone(), bar(narrower)], 80.0, &settings, &|_| {});
-        assert!(strip.is_ok(), "{narrower} mm: {:?}", strip.err());
+        let items = [square.clone(), bar(narrower)];
+        let strip = cam_nest::nest_strip(&items, 80.0, &settings, &|_| {})
+            .unwrap_or_else(|e| panic!("{narrower} mm: {e}"));
+        cam_nest::verify(&items, &strip.bin, &settings, &strip.solution, 1e-9)
+            .unwrap_or_else(|v| panic!("{narrower} mm: {v:?}"));
     }
 }
 
