@@ -109,6 +109,12 @@ impl Job {
         f32_margin(self.extent_mm)
     }
 
+    /// Gap a part needs to each edge of an empty sheet, mm: what the size check
+    /// ([`fits_empty_sheet`]) adds on either side of a part's box.
+    pub fn edge_gap_mm(&self) -> f64 {
+        edge_gap(self.settings.separation_mm, self.model_margin())
+    }
+
     /// Every part must fit an empty sheet at some allowed rotation.
     fn check_sizes(&self) -> Result<(), NestError> {
         for part in &self.parts {

@@ -59,7 +59,8 @@ pub fn nest_strip_until(
         }
         e
     })?;
-    let gap = 2.0 * job.model_separation() + 0.01;
+    // A part's box plus the gap it needs at both edges, as the size check counts it.
+    let gap = 2.0 * job.edge_gap_mm();
     let area = job.part_area();
     // Per part, the shortest extent along the strip at a rotation that fits the width.
     let along: Vec<f64> = job
