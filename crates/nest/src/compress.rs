@@ -37,7 +37,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::overlap::{
-    bounds_meet, depth_reaching, loss, overlap, shifted, Bounds, Pieces, Projections,
+    bounds_meet, loss, overlap, overlap_reaching, shifted, Bounds, Pieces, Projections,
 };
 use crate::placement::Placement;
 
@@ -904,15 +904,15 @@ impl<'a> Separation<'a> {
     fn loss_against(&self, a: &Pieces, t: (f32, f32), j: usize, enough: f32) -> f32 {
         let b = self.items[j];
         let pb = self.pieces(b);
-        let depth = overlap(
+        let o = overlap(
             a,
             [t.0, t.1],
             pb,
             [b.t.0, b.t.1],
             self.footprints.table.as_ref(),
-            depth_reaching(enough, a, pb),
+            overlap_reaching(enough, a, pb),
         );
-        loss(depth, a, pb)
+        loss(o, a, pb)
     }
 
     /// Recomputes item `i`'s losses against every other item.

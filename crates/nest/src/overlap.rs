@@ -8,10 +8,15 @@
 //! shape is cut into convex pieces (earcut triangles merged while the union stays convex, as in
 //! Hertel & Mehlhorn 1983). Between two convex pieces the separating-axis theorem gives the
 //! penetration depth: the least overlap of their projections on the edge normals of either,
-//! zero when one of those axes separates them. Summed over the piece pairs, it is zero iff the
-//! shapes are clear by at least [`CLEARANCE_MM`], and it shrinks as a part moves out. What the
-//! compression minimises is [`loss`]: that depth charged as sparrow charges a collision, with a
-//! floor and scaled by the parts' sizes.
+//! zero when one of those axes separates them. Times how far the pieces overlap across that
+//! normal, it is an area: exactly the shared area of two boxes, and for any two convex pieces
+//! the box it spans. Summed over the piece pairs, it is zero iff the shapes are clear by at
+//! least [`CLEARANCE_MM`], and it shrinks as a part moves out. What the compression minimises
+//! is [`loss`]: that area charged as sparrow charges a collision, with a floor and scaled by
+//! the parts' sizes. Sparrow's measure is an area as well (a sum over pairs of inscribed
+//! circles, Gardeyn & Wauters 2025, Algorithm 3); a depth alone charged a long, shallow
+//! overlap of two parts lying side by side as little as a corner's, and separations on strips
+//! of long parts gave up with many of them left.
 
 use geo::{Area, ConvexHull, Coord, LineString, MultiPoint, Point, Polygon, TriangulateEarcut};
 
@@ -35,6 +40,9 @@ struct Convex {
     /// The piece's own projection on each of its normals: fixed, so only the other piece of a
     /// pair needs projecting on them (half the work of a depth query).
     extents: Vec<Interval>,
+    /// Its own projection on each normal turned a quarter ([`across`]), for the width of an
+    /// overlap found on that normal.
+    across_extents: Vec<Interval>,
     bounds: Bounds,
 }
 
@@ -171,10 +179,11 @@ impl Pieces {
 }
 
 /// Most pieces a [`Projections`] table is built for: it holds every ordered pair of pieces, so
-/// its size grows with the square (200 pieces of up to 8 edges: about 2.6 MB).
+/// its size grows with the square (200 pieces of up to 8 edges: about 5 MB).
 const MAX_TABLE_PIECES: usize = 200;
 
-/// Where each piece projects onto every other piece's edge normals, at the origin. Parts only
+/// Where each piece projects onto every other piece's edge normals, and onto those normals
+/// turned a quarter, at the origin. Parts only
 /// translate during compression (a rotation is a shape of its own), so these projections move
 /// only by an offset, and a depth query needs one addition per axis instead of a projection
 /// of every vertex: the same numbers, computed once. A profile of a 60-part strip put 58 % of
@@ -206,6 +215,7 @@ impl Projections {
             for b in &all {
                 start.push(data.len());
                 data.extend(a.normals.iter().map(|&n| project(&b.vertices, n)));
+                data.extend(a.normals.iter().map(|&n| project(&b.vertices, across(n))));
             }
         }
         Some(Projections {
@@ -215,18 +225,19 @@ impl Projections {
         })
     }
 
-    /// `b`'s projections on `a`'s normals.
+    /// `b`'s projections on `a`'s normals, then on those normals turned a quarter ([`across`]).
     fn of(&self, a: usize, b: usize, normals: usize) -> &[Interval] {
         let at = self.start[a * self.pieces + b];
-        &self.data[at..at + normals]
+        &self.data[at..at + 2 * normals]
     }
 }
 
-/// Penetration of shape `a` moved by `ta` into shape `b` moved by `tb`: the sum over piece
-/// pairs of their separating-axis depth (plus [`CLEARANCE_MM`]); zero when they are clear.
-/// With a table that holds both shapes the projections come from it, else they are computed.
-/// The sum stops once it reaches `enough` (`f32::MAX` for the whole of it): a caller that only
-/// asks whether a position beats a bound ([`depth_reaching`]) need not add up the rest.
+/// Overlap of shape `a` moved by `ta` with shape `b` moved by `tb`: the sum over piece pairs
+/// of their separating-axis depth times their overlap across its normal (each plus
+/// [`CLEARANCE_MM`]), an area; zero when they are clear. With a table that holds both shapes the
+/// projections come from it, else they are computed. The sum stops once it reaches `enough`
+/// (`f32::MAX` for the whole of it): a caller that only asks whether a position beats a bound
+/// ([`overlap_reaching`]) need not add up the rest.
 pub(crate) fn overlap(
     a: &Pieces,
     ta: [f32; 2],
@@ -271,42 +282,44 @@ pub(crate) fn overlap(
 const LEAST_DEPTH_SHARE: f32 = 0.01;
 
 /// How much the separation is charged for a collision of shapes `a` and `b` whose [`overlap`]
-/// is `depth`: zero when it is, else `sqrt(depth² + ε²) · sqrt(size_a · size_b)`, with ε
+/// is the area `o`: zero when it is, else `sqrt(o + ε²) · sqrt(size_a · size_b)`, with ε
 /// (`LEAST_DEPTH_SHARE` of the larger diameter) and `size` the square root of a shape's convex
 /// hull area, as sparrow quantifies a collision (Gardeyn & Wauters 2025, Algorithm 4). The floor
-/// ε makes every collision, however shallow, cost about a hundredth of a part, so a separation
+/// ε makes every collision, however slight, cost about a hundredth of a part, so a separation
 /// does not settle for many slight overlaps that each look nearly free; the size factor makes a
-/// large part's collisions dearer than a small one's of the same depth, so the small part is the
-/// one that moves to a gap.
-pub(crate) fn loss(depth: f32, a: &Pieces, b: &Pieces) -> f32 {
-    if depth == 0.0 {
+/// large part's collisions dearer than a small one's of the same overlap, so the small part is
+/// the one that moves to a gap.
+pub(crate) fn loss(o: f32, a: &Pieces, b: &Pieces) -> f32 {
+    if o == 0.0 {
         return 0.0;
     }
     let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
-    (depth * depth + least * least).sqrt() * (a.size * b.size).sqrt()
+    (o + least * least).sqrt() * (a.size * b.size).sqrt()
 }
 
-/// The least depth at which [`loss`] of shapes `a` and `b` reaches `target`: the loss solved for
-/// the depth, `sqrt((target / sqrt(size_a · size_b))² − ε²)`, a little over it so that rounding
-/// never puts the loss of that depth under `target` (zero where any collision costs that much,
+/// The least overlap at which [`loss`] of shapes `a` and `b` reaches `target`: the loss solved
+/// for the overlap, `(target / sqrt(size_a · size_b))² − ε²`, a little over it so that rounding
+/// never puts the loss of that overlap under `target` (zero where any collision costs that much,
 /// `target / sqrt(size_a · size_b) ≤ ε`; infinite for `f32::MAX`). It is what [`overlap`] may
 /// stop at when the caller only asks whether the loss stays under `target`.
-pub(crate) fn depth_reaching(target: f32, a: &Pieces, b: &Pieces) -> f32 {
+pub(crate) fn overlap_reaching(target: f32, a: &Pieces, b: &Pieces) -> f32 {
     let least = LEAST_DEPTH_SHARE * a.diameter.max(b.diameter);
     let per_size = target / (a.size * b.size).sqrt();
     if per_size <= least {
         return 0.0;
     }
-    (per_size * per_size - least * least).sqrt() * (1.0 + REACH_MARGIN)
+    (per_size * per_size - least * least) * (1.0 + REACH_MARGIN)
 }
 
-/// Relative margin of [`depth_reaching`]: far above f32 rounding, far below any difference
+/// Relative margin of [`overlap_reaching`]: far above f32 rounding, far below any difference
 /// between two samples' costs that matters.
 const REACH_MARGIN: f32 = 1e-3;
 
-/// Separating-axis penetration depth of convex `a` moved by `d` into convex `b`: the smallest
-/// overlap of their projections over the edge normals of both, or zero if one is negative.
-/// `projected`: `b` on `a`'s normals and `a` on `b`'s, both at the origin, if known.
+/// Overlap of convex `a` moved by `d` with convex `b`: their separating-axis penetration depth
+/// (the smallest overlap of their projections over the edge normals of both, or zero if one is
+/// negative) times the overlap of their projections across the normal it is found on.
+/// `projected`: `b` on `a`'s normals and across them, and `a` on `b`'s, all at the origin, if
+/// known.
 fn depth(
     a: &Convex,
     d: [f32; 2],
@@ -336,14 +349,41 @@ fn depth(
             ((lo + offset, hi + offset), own)
         });
     let mut least = f32::MAX;
-    for ((a_min, a_max), (b_min, b_max)) in on_a.chain(on_b) {
+    let mut axis = 0;
+    for (k, ((a_min, a_max), (b_min, b_max))) in on_a.chain(on_b).enumerate() {
         let o = smaller(a_max, b_max) - larger(a_min, b_min) + CLEARANCE_MM;
         if o <= 0.0 {
             return 0.0;
         }
-        least = smaller(least, o);
+        if o < least {
+            least = o;
+            axis = k;
+        }
     }
-    least
+    // How far the pieces overlap across the normal of least depth: both projections on that
+    // normal turned a quarter, `a`'s moved by `d`.
+    let na = a.normals.len();
+    let ((a_lo, a_hi), (b_lo, b_hi)) = if axis < na {
+        let n = across(a.normals[axis]);
+        let offset = d[0] * n[0] + d[1] * n[1];
+        let own = a.across_extents[axis];
+        let other = projected.map_or_else(|| project(&b.vertices, n), |p| p.0[na + axis]);
+        ((own.0 + offset, own.1 + offset), other)
+    } else {
+        let k = axis - na;
+        let n = across(b.normals[k]);
+        let offset = d[0] * n[0] + d[1] * n[1];
+        let nb = b.normals.len();
+        let (lo, hi) = projected.map_or_else(|| project(&a.vertices, n), |p| p.1[nb + k]);
+        ((lo + offset, hi + offset), b.across_extents[k])
+    };
+    let width = smaller(a_hi, b_hi) - larger(a_lo, b_lo) + CLEARANCE_MM;
+    least * larger(width, CLEARANCE_MM)
+}
+
+/// A normal turned a quarter, counter-clockwise.
+fn across(n: [f32; 2]) -> [f32; 2] {
+    [-n[1], n[0]]
 }
 
 fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> Interval {
@@ -397,10 +437,15 @@ impl Convex {
                 ]
             });
         let extents = normals.iter().map(|&n| project(&vertices, n)).collect();
+        let across_extents = normals
+            .iter()
+            .map(|&n| project(&vertices, across(n)))
+            .collect();
         Convex {
             vertices,
             normals,
             extents,
+            across_extents,
             bounds,
         }
     }
@@ -586,12 +631,19 @@ mod tests {
     }
 
     #[test]
-    fn overlap_is_zero_exactly_when_apart_and_equals_the_depth_of_two_squares() {
+    fn overlap_is_zero_exactly_when_apart_and_equals_the_overlap_area_of_two_squares() {
         let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
-        // Closed form: two axis-aligned squares overlapping by 0.5 in x (and fully in y)
-        // penetrate 0.5 deep.
-        let o = overlap(&square, [1.5, 0.0], &square, [0.0, 0.0], None, f32::MAX);
-        assert!((o - 0.5 - CLEARANCE_MM).abs() < 1e-5, "{o}");
+        // Closed forms: two axis-aligned 2 x 2 squares overlapping by 0.5 in x and fully in y
+        // share a 0.5 x 2 rectangle; shifted 0.5 in y as well, a 0.5 x 1.5 one. Each side of
+        // it counts the clearance once.
+        let c = CLEARANCE_MM;
+        for (t, area) in [
+            ([1.5, 0.0], (0.5 + c) * (2.0 + c)),
+            ([1.5, 0.5], (0.5 + c) * (1.5 + c)),
+        ] {
+            let o = overlap(&square, t, &square, [0.0, 0.0], None, f32::MAX);
+            assert!((o - area).abs() < 1e-5, "{t:?}: {o} against {area}");
+        }
         // Apart by more than the clearance: zero; closer than it: positive.
         assert_eq!(
             overlap(&square, [2.01, 0.3], &square, [0.0, 0.0], None, f32::MAX),
@@ -608,7 +660,7 @@ mod tests {
     }
 
     #[test]
-    fn the_loss_is_the_depth_with_a_floor_scaled_by_the_sizes() {
+    fn the_loss_is_the_overlap_with_a_floor_scaled_by_the_sizes() {
         // Closed forms (sparrow's quantification, Gardeyn & Wauters 2025, Algorithm 4): a 2 x 2
         // square has diameter 2√2 and size √4 = 2; an 8 x 2 bar diameter √68 and size 4.
         let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
@@ -616,15 +668,15 @@ mod tests {
         assert!((square.diameter - 8f32.sqrt()).abs() < 1e-5);
         assert!((square.size - 2.0).abs() < 1e-5 && (bar.size - 4.0).abs() < 1e-5);
         assert_eq!(loss(0.0, &square, &bar), 0.0);
-        // Deep: about the depth times √(2 · 4).
+        // Deep: about the root of the overlap times √(2 · 4).
         let deep = loss(0.5, &square, &bar);
         let floor = 0.01 * 68f32.sqrt();
-        let expected = (0.25 + floor * floor).sqrt() * 8f32.sqrt();
+        let expected = (0.5 + floor * floor).sqrt() * 8f32.sqrt();
         assert!((deep - expected).abs() < 1e-5, "{deep} against {expected}");
         // Shallow: never under the floor, 1 % of the larger diameter, times the sizes.
         let shallow = loss(1e-6, &square, &bar);
         assert!(shallow >= floor * 8f32.sqrt() && shallow < 1.001 * floor * 8f32.sqrt());
-        // The same depth between two squares costs less than between a square and the bar.
+        // The same overlap between two squares costs less than between a square and the bar.
         assert!(loss(0.5, &square, &square) < deep);
     }
 
@@ -649,18 +701,18 @@ mod tests {
     }
 
     #[test]
-    fn the_depth_reaching_a_loss_is_the_inverse_of_the_loss_and_stops_the_sum_there() {
+    fn the_overlap_reaching_a_loss_is_the_inverse_of_the_loss_and_stops_the_sum_there() {
         let square = Pieces::new(&[[0., 0.], [2., 0.], [2., 2.], [0., 2.]]).unwrap();
         let bar = Pieces::new(&[[0., 0.], [8., 0.], [8., 2.], [0., 2.]]).unwrap();
         for target in [0.5f32, 1.0, 3.0, 10.0] {
-            let d = depth_reaching(target, &square, &bar);
-            // Its loss reaches the target, and a depth a little under it does not.
+            let d = overlap_reaching(target, &square, &bar);
+            // Its loss reaches the target, and an overlap a little under it does not.
             assert!(loss(d, &square, &bar) >= target, "{target}: {d}");
             assert!(loss(0.99 * d, &square, &bar) < target, "{target}: {d}");
         }
-        // Under the floor any collision costs the target: zero depth reaches it.
+        // Under the floor any collision costs the target: zero overlap reaches it.
         let floor = loss(1e-9, &square, &bar);
-        assert_eq!(depth_reaching(0.9 * floor, &square, &bar), 0.0);
+        assert_eq!(overlap_reaching(0.9 * floor, &square, &bar), 0.0);
         // An ell of two pieces over a square: the whole sum, or part of it once it is enough.
         let l = Pieces::new(&[[0., 0.], [3., 0.], [3., 1.], [1., 1.], [1., 3.], [0., 3.]]).unwrap();
         assert!(l.pieces.len() == 2);

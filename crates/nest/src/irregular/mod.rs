@@ -47,7 +47,7 @@
 //!   where they are clear, so the parts under a sheet's top seldom get past one another. Last,
 //!   the sheet with the lowest top is compressed through overlap as sparrow does: lower its
 //!   ceiling, push the parts above it into their neighbours, and move parts to where they
-//!   overlap least until none do (guided local search on the penetration of convex pieces,
+//!   overlap least until none do (guided local search on the overlap area of convex pieces,
 //!   charged as sparrow charges a collision, module `overlap`, whose pair weights carry over
 //!   from one ceiling step to the next);
 //!   jagua-rs checks every layout it keeps. Where the smallest step keeps
