@@ -660,6 +660,20 @@ mod tests {
     }
 
     #[test]
+    fn two_bars_overlapping_along_their_length_cost_more_than_at_their_corners() {
+        // Two 10 x 1 bars 0.1 deep into each other: side by side over their whole length they
+        // share 10 x 0.1, corner to corner 0.1 x 0.1. The depth is 0.1 either way; the measure
+        // is the shared area, a hundred times larger along the length.
+        let bar = Pieces::new(&[[0., 0.], [10., 0.], [10., 1.], [0., 1.]]).unwrap();
+        let c = CLEARANCE_MM;
+        let along = overlap(&bar, [0.0, 0.9], &bar, [0.0, 0.0], None, f32::MAX);
+        let corner = overlap(&bar, [9.9, 0.9], &bar, [0.0, 0.0], None, f32::MAX);
+        assert!((along - (0.1 + c) * (10.0 + c)).abs() < 1e-4, "{along}");
+        assert!((corner - (0.1 + c) * (0.1 + c)).abs() < 1e-5, "{corner}");
+        assert!(loss(along, &bar, &bar) > 5.0 * loss(corner, &bar, &bar));
+    }
+
+    #[test]
     fn the_loss_is_the_overlap_with_a_floor_scaled_by_the_sizes() {
         // Closed forms (sparrow's quantification, Gardeyn & Wauters 2025, Algorithm 4): a 2 x 2
         // square has diameter 2√2 and size √4 = 2; an 8 x 2 bar diameter √68 and size 4.
