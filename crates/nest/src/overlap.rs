@@ -1,22 +1,22 @@
-//! How deeply two placed collision shapes overlap: the measure the strip compression
+//! How much two placed collision shapes overlap: the measure the strip compression
 //! ([`super::compress`]) drives to zero.
 //!
 //! The ruin-and-recreate search only places parts where they are clear. Compression instead
 //! pushes parts into one another and moves them apart again, as sparrow does (Gardeyn &
-//! Wauters, "An open-source heuristic to reboot 2D nesting research", 2025), so it needs to know
-//! *how much* two shapes collide, with a measure that is zero exactly when they are clear. Each
-//! shape is cut into convex pieces (earcut triangles merged while the union stays convex, as in
-//! Hertel & Mehlhorn 1983). Between two convex pieces the separating-axis theorem gives the
-//! penetration depth: the least overlap of their projections on the edge normals of either,
+//! Wauters, "An open-source heuristic to reboot 2D nesting research", 2025), so it needs to
+//! know *how much* two shapes collide, with a measure that is zero exactly when they are clear.
+//! Each shape is cut into convex pieces (earcut triangles merged while the union stays convex,
+//! as in Hertel & Mehlhorn 1983). Between two convex pieces the separating-axis theorem gives
+//! the penetration depth: the least overlap of their projections on the edge normals of either,
 //! zero when one of those axes separates them. Times how far the pieces overlap across that
-//! normal, it is an area: exactly the shared area of two boxes, and for any two convex pieces
-//! the box it spans. Summed over the piece pairs, it is zero iff the shapes are clear by at
-//! least [`CLEARANCE_MM`], and it shrinks as a part moves out. What the compression minimises
-//! is [`loss`]: that area charged as sparrow charges a collision, with a floor and scaled by
-//! the parts' sizes. Sparrow's measure is an area as well (a sum over pairs of inscribed
-//! circles, Gardeyn & Wauters 2025, Algorithm 3); a depth alone charged a long, shallow
-//! overlap of two parts lying side by side as little as a corner's, and separations on strips
-//! of long parts gave up with many of them left.
+//! normal, it is an area: the area of the rectangle the pieces' intersection lies in, so never
+//! less than their shared area, and equal to it for two boxes. Summed over the piece pairs, it
+//! is zero iff the shapes are clear by at least [`CLEARANCE_MM`], and it shrinks as a part
+//! moves out. What the compression minimises is [`loss`]: that area charged as sparrow charges
+//! a collision, with a floor and scaled by the parts' sizes. Sparrow's measure is an area as
+//! well (a sum over pairs of inscribed circles, Gardeyn & Wauters 2025, Algorithm 3). A depth
+//! alone would charge a long, shallow overlap of two parts lying side by side as little as a
+//! corner, and a separation on a strip of long parts would settle for many such slivers.
 
 use geo::{Area, ConvexHull, Coord, LineString, MultiPoint, Point, Polygon, TriangulateEarcut};
 
@@ -38,7 +38,7 @@ struct Convex {
     vertices: Vec<[f32; 2]>,
     normals: Vec<[f32; 2]>,
     /// The piece's own projection on each of its normals: fixed, so only the other piece of a
-    /// pair needs projecting on them (half the work of a depth query).
+    /// pair needs projecting on them (half the work of an overlap query).
     extents: Vec<Interval>,
     /// Its own projection on each normal turned a quarter ([`across`]), for the width of an
     /// overlap found on that normal.
@@ -183,11 +183,10 @@ impl Pieces {
 const MAX_TABLE_PIECES: usize = 200;
 
 /// Where each piece projects onto every other piece's edge normals, and onto those normals
-/// turned a quarter, at the origin. Parts only
-/// translate during compression (a rotation is a shape of its own), so these projections move
-/// only by an offset, and a depth query needs one addition per axis instead of a projection
-/// of every vertex: the same numbers, computed once. A profile of a 60-part strip put 58 % of
-/// the nester's time in [`overlap`].
+/// turned a quarter, at the origin. Parts only translate during compression (a rotation is a
+/// shape of its own), so these projections move only by an offset, and an overlap query needs
+/// one addition per axis instead of a projection of every vertex: the same numbers, computed
+/// once. A profile of a 60-part strip put 58 % of the nester's time in [`overlap`].
 pub(crate) struct Projections {
     pieces: usize,
     /// `[a * pieces + b]`: start in `data` of `b`'s projections on `a`'s normals.
@@ -267,7 +266,7 @@ pub(crate) fn overlap(
                         t.of(ib, ia, pb.normals.len()),
                     )
                 });
-                total += depth(pa, d, pb, projected);
+                total += piece_overlap(pa, d, pb, projected);
                 if total > 0.0 && total >= enough {
                     return total;
                 }
@@ -320,7 +319,7 @@ const REACH_MARGIN: f32 = 1e-3;
 /// negative) times the overlap of their projections across the normal it is found on.
 /// `projected`: `b` on `a`'s normals and across them, and `a` on `b`'s, all at the origin, if
 /// known.
-fn depth(
+fn piece_overlap(
     a: &Convex,
     d: [f32; 2],
     b: &Convex,
@@ -396,9 +395,9 @@ fn project(vertices: &[[f32; 2]], n: [f32; 2]) -> Interval {
     (lo, hi)
 }
 
-// `depth` and `project` are most of the nester's time. `f32::min` and `max` carry NaN rules
-// that cost several instructions each; these plain comparisons are one. No projection is NaN
-// (the outlines are validated finite), and on equal values either side is the same number.
+// `piece_overlap` and `project` are most of the nester's time. `f32::min` and `max` carry NaN
+// rules that cost several instructions each; these plain comparisons are one. No projection is
+// NaN (the outlines are validated finite), and on equal values either side is the same number.
 fn smaller(a: f32, b: f32) -> f32 {
     if a < b {
         a
@@ -532,7 +531,7 @@ mod tests {
     fn smaller_and_larger_agree_with_min_and_max_on_numbers() {
         // Equal as numbers, not bit for bit: `f32::min` leaves the sign of a zero from -0.0 and
         // 0.0 unspecified, and -0.0 == 0.0, so the signed zeros here check only that the result
-        // compares equal, which is all the depth's comparisons and sums can see of it.
+        // compares equal, which is all the overlap's comparisons and sums can see of it.
         let values = [
             f32::MIN,
             -3.5,
@@ -589,8 +588,8 @@ mod tests {
 
     #[test]
     fn the_projection_table_gives_the_same_numbers_as_projecting() {
-        // The table only stores what `depth` would compute, so every query must agree to the
-        // bit, at every offset and in both orders, across shapes of several pieces.
+        // The table only stores what `piece_overlap` would compute, so every query must agree to
+        // the bit, at every offset and in both orders, across shapes of several pieces.
         let mut ell = Pieces::new(&ell()).unwrap();
         let mut diamond = Pieces::new(&[[1., 0.], [2., 1.], [1., 2.], [0., 1.]]).unwrap();
         let mut trapezoid = Pieces::new(&[[0., 0.], [5., 0.4], [5., 1.6], [0., 2.]]).unwrap();
