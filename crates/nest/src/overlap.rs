@@ -659,6 +659,49 @@ mod tests {
     }
 
     #[test]
+    fn the_overlap_of_two_convex_pieces_is_never_less_than_their_shared_area() {
+        // The module's claim: the intersection lies in the rectangle of the two overlaps, so
+        // the measure bounds the shared area from above. Checked against geo's boolean
+        // intersection for triangles and quadrilaterals at many offsets.
+        use geo::BooleanOps;
+        use rand::{Rng, SeedableRng};
+        let polygon = |pts: &[[f32; 2]], t: [f32; 2]| {
+            let ring: Vec<Coord<f64>> = pts
+                .iter()
+                .map(|p| Coord {
+                    x: f64::from(p[0] + t[0]),
+                    y: f64::from(p[1] + t[1]),
+                })
+                .collect();
+            Polygon::new(LineString::from(ring), vec![])
+        };
+        let shapes: [&[[f32; 2]]; 3] = [
+            &[[0., 0.], [3., 0.5], [1., 2.]],
+            &[[0., 0.], [4., 0.], [4.5, 1.], [0.5, 1.5]],
+            &[[1., 0.], [2., 1.], [1., 2.], [0., 1.]],
+        ];
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut overlapping = 0;
+        for a in shapes {
+            for b in shapes {
+                let (pa, pb) = (Pieces::new(a).unwrap(), Pieces::new(b).unwrap());
+                for _ in 0..200 {
+                    let t = [rng.gen_range(-3.0..3.0), rng.gen_range(-2.0..2.0)];
+                    let o = overlap(&pa, t, &pb, [0.0, 0.0], None, f32::MAX);
+                    let shared = polygon(a, t)
+                        .intersection(&polygon(b, [0.0, 0.0]))
+                        .unsigned_area();
+                    if shared > 1e-6 {
+                        overlapping += 1;
+                    }
+                    assert!(f64::from(o) >= shared - 1e-4, "{t:?}: {o} under {shared}");
+                }
+            }
+        }
+        assert!(overlapping > 500, "only {overlapping} offsets overlap");
+    }
+
+    #[test]
     fn two_bars_overlapping_along_their_length_cost_more_than_at_their_corners() {
         // Two 10 x 1 bars 0.1 deep into each other: side by side over their whole length they
         // share 10 x 0.1, corner to corner 0.1 x 0.1. The depth is 0.1 either way; the measure

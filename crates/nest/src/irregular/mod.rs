@@ -86,9 +86,9 @@
 //!   alone, so the starts do not depend on which thread built them.
 //! * **Where it stands** (docs/benchmarks.md): on the lab's strips of actuators ahead of
 //!   sparrow, the state-of-the-art strip packer, given 5 s, 30 s and 120 s; on the twelve
-//!   public ESICUP instances ahead of it in the mean at 5 s (by 1.5 points), 30 s (by 0.5-0.75)
-//!   and 120 s (by 0.4), on 8 to 12 of the 12; jakobs2 turns on whether either engine's
-//!   exploration gets below one ceiling.
+//!   public ESICUP instances ahead of it in the mean of three seeds at 5 s (by 1.5 points), 30 s
+//!   (by 0.75) and 120 s (by 0.6), on 10 to 12 of the 12; jakobs2 turns on whether either
+//!   engine's exploration gets below one ceiling.
 //!
 //! The code follows these concerns: `model` is the jagua-rs adapter (instance, collision
 //! shapes, collision queries, the slide, conversions), `score` the objective, `construct` the
