@@ -12,7 +12,7 @@
 #[path = "../tests/synthetic/mod.rs"]
 mod synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
 use actuator_model::Effects;
 use rand::SeedableRng;
@@ -50,7 +50,7 @@ fn case_at(
     let (mut times, mut cpu) = (Vec::new(), Vec::new());
     for _ in 0..runs {
         let (start, cpu_start) = (std::time::Instant::now(), cpu_seconds());
-        let cal = calibrate::calibrate(&data, &Settings::default()).expect("calibrates");
+        let cal = calibrate(&data, &Settings::default()).expect("calibrates");
         times.push(start.elapsed().as_secs_f64());
         cpu.push(cpu_seconds() - cpu_start);
         let Some(want) = want else {

@@ -15,8 +15,9 @@ mod child;
 #[path = "../tests/common/fixtures.rs"]
 mod fixtures;
 
-use actuator_cam::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
-use actuator_cam::design::Design;
+use actuator_cam::{
+    plan_cut_sheet as plan, render_layer_files, CutSheetOptions, Design, Formats, Template,
+};
 use actuator_model::ModelKind;
 use fixtures::{example, example_path, THESIS_DESIGNS};
 use std::path::Path;
@@ -49,7 +50,7 @@ fn in_memory() {
         for _ in 0..7 {
             let start = Instant::now();
             let sheet = plan(&design, &template, &opts).expect("plan");
-            let files = write::render(&sheet, opts.formats, opts.stroke_mm).expect("render");
+            let files = render_layer_files(&sheet, opts.formats, opts.stroke_mm).expect("render");
             times.push(start.elapsed().as_secs_f64());
             bytes = files.iter().map(|(_, b)| b.len()).sum::<usize>();
             count = files.len();

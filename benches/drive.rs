@@ -5,11 +5,7 @@
 #[path = "../tests/common/fixtures.rs"]
 mod fixtures;
 
-use actuator_cam::cutsheet::design_for_process;
-use actuator_cam::design::Design;
-use actuator_cam::drive::analyse;
-use actuator_cam::drive::spec::DriveSpec;
-use actuator_cam::process::template::Template;
+use actuator_cam::{analyse_drive as analyse, design_for_process, Design, DriveSpec, Template};
 use actuator_model::model::{ModelChoice, ModelKind};
 use fixtures::example_path;
 use std::time::Instant;

@@ -5,10 +5,7 @@
 #[path = "../tests/common/fixtures.rs"]
 mod fixtures;
 
-use actuator_cam::batch::{plan, Batch, NestOptions};
-use actuator_cam::cam::svg::SvgOptions;
-use actuator_cam::cutsheet::write::render_drawings;
-use actuator_cam::cutsheet::Formats;
+use actuator_cam::{plan_nest, render_drawings, Batch, Formats, NestOptions, SvgOptions};
 use fixtures::example_path;
 use std::time::Instant;
 
@@ -33,7 +30,7 @@ fn main() {
         let mut summary = String::new();
         for _ in 0..5 {
             let start = Instant::now();
-            let planned = plan(&batch, &opts).expect("plan");
+            let planned = plan_nest(&batch, &opts).expect("plan");
             let files = render_drawings(
                 &planned.drawings,
                 formats,

@@ -4,12 +4,10 @@
 //! the process CPU time per run and the load average: on a shared machine the wall clock measures the
 //! other jobs too, while designs per CPU-second times the number of idle cores is what the code does.
 
-use actuator_cam::drive::spec::DriveSpec;
-use actuator_cam::optimize::flap::{optimize_flap, wing_load};
-use actuator_cam::optimize::model::SearchModel;
-use actuator_cam::optimize::search::{exhaustive, Objective, Problem};
-use actuator_cam::optimize::spec::Spec;
-use actuator_cam::optimize::{optimize, Silent};
+use actuator_cam::{
+    exhaustive, optimize, optimize_flap, wing_load, DriveSpec, Objective, OptimizeSpec as Spec,
+    Problem, SearchModel, Silent,
+};
 use actuator_model::{ModelChoice, ModelKind};
 use std::path::Path;
 use std::time::Instant;

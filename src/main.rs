@@ -26,7 +26,7 @@ fn main() -> ExitCode {
             eprintln!("interrupted: ending the search, writing the best layout so far (interrupt again to abort)");
             return;
         }
-        if actuator_cam::output::remove_after_interrupt() {
+        if actuator_cam::remove_after_interrupt() {
             return;
         }
         eprintln!("error: interrupted");

@@ -2,7 +2,7 @@
 //! is named with its stock, the steps come in the thesis' order for each method, the parts go into the
 //! mold after the sheets that hold them, and the checks and wiring follow each design.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::Value;
 use std::path::Path;

@@ -1,8 +1,10 @@
 //! `actuator-cam calibrate` end to end: the example data set, the files it writes, the round trip of the
 //! calibrated model, and clear errors (non-zero exit, nothing written) on bad input.
 
-mod common;
-use actuator_cam::calibrate::{self, csv, model_file, predict_row, Settings};
+use crate::common;
+use actuator_cam::{
+    calibrate, calibrated_model_toml, parse_calibrated_model, predict_row, read_measured, Settings,
+};
 use common::{example_path, run as cam, run_ok as cam_ok};
 use std::path::{Path, PathBuf};
 
@@ -105,10 +107,10 @@ fn example_is_explained_and_every_file_is_written() {
 /// "after" numbers. (The CLI form, `predict --model`, is `predict_cli_reproduces_after_predictions`.)
 #[test]
 fn calibrated_model_file_reproduces_the_after_predictions() {
-    let data = csv::read_path(&example()).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
-    let text = model_file::to_toml(&cal.model).unwrap();
-    let back = model_file::from_toml(&text).unwrap();
+    let data = read_measured(&example()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
+    let text = calibrated_model_toml(&cal.model).unwrap();
+    let back = parse_calibrated_model(&text).unwrap();
     assert_eq!(back, cal.model);
     for (m, after) in data.rows.iter().zip(&cal.predictions_after) {
         let p = predict_row(&back, m).unwrap();
@@ -132,8 +134,8 @@ fn predict_cli_reproduces_after_predictions() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     calibrate_example_into(&out);
-    let data = csv::read_path(&example()).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let data = read_measured(&example()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     let m = &data.rows[3];
     let design = common::design_of(m);
     let design_path = dir.path().join("design.toml");

@@ -2,21 +2,21 @@
 //! 45 % low at every voltage) must be named, excluded, and leave the verdict and the fitted parameters of
 //! the clean data unchanged. Seeds 300-302 were not used while choosing the screen's thresholds.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Calibration, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Calibration, Settings};
 use actuator_model::Effects;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use synthetic::*;
 
 fn run(csv: &str) -> Calibration {
-    calibrate::calibrate(&parse(csv).unwrap(), &Settings::default()).unwrap()
+    calibrate(&parse(csv).unwrap(), &Settings::default()).unwrap()
 }
 
 /// Selected effects with their estimate and interval, from the final models.
 fn parameters(cal: &Calibration) -> Vec<(String, f64, (f64, f64))> {
-    calibrate::report::tree::selected_effects(cal)
+    actuator_cam::selected_effects(cal)
         .into_iter()
         .map(|e| (e.name.to_string(), e.estimate, e.interval))
         .collect()
@@ -135,8 +135,8 @@ fn the_report_names_the_broken_actuators_and_the_exclusion() {
     });
     let csv = break_actuators(&random_csv(truth, 305), &[4, 17], 0.55);
     let data = parse(&csv).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
-    let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
+    let files = actuator_cam::render_calibration(&cal, &data, "measured.csv").unwrap();
     let text = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();
     let json: serde_json::Value = serde_json::from_str(&text("report.json")).unwrap();
     let broken = json["broken_actuators"].as_array().unwrap();

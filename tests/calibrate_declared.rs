@@ -5,12 +5,11 @@
 //! The data are generated (tests/synthetic) with an effect outside the library built from the model
 //! crate's own primitives, and never declared to the calibrator unless the test says so.
 
-mod common;
-mod synthetic;
+use crate::common;
+use crate::synthetic;
 
-use actuator_cam::calibrate::library::{Declared, DeclaredSpec};
-use actuator_cam::calibrate::{self, csv::parse, Calibration, Settings};
-use actuator_cam::input;
+use actuator_cam::{calibrate, parse_measured as parse, Calibration, Settings};
+use actuator_cam::{Declared, DeclaredSpec};
 use actuator_model::primitives::{Applied, Primitive, Property, Target};
 use actuator_model::Effects;
 use rayon::prelude::*;
@@ -54,15 +53,16 @@ primitives = [{ kind = "scale", target = "passive", property = "E1" }]
 
 fn declarations() -> Vec<DeclaredSpec> {
     let file = std::path::Path::new("effects.toml");
-    calibrate::effects_file::parse(file, &input::parse_toml(file, DECLARATIONS).unwrap()).unwrap()
+    actuator_cam::parse_effects(file, &actuator_cam::parse_toml(file, DECLARATIONS).unwrap())
+        .unwrap()
 }
 
 /// 30 actuators x 4 voltages, 5 % noise, with `truth`.
-fn data(truth: Truth, seed: u64) -> actuator_cam::calibrate::Dataset {
+fn data(truth: Truth, seed: u64) -> actuator_cam::Dataset {
     parse(&random_csv(truth, seed)).unwrap()
 }
 
-fn calibrate_with(data: &actuator_cam::calibrate::Dataset, declared: bool) -> Calibration {
+fn calibrate_with(data: &actuator_cam::Dataset, declared: bool) -> Calibration {
     let settings = Settings {
         declared: if declared {
             declarations().into_iter().flat_map(Declared::all).collect()
@@ -71,7 +71,7 @@ fn calibrate_with(data: &actuator_cam::calibrate::Dataset, declared: bool) -> Ca
         },
         ..Settings::default()
     };
-    calibrate::calibrate(data, &settings).unwrap()
+    calibrate(data, &settings).unwrap()
 }
 
 /// The fitted value and 95 % interval of a selected declared effect.
@@ -190,7 +190,7 @@ fn library_only(
     let path = dir.join("library-only.toml");
     std::fs::write(
         &path,
-        actuator_cam::calibrate::model_file::to_toml(&library).unwrap(),
+        actuator_cam::calibrated_model_toml(&library).unwrap(),
     )
     .unwrap();
     path
@@ -218,7 +218,7 @@ fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
         out.to_str().unwrap(),
     ]);
     let model_path = out.join("calibrated-model.toml");
-    let model = actuator_cam::calibrate::model_file::load(&model_path).unwrap();
+    let model = actuator_cam::load_calibrated_model(&model_path).unwrap();
     let record = model
         .declared
         .iter()
@@ -297,7 +297,7 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
     let model_path = dir.path().join("calibrated-model.toml");
     std::fs::write(
         &model_path,
-        actuator_cam::calibrate::model_file::to_toml(&model).unwrap(),
+        actuator_cam::calibrated_model_toml(&model).unwrap(),
     )
     .unwrap();
     let spec = std::fs::read_to_string(common::example_path("optimize-thesis.toml"))
@@ -363,7 +363,7 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
         clamp_per_width(),
     );
     let path = common::example_path("effects-held-root.toml");
-    let specs = calibrate::effects_file::read_path(&path).unwrap();
+    let specs = actuator_cam::read_effects(&path).unwrap();
     assert_eq!(specs[0].parameters.len(), 2);
     let settings = Settings {
         declared: specs.into_iter().flat_map(Declared::all).collect(),
@@ -372,7 +372,7 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
     struct Run {
         library_verdict: String,
         cal: Calibration,
-        data: actuator_cam::calibrate::Dataset,
+        data: actuator_cam::Dataset,
         cv_library: f64,
     }
     let runs: Vec<Run> = (1720..1730)
@@ -380,7 +380,7 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
         .map(|seed| {
             let data = data(truth, seed);
             let library = calibrate_with(&data, false);
-            let cal = calibrate::calibrate(&data, &settings).unwrap();
+            let cal = calibrate(&data, &settings).unwrap();
             Run {
                 library_verdict: library.model.verdict.clone(),
                 cv_library: library.cv_rmse_after,
@@ -439,8 +439,8 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
         (records[0].parameter.as_str(), records[1].parameter.as_str()),
         ("root_length_m", "c_w_rad_m_per_N_m")
     );
-    let text = actuator_cam::calibrate::model_file::to_toml(&cal.model).unwrap();
-    let back = actuator_cam::calibrate::model_file::from_toml(&text).unwrap();
+    let text = actuator_cam::calibrated_model_toml(&cal.model).unwrap();
+    let back = actuator_cam::parse_calibrated_model(&text).unwrap();
     assert_eq!(back, cal.model);
     let a = data.rows[5].actuator();
     let direct = actuator_model::primitives::compose(

@@ -28,9 +28,9 @@
 //! `cargo test --release --test calibrate_discovery -- --nocapture` prints the table in
 //! docs/calibration.md.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
 use rayon::prelude::*;
 use synthetic::*;
@@ -166,7 +166,7 @@ fn as_measured(csv: String) -> String {
 /// [`run`] on the data as `measured` leaves them (e.g. with the masses not measured).
 fn run_on(h: &Hidden, seed: u64, measured: Measured) -> Outcome {
     let data = parse(&measured(random_csv(h.truth, seed))).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     let d = cal.discovery.as_ref();
     Outcome {
         verdict: cal.model.verdict.clone(),
@@ -273,8 +273,8 @@ fn discovery_points_at_the_variable_and_the_primitive() {
 fn the_report_carries_the_discovery_only_when_not_explained() {
     let render = |truth: Truth| {
         let data = parse(&random_csv(truth, 7001)).unwrap();
-        let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
-        let files = calibrate::report::render(&cal, &data, "measured.csv").unwrap();
+        let cal = calibrate(&data, &Settings::default()).unwrap();
+        let files = actuator_cam::render_calibration(&cal, &data, "measured.csv").unwrap();
         let get = |name: &str| files.iter().find(|(n, _)| n == name).unwrap().1.clone();
         let json: serde_json::Value = serde_json::from_str(&get("report.json")).unwrap();
         (json, get("report.md"))

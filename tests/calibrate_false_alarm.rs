@@ -6,11 +6,12 @@
 //! `cargo test --release --test calibrate_false_alarm -- --ignored --nocapture` prints the table (about
 //! 5 minutes on two cores).
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::discover::catalogue;
-use actuator_cam::calibrate::library::{Declared, DeclaredParameter, DeclaredSpec};
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{
+    parse_measured as parse, primitive_bounds, primitive_name, primitive_parameter, Declared,
+    DeclaredParameter, DeclaredSpec, Settings,
+};
 use actuator_model::primitives::{Link, Map, Primitive, Property, Target};
 use rayon::prelude::*;
 use synthetic::*;
@@ -45,11 +46,11 @@ fn cases() -> Vec<(Primitive, f64)> {
 
 /// The primitive declared as an effect with discovery's physical bounds.
 fn declared(p: Primitive) -> Vec<Declared> {
-    let (lo, hi) = catalogue::bounds(p).unwrap();
+    let (lo, hi) = primitive_bounds(p).unwrap();
     Declared::all(DeclaredSpec {
-        name: catalogue::name(p),
+        name: primitive_name(p),
         parameters: vec![DeclaredParameter {
-            name: catalogue::parameter(p).into(),
+            name: primitive_parameter(p).into(),
             null: p.null(),
             lo,
             hi,
@@ -76,11 +77,11 @@ fn the_right_effect_declared_is_not_a_false_alarm() {
             .filter_map(|k| {
                 let data =
                     parse(&random_csv(Truth::Primitive(p, value), first_seed() + k)).unwrap();
-                let sel = calibrate::select::select(&data, &settings).unwrap();
+                let sel = actuator_cam::select_effects(&data, &settings).unwrap();
                 (!sel.adequacy.passed).then(|| sel.adequacy.worst_variable.unwrap_or_default())
             })
             .collect();
-        let name = catalogue::name(p);
+        let name = primitive_name(p);
         println!(
             "| {name} | {}/{SEEDS} | {} |",
             alarms.len(),

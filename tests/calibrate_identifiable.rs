@@ -2,9 +2,9 @@
 //! `ply_thickness_scale = 1.2992 [1.2992, 1.2992]`, a zero-width interval for a parameter the data cannot
 //! determine. Such a parameter must be reported as not identifiable, with the reason, and not selected.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, report, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, render_calibration, Settings};
 use actuator_model::Effects;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -45,7 +45,7 @@ fn one_design_eight_times_does_not_select_ply_thickness() {
         .collect();
     for text in [csv, same_mass] {
         let data = parse(&text).unwrap();
-        let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+        let cal = calibrate(&data, &Settings::default()).unwrap();
         let s = &cal.selection;
         assert!(
             !cal.model
@@ -71,7 +71,7 @@ fn one_design_eight_times_does_not_select_ply_thickness() {
         assert!(s.notes.iter().any(|n| n.starts_with(
             "ply-thickness (ply_thickness_scale) is not identifiable and was not selected: all actuators share one layup"
         )));
-        let md = report::render(&cal, &data, "same.csv").unwrap();
+        let md = render_calibration(&cal, &data, "same.csv").unwrap();
         let md = &md.iter().find(|(n, _)| n == "report.md").unwrap().1;
         assert!(md.contains("ply-thickness not identifiable: all actuators share one layup"));
         assert_eq!(cal.model.effects.ply_thickness_scale, 1.0);
@@ -82,7 +82,7 @@ fn one_design_eight_times_does_not_select_ply_thickness() {
 fn varied_designs_still_identify_ply_thickness() {
     // The same truth over 30 random designs: identifiable, selected.
     let data = parse(&random_csv(truth(), 42)).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     assert!(cal
         .selection
         .mass_candidates

@@ -18,12 +18,14 @@
 //! (`--nocapture`) here and asserted over several seeds per primitive by
 //! `the_intervals_cover_the_truth_at_their_stated_rate`.
 
-mod common;
-mod synthetic;
+use crate::common;
+use crate::synthetic;
 
-use actuator_cam::calibrate::library::Declared;
-use actuator_cam::calibrate::library::EffectId;
-use actuator_cam::calibrate::{self, csv::parse, effects_file, report, Calibration, Settings};
+use actuator_cam::Declared;
+use actuator_cam::EffectId;
+use actuator_cam::{
+    calibrate, parse_effects, parse_measured as parse, render_calibration, Calibration, Settings,
+};
 use actuator_model::primitives::{Primitive, Property, Target};
 use rayon::prelude::*;
 use std::path::Path;
@@ -66,8 +68,8 @@ fn cases() -> Vec<(&'static str, Primitive, f64)> {
 }
 
 /// The file calibrate writes as the next step, if any.
-fn suggested(cal: &Calibration, data: &calibrate::Dataset) -> Option<String> {
-    report::render(cal, data, "measured.csv")
+fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
+    render_calibration(cal, data, "measured.csv")
         .unwrap()
         .into_iter()
         .find(|(name, _)| name == "suggested-effects.toml")
@@ -102,9 +104,9 @@ type Turn = (String, Option<String>, String, Option<Fit>, String);
 fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
     let csv = random_csv(Truth::Primitive(primitive, value), seed(k));
     let data = parse(&csv).unwrap();
-    let first = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let first = calibrate(&data, &Settings::default()).unwrap();
     let v1 = first.selection.verdict.name().to_string();
-    let name = actuator_cam::calibrate::discover::catalogue::name(primitive);
+    let name = actuator_cam::primitive_name(primitive);
     let Some(text) = suggested(&first, &data) else {
         // No next step: what the first run selected.
         let selected = first.model.selected_effects.join(", ");
@@ -117,7 +119,7 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
         );
     };
     let table: toml::Table = text.parse().unwrap();
-    let declared: Vec<_> = effects_file::parse(Path::new("suggested-effects.toml"), &table)
+    let declared: Vec<_> = parse_effects(Path::new("suggested-effects.toml"), &table)
         .unwrap()
         .into_iter()
         .flat_map(Declared::all)
@@ -126,7 +128,7 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
         declared,
         ..Settings::default()
     };
-    let second = calibrate::calibrate(&data, &settings).unwrap();
+    let second = calibrate(&data, &settings).unwrap();
     let fit = declared_fit(&second, &name);
     let selected = second.model.selected_effects.join(", ");
     (

@@ -10,9 +10,9 @@
 //! `cargo test --release --test calibrate_power -- --ignored --nocapture` prints the table in
 //! docs/calibration.md; the fast test checks the t_p row the issue reported missed.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{csv::parse, select::adequacy_of, Settings};
+use actuator_cam::{adequacy_of, parse_measured as parse, Settings};
 use actuator_model::Effects;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

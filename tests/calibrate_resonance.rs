@@ -12,10 +12,10 @@
 //! Seeds: the cases were written against seed 7 (tuning); they are measured on seeds 1001 onwards, the
 //! first `synthetic::CI_SAMPLE` of them in CI and 20 with `ACTUATOR_CAM_FULL_STUDY=1`.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::library::Declared;
-use actuator_cam::calibrate::{self, csv::parse, effects_file, Calibration, Settings};
+use actuator_cam::Declared;
+use actuator_cam::{calibrate, parse_effects, parse_measured as parse, Calibration, Settings};
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::{EffectModel, Effects, ModelChoice, ModelKind};
 use rand::{Rng, SeedableRng};
@@ -131,7 +131,7 @@ primitives = [{ kind = "added-mass-per-area", parameter = "mu_kg_per_m2", null =
 "#;
     let table: toml::Table = text.parse().unwrap();
     Settings {
-        declared: effects_file::parse(Path::new("effects.toml"), &table)
+        declared: parse_effects(Path::new("effects.toml"), &table)
             .unwrap()
             .into_iter()
             .flat_map(Declared::all)
@@ -175,7 +175,7 @@ fn calibrated(
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let d = designs(&mut rng);
     let csv = with_resonance(truth, &d, &mut rng);
-    let cal = calibrate::calibrate(&parse(&csv).unwrap(), settings).unwrap();
+    let cal = calibrate(&parse(&csv).unwrap(), settings).unwrap();
     (d, csv, cal)
 }
 
@@ -290,7 +290,7 @@ fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
         ..Effects::default()
     });
     let (designs, csv, with) = calibrated(truth, 1003, random_designs, &Settings::default());
-    let without = calibrate::calibrate(
+    let without = calibrate(
         &parse(&without_resonance(&csv)).unwrap(),
         &Settings::default(),
     )
@@ -342,8 +342,7 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
         .par_iter()
         .map(|&s| {
             let (designs, csv, with) = calibrated(truth, s, same_plates, &settings);
-            let without =
-                calibrate::calibrate(&parse(&without_resonance(&csv)).unwrap(), &settings).unwrap();
+            let without = calibrate(&parse(&without_resonance(&csv)).unwrap(), &settings).unwrap();
             (designs, with, without)
         })
         .collect();
@@ -435,7 +434,7 @@ fn the_quality_factors_give_the_models_loss_factor_and_drive_uses_it() {
     assert!((loss.loss_factor / ETA - 1.0).abs() < 0.05, "{loss:?}");
     // The drive takes it when its file gives none, and the file's own value over it.
     let drive = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/drive-hawkmoth.toml");
-    let mut spec = actuator_cam::drive::spec::DriveSpec::load(&drive).unwrap();
+    let mut spec = actuator_cam::DriveSpec::load(&drive).unwrap();
     spec.loss_factor_given = None;
     let model = ModelChoice::Calibrated(Arc::new(cal.model.clone()));
     assert_eq!(spec.loss_factor(&model), loss.loss_factor);

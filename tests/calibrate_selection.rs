@@ -23,9 +23,9 @@
 //! runs all 20 measuring seeds, and with `-- --nocapture` prints the table in docs/calibration.md (about
 //! 4 minutes on two cores); `CALIBRATE_CASE=NAME` runs one case, `CALIBRATE_VERBOSE=1` prints every verdict.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::primitives::{Primitive, Property, Target};
 use actuator_model::Effects;
 use rayon::prelude::*;
@@ -162,9 +162,9 @@ struct Outcome {
 
 fn run(study: &Study, data_seed: u64) -> Outcome {
     let data = parse(&random_csv(study.truth, data_seed)).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     let sel = &cal.selection;
-    let fitted = |c: &calibrate::select::Candidate| {
+    let fitted = |c: &actuator_cam::Candidate| {
         format!(
             "{} {:?} aicc {:.1}",
             c.label(),

@@ -8,9 +8,9 @@
 //! `CALIBRATE_CASE=dead-length CALIBRATE_SEEDS=5 cargo test --test calibrate_synthetic -- --nocapture`
 //! runs one case with a given number of seeds while tuning.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::Effects;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -29,7 +29,7 @@ fn run_case(case: &Case, seed: u64) -> Outcome {
     let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
     let held_out: Vec<Design> = (0..10).map(|_| random_design(&mut rng)).collect();
     let data = parse(&synthetic_csv(case.truth, &designs, &mut rng)).unwrap();
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     Outcome {
         verdict: cal.model.verdict.clone(),
         selected: cal.model.selected_effects.clone(),
@@ -143,7 +143,7 @@ fn fifty_actuators_by_ten_voltages_name_the_hidden_pair() {
         .unwrap();
     let data = parse(&synthetic_csv_at(case.truth, &designs, &fields, &mut rng)).unwrap();
     assert_eq!(data.rows.len(), 500);
-    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+    let cal = calibrate(&data, &Settings::default()).unwrap();
     assert_eq!(cal.model.verdict, "explained");
     for hidden in case.hidden {
         assert!(
@@ -208,7 +208,7 @@ fn confounded_designs_do_not_name_the_wrong_effect() {
             .collect();
         let field_of = |d: &Design| vec![200.0 + 600.0 * (d.l_tot_mm - 20.0) / 30.0];
         let data = parse(&synthetic_csv_each(truth, &designs, &field_of, &mut rng)).unwrap();
-        let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+        let cal = calibrate(&data, &Settings::default()).unwrap();
         println!(
             "seed {seed}: {} {:?} {:?}",
             cal.model.verdict, cal.model.selected_effects, cal.selection.verdict

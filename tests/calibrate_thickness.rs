@@ -21,9 +21,9 @@
 //! (16 of 20 scaled up to 4 of 4). `ACTUATOR_CAM_FULL_STUDY=1 cargo test --release --test
 //! calibrate_thickness -- --nocapture` runs all 20 seeds and every layer and prints the table.
 
-mod synthetic;
+use crate::synthetic;
 
-use actuator_cam::calibrate::{self, csv::parse, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::primitives::Primitive;
 use rayon::prelude::*;
 use synthetic::*;
@@ -62,7 +62,7 @@ fn a_dead_surface_layer_is_selected_over_a_uniform_d31_scale() {
                 .par_iter()
                 .map(|&s| {
                     let data = parse(&random_csv(truth, s)).unwrap();
-                    let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+                    let cal = calibrate(&data, &Settings::default()).unwrap();
                     let estimate = cal
                         .model
                         .declared
@@ -140,7 +140,7 @@ fn a_d31_power_of_the_plate_thickness_is_told_from_a_dead_layer() {
             .par_iter()
             .map(|&s| {
                 let data = parse(&random_csv(truth, s)).unwrap();
-                let cal = calibrate::calibrate(&data, &Settings::default()).unwrap();
+                let cal = calibrate(&data, &Settings::default()).unwrap();
                 let c = &cal.selection.candidates[cal.selection.final_index];
                 let fit = c
                     .effects

@@ -4,15 +4,12 @@
 //! Set `CAM_SAMPLE_DIR=/some/dir` to keep the files there for `tools/check_outputs.py`,
 //! Inkscape or LightBurn; otherwise they go to a temporary directory.
 
-mod common;
+use crate::common;
 use common::svg_read::{read_svg_polygons, ParseError};
 use std::fs;
 use std::path::Path;
 
-use actuator_cam::cam::drawing::{Drawing, Operation, Shape};
-use actuator_cam::cam::dxf::to_dxf;
-use actuator_cam::cam::label::label_strokes;
-use actuator_cam::cam::svg::{to_svg, SvgOptions};
+use actuator_cam::{label_strokes, to_dxf, to_svg, Drawing, Operation, Shape, SvgOptions};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 

@@ -1,12 +1,10 @@
 //! `actuator-cam cut-sheet` on the example designs: geometry against mass, files read back, score lines,
 //! spacing, determinism and bad input.
 
-mod common;
-use actuator_cam::cam::drawing::{Operation, Shape};
-use actuator_cam::cutsheet::design_for_process;
-use actuator_cam::design::Design;
-use actuator_cam::pipeline::{build, Names, Packing};
-use actuator_cam::process::template::Template;
+use crate::common;
+use actuator_cam::{
+    build_layers, design_for_process, Design, Names, Operation, Packing, Shape, Template,
+};
 use cam_geometry::place_ring;
 use common::*;
 use geo::LineString;
@@ -1023,7 +1021,7 @@ fn labels_on_bonded_zones(example: &str, method: &str) -> (usize, usize) {
         file: example.into(),
         name_designs: false,
     };
-    let built = build(
+    let built = build_layers(
         &[(&design, design.quantity)],
         &[],
         &template,
@@ -1168,8 +1166,9 @@ fn a_model_file_value_outside_the_fit_bounds_is_refused_naming_the_file_and_fiel
 /// files than the stream keeps in flight.
 #[test]
 fn streamed_files_equal_the_in_memory_render() {
-    use actuator_cam::cutsheet::{plan, write, CutSheetOptions, Formats, Template};
-    use actuator_cam::design::Design;
+    use actuator_cam::{
+        plan_cut_sheet as plan, render_layer_files, CutSheetOptions, Design, Formats, Template,
+    };
     use std::collections::BTreeMap;
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
@@ -1188,14 +1187,15 @@ fn streamed_files_equal_the_in_memory_render() {
         stroke_mm: 0.0254,
     };
     let sheet = plan(&design, &template, &opts).unwrap();
-    let expected: BTreeMap<String, Vec<u8>> = write::render(&sheet, opts.formats, opts.stroke_mm)
-        .unwrap()
-        .into_iter()
-        .collect();
+    let expected: BTreeMap<String, Vec<u8>> =
+        render_layer_files(&sheet, opts.formats, opts.stroke_mm)
+            .unwrap()
+            .into_iter()
+            .collect();
     let mut written = files(&out);
     written.remove(".actuator-cam-manifest");
     assert!(
-        written.len() > 2 * actuator_cam::cutsheet::stream::IN_FLIGHT,
+        written.len() > 2 * actuator_cam::IN_FLIGHT,
         "{}",
         written.len()
     );
@@ -1248,7 +1248,8 @@ fn nothing_that_is_never_run_crosses_a_cut_part() {
                 file: example.into(),
                 name_designs: false,
             };
-            let built = build(&[(&design, 2)], &[], &template, &names, &Packing::Shelf).unwrap();
+            let built =
+                build_layers(&[(&design, 2)], &[], &template, &names, &Packing::Shelf).unwrap();
             let mut guides = 0;
             for d in &built.drawings {
                 guides += d.drawing.guides().len();

@@ -3,9 +3,9 @@
 //! one line, the output is the same bytes twice, `-o` goes through the writer, and the example wings agree
 //! with the published lift, incidence and aspect ratios of their vehicles (docs/drive.md §4).
 
-mod common;
+use crate::common;
 
-use actuator_cam::drive::spec::{DriveSpec, WingSpec};
+use actuator_cam::{DriveSpec, WingSpec};
 use common::{
     drive_analysis, example_path, files, refused_in_one_line, run, run_ok, stdout, write_temp,
 };

@@ -1,24 +1,30 @@
-//! Golden snapshot: every example through every command, a SHA-256 of every byte it prints and writes.
+//! Golden snapshot: every example through every command, every byte it prints and writes.
 //!
-//! The snapshot (`tests/golden/outputs.sha256`) pins the tool's observable output, so a restructuring
-//! that should change nothing is shown to change nothing. When a change alters an output on purpose,
-//! regenerate the snapshot in the same commit and say why in the message:
+//! The snapshot pins the tool's observable output, so a restructuring that should change nothing is
+//! shown to change nothing. What a person can read is kept as it is, so a change shows as a diff: the
+//! standard output and error of each case and every text file it writes (reports, JSON, TOML, CSV, the
+//! manifest) live under `tests/golden/text/<case>/`. The layer files (SVG and DXF drawings, thousands of
+//! lines of coordinates each) are pinned by their SHA-256 in `tests/golden/layers.sha256`. When a change
+//! alters an output on purpose, regenerate the snapshot in the same commit and say why in the message:
 //!
 //! ```sh
-//! GOLDEN_UPDATE=1 cargo test --release --test golden
+//! GOLDEN_UPDATE=1 cargo test --release --test tests golden
 //! ```
 //!
 //! Every case runs from the crate root with inputs given as `examples/…` paths; the scratch output
-//! directory's path is replaced by `<out>` before hashing, so the snapshot does not depend on where the
+//! directory's path is replaced by `<out>` before comparing, so the snapshot does not depend on where the
 //! temporary directory is.
 
-mod common;
+use crate::common;
 
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-const SNAPSHOT: &str = "tests/golden/outputs.sha256";
+/// The layer files' hashes, one `case/file sha256` line each.
+const LAYERS: &str = "tests/golden/layers.sha256";
+/// The text outputs, one folder per case.
+const TEXT: &str = "tests/golden/text";
 
 /// One command run: a name for the snapshot and its arguments; `{out}` stands for the scratch folder.
 struct Case {
@@ -107,17 +113,7 @@ fn cases() -> Vec<Case> {
     ));
     for spec in ["optimize-thesis", "optimize-rectangular"] {
         let file = format!("examples/{spec}.toml");
-        cases.push(case(
-            spec,
-            &[
-                "optimize",
-                &file,
-                "-o",
-                "{out}/best.toml",
-                "--pareto",
-                "{out}/front.csv",
-            ],
-        ));
+        cases.push(case(spec, &["optimize", &file, "-o", "{out}", "--pareto"]));
     }
     cases.push(case(
         "optimize-thesis-adjusted-max-density",
@@ -129,7 +125,7 @@ fn cases() -> Vec<Case> {
             "--objective",
             "max-energy-density",
             "-o",
-            "{out}/best.toml",
+            "{out}",
         ],
     ));
     cases.push(case(
@@ -277,7 +273,7 @@ fn files_below(dir: &Path, prefix: &str, into: &mut BTreeMap<String, Vec<u8>>) {
     }
 }
 
-/// Replace the scratch path (and its canonical form) by `<out>` so hashes do not depend on it.
+/// Replace the scratch path (and its canonical form) by `<out>` so outputs do not depend on it.
 fn scrub(bytes: &[u8], scratch: &[String]) -> Vec<u8> {
     match std::str::from_utf8(bytes) {
         Ok(text) => {
@@ -291,8 +287,21 @@ fn scrub(bytes: &[u8], scratch: &[String]) -> Vec<u8> {
     }
 }
 
-/// Run one case; returns `case/stream-or-file sha256` lines and the scratch folder (kept alive).
-fn run_case(c: &Case, also_scrub: &[String]) -> (Vec<String>, tempfile::TempDir) {
+/// A layer file: a drawing the laser reads, pinned by its hash.
+fn is_layer_file(name: &str) -> bool {
+    name.ends_with(".svg") || name.ends_with(".dxf")
+}
+
+/// What one case gave: text outputs by `case/name` (`stdout`, `stderr` and the files written) and
+/// layer-file hashes by `case/name`.
+#[derive(Default)]
+struct Outputs {
+    text: BTreeMap<String, Vec<u8>>,
+    layers: BTreeMap<String, String>,
+}
+
+/// Run one case into `into`; returns the scratch folder (kept alive for dependent cases).
+fn run_case(c: &Case, also_scrub: &[String], into: &mut Outputs) -> tempfile::TempDir {
     let scratch = tempfile::tempdir().unwrap();
     let out = scratch.path().join("out");
     let out_text = out.to_string_lossy().into_owned();
@@ -302,7 +311,7 @@ fn run_case(c: &Case, also_scrub: &[String]) -> (Vec<String>, tempfile::TempDir)
         .map(|a| a.replace("{out}", &out_text))
         .collect();
     if args.iter().any(|a| a.starts_with(&format!("{out_text}/"))) {
-        // Commands that write single files (optimize -o, sweep --csv) expect the folder to exist.
+        // A command that writes a single file (sweep --csv) expects its folder to exist.
         std::fs::create_dir_all(&out).unwrap();
     }
     let o = common::bin()
@@ -322,31 +331,116 @@ fn run_case(c: &Case, also_scrub: &[String]) -> (Vec<String>, tempfile::TempDir)
     if let Ok(canon) = out.canonicalize() {
         names.push(canon.to_string_lossy().into_owned());
     }
-    let mut lines = vec![
-        format!("{}/<stdout> {}", c.name, sha256(&scrub(&o.stdout, &names))),
-        format!("{}/<stderr> {}", c.name, sha256(&scrub(&o.stderr, &names))),
-    ];
+    into.text
+        .insert(format!("{}/stdout", c.name), scrub(&o.stdout, &names));
+    into.text
+        .insert(format!("{}/stderr", c.name), scrub(&o.stderr, &names));
     let mut written = BTreeMap::new();
     files_below(&out, "", &mut written);
     for (name, bytes) in &written {
-        lines.push(format!(
-            "{}/{name} {}",
-            c.name,
-            sha256(&scrub(bytes, &names))
-        ));
+        let key = format!("{}/{name}", c.name);
+        let bytes = scrub(bytes, &names);
+        if is_layer_file(name) {
+            into.layers.insert(key, sha256(&bytes));
+        } else {
+            into.text.insert(key, bytes);
+        }
     }
-    (lines, scratch)
+    scratch
+}
+
+/// The pinned text outputs: every file below `dir`.
+fn pinned_text(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    files_below(dir, "", &mut files);
+    files
+}
+
+/// The first lines where `want` and `got` differ, with a line of context, as a reader wants them.
+fn text_diff(want: &[u8], got: &[u8]) -> String {
+    let want = String::from_utf8_lossy(want);
+    let got = String::from_utf8_lossy(got);
+    let w: Vec<&str> = want.lines().collect();
+    let g: Vec<&str> = got.lines().collect();
+    let Some(first) = (0..w.len().max(g.len())).find(|&i| w.get(i) != g.get(i)) else {
+        return "    (the same lines; the line endings differ)".to_string();
+    };
+    let mut out = Vec::new();
+    let from = first.saturating_sub(1);
+    for i in from..(first + 4).min(w.len().max(g.len())) {
+        match (w.get(i), g.get(i)) {
+            (Some(a), Some(b)) if a == b => out.push(format!("    {:>5}   {a}", i + 1)),
+            (a, b) => {
+                if let Some(a) = a {
+                    out.push(format!("    {:>5} - {a}", i + 1));
+                }
+                if let Some(b) = b {
+                    out.push(format!("    {:>5} + {b}", i + 1));
+                }
+            }
+        }
+    }
+    out.join("\n")
+}
+
+/// Every difference between the snapshot and what the run gave, one entry each, text with its lines.
+fn differences(
+    want_text: &BTreeMap<String, Vec<u8>>,
+    want_layers: &BTreeMap<String, String>,
+    got: &Outputs,
+) -> Vec<String> {
+    let mut diff = Vec::new();
+    for (k, v) in want_text {
+        match got.text.get(k) {
+            None => diff.push(format!("  missing now: {k}")),
+            Some(g) if g != v => diff.push(format!("  changed:     {k}\n{}", text_diff(v, g))),
+            _ => {}
+        }
+    }
+    for k in got.text.keys().filter(|k| !want_text.contains_key(*k)) {
+        diff.push(format!("  new:         {k}"));
+    }
+    for (k, v) in want_layers {
+        match got.layers.get(k) {
+            None => diff.push(format!("  missing now: {k}")),
+            Some(g) if g != v => diff.push(format!("  changed:     {k} (layer file)")),
+            _ => {}
+        }
+    }
+    for k in got.layers.keys().filter(|k| !want_layers.contains_key(*k)) {
+        diff.push(format!("  new:         {k}"));
+    }
+    diff
+}
+
+/// Write the snapshot anew: the text folder replaced whole (so an output no longer written goes), the
+/// layer hashes rewritten.
+fn update(root: &Path, got: &Outputs) {
+    let text = root.join(TEXT);
+    if text.exists() {
+        std::fs::remove_dir_all(&text).unwrap();
+    }
+    for (k, v) in &got.text {
+        let path = text.join(k);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, v).unwrap();
+    }
+    let layers: String = got
+        .layers
+        .iter()
+        .map(|(k, v)| format!("{k} {v}\n"))
+        .collect();
+    std::fs::write(root.join(LAYERS), layers).unwrap();
 }
 
 #[test]
 fn every_command_on_every_example_gives_the_pinned_bytes() {
-    let mut lines = Vec::new();
+    let mut got = Outputs::default();
     for c in cases() {
-        let (l, _scratch) = run_case(&c, &[]);
-        lines.extend(l);
+        run_case(&c, &[], &mut got);
     }
     // The calibrated model, written once more into a folder that lives for the dependent cases.
-    let (_, calibration) = run_case(
+    let calibration = run_case(
         &case(
             "calibrate-for-model",
             &[
@@ -357,41 +451,41 @@ fn every_command_on_every_example_gives_the_pinned_bytes() {
             ],
         ),
         &[],
+        &mut Outputs::default(),
     );
     let model: PathBuf = calibration.path().join("out/calibrated-model.toml");
     let model_text = model.to_string_lossy().into_owned();
     for c in calibrated_cases(&model_text) {
-        let (l, _scratch) = run_case(&c, std::slice::from_ref(&model_text));
-        lines.extend(l);
+        run_case(&c, std::slice::from_ref(&model_text), &mut got);
     }
-    let actual = lines.join("\n") + "\n";
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(SNAPSHOT);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if std::env::var_os("GOLDEN_UPDATE").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, &actual).unwrap();
+        update(root, &got);
         return;
     }
-    let expected = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{SNAPSHOT}: {e}; create it with GOLDEN_UPDATE=1"));
-    if expected != actual {
-        let want: BTreeMap<&str, &str> =
-            expected.lines().filter_map(|l| l.split_once(' ')).collect();
-        let got: BTreeMap<&str, &str> = actual.lines().filter_map(|l| l.split_once(' ')).collect();
-        let mut diff = Vec::new();
-        for (k, v) in &want {
-            match got.get(k) {
-                None => diff.push(format!("  missing now: {k}")),
-                Some(g) if g != v => diff.push(format!("  changed:     {k}")),
-                _ => {}
-            }
-        }
-        for k in got.keys().filter(|k| !want.contains_key(*k)) {
-            diff.push(format!("  new:         {k}"));
-        }
-        panic!(
-            "{} output(s) differ from {SNAPSHOT} (if on purpose: GOLDEN_UPDATE=1 and say why in the commit):\n{}",
-            diff.len(),
-            diff.join("\n")
-        );
-    }
+    let layers = std::fs::read_to_string(root.join(LAYERS))
+        .unwrap_or_else(|e| panic!("{LAYERS}: {e}; create it with GOLDEN_UPDATE=1"));
+    let want_layers: BTreeMap<String, String> = layers
+        .lines()
+        .filter_map(|l| l.split_once(' '))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let want_text = pinned_text(&root.join(TEXT));
+    let diff = differences(&want_text, &want_layers, &got);
+    assert!(
+        diff.is_empty(),
+        "{} output(s) differ from the snapshot in tests/golden (if on purpose: GOLDEN_UPDATE=1 and say why in the commit):\n{}",
+        diff.len(),
+        diff.join("\n")
+    );
+}
+
+#[test]
+fn a_changed_report_line_is_shown_with_its_neighbours() {
+    let want = b"mass 310.35 mg\nenergy 0.0582 mJ\nfield 800 V/mm\n";
+    let got = b"mass 310.35 mg\nenergy 0.0583 mJ\nfield 800 V/mm\n";
+    let d = text_diff(want, got);
+    assert!(d.contains("2 - energy 0.0582 mJ"), "{d}");
+    assert!(d.contains("2 + energy 0.0583 mJ"), "{d}");
+    assert!(d.contains("1   mass 310.35 mg"), "{d}");
 }

@@ -3,7 +3,7 @@
 //! mass; `drive` with flexures takes the drawn linkage's stiffness and mass; a flexure that cannot be
 //! made is one line and nothing is written.
 
-mod common;
+use crate::common;
 
 use common::{
     cut_sheet, example, example_path, files, refused_in_one_line, report_json, run, sheet_files,

@@ -1,7 +1,7 @@
 //! `actuator-cam nest` on batch files: the example batch checked sheet by sheet with geometry rebuilt
 //! from the design files (independent of the planner), determinism, random batches, and bad input.
 
-mod common;
+use crate::common;
 use common::*;
 use geo::{Distance, Euclidean};
 use rand::{Rng, SeedableRng};

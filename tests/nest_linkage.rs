@@ -3,7 +3,7 @@
 //! planner: every coupon once per layer and linkage, inside its sheet and apart from every other part
 //! by kerf and spacing, the carbon only half-turned with its links along the sheet's fibres.
 
-mod common;
+use crate::common;
 use common::*;
 use geo::{Distance, Euclidean};
 use std::collections::BTreeMap;

@@ -3,10 +3,11 @@
 //! files written (areas read back against closed forms, clearance between the outlines), every
 //! kind of bad drawing is refused in one line naming the file and the entity.
 
-mod common;
-use actuator_cam::batch::{plan_observed, Batch, NestOptions, Planned};
-use actuator_cam::parts::flatten::TOLERANCE_MM;
-use actuator_cam::pipeline::NestObserver;
+use crate::common;
+use actuator_cam::{
+    plan_nest_observed as plan_observed, Batch, NestObserver, NestOptions, Planned,
+    FLATTEN_TOLERANCE_MM as TOLERANCE_MM,
+};
 use cam_nest::{clearance, Clearance, NestProgress};
 use common::svg_read::read_svg_polygons;
 use common::*;
@@ -195,13 +196,13 @@ fn example_drawings_match_their_generator() {
 
 #[test]
 fn imported_areas_match_the_closed_forms() {
-    let spar = actuator_cam::parts::import(&example_path("parts/spar.dxf")).unwrap();
+    let spar = actuator_cam::import_parts(&example_path("parts/spar.dxf")).unwrap();
     assert_eq!(spar.len(), 1);
     assert_eq!(spar[0].holes.len(), 1);
     assert_eq!(spar[0].entity, "LWPOLYLINE handle A1");
     let err = (spar[0].area_mm2() - SPAR_AREA_MM2).abs();
     assert!(err <= SPAR_ARCS_MM * TOLERANCE_MM, "spar area off by {err}");
-    let flexure = actuator_cam::parts::import(&example_path("parts/flexure.svg")).unwrap();
+    let flexure = actuator_cam::import_parts(&example_path("parts/flexure.svg")).unwrap();
     assert_eq!(flexure.len(), 1);
     assert_eq!(flexure[0].holes.len(), 1);
     assert_eq!(flexure[0].entity, "<rect id=\"flexure\">");
@@ -233,7 +234,7 @@ fn lines_and_arcs_chain_into_the_same_part_as_a_polyline_with_a_bulge() {
         ],
     );
     let (_dir, path) = write_temp("chained.dxf", &text);
-    let parts = actuator_cam::parts::import(&path).unwrap();
+    let parts = actuator_cam::import_parts(&path).unwrap();
     assert_eq!(parts.len(), 1);
     let err = (parts[0].area_mm2() - SPAR_AREA_MM2).abs();
     assert!(err <= SPAR_ARCS_MM * TOLERANCE_MM, "off by {err}");
@@ -564,10 +565,7 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
         let stem = s["file_stem"].as_str().unwrap();
         let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
         assert!(
-            svg.contains(&format!(
-                "height=\"{}mm\"",
-                actuator_cam::cam::svg::fmt_mm(length)
-            )),
+            svg.contains(&format!("height=\"{}mm\"", actuator_cam::fmt_mm(length))),
             "{stem}: {}",
             &svg[..300.min(svg.len())]
         );
@@ -616,10 +614,7 @@ fn a_priced_roll_reports_its_cost_beside_the_same_parts_on_cut_sheets() {
         let length = roll["length_mm"].as_f64().unwrap();
         assert_eq!(sheet["height_mm"].as_f64().unwrap(), length);
         let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).unwrap();
-        assert!(svg.contains(&format!(
-            "height=\"{}mm\"",
-            actuator_cam::cam::svg::fmt_mm(length)
-        )));
+        assert!(svg.contains(&format!("height=\"{}mm\"", actuator_cam::fmt_mm(length))));
         assert_eq!(roll["width_mm"], 80.0);
         assert_eq!(roll["price_per_m"], 47.5);
         let cost = roll["cost"].as_f64().unwrap();
@@ -1469,7 +1464,7 @@ proptest::proptest! {
             .collect();
         let text = svg("20mm", "20mm", " viewBox=\"0 0 20 20\"", &format!("<path d=\"{d}\"/>"));
         let (_dir, path) = write_temp("random.svg", &text);
-        if let Err(e) = actuator_cam::parts::import(&path) {
+        if let Err(e) = actuator_cam::import_parts(&path) {
             let line = e.to_string();
             proptest::prop_assert!(line.starts_with(&path.display().to_string()));
             proptest::prop_assert_eq!(line.lines().count(), 1);
@@ -1485,7 +1480,7 @@ proptest::proptest! {
     ) {
         let text = dxf_text(Some(4), &[lwpolyline("1", &vertices, closed), circle("2", [0.0, 0.0], r)]);
         let (_dir, path) = write_temp("random.dxf", &text);
-        if let Err(e) = actuator_cam::parts::import(&path) {
+        if let Err(e) = actuator_cam::import_parts(&path) {
             let line = e.to_string();
             proptest::prop_assert!(line.starts_with(&path.display().to_string()));
             proptest::prop_assert_eq!(line.lines().count(), 1);

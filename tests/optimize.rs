@@ -1,10 +1,10 @@
 //! `actuator-cam optimize` driven as a user would: the built binary on the example specs.
 
+use crate::common;
 use actuator_model::performance::energy_and_mass;
 use actuator_model::{
     model, Drive, DriveMode, Laminate, Material, ModelKind, Performance, Planform, Section,
 };
-mod common;
 use common::{bin, example_path as example, layer_file, run, stderr, stdout};
 use rayon::prelude::*;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! voltage agrees; a narrower base width or another crank does not reach it; the output is the same
 //! bytes twice; what the optimizer cannot take is refused in one line.
 
-mod common;
+use crate::common;
 
 use common::{drive_analysis, example_path, refused_in_one_line, run, run_ok, stdout};
 use std::path::PathBuf;

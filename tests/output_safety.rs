@@ -2,7 +2,7 @@
 //! or overwritten unasked, a folder the tool wrote before is updated in place, and an interrupted run
 //! leaves nothing behind once the next run has looked.
 
-mod common;
+use crate::common;
 use common::*;
 use std::fs;
 use std::path::Path;

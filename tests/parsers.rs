@@ -8,15 +8,10 @@
 //! The library parsers are called directly (fast); `tests/predict.rs` and `tests/sweep.rs` drive the
 //! binary on the cases. Case counts per parser are fixed here and stated in the README.
 
-use actuator_cam::batch::file::Batch;
-use actuator_cam::calibrate::csv;
-use actuator_cam::design::Design;
-use actuator_cam::input::failures::read_column;
-use actuator_cam::input::{parse_toml, InputError};
-use actuator_cam::optimize::spec::Spec;
-use actuator_cam::prediction::Prediction;
-use actuator_cam::process::template::Template;
-use actuator_cam::sweep::spec::SweepSpec;
+use actuator_cam::{
+    parse_measured_file, parse_toml, read_failure_column as read_column, Batch, Design, InputError,
+    OptimizeSpec as Spec, Prediction, SweepSpec, Template,
+};
 use actuator_model::model::ModelKind;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
@@ -249,7 +244,7 @@ proptest! {
         let text = mutate(&read(example), &edits);
         if let Some(spec) = check_toml(Path::new("s.toml"), &text, SweepSpec::from_table)? {
             // Accepted levels are distinct (a repeated level is refused).
-            for f in actuator_cam::sweep::spec::Factor::ALL {
+            for f in actuator_cam::Factor::ALL {
                 let labels: Vec<String> = (0..spec.level_count(f)).map(|i| spec.level_label(f, i)).collect();
                 let mut unique = labels.clone();
                 unique.sort();
@@ -368,7 +363,7 @@ proptest! {
             .collect::<Vec<_>>()
             .join("\n");
         let text = mutate_csv(&base, &edits);
-        match csv::parse_file(file, &text) {
+        match parse_measured_file(file, &text) {
             Ok(data) => {
                 // Every header name is either a known column or named in the warning.
                 if let Some(w) = data.unknown_columns_warning(file) {
@@ -408,7 +403,7 @@ proptest! {
         // A drive file names its design relative to itself: read it from the examples folder.
         let file = root(example);
         let text = mutate(&read(example), &edits);
-        check_toml(&file, &text, actuator_cam::drive::spec::DriveSpec::from_table)?;
+        check_toml(&file, &text, actuator_cam::DriveSpec::from_table)?;
     }
 }
 
@@ -588,10 +583,10 @@ fn the_dynamic_columns_of_the_property_cases_are_known_columns() {
         })
         .collect();
     let file = Path::new("m.csv");
-    let data = csv::parse_file(file, &(text.join("\n") + "\n")).unwrap();
+    let data = parse_measured_file(file, &(text.join("\n") + "\n")).unwrap();
     assert!(data.unknown_columns_warning(file).is_none());
     // And a resonance out of its range is refused naming the column.
     let bad = text.join("\n").replacen(",900,60", ",0,60", 1) + "\n";
-    let e = csv::parse_file(file, &bad).unwrap_err().to_string();
+    let e = parse_measured_file(file, &bad).unwrap_err().to_string();
     assert!(e.contains("resonance_Hz"), "{e}");
 }

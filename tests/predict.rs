@@ -1,6 +1,6 @@
 //! `actuator-cam predict` on the example designs: reference numbers and input errors.
 
-mod common;
+use crate::common;
 use common::*;
 use proptest::prelude::*;
 

@@ -6,7 +6,7 @@
 //! each part and the height it stands proud of the film over it must both be within the template's
 //! tolerance (docs/cam.md §1, "Mold layers"), and no cavity may be deeper than its part.
 
-mod common;
+use crate::common;
 use common::svg_read::read_svg_polygons;
 use common::*;
 use geo::{Contains, Coord};

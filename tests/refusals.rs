@@ -2,7 +2,7 @@
 //! numbers), measured values and failure data have physical ranges, names cannot break the files they go
 //! into, and the command line's own errors stay one line.
 
-mod common;
+use crate::common;
 use common::*;
 use std::process::Stdio;
 

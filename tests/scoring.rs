@@ -1,6 +1,6 @@
 //! Score lines run past the sheet edge by the template's overrun (docs/cam.md §4), and only there.
 
-mod common;
+use crate::common;
 use common::*;
 
 /// The ends of every score line (blue path) of an SVG, in page coordinates, and the page width.

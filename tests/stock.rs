@@ -2,7 +2,7 @@
 //! its material, thickness and sheet size, a mold sheet says its own film, and the stock list of the
 //! report counts every cut file once.
 
-mod common;
+use crate::common;
 use common::*;
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -1,6 +1,6 @@
 //! `actuator-cam sweep` driven as a user would: the built binary on the example factor files.
 
-mod common;
+use crate::common;
 use common::{example_path as example, ok_stdout, run};
 use std::process::Output;
 

@@ -1,6 +1,6 @@
 //! `actuator-cam weibull`: one column, named once (issue 14).
 
-mod common;
+use crate::common;
 use common::*;
 
 #[test]

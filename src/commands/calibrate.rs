@@ -1,10 +1,11 @@
 //! `actuator-cam calibrate measured.csv -o calibration/`: trace measured-vs-model errors to a physical
 //! effect and write `calibrated-model.toml`, the reports and the plots.
 
-use super::flags::{JsonFlag, OutputDir};
-use actuator_cam::calibrate::library::Declared;
-use actuator_cam::calibrate::{calibrate, csv, effects_file, report, Settings};
-use actuator_cam::output::Output;
+use super::flags::{self, JsonFlag, OutputDir};
+use actuator_cam::{
+    calibrate, calibration_summary, read_effects, read_measured, render_calibration, Declared,
+    Output, Settings,
+};
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -24,11 +25,11 @@ pub struct CalibrateArgs {
     #[command(flatten)]
     pub json: JsonFlag,
     /// Seed of the cross-validation folds.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// Largest number of effects (besides the d31 scale) combined in one model.
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=2))]
-    pub max_effects: u64,
+    /// Largest number of effects (besides the d31 scale) combined in one model, 0 to 2.
+    #[arg(long, value_name = "N", default_value_t = 2, value_parser = flags::max_effects)]
+    pub max_effects: usize,
     /// Effects this lab declares (effects.toml: compositions of the model's primitives with a
     /// parameter, bounds and a null value), fitted as candidates beside the library's.
     #[arg(long, value_name = "FILE")]
@@ -38,12 +39,12 @@ pub struct CalibrateArgs {
 /// Run `calibrate`: read, analyse, then write every output at once (nothing is written on an error).
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     // The input layer's error names the file already.
-    let data = csv::read_path(&args.measured)?;
+    let data = read_measured(&args.measured)?;
     if let Some(warning) = data.unknown_columns_warning(&args.measured) {
         eprintln!("warning: {warning}");
     }
     let declared = match &args.effects {
-        Some(path) => effects_file::read_path(path)?
+        Some(path) => read_effects(path)?
             .into_iter()
             .flat_map(Declared::all)
             .collect(),
@@ -51,7 +52,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     };
     let settings = Settings {
         seed: args.seed,
-        max_effects: args.max_effects as usize,
+        max_effects: args.max_effects,
         declared,
         ..Settings::default()
     };
@@ -63,13 +64,13 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let files = report::render(&calibration, &data, &source)?;
+    let files = render_calibration(&calibration, &data, &source)?;
     let json = files
         .iter()
         .find(|(name, _)| name == "report.json")
         .map(|(_, text)| text.clone())
         .unwrap_or_else(|| "{}".into());
-    let dir = &args.output.output;
+    let dir = args.output.required();
     Output::new("calibrate")
         .force(args.output.force.force)
         .inputs(std::iter::once(&args.measured).chain(&args.effects))
@@ -85,7 +86,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     if args.json.json {
         println!("{json}");
     } else {
-        print!("{}", report::summary(&calibration));
+        print!("{}", calibration_summary(&calibration));
         println!("wrote {}", dir.display());
     }
     Ok(())

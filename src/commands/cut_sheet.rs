@@ -1,14 +1,10 @@
 //! `actuator-cam cut-sheet design.toml -o out/`: laser files, report and build checklist for one design.
 
-use super::flags::{FormatFlag, ModelFlag, OutputDir, StrokeFlag};
-use actuator_cam::cutsheet::linkage::{plan_linkage, transmission_of};
-use actuator_cam::cutsheet::report::LinkageSection;
-use actuator_cam::cutsheet::stream::plan_and_put;
-use actuator_cam::cutsheet::{write, CutSheetOptions, Template};
-use actuator_cam::design::Design;
-use actuator_cam::input::short_number;
-use actuator_cam::output::Output;
-use anyhow::bail;
+use super::flags::{self, FormatFlag, ModelFlag, OutputDir, StrokeFlag};
+use actuator_cam::{
+    plan_and_put, plan_linkage, render_drawings, render_report, svg_options, transmission_of,
+    CutSheetOptions, Design, LinkageSection, Output, Template,
+};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -24,11 +20,11 @@ pub struct CutSheetArgs {
     #[command(flatten)]
     pub format: FormatFlag,
     /// Kerf for every layer, mm (overrides the template; calibrate it on a coupon).
-    #[arg(long)]
+    #[arg(long, value_name = "MM", value_parser = flags::kerf_mm)]
     pub kerf_mm: Option<f64>,
     /// Number of actuators (overrides the design's quantity).
-    #[arg(long)]
-    pub quantity: Option<i64>,
+    #[arg(long, value_name = "N", value_parser = flags::quantity)]
+    pub quantity: Option<usize>,
     /// `--model` of the predicted performance.
     #[command(flatten)]
     pub model: ModelFlag,
@@ -44,26 +40,12 @@ pub struct CutSheetArgs {
 /// Run `cut-sheet`.
 pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
-    if let Some(k) = args.kerf_mm {
-        let allowed = actuator_cam::input::limits::KERF_MM;
-        if !allowed.contains(k) {
-            bail!("--kerf-mm = {}: outside the {allowed}", short_number(k));
-        }
-    }
-    let quantity = match args.quantity {
-        None => None,
-        Some(q) if (1..=actuator_cam::input::limits::MAX_QUANTITY).contains(&q) => Some(q as usize),
-        Some(q) => bail!(
-            "--quantity = {q}: outside the allowed range [1, {}]",
-            actuator_cam::input::limits::MAX_QUANTITY
-        ),
-    };
     let design = Design::load(&args.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let opts = CutSheetOptions {
         formats,
         kerf_mm: args.kerf_mm,
-        quantity,
+        quantity: args.quantity,
         model: args.model.model.clone(),
         stroke_mm: args.stroke.stroke_mm,
     };
@@ -80,20 +62,20 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
                 .chain(Template::file_of(&design.process, &design.source))
                 .chain(args.drive.clone()),
         )
-        .stream_folder("-o", &args.output.output)?;
+        .stream_folder("-o", &args.output.required())?;
     let (mut sheet, mut layer_files) =
         plan_and_put(&design, &template, &opts, &mut |name, bytes| {
             folder.add(name, bytes).map_err(Into::into)
         })?;
     if let Some(l) = &linkage {
-        let svg = write::svg_options(&sheet.palette, args.stroke.stroke_mm);
-        for (name, bytes) in write::render_drawings(&l.drawings, formats, &svg)? {
+        let svg = svg_options(&sheet.palette, args.stroke.stroke_mm);
+        for (name, bytes) in render_drawings(&l.drawings, formats, &svg)? {
             folder.add(&name, &bytes)?;
             layer_files.push(name);
         }
         sheet.report.linkage = Some(LinkageSection::new(l));
     }
-    for (name, bytes) in write::render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
+    for (name, bytes) in render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
         folder.add(&name, &bytes)?;
     }
     let count = folder.len();
@@ -104,7 +86,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
         r.design.name,
         r.quantity,
         count,
-        args.output.output.display(),
+        args.output.required().display(),
         r.layers.iter().find(|l| l.layer == "pzt").map(|l| l.sheets).unwrap_or(0),
         r.clamp_panels,
         r.predicted.mass_mg,

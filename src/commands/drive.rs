@@ -3,19 +3,17 @@
 //! is a failed requirement: the report is printed (and written with `-o`, as the explanation), and the
 //! command exits non-zero with one line naming the binding constraint.
 
-use super::flags::{ForceFlag, JsonFlag, ModelFlag};
-use actuator_cam::cutsheet::design_for_process;
-use actuator_cam::design::Design;
-use actuator_cam::drive::spec::DriveSpec;
-use actuator_cam::drive::{analyse, DriveError};
-use actuator_cam::input::short_number;
-use actuator_cam::output::Output;
-use actuator_cam::process::template::Template;
+use super::flags::{JsonFlag, ModelFlag, OutputDir};
+use actuator_cam::{
+    analyse_drive, design_for_process, short_number, Design, DriveError, DriveSpec, Output,
+    Template,
+};
 use clap::Args;
 use std::path::PathBuf;
 
 /// Arguments of `drive`.
 #[derive(Debug, Args)]
+#[command(mut_arg("output", |a| a.default_value(None::<&str>)))]
 pub struct DriveArgs {
     /// Drive file: design, wing, transmission, flapping frequency and stroke (see examples/drive-*.toml).
     pub drive: PathBuf,
@@ -25,12 +23,9 @@ pub struct DriveArgs {
     /// `--json` instead of a table.
     #[command(flatten)]
     pub json: JsonFlag,
-    /// Write report.md, report.json and frequency-response.svg into this folder.
-    #[arg(short = 'o', long = "output", value_name = "DIR")]
-    pub output: Option<PathBuf>,
-    /// `--force`.
+    /// `-o`: report.md, report.json and frequency-response.svg, when given.
     #[command(flatten)]
-    pub force: ForceFlag,
+    pub output: OutputDir,
 }
 
 /// Run `drive`.
@@ -40,7 +35,7 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
     let design = Design::load(&spec.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let design = design_for_process(&design, &template)?;
-    let analysis = analyse(&spec, &design, &args.model.model).map_err(|e| match e {
+    let analysis = analyse_drive(&spec, &design, &args.model.model).map_err(|e| match e {
         // An input error names its own file.
         DriveError::Input(e) => anyhow::anyhow!("{e}"),
         e => anyhow::anyhow!("{}: {e}", args.drive.display()),
@@ -52,9 +47,9 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", report.table());
     }
-    if let Some(dir) = &args.output {
+    if let Some(dir) = args.output.folder() {
         Output::new("drive")
-            .force(args.force.force)
+            .force(args.output.force.force)
             .inputs([&args.drive, &spec.design])
             .folder(
                 "-o",

@@ -1,11 +1,8 @@
 //! `actuator-cam laminate --layup 0/90/0`: ABD matrices, thickness and areal mass of a stack (the thesis'
 //! `CFMatrixCalc`).
 
-use super::flags::JsonFlag;
-use actuator_cam::design::layup::parse_layup;
-use actuator_cam::input::short_number;
+use super::flags::{self, JsonFlag, Layup};
 use actuator_model::{Laminate, LayerRole, Material};
-use anyhow::{anyhow, bail};
 use clap::Args;
 use nalgebra::Matrix6;
 use serde::Serialize;
@@ -14,17 +11,17 @@ use serde::Serialize;
 #[derive(Debug, Args)]
 pub struct LaminateArgs {
     /// Ply angles bottom to top, e.g. 0/90/0.
-    #[arg(long)]
-    pub layup: String,
-    /// Passive ply material from the built-in library.
-    #[arg(long, default_value = "CF-thesis")]
-    pub ply: String,
+    #[arg(long, value_name = "ANGLES", value_parser = flags::layup)]
+    pub layup: Layup,
+    /// Passive ply material from the built-in library (one with a standard ply thickness).
+    #[arg(long, value_name = "NAME", default_value = "CF-thesis", value_parser = flags::ply_material)]
+    pub ply: Material,
     /// Add a PZT plate of this thickness on each side (mm); without it the passive core alone.
-    #[arg(long)]
+    #[arg(long, value_name = "MM", value_parser = flags::pzt_thickness_mm)]
     pub pzt_thickness_mm: Option<f64>,
     /// PZT material from the built-in library.
-    #[arg(long, default_value = "PZT-5H")]
-    pub pzt: String,
+    #[arg(long, value_name = "NAME", default_value = "PZT-5H", value_parser = flags::material)]
+    pub pzt: Material,
     /// `--json`.
     #[command(flatten)]
     pub json: JsonFlag,
@@ -58,25 +55,12 @@ fn block(m: &Matrix6<f64>, r: usize, c: usize) -> [[f64; 3]; 3] {
 
 /// Run `laminate`.
 pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
-    let layup = parse_layup(&args.layup).map_err(|e| anyhow!("--layup: {e}"))?;
-    let ply = Material::builtin(&args.ply)
-        .ok_or_else(|| anyhow!("--ply: unknown material {:?}", args.ply))?;
-    let t_ply = ply
-        .ply_thickness
-        .ok_or_else(|| anyhow!("--ply: {} has no standard ply thickness", ply.name))?;
+    let layup = args.layup.angles.clone();
+    let ply = &args.ply;
+    // The parser took only a ply with a standard thickness.
+    let t_ply = ply.ply_thickness.unwrap_or_default();
     let laminate = match args.pzt_thickness_mm {
-        Some(t) => {
-            let allowed = actuator_cam::input::limits::PZT_THICKNESS_MM;
-            if !allowed.contains(t) {
-                bail!(
-                    "--pzt-thickness-mm = {}: outside the {allowed}",
-                    short_number(t)
-                );
-            }
-            let pzt = Material::builtin(&args.pzt)
-                .ok_or_else(|| anyhow!("--pzt: unknown material {:?}", args.pzt))?;
-            Laminate::bimorph(&pzt, t * 1e-3, &ply, t_ply, &layup, None)?
-        }
+        Some(t) => Laminate::bimorph(&args.pzt, t * 1e-3, ply, t_ply, &layup, None)?,
         None => Laminate::new(
             layup
                 .iter()
@@ -102,7 +86,7 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
     let report = LaminateReport {
         layup_deg: layup,
         ply: ply.name.clone(),
-        pzt: args.pzt_thickness_mm.map(|_| args.pzt.clone()),
+        pzt: args.pzt_thickness_mm.map(|_| args.pzt.name.clone()),
         pzt_thickness_mm: args.pzt_thickness_mm,
         thickness_mm: laminate.thickness() * 1e3,
         areal_mass_g_per_m2: total_areal * 1e3,
@@ -118,7 +102,7 @@ pub fn run(args: &LaminateArgs) -> anyhow::Result<()> {
     }
     println!(
         "layup {} of {}{}",
-        args.layup,
+        args.layup.text,
         report.ply,
         match (&report.pzt, report.pzt_thickness_mm) {
             (Some(p), Some(t)) => format!(", with {t} mm {p} on each side"),

@@ -1,14 +1,11 @@
 //! `actuator-cam nest batch.toml -o out/`: a batch of designs nested on shared sheets and clamp panels.
 
-use super::flags::{FormatFlag, JsonFlag, OutputDir, StrokeFlag};
+use super::flags::{self, FormatFlag, JsonFlag, OutputDir, StrokeFlag};
 use super::interrupt;
-use actuator_cam::batch::{plan_observed, Batch, NestOptions, TimeBudget};
-use actuator_cam::cam::svg::SvgOptions;
-use actuator_cam::cutsheet::write::render_drawings;
-use actuator_cam::input::limits::NEST_TIME_S;
-use actuator_cam::output::Output;
-use actuator_cam::pipeline::{NestObserver, Unobserved};
-use anyhow::bail;
+use actuator_cam::{
+    limits, plan_nest_observed, render_drawings, Batch, NestObserver, NestOptions, Output,
+    SvgOptions, TimeBudget, Unobserved,
+};
 use cam_nest::{NestProgress, NestSettings};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -96,13 +93,13 @@ pub struct NestArgs {
     #[command(flatten)]
     pub format: FormatFlag,
     /// Seed of the nester (overrides the batch file's).
-    #[arg(long)]
+    #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
     /// Optimiser budget of the irregular nester per job of 60+ parts, smaller jobs a share (overrides the batch file's; default 1000). Above 1000, anytime rounds after the base search; with --time, the most it may do.
-    #[arg(long)]
+    #[arg(long, value_name = "N", value_parser = flags::iterations)]
     pub iterations: Option<usize>,
     /// Wall-clock budget of the whole nest, e.g. `30s`, `2m`, `90` (seconds; overrides the batch file's `time_s`): the search improves until then. Machine-dependent: the report records the iterations each layer reached, which `--iterations` replays.
-    #[arg(long, value_parser = parse_time)]
+    #[arg(long, value_name = "TIME", value_parser = flags::time_s)]
     pub time: Option<f64>,
     /// `--json`: nest-report.json on standard output.
     #[command(flatten)]
@@ -112,32 +109,10 @@ pub struct NestArgs {
     pub stroke: StrokeFlag,
 }
 
-/// `--time`: seconds, or a number with `s`, `m` or `h`, within `NEST_TIME_S`.
-fn parse_time(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let (number, unit) = match t.char_indices().last() {
-        Some((i, 's')) => (&t[..i], 1.0),
-        Some((i, 'm')) => (&t[..i], 60.0),
-        Some((i, 'h')) => (&t[..i], 3600.0),
-        _ => (t, 1.0),
-    };
-    let range = NEST_TIME_S;
-    number
-        .trim()
-        .parse::<f64>()
-        .ok()
-        .map(|n| n * unit)
-        .filter(|s| range.contains(*s))
-        .ok_or_else(|| format!("a time such as 30s, 2m or 90 (seconds), within {range}"))
-}
-
 /// Run `nest`.
 pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
-    let max = actuator_cam::input::limits::MAX_ITERATIONS as usize;
-    if let Some(n) = args.iterations.filter(|n| *n > max) {
-        bail!("--iterations = {n}: outside the allowed range [0, {max}]");
-    }
+    let max = limits::MAX_ITERATIONS as usize;
     let batch = Batch::load(&args.batch)?;
     let time_s = args.time.or(batch.time_s);
     let iterations = args.iterations.or(batch.iterations);
@@ -161,7 +136,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         Some(b) => b,
         None => &Unobserved,
     };
-    let planned = plan_observed(&batch, &opts, observer);
+    let planned = plan_nest_observed(&batch, &opts, observer);
     interrupt::search_finished();
     interrupt::pause_after_interrupted_search();
     if let Some(b) = &bar {
@@ -199,7 +174,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
                 .chain(batch.items.iter().map(|i| i.design.source.clone()))
                 .chain(batch.parts.iter().map(|p| p.part.file.clone())),
         )
-        .folder("-o", &args.output.output, files)
+        .folder("-o", &args.output.required(), files)
         .write()?;
     if interrupt::search_ended() {
         eprintln!("the search was interrupted: the files hold the best layout found by then (the report says how far each layer got)");
@@ -231,7 +206,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
             report.name,
             report.actuators(),
             count,
-            args.output.output.display(),
+            args.output.required().display(),
             report.sheets_of("pzt"),
             passive.join("; "),
             report.clamp_panels.len()

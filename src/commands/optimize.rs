@@ -1,34 +1,32 @@
 //! `actuator-cam optimize spec.toml`: the lightest actuator (or the highest energy density) for a required
 //! mechanical energy, with the winning design and the Pareto front written on request.
 
-use super::flags::{ForceFlag, ModelFlag};
-use actuator_cam::drive::analyse;
-use actuator_cam::drive::spec::{DriveSpec, LinkageSpec};
-use actuator_cam::input::short_number;
-use actuator_cam::optimize::flap::{optimize_flap, wing_load};
-use actuator_cam::optimize::flap_report;
-use actuator_cam::optimize::model::SearchModel;
-use actuator_cam::optimize::search::{Design, FieldLimit, Objective, Problem};
-use actuator_cam::optimize::spec::Spec;
-use actuator_cam::optimize::{
-    optimize, pareto, report, OptimizeError, Progress, Silent, PARETO_LEVELS,
+use super::flags::{ModelFlag, OutputDir};
+use actuator_cam::{
+    analyse_drive, field_survival, flap_drive_toml, flap_front_csv, flap_report, optimize,
+    optimize_flap, optimize_report, optimized_design_toml, pareto_csv, pareto_front, pareto_svg,
+    short_number, wing_load, DriveSpec, FieldLimit, LinkageSpec, Objective, OptimizeError,
+    OptimizeSpec as Spec, Output, Problem, Progress, SearchModel, SearchPoint, Silent,
+    TransmissionSpec, PARETO_LEVELS,
 };
-use actuator_cam::output::Output;
-use actuator_cam::transmission::TransmissionSpec;
 use actuator_model::primitives::Primitive;
 use actuator_model::ModelChoice;
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+/// The winning design's file in the `-o` folder.
+const DESIGN_FILE: &str = "design.toml";
 
 /// Grids above this many designs show a progress bar (on a terminal only).
 const PROGRESS_ABOVE: u64 = 20_000_000;
 
 /// Arguments of `optimize`.
 #[derive(Debug, Clone, Args)]
+#[command(mut_arg("output", |a| a.default_value(None::<&str>)))]
 pub struct OptimizeArgs {
     /// Spec file: requirement, drive, search ranges, laminate, constraints (see examples/optimize-*.toml).
     pub spec: PathBuf,
@@ -38,15 +36,14 @@ pub struct OptimizeArgs {
     /// What to optimise.
     #[arg(long, value_enum, default_value_t = ObjectiveArg::MinMass)]
     pub objective: ObjectiveArg,
-    /// Write the winning design as a design.toml (cut-sheet reads it).
-    #[arg(short = 'o', long = "output", value_name = "DESIGN_TOML")]
-    pub output: Option<PathBuf>,
-    /// Write the front of mass against delivered energy as CSV, and beside it an SVG plot.
-    #[arg(long, value_name = "CSV")]
-    pub pareto: Option<PathBuf>,
-    /// `--force`.
+    /// `-o`: report.txt, the winning design as design.toml (cut-sheet reads it) and, for a wing,
+    /// drive.toml (drive reads it), when given.
     #[command(flatten)]
-    pub force: ForceFlag,
+    pub output: OutputDir,
+    /// Also write the front of mass against delivered energy (or against frequency margin, for a wing)
+    /// into the `-o` folder: pareto.csv, and for an energy requirement pareto.svg.
+    #[arg(long, requires = "output")]
+    pub pareto: bool,
 }
 
 /// `--objective`: what the search minimises.
@@ -169,41 +166,52 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
             spec.energy * 1e3
         );
     }
-    print!("{}", report::text(&spec, &file, &outcome, &perf));
-    let mut output = Output::new("optimize")
-        .force(args.force.force)
-        .inputs([&args.spec]);
-    let mut wrote = Vec::new();
-    if let Some(path) = &args.output {
-        output = output.file(
-            "-o",
-            path,
-            report::design_toml(&spec, &outcome.problem, &best),
-        );
-        wrote.push(format!("\nwrote {}", path.display()));
-    }
-    if let Some(path) = &args.pareto {
-        let most: Vec<Design> = outcome.most_energy.iter().flatten().copied().collect();
-        let front = pareto::front(&outcome.problem, &most, PARETO_LEVELS);
-        let svg = path.with_extension("svg");
-        output = output
-            .file("--pareto", path, pareto::to_csv(&outcome.problem, &front)?)
-            .file(
-                "--pareto",
-                &svg,
-                pareto::to_svg(&front, spec.energy, Some(&best)),
-            );
-        wrote.push(format!(
-            "wrote {} and {} ({} designs on the front)",
-            path.display(),
-            svg.display(),
-            front.len()
+    let text = optimize_report(&spec, &file, &outcome, &perf);
+    print!("{text}");
+    let Some(dir) = args.output.folder() else {
+        return Ok(());
+    };
+    let mut files = vec![
+        ("report.txt".to_string(), text.into_bytes()),
+        (
+            "design.toml".to_string(),
+            optimized_design_toml(&spec, &outcome.problem, &best).into_bytes(),
+        ),
+    ];
+    let mut front_size = None;
+    if args.pareto {
+        let most: Vec<SearchPoint> = outcome.most_energy.iter().flatten().copied().collect();
+        let front = pareto_front(&outcome.problem, &most, PARETO_LEVELS);
+        files.push((
+            "pareto.csv".to_string(),
+            pareto_csv(&outcome.problem, &front)?.into_bytes(),
         ));
+        files.push((
+            "pareto.svg".to_string(),
+            pareto_svg(&front, spec.energy, Some(&best)).into_bytes(),
+        ));
+        front_size = Some(front.len());
     }
-    output.write()?;
-    for line in wrote {
-        println!("{line}");
+    write_folder(args, dir, files, &[args.spec.as_path()])?;
+    match front_size {
+        Some(n) => println!("\nwrote {} ({n} designs on the front)", dir.display()),
+        None => println!("\nwrote {}", dir.display()),
     }
+    Ok(())
+}
+
+/// The files of a run into the `-o` folder, through the one writer: nothing written unless all are.
+fn write_folder(
+    args: &OptimizeArgs,
+    dir: &Path,
+    files: Vec<(String, Vec<u8>)>,
+    inputs: &[&Path],
+) -> anyhow::Result<()> {
+    Output::new("optimize")
+        .force(args.output.force.force)
+        .inputs(inputs.iter().map(|p| p.to_path_buf()))
+        .folder("-o", dir, files)
+        .write()?;
     Ok(())
 }
 
@@ -232,17 +240,12 @@ fn run_flap(
         .map_err(|e| anyhow::anyhow!("{file}: requirement.flap = {}: {e}", flap.display()))?;
     let chosen = &outcome.chosen;
     let cand = &problem.candidates[chosen.design.candidate];
-    let survival = flap_report::survival_at(cand.section.drive.field, cand.section.drive.mode);
+    let survival = field_survival(cand.section.drive.field, cand.section.drive.mode);
     // The chosen design driven as `drive` will drive it from the files written here.
     let design_path = args
         .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("optimized.toml"));
-    let design_name = design_path
-        .file_name()
-        .map_or("optimized.toml".to_string(), |n| {
-            n.to_string_lossy().into_owned()
-        });
+        .folder()
+        .map_or_else(|| PathBuf::from(DESIGN_FILE), |d| d.join(DESIGN_FILE));
     let check = DriveSpec {
         design: design_path.clone(),
         survival,
@@ -265,7 +268,7 @@ fn run_flap(
         },
         ..drive.clone()
     };
-    let analysis = analyse(&check, &chosen.built, &args.model.model)
+    let analysis = analyse_drive(&check, &chosen.built, &args.model.model)
         .map_err(|e| anyhow::anyhow!("{file}: the optimized design's drive: {e}"))?;
     if !analysis.report.reached {
         bail!(
@@ -277,43 +280,37 @@ fn run_flap(
                 .map_or(String::new(), |u| u.binding.clone())
         );
     }
-    print!(
-        "{}",
-        flap_report::text(spec, &file, &problem, &outcome, &analysis.report)
-    );
-    let mut output = Output::new("optimize")
-        .force(args.force.force)
-        .inputs([&args.spec, &flap.to_path_buf()]);
-    let mut wrote = Vec::new();
-    if let Some(path) = &args.output {
-        let drive_path = path.with_file_name(format!("drive-{design_name}"));
-        let drive_text =
-            flap_report::drive_toml(flap, &file, &design_name, survival, chosen.travel)?;
-        output =
-            output
-                .file("-o", path, chosen.design_toml.clone())
-                .file("-o", &drive_path, drive_text);
-        wrote.push(format!(
-            "\nwrote {} and {}",
-            path.display(),
-            drive_path.display()
+    let text = flap_report(spec, &file, &problem, &outcome, &analysis.report);
+    print!("{text}");
+    let Some(dir) = args.output.folder() else {
+        return Ok(());
+    };
+    let mut files = vec![
+        ("report.txt".to_string(), text.into_bytes()),
+        (
+            DESIGN_FILE.to_string(),
+            chosen.design_toml.clone().into_bytes(),
+        ),
+        (
+            "drive.toml".to_string(),
+            flap_drive_toml(flap, &file, DESIGN_FILE, survival, chosen.travel)?.into_bytes(),
+        ),
+    ];
+    if args.pareto {
+        files.push((
+            "pareto.csv".to_string(),
+            flap_front_csv(&problem, &outcome.front).into_bytes(),
         ));
     }
-    if let Some(path) = &args.pareto {
-        output = output.file(
-            "--pareto",
-            path,
-            flap_report::front_csv(&problem, &outcome.front),
-        );
-        wrote.push(format!(
-            "wrote {} ({} levels on the front)",
-            path.display(),
+    write_folder(args, dir, files, &[args.spec.as_path(), flap])?;
+    if args.pareto {
+        println!(
+            "\nwrote {} ({} levels on the front)",
+            dir.display(),
             outcome.front.len()
-        ));
-    }
-    output.write()?;
-    for line in wrote {
-        println!("{line}");
+        );
+    } else {
+        println!("\nwrote {}", dir.display());
     }
     Ok(())
 }

@@ -1,10 +1,7 @@
 //! `actuator-cam predict design.toml`: mass and performance of one design.
 
 use super::flags::{JsonFlag, ModelFlag};
-use actuator_cam::cutsheet::design_for_process;
-use actuator_cam::design::Design;
-use actuator_cam::prediction::Prediction;
-use actuator_cam::process::template::Template;
+use actuator_cam::{design_for_process, Design, Prediction, Template};
 use clap::Args;
 use std::path::PathBuf;
 

@@ -1,12 +1,12 @@
 //! `actuator-cam sweep factors.toml`: a full factorial over listed levels, main effects and a comparison
 //! of two models, with every design as CSV on request.
 
-use super::flags::{parse_model, ForceFlag, ModelFlag};
-use actuator_cam::output::{in_words, Output};
-use actuator_cam::sweep::analysis::{self, ComparisonSums, CsvRows, EffectSums};
-use actuator_cam::sweep::spec::SweepSpec;
-use actuator_cam::sweep::{check_models, for_each_design};
-use actuator_model::{ModelChoice, ModelError, ModelKind};
+use super::flags::{parse_built_in_model, BuiltInModelFlag, ForceFlag};
+use actuator_cam::{
+    check_models, for_each_design, in_words, sweep_report, ComparisonSums, CsvRows, EffectSums,
+    Output, SweepSpec,
+};
+use actuator_model::{ModelError, ModelKind};
 use anyhow::{bail, Context};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -18,32 +18,21 @@ pub struct SweepArgs {
     pub factors: PathBuf,
     /// `--model` for the outputs (a built-in one).
     #[command(flatten)]
-    pub model: ModelFlag,
-    /// Also predict with this model and report the mean and spread of the percent differences
+    pub model: BuiltInModelFlag,
+    /// Also predict with this built-in model and report the mean and spread of the percent differences
     /// (X_model - X_compare) / X_model (thesis eq. 3.1).
-    #[arg(long, value_name = "MODEL", value_parser = parse_model)]
-    pub compare: Option<ModelChoice>,
+    #[arg(long, value_name = "MODEL", value_parser = parse_built_in_model)]
+    pub compare: Option<ModelKind>,
     /// In the comparison, scale the lamination-theory blocked force (and so the energy) by 8/9 as the
     /// thesis' eq. 2.36 prints it; this reproduces its Table 4.1 blocked-force gap.
     #[arg(long, requires = "compare")]
     pub thesis_eq_2_36: bool,
-    /// Write every design's levels and outputs as CSV.
-    #[arg(long, value_name = "CSV")]
+    /// Write every design's levels and outputs as CSV to this file.
+    #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
     /// `--force`.
     #[command(flatten)]
     pub force: ForceFlag,
-}
-
-/// A built-in model: the sweep solves each laminate once and predicts from it, which a calibrated
-/// model (it changes the stack) cannot share.
-fn built_in(flag: &str, choice: &ModelChoice) -> anyhow::Result<ModelKind> {
-    match choice {
-        ModelChoice::Kind(kind) => Ok(*kind),
-        ModelChoice::Calibrated(_) => bail!(
-            "{flag}: unknown model for a sweep (a calibrated model is not swept); use original, thesis-adjusted or euler-bernoulli"
-        ),
-    }
 }
 
 /// Why a sweep stopped: a design the model refuses, or the CSV could not be written.
@@ -69,12 +58,8 @@ fn csv_error(path: &Path, e: csv::Error) -> SweepFailure {
 
 /// Run `sweep`.
 pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
-    let kind = built_in("--model", &args.model.model)?;
-    let compare = args
-        .compare
-        .as_ref()
-        .map(|c| built_in("--compare", c))
-        .transpose()?;
+    let kind = args.model.model;
+    let compare = args.compare;
     if args.thesis_eq_2_36 && kind == ModelKind::EulerBernoulli {
         bail!("--thesis-eq-2-36 scales the lamination-theory blocked force; --model euler-bernoulli has none (compare the other way round)");
     }
@@ -112,7 +97,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         SweepFailure::Csv(e) => e,
     })?;
     let effects = effects.finish(&spec);
-    print!("{}", analysis::report(&spec, &file, kind, &effects));
+    print!("{}", sweep_report(&spec, &file, kind, &effects));
     if let Some(other) = compare {
         let c = comparison.finish();
         print!("\n{}", c.report(kind, other, args.thesis_eq_2_36));

@@ -1,7 +1,7 @@
 //! `actuator-cam weibull failures.csv`: maximum-likelihood Weibull fit and survival thresholds.
 
-use actuator_cam::input::failures::read_column;
-use actuator_cam::input::short_number;
+use super::flags;
+use actuator_cam::{read_failure_column, short_number};
 use actuator_model::Weibull;
 use anyhow::{anyhow, bail};
 use clap::Args;
@@ -13,23 +13,15 @@ pub struct WeibullArgs {
     /// CSV with a header row and a column of failure values (field, strain or stress, any unit).
     pub failures: PathBuf,
     /// Column to read (default: the first). Given twice, the run is refused rather than one winning.
-    #[arg(long, action = clap::ArgAction::Append)]
+    #[arg(long, value_name = "NAME", action = clap::ArgAction::Append)]
     pub column: Vec<String>,
-    /// Survival rates to give thresholds for.
-    #[arg(long, value_delimiter = ',', default_value = "0.9,0.75,0.5")]
+    /// Survival rates to give thresholds for, each strictly between 0 and 1.
+    #[arg(long, value_name = "RATES", value_delimiter = ',', default_value = "0.9,0.75,0.5", value_parser = flags::survival)]
     pub survival: Vec<f64>,
 }
 
 /// Run `weibull`.
 pub fn run(args: &WeibullArgs) -> anyhow::Result<()> {
-    for s in &args.survival {
-        if !(*s > 0.0 && *s < 1.0) {
-            bail!(
-                "--survival {}: outside the allowed range (0, 1)",
-                short_number(*s)
-            );
-        }
-    }
     let column = match args.column.as_slice() {
         [] => None,
         [one] => Some(one.as_str()),
@@ -39,7 +31,7 @@ pub fn run(args: &WeibullArgs) -> anyhow::Result<()> {
             many.join(", ")
         ),
     };
-    let (name, values) = read_column(&args.failures, column)?;
+    let (name, values) = read_failure_column(&args.failures, column)?;
     let fit = Weibull::fit_mle(&values)
         .map_err(|e| anyhow!("{}: column {name}: {e}", args.failures.display()))?;
     println!(

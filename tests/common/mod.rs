@@ -97,7 +97,7 @@ pub fn staging_left(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with(actuator_cam::output::STAGING_PREFIX))
+        .filter(|n| n.starts_with(actuator_cam::STAGING_PREFIX))
         .collect()
 }
 
@@ -157,7 +157,7 @@ pub fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
 }
 
 /// A design file (the format of examples/thesis-B.toml) for one measured row.
-pub fn design_of(m: &actuator_cam::calibrate::Measurement) -> String {
+pub fn design_of(m: &actuator_cam::Measurement) -> String {
     format!(
         "name = \"row\"\n[geometry]\nlength_mm = {}\nextension_ratio = {}\nbase_width_mm = {}\nwidth_ratio = {}\nbase_tab_mm = 0.0\n\
          [laminate]\npzt = \"PZT-5H\"\npzt_thickness_mm = {}\nply = \"CF-thesis\"\nlayup_deg = {:?}\n\
@@ -202,14 +202,12 @@ pub fn layer_file(out: &Path, name: &str) -> PathBuf {
 
 /// `drive`'s analysis of a drive file in memory, its design built for its process, under the original
 /// model (as `actuator-cam drive` runs it by default).
-pub fn drive_analysis(path: &Path) -> actuator_cam::drive::Analysis {
-    let spec = actuator_cam::drive::spec::DriveSpec::load(path).unwrap();
-    let design = actuator_cam::design::Design::load(&spec.design).unwrap();
-    let template =
-        actuator_cam::process::template::Template::resolve(&design.process, &design.source)
-            .unwrap();
-    let design = actuator_cam::cutsheet::design_for_process(&design, &template).unwrap();
+pub fn drive_analysis(path: &Path) -> actuator_cam::Analysis {
+    let spec = actuator_cam::DriveSpec::load(path).unwrap();
+    let design = actuator_cam::Design::load(&spec.design).unwrap();
+    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
+    let design = actuator_cam::design_for_process(&design, &template).unwrap();
     let model =
         actuator_model::model::ModelChoice::Kind(actuator_model::model::ModelKind::Original);
-    actuator_cam::drive::analyse(&spec, &design, &model).unwrap()
+    actuator_cam::analyse_drive(&spec, &design, &model).unwrap()
 }

@@ -2,7 +2,7 @@
 //! can compare what was drawn with what was meant. Not a general SVG parser: it knows the writer's own
 //! attribute quoting and its absolute M, L, A, Z path commands.
 
-use actuator_cam::cam::drawing::Operation;
+use actuator_cam::Operation;
 
 type Point = [f64; 2];
 

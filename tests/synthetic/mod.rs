@@ -185,7 +185,7 @@ pub fn cases() -> Vec<Case> {
 pub fn with_actuator<R>(d: &Design, voltage_v: f64, f: impl FnOnce(&Actuator) -> R) -> R {
     let pzt = Material::builtin("PZT-5H").unwrap();
     let cf = Material::builtin("CF-thesis").unwrap();
-    let layup = actuator_cam::design::layup::parse_layup(LAYUPS[d.layup]).unwrap();
+    let layup = actuator_cam::parse_layup(LAYUPS[d.layup]).unwrap();
     let t_p = d.t_p_mm * 1e-3;
     f(&Actuator {
         pzt: &pzt,
@@ -347,7 +347,7 @@ pub fn held_out_error(truth: Truth, designs: &[Design], model: &Effects) -> f64 
     let mut sum = 0.0;
     let mut n = 0;
     for d in designs {
-        let layup = actuator_cam::design::layup::parse_layup(LAYUPS[d.layup]).unwrap();
+        let layup = actuator_cam::parse_layup(LAYUPS[d.layup]).unwrap();
         for &field in &FIELDS_V_PER_MM {
             let (td, tf, tm) = truth_at(truth, d, field);
             let a = Actuator {

@@ -10,8 +10,8 @@ use crate::input::InputError;
 use crate::linkage::checks::{check_linkage_drawings, Expected};
 use crate::linkage::drawings::linkage_drawings;
 use crate::linkage::pattern::STACK;
+use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
-use crate::transmission::TransmissionSpec;
 use std::path::PathBuf;
 
 /// The linkage of a cut sheet: the laminate, its drawings (file order) and, when the drive file gives

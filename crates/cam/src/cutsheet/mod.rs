@@ -10,13 +10,11 @@ pub mod write;
 
 pub use crate::pipeline::{BuildError, SheetDrawing};
 pub use crate::process::{template, Template};
-pub use crate::process::{Feature, FeatureMap};
-pub use layers::LayerRow;
-pub use report::{DesignSummary, Report};
+pub use report::Report;
 
-use crate::cam::drawing::Drawing;
-use crate::cam::palette::Palette;
 use crate::design::Design;
+use crate::drawing::model::Drawing;
+use crate::drawing::palette::Palette;
 use crate::input::{short_number, InputError};
 use crate::pipeline::{build_into, DrawingSink, Names, Packing};
 use crate::prediction::Prediction;

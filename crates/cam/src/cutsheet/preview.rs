@@ -5,9 +5,9 @@
 //! are none of an operation's, its shapes are filled and have no stroke (no vector path to follow), and
 //! it is drawn at [`SCALE`]:1, so even a traced outline would come out four times too large.
 
-use crate::cam::drawing::{Drawing, Operation, Shape};
-use crate::cam::palette::Palette;
-use crate::cam::svg::{write_svg, LayerStyle};
+use crate::drawing::model::{Drawing, Operation, Shape};
+use crate::drawing::palette::Palette;
+use crate::drawing::svg::{write_svg, LayerStyle};
 use crate::pipeline::PartGeometry;
 use cam_geometry::place_ring;
 

@@ -4,9 +4,9 @@
 //! one drawing's bytes are held at a time.
 
 use super::{CutSheet, Formats, SheetDrawing};
-use crate::cam::dxf::{to_dxf_with, DxfError};
-use crate::cam::palette::Palette;
-use crate::cam::svg::{to_svg, SvgOptions};
+use crate::drawing::dxf::{to_dxf_with, DxfError};
+use crate::drawing::palette::Palette;
+use crate::drawing::svg::{to_svg, SvgOptions};
 
 /// Why a drawing or report could not be rendered.
 #[derive(Debug, thiserror::Error)]

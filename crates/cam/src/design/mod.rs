@@ -15,7 +15,7 @@ use crate::input::limits::{
     WIDTH_RATIO,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-use crate::transmission::TransmissionSpec;
+use crate::linkage::transmission::TransmissionSpec;
 use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -12,10 +12,10 @@ pub mod spec;
 
 use crate::design::Design;
 use crate::input::InputError;
+use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
 use crate::process::template::Template;
-use crate::transmission::TransmissionSpec;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
@@ -94,11 +94,6 @@ fn linkage(spec: &LinkageSpec, performance: &Performance) -> Result<Linkage, Mod
             coupler_ratio,
         ),
     }
-}
-
-/// The stroke's end angles the linkage is built for, rad: a solved linkage's, else ±stroke.
-pub fn end_angles(spec: &DriveSpec) -> (f64, f64) {
-    spec.transmission.end_angles()
 }
 
 /// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the

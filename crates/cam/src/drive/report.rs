@@ -2,7 +2,7 @@
 //! frequency-response plot.
 
 use super::fixed;
-use crate::cam::svg::xml_escape;
+use crate::drawing::svg::xml_escape;
 use crate::plot::{nice_ceiling, Anchor, Area, Canvas, Label, Marker, DASHED};
 use actuator_model::ModelError;
 use serde::Serialize;

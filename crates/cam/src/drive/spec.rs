@@ -7,8 +7,8 @@ use crate::input::limits::{
     SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-pub use crate::transmission::LinkageSpec;
-use crate::transmission::{TransmissionSpec, MG_MM2};
+pub use crate::linkage::transmission::LinkageSpec;
+use crate::linkage::transmission::{TransmissionSpec, MG_MM2};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
 use actuator_model::ModelChoice;

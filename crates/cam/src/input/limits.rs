@@ -109,6 +109,8 @@ pub const NEST_TIME_S: Range = Range::positive_up_to(86_400.0, "s");
 
 /// Side of a stock sheet or a clamp panel.
 pub const SHEET_SIDE_MM: Range = Range::positive_up_to(2000.0, "mm");
+/// Hairline stroke width of the SVG files: the range a laser's hairline setting reads.
+pub const STROKE_MM: Range = Range::positive_up_to(1.0, "mm");
 /// Laser kerf.
 pub const KERF_MM: Range = Range::closed(0.0, 2.0, "mm");
 /// Gaps, margins and clearances of sheets and clamp panels.

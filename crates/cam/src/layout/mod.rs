@@ -17,5 +17,5 @@ pub mod plates;
 pub mod verify;
 
 pub use error::LayoutError;
-pub use plates::{layout_plates, plate_outline, PlateSpec};
-pub use verify::{verify_break_order, verify_offcuts, verify_snappable, PartRef, Violation};
+pub use plates::{layout_plates, PlateSpec};
+pub use verify::{verify_break_order, verify_offcuts, verify_snappable, Violation};

@@ -10,7 +10,7 @@
 //! - the drawn areas times each layer's mass per area give the reported mass (1e-6 relative);
 //! - the pin holes are the same on every layer.
 
-use crate::cam::drawing::Shape;
+use crate::drawing::model::Shape;
 use crate::pipeline::SheetDrawing;
 use cam_geometry::offset::offset_ring;
 use cam_geometry::{signed_area, Point};
@@ -349,7 +349,9 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
 }
 
 /// The pivots O, B, A of each linkage read back from a carbon layer: the middles of its slots (the kerf
-/// shrinks a slot evenly, so it keeps its middle), in order along each row, mm.
+/// shrinks a slot evenly, so it keeps its middle), in order along each row, mm. The tests hold the
+/// drawn pivots to the solved linkage with it.
+#[cfg(test)]
 pub fn pivots_read_back(carbon: &SheetDrawing) -> Vec<[f64; 3]> {
     let r = read(carbon);
     let mut polys = r.polygons;
@@ -403,7 +405,7 @@ mod tests {
 
     /// Replace the polygon at `index` (in drawing order) of drawing `layer` by `f` of its ring.
     fn bend(d: &mut [SheetDrawing], layer: usize, index: usize, f: impl Fn(Point) -> Point) {
-        let mut fresh = crate::cam::drawing::Drawing::new(
+        let mut fresh = crate::drawing::model::Drawing::new(
             &d[layer].drawing.title,
             d[layer].drawing.width_mm,
             d[layer].drawing.height_mm,
@@ -453,7 +455,7 @@ mod tests {
         // A pin hole moved on the film layer.
         let mut d = drawn(&l, 1);
         let mut fresh =
-            crate::cam::drawing::Drawing::new("x", d[2].drawing.width_mm, d[2].drawing.height_mm);
+            crate::drawing::model::Drawing::new("x", d[2].drawing.width_mm, d[2].drawing.height_mm);
         for (op, shape) in d[2].drawing.items() {
             let shape = match shape {
                 Shape::Circle { center, radius } => Shape::Circle {

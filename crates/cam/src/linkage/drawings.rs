@@ -6,7 +6,7 @@
 
 use super::pattern::{Rect, STACK};
 use super::LinkageLaminate;
-use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{border_label, grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};

@@ -8,10 +8,10 @@ use super::cut::{draw_cut_sheets, extra_item, passive_layers, pyralux_layer, Cut
 use super::jobs::{check_geometry, DrawingSink, Drawn, Job, Names, SheetRecord, StockCount};
 use super::parts::PartGeometry;
 use super::place::{place_cut_layers, place_plates, BaselineRow, Packing};
-use super::pzt::draw_pzt_sheets;
+use super::score_lines::draw_pzt_sheets;
 use super::{BuildError, SheetDrawing};
-use crate::cam::drawing::Stock;
 use crate::design::Design;
+use crate::drawing::model::Stock;
 use crate::parts::{PartOrder, PartSheet};
 use crate::process::template::Template;
 

@@ -8,9 +8,9 @@ use super::panel::{
 };
 use super::parts::PartGeometry;
 use super::BuildError;
-use crate::cam::drawing::{file_stem, Drawing, Shape, Stock};
-use crate::cam::label::label_strokes;
 use crate::design::Design;
+use crate::drawing::label::label_strokes;
+use crate::drawing::model::{file_stem, Drawing, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::process::template::{ClampSpec, Template};
 use crate::process::Feature;

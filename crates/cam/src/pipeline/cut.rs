@@ -6,7 +6,7 @@ use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetReco
 use super::label::Label;
 use super::sheet_label::part_box;
 use super::BuildError;
-use crate::cam::drawing::{file_stem, Drawing, FibreAxis, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
 use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};

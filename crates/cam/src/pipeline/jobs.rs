@@ -3,8 +3,8 @@
 
 use super::parts::PartGeometry;
 use super::{BuildError, SheetDrawing};
-use crate::cam::drawing::{file_stem, Drawing};
 use crate::design::Design;
+use crate::drawing::model::{file_stem, Drawing};
 use crate::process::template::Template;
 use cam_geometry::offset::offset_ring;
 use cam_geometry::Point;
@@ -143,9 +143,9 @@ impl StockCount {
             s.push_str(&format!(
                 "| {} | {} | {} x {} | {} |\n",
                 crate::markdown::text(&r.material),
-                crate::cam::decimal::fmt_mm(r.thickness_mm),
-                crate::cam::decimal::fmt_mm(r.width_mm),
-                crate::cam::decimal::fmt_mm(r.height_mm),
+                crate::drawing::decimal::fmt_mm(r.thickness_mm),
+                crate::drawing::decimal::fmt_mm(r.width_mm),
+                crate::drawing::decimal::fmt_mm(r.height_mm),
                 r.sheets
             ));
         }
@@ -212,12 +212,12 @@ impl<'s> Drawn<'s> {
         name: &str,
         margin_mm: f64,
         parts: &[super::sheet_label::Box2],
-        op: crate::cam::drawing::Operation,
+        op: crate::drawing::model::Operation,
     ) {
         match super::sheet_label::sheet_label(d, name, margin_mm, parts) {
             Some(strokes) => {
                 for s in strokes {
-                    d.add(op, crate::cam::drawing::Shape::Polyline(s));
+                    d.add(op, crate::drawing::model::Shape::Polyline(s));
                 }
             }
             None => self.unlabelled_sheets += 1,

@@ -5,7 +5,7 @@
 //! PZT zone. A part with no room there carries no label, and the report says so ([`Label::note`]).
 
 use super::parts::PartGeometry;
-use crate::cam::label::{label_strokes, label_width};
+use crate::drawing::label::{label_strokes, label_width};
 use crate::process::template::{PassiveCut, Template};
 use cam_geometry::{place_ring, Point};
 

@@ -22,18 +22,15 @@ mod mold;
 mod panel;
 mod parts;
 mod place;
-mod pzt;
+mod score_lines;
 mod sheet_label;
 pub mod snap_guide;
 
-pub use build::{build, build_into, Build, CutLayerSheets};
-pub use clamp::{ClampBuild, PanelRun};
-pub use cut::CutLayer;
-pub use jobs::{
-    unlabelled_note, DrawingSink, Names, PartRecord, SheetRecord, SinkError, StockCount,
-};
+pub use build::{build, build_into, Build};
+pub use clamp::PanelRun;
+pub use jobs::{unlabelled_note, DrawingSink, Names, SinkError, StockCount};
 pub use label::Label;
-pub use mold::{choose_mold, LaminateBands, MoldBand, MoldChoice, PressFit};
+pub use mold::{MoldBand, MoldChoice};
 pub use panel::{border_label, grid, grid_slots, panel_outline, pin_centres};
 pub use parts::PartGeometry;
 pub use place::{
@@ -41,7 +38,7 @@ pub use place::{
     Unobserved, WORKERS,
 };
 
-use crate::cam::drawing::Drawing;
+use crate::drawing::model::Drawing;
 use thiserror::Error;
 
 /// A build problem the user can fix.
@@ -70,7 +67,7 @@ pub enum BuildError {
 #[derive(Debug, Clone)]
 pub struct SheetDrawing {
     /// File stem: the sheet's name and its stock, `pzt-1_pzt-sheet-piezo-systems-0.267mm`,
-    /// `mold-2-1_ptfe-non-porous-0.127mm`, … ([`crate::cam::drawing::file_stem`]).
+    /// `mold-2-1_ptfe-non-porous-0.127mm`, … ([`crate::drawing::model::file_stem`]).
     pub stem: String,
     /// Layer name the report groups it under.
     pub layer: String,

@@ -2,7 +2,7 @@
 //! pin holes, fiducials, stacking-order windows, and the grid of actuator cavities.
 
 use super::parts::PartGeometry;
-use crate::cam::label::{label_strokes, label_width};
+use crate::drawing::label::{label_strokes, label_width};
 use crate::process::template::ClampSpec;
 use cam_geometry::Point;
 use thiserror::Error;
@@ -147,7 +147,7 @@ pub fn window_origin(spec: &ClampSpec, k: usize) -> Point {
 /// without the title. `panel` is a number or a run (`1-6`).
 fn border_texts(title: &str, layer: &str, thickness_mm: Option<f64>, panel: &str) -> [String; 4] {
     let t = thickness_mm.map_or(String::new(), |t| {
-        format!(" {}mm", crate::cam::decimal::fmt_mm(t))
+        format!(" {}mm", crate::drawing::decimal::fmt_mm(t))
     });
     [
         format!("{title} {layer}{t} P{panel}"),

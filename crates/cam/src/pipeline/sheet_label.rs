@@ -6,9 +6,9 @@
 //! sheet first, and a label must never cost a part. A sheet with no room left carries none; its file
 //! name, title and metadata still name the stock, and the report counts the sheets without a label.
 
-use crate::cam::decimal::fmt_mm;
-use crate::cam::drawing::{Drawing, Stock};
-use crate::cam::label::{label_strokes, label_width};
+use crate::drawing::decimal::fmt_mm;
+use crate::drawing::label::{label_strokes, label_width};
+use crate::drawing::model::{Drawing, Stock};
 use cam_geometry::Point;
 
 /// Label heights tried, largest first, mm: 1.5 mm reads at arm's length; 1 mm is the smallest the
@@ -129,7 +129,7 @@ pub fn sheet_label(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cam::drawing::Operation;
+    use crate::drawing::model::Operation;
 
     fn stock() -> Stock {
         Stock {

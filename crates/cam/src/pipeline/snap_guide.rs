@@ -7,8 +7,8 @@
 //! operation, drawn at [`SCALE`]:1, and titled as not for cutting. A line that reaches the sheet edge
 //! has its number just past that end, off the sheet; a line inside the sheet has it at its middle.
 
-use crate::cam::decimal::fmt_mm;
-use crate::cam::svg::xml_escape;
+use crate::drawing::decimal::fmt_mm;
+use crate::drawing::svg::xml_escape;
 use cam_geometry::Point;
 use std::fmt::Write as _;
 

@@ -2,7 +2,7 @@
 //! laser operation each one gets: the `[features]` table of a process template. A template that leaves a
 //! feature out keeps its default, which is the mapping the builders always used, so files stay the same.
 
-use crate::cam::drawing::Operation;
+use crate::drawing::model::Operation;
 use crate::input::{InputError, TableReader};
 use std::path::Path;
 

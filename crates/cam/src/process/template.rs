@@ -3,8 +3,8 @@
 //! embedded in the binary; any other template is read from a path.
 
 use super::features::FeatureMap;
-use crate::cam::drawing::Operation;
-use crate::cam::palette::Palette;
+use crate::drawing::model::Operation;
+use crate::drawing::palette::Palette;
 use crate::input::limits::{
     ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM,
     GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK,

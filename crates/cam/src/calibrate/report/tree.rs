@@ -396,7 +396,7 @@ impl<'a> CandidateRow<'a> {
 pub(super) mod tests {
     use super::*;
     use crate::calibrate::baseline::OutputErrors;
-    use crate::calibrate::select::{CorrelationTest, LackOfFit};
+    use crate::calibrate::select::adequacy::{CorrelationTest, LackOfFit};
     use std::sync::LazyLock;
 
     fn errors(k_mean: f64) -> OutputErrors {

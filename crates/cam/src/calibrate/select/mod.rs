@@ -18,8 +18,8 @@ pub mod settings;
 pub(crate) mod stacks;
 pub mod thickness;
 
-pub use adequacy::{Adequacy, CorrelationTest, LackOfFit};
-pub use candidate::{Candidate, CarriedValue, Role};
+pub use adequacy::Adequacy;
+pub use candidate::{Candidate, Role};
 pub use outliers::Outlier;
 pub use separating::SeparatingDesign;
 pub use settings::{max_parameters, Settings};
