@@ -283,3 +283,163 @@ fn the_library_pulls_in_no_command_line_crate() {
     let manifest = fs::read_to_string(root().join("crates/cam/Cargo.toml")).unwrap();
     assert!(!manifest.contains("anyhow"), "crates/cam names anyhow");
 }
+
+/// Most lines of code in one source file, before its `#[cfg(test)]` module: a file past it holds more
+/// than one concept.
+const MAX_FILE_LINES: usize = 600;
+/// Most lines in one function, its signature and closing brace included.
+const MAX_FUNCTION_LINES: usize = 120;
+
+/// The lines of `text` before its test module (a `#[cfg(test)]` line followed by a `mod` line).
+fn lines_before_tests(text: &str) -> usize {
+    let lines: Vec<&str> = text.lines().collect();
+    lines
+        .windows(2)
+        .position(|w| {
+            w[0].trim() == "#[cfg(test)]" && {
+                let next = w[1].trim_start();
+                next.starts_with("mod ")
+                    || next.starts_with("pub mod ")
+                    || next.starts_with("pub(crate) mod ")
+            }
+        })
+        .unwrap_or(lines.len())
+}
+
+/// Each function of `text` longer than `most` lines: `(name, first line, lines)`. A function runs
+/// from its `fn` line to the line where its braces balance, counted on code with strings, character
+/// literals and comments removed.
+fn long_functions(text: &str, most: usize) -> Vec<(String, usize, usize)> {
+    let code: Vec<String> = text.lines().map(code_lines).collect();
+    let mut long = Vec::new();
+    for (i, line) in code.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let after_qualifiers = trimmed
+            .trim_start_matches("pub(crate) ")
+            .trim_start_matches("pub(super) ")
+            .trim_start_matches("pub ")
+            .trim_start_matches("const ")
+            .trim_start_matches("unsafe ");
+        let Some(rest) = after_qualifiers.strip_prefix("fn ") else {
+            continue;
+        };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let (mut depth, mut opened) = (0i64, false);
+        for (j, l) in code.iter().enumerate().skip(i) {
+            let stripped = without_literals(l);
+            if !opened && stripped.trim_end().ends_with(';') {
+                break;
+            }
+            for c in stripped.chars() {
+                match c {
+                    '{' => {
+                        depth += 1;
+                        opened = true;
+                    }
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if opened && depth <= 0 {
+                if j - i + 1 > most {
+                    long.push((name.clone(), i + 1, j - i + 1));
+                }
+                break;
+            }
+        }
+    }
+    long
+}
+
+/// `line` without its string and character literals, so braces inside them do not count.
+fn without_literals(line: &str) -> String {
+    let mut out = String::new();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' => {
+                while let Some(d) = chars.next() {
+                    if d == '\\' {
+                        chars.next();
+                    } else if d == '"' {
+                        break;
+                    }
+                }
+            }
+            '\'' if matches!(chars.clone().nth(1), Some('\'')) => {
+                chars.next();
+                chars.next();
+            }
+            '\'' if chars.peek() == Some(&'\\') => {
+                for d in chars.by_ref() {
+                    if d == '\'' {
+                        break;
+                    }
+                }
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Every source file of the workspace's crates.
+fn source_files() -> Vec<PathBuf> {
+    CRATES
+        .iter()
+        .flat_map(|c| module_files(&root().join(c)))
+        .map(|(_, p)| p)
+        .collect()
+}
+
+#[test]
+fn no_file_or_function_is_over_the_house_size() {
+    let mut over = Vec::new();
+    for path in source_files() {
+        let text = fs::read_to_string(&path).unwrap();
+        let rel = path.strip_prefix(root()).unwrap().display().to_string();
+        let n = lines_before_tests(&text);
+        if n > MAX_FILE_LINES {
+            over.push(format!(
+                "{rel}: {n} lines of code (at most {MAX_FILE_LINES})"
+            ));
+        }
+        for (name, line, lines) in long_functions(&text, MAX_FUNCTION_LINES) {
+            over.push(format!(
+                "{rel}:{line}: fn {name} is {lines} lines (at most {MAX_FUNCTION_LINES})"
+            ));
+        }
+    }
+    assert!(over.is_empty(), "{}", over.join("\n"));
+}
+
+#[test]
+fn the_size_check_counts_what_it_should() {
+    let text =
+        "fn short() {\n    let s = \"{\";\n}\n\n#[cfg(test)]\nmod tests {\n    fn long() {}\n}\n";
+    assert_eq!(lines_before_tests(text), 4);
+    let body: String = (0..5).map(|_| "    x();\n").collect();
+    let text = format!("pub fn five() {{\n{body}}}\nfn decl();\nfn two() {{\n}}\n");
+    assert_eq!(long_functions(&text, 6), vec![("five".to_string(), 1, 7)]);
+    assert!(long_functions(&text, 7).is_empty());
+    assert_eq!(
+        without_literals("let c = '{'; let s = \"}\\\"\";"),
+        "let c = ; let s = ;"
+    );
+}
+
+#[test]
+fn the_library_api_is_curated_not_every_module() {
+    let lib = fs::read_to_string(root().join("crates/cam/src/lib.rs")).unwrap();
+    let public_modules: Vec<&str> = lib
+        .lines()
+        .filter(|l| l.trim_start().starts_with("pub mod "))
+        .collect();
+    assert!(
+        public_modules.is_empty(),
+        "crates/cam/src/lib.rs makes modules public: {public_modules:?}; re-export the items instead"
+    );
+}

@@ -158,13 +158,14 @@ fn brute_force_lightest(n: usize) -> f64 {
 #[test]
 fn example_optimum_beats_an_independent_100_grid_and_meets_every_bound() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("best.toml");
+    let folder = dir.path().join("optimum");
     let o = run(&[
         "optimize",
         example("optimize-thesis.toml").to_str().unwrap(),
         "-o",
-        out.to_str().unwrap(),
+        folder.to_str().unwrap(),
     ]);
+    let out = folder.join("design.toml");
     assert!(o.status.success(), "{}", stderr(&o));
     let d = read_design(&out);
     assert_eq!(d.field, 800e3);
@@ -283,15 +284,17 @@ fn output_is_deterministic_across_runs_and_thread_counts() {
 #[test]
 fn pareto_front_is_sorted_nondominated_and_agrees_with_the_optimum() {
     let dir = tempfile::tempdir().unwrap();
-    let csv_path = dir.path().join("front.csv");
+    let folder = dir.path().join("optimum");
     let o = run(&[
         "optimize",
         example("optimize-thesis.toml").to_str().unwrap(),
+        "-o",
+        folder.to_str().unwrap(),
         "--pareto",
-        csv_path.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let svg = std::fs::read_to_string(dir.path().join("front.svg")).unwrap();
+    let csv_path = folder.join("pareto.csv");
+    let svg = std::fs::read_to_string(folder.join("pareto.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     let mut r = csv::Reader::from_path(&csv_path).unwrap();
     assert_eq!(&r.headers().unwrap()[0], "energy_mJ");
@@ -489,7 +492,8 @@ fn voltage_and_strain_limits_cap_the_field_and_are_reported() {
     let text = std::fs::read_to_string(example("optimize-thesis.toml")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let spec = dir.path().join("capped.toml");
-    let out = dir.path().join("best.toml");
+    let folder = dir.path().join("optimum");
+    let out = folder.join("design.toml");
     std::fs::write(
         &spec,
         text.replacen("max_voltage_V = 300", "max_voltage_V = 150", 1)
@@ -504,7 +508,7 @@ fn voltage_and_strain_limits_cap_the_field_and_are_reported() {
         "optimize",
         spec.to_str().unwrap(),
         "-o",
-        out.to_str().unwrap(),
+        folder.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let d = read_design(&out);
@@ -550,7 +554,8 @@ fn calibrated_model_file_optimum_meets_the_energy_and_beats_an_independent_grid(
     let dir = tempfile::tempdir().unwrap();
     let model_file = dir.path().join("calibrated-model.toml");
     std::fs::write(&model_file, CALIBRATED).unwrap();
-    let best = dir.path().join("best.toml");
+    let folder = dir.path().join("optimum");
+    let best = folder.join("design.toml");
     let spec = example("optimize-thesis.toml");
     let o = run(&[
         "optimize",
@@ -558,7 +563,7 @@ fn calibrated_model_file_optimum_meets_the_energy_and_beats_an_independent_grid(
         "--model",
         model_file.to_str().unwrap(),
         "-o",
-        best.to_str().unwrap(),
+        folder.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let report = stdout(&o);

@@ -55,14 +55,15 @@ fn scaled(text: &str, key: &str, factor: f64) -> String {
 #[test]
 fn the_chosen_design_flaps_the_wing_at_the_voltage_optimize_reports() {
     let (dir, spec) = folder(SPEC);
-    let best = dir.path().join("best.toml");
+    let folder = dir.path().join("optimum");
     let out = stdout(&run_ok(&[
         "optimize",
         spec.to_str().unwrap(),
         "-o",
-        best.to_str().unwrap(),
+        folder.to_str().unwrap(),
     ]));
-    let drive = dir.path().join("drive-best.toml");
+    let best = folder.join("design.toml");
+    let drive = folder.join("drive.toml");
     assert!(best.is_file() && drive.is_file(), "{out}");
     // `drive` on the written files: reached, within the limit, the voltage optimize printed.
     let a = drive_analysis(&drive);
@@ -100,10 +101,13 @@ fn the_chosen_design_flaps_the_wing_at_the_voltage_optimize_reports() {
 fn the_same_bytes_twice_with_the_front() {
     let (dir, spec) = folder(SPEC);
     let s = spec.to_str().unwrap();
-    let csv = dir.path().join("front.csv");
-    let one = run_ok(&["optimize", s, "--pareto", csv.to_str().unwrap()]).stdout;
+    let folder = dir.path().join("optimum");
+    let o = folder.to_str().unwrap();
+    let csv = folder.join("pareto.csv");
+    let one = run_ok(&["optimize", s, "-o", o, "--pareto"]).stdout;
     let front = std::fs::read(&csv).unwrap();
-    let two = run_ok(&["optimize", s, "--pareto", csv.to_str().unwrap(), "--force"]).stdout;
+    // The second run replaces the files the first wrote (the folder's manifest says it wrote them).
+    let two = run_ok(&["optimize", s, "-o", o, "--pareto"]).stdout;
     assert_eq!(one, two);
     assert_eq!(std::fs::read(&csv).unwrap(), front);
     let text = String::from_utf8(front).unwrap();
@@ -126,13 +130,15 @@ fn the_same_bytes_twice_with_the_front() {
 #[test]
 fn the_front_trades_mass_for_margin() {
     let (dir, spec) = folder(SPEC);
-    let csv = dir.path().join("front.csv");
+    let folder = dir.path().join("optimum");
     run_ok(&[
         "optimize",
         spec.to_str().unwrap(),
+        "-o",
+        folder.to_str().unwrap(),
         "--pareto",
-        csv.to_str().unwrap(),
     ]);
+    let csv = folder.join("pareto.csv");
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<(f64, f64)> = text
         .lines()

@@ -1,10 +1,10 @@
-//! The README's command reference agrees with clap's help, so the two cannot drift apart.
+//! The README's command reference is the help, word for word, so the two cannot drift apart.
 //!
 //! For every subcommand `actuator-cam --help` lists, the README has a section headed
-//! `### actuator-cam <cmd>`, and every long flag `actuator-cam <cmd> --help` lists appears in that
-//! section as `--flag`. Values a flag's help enumerates (clap's possible values, or the models
-//! `--model` names) appear where the README documents that flag. The help is the source: a flag
-//! added to a command without a line in the README fails here, naming the flag and the command.
+//! `### actuator-cam <cmd>` holding the table of its arguments and flags that `actuator-cam <cmd> -h`
+//! gives; the flags' clap attributes (src/commands/flags.rs and each command's arguments) are the one
+//! definition, and `README_UPDATE=1` regenerates the tables from them. The README's worked examples
+//! print what they show.
 
 use std::path::Path;
 use std::process::Command;
@@ -47,128 +47,76 @@ fn subcommands() -> Vec<String> {
     commands
 }
 
-/// One option of a subcommand's help: its long flag and the text that describes it.
-struct Opt {
-    flag: String,
-    description: String,
+/// One row of a subcommand's reference: an argument or a flag as `-h` shows it (`-o, --output <DIR>`)
+/// and its help text.
+struct Row {
+    usage: String,
+    help: String,
 }
 
-/// Whether `line` starts an option: `  -o, --output <DIR>  …` or `      --force  …`. Option lines are
-/// indented by at most six spaces; description lines of the long help (indented further) and the
-/// `- value: …` lines of a possible-values list are not.
-fn long_flag_of(line: &str) -> Option<String> {
-    let indent = line.len() - line.trim_start().len();
-    let rest = line.trim_start();
-    if indent > 6 {
-        return None;
-    }
-    let rest = match rest.as_bytes() {
-        [b'-', c, b',', b' ', ..] if c.is_ascii_alphanumeric() => &rest[4..],
-        _ => rest,
-    };
-    let name: String = rest
-        .strip_prefix("--")?
-        .chars()
-        .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
-        .collect();
-    (!name.is_empty()).then(|| format!("--{name}"))
-}
-
-/// The options `help` lists (both clap's short and long help layouts), without --help and --version.
-fn options(help: &str) -> Vec<Opt> {
-    let mut opts: Vec<Opt> = Vec::new();
-    for line in help.lines() {
-        if let Some(flag) = long_flag_of(line) {
-            let description = line.trim_start().to_string();
-            opts.push(Opt { flag, description });
-        } else if let Some(last) = opts.last_mut() {
-            if line.trim().is_empty() || !line.starts_with(' ') {
-                continue;
-            }
-            last.description.push('\n');
-            last.description.push_str(line.trim());
-        }
-    }
-    opts.retain(|o| o.flag != "--help" && o.flag != "--version");
-    opts
-}
-
-/// The values an option's help enumerates: clap's `[possible values: a, b]` (short help) or its
-/// `Possible values:` list of `- a: …` lines (long help); for `--model`, whose value may also be a
-/// file, the names in its `Model: a, b, c, or a calibrated-model.toml …` description.
-fn listed_values(opt: &Opt) -> Vec<String> {
-    let mut values = Vec::new();
-    if let Some(i) = opt.description.find("[possible values: ") {
-        let rest = &opt.description[i + "[possible values: ".len()..];
-        let list = &rest[..rest.find(']').unwrap_or(rest.len())];
-        values.extend(list.split(',').map(|v| v.trim().to_string()));
-    }
+/// The rows `-h` lists under "Arguments:" and "Options:", without --help and --version. Each item is
+/// one line, its usage and its help apart by two or more spaces (or the help alone on the lines that
+/// follow, when the usage is too long to share one).
+fn rows(help: &str) -> Vec<Row> {
+    let mut rows: Vec<Row> = Vec::new();
     let mut in_list = false;
-    for line in opt.description.lines() {
-        if line == "Possible values:" {
+    for line in help.lines() {
+        if line == "Arguments:" || line == "Options:" {
             in_list = true;
-        } else if in_list {
-            match line.strip_prefix("- ") {
-                Some(item) => {
-                    values.push(item.split(':').next().unwrap_or(item).trim().to_string())
-                }
-                None => in_list = false,
-            }
+            continue;
         }
-    }
-    if opt.flag == "--model" {
-        if let Some(i) = opt.description.find("Model: ") {
-            let rest = &opt.description[i + "Model: ".len()..];
-            let prose = &rest[..rest.find('[').unwrap_or(rest.len())];
-            for item in prose.split(',') {
-                let item = item.trim().trim_start_matches("or ").trim();
-                if !item.is_empty()
-                    && item
-                        .chars()
-                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
-                {
-                    values.push(item.to_string());
-                }
-            }
-            if prose.contains("calibrated-model.toml") {
-                values.push("calibrated-model.toml".to_string());
-            }
+        if !in_list || line.trim().is_empty() {
+            continue;
         }
+        let indent = line.len() - line.trim_start().len();
+        if indent > 6 {
+            // The help of the row above, on its own line.
+            if let Some(last) = rows.last_mut() {
+                if !last.help.is_empty() {
+                    last.help.push(' ');
+                }
+                last.help.push_str(line.trim());
+            }
+            continue;
+        }
+        let item = line.trim();
+        let (usage, help) = match item.find("  ") {
+            Some(i) => (item[..i].trim(), item[i..].trim()),
+            None => (item, ""),
+        };
+        rows.push(Row {
+            usage: usage.to_string(),
+            help: help.to_string(),
+        });
     }
-    values.retain(|v| !v.is_empty());
-    values
+    rows.retain(|r| !r.usage.contains("--help") && !r.usage.contains("--version"));
+    rows
+}
+
+/// The reference section of `cmd` as the README must hold it: a table of every argument and flag
+/// with its help, word for word as `actuator-cam <cmd> -h` prints it.
+fn reference(cmd: &str) -> String {
+    let mut out = String::from("\n| argument or flag | meaning |\n|---|---|\n");
+    for r in rows(&help(&[cmd, "-h"])) {
+        out.push_str(&format!(
+            "| `{}` | {} |\n",
+            r.usage,
+            r.help.replace('|', "\\|")
+        ));
+    }
+    out.push('\n');
+    out
 }
 
 /// The README's section for `cmd`: from the heading `### actuator-cam <cmd>` to the next heading of
-/// level 1 to 3 (headings inside fenced code blocks do not count). None if there is no such heading.
-fn section(readme: &str, cmd: &str) -> Option<String> {
-    let heading = format!("### actuator-cam {cmd}");
-    let mut lines = readme.lines();
-    lines.find(|l| l.trim_end() == heading)?;
-    let mut body = String::new();
-    let mut fenced = false;
-    for line in lines {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-        }
-        let level = line.chars().take_while(|&c| c == '#').count();
-        if !fenced && (1..=3).contains(&level) && line[level..].starts_with(' ') {
-            break;
-        }
-        body.push_str(line);
-        body.push('\n');
-    }
-    Some(body)
-}
-
-/// Whether `text` holds `word` as a whole token: `--pzt` is not found in `--pzt-thickness-mm`.
-fn has_token(text: &str, word: &str) -> bool {
-    let part_of_word = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
-    text.match_indices(word).any(|(i, _)| {
-        let before = text[..i].chars().next_back();
-        let after = text[i + word.len()..].chars().next();
-        !before.is_some_and(part_of_word) && !after.is_some_and(part_of_word)
-    })
+/// level 1 to 3. None if there is no such heading.
+fn section(readme: &str, cmd: &str) -> Option<(usize, usize)> {
+    let heading = format!("### actuator-cam {cmd}\n");
+    let start = readme.find(&heading)? + heading.len();
+    let end = readme[start..]
+        .find("\n#")
+        .map_or(readme.len(), |i| start + i + 1);
+    Some((start, end))
 }
 
 #[test]
@@ -184,92 +132,53 @@ fn every_subcommand_has_a_readme_section() {
     assert!(missing.is_empty(), "{}", missing.join("\n"));
 }
 
+/// The command reference is generated from the flags' one definition (their clap attributes): each
+/// section is the table `-h` gives, word for word. `README_UPDATE=1` writes the tables into the README.
 #[test]
-fn every_flag_of_every_subcommand_is_in_its_readme_section() {
-    let readme = readme();
-    let mut missing = Vec::new();
+fn the_command_reference_is_every_help_word_for_word() {
+    let mut readme = readme();
+    let mut stale = Vec::new();
     for cmd in subcommands() {
-        let Some(body) = section(&readme, &cmd) else {
-            missing.push(format!("README.md has no section `### actuator-cam {cmd}`"));
-            continue;
-        };
-        let opts = options(&help(&[&cmd, "--help"]));
-        for opt in &opts {
-            if !has_token(&body, &opt.flag) {
-                missing.push(format!(
-                    "flag `{}` of subcommand `{cmd}` (in `actuator-cam {cmd} --help`) is missing from README.md's section `### actuator-cam {cmd}`",
-                    opt.flag
-                ));
-            }
+        let (start, end) = section(&readme, &cmd)
+            .unwrap_or_else(|| panic!("README.md has no section `### actuator-cam {cmd}`"));
+        let want = reference(&cmd);
+        if readme[start..end] != want {
+            stale.push(cmd.clone());
+            readme.replace_range(start..end, &want);
         }
     }
-    assert!(missing.is_empty(), "{}", missing.join("\n"));
-}
-
-#[test]
-fn values_the_help_lists_are_where_the_readme_documents_the_flag() {
-    let readme = readme();
-    let mut missing = Vec::new();
-    let mut model_flags = 0;
-    for cmd in subcommands() {
-        let Some(body) = section(&readme, &cmd) else {
-            continue;
-        };
-        for opt in options(&help(&[&cmd, "--help"])) {
-            let values = listed_values(&opt);
-            if opt.flag == "--model" {
-                model_flags += 1;
-                assert!(
-                    values.iter().any(|v| v == "euler-bernoulli"),
-                    "`actuator-cam {cmd} --help` no longer names euler-bernoulli for --model \
-                     (found {values:?}); update this test and the README together"
-                );
-            }
-            // The README lines that document the flag (a table row or a paragraph line).
-            let documented: String = body
-                .lines()
-                .filter(|l| has_token(l, &opt.flag))
-                .collect::<Vec<_>>()
-                .join("\n");
-            for value in &values {
-                if !documented.contains(value.as_str()) {
-                    missing.push(format!(
-                        "value `{value}` of `{}` (subcommand `{cmd}`) is missing from the README line that documents `{}` in `### actuator-cam {cmd}`",
-                        opt.flag, opt.flag
-                    ));
-                }
-            }
-        }
+    if std::env::var_os("README_UPDATE").is_some() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
+        std::fs::write(&path, readme).unwrap();
+        return;
     }
     assert!(
-        model_flags >= 4,
-        "--model found on only {model_flags} subcommands"
+        stale.is_empty(),
+        "README.md's command reference differs from --help for {stale:?}; regenerate it with README_UPDATE=1 cargo test --release --test tests readme"
     );
-    assert!(missing.is_empty(), "{}", missing.join("\n"));
 }
 
 #[test]
-fn the_parsers_read_both_help_layouts() {
-    let short = "Options:\n  -o, --output <DIR>  Output [default: out]\n      --force          Write\n      --pzt <PZT>      PZT [possible values: a, b-c]\n  -h, --help           Print help\n";
-    let flags: Vec<String> = options(short).into_iter().map(|o| o.flag).collect();
-    assert_eq!(flags, ["--output", "--force", "--pzt"]);
-    assert_eq!(listed_values(&options(short)[2]), ["a", "b-c"]);
-
-    let long = "Options:\n      --objective <OBJECTIVE>\n          What to optimise\n\n          Possible values:\n          - min-mass:           Lightest\n          - max-energy-density: Highest\n          \n          [default: min-mass]\n\n      --model <MODEL>\n          Model: original, euler-bernoulli, or a calibrated-model.toml written by `calibrate`\n\n  -h, --help\n          Print help\n";
-    let opts = options(long);
-    let flags: Vec<&str> = opts.iter().map(|o| o.flag.as_str()).collect();
-    assert_eq!(flags, ["--objective", "--model"]);
-    assert_eq!(listed_values(&opts[0]), ["min-mass", "max-energy-density"]);
+fn the_reference_reads_both_help_layouts() {
+    let short = "Usage: x [OPTIONS] <A>\n\nArguments:\n  <A>  The input\n\nOptions:\n  -o, --output <DIR>  Output [default: out]\n      --force          Write\n      --pzt <PZT>      PZT [possible values: a, b-c]\n  -h, --help           Print help\n";
+    let r = rows(short);
+    let usage: Vec<&str> = r.iter().map(|r| r.usage.as_str()).collect();
     assert_eq!(
-        listed_values(&opts[1]),
-        ["original", "euler-bernoulli", "calibrated-model.toml"]
+        usage,
+        ["<A>", "-o, --output <DIR>", "--force", "--pzt <PZT>"]
     );
-
-    assert!(has_token("| `--pzt NAME` |", "--pzt"));
-    assert!(!has_token("| `--pzt-thickness-mm T` |", "--pzt"));
-    let readme = "## A\n### actuator-cam x\n| `--a` |\n```toml\n# not a heading\n```\n| `--b` |\n### actuator-cam y\n| `--c` |\n";
-    let x = section(readme, "x").unwrap();
-    assert!(has_token(&x, "--a") && has_token(&x, "--b") && !has_token(&x, "--c"));
+    assert_eq!(r[3].help, "PZT [possible values: a, b-c]");
+    let next_line =
+        "Options:\n      --a-very-long-flag-name <A_VERY_LONG_VALUE_NAME>\n          Its help\n";
+    let r = rows(next_line);
+    assert_eq!(
+        r[0].usage,
+        "--a-very-long-flag-name <A_VERY_LONG_VALUE_NAME>"
+    );
+    assert_eq!(r[0].help, "Its help");
+    let readme = "## A\n### actuator-cam x\n| `--a` |\n### actuator-cam y\n| `--c` |\n";
+    let (s, e) = section(readme, "x").unwrap();
+    assert_eq!(&readme[s..e], "| `--a` |\n");
     assert!(section(readme, "z").is_none());
 }
 

@@ -316,7 +316,7 @@ fn a_voltage_cap_that_holds_the_energy_down_is_the_field_blamed() {
             .unwrap()
             .replace("max_voltage_V = 300", &format!("max_voltage_V = {cap}"));
         let (dir, f) = write_temp("spec.toml", &spec);
-        let best = dir.path().join("best.toml");
+        let best = dir.path().join("optimum");
         let err = refused_in_one_line(&run(&[
             "optimize",
             f.to_str().unwrap(),

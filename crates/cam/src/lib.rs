@@ -77,9 +77,9 @@ pub use parts::flatten::TOLERANCE_MM as FLATTEN_TOLERANCE_MM;
 pub use parts::import as import_parts;
 
 // drive: an actuator flapping a wing through its linkage.
+pub use design::transmission::TransmissionSpec;
 pub use drive::spec::{DriveSpec, LinkageSpec, WingSpec};
 pub use drive::{analyse as analyse_drive, Analysis, DriveError};
-pub use linkage::transmission::TransmissionSpec;
 
 // optimize: the lightest design for an energy or a wing.
 pub use optimize::flap::{optimize_flap, wing_load};

@@ -3,6 +3,7 @@
 //! checked across layers before anything is written, and listed in the report with their build steps.
 
 use super::{process_template, CutSheetOptions, SheetDrawing, Template};
+use crate::design::transmission::TransmissionSpec;
 use crate::design::Design;
 use crate::drive::spec::DriveSpec;
 use crate::drive::{linkage_laminate_in, DriveError};
@@ -10,7 +11,6 @@ use crate::input::InputError;
 use crate::linkage::checks::{check_linkage_drawings, Expected};
 use crate::linkage::drawings::linkage_drawings;
 use crate::linkage::pattern::STACK;
-use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
 use std::path::PathBuf;
 

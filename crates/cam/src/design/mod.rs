@@ -4,10 +4,12 @@
 mod geometry;
 pub mod layup;
 mod materials;
+pub mod transmission;
 
 pub use geometry::check_planform;
 pub use materials::{material_from_table, resolve_material};
 
+use crate::design::transmission::TransmissionSpec;
 use crate::input::library::read_drive_mode;
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, EXTENSION_RATIO, FIELD_V_PER_MM, LENGTH_MM, MAX_PLIES,
@@ -15,7 +17,6 @@ use crate::input::limits::{
     WIDTH_RATIO,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-use crate::linkage::transmission::TransmissionSpec;
 use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

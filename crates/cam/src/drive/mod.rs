@@ -10,9 +10,9 @@
 pub mod report;
 pub mod spec;
 
+use crate::design::transmission::TransmissionSpec;
 use crate::design::Design;
 use crate::input::InputError;
-use crate::linkage::transmission::TransmissionSpec;
 use crate::linkage::LinkageLaminate;
 use crate::prediction::{actuator_modes, performance};
 use crate::process::template::Template;

@@ -1,14 +1,14 @@
 //! The drive file: a design, a wing, a transmission and the flapping requirement, read through the one
 //! input layer (every number checked against `input::limits`, unknown keys refused).
 
+pub use crate::design::transmission::LinkageSpec;
+use crate::design::transmission::{TransmissionSpec, MG_MM2};
 use crate::input::limits::{
     AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, DRAG_COEFFICIENT,
     FLAPPING_FREQUENCY_HZ, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG,
     SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-pub use crate::linkage::transmission::LinkageSpec;
-use crate::linkage::transmission::{TransmissionSpec, MG_MM2};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
 use actuator_model::ModelChoice;

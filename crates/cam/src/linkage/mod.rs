@@ -12,7 +12,6 @@
 //! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
-//! | `transmission.rs` | the `[transmission]` table of a drive or design file: the linkage given or solved, and the flexures asked for |
 
 pub mod checklist;
 pub mod checks;
@@ -21,8 +20,8 @@ pub mod drawings;
 pub mod flexures;
 pub mod mass;
 pub mod pattern;
-pub mod transmission;
 
+pub use crate::design::transmission::FlexureRequest;
 use crate::input::InputError;
 use crate::process::linkage as process;
 pub use crate::process::linkage::LinkageProcess;
@@ -32,7 +31,6 @@ use mass::{linkage_mass, LinkageMass};
 use pattern::{FlexureSize, Pattern, JOINTS};
 use serde::Serialize;
 use std::path::Path;
-pub use transmission::FlexureRequest;
 
 /// One linkage laminate, designed, checked and laid out.
 #[derive(Debug, Clone, PartialEq)]

@@ -55,6 +55,7 @@ fn is_hit(case: &Case, o: &Outcome) -> bool {
 static CORES: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 #[test]
+#[ignore = "study"]
 fn seed_study_names_the_hidden_effect() {
     let _cores = CORES.lock().unwrap_or_else(|e| e.into_inner());
     let only = std::env::var("CALIBRATE_CASE").ok();
@@ -132,6 +133,7 @@ fn seed_study_names_the_hidden_effect() {
 /// The issue 6 speed case (50 actuators x 10 voltages, full library) must still find what is hidden in it.
 /// Its time is a benchmark figure, not a test: `cargo bench --bench calibrate_speed`.
 #[test]
+#[ignore = "study"]
 fn fifty_actuators_by_ten_voltages_name_the_hidden_pair() {
     let _cores = CORES.lock().unwrap_or_else(|e| e.into_inner());
     let mut rng = ChaCha8Rng::seed_from_u64(5);
@@ -190,6 +192,7 @@ fn write_example() {
 /// calibrator must then say `ambiguous` (seen 4 times in 6) and never name the field-dependent d31 as the
 /// explanation.
 #[test]
+#[ignore = "study"]
 fn confounded_designs_do_not_name_the_wrong_effect() {
     let _cores = CORES.lock().unwrap_or_else(|e| e.into_inner());
     let truth = Truth::Library(Effects {

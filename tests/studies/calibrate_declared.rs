@@ -128,11 +128,13 @@ fn library_misses_and_declaration_explains(truth: Applied, name: &str, seed: u64
 }
 
 #[test]
+#[ignore = "study"]
 fn clamp_compliance_per_width_is_explained_once_declared() {
     library_misses_and_declaration_explains(clamp_per_width(), "wide-clamp", 1701);
 }
 
 #[test]
+#[ignore = "study"]
 fn soft_passive_fibre_is_explained_once_declared() {
     library_misses_and_declaration_explains(soft_fibre(), "soft-fibre", 1702);
 }
@@ -200,6 +202,7 @@ fn library_only(
 /// `predict --model` (and `cut-sheet --model`) applies it: its blocked force against the same model without the declared effect
 /// changes by the ratio the primitive gives when applied directly in the model crate.
 #[test]
+#[ignore = "study"]
 fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
     let dir = tempfile::tempdir().unwrap();
     let truth = Truth::Composed(Effects::default(), clamp_per_width());
@@ -281,6 +284,7 @@ fn predict_applies_the_declared_effect_by_the_amount_its_primitive_implies() {
 /// `predict --model` with the same file, has the energy and mass the optimizer reported, and that
 /// energy differs from the same model without the declared effect.
 #[test]
+#[ignore = "study"]
 fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
     let dir = tempfile::tempdir().unwrap();
     let model = actuator_model::CalibratedModel {
@@ -305,14 +309,15 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
         .replace("grid = 70", "grid = 24");
     let spec_path = dir.path().join("spec.toml");
     std::fs::write(&spec_path, spec).unwrap();
-    let best = dir.path().join("best.toml");
+    let folder = dir.path().join("optimum");
+    let best = folder.join("design.toml");
     let run = common::run_ok(&[
         "optimize",
         spec_path.to_str().unwrap(),
         "--model",
         model_path.to_str().unwrap(),
         "-o",
-        best.to_str().unwrap(),
+        folder.to_str().unwrap(),
     ]);
     let report = common::stdout(&run);
     let line = report.lines().find(|l| l.starts_with("refined:")).unwrap();
@@ -352,6 +357,7 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
 /// parameter's interval must hold the truth in at least 8 of 10 (7 or fewer: probability 0.01 at 95 %
 /// coverage); the verdicts must be right in at least 9 of 10.
 #[test]
+#[ignore = "study"]
 fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
     let root = 2e-3;
     let truth = Truth::Composed(
@@ -467,6 +473,7 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
 /// declared effect. Its block must be what `calibrate` without `--effects` reports as its own result on the
 /// same file (a second, independent run), and report.md and the terminal list the three models in order.
 #[test]
+#[ignore = "study"]
 fn the_report_sets_the_library_only_calibration_beside_the_declared_one() {
     let dir = tempfile::tempdir().unwrap();
     let data = common::example_path("measured-undeclared.csv");

@@ -64,7 +64,7 @@ fn declared(p: Primitive) -> Vec<Declared> {
 
 #[test]
 #[ignore = "study: about 5 minutes on two cores"]
-fn the_right_effect_declared_is_not_a_false_alarm() {
+fn full_the_right_effect_declared_is_not_a_false_alarm() {
     let mut failures = Vec::new();
     println!("| hidden and declared | not-explained | worst variable |");
     for (p, value) in cases() {

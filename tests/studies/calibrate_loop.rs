@@ -141,6 +141,7 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
 }
 
 #[test]
+#[ignore = "study"]
 fn every_primitive_goes_round_the_loop_from_not_explained_to_explained() {
     // Each primitive on its own data set.
     let rows: Vec<_> = cases()
@@ -181,6 +182,7 @@ fn every_primitive_goes_round_the_loop_from_not_explained_to_explained() {
 /// explaining a mass per area, gives none). CI runs 2 seeds per primitive;
 /// `ACTUATOR_CAM_FULL_STUDY=1` runs 10 and prints the table in docs/calibration.md (`--nocapture`).
 #[test]
+#[ignore = "study"]
 fn the_intervals_cover_the_truth_at_their_stated_rate() {
     let seeds = if full_study() { 10 } else { 2 };
     let cases = cases();
@@ -223,6 +225,7 @@ fn the_intervals_cover_the_truth_at_their_stated_rate() {
 }
 
 #[test]
+#[ignore = "study"]
 fn allowed_misses_is_the_binomial_one_percent_point() {
     // P(X > 1 | n = 8, p = 0.05) = 0.057, P(X > 2) = 0.0058.
     assert_eq!(allowed_misses(8), 2);
@@ -232,6 +235,7 @@ fn allowed_misses_is_the_binomial_one_percent_point() {
 
 /// Through the binary: the file is written with the reports, and `--effects` reads it back.
 #[test]
+#[ignore = "study"]
 fn the_binary_writes_the_next_step_and_runs_it() {
     let dir = tempfile::tempdir().unwrap();
     let csv_path = dir.path().join("measured.csv");

@@ -82,6 +82,7 @@ fn check(truth: Truth, seed: u64) {
 }
 
 #[test]
+#[ignore = "study"]
 fn a_uniform_d31_loss_survives_up_to_three_cracked_actuators() {
     for seed in 300..302 {
         check(
@@ -95,6 +96,7 @@ fn a_uniform_d31_loss_survives_up_to_three_cracked_actuators() {
 }
 
 #[test]
+#[ignore = "study"]
 fn a_dead_length_with_a_compliant_clamp_survives_up_to_three_cracked_actuators() {
     check(
         Truth::Library(Effects {
@@ -107,11 +109,13 @@ fn a_dead_length_with_a_compliant_clamp_survives_up_to_three_cracked_actuators()
 }
 
 #[test]
+#[ignore = "study"]
 fn null_data_with_cracked_actuators_is_still_no_effect() {
     check(Truth::Library(Effects::default()), 303);
 }
 
 #[test]
+#[ignore = "study"]
 fn too_many_low_actuators_are_not_excluded_as_broken() {
     // 9 of 30 (30 %) low by 45 %: more than the 20 % that can be device faults; nothing is excluded.
     let csv = random_csv(Truth::Library(Effects::default()), 304);
@@ -128,6 +132,7 @@ fn too_many_low_actuators_are_not_excluded_as_broken() {
 }
 
 #[test]
+#[ignore = "study"]
 fn the_report_names_the_broken_actuators_and_the_exclusion() {
     let truth = Truth::Library(Effects {
         d31_scale: 0.75,

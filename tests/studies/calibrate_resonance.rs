@@ -184,6 +184,7 @@ fn random_designs(rng: &mut ChaCha8Rng) -> Vec<Design> {
 }
 
 #[test]
+#[ignore = "study"]
 fn a_stiffness_effect_moves_the_force_and_the_resonance_together() {
     let truth = Truth::Library(Effects {
         clamp_compliance: CLAMP,
@@ -246,6 +247,7 @@ fn hold_the_study(seeds: usize, named_other: usize, misses: usize) {
 }
 
 #[test]
+#[ignore = "study"]
 fn a_d31_effect_leaves_the_resonance_alone() {
     let truth = Truth::Library(Effects {
         d31_scale: D31,
@@ -284,6 +286,7 @@ fn a_d31_effect_leaves_the_resonance_alone() {
 /// column the masses' pick stands, since nothing else measures the mass. (The verdict is the adequacy
 /// test's, not the fallback's: docs/calibration.md §3 gives it for this data set.)
 #[test]
+#[ignore = "study"]
 fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
     let truth = Truth::Library(Effects {
         d31_scale: D31,
@@ -334,6 +337,7 @@ fn a_chance_mass_pick_the_resonances_do_not_support_is_dropped() {
 }
 
 #[test]
+#[ignore = "study"]
 fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone() {
     let truth = Truth::Primitive(Primitive::AddedMassPerArea, GLUE);
     let settings = mass_effects();
@@ -398,6 +402,7 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
 /// (seed 1009) is within 0.5 % of the truth's, and the glue case (seed 1008) picks the glue, which
 /// only the resonances tell from a mass at the clamp.
 #[test]
+#[ignore = "study"]
 fn resonances_weighted_by_their_noise_hold_the_data_sets_that_counted_them_as_deflections() {
     let clamp = Truth::Library(Effects {
         clamp_compliance: CLAMP,
@@ -420,6 +425,7 @@ fn resonances_weighted_by_their_noise_hold_the_data_sets_that_counted_them_as_de
 }
 
 #[test]
+#[ignore = "study"]
 fn the_quality_factors_give_the_models_loss_factor_and_drive_uses_it() {
     let truth = Truth::Library(Effects::default());
     let (_, _, cal) = calibrated(truth, 1001, random_designs, &Settings::default());

@@ -113,6 +113,7 @@ fn rate_of(
 }
 
 #[test]
+#[ignore = "study"]
 fn no_trend_is_rarely_flagged_and_a_t_p_trend_is_seen() {
     // Family-wise level 1 %: with no trend, at most 2 false alarms in 40 data sets.
     let false_alarms = rate("t_p", 0.0, false, 1000..1040);
@@ -126,7 +127,7 @@ fn no_trend_is_rarely_flagged_and_a_t_p_trend_is_seen() {
 
 #[test]
 #[ignore = "power study: prints the table in docs/calibration.md (under a minute)"]
-fn power_study() {
+fn full_power_study() {
     let seeds = 0..40;
     for (test, name) in [(Test::Holm, "Holm"), (Test::Uncorrected, "uncorrected")] {
         println!(

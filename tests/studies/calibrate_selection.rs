@@ -209,12 +209,14 @@ fn named(study: &Study, o: &Outcome) -> bool {
 
 /// The null case, each library effect alone and every effect outside the library.
 #[test]
+#[ignore = "study"]
 fn selection_names_single_effects_and_never_a_wrong_one() {
     study(|s| s.hidden.len() < 2);
 }
 
 /// The 21 pairs of library effects (the full study: about 3.5 CPU-minutes, 70 s on two cores).
 #[test]
+#[ignore = "study"]
 fn selection_names_every_pair_of_library_effects() {
     study(|s| s.hidden.len() == 2);
 }
