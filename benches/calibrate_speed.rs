@@ -1,13 +1,13 @@
-//! Speed of `calibrate` (issues 6 and 17): 500 rows (50 actuators x 10 voltages) with the full library —
-//! every subset of at most two effects fitted and cross-validated — once with a hidden library pair
-//! (explained) and once with the passive plies' E1 off its value (not explained, so discovery also fits
-//! every primitive outside the library); and 10,000 rows (1000 actuators x 10 voltages, the pair).
+//! Speed of `calibrate`: 500 rows (50 actuators x 10 voltages) with the full library — every subset of at
+//! most two effects fitted and cross-validated — once with a hidden library pair (explained) and once with
+//! the passive plies' E1 off its value (not explained, so discovery also fits every primitive outside the
+//! library); and 10,000 rows (1000 actuators x 10 voltages, the pair).
 //! Targets: 500 rows under 3 s, 10,000 rows under 10 s.
 //!
-//! `cargo bench --bench calibrate_speed` (release); prints the load average it ran at. The test suite
-//! checks that the 500-row case finds its effects. `CALIBRATE_ONE_ROW_ACTUATORS=10000` also calibrates
-//! that many actuators measured once each (issue 31: target under 20 s at 10,000); a list
-//! (`1000,2000,4000`) calibrates each, and `CALIBRATE_ONE_ROW_ONLY=1` skips the other cases.
+//! `cargo bench --bench calibrate_speed` (release); prints the load average it ran at. The test suite checks
+//! that the 500-row case finds its effects. `CALIBRATE_ONE_ROW_ACTUATORS=10000` also calibrates that many
+//! actuators measured once each (target under 20 s at 10,000); a list (`1000,2000,4000`) calibrates each,
+//! and `CALIBRATE_ONE_ROW_ONLY=1` skips the other cases.
 
 #[path = "../tests/synthetic/mod.rs"]
 mod synthetic;

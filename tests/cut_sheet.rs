@@ -154,8 +154,8 @@ fn design_on_template(
 
 #[test]
 fn geometry_mass_equals_model_mass_and_svg_areas_read_back() {
-    // Issue #3: Σ area x thickness x density of the nominal outlines equals the model's mass to 1e-9,
-    // and the outline area read back from the written SVG (kerf 0) equals the nominal area to 1e-6.
+    // Σ area x thickness x density of the nominal outlines equals the model's mass to 1e-9, and the outline
+    // area read back from the written SVG (kerf 0) equals the nominal area to 1e-6.
     let dir = tempfile::tempdir().unwrap();
     let mut designs: Vec<String> = EXAMPLES.iter().map(|e| example(e)).collect();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
@@ -230,8 +230,8 @@ fn geometry_mass_equals_model_mass_and_svg_areas_read_back() {
 
 #[test]
 fn kerf_grows_every_cut_outline_by_at_least_half_the_kerf() {
-    // Issue #3: with kerf on, a part's cut path encloses its nominal outline grown by kerf/2:
-    // area >= A + P k/2 (Steiner: a convex offset adds P k/2 + π k²/4; mitre corners add more).
+    // With kerf on, a part's cut path encloses its nominal outline grown by kerf/2: area >= A + P k/2
+    // (Steiner: a convex offset adds P k/2 + π k²/4; mitre corners add more).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let kerf = 0.1;
@@ -561,7 +561,7 @@ fn template_features_table_remaps_score_lines_into_the_cut_layer() {
     assert!(!score0.is_empty(), "the shipped template scores the PZT");
     assert!(svg_paths(&svg1, "SCORE").is_empty(), "no score layer left");
     assert!(!svg1.contains("#0000FF"), "no blue (score) stroke left");
-    // Every score line is now an open straight path in the red cut layer, beside nothing else there.
+    // Remapped, every score line is an open straight path in the red cut layer, beside nothing else there.
     let cut1 = svg_paths(&svg1, "CUT");
     let open: Vec<_> = cut1
         .iter()
@@ -790,8 +790,8 @@ fn bad_input_exits_non_zero_and_leaves_no_output() {
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
 
-/// `-o` into a folder that holds other work: the run replaces only the files it writes (issue 14 item 1:
-/// the folder used to be replaced as a whole, deleting the design file and the user's notes).
+/// `-o` into a folder that holds other work: the run replaces only the files it writes, so the design
+/// file and the user's notes in that folder are kept.
 #[test]
 fn with_force_an_existing_output_folder_keeps_the_users_files() {
     let dir = tempfile::tempdir().unwrap();
@@ -839,8 +839,8 @@ fn with_force_an_existing_output_folder_keeps_the_users_files() {
 
 #[test]
 fn preview_uses_no_operation_colour_or_layer_name() {
-    // Issue 16 item 5: the preview had a CUT layer with the PZT outline in red; imported by mistake it
-    // was a cutting job.
+    // The preview has no operation's layer name or colour: a PZT outline in red on a CUT layer, imported
+    // by mistake, would be a cutting job.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
@@ -881,8 +881,8 @@ fn preview_uses_no_operation_colour_or_layer_name() {
 
 #[test]
 fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
-    // Issue 16 items 6 and 7: kerf-offset clamp outlines ran to -0.05 ... 100.05 mm on a 100 mm page,
-    // and every DXF had $EXTMIN = $EXTMAX = (0, 0, 0).
+    // Kerf-offset clamp outlines of a 100 mm panel reach -0.05 ... 100.05 mm: the SVG page must hold
+    // them, and a DXF's $EXTMIN and $EXTMAX must bound what it draws, not sit at (0, 0, 0).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
@@ -950,10 +950,10 @@ fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
     assert!(checked > 10, "only {checked} files checked");
 }
 
-/// Issue 16, item 3: the strips between the PZT sheet edges and the full-width score lines, and
-/// between neighbouring full-width lines, are either nothing (a line on the edge) or at least the
-/// narrowest snappable strip, 5 PZT thicknesses (docs/cam.md §4, "Snappable strips"; the root edge
-/// strip used to be 0.3 - 0.03/2 = 0.285 mm). Read back from the files, for every example.
+/// The strips between the PZT sheet edges and the full-width score lines, and between neighbouring
+/// full-width lines, are either nothing (a line on the edge) or at least the narrowest snappable strip,
+/// 5 PZT thicknesses (docs/cam.md §4, "Snappable strips": a plain 0.3 mm edge margin would leave a
+/// 0.3 - 0.03/2 = 0.285 mm root edge strip, which chips). Read back from the files, for every example.
 #[test]
 fn pzt_sheet_strips_between_full_width_score_lines_can_be_snapped() {
     let dir = tempfile::tempdir().unwrap();
@@ -1000,12 +1000,12 @@ fn pzt_sheet_strips_between_full_width_score_lines_can_be_snapped() {
     }
 }
 
-// Issue 16, item 2: no engraved label lies on a face where a PZT plate is bonded (an engraved groove
-// under a plate is a void in the bond line). Built through the library (not the binary: the test needs
-// where each passive part was placed) for every example by both methods. The bonded zone is computed
-// here from the design's planform alone (the passive part's whole PZT zone, `0 <= y <= l_p` from the
-// root, full width: it holds the plate whatever the template's edge margin), placed where the build
-// records each passive part; the labels are every open stroke drawn on the passive sheets.
+// No engraved label lies on a face where a PZT plate is bonded (an engraved groove under a plate is a void
+// in the bond line). Built through the library (not the binary: the test needs where each passive part was
+// placed) for every example by both methods. The bonded zone is computed here from the design's planform
+// alone (the passive part's whole PZT zone, `0 <= y <= l_p` from the root, full width: it holds the plate
+// whatever the template's edge margin), placed where the build records each passive part; the labels are
+// every open stroke drawn on the passive sheets.
 
 /// Labels drawn on the passive sheets of `example` built by `method`, and how many of them cross
 /// a bonded zone.
@@ -1087,8 +1087,8 @@ fn no_label_lies_in_a_bonded_zone_for_any_example_by_either_method() {
     }
 }
 
-/// Issue 14: a design whose features are narrower than two kerfs of its process is refused before
-/// anything is laid out, in one line naming the design file and the design field the user wrote.
+/// A design whose features are narrower than two kerfs of its process is refused before anything is laid
+/// out, in one line naming the design file and the design field the user wrote.
 #[test]
 fn features_too_small_for_the_kerf_name_the_design_field() {
     let dir = tempfile::tempdir().unwrap();
@@ -1120,8 +1120,8 @@ fn features_too_small_for_the_kerf_name_the_design_field() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
-/// Issue 14: nothing that is not a finite number reaches report.json. A calibrated model whose d31
-/// scale is positive, as the model allows, but absurd (1e300) made the energy overflow. It is refused
+/// Nothing that is not a finite number reaches report.json. A calibrated model whose d31 scale is
+/// positive, as the model allows, but absurd (1e300) would make the energy overflow. It is refused
 /// when the model file is read, in one line naming the model file, its field, the value and the bounds
 /// calibrate fits d31_scale in; nothing is written and no staging is left.
 #[test]
@@ -1160,10 +1160,9 @@ fn a_model_file_value_outside_the_fit_bounds_is_refused_naming_the_file_and_fiel
     assert!(staging.is_empty(), "{staging:?}");
 }
 
-/// Issue 14, item 6: the streamed writer gives the bytes the in-memory renderer gives (the library's
-/// `plan` + `render`), for a quantity that spans several sheets of every layer (119: the last clamp
-/// panel is partly filled, so each clamp layer has a run's file and the last panel's) and more
-/// files than the stream keeps in flight.
+/// The streamed writer gives the bytes the in-memory renderer gives (the library's `plan` + `render`), for a
+/// quantity that spans several sheets of every layer (119: the last clamp panel is partly filled, so each
+/// clamp layer has a run's file and the last panel's) and more files than the stream keeps in flight.
 #[test]
 fn streamed_files_equal_the_in_memory_render() {
     use actuator_cam::{
@@ -1233,9 +1232,9 @@ fn path_points(shape: &Shape) -> Vec<[f64; 2]> {
 
 #[test]
 fn nothing_that_is_never_run_crosses_a_cut_part() {
-    // Issue 28 item 4: the bonded-zone outline ran on the REFERENCE layer across every passive part's
-    // extension. LightBurn ignores layer locks and no-plot flags: left on, it cut each actuator in two. A
-    // never-run shape may surround parts (the PZT sheet edge) but no point of it lies inside a cut part.
+    // LightBurn ignores layer locks and no-plot flags: a REFERENCE-layer shape left on is cut, so a
+    // bonded-zone outline across a passive part's extension would cut each actuator in two. A never-run
+    // shape may surround parts (the PZT sheet edge) but no point of it lies inside a cut part.
     for example in EXAMPLES {
         for method in ["method-1", "method-2"] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -1288,10 +1287,10 @@ fn nothing_that_is_never_run_crosses_a_cut_part() {
 
 #[test]
 fn method_1_bond_parts_sit_inside_the_plate_by_the_template_inset() {
-    // Issue 28 item 7: the Pyralux parts were the plate outline exactly, so the adhesive squeezed out
-    // past the plate edge and bridged the electrode to the carbon. Each part is the plate inset by
-    // `[layers.pyralux] inset_mm`: its area is the plate's less perimeter x inset (to inset² terms), and
-    // no point of it comes nearer the plate edge than the inset.
+    // A Pyralux part that is the plate outline exactly lets the adhesive squeeze out past the plate edge and
+    // bridge the electrode to the carbon. Each part is the plate inset by `[layers.pyralux] inset_mm`: its
+    // area is the plate's less perimeter x inset (to inset² terms), and no point of it comes nearer the
+    // plate edge than the inset.
     let dir = tempfile::tempdir().unwrap();
     let method_1 = shipped_template("method-1.toml");
     let area_at = |inset: &str| -> (f64, f64, Vec<[f64; 2]>) {
@@ -1322,10 +1321,10 @@ fn method_1_bond_parts_sit_inside_the_plate_by_the_template_inset() {
     );
 }
 
-/// Issue 31, item 7: the model and the cut files hold the same layers. For every process (both shipped
-/// templates, and method 2 cut ply by ply) and with and without a bond the design declares, either the
-/// drawn areas times the areal densities (Σ A t ρ over the layer rows, kerf 0) equal the predicted mass,
-/// or the run is refused naming `laminate.bond` and writes nothing.
+/// The model and the cut files hold the same layers. For every process (both shipped templates, and method 2
+/// cut ply by ply) and with and without a bond the design declares, either the drawn areas times the areal
+/// densities (Σ A t ρ over the layer rows, kerf 0) equal the predicted mass, or the run is refused naming
+/// `laminate.bond` and writes nothing.
 #[test]
 fn a_declared_bond_is_cut_or_refused_and_the_drawn_mass_is_the_predicted_mass() {
     let dir = tempfile::tempdir().unwrap();

@@ -35,7 +35,7 @@ fn both_examples_reach_the_stroke_and_the_time_integration_agrees() {
         );
         let integrated = a.system.integrate(force, spec.frequency, 80).unwrap();
         let rel = integrated / spec.transmission.stroke - 1.0;
-        // The issue asks for 2 %; the balance's three harmonics put both examples within 0.1 %.
+        // The tolerance is 2 %; the balance's three harmonics put both examples within 0.1 %.
         let tolerance = 0.02;
         assert!(
             rel.abs() < tolerance,

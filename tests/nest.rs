@@ -242,7 +242,7 @@ fn example_batch_nests_and_every_sheet_checks_out() {
     assert!(md.contains("thesis-C actuator 12 plate 2: PZT sheet 1"));
     assert!(md.contains("thesis-1 actuator 4: clamp panel"));
     assert!(md.contains("bounding-box baseline"));
-    // Issue 16 item 9: the report says what x_mm/y_mm mean (root centre, y up, the DXF's frame).
+    // The report says what x_mm/y_mm mean (root centre, y up, the DXF's frame).
     let coordinates = report["coordinates"].as_str().unwrap_or_default();
     for needle in ["centre of the part's base", "y up", "DXF", "y_svg"] {
         assert!(

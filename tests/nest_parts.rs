@@ -1,7 +1,7 @@
-//! Extra parts from DXF and SVG drawings nested with actuators (issue 15 item 3), roll stock
-//! (`strip = true`, item 4) and the nest progress (item 2): the layouts are checked again from the
-//! files written (areas read back against closed forms, clearance between the outlines), every
-//! kind of bad drawing is refused in one line naming the file and the entity.
+//! Extra parts from DXF and SVG drawings nested with actuators, roll stock (`strip = true`) and the nest
+//! progress: the layouts are checked again from the files written (areas read back against closed forms,
+//! clearance between the outlines), every kind of bad drawing is refused in one line naming the file and the
+//! entity.
 
 use crate::common;
 use actuator_cam::{
@@ -1490,9 +1490,9 @@ proptest::proptest! {
 
 #[test]
 fn an_extra_part_is_reported_at_its_own_base_point_on_the_sheet() {
-    // Issue 28 item 6: a drawing's part was reported at the drawing's origin, so flexures drawn away from
-    // it were reported at y = -1.64 mm, off the sheet. The base point is the centre of the part's bounding
-    // box: on the part's sheet, whatever the drawing's origin, and at the centre of the placed outline.
+    // A part reported at its drawing's origin would put flexures drawn away from it at y = -1.64 mm, off
+    // the sheet. The base point is the centre of the part's bounding box: on the part's sheet, whatever
+    // the drawing's origin, and at the centre of the placed outline.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = bin()

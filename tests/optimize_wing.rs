@@ -76,7 +76,7 @@ fn the_chosen_design_flaps_the_wing_at_the_voltage_optimize_reports() {
         out.contains(&format!("at {:.1} V parallel", o.voltage_V)),
         "{out}"
     );
-    // The time integration of the same system at that voltage: the stroke within the 2 %.
+    // The time integration of the same system at that voltage: the stroke within 2 %.
     let force = o.field_V_per_mm * 1e3 * r.actuator.blocked_force_per_field_mN_per_V_per_mm * 1e-6;
     let integrated = a.system.integrate(force, r.frequency_Hz, 80).unwrap();
     assert!(

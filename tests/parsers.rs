@@ -1,12 +1,12 @@
-//! Property tests over every input parser (issue 14, Fuzzing): design, process template, batch, optimize
-//! spec, sweep factors, measured-data CSV and failure CSV. Each case mutates a shipped example (a number
-//! swapped for an extreme one, a value of the wrong type, a key renamed, dropped or repeated, a line of
-//! garbage) and checks that the parser never panics, and that every refusal is one line naming the file
-//! and a field (or a line and a column). Accepted designs must predict finite numbers: the ranges of
-//! `input::limits` and the derived-geometry checks exist so that no `NaN` reaches an output.
+//! Property tests over every input parser: design, process template, batch, optimize spec, sweep factors,
+//! measured-data CSV and failure CSV. Each case mutates a shipped example (a number swapped for an extreme
+//! one, a value of the wrong type, a key renamed, dropped or repeated, a line of garbage) and checks that
+//! the parser never panics, and that every refusal is one line naming the file and a field (or a line and a
+//! column). Accepted designs must predict finite numbers: the ranges of `input::limits` and the
+//! derived-geometry checks exist so that no `NaN` reaches an output.
 //!
-//! The library parsers are called directly (fast); `tests/predict.rs` and `tests/sweep.rs` drive the
-//! binary on the issue's cases. Case counts per parser are fixed here and stated in the README.
+//! The library parsers are called directly (fast); `tests/predict.rs` and `tests/sweep.rs` drive the binary
+//! on the absurd values and repeated levels. Case counts per parser are fixed here and stated in the README.
 
 use actuator_cam::{
     parse_measured_file, parse_toml, read_failure_column as read_column, Batch, Design, InputError,
@@ -42,7 +42,7 @@ fn names_file_and_field(e: &InputError, file: &Path) -> Result<(), TestCaseError
     );
     prop_assert!(!e.expected.is_empty(), "{}", text);
     prop_assert_eq!(text.lines().count(), 1, "{}", text);
-    // Numbers are printed short (issue 14: 1e300 is not 300 digits).
+    // Numbers are printed short (1e300 is not 300 digits).
     prop_assert!(text.len() < 1200, "{}", text);
     Ok(())
 }
@@ -424,8 +424,8 @@ proptest! {
     }
 }
 
-/// A value anywhere in a field's range, its bounds included, with extra weight near the ends (where
-/// `1e-300` used to give NaN).
+/// A value anywhere in a field's range, its bounds included, with extra weight near the ends (where a
+/// bound set too wide, such as `1e-300`, would give NaN).
 fn in_range(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
     prop_oneof![
         lo..=hi,
@@ -437,8 +437,8 @@ fn in_range(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
 
 proptest! {
     #![proptest_config(config(RANGE_CASES))]
-    /// Every design the ranges and the geometry checks accept predicts finite numbers: the issue's
-    /// NaN cases (length, width ratio, PZT thickness near zero) cannot come back through any corner of
+    /// Every design the ranges and the geometry checks accept predicts finite numbers: the values that
+    /// give NaN (length, width ratio, PZT thickness near zero) cannot be reached through any corner of
     /// the allowed ranges.
     #[test]
     fn every_accepted_design_predicts_finite_numbers(
@@ -473,8 +473,8 @@ fn run(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
-/// Issue 14, item 5: a repeated column (`mass_mg` twice, the first one used) is an error naming the
-/// file and the column; unknown columns are named in one warning line and the run goes on.
+/// A repeated column (`mass_mg` twice, the first one used) is an error naming the file and the column;
+/// unknown columns are named in one warning line and the run goes on.
 #[test]
 fn calibrate_refuses_a_repeated_column_and_names_unknown_ones() {
     let text = read("examples/measured-thesis-like.csv");

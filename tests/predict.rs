@@ -213,9 +213,9 @@ fn bad_input_gives_one_clear_line_naming_file_field_value_and_range() {
     assert!(!out.status.success() && stderr(&out).contains("no-such-file.toml"));
 }
 
-/// Issue 14, item 3: values the old ranges allowed gave NaN (`null` in `--json`) or absurd numbers with
-/// exit 0. Each is now one line naming the field the user wrote and its value in short form, and nothing
-/// reaches standard output.
+/// Values that would give NaN (`null` in `--json`) or absurd numbers with exit 0 if the ranges let them
+/// in. Each is refused in one line naming the field the user wrote and its value in short form, and
+/// nothing reaches standard output.
 #[test]
 fn absurd_values_of_issue_14_are_refused_naming_the_field() {
     let cases = [

@@ -1,6 +1,6 @@
-//! Issue 31: refusals name what the user wrote (the misspelt key, the field out of range, in short
-//! numbers), measured values and failure data have physical ranges, names cannot break the files they go
-//! into, and the command line's own errors stay one line.
+//! Refusals name what the user wrote (the misspelt key, the field out of range, in short numbers), measured
+//! values and failure data have physical ranges, names cannot break the files they go into, and the command
+//! line's own errors stay one line.
 
 use crate::common;
 use common::*;

@@ -208,9 +208,9 @@ fn bad_sweeps_fail_with_a_clear_message() {
     );
 }
 
-/// Issue 14, item 4: `length_mm = [1e300]` printed NaN/inf main effects, and `length_mm = [50, 50]`
-/// counted every design twice. Both are one line naming the file, the factor and the value; no report
-/// and no CSV are written.
+/// `length_mm = [1e300]` would print NaN/inf main effects, and `length_mm = [50, 50]` would count every
+/// design twice. Both are refused in one line naming the file, the factor and the value; no report and
+/// no CSV are written.
 #[test]
 fn absurd_and_repeated_levels_are_refused() {
     let text = std::fs::read_to_string(example("sweep-table-3-1.toml")).unwrap();

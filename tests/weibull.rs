@@ -1,4 +1,4 @@
-//! `actuator-cam weibull`: one column, named once (issue 14).
+//! `actuator-cam weibull`: one column, named once.
 
 use crate::common;
 use common::*;

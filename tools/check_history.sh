@@ -7,7 +7,11 @@
 #   - a commit-hash-like token of 7 to 40 hex digits (README and docs only: code and golden files hold
 #     hashes and hex constants on purpose), not counting colour codes (#ff0000), plain numbers, words
 #     and numbers in exponent notation (4.747472e-1);
-#   - an issue round in a heading, "(issue 15, second sitting)" (README and docs).
+#   - a reference to the tracker or to what the code did before (README, docs and code comments):
+#     "issue N" / "issue #N", an item of one ("(item N)", ", item N)", "items N and M"), "used to <verb>"
+#     (not "is used to <verb>", which says what a thing is for), "the old <noun>", "have/has always",
+#     "previously", "formerly". "no longer" is not checked: it names a state as often as a change
+#     ("a restart no longer improves").
 # Usage: tools/check_history.sh (from anywhere; it checks the repository it lives in).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -15,6 +19,13 @@ cd "$(dirname "$0")/.."
 docs=(README.md docs/*.md)
 code_dirs=(src crates tests benches)
 words='\bsitting\b|\btuning (seeds?|strips?|sets?)\b|\bnot kept\b'
+# An issue or its items, and wording that compares the code with an earlier version of itself.
+changes='\bissues? #?[0-9]+|\(items? [0-9]+\)|, items? [0-9]+\)|\bitems [0-9]+(, [0-9]+)* and [0-9]+\b'
+changes+='|\bthe old [a-z]+|\bha(ve|s) always\b|\bpreviously\b|\bformerly\b'
+# "used to <verb>" as a past habit ("the folder used to be replaced"); the passive "is used to compute"
+# says what a thing is for, and "used to its end" has no verb: both are dropped from what is reported.
+used_to='\bused to [a-z]+'
+used_for='\b(is|are|was|were|be|been|being|gets?|got) used to [a-z]+|\bused to (the|a|an|its|their|this|that|these|those|each|every|all|any|some|one|it|them|his|her|our|your|my|no)\b'
 status=0
 
 report() {
@@ -50,7 +61,17 @@ report "commit-hash-like tokens in README/docs" "$(
   | grep -viE ':[0-9]+e[0-9]*$'
 )"
 
-# An issue round in a heading ("## Quality per second (issue 15, second sitting)").
-report "issue rounds in README/docs headings" "$(grep -nHiE '^#{1,6} .*\bissue #?[0-9]+' "${docs[@]}")"
+# Issues, their items and earlier versions of the code, in the manual and the docs.
+report "issues, their items or earlier behaviour in README/docs" "$(grep -nHiE "$changes" "${docs[@]}")"
+report "\"used to\" (earlier behaviour) in README/docs" \
+  "$(grep -nHiE "$used_to" "${docs[@]}" | grep -viE "$used_for")"
+
+# The same in code comments, after the // only.
+if ((${#existing_dirs[@]})); then
+  report "issues, their items or earlier behaviour in code comments" \
+    "$(grep -rnHiE --include='*.rs' "//.*($changes)" "${existing_dirs[@]}")"
+  report "\"used to\" (earlier behaviour) in code comments" \
+    "$(grep -rnHiE --include='*.rs' "//.*$used_to" "${existing_dirs[@]}" | grep -viE "//.*($used_for)")"
+fi
 
 exit $status

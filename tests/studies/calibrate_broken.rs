@@ -1,6 +1,6 @@
-//! Broken actuators (issue 17 item 1): 1 to 3 of 30 actuators with a cracked plate (deflection and force
-//! 45 % low at every voltage) must be named, excluded, and leave the verdict and the fitted parameters of
-//! the clean data unchanged. Seeds 300-302 were not used while choosing the screen's thresholds.
+//! Broken actuators: 1 to 3 of 30 actuators with a cracked plate (deflection and force 45 % low at every
+//! voltage) must be named, excluded, and leave the verdict and the fitted parameters of the clean data
+//! unchanged. Seeds 300-302 were not used while choosing the screen's thresholds.
 
 use crate::synthetic;
 

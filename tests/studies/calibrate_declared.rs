@@ -1,6 +1,6 @@
-//! Effects a lab declares (issue 17 item 4): `calibrate --effects FILE` fits compositions of the model's
-//! primitives beside the library, the calibrated model records them, and `predict`, `optimize` and
-//! `cut-sheet --model FILE` apply them.
+//! Effects a lab declares: `calibrate --effects FILE` fits compositions of the model's primitives beside the
+//! library, the calibrated model records them, and `predict`, `optimize` and `cut-sheet --model FILE` apply
+//! them.
 //!
 //! The data are generated (tests/synthetic) with an effect outside the library built from the model
 //! crate's own primitives, and never declared to the calibrator unless the test says so.
@@ -353,8 +353,8 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
 /// each 95 % interval holds the truth, the model file records one entry per parameter, and the file
 /// read back predicts what the two primitives applied directly predict.
 ///
-/// Seeds 1720-1729 (never used to set anything here). A 95 % interval misses 1 time in 20, so each
-/// parameter's interval must hold the truth in at least 8 of 10 (7 or fewer: probability 0.01 at 95 %
+/// Seeds 1720-1729 (nothing here was chosen by looking at them). A 95 % interval misses 1 time in 20, so
+/// each parameter's interval must hold the truth in at least 8 of 10 (7 or fewer: probability 0.01 at 95 %
 /// coverage); the verdicts must be right in at least 9 of 10.
 #[test]
 #[ignore = "study"]
@@ -469,9 +469,9 @@ fn a_declared_effect_with_two_parameters_is_fitted_jointly_and_recorded() {
     assert!((read.free_deflection / direct.free_deflection - 1.0).abs() < 1e-12);
 }
 
-/// Issue 17 item 5: with `--effects`, the report sets the library-only calibration beside the one with the
-/// declared effect. Its block must be what `calibrate` without `--effects` reports as its own result on the
-/// same file (a second, independent run), and report.md and the terminal list the three models in order.
+/// With `--effects`, the report sets the library-only calibration beside the one with the declared effect.
+/// Its block must be what `calibrate` without `--effects` reports as its own result on the same file (a
+/// second, independent run), and report.md and the terminal list the three models in order.
 #[test]
 #[ignore = "study"]
 fn the_report_sets_the_library_only_calibration_beside_the_declared_one() {

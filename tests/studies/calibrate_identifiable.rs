@@ -1,4 +1,4 @@
-//! Identifiability (issue 14 item 5, issue 17): eight actuators of one design gave
+//! Identifiability: on eight actuators of one design, a plain fit reports
 //! `ply_thickness_scale = 1.2992 [1.2992, 1.2992]`, a zero-width interval for a parameter the data cannot
 //! determine. Such a parameter must be reported as not identifiable, with the reason, and not selected.
 
@@ -25,7 +25,7 @@ fn one_design_eight_times_does_not_select_ply_thickness() {
     let design = random_design(&mut rng);
     let designs = vec![design; 8];
     let csv = synthetic_csv(truth(), &designs, &mut rng);
-    // Also the exact case that gave the zero-width interval: every actuator with the same mass.
+    // Also the case of the zero-width interval: every actuator with the same mass.
     let first_mass: String = csv
         .lines()
         .nth(1)

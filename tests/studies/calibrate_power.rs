@@ -1,5 +1,5 @@
-//! Power of the adequacy test (issue 17 item 2): the smallest trend over each design variable's range
-//! that the test detects 80 % of the time at 30 actuators x 4 voltages and 5 % noise.
+//! Power of the adequacy test: the smallest trend over each design variable's range that the test
+//! detects 80 % of the time at 30 actuators x 4 voltages and 5 % noise.
 //!
 //! A trend is a factor `exp(a (x - x_mid) / (x_max - x_min))` on the deflection and force (an actuation
 //! trend) or on the force alone (a stiffness trend), with `x` one variable and its range that of the data
@@ -8,7 +8,7 @@
 //! adequacy test of docs/calibration.md §3 is run on the fit: a detection is a failed test.
 //!
 //! `cargo test --release --test calibrate_power -- --ignored --nocapture` prints the table in
-//! docs/calibration.md; the fast test checks the t_p row the issue reported missed.
+//! docs/calibration.md; the fast test checks the t_p row (a loss growing as the PZT gets thinner).
 
 use crate::synthetic;
 
@@ -118,9 +118,9 @@ fn no_trend_is_rarely_flagged_and_a_t_p_trend_is_seen() {
     // Family-wise level 1 %: with no trend, at most 2 false alarms in 40 data sets.
     let false_alarms = rate("t_p", 0.0, false, 1000..1040);
     assert!(false_alarms <= 0.05, "false alarms {false_alarms}");
-    // The issue's miss: a loss growing as the PZT gets thinner. The study (seeds 0-39) found a 6 % change
-    // over the t_p range detected 80 % of the time; a 12 % one must be detected in at least 80 % of 20
-    // seeds the study did not use.
+    // A loss growing as the PZT gets thinner. The study (seeds 0-39) found a 6 % change over the t_p range
+    // detected 80 % of the time; a 12 % one must be detected in at least 80 % of 20 seeds the study did not
+    // use.
     let r = rate("t_p", 12.0, false, 1040..1060);
     assert!(r >= 0.8, "t_p 12 % trend detected {r}");
 }

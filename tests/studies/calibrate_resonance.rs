@@ -1,8 +1,8 @@
-//! The measured first resonance in the calibration (issue 25 part 6, docs/calibration.md §3, "The
-//! resonance"): a stiffness effect moves `F_b / δ` and `f1` together, a mass effect moves `f1` alone, and
-//! a d31 effect moves neither. Each is hidden in synthetic data (30 actuators x 4 voltages, 5 % noise on
-//! δ and F_b, 1 % on the mass and on `f1`, `tests/synthetic`), whose `f1` comes from the model crate's
-//! beam under the same physics as δ, F_b and the mass, and `calibrate` must select it and estimate it.
+//! The measured first resonance in the calibration (docs/calibration.md §3, "The resonance"): a stiffness
+//! effect moves `F_b / δ` and `f1` together, a mass effect moves `f1` alone, and a d31 effect moves neither.
+//! Each is hidden in synthetic data (30 actuators x 4 voltages, 5 % noise on δ and F_b, 1 % on the mass and
+//! on `f1`, `tests/synthetic`), whose `f1` comes from the model crate's beam under the same physics as δ,
+//! F_b and the mass, and `calibrate` must select it and estimate it.
 //!
 //! The mass case is the one the resonance decides: every actuator has the same PZT plates, so a mass per
 //! actuator at the clamp (leads, solder) and a mass per bonded area under the plates add the same to each

@@ -1,6 +1,6 @@
-//! An honest selection, measured (issue 17 item 6): with the library as it is, the selection must not buy
-//! false positives. Random designs (30 actuators x 4 voltages, 5 % noise on deflection and force, 1 % on
-//! mass) with the effects of one case hidden in them:
+//! An honest selection, measured: with the library as it is, the selection must not buy false positives.
+//! Random designs (30 actuators x 4 voltages, 5 % noise on deflection and force, 1 % on mass) with the
+//! effects of one case hidden in them:
 //!
 //! - no effect: `no-effect` in at least 19 of 20 seeds;
 //! - each library effect alone and each pair of library effects: named (verdict `explained`, exactly the

@@ -1,6 +1,6 @@
-//! The 20-seed simulation study of issue 6: random designs (30 actuators x 4 voltages, 5% noise on
-//! deflection and force, 1% on mass) with one effect hidden in the data, generated with the model
-//! crate's effect physics and not declared to the calibrator.
+//! The 20-seed simulation study: random designs (30 actuators x 4 voltages, 5% noise on deflection and
+//! force, 1% on mass) with one effect hidden in the data, generated with the model crate's effect physics
+//! and not declared to the calibrator.
 //!
 //! CI runs the first 4 seeds of each case, with the thresholds scaled to them (rounded up: every one of
 //! the 4 must pass, and an out-of-library case must never be explained); `ACTUATOR_CAM_FULL_STUDY=1`
@@ -130,7 +130,7 @@ fn seed_study_names_the_hidden_effect() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// The issue 6 speed case (50 actuators x 10 voltages, full library) must still find what is hidden in it.
+/// The speed case (50 actuators x 10 voltages, full library) must still find what is hidden in it.
 /// Its time is a benchmark figure, not a test: `cargo bench --bench calibrate_speed`.
 #[test]
 #[ignore = "study"]

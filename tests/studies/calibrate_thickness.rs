@@ -1,7 +1,7 @@
-//! A thickness trend seen (issue 29 item 4): a piezoelectrically dead surface layer of the PZT costs a thin
-//! plate more than a thick one, so when the PZT thickness varies, the selection must name the layer
-//! (`inactive-surface-layer`) rather than take the loss for a uniform d31 scale (docs/calibration.md §3,
-//! "Thickness forms"), or the other thickness form where the data call for it.
+//! A thickness trend seen: a piezoelectrically dead surface layer of the PZT costs a thin plate more than a
+//! thick one, so when the PZT thickness varies, the selection must name the layer (`inactive-surface-layer`)
+//! rather than take the loss for a uniform d31 scale (docs/calibration.md §3, "Thickness forms"), or the
+//! other thickness form where the data call for it.
 //!
 //! Random designs (30 actuators on plates of 127, 191 and 267 µm, 4 voltages, 5 % noise on deflection and
 //! force, 1 % on mass) with a dead layer of 5, 10 and 15 µm, generated two ways: by the test's own

@@ -46,8 +46,8 @@ pub enum Truth {
     /// Library effects with one primitive on top (an effect outside the library built from the model's
     /// own physics, e.g. a clamp compliance per unit clamped width).
     Composed(Effects, Applied),
-    /// One physical primitive of the model crate at a value, on the original model (issue 17: effects
-    /// outside the library that discovery must point at).
+    /// One physical primitive of the model crate at a value, on the original model (effects outside
+    /// the library that discovery must point at).
     Primitive(Primitive, f64),
     /// A root length held rigidly inside the clamp (m): the clamped part neither bends nor drives, so
     /// the free deflection is that of an undriven root of this length and the tip compliance shrinks as

@@ -2,8 +2,8 @@
 //! markers. The calibration plots (parity and residual panels) and the optimizer's Pareto front are
 //! drawn with it, so axes and marks are written one way.
 //!
-//! Numbers are written as the plots have always written them (the golden snapshot pins the bytes):
-//! positions computed from data with one decimal, page sizes and plot-area edges in paths as given.
+//! Numbers are written one fixed way (the golden snapshot pins the bytes): positions computed from
+//! data with one decimal, page sizes and plot-area edges in paths as given.
 
 use std::fmt::Write as _;
 

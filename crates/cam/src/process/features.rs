@@ -1,6 +1,6 @@
 //! The geometric features the layer builders draw (score lines, part outlines, holes, labels, …) and the
 //! laser operation each one gets: the `[features]` table of a process template. A template that leaves a
-//! feature out keeps its default, which is the mapping the builders always used, so files stay the same.
+//! feature out keeps its default operation, so only the features a template names change its files.
 
 use crate::drawing::model::Operation;
 use crate::input::{InputError, TableReader};
@@ -101,7 +101,7 @@ impl Feature {
         }
     }
 
-    /// The operation the builders have always given this feature.
+    /// The operation this feature gets when the template's `[features]` table leaves it out.
     pub fn default_operation(self) -> Operation {
         match self {
             Feature::PztScoreLine => Operation::Score,

@@ -1,5 +1,5 @@
-//! The DXF writer as it was written through the `dxf` crate: the independent implementation the
-//! emitter in [`super`] is held to, byte for byte (tests only).
+//! A DXF writer built on the `dxf` crate: the independent implementation the emitter in [`super`] is held
+//! to, byte for byte (tests only).
 
 use dxf::entities::{Arc, Circle, Entity, EntityType, LwPolyline};
 use dxf::enums::{AcadVersion, DrawingUnits, Units};
