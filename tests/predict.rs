@@ -217,7 +217,7 @@ fn bad_input_gives_one_clear_line_naming_file_field_value_and_range() {
 /// in. Each is refused in one line naming the field the user wrote and its value in short form, and
 /// nothing reaches standard output.
 #[test]
-fn absurd_values_of_issue_14_are_refused_naming_the_field() {
+fn absurd_values_are_refused_naming_the_field() {
     let cases = [
         (
             ("length_mm", "length_mm = 1e-300"),
