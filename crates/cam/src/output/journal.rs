@@ -101,9 +101,9 @@ impl Moves<'_> {
     }
 
     fn write_intent(&self) -> io::Result<()> {
-        // The staged files are synced as they are written; their names (and the staging folder's own)
-        // go on the disk here, before the log that says they are there.
-        sync_dir(&self.staging.join("new"))?;
+        // The staged files, their names and the staging folder's own go on the disk before the log
+        // that says they are there.
+        own_file::sync_files(&self.staging.join("new"))?;
         sync_dir(self.staging)?;
         sync_dir(self.dir)?;
         let text = intent::to_text(

@@ -33,8 +33,8 @@ pub struct Manifest {
 impl Manifest {
     /// The manifest of `dir`, `None` when the folder has none. A manifest the tool could not have
     /// written (empty, cut short, a line that is not `command<TAB>file`) is an error naming it, never
-    /// read as a list of fewer files: a file it no longer listed would become the user's, and the next
-    /// run would refuse the folder or keep a stale file for good.
+    /// read as a list of fewer files: that would make the tool's files the user's, and the next run
+    /// would refuse the folder or keep a stale file for good.
     pub(super) fn read(dir: &Path) -> Result<Option<Manifest>, ManifestError> {
         let Some(bytes) = own_file::read(dir, MANIFEST).map_err(ManifestError::OwnFile)? else {
             return Ok(None);

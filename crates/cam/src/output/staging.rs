@@ -93,11 +93,11 @@ impl Staging {
         super::own_file::create_new(path)
     }
 
-    /// Write a file inside the staging folder, on the disk when this returns (under the lock, see
-    /// [`Staging::create_dir`]).
+    /// Write a file inside the staging folder (under the lock, see [`Staging::create_dir`]); the journal
+    /// syncs the folder's files before its log says they are there.
     pub(super) fn write(&self, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _active = lock(&ACTIVE);
-        super::own_file::write_new(path, bytes)
+        super::own_file::write_new_unsynced(path, bytes)
     }
 }
 
