@@ -1029,18 +1029,20 @@ fn kill_during_pause(mut command: Command, k: usize) -> bool {
         .unwrap();
     let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
     let mut line = String::new();
-    loop {
+    let paused = loop {
         line.clear();
         if std::io::BufRead::read_line(&mut stderr, &mut line).unwrap() == 0 {
-            child.wait().unwrap();
-            return false;
+            break false;
         }
         if line.starts_with(&format!("paused after move {k}")) {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            return true;
+            break true;
         }
+    };
+    if paused {
+        child.kill().unwrap();
     }
+    child.wait().unwrap();
+    paused
 }
 
 #[test]
