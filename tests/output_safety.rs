@@ -734,3 +734,435 @@ fn a_signal_while_the_files_move_waits_for_them_and_the_run_exits_0() {
         assert_eq!(outputs(&out), want, "signal {signal} after move {k}");
     }
 }
+
+const LOCK: &str = ".actuator-cam-lock";
+const INTENT: &str = ".actuator-cam-intent";
+
+/// A design outside the output folder, and the folder `out` beside it (made, empty).
+fn design_and_folder() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let design = dir.path().join("d.toml");
+    fs::copy(example("thesis-C.toml"), &design).unwrap();
+    let out = dir.path().join("out");
+    fs::create_dir(&out).unwrap();
+    (dir, design, out)
+}
+
+#[test]
+fn a_link_under_one_of_the_tools_names_is_refused_and_what_it_names_is_untouched() {
+    // Each of the tool's own names in the folder, as a link to the run's own design, as a hard link
+    // to it, and as a link to a file inside the folder: refused naming it, the design whole.
+    for name in [LOCK, INTENT, MANIFEST] {
+        for kind in ["symlink", "hard link", "symlink inside"] {
+            let (_dir, design, out) = design_and_folder();
+            let before = fs::read(&design).unwrap();
+            let inside = out.join("notes.txt");
+            match kind {
+                "symlink" => std::os::unix::fs::symlink("../d.toml", out.join(name)).unwrap(),
+                "hard link" => fs::hard_link(&design, out.join(name)).unwrap(),
+                _ => {
+                    fs::write(&inside, "lab notes\n").unwrap();
+                    std::os::unix::fs::symlink("notes.txt", out.join(name)).unwrap();
+                }
+            }
+            let o = cut_sheet(design.to_str().unwrap(), &out, &["--force"]);
+            let err = refused_in_one_line(&o);
+            assert!(err.contains(name), "{name} as a {kind}: {err}");
+            assert_eq!(fs::read(&design).unwrap(), before, "{name} as a {kind}");
+            if kind == "symlink inside" {
+                assert_eq!(fs::read_to_string(&inside).unwrap(), "lab notes\n");
+            }
+            assert!(
+                !out.join("report.md").exists(),
+                "{name} as a {kind}: written"
+            );
+        }
+    }
+    // The lock or the intent log as a directory: refused naming it.
+    for name in [LOCK, INTENT] {
+        let (_dir, design, out) = design_and_folder();
+        fs::create_dir(out.join(name)).unwrap();
+        let o = cut_sheet(design.to_str().unwrap(), &out, &["--force"]);
+        let err = refused_in_one_line(&o);
+        assert!(err.contains(name) && err.contains("directory"), "{err}");
+    }
+}
+
+/// A folder written by cut-sheet (40 actuators, svg), with the user's notes and optimize's design.
+fn written_before(dir: &Path) -> std::path::PathBuf {
+    let before = dir.join("before");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        before.to_str().unwrap(),
+        "--quantity",
+        "40",
+        "--format",
+        "svg",
+    ]);
+    fs::write(before.join("notes.txt"), "mine").unwrap();
+    run_ok(&[
+        "optimize",
+        "examples/optimize-thesis.toml",
+        "-o",
+        before.join("best.toml").to_str().unwrap(),
+    ]);
+    before
+}
+
+/// cut-sheet of 2 actuators into `out`, stopped (or paused, `hook`) after move `k`.
+fn cut_two(out: &Path, hook: &str, k: usize) -> Command {
+    let mut c = bin();
+    c.env(hook, k.to_string()).args([
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+        "--quantity",
+        "2",
+        "--format",
+        "svg",
+    ]);
+    c
+}
+
+/// optimize's design written into `out` (another command's run into the same folder).
+fn optimize_into(out: &Path) -> std::process::Output {
+    run(&[
+        "optimize",
+        "examples/optimize-thesis.toml",
+        "-o",
+        out.join("best.toml").to_str().unwrap(),
+    ])
+}
+
+/// Every file under `dir`, by its path inside it, with its bytes.
+fn every_file(dir: &Path) -> std::collections::BTreeMap<std::path::PathBuf, Vec<u8>> {
+    let mut found = std::collections::BTreeMap::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for e in fs::read_dir(&folder).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                let bytes = fs::read(&path).unwrap();
+                found.insert(path.strip_prefix(dir).unwrap().to_path_buf(), bytes);
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn an_intent_log_cut_short_or_damaged_is_refused_and_the_manifest_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let before = written_before(dir.path());
+    type Cut = fn(&str) -> String;
+    let cuts: [(&str, Cut); 3] = [
+        ("empty", |_| String::new()),
+        ("half its lines", |t| {
+            let lines: Vec<&str> = t.lines().collect();
+            lines[..lines.len() / 2].join("\n") + "\n"
+        }),
+        ("one byte changed", |t| t.replacen("put\t", "put\tx", 1)),
+    ];
+    for (what, cut) in cuts {
+        let out = dir.path().join("k");
+        copy_folder(&before, &out);
+        // Killed after it moved its log and 3 files into place.
+        assert!(!cut_two(&out, "ACTUATOR_CAM_STOP_AFTER_MOVE", 4)
+            .output()
+            .unwrap()
+            .status
+            .success());
+        let log = fs::read_to_string(out.join(INTENT)).unwrap();
+        fs::write(out.join(INTENT), cut(&log)).unwrap();
+        let manifest = fs::read(out.join(MANIFEST)).unwrap();
+        let left = every_file(&out);
+        let o = optimize_into(&out);
+        let err = refused_in_one_line(&o);
+        assert!(
+            err.contains(INTENT) && err.contains("delete"),
+            "{what}: {err}"
+        );
+        assert_eq!(fs::read(out.join(MANIFEST)).unwrap(), manifest, "{what}");
+        // Every file as it was (the lock aside: the refused run held the folder, and let it go).
+        let unlocked = |mut files: std::collections::BTreeMap<std::path::PathBuf, Vec<u8>>| {
+            files.remove(Path::new(LOCK));
+            files
+        };
+        assert!(
+            unlocked(every_file(&out)) == unlocked(left),
+            "{what}: the folder changed"
+        );
+        fs::remove_dir_all(&out).unwrap();
+    }
+}
+
+#[test]
+fn a_damaged_manifest_is_named_not_read_as_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let whole = fs::read_to_string(out.join(MANIFEST)).unwrap();
+    for damaged in [String::new(), whole[..whole.len() - 3].to_string()] {
+        fs::write(out.join(MANIFEST), &damaged).unwrap();
+        let o = cut_sheet_into(&out, &[]);
+        let err = refused_in_one_line(&o);
+        assert!(err.contains(MANIFEST) && err.contains("damaged"), "{err}");
+        assert_eq!(fs::read_to_string(out.join(MANIFEST)).unwrap(), damaged);
+    }
+}
+
+/// An intent log as a run writes it, around `records` (each a line of tab-separated fields): the end
+/// record counts them and carries the FNV-1a 64-bit hash of every byte before it (the format
+/// `crates/cam/src/output/intent.rs` documents, written here independently).
+fn sealed_log(records: &[&str]) -> String {
+    let mut text = String::from("# a log\n");
+    for r in records {
+        text.push_str(r);
+        text.push('\n');
+    }
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{text}end\t{}\t{hash:016x}\n", records.len())
+}
+
+#[test]
+fn an_intent_log_that_asks_for_more_than_a_run_could_is_refused() {
+    let staging = ".actuator-cam-staging-dead";
+    // A remove of the user's file, which the manifest never listed.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    let log = sealed_log(&[&format!("staging\t{staging}"), "remove\tnotes.txt"]);
+    fs::write(out.join(INTENT), log).unwrap();
+    let err = refused_in_one_line(&optimize_into(&out));
+    assert!(err.contains(INTENT) && err.contains("line 3"), "{err}");
+    assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+
+    // A staging folder outside the output folder, whose file a put would bring in.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let victim = dir.path().join("victim/new");
+    fs::create_dir_all(&victim).unwrap();
+    fs::write(victim.join("secret.txt"), "secret").unwrap();
+    fs::create_dir(out.join(staging)).unwrap();
+    let log = sealed_log(&[
+        &format!("staging\t{staging}/../../victim"),
+        "put\tsecret.txt",
+        "owner\tcut-sheet\tsecret.txt",
+    ]);
+    fs::write(out.join(INTENT), log).unwrap();
+    let err = refused_in_one_line(&optimize_into(&out));
+    assert!(err.contains(INTENT) && err.contains("line 2"), "{err}");
+    assert_eq!(fs::read(victim.join("secret.txt")).unwrap(), b"secret");
+    assert!(!out.join("secret.txt").exists());
+
+    // The staging folder gone and the manifest a link to the design: nothing written through it.
+    let (_dir, design, out) = design_and_folder();
+    let before = fs::read(&design).unwrap();
+    std::os::unix::fs::symlink("../d.toml", out.join(MANIFEST)).unwrap();
+    let log = sealed_log(&[&format!("staging\t{staging}"), "owner\tcut-sheet\tx.svg"]);
+    fs::write(out.join(INTENT), log).unwrap();
+    let err = refused_in_one_line(&optimize_into(&out));
+    assert!(err.contains(MANIFEST), "{err}");
+    assert_eq!(fs::read(&design).unwrap(), before);
+}
+
+#[test]
+fn a_users_folder_named_like_a_staging_folder_is_left_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let photos = out.join(".actuator-cam-staging-photos");
+    fs::create_dir(&photos).unwrap();
+    fs::write(photos.join("a.jpg"), "jpeg").unwrap();
+    run_ok(&[
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(fs::read(photos.join("a.jpg")).unwrap(), b"jpeg");
+    // In a folder the tool never wrote, it is the user's like any other entry.
+    let fresh = dir.path().join("fresh");
+    fs::create_dir(&fresh).unwrap();
+    fs::create_dir(fresh.join(".actuator-cam-staging-photos")).unwrap();
+    fs::write(fresh.join(".actuator-cam-staging-photos/a.jpg"), "jpeg").unwrap();
+    let err = refused_in_one_line(&cut_sheet_into(&fresh, &[]));
+    assert!(err.contains(".actuator-cam-staging-photos/"), "{err}");
+}
+
+/// Start `command` paused after move `k`; SIGKILL it during the pause. False when the run ended first
+/// (it has fewer moves).
+fn kill_during_pause(mut command: Command, k: usize) -> bool {
+    let mut child = command
+        .stderr(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    let paused = loop {
+        line.clear();
+        if std::io::BufRead::read_line(&mut stderr, &mut line).unwrap() == 0 {
+            break false;
+        }
+        if line.starts_with(&format!("paused after move {k}")) {
+            break true;
+        }
+    };
+    if paused {
+        child.kill().unwrap();
+    }
+    child.wait().unwrap();
+    paused
+}
+
+#[test]
+fn a_run_killed_while_it_finishes_a_killed_runs_moves_is_finished_by_the_next() {
+    let dir = tempfile::tempdir().unwrap();
+    let before = written_before(dir.path());
+    let meant = dir.path().join("meant");
+    copy_folder(&before, &meant);
+    let mut whole = cut_two(&meant, "ACTUATOR_CAM_PAUSE_AFTER_MOVE", 0);
+    whole.env_remove("ACTUATOR_CAM_PAUSE_AFTER_MOVE");
+    assert!(whole.output().unwrap().status.success());
+    let want = outputs(&meant);
+    // The first run (some 45 moves) is killed (SIGKILL) early, half-way and late in its moves; the
+    // second while it finishes them, after each of its moves; a third run then finds the folder as the
+    // first meant.
+    for first in [2, 20, 40] {
+        for second in 1.. {
+            let out = dir.path().join(format!("k{first}-{second}"));
+            copy_folder(&before, &out);
+            let paused = cut_two(&out, "ACTUATOR_CAM_PAUSE_AFTER_MOVE", first);
+            assert!(
+                kill_during_pause(paused, first),
+                "ended before move {first}"
+            );
+            let mut optimize = bin();
+            optimize
+                .env("ACTUATOR_CAM_PAUSE_AFTER_MOVE", second.to_string())
+                .args([
+                    "optimize",
+                    "examples/optimize-thesis.toml",
+                    "-o",
+                    out.join("best.toml").to_str().unwrap(),
+                ]);
+            let killed = kill_during_pause(optimize, second);
+            let o = optimize_into(&out);
+            assert!(o.status.success(), "{first}/{second}: {}", stderr(&o));
+            assert_eq!(
+                outputs(&out),
+                want,
+                "killed after moves {first}, then {second}"
+            );
+            let listed = listed(&out);
+            for name in outputs(&out).keys().filter(|n| *n != "notes.txt") {
+                assert!(listed.contains(name), "{first}/{second}: {name} not listed");
+            }
+            assert!(staging_left(&out).is_empty() && !out.join(INTENT).exists());
+            fs::remove_dir_all(&out).unwrap();
+            if !killed {
+                break;
+            }
+        }
+    }
+}
+
+#[test]
+fn a_dangling_link_as_the_output_folder_is_named_as_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::os::unix::fs::symlink("missing", &out).unwrap();
+    let err = refused_in_one_line(&cut_sheet_into(&out, &[]));
+    assert!(
+        err.contains("symbolic link to missing") && !err.contains("exists"),
+        "{err}"
+    );
+    assert!(!dir.path().join("missing").exists());
+}
+
+#[test]
+fn a_file_flag_given_a_folder_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("existing")).unwrap();
+    for given in ["somedir/", "existing/", "existing/."] {
+        let o = bin()
+            .current_dir(dir.path())
+            .args(["sweep", &example("sweep-table-3-2.toml"), "--csv", given])
+            .output()
+            .unwrap();
+        let err = refused_in_one_line(&o);
+        assert!(err.contains("takes a file path"), "{given}: {err}");
+        assert!(!dir.path().join("somedir").exists(), "{given}");
+    }
+    let mut names: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["existing"]);
+}
+
+#[test]
+fn a_file_size_limit_is_an_error_in_words_and_leaves_nothing() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let mut c = bin();
+    c.args([
+        "cut-sheet",
+        "examples/thesis-C.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    // SAFETY: setrlimit is async-signal-safe; it only limits the child about to exec.
+    unsafe {
+        c.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: 4096,
+                rlim_max: 4096,
+            };
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let o = c.output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{:?}: {}", o.status, stderr(&o));
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("file size limit"), "{err}");
+    assert!(
+        !out.exists() || files(&out).is_empty(),
+        "half-written output"
+    );
+}

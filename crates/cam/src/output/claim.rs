@@ -3,9 +3,11 @@
 //! once. The lock is an advisory `flock` on [`LOCK`], which the system releases when the process ends
 //! however it ends; the file also holds the pid and the command, to name the owner to a second run.
 
-use super::journal;
+use super::destination::file_id;
+use super::journal::{self, RecoverError};
+use super::own_file::{self, OwnFileError};
 use super::staging::{register, unregister, Cleanup};
-use std::fs::{self, File, OpenOptions};
+use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -22,6 +24,10 @@ pub(super) enum ClaimError {
     Busy { command: String, pid: String },
     /// The folder (or the lock in it) cannot be made.
     Io { dir: PathBuf, source: io::Error },
+    /// The lock's name holds something the tool did not make (a link, a directory), or an input.
+    OwnFile(OwnFileError),
+    /// A dead run's moves could not be finished.
+    Recover(RecoverError),
 }
 
 /// A folder this run holds: its lock, and the folders made to hold it (removed again unless the run
@@ -35,8 +41,14 @@ pub(super) struct Claim {
 
 impl Claim {
     /// Make `dir` (and its parents) if needed, take its lock (waiting up to [`WAIT`] for a live owner),
-    /// then finish whatever move a dead run left half-done there ([`journal::recover`]).
-    pub(super) fn take(dir: &Path, command: &str) -> Result<Claim, ClaimError> {
+    /// then finish whatever move a dead run left half-done there ([`journal::recover`]). The lock is
+    /// opened without following a link, and is never one of the run's `inputs` (device, inode): it is
+    /// written in place.
+    pub(super) fn take(
+        dir: &Path,
+        command: &str,
+        inputs: &[(u64, u64)],
+    ) -> Result<Claim, ClaimError> {
         let created = missing_folders(dir);
         for folder in &created {
             register(Cleanup::Created(folder.clone()));
@@ -57,13 +69,16 @@ impl Claim {
         };
         let start = Instant::now();
         loop {
-            let file = OpenOptions::new()
-                .create(true)
-                .truncate(false)
-                .read(true)
-                .write(true)
-                .open(&path)
-                .map_err(io_error)?;
+            let file = own_file::open(dir, LOCK, true)
+                .map_err(ClaimError::OwnFile)?
+                .expect("a lock opened to create is a file");
+            let id = file.metadata().map(|m| file_id(&m)).map_err(io_error)?;
+            if inputs.contains(&id) {
+                return Err(ClaimError::OwnFile(OwnFileError::Taken {
+                    path,
+                    what: "an input of this run",
+                }));
+            }
             match file.try_lock() {
                 Ok(()) if same_file(&file, &path) => {
                     register(Cleanup::Lock(path.clone()));
@@ -89,7 +104,7 @@ impl Claim {
                 Err(fs::TryLockError::Error(source)) => return Err(io_error(source)),
             }
         }
-        journal::recover(dir).map_err(io_error)?;
+        journal::recover(dir).map_err(ClaimError::Recover)?;
         Ok(claim)
     }
 

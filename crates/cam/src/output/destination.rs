@@ -3,8 +3,10 @@
 
 use super::claim::{Claim, ClaimError};
 use super::error::{in_words, OutputError};
-use super::manifest::{foreign_entries, Manifest};
+use super::journal::RecoverError;
+use super::manifest::{foreign_entries, Manifest, ManifestError};
 use super::name::is_plain_file_name;
+use super::own_file::OwnFileError;
 use super::{INTENT, LOCK, MANIFEST, STAGING_PREFIX};
 use std::collections::BTreeSet;
 use std::fs;
@@ -69,28 +71,24 @@ impl Destination {
     }
 
     /// Check that the destination is a folder (or nothing yet), hold it, and read its manifest.
-    pub(super) fn claim(&mut self, command: &str) -> Result<Claim, OutputError> {
+    pub(super) fn claim(&mut self, run: &Run) -> Result<Claim, OutputError> {
+        if let Some((link, target)) = dangling_link(&self.dir) {
+            return Err(OutputError::DanglingLink {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                link: link.display().to_string(),
+                target: target.display().to_string(),
+            });
+        }
         if self.dir.exists() && !self.dir.is_dir() {
             return Err(OutputError::NotADirectory {
                 flag: self.flag.clone(),
                 shown: self.shown.clone(),
             });
         }
-        let claim = Claim::take(&self.dir, command).map_err(|e| match e {
-            ClaimError::Busy { command, pid } => OutputError::Busy {
-                flag: self.flag.clone(),
-                shown: self.shown.clone(),
-                command,
-                pid,
-            },
-            ClaimError::Io { dir, source } => OutputError::CreateDir {
-                flag: self.flag.clone(),
-                shown: self.shown.clone(),
-                dir: dir.display().to_string(),
-                reason: in_words(&source),
-            },
-        })?;
-        self.manifest = Manifest::read(&self.dir);
+        let claim =
+            Claim::take(&self.dir, &run.command, &run.ids).map_err(|e| self.claim_error(e))?;
+        self.manifest = Manifest::read(&self.dir).map_err(|e| self.manifest_error(e))?;
         // Held from here on: no other run of the tool adds to it.
         self.present = fs::read_dir(&self.dir).ok().and_then(|entries| {
             entries
@@ -100,6 +98,82 @@ impl Destination {
         });
         Ok(claim)
     }
+}
+
+impl Destination {
+    fn claim_error(&self, e: ClaimError) -> OutputError {
+        let (flag, shown) = (self.flag.clone(), self.shown.clone());
+        match e {
+            ClaimError::Busy { command, pid } => OutputError::Busy {
+                flag,
+                shown,
+                command,
+                pid,
+            },
+            ClaimError::Io { dir, source } => self.cannot_write(&dir, &source),
+            ClaimError::OwnFile(e) => self.own_file_error(e),
+            ClaimError::Recover(RecoverError::Refused { path, why }) => OutputError::Journal {
+                flag,
+                shown,
+                path: path.display().to_string(),
+                why,
+            },
+            ClaimError::Recover(RecoverError::OwnFile(e)) => self.own_file_error(e),
+            ClaimError::Recover(RecoverError::Manifest(e)) => self.manifest_error(e),
+            ClaimError::Recover(RecoverError::Io(source)) => self.cannot_write(&self.dir, &source),
+        }
+    }
+
+    fn cannot_write(&self, dir: &Path, source: &io::Error) -> OutputError {
+        OutputError::CreateDir {
+            flag: self.flag.clone(),
+            shown: self.shown.clone(),
+            dir: dir.display().to_string(),
+            reason: in_words(source),
+        }
+    }
+
+    fn own_file_error(&self, e: OwnFileError) -> OutputError {
+        match e {
+            OwnFileError::Taken { path, what } => OutputError::OwnName {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                path: path.display().to_string(),
+                what: what.to_string(),
+            },
+            OwnFileError::Io { path, source } => self.cannot_write(&path, &source),
+        }
+    }
+
+    fn manifest_error(&self, e: ManifestError) -> OutputError {
+        match e {
+            ManifestError::OwnFile(e) => self.own_file_error(e),
+            ManifestError::Damaged { path, why } => OutputError::ManifestDamaged {
+                flag: self.flag.clone(),
+                shown: self.shown.clone(),
+                path: path.display().to_string(),
+                why,
+            },
+        }
+    }
+}
+
+/// The first component of `dir` (or `dir` itself) that is a symbolic link to nothing, and where it
+/// points: making the folder would fail there with a bare "file exists".
+fn dangling_link(dir: &Path) -> Option<(PathBuf, PathBuf)> {
+    let mut ancestors: Vec<&Path> = dir
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .collect();
+    ancestors.reverse();
+    ancestors.into_iter().find_map(|a| {
+        let is_link = fs::symlink_metadata(a).is_ok_and(|m| m.file_type().is_symlink());
+        if is_link && fs::metadata(a).is_err() {
+            Some((a.to_path_buf(), fs::read_link(a).unwrap_or_default()))
+        } else {
+            None
+        }
+    })
 }
 
 /// Files of a destination as (name, bytes), in order.
@@ -117,9 +191,8 @@ pub(super) struct Run {
 }
 
 impl Run {
-    /// Every input: the paths named, and every file read so far. Test hook: with
-    /// `ACTUATOR_CAM_LIST_INPUTS` set, each is printed on stderr (`input: PATH`), so a test can aim the
-    /// outputs at every one of them.
+    /// Every input: the paths named, and every file read so far (listed on stderr by a test hook,
+    /// [`super::hooks`]).
     pub(super) fn resolve(&mut self) {
         let mut all: Vec<PathBuf> = Vec::new();
         for p in self
@@ -132,11 +205,7 @@ impl Run {
                 all.push(p);
             }
         }
-        if std::env::var_os("ACTUATOR_CAM_LIST_INPUTS").is_some() {
-            for p in &all {
-                eprintln!("input: {}", p.display());
-            }
-        }
+        super::hooks::list_inputs(&all);
         self.ids = all
             .iter()
             .filter_map(|p| fs::metadata(p).ok())

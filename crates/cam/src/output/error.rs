@@ -130,6 +130,72 @@ pub enum OutputError {
         /// The system's reason, in words.
         reason: String,
     },
+    /// The output path, or a folder on its way, is a symbolic link to nothing.
+    #[error("{flag} {shown}: {link} is a symbolic link to {target}, which does not exist; make that folder, or choose another {flag}")]
+    DanglingLink {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The link.
+        link: String,
+        /// Where it points.
+        target: String,
+    },
+    /// A flag that takes a file was given a folder (`somedir/`).
+    #[error("{flag} {shown}: names a folder, and {flag} takes a file path; add a file name")]
+    FolderNotFile {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+    },
+    /// One of the tool's own names in the folder (lock, intent log, manifest) holds something else.
+    #[error(
+        "{flag} {shown}: {path} is {what}; actuator-cam keeps its own plain file under that name and never \
+         follows or writes through a link there; remove it, or choose another {flag}"
+    )]
+    OwnName {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The name in the folder.
+        path: String,
+        /// What is there instead ("a symbolic link", "a hard link …", "a directory").
+        what: String,
+    },
+    /// The intent log of a stopped run cannot be acted on.
+    #[error(
+        "{flag} {shown}: the moves of a run that stopped mid-way are not finished: its intent log {path} \
+         {why}; look over the folder, then delete {path} to go on (files the manifest does not list are \
+         then kept as yours)"
+    )]
+    Journal {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The log.
+        path: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// The folder's manifest is not one the tool wrote.
+    #[error(
+        "{flag} {shown}: the manifest {path} is damaged ({why}); restore it, or delete it to keep every \
+         file in the folder as yours"
+    )]
+    ManifestDamaged {
+        /// The flag.
+        flag: String,
+        /// The path as given.
+        shown: String,
+        /// The manifest.
+        path: String,
+        /// Where it is damaged.
+        why: String,
+    },
     /// Staging failed.
     #[error("{flag} {shown}: cannot write {what}: {reason}")]
     Stage {
@@ -165,7 +231,10 @@ pub fn in_words(e: &io::Error) -> String {
         K::NotFound => "a folder on the way does not exist (was it removed?)",
         K::NotADirectory => "a part of the path is a file, not a folder",
         K::CrossesDevices => "the files would have to move to another file system",
-        K::FileTooLarge => "a file is too large for the file system",
+        K::FileTooLarge => {
+            "a file is larger than this process may write (the file size limit, ulimit -f) or the file \
+             system holds"
+        }
         K::TooManyLinks => "the folder holds too many entries",
         _ => {
             let text = e.to_string();

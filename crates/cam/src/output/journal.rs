@@ -1,29 +1,30 @@
-//! Moves that survive a kill. Before the first move into a folder the run writes an intent log,
-//! [`INTENT`]: its staging folder, the files it will remove (stale files of the same command) and put
-//! (new and replaced files, the manifest last), and the new manifest itself. The moves are renames within
-//! the folder. If the run dies half-way (SIGKILL, a crash), the next run that claims the folder
-//! ([`super::claim`]) finds the log and finishes the moves from the staging folder, whose files were all
-//! written before the log was, so the folder ends as the dead run meant it, every file in it listed by
-//! its manifest. Any other staging folder there is a dead run's unfinished staging, and goes.
+//! Moves that survive a kill or a power failure. Before the first move into a folder the run writes an
+//! intent log, [`INTENT`] (its text: [`super::intent`]): its staging folder, the files it will remove
+//! (stale files of the same command) and put (new and replaced files, the manifest last), and the new
+//! manifest itself. The moves are renames within the folder. If the run dies half-way (SIGKILL, a crash),
+//! the next run that claims the folder ([`super::claim`]) finds the log and finishes the moves from the
+//! staging folder, so the folder ends as the dead run meant it, every file in it listed by its manifest.
+//! Any other staging folder of the tool there is a dead run's unfinished staging, and goes.
 //!
-//! Test hooks: `ACTUATOR_CAM_STOP_AFTER_MOVE=k` aborts the process right after its k-th move (the intent
-//! log going into place is move 1), as a SIGKILL would, so tests can stop a run at every stage.
-//! `ACTUATOR_CAM_PAUSE_AFTER_MOVE=k` says `paused after move k` on stderr and sleeps two seconds after
-//! its k-th move, so a test can send SIGINT or SIGTERM while the files move.
+//! What the log relies on is on the disk before the log is: every staged file and the folders holding
+//! them are synced first, and the log is synced before it goes into place; the moves are synced before
+//! it goes away. A log that is not whole, or that asks for a move its run could not have made, is not
+//! acted on: recovery touches only plain names inside the folder, removes only files the manifest lists,
+//! and puts only files from that run's own staging folder (one carrying the tool's marker) under names
+//! the log's manifest lists. Anything else is refused, naming the log and what is wrong, and the user
+//! decides.
 
-use super::manifest::{Manifest, MANIFEST};
-use super::staging::STAGING_PREFIX;
+use super::hooks::moved;
+use super::intent::{self, Intent};
+use super::manifest::{Manifest, ManifestError, MANIFEST};
+use super::own_file::{self, sync_dir, OwnFileError};
+use super::staging::{self, Staging, STAGING_PREFIX};
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
 
 /// File name of the intent log in a folder whose files are being moved into place.
 pub const INTENT: &str = ".actuator-cam-intent";
-
-const HEADER: &str =
-    "# actuator-cam: files being moved into this folder; the next run finishes the moves.\n";
 
 /// One move made, and how to take it back if a later move fails (not after a kill: that is finished).
 pub(super) enum Undo {
@@ -100,114 +101,185 @@ impl Moves<'_> {
     }
 
     fn write_intent(&self) -> io::Result<()> {
-        let mut text = format!("{HEADER}staging\t{}\n", file_name(self.staging));
-        for name in self.remove {
-            text.push_str(&format!("remove\t{name}\n"));
-        }
-        for name in self.put {
-            text.push_str(&format!("put\t{name}\n"));
-        }
-        for (command, name) in self.manifest.entries() {
-            text.push_str(&format!("owner\t{command}\t{name}\n"));
-        }
+        // The staged files, their names and the staging folder's own go on the disk before the log
+        // that says they are there.
+        own_file::sync_files(&self.staging.join("new"))?;
+        sync_dir(self.staging)?;
+        sync_dir(self.dir)?;
+        let text = intent::to_text(
+            &file_name(self.staging),
+            self.remove,
+            self.put,
+            self.manifest,
+        );
         // Written whole beside, then renamed: a kill never leaves half a log.
         let draft = self.staging.join("intent");
-        fs::write(&draft, text)?;
+        own_file::write_new(&draft, text.as_bytes())?;
         fs::rename(&draft, self.dir.join(INTENT))?;
+        sync_dir(self.dir)?;
         moved();
         Ok(())
     }
 }
 
-/// Every move is done: the log goes.
+/// Every move is done (and on the disk): the log goes.
 pub(super) fn finished(dir: &Path) -> io::Result<()> {
+    sync_dir(dir)?;
     fs::remove_file(dir.join(INTENT))
 }
 
+/// Why the moves a dead run left could not be finished.
+#[derive(Debug)]
+pub(super) enum RecoverError {
+    /// The log is not whole, or asks for something its run could not have done: `why` says what.
+    Refused { path: PathBuf, why: String },
+    /// One of the tool's names in the folder is not its file.
+    OwnFile(OwnFileError),
+    /// The folder's manifest is damaged.
+    Manifest(ManifestError),
+    /// A move failed.
+    Io(io::Error),
+}
+
+impl From<io::Error> for RecoverError {
+    fn from(e: io::Error) -> Self {
+        RecoverError::Io(e)
+    }
+}
+
 /// Finish the moves a dead run left half-done in `dir` (which this run holds), and remove every staging
-/// folder there: with the folder held, none belongs to a live run.
-pub(super) fn recover(dir: &Path) -> io::Result<()> {
-    let intent = dir.join(INTENT);
-    if let Ok(text) = fs::read_to_string(&intent) {
-        let mut staging = None;
-        let mut manifest = Vec::new();
-        for line in text.lines().filter(|l| !l.starts_with('#')) {
-            let mut parts = line.splitn(3, '\t');
-            match (parts.next(), parts.next(), parts.next()) {
-                (Some("staging"), Some(name), None) if name.starts_with(STAGING_PREFIX) => {
-                    staging = Some(dir.join(name));
-                }
-                (Some("remove"), Some(name), None) if plain(name) => {
-                    let target = dir.join(name);
-                    if fs::symlink_metadata(&target).is_ok_and(|m| m.is_file()) {
-                        fs::remove_file(target)?;
-                    }
-                }
-                (Some("put"), Some(name), None) if plain(name) => {
-                    if let Some(new) = staging.as_ref().map(|s| s.join("new").join(name)) {
-                        if fs::symlink_metadata(&new).is_ok() {
-                            fs::rename(new, dir.join(name))?;
-                        }
-                    }
-                }
-                (Some("owner"), Some(command), Some(name)) => {
-                    manifest.push((command.to_string(), name.to_string()));
-                }
-                _ => {}
-            }
-        }
-        // The staging folder was taken away by hand: the manifest still says what the run meant.
-        if staging.as_ref().is_none_or(|s| !s.exists()) {
-            fs::write(
-                dir.join(MANIFEST),
-                Manifest::from_entries(manifest).present_in(dir).to_bytes(),
-            )?;
-        }
-        fs::remove_file(&intent)?;
+/// folder of the tool there: with the folder held, none belongs to a live run.
+pub(super) fn recover(dir: &Path) -> Result<(), RecoverError> {
+    if let Some(bytes) = own_file::read(dir, INTENT).map_err(RecoverError::OwnFile)? {
+        let path = dir.join(INTENT);
+        let refuse = |why: String| RecoverError::Refused {
+            path: path.clone(),
+            why,
+        };
+        let intent = intent::parse(&bytes).map_err(refuse)?;
+        // Read even when no record needs it: recovery may replace it, and a link there is refused.
+        let manifest = Manifest::read(dir).map_err(RecoverError::Manifest)?;
+        let staging = check(dir, &intent, manifest.as_ref()).map_err(refuse)?;
+        finish(dir, &intent, staging.as_deref())?;
+        fs::remove_file(&path)?;
+        sync_dir(dir)?;
     }
     for entry in fs::read_dir(dir)?.flatten() {
-        let leftover = entry
+        let prefixed = entry
             .file_name()
             .to_string_lossy()
             .starts_with(STAGING_PREFIX);
-        if leftover && entry.file_type().is_ok_and(|t| t.is_dir()) {
+        if prefixed && staging::is_ours(&entry.path()) {
             fs::remove_dir_all(entry.path())?;
         }
     }
     Ok(())
 }
 
+/// Check every record of the log against what its run could have asked for; the staging folder, if it
+/// is still there. Reads only: nothing is touched before the whole log has passed.
+fn check(
+    dir: &Path,
+    intent: &Intent,
+    manifest: Option<&Manifest>,
+) -> Result<Option<PathBuf>, String> {
+    let line =
+        |number: usize, what: &str| format!("asks for what no run does (line {number}: {what})");
+    let (number, name) = &intent.staging;
+    if !plain(name) || !name.starts_with(STAGING_PREFIX) {
+        return Err(line(
+            *number,
+            &format!("names {name:?}, not a staging folder"),
+        ));
+    }
+    let staging = dir.join(name);
+    let present = fs::symlink_metadata(&staging).is_ok();
+    if present && !staging::is_ours(&staging) {
+        return Err(line(
+            *number,
+            &format!("names {name}, which actuator-cam did not make"),
+        ));
+    }
+    for (number, command, name) in &intent.owner {
+        if command.is_empty() || !plain(name) || reserved(name) {
+            return Err(line(*number, &format!("lists {name:?}, not a file name")));
+        }
+    }
+    for (number, name) in &intent.put {
+        let listed = name == MANIFEST || intent.owner.iter().any(|(_, _, n)| n == name);
+        if !plain(name) || !listed {
+            return Err(line(
+                *number,
+                &format!("puts {name:?}, which its manifest does not list"),
+            ));
+        }
+        let staged = staging.join("new").join(name);
+        if fs::symlink_metadata(&staged).is_ok_and(|m| !m.is_file()) {
+            return Err(line(
+                *number,
+                &format!("puts {name}, whose staged copy is not a plain file"),
+            ));
+        }
+    }
+    for (number, name) in &intent.remove {
+        let exists = plain(name) && fs::symlink_metadata(dir.join(name)).is_ok();
+        let listed = manifest.is_some_and(|m| m.owner(name).is_some());
+        if !plain(name) || reserved(name) || (exists && !listed) {
+            return Err(line(
+                *number,
+                &format!("removes {name:?}, which the manifest does not list"),
+            ));
+        }
+    }
+    Ok(present.then_some(staging))
+}
+
+/// Make the moves a checked log asks for.
+fn finish(dir: &Path, intent: &Intent, staging: Option<&Path>) -> Result<(), RecoverError> {
+    for (_, name) in &intent.remove {
+        let target = dir.join(name);
+        if fs::symlink_metadata(&target).is_ok_and(|m| m.is_file()) {
+            fs::remove_file(target)?;
+            moved();
+        }
+    }
+    match staging {
+        Some(staging) => {
+            for (_, name) in &intent.put {
+                let new = staging.join("new").join(name);
+                if fs::symlink_metadata(&new).is_ok() {
+                    fs::rename(new, dir.join(name))?;
+                    moved();
+                }
+            }
+        }
+        // The staging folder was taken away by hand: the log still says what the run meant.
+        None => {
+            let entries = intent.owner.iter().map(|(_, c, n)| (c.clone(), n.clone()));
+            let manifest = Manifest::from_entries(entries).present_in(dir);
+            let draft = Staging::new_in(dir)?;
+            let path = draft.path().join(MANIFEST);
+            own_file::write_new(&path, &manifest.to_bytes())?;
+            fs::rename(&path, dir.join(MANIFEST))?;
+            moved();
+        }
+    }
+    sync_dir(dir)?;
+    Ok(())
+}
+
+/// A name that stays inside the folder.
 fn plain(name: &str) -> bool {
     super::name::is_plain_file_name(name)
+}
+
+/// The tool's own names, which no record may remove or list as an output.
+fn reserved(name: &str) -> bool {
+    [MANIFEST, INTENT, super::LOCK].contains(&name) || name.starts_with(STAGING_PREFIX)
 }
 
 fn file_name(path: &Path) -> String {
     path.file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()
-}
-
-/// Count one move; the test hook stops the process after the k-th.
-fn moved() {
-    static STOP_AFTER: OnceLock<Option<usize>> = OnceLock::new();
-    static MOVES: AtomicUsize = AtomicUsize::new(0);
-    let stop = STOP_AFTER.get_or_init(|| {
-        std::env::var("ACTUATOR_CAM_STOP_AFTER_MOVE")
-            .ok()
-            .and_then(|k| k.parse().ok())
-    });
-    static PAUSE_AFTER: OnceLock<Option<usize>> = OnceLock::new();
-    let pause = PAUSE_AFTER.get_or_init(|| {
-        std::env::var("ACTUATOR_CAM_PAUSE_AFTER_MOVE")
-            .ok()
-            .and_then(|k| k.parse().ok())
-    });
-    let n = MOVES.fetch_add(1, Ordering::SeqCst) + 1;
-    if *stop == Some(n) {
-        std::process::abort();
-    }
-    if *pause == Some(n) {
-        eprintln!("paused after move {n}");
-        std::thread::sleep(std::time::Duration::from_secs(2));
-    }
 }

@@ -3,16 +3,26 @@
 //! run of the same command no longer writes them) from everything a user keeps in the folder (which it
 //! never touches unasked).
 
+use super::own_file::{self, OwnFileError};
 use std::collections::BTreeSet;
 use std::fs;
 use std::io;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// File name of the manifest in every folder the tool writes into.
 pub const MANIFEST: &str = ".actuator-cam-manifest";
 
 const HEADER: &str = "# actuator-cam: the files it wrote in this folder (command, file). \
 It replaces or removes only these; delete this file to keep them as your own.\n";
+
+/// Why a folder's manifest cannot be read.
+#[derive(Debug)]
+pub(super) enum ManifestError {
+    /// The name holds something other than the tool's plain file.
+    OwnFile(OwnFileError),
+    /// The file is not one the tool could have written: `why` says where.
+    Damaged { path: PathBuf, why: String },
+}
 
 /// The files the tool wrote in one folder, as `(command, file name)`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -21,16 +31,42 @@ pub struct Manifest {
 }
 
 impl Manifest {
-    /// The manifest of `dir`, `None` when the folder has none (or it cannot be read as text).
-    pub fn read(dir: &Path) -> Option<Manifest> {
-        let text = fs::read_to_string(dir.join(MANIFEST)).ok()?;
-        let entries = text
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .filter_map(|l| l.split_once('\t'))
-            .map(|(command, name)| (command.to_string(), name.to_string()))
-            .collect();
-        Some(Manifest { entries })
+    /// The manifest of `dir`, `None` when the folder has none. A manifest the tool could not have
+    /// written (empty, cut short, a line that is not `command<TAB>file`) is an error naming it, never
+    /// read as a list of fewer files: that would make the tool's files the user's, and the next run
+    /// would refuse the folder or keep a stale file for good.
+    pub(super) fn read(dir: &Path) -> Result<Option<Manifest>, ManifestError> {
+        let Some(bytes) = own_file::read(dir, MANIFEST).map_err(ManifestError::OwnFile)? else {
+            return Ok(None);
+        };
+        let damaged = |why: String| ManifestError::Damaged {
+            path: dir.join(MANIFEST),
+            why,
+        };
+        let text = String::from_utf8(bytes).map_err(|_| damaged("not text".into()))?;
+        if !text.ends_with('\n') {
+            let why = if text.is_empty() {
+                "empty"
+            } else {
+                "cut short"
+            };
+            return Err(damaged(why.into()));
+        }
+        let mut entries = BTreeSet::new();
+        for (at, line) in text.lines().enumerate() {
+            if line.starts_with('#') {
+                continue;
+            }
+            match line.split_once('\t') {
+                Some((command, name))
+                    if !command.is_empty() && super::name::is_plain_file_name(name) =>
+                {
+                    entries.insert((command.to_string(), name.to_string()));
+                }
+                _ => return Err(damaged(format!("line {}: {line:?}", at + 1))),
+            }
+        }
+        Ok(Some(Manifest { entries }))
     }
 
     /// A manifest of these `(command, file name)` entries.
@@ -114,7 +150,7 @@ impl Manifest {
 }
 
 /// Every entry of a folder that the tool did not write: what a run without `--force` refuses to write
-/// beside. The tool's own staging folders and the files named in `ours` (its lock, its intent log) are
+/// beside. The tool's own staging folders (with its marker) and the files named in `ours` (its lock, its intent log) are
 /// not counted.
 pub fn foreign_entries(
     dir: &Path,
@@ -125,7 +161,9 @@ pub fn foreign_entries(
     for entry in fs::read_dir(dir)? {
         let entry = entry?;
         let mut name = entry.file_name().to_string_lossy().into_owned();
-        if name.starts_with(super::staging::STAGING_PREFIX)
+        // A folder with the staging prefix is the tool's only if it carries the tool's marker.
+        if (name.starts_with(super::staging::STAGING_PREFIX)
+            && super::staging::is_ours(&entry.path()))
             || ours.contains(&name.as_str())
             || manifest.is_some_and(|m| m.lists(&name))
         {
@@ -158,7 +196,7 @@ mod tests {
             .after(dir.path(), "cut-sheet", &set(&["a.svg", "b.svg"]), true)
             .after(dir.path(), "optimize", &set(&["best.toml"]), false);
         fs::write(dir.path().join(MANIFEST), m.to_bytes()).unwrap();
-        let back = Manifest::read(dir.path()).unwrap();
+        let back = Manifest::read(dir.path()).unwrap().unwrap();
         assert_eq!(back, m);
         assert!(back.lists("a.svg") && back.lists(MANIFEST) && !back.lists("notes.txt"));
         // cut-sheet again, writing only a.svg: b.svg is stale, optimize's file is not.

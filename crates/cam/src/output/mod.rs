@@ -26,9 +26,12 @@
 mod claim;
 mod destination;
 mod error;
+mod hooks;
+mod intent;
 mod journal;
 mod manifest;
 mod name;
+mod own_file;
 mod staged;
 mod staging;
 
@@ -49,7 +52,8 @@ use std::path::{Path, PathBuf};
 pub struct Output {
     run: Run,
     destinations: Vec<(Destination, Files)>,
-    /// Two flags that named one file.
+    /// The first error found while the files were gathered (two flags that named one file, a file path
+    /// that names a folder), returned by [`Output::write`].
     conflict: Option<OutputError>,
 }
 
@@ -97,6 +101,9 @@ impl Output {
     /// One file at `path`, named on the command line by `flag` (e.g. `--csv`). Files of one run in the same
     /// folder share one destination, so the folder's manifest is written once.
     pub fn file(mut self, flag: &str, path: &Path, bytes: impl Into<Vec<u8>>) -> Output {
+        if let (Err(e), None) = (file_path(flag, path), &self.conflict) {
+            self.conflict = Some(e);
+        }
         let (dir, name) = split_file(path);
         let file = (name, bytes.into());
         match self
@@ -133,7 +140,7 @@ impl Output {
         run.resolve();
         let mut staged = Vec::with_capacity(self.destinations.len());
         for (mut d, files) in self.destinations {
-            let claim = d.claim(&run.command)?;
+            let claim = d.claim(&run)?;
             for (name, _) in &files {
                 check_target(&d, name, &run)?;
             }
@@ -168,7 +175,7 @@ impl Output {
             dir.to_path_buf(),
             Kind::Folder,
         );
-        let claim = d.claim(&run.command)?;
+        let claim = d.claim(&run)?;
         check_occupied(&d, run.force)?;
         Ok(FolderStream {
             run,
@@ -185,11 +192,12 @@ impl Output {
         if let Some(e) = self.conflict {
             return Err(e);
         }
+        file_path(flag, path)?;
         let mut run = self.run;
         run.resolve();
         let (dir, name) = split_file(path);
         let mut d = Destination::new(flag, path.display().to_string(), dir, Kind::Files);
-        let claim = d.claim(&run.command)?;
+        let claim = d.claim(&run)?;
         check_target(&d, &name, &run)?;
         check_occupied(&d, run.force)?;
         check_replace(&d, &name, &run)?;
@@ -202,6 +210,20 @@ impl Output {
             writer: std::io::BufWriter::with_capacity(1 << 16, file),
         })
     }
+}
+
+/// A path given for one file must not name a folder by its form (`out/`, `out/.`, `.`): split into
+/// folder and name it would become a file named like the folder.
+fn file_path(flag: &str, path: &Path) -> Result<(), OutputError> {
+    use std::os::unix::ffi::OsStrExt;
+    let bytes = path.as_os_str().as_bytes();
+    if bytes.ends_with(b"/") || bytes.ends_with(b"/.") || bytes == b"." {
+        return Err(OutputError::FolderNotFile {
+            flag: flag.into(),
+            shown: path.display().to_string(),
+        });
+    }
+    Ok(())
 }
 
 /// The folder of a single output file (`.` for a bare name) and its name.
@@ -250,6 +272,9 @@ impl FileStream {
         let file = writer
             .into_inner()
             .map_err(|e| staged.dest.error_stage(&name, e.into_error()))?;
+        // On the disk before the intent log says it is there.
+        file.sync_all()
+            .map_err(|e| staged.dest.error_stage(&name, e))?;
         drop(file);
         staged.seal(&run)?;
         commit_all(std::slice::from_mut(&mut staged))

@@ -29,6 +29,7 @@ pub(super) struct Staged {
 impl Staged {
     /// A fresh staging folder inside the held destination.
     pub(super) fn open(dest: Destination, claim: Claim) -> Result<Staged, OutputError> {
+        super::own_file::file_size_limit_as_error();
         let mut staged = Staged {
             dest,
             staging: None,

@@ -2,6 +2,11 @@
 //! ([`super::claim`]), before they move into place; and what an interrupted run removes. SIGINT and
 //! SIGTERM are handled by the run itself ([`remove_after_interrupt`]); what a SIGKILL leaves is finished
 //! or removed by the next run that claims the folder ([`super::journal::recover`]).
+//!
+//! The name prefix alone does not make a folder the tool's: a user may keep
+//! `.actuator-cam-staging-photos/` in an output folder. Each staging folder the tool makes carries its
+//! [`MARKER`] file, written as soon as the folder exists, and only a folder with it (or an empty one, all
+//! a kill in between can leave) is ever removed as a leftover.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -10,6 +15,13 @@ use std::sync::Mutex;
 
 /// Name prefix of the staging folders, so a leftover one can be recognised.
 pub const STAGING_PREFIX: &str = ".actuator-cam-staging-";
+
+/// The file inside each staging folder that says the tool made it.
+const MARKER: &str = "made-by-actuator-cam";
+
+/// What the marker file holds.
+const MARKER_TEXT: &str =
+    "actuator-cam staging folder: the next run into the folder around it removes it\n";
 
 /// What an interrupt must take away: everything this run made that is not output yet.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -56,6 +68,8 @@ impl Staging {
         let staging = tempfile::Builder::new()
             .prefix(STAGING_PREFIX)
             .tempdir_in(dir)?;
+        // On an error the folder goes with `staging` (a TempDir); nothing to unregister yet.
+        super::own_file::write_new(&staging.path().join(MARKER), MARKER_TEXT.as_bytes())?;
         active.push(Cleanup::Staging(staging.path().to_path_buf()));
         Ok(Staging { dir: Some(staging) })
     }
@@ -76,13 +90,14 @@ impl Staging {
     /// in it, and is lost with it).
     pub(super) fn create(&self, path: &Path) -> std::io::Result<fs::File> {
         let _active = lock(&ACTIVE);
-        fs::File::create(path)
+        super::own_file::create_new(path)
     }
 
-    /// Write a file inside the staging folder (under the lock, see [`Staging::create_dir`]).
+    /// Write a file inside the staging folder (under the lock, see [`Staging::create_dir`]); the journal
+    /// syncs the folder's files before its log says they are there.
     pub(super) fn write(&self, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _active = lock(&ACTIVE);
-        fs::write(path, bytes)
+        super::own_file::write_new_unsynced(path, bytes)
     }
 }
 
@@ -96,6 +111,27 @@ impl Drop for Staging {
             let _ = dir.close();
         }
     }
+}
+
+/// True when `path` is a staging folder the tool made: a directory (not a link to one) holding its
+/// marker, or an empty directory with the prefix (a kill between making the folder and its marker).
+/// Anything else with the prefix is a user's.
+pub(super) fn is_ours(path: &Path) -> bool {
+    if !fs::symlink_metadata(path).is_ok_and(|m| m.is_dir()) {
+        return false;
+    }
+    let marker = path.join(MARKER);
+    if fs::symlink_metadata(&marker).is_ok_and(|m| m.is_file()) {
+        // A kill while the marker is written leaves it empty or cut short.
+        return fs::read(&marker).is_ok_and(|b| MARKER_TEXT.as_bytes().starts_with(&b));
+    }
+    fs::read_dir(path).is_ok_and(|mut entries| entries.next().is_none())
+}
+
+/// Mark `path` as a staging folder the tool made (for tests that lay out a dead run's folder by hand).
+#[cfg(test)]
+pub(super) fn mark(path: &Path) {
+    fs::write(path.join(MARKER), MARKER_TEXT).unwrap();
 }
 
 /// For the SIGINT/SIGTERM handler. Waits for files being moved into place to finish (or be undone);

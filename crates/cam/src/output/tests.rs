@@ -117,7 +117,7 @@ fn a_failed_move_puts_everything_back() {
         .destinations
         .into_iter()
         .map(|(mut d, files)| {
-            let claim = d.claim(&run.command).unwrap();
+            let claim = d.claim(&run).unwrap();
             let mut s = Staged::open(d, claim).unwrap();
             for (name, bytes) in &files {
                 s.put(name, bytes).unwrap();
@@ -150,7 +150,7 @@ fn a_second_run_waits_then_is_refused_naming_the_first() {
     let root = tempfile::tempdir().unwrap();
     let out = root.path().join("out");
     let mut first = Destination::new("-o", "out".into(), out.clone(), Kind::Folder);
-    let held = first.claim("nest").unwrap();
+    let held = first.claim(&Output::new("nest").run).unwrap();
     let started = std::time::Instant::now();
     let e = Output::new("cut-sheet")
         .folder("-o", &out, files(&[("x.txt", "1")]))
@@ -245,22 +245,39 @@ fn the_next_run_finishes_the_moves_a_killed_run_left() {
     .unwrap();
     fs::rename(out.join("b.txt"), staging.join("old/b.txt")).unwrap();
     fs::rename(out.join("a.txt"), staging.join("old/a.txt")).unwrap();
-    fs::write(
-        out.join(INTENT),
-        format!(
-            "staging\t{STAGING_PREFIX}dead\nremove\tb.txt\nput\ta.txt\nput\tc.txt\nput\t{MANIFEST}\n\
-             owner\ttest\ta.txt\nowner\ttest\tc.txt\n"
-        ),
-    )
-    .unwrap();
+    staging::mark(&staging);
+    let owners = [("test", "a.txt"), ("test", "c.txt")].map(|(c, n)| (c.into(), n.into()));
+    let log = intent::to_text(
+        &format!("{STAGING_PREFIX}dead"),
+        &["b.txt".into()],
+        &["a.txt".into(), "c.txt".into(), MANIFEST.into()],
+        &manifest::Manifest::from_entries(owners),
+    );
+    fs::write(out.join(INTENT), log).unwrap();
     // Another staging folder, of a run killed while staging.
-    fs::create_dir(out.join(format!("{STAGING_PREFIX}other"))).unwrap();
+    let other = out.join(format!("{STAGING_PREFIX}other"));
+    fs::create_dir(&other).unwrap();
+    staging::mark(&other);
+    // A user's folder that only looks like one.
+    let photos = out.join(format!("{STAGING_PREFIX}photos"));
+    fs::create_dir(&photos).unwrap();
+    fs::write(photos.join("a.jpg"), "jpeg").unwrap();
     // Any run that claims the folder finishes the moves first.
     Output::new("other")
         .file("-o", &out.join("d.txt"), "3")
         .write()
         .unwrap();
-    assert_eq!(listing(&out), [MANIFEST, "a.txt", "c.txt", "d.txt"]);
+    assert_eq!(
+        listing(&out),
+        [
+            MANIFEST.to_string(),
+            format!("{STAGING_PREFIX}photos"),
+            "a.txt".into(),
+            "c.txt".into(),
+            "d.txt".into()
+        ]
+    );
+    assert_eq!(fs::read(photos.join("a.jpg")).unwrap(), b"jpeg");
     assert_eq!(fs::read_to_string(out.join("a.txt")).unwrap(), "2");
     assert_eq!(
         fs::read_to_string(out.join(MANIFEST))
@@ -425,7 +442,12 @@ fn system_errors_are_said_in_words() {
         "a folder on the way does not exist (was it removed?)"
     );
     assert_eq!(said(28), "the disk is full");
-    for errno in [2, 13, 18, 28, 30] {
+    assert!(
+        said(27).contains("file size limit, ulimit -f"),
+        "{}",
+        said(27)
+    );
+    for errno in [2, 13, 18, 27, 28, 30] {
         assert!(!said(errno).contains("os error"), "{}", said(errno));
     }
 }
