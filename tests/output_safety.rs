@@ -135,23 +135,23 @@ fn commands_share_a_folder_without_removing_each_others_files() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o");
     fs::create_dir(&out).unwrap();
-    let best = out.join("best.toml");
+    let best = out.join("design.toml");
     let o = run(&[
         "optimize",
         "examples/optimize-thesis.toml",
         "-o",
-        best.to_str().unwrap(),
+        out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let o = cut_sheet_into(&out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(best.exists(), "cut-sheet removed optimize's design");
-    // And optimize again, into the same file: replaced, cut-sheet's files still there.
+    // And optimize again, into the same folder: its files replaced, cut-sheet's files still there.
     let o = run(&[
         "optimize",
         "examples/optimize-rectangular.toml",
         "-o",
-        best.to_str().unwrap(),
+        out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(layer_file(&out, "pzt-1.svg").exists());
@@ -378,7 +378,8 @@ fn every_file_a_run_reads_is_an_input_no_output_replaces() {
             }
         }
     }
-    // Single-file outputs aimed at each input of the same run: refused, even with --force.
+    // optimize's files aimed at each input of the same run: an input in the output folder under the
+    // name of one of its files is refused, even with --force; an input given as the folder is not one.
     let optimize = |extra: &[&str]| {
         let mut args = vec![
             "optimize".to_string(),
@@ -389,7 +390,7 @@ fn every_file_a_run_reads_is_an_input_no_output_replaces() {
         args.extend(extra.iter().map(|s| s.to_string()));
         args
     };
-    let scratch = at("scratch.toml");
+    let scratch = at("optimum");
     let (inputs, o) = with_inputs(
         &optimize(&["-o", &scratch])
             .iter()
@@ -401,17 +402,25 @@ fn every_file_a_run_reads_is_an_input_no_output_replaces() {
     let before = snapshot(&inputs);
     for input in &inputs {
         let input = input.to_str().unwrap();
-        for flag in ["-o", "--pareto"] {
-            let args = optimize(&[flag, input, "--force"]);
-            let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
-            let err = refused_in_one_line(&o);
-            assert!(
-                err.contains("is an input of this run"),
-                "{flag} {input}: {err}"
-            );
-        }
+        let args = optimize(&["-o", input, "--force"]);
+        let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        refused_in_one_line(&o);
     }
     assert_eq!(snapshot(&inputs), before);
+    let named = Path::new(&scratch).join("design.toml");
+    fs::copy(&model, &named).unwrap();
+    let args = vec![
+        "optimize".to_string(),
+        at("optimize-thesis.toml"),
+        "--model".into(),
+        named.to_str().unwrap().to_string(),
+        "-o".into(),
+        scratch.clone(),
+        "--force".into(),
+    ];
+    let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("design.toml is an input of this run"), "{err}");
     let factors = at("sweep-table-3-2.toml");
     let (inputs, _) = with_inputs(&["sweep", &factors, "--csv", &at("designs.csv")]);
     assert_eq!(inputs, [std::path::PathBuf::from(&factors)]);
@@ -432,20 +441,22 @@ fn a_model_file_is_an_input_under_any_output_name() {
     ]);
     let model = c.join("calibrated-model.toml");
     let before = fs::read(&model).unwrap();
+    // The model named as one of optimize's files, in its output folder, with --force.
+    let d = dir.path().join("D");
+    fs::create_dir(&d).unwrap();
+    fs::copy(&model, d.join("report.txt")).unwrap();
     let o = run(&[
         "optimize",
         "examples/optimize-thesis.toml",
         "--model",
-        model.to_str().unwrap(),
+        d.join("report.txt").to_str().unwrap(),
         "-o",
-        model.to_str().unwrap(),
+        d.to_str().unwrap(),
+        "--force",
     ]);
     let err = refused_in_one_line(&o);
-    assert!(
-        err.contains("calibrated-model.toml is an input of this run"),
-        "{err}"
-    );
-    assert_eq!(fs::read(&model).unwrap(), before);
+    assert!(err.contains("report.txt is an input of this run"), "{err}");
+    assert_eq!(fs::read(d.join("report.txt")).unwrap(), before);
     // A model file named like an output of cut-sheet, in the output folder, with --force.
     let p = dir.path().join("P");
     fs::create_dir(&p).unwrap();
@@ -527,7 +538,7 @@ fn a_run_killed_after_any_move_is_finished_by_the_next_run() {
         "optimize",
         "examples/optimize-thesis.toml",
         "-o",
-        before.join("best.toml").to_str().unwrap(),
+        before.to_str().unwrap(),
     ]);
     // What the killed run meant: 2 actuators' files (fewer sheets: stale ones go).
     let meant = dir.path().join("meant");
@@ -572,7 +583,7 @@ fn a_run_killed_after_any_move_is_finished_by_the_next_run() {
             "optimize",
             "examples/optimize-thesis.toml",
             "-o",
-            out.join("best.toml").to_str().unwrap(),
+            out.to_str().unwrap(),
         ]);
         assert_eq!(outputs(&out), want, "stopped after move {k}");
         let listed = listed(&out);
@@ -806,7 +817,7 @@ fn written_before(dir: &Path) -> std::path::PathBuf {
         "optimize",
         "examples/optimize-thesis.toml",
         "-o",
-        before.join("best.toml").to_str().unwrap(),
+        before.to_str().unwrap(),
     ]);
     before
 }
@@ -833,7 +844,7 @@ fn optimize_into(out: &Path) -> std::process::Output {
         "optimize",
         "examples/optimize-thesis.toml",
         "-o",
-        out.join("best.toml").to_str().unwrap(),
+        out.to_str().unwrap(),
     ])
 }
 
@@ -1046,6 +1057,7 @@ fn kill_during_pause(mut command: Command, k: usize) -> bool {
 }
 
 #[test]
+#[ignore = "study: three minutes of killed runs"]
 fn a_run_killed_while_it_finishes_a_killed_runs_moves_is_finished_by_the_next() {
     let dir = tempfile::tempdir().unwrap();
     let before = written_before(dir.path());
@@ -1074,7 +1086,7 @@ fn a_run_killed_while_it_finishes_a_killed_runs_moves_is_finished_by_the_next() 
                     "optimize",
                     "examples/optimize-thesis.toml",
                     "-o",
-                    out.join("best.toml").to_str().unwrap(),
+                    out.to_str().unwrap(),
                 ]);
             let killed = kill_during_pause(optimize, second);
             let o = optimize_into(&out);

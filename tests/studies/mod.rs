@@ -3,7 +3,7 @@
 //! take minutes, so they are `#[ignore = "study"]` and run in a CI step of their own:
 //!
 //! ```sh
-//! cargo test --release --test tests -- --ignored studies:: --skip ::write_ --skip ::full_
+//! cargo test --release --test tests -- --ignored --skip ::write_ --skip ::full_
 //! ```
 //!
 //! A study runs a 4-seed sample of its measuring seeds; `ACTUATOR_CAM_FULL_STUDY=1` runs them all and
