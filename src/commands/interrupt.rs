@@ -26,12 +26,12 @@ pub fn end_search() -> bool {
     SEARCH_RUNNING.load(Ordering::SeqCst) && !SEARCH_STOP.swap(true, Ordering::SeqCst)
 }
 
-/// A test hook: with `ACTUATOR_CAM_PAUSE_AFTER_SEARCH` set, a run whose search an interrupt ended
-/// waits two seconds before it writes, so that a test's second interrupt lands between the search and
-/// the writing whatever the machine's load (tests/nest.rs); without it the gap is milliseconds.
+/// After a search an interrupt ended, the library's test hook may hold the run a moment before it
+/// writes (only in a build with its `test-hooks` feature: tests/nest.rs sends its second interrupt
+/// there).
 pub fn pause_after_interrupted_search() {
-    if search_ended() && std::env::var_os("ACTUATOR_CAM_PAUSE_AFTER_SEARCH").is_some() {
-        std::thread::sleep(std::time::Duration::from_secs(2));
+    if search_ended() {
+        actuator_cam::pause_after_interrupted_search();
     }
 }
 

@@ -118,4 +118,6 @@ pub use calibrate::select::{adequacy_of, select as select_effects, Candidate};
 pub use calibrate::{calibrate, predict_row, Calibration, Dataset, Measurement, Settings};
 
 // The one output writer.
-pub use output::{in_words, remove_after_interrupt, Output, STAGING_PREFIX};
+pub use output::{
+    in_words, pause_after_interrupted_search, remove_after_interrupt, Output, STAGING_PREFIX,
+};

@@ -50,3 +50,18 @@ pub(super) fn list_inputs(inputs: &[PathBuf]) {
 /// Without the test hooks the inputs are not printed.
 #[cfg(not(feature = "test-hooks"))]
 pub(super) fn list_inputs(_inputs: &[PathBuf]) {}
+
+/// `ACTUATOR_CAM_PAUSE_AFTER_SEARCH`: a run whose search an interrupt ended waits two seconds before it
+/// writes, so that a test's second interrupt lands between the search and the writing whatever the
+/// machine's load; without it the gap is milliseconds. The command line calls it when the first
+/// interrupt ended a nest's search.
+#[cfg(feature = "test-hooks")]
+pub fn pause_after_interrupted_search() {
+    if std::env::var_os("ACTUATOR_CAM_PAUSE_AFTER_SEARCH").is_some() {
+        std::thread::sleep(std::time::Duration::from_secs(2));
+    }
+}
+
+/// Without the test hooks the run writes at once.
+#[cfg(not(feature = "test-hooks"))]
+pub fn pause_after_interrupted_search() {}

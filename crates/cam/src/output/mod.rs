@@ -41,6 +41,7 @@ pub use manifest::MANIFEST;
 pub use staging::{remove_after_interrupt, STAGING_PREFIX};
 
 pub use error::{in_words, OutputError};
+pub use hooks::pause_after_interrupted_search;
 
 use destination::{check_occupied, check_replace, check_target, Destination, Files, Kind, Run};
 use staged::{commit_all, Staged};
