@@ -51,6 +51,12 @@ use rand_chacha::ChaCha8Rng;
 use crate::overlap::{Pieces, Projections};
 use crate::placement::Placement;
 
+/// The most parts a sheet may hold for compression to take it. A separation keeps tables of
+/// the overlap and the weight of every pair of parts, and a sweep reads them whole, so its
+/// memory and time grow with the square of the parts (a sheet of 10,000 small parts would take
+/// 400 MB a table); a sheet of more parts is left as the search leaves it.
+pub(crate) const MAX_PARTS: usize = 1000;
+
 /// A part at one of its rotations, as compression sees it.
 pub(crate) struct Footprint {
     /// The collision shape (inflated by half the separation) at the origin.

@@ -102,6 +102,8 @@ fn a_deadline_already_past_still_gives_every_part_and_says_it_cannot_be_replayed
     assert_eq!(strip.solution.parts_placed(), 9);
     assert_eq!(reached.ended, SearchEnd::Time);
     assert!(!reached.replayable);
+    // Every part had to be placed after the deadline: the result says it ran over.
+    assert!(reached.over_budget.is_some());
 }
 
 #[test]

@@ -8,5 +8,6 @@
 mod fixtures;
 
 mod anytime;
+mod many_parts;
 mod nest_engine;
 mod strip_and_progress;
