@@ -1,13 +1,13 @@
-//! Many small parts under a time budget (docs/benchmarks.md, "Many small parts"):
-//! `cargo bench -p cam-nest --bench many_parts`.
+//! Many small parts under a time budget (docs/benchmarks.md, "Nesting engine: many small parts
+//! at a time budget"): `cargo bench -p cam-nest --bench many_parts`.
 //!
 //! 5,000 and 10,000 circles of 1 mm radius (32-gons, one design, 0.3 mm separation, 2 workers,
 //! seed 1) on 300 mm square sheets, with a 5 s time budget and the iterations unbounded, as
 //! `--time 5s` runs them. One line per batch: the wall and CPU time of the nesting (on a shared
 //! machine the CPU time says what the wall time would be with the cores free), the wall time of
-//! the verifier and of the bounding-box baseline (the app runs all three on a layer), the
-//! sheets and parts placed, and the search's end ([`cam_nest::Reached`]). The deadline holds the nesting to about the
-//! budget; a run whose first feasible layout alone takes longer says so
+//! the verifier and of the bounding-box baseline (the app runs all three on a layer), the sheets
+//! and parts placed, and the search's end ([`cam_nest::Reached`]). The deadline holds the
+//! nesting to about the budget; a run whose first feasible layout alone takes longer says so
 //! (`Reached::over_budget`).
 //!
 //! `NEST_PARTS=2000,5000` runs other batch sizes, `NEST_TIME_S=10` another budget, and

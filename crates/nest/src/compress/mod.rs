@@ -15,19 +15,19 @@
 //!
 //! Where the smallest step keeps failing (`STALL_ATTEMPTS` in a row), the layout's structure is
 //! what holds it: which parts share a row across the sheet. Small steps never change that, so
-//! compression turns to sparrow's exploration ([`explore::Exploration`]): it stays at the ceiling it failed
-//! at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the better
-//! ones more often), swaps two large parts of different shapes in it (the parts a swapped part
-//! now covers go to the room it left) and separates again. A swap moves a part into another
+//! compression turns to sparrow's exploration ([`explore::Exploration`]): it stays at the ceiling
+//! it failed at, keeps the failed layouts in a pool ordered by their overlap, takes one back (the
+//! better ones more often), swaps two large parts of different shapes in it (the parts a swapped
+//! part now covers go to the room it left) and separates again. A swap moves a part into another
 //! row, which is how rows whose lengths do not add up to the sheet width get re-partitioned. A
-//! clear layout sends compression back to its small steps; `EXPLORE_FAILURES` failures in a
-//! row, or the budget, end it. A [`Chain`] holds all of this state, so that the anytime rounds
-//! can resume a *patient* chain, slice after slice of budget, down to a separation a slice
-//! ended in the middle of ([`separate::Outcome::Paused`]): a separation cut short would count as failed
-//! however near it was to clear. A patient chain is sparrow's exploration alone: it shrinks by
-//! the smallest step, explores from its first failure and never gives an exploration up. A
-//! *fine* chain is sparrow's compression phase: steps of 0.05 % down to 0.001 % and no
-//! exploration, for the rounds' compression passes.
+//! clear layout sends compression back to its small steps; `EXPLORE_FAILURES` failures in a row, or
+//! the budget, end it. A [`Chain`] holds all of this state, so that the anytime rounds can resume a
+//! *patient* chain, slice after slice of budget, down to a separation a slice ended in the middle
+//! of ([`separate::Outcome::Paused`]): a separation cut short would count as failed however near it
+//! was to clear. A patient chain is sparrow's exploration alone: it shrinks by the smallest step,
+//! explores from its first failure and never gives an exploration up. A *fine* chain is sparrow's
+//! compression phase: steps of 0.05 % down to 0.001 % and no exploration, for the rounds'
+//! compression passes.
 //!
 //! Work is counted in overlap evaluations, never time, and the random stream is the caller's,
 //! so the same input gives the same layout on any machine.

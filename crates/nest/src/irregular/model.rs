@@ -316,15 +316,14 @@ fn build_instance(job: &Job) -> Result<BPInstance, NestError> {
     ))
 }
 
-/// Quadtree depth of the jagua-rs collision engine for `job`. A shallow quadtree suits a few
-/// dozen parts of 10-70 mm on a 150 mm sheet: depth 3 with 32 edges per leaf took about 25 %
-/// less CPU than depth 5 with 16 on the 300-part job. A leaf deeper than the tree can split
-/// holds every part that lies in it, and a collision query tests them all, so with thousands of
-/// small parts on a sheet a fixed depth makes each query, and the fill, grow with the number
-/// of parts (2,000 circles of 1 mm radius took 90 s to place at depth 3, 40 s at depth 5). The depth grows
-/// with the parts a sheet can hold (the sheet's area over the mean part's, at most all of
-/// them) so that a leaf holds about `PARTS_PER_LEAF`; collision answers do not depend on the
-/// depth, only their cost does.
+/// Quadtree depth of the jagua-rs collision engine for `job`. A shallow quadtree suits a few dozen
+/// parts of 10-70 mm on a 150 mm sheet: depth 3 with 32 edges per leaf took about 25 % less CPU
+/// than depth 5 with 16 on the 300-part job. A leaf deeper than the tree can split holds every part
+/// that lies in it, and a collision query tests them all, so with thousands of small parts on a
+/// sheet a fixed depth makes each query, and the fill, grow with the number of parts (2,000 circles
+/// of 1 mm radius took 90 s to place at depth 3, 40 s at depth 5). The depth grows with the parts a
+/// sheet can hold (the sheet's area over the mean part's, at most all of them) so that a leaf holds
+/// about `PARTS_PER_LEAF`; collision answers do not depend on the depth, only their cost does.
 fn quadtree_depth(job: &Job) -> u8 {
     let copies = job.copies() as f64;
     let mean_area = job.part_area() / copies.max(1.0);
