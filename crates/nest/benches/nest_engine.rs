@@ -109,26 +109,9 @@ fn main() {
         batches.retain(|(name, _)| *name == only);
     }
 
-    // The parts for tools/nest_reference.py.
-    let export: Vec<serde_json::Value> = batches
-        .iter()
-        .map(|(name, items)| {
-            serde_json::json!({
-                "name": name,
-                "strip_width_mm": SHEET_MM,
-                "separation_mm": SEPARATION_MM,
-                "items": items,
-            })
-        })
-        .collect();
     let dir = bench_dir();
     let dir = dir.as_path();
-    std::fs::create_dir_all(dir).expect("create target/nest-bench");
-    std::fs::write(
-        dir.join("batches.json"),
-        serde_json::to_string_pretty(&export).expect("json"),
-    )
-    .expect("write batches.json");
+    write_batches(dir, &batches);
     if std::env::args().any(|a| a == "--export-only") {
         return;
     }
@@ -203,6 +186,33 @@ fn main() {
         println!("(no reference column: run `python3 tools/nest_reference.py` after this bench, then the bench again)");
     }
 
+    time_three_hundred_parts(quick);
+}
+
+/// Writes `batches` to `dir/batches.json`, the parts `tools/nest_reference.py` nests.
+fn write_batches(dir: &Path, batches: &[(String, Vec<NestItem>)]) {
+    let export: Vec<serde_json::Value> = batches
+        .iter()
+        .map(|(name, items)| {
+            serde_json::json!({
+                "name": name,
+                "strip_width_mm": SHEET_MM,
+                "separation_mm": SEPARATION_MM,
+                "items": items,
+            })
+        })
+        .collect();
+    std::fs::create_dir_all(dir).expect("create target/nest-bench");
+    std::fs::write(
+        dir.join("batches.json"),
+        serde_json::to_string_pretty(&export).expect("json"),
+    )
+    .expect("write batches.json");
+}
+
+/// The 300-part job (10 designs x 30) on sheets: the median wall time of 3 runs (1 with
+/// `quick`), with the last run's figures.
+fn time_three_hundred_parts(quick: bool) {
     let items = random_designs(2024, 10, 30);
     let runs = if quick { 1 } else { 3 };
     let mut times: Vec<f64> = Vec::new();

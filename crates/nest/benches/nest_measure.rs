@@ -93,20 +93,7 @@ fn strips(settings: &cam_nest::NestSettings) {
         settings.workers,
         settings.seed
     );
-    println!(
-        "{:<14} {:>6} {:>10} {:>8} {:>8} {:>6} {:>12} {:>6} {:>9} {:>7} {:>7}",
-        "batch",
-        "parts",
-        "density %",
-        "wall s",
-        "cpu s",
-        "cpu/w",
-        "iterations",
-        "1st s",
-        "@5s %",
-        "at s",
-        "cpu s"
-    );
+    print_strip_header();
     let mut export = Vec::new();
     let (mut density_sum, mut seconds_sum, mut cpu_sum) = (0.0, 0.0, 0.0);
     let batches = fixtures::batches_from(base);
@@ -154,28 +141,7 @@ fn strips(settings: &cam_nest::NestSettings) {
         });
         verify(items, &strip.bin, settings, &strip.solution, 1e-9).expect("layout verifies");
         let parts: usize = items.iter().map(|i| i.demand).sum();
-        let (at_text, at_json) = match at {
-            Some(a) => (
-                format!(
-                    "{:>9.2} {:>7.2} {:>7.2}",
-                    a.density * 100.0,
-                    a.known_at_s,
-                    a.cpu_s
-                ),
-                serde_json::json!({
-                    "wall_limit_s": AT_WALL_S,
-                    "density": a.density,
-                    "known_at_seconds": a.known_at_s,
-                    "cpu_seconds": a.cpu_s,
-                    "iterations_done": a.iterations_done,
-                    "finished": a.finished,
-                }),
-            ),
-            None => (
-                format!("{:>9} {:>7} {:>7}", "none", "-", "-"),
-                serde_json::json!({ "wall_limit_s": AT_WALL_S, "density": 0.0, "known_at_seconds": null }),
-            ),
-        };
+        let (at_text, at_json) = at_columns(at);
         println!(
             "{name:<14} {parts:>6} {:>10.2} {seconds:>8.2} {cpu:>8.2} {:>6.2} {used:>12} {:>6.2} {at_text}",
             strip.density * 100.0,
@@ -222,6 +188,51 @@ fn strips(settings: &cam_nest::NestSettings) {
         serde_json::to_string_pretty(&export).expect("json"),
     )
     .expect("write measure json");
+}
+
+/// The columns of a strip's state as of `AT_WALL_S` (its snapshot, if it had a layout by then):
+/// the text of the table and the figures of the export.
+fn at_columns(at: Option<Snapshot>) -> (String, serde_json::Value) {
+    match at {
+        Some(a) => (
+            format!(
+                "{:>9.2} {:>7.2} {:>7.2}",
+                a.density * 100.0,
+                a.known_at_s,
+                a.cpu_s
+            ),
+            serde_json::json!({
+                "wall_limit_s": AT_WALL_S,
+                "density": a.density,
+                "known_at_seconds": a.known_at_s,
+                "cpu_seconds": a.cpu_s,
+                "iterations_done": a.iterations_done,
+                "finished": a.finished,
+            }),
+        ),
+        None => (
+            format!("{:>9} {:>7} {:>7}", "none", "-", "-"),
+            serde_json::json!({ "wall_limit_s": AT_WALL_S, "density": 0.0, "known_at_seconds": null }),
+        ),
+    }
+}
+
+/// The header of the strips' table.
+fn print_strip_header() {
+    println!(
+        "{:<14} {:>6} {:>10} {:>8} {:>8} {:>6} {:>12} {:>6} {:>9} {:>7} {:>7}",
+        "batch",
+        "parts",
+        "density %",
+        "wall s",
+        "cpu s",
+        "cpu/w",
+        "iterations",
+        "1st s",
+        "@5s %",
+        "at s",
+        "cpu s"
+    );
 }
 
 fn sheet_jobs(settings: &cam_nest::NestSettings) {

@@ -125,6 +125,27 @@ fn write_instance(dir: &Path, name: &str, items: &[NestItem]) {
     .expect("write the instance");
 }
 
+/// `NEST_TIME_S`, `NEST_SEED` (1 if unset) and `NEST_ITERATIONS` (see the module doc).
+fn budget_from_env() -> (Option<f64>, u64, Option<usize>) {
+    let time_s: Option<f64> = std::env::var("NEST_TIME_S").ok().map(|t| {
+        t.parse()
+            .ok()
+            .filter(|t: &f64| t.is_finite() && *t > 0.0)
+            .unwrap_or_else(|| panic!("NEST_TIME_S = {t:?}: a number of seconds above 0"))
+    });
+    let seed: u64 = std::env::var("NEST_SEED").ok().map_or(1, |s| {
+        s.parse()
+            .unwrap_or_else(|_| panic!("NEST_SEED = {s:?}: a whole number"))
+    });
+    let iterations: Option<usize> = std::env::var("NEST_ITERATIONS").ok().map(|n| {
+        n.parse()
+            .ok()
+            .filter(|n: &usize| *n > 0)
+            .unwrap_or_else(|| panic!("NEST_ITERATIONS = {n:?}: a whole number above 0"))
+    });
+    (time_s, seed, iterations)
+}
+
 fn main() {
     if std::env::args().any(|a| a == "--write-example") {
         write_example(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/instances"));
@@ -145,22 +166,7 @@ fn main() {
         );
         return;
     };
-    let time_s: Option<f64> = std::env::var("NEST_TIME_S").ok().map(|t| {
-        t.parse()
-            .ok()
-            .filter(|t: &f64| t.is_finite() && *t > 0.0)
-            .unwrap_or_else(|| panic!("NEST_TIME_S = {t:?}: a number of seconds above 0"))
-    });
-    let seed: u64 = std::env::var("NEST_SEED").ok().map_or(1, |s| {
-        s.parse()
-            .unwrap_or_else(|_| panic!("NEST_SEED = {s:?}: a whole number"))
-    });
-    let iterations: Option<usize> = std::env::var("NEST_ITERATIONS").ok().map(|n| {
-        n.parse()
-            .ok()
-            .filter(|n: &usize| *n > 0)
-            .unwrap_or_else(|| panic!("NEST_ITERATIONS = {n:?}: a whole number above 0"))
-    });
+    let (time_s, seed, iterations) = budget_from_env();
     let settings = NestSettings {
         separation_mm: 0.0,
         seed,

@@ -12,7 +12,7 @@
 //! reproducible by itself.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Wall-clock deadline and interrupt of one search; the default has neither (the iteration
 /// budget alone ends it).
@@ -68,7 +68,15 @@ pub struct Reached {
     /// True when [`nest`](crate::nest) with `iterations` as the budget gives the same layout
     /// (a limit that struck inside the base search leaves a layout no budget reproduces).
     pub replayable: bool,
+    /// What ended the search.
     pub ended: SearchEnd,
+    /// The search's wall time, set when the deadline of [`SearchLimit`] passed before the first
+    /// feasible layout was complete. Every part must be placed once, so the greedy fill that
+    /// places them ends (at its least effort once the limit is reached) whatever the limit:
+    /// where that fill alone takes longer than the budget, the search took this long instead.
+    /// `None` when the first layout was complete within the budget (the search then ends at
+    /// the first check after the deadline) or there was no deadline.
+    pub over_budget: Option<Duration>,
 }
 
 #[cfg(test)]

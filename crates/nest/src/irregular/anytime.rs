@@ -56,7 +56,7 @@ use super::model::Model;
 use super::random::worker_rng;
 use super::score::Score;
 use super::threads::{parallel, shared_out};
-use crate::compress::{Chain, Pace};
+use crate::compress::{Chain, Pace, MAX_PARTS};
 use crate::limit::{SearchEnd, SearchLimit};
 use crate::placement::{Placement, Sheets};
 use crate::progress::NestProgress;
@@ -213,32 +213,14 @@ impl Model<'_> {
                 .iter()
                 .all(|c| c.lock().expect("no thread panics").ended());
             if best.1.len() > 1 || exhausted {
-                let share = |w: usize| {
-                    ROUND_ITERATIONS / workers + usize::from(w < ROUND_ITERATIONS % workers)
-                };
-                let searched = parallel(workers, |w| {
-                    self.improve(
-                        &best.1,
-                        share(w),
-                        worker_rng(settings.seed, epoch, w),
-                        limit,
-                    )
-                });
-                if limit.reached() {
+                let Some(pick) = self.round_search(&best.1, epoch, limit) else {
                     return cut(best.1);
-                }
-                // Ties to the lower worker, as between the base search's epochs.
-                let mut pick = &searched[0];
-                for s in &searched[1..] {
-                    if s.0.better_than(&pick.0) {
-                        pick = s;
-                    }
-                }
+                };
                 if pick.0.better_than(&best.0) {
                     score = pick.0;
                     chains = self.chains(&pick.1, epoch + 1, Pace::Patient, 0);
                     passes.cancel();
-                    best.1 = pick.1.clone();
+                    best.1 = pick.1;
                 }
             }
             let lowest = self.lowest_index(&best.1);
@@ -283,17 +265,7 @@ impl Model<'_> {
                     .iter()
                     .all(|c| c.lock().expect("no thread panics").ended());
                 if passes.count(ended, lowered) {
-                    // A chain exploring at a ceiling the compressed layout is already under can
-                    // find nothing lower: it starts again from that layout.
-                    let n = chains.len();
-                    for (c, chain) in chains.iter().enumerate() {
-                        let mut chain = chain.lock().expect("no thread panics");
-                        if lowest_top <= chain.ceiling() {
-                            let sheet = &sheets[lowest];
-                            let fresh = self.chain(sheet, epoch + 1, 4 * n + c, Pace::Patient);
-                            *chain = fresh.expect("chains have footprints");
-                        }
-                    }
+                    self.restart_under(&chains, lowest_top, &sheets[lowest], epoch + 1);
                 }
             }
             since_shorter += 1;
@@ -311,6 +283,55 @@ impl Model<'_> {
             completed: rounds,
             ended: SearchEnd::Budget,
         }
+    }
+
+    /// Each of `chains` exploring at a ceiling that `sheet`, the compressed layout whose top is
+    /// `lowest_top`, is already under can find nothing lower: it starts again from that layout,
+    /// on stream `4 n + c` of `epoch`.
+    fn restart_under<'s>(
+        &'s self,
+        chains: &[Mutex<Chain<'s>>],
+        lowest_top: f32,
+        sheet: &[Placement],
+        epoch: usize,
+    ) {
+        let n = chains.len();
+        for (c, chain) in chains.iter().enumerate() {
+            let mut chain = chain.lock().expect("no thread panics");
+            if lowest_top <= chain.ceiling() {
+                let fresh = self.chain(sheet, epoch, 4 * n + c, Pace::Patient);
+                *chain =
+                    fresh.expect("the chains' sheet has footprints and parts compression takes");
+            }
+        }
+    }
+
+    /// A round's short ruin-and-recreate search from `start`: `ROUND_ITERATIONS` shared out to
+    /// the workers on streams of `epoch`, and the best worker's layout (ties to the lower
+    /// worker, as between the base search's epochs); `None` if `limit` cut it.
+    fn round_search(
+        &self,
+        start: &Sheets,
+        epoch: usize,
+        limit: &SearchLimit,
+    ) -> Option<(Score, Sheets)> {
+        let settings = &self.job.settings;
+        let workers = settings.workers;
+        let share =
+            |w: usize| ROUND_ITERATIONS / workers + usize::from(w < ROUND_ITERATIONS % workers);
+        let searched = parallel(workers, |w| {
+            self.improve(start, share(w), worker_rng(settings.seed, epoch, w), limit)
+        });
+        if limit.reached() {
+            return None;
+        }
+        let mut pick = 0;
+        for (w, s) in searched.iter().enumerate().skip(1) {
+            if s.0.better_than(&searched[pick].0) {
+                pick = w;
+            }
+        }
+        searched.into_iter().nth(pick)
     }
 
     /// The lowest of `chains` (ties to the lower one; `None` if there are none); every chain
@@ -359,7 +380,8 @@ impl Model<'_> {
     }
 
     /// A compression chain of `pace` on `sheet`, on stream `stream` of `epoch`; `None` where a
-    /// part's shape has no footprint.
+    /// part's shape has no footprint or the sheet holds more parts than compression takes
+    /// ([`crate::compress::MAX_PARTS`]).
     fn chain(
         &self,
         sheet: &[Placement],
@@ -368,6 +390,9 @@ impl Model<'_> {
         pace: Pace,
     ) -> Option<Chain<'_>> {
         let footprints = self.footprints.as_ref()?;
+        if sheet.len() > MAX_PARTS {
+            return None;
+        }
         let rng = worker_rng(self.job.settings.seed, epoch, stream);
         Some(Chain::new(footprints, sheet, rng, pace))
     }

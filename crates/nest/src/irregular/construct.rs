@@ -8,7 +8,7 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::model::{collision_free, slide, Model, COARSE_SLIDE, FINISH_SLIDE};
+use super::model::{collision_free, slide, Model, RotatedShape, COARSE_SLIDE, FINISH_SLIDE};
 use super::random::{blink_shuffle, worker_rng};
 use super::score::Score;
 use super::threads::shared_out;
@@ -26,15 +26,22 @@ pub(super) struct Effort {
     pub(super) random: usize,
     /// Start positions next to placed parts, per rotation (sampled when there are more).
     pub(super) anchors: usize,
+    /// Whether the anchors are those of the parts placed last rather than a sample of all:
+    /// on a fill of many copies (`Effort::for_fill`), where a handful of anchors drawn from
+    /// thousands of parts would nearly all lie among buried parts, the last placed are where a
+    /// fill in a size order goes on.
+    pub(super) last_placed: bool,
 }
 
 const GREEDY_EFFORT: Effort = Effort {
     random: 100,
     anchors: 200,
+    last_placed: false,
 };
 const REPAIR_EFFORT: Effort = Effort {
     random: 20,
     anchors: 50,
+    last_placed: false,
 };
 
 /// Least effort per design of a best-fit step (`Model::construct_best_fit`), which searches a
@@ -42,6 +49,7 @@ const REPAIR_EFFORT: Effort = Effort {
 const BEST_FIT_MIN_EFFORT: Effort = Effort {
     random: 10,
     anchors: 25,
+    last_placed: false,
 };
 /// Starts each worker builds (see `Model::construct`) on jobs of at most this many copies: a
 /// size-order fill and a best-fit fill each. More starts cost CPU for little: on sheet layers
@@ -52,6 +60,34 @@ const STARTS_PER_WORKER: usize = 2;
 /// count as equally low.
 pub(super) const BEST_FIT_TIES_MM: [f32; 5] = [2.0, 0.5, 5.0, 1.0, 3.0];
 const PORTFOLIO_MAX_COPIES: usize = 150;
+/// Copies up to which a greedy fill gives every part its whole effort. A part's insertion costs
+/// about the same however many parts there are (its starts are counted), so a fill of thousands
+/// of parts at the whole effort takes minutes (2,000 circles of 1 mm radius: 40 s);
+/// above this many copies each insertion gets this share of the effort over the copies, which
+/// holds a fill's starts, and its time, near those of this many copies.
+const FULL_EFFORT_COPIES: usize = 300;
+/// The least effort of a greedy fill's insertion, however many copies: the corner and a few
+/// starts next to placed parts and at random.
+const LEAST_EFFORT: Effort = Effort {
+    random: 2,
+    anchors: 4,
+    last_placed: true,
+};
+
+impl Effort {
+    /// This effort for a fill of `copies` parts (`FULL_EFFORT_COPIES`, `LEAST_EFFORT`).
+    fn for_fill(self, copies: usize) -> Effort {
+        if copies <= FULL_EFFORT_COPIES {
+            return self;
+        }
+        let share = |n: usize| n * FULL_EFFORT_COPIES / copies;
+        Effort {
+            random: share(self.random).max(LEAST_EFFORT.random),
+            anchors: share(self.anchors).max(LEAST_EFFORT.anchors),
+            last_placed: true,
+        }
+    }
+}
 
 /// What an insertion tries: how hard, which earlier placements to try first, and an optional
 /// ceiling on one sheet (then no new sheet is opened).
@@ -133,9 +169,11 @@ impl Model<'_> {
 
     /// Greedy fill in a size order (area, length or box area, by even recipe; perturbed from
     /// recipe 6 on), first sheet that takes a part.
-    /// Once `limit` is reached, the parts still to place go in with the repair effort (a
-    /// fraction of the greedy one), so that a deadline that strikes in the fill costs little
-    /// more time; recipes other than 0 are then not built at all (`construct_all`).
+    /// Each insertion takes the greedy effort, a share of it on jobs of many copies
+    /// (`FULL_EFFORT_COPIES`). Once `limit` is reached, the parts still to place go in with the
+    /// repair effort (a fraction of the greedy one, shared out alike), so that a deadline that
+    /// strikes in the fill costs little more time; recipes other than 0 are then not built at
+    /// all (`construct_all`).
     pub(super) fn construct_in_order(
         &self,
         recipe: usize,
@@ -170,11 +208,16 @@ impl Model<'_> {
         }
         let mut problem = BPProblem::new(self.instance.clone());
         let mut sheets = Vec::new();
+        let copies = self.job.copies();
         for part in order {
-            let search = if limit.reached() {
-                Search::REPAIR
+            let effort = if limit.reached() {
+                REPAIR_EFFORT
             } else {
-                Search::GREEDY
+                GREEDY_EFFORT
+            };
+            let search = Search {
+                effort: effort.for_fill(copies),
+                ..Search::GREEDY
             };
             self.insert(&mut problem, part, &mut sheets, &mut rng, search)?;
         }
@@ -199,6 +242,7 @@ impl Model<'_> {
         let mut sheets: Vec<LayKey> = Vec::new();
         // `full[s][p]`: design `p` found no room on sheet `s`; sheets only fill up, so it never will.
         let mut full: Vec<Vec<bool>> = Vec::new();
+        let copies = self.job.copies();
         while remaining.iter().any(|&r| r > 0) {
             if limit.reached() {
                 return Ok(None);
@@ -207,7 +251,9 @@ impl Model<'_> {
             let effort = Effort {
                 random: (GREEDY_EFFORT.random / designs).max(BEST_FIT_MIN_EFFORT.random),
                 anchors: (GREEDY_EFFORT.anchors / designs).max(BEST_FIT_MIN_EFFORT.anchors),
-            };
+                last_placed: false,
+            }
+            .for_fill(copies);
             let mut chosen: Option<(LayKey, Placement)> = None;
             for (s, &key) in sheets.iter().enumerate() {
                 let layout = &problem.layouts()[key];
@@ -254,7 +300,7 @@ impl Model<'_> {
                         })
                         .expect("a design is left");
                     let spot = self
-                        .find_spot(None, p, &mut rng, GREEDY_EFFORT, &[], None)
+                        .find_spot(None, p, &mut rng, GREEDY_EFFORT.for_fill(copies), &[], None)
                         .ok_or_else(|| self.job.too_large(p))?;
                     let (key, _) = problem
                         .place_item(self.bp_placement(BPLayoutType::Closed { bin_id: 0 }, spot));
@@ -306,6 +352,39 @@ impl Model<'_> {
         Ok(())
     }
 
+    /// Start positions of `shape` next to the boxes of `anchored` (to the right of each, above
+    /// it at its left edge, and above it at its right edge), inside the shape's translations
+    /// and at most `y_max` up; a sample of `room` of them where there are more.
+    fn anchor_starts(
+        &self,
+        anchored: &[Rect],
+        shape: &RotatedShape,
+        y_max: f32,
+        room: usize,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<(f32, f32)> {
+        let b = shape.plain.bbox();
+        let nudge = self.nudge_mm;
+        let anchors: Vec<(f32, f32)> = anchored
+            .iter()
+            .flat_map(|o| {
+                [
+                    (o.x_max - b.x_min + nudge, o.y_min - b.y_min),
+                    (o.x_min - b.x_min, o.y_max - b.y_min + nudge),
+                    (o.x_max - b.x_max, o.y_max - b.y_min + nudge),
+                ]
+            })
+            .filter(|&(x, y)| {
+                (shape.x.0..=shape.x.1).contains(&x) && (shape.y.0..=y_max).contains(&y)
+            })
+            .collect();
+        if anchors.len() > room {
+            anchors.choose_multiple(rng, room).copied().collect()
+        } else {
+            anchors
+        }
+    }
+
     /// Best bottom-left spot for `part` in `layout` (an empty sheet if `None`), with the part's
     /// top at most `ceiling` if given.
     pub(super) fn find_spot(
@@ -319,10 +398,20 @@ impl Model<'_> {
     ) -> Option<Placement> {
         let empty_sheet = self.instance.bins[0].container.base_cde();
         let cde = layout.map_or(empty_sheet.as_ref(), Layout::cde);
-        let placed: Vec<Rect> = layout
+        let placed = layout.map_or(0, |l| l.placed_items().len());
+        // The boxes of the parts whose sides give the anchors: all, or the last placed
+        // (`Effort::last_placed`; a fill only adds parts, so the layout lists them in the order
+        // they were placed), without copying every box of a sheet of thousands for each part.
+        let first_anchored = if effort.last_placed {
+            placed.saturating_sub(effort.anchors)
+        } else {
+            0
+        };
+        let anchored: Vec<Rect> = layout
             .map(|l| {
                 l.placed_items()
                     .values()
+                    .skip(first_anchored)
                     .map(|pi| pi.shape().bbox())
                     .collect()
             })
@@ -357,28 +446,8 @@ impl Model<'_> {
                     .filter(|h| h.part == part && h.rot == rot && h.t.1 <= y_max)
                     .map(|h| h.t),
             );
-            if !placed.is_empty() {
-                let mut anchors: Vec<(f32, f32)> = placed
-                    .iter()
-                    .flat_map(|o| {
-                        let nudge = self.nudge_mm;
-                        [
-                            (o.x_max - b.x_min + nudge, o.y_min - b.y_min),
-                            (o.x_min - b.x_min, o.y_max - b.y_min + nudge),
-                            (o.x_max - b.x_max, o.y_max - b.y_min + nudge),
-                        ]
-                    })
-                    .filter(|&(x, y)| {
-                        (shape.x.0..=shape.x.1).contains(&x) && (shape.y.0..=y_max).contains(&y)
-                    })
-                    .collect();
-                if anchors.len() > effort.anchors {
-                    anchors = anchors
-                        .choose_multiple(rng, effort.anchors)
-                        .copied()
-                        .collect();
-                }
-                starts.extend(anchors);
+            if placed > 0 {
+                starts.extend(self.anchor_starts(&anchored, shape, y_max, effort.anchors, rng));
                 starts.extend((0..effort.random).map(|_| {
                     (
                         rng.gen_range(shape.x.0..=shape.x.1),
@@ -399,7 +468,12 @@ impl Model<'_> {
             // for a part nearly its width; above every placed part, at the left edge, is room
             // whenever the sheet has any there. Only a fallback, so that layouts the samples
             // find stay as they are.
-            let top = placed.iter().map(|o| o.y_max).fold(f32::MIN, f32::max);
+            let top = layout.map_or(f32::MIN, |l| {
+                l.placed_items()
+                    .values()
+                    .map(|pi| pi.shape().bbox().y_max)
+                    .fold(f32::MIN, f32::max)
+            });
             best = self.shapes[part]
                 .iter()
                 .enumerate()

@@ -7,7 +7,7 @@ use super::model::Model;
 use super::random::worker_rng;
 use super::score::Score;
 use super::threads::{parallel, shared_out};
-use crate::compress::compress;
+use crate::compress::{compress, MAX_PARTS};
 use crate::limit::SearchLimit;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
@@ -66,7 +66,8 @@ impl Model<'_> {
     /// (`STALL_ITERATIONS`, `LENGTH_TOLERANCE`), checked between epochs, so the stop is the
     /// same on any machine. `observe` gets a report after the fill and after every epoch.
     ///
-    /// `limit` is checked inside the compression, and in the greedy fill and between epochs
+    /// The instant returned is when the greedy fill ended: the first feasible layout, which no
+    /// limit cuts short. `limit` is checked inside the compression, and in the greedy fill and between epochs
     /// against `SEARCH_TIME_SHARE` of its time: once reached, the epochs end and the compression starts
     /// (or ends) with the best layout so far, and the returned flag says the budget did not
     /// decide where (the layout is then not reproducible by any budget).
@@ -74,11 +75,12 @@ impl Model<'_> {
         &self,
         observe: &dyn Fn(&NestProgress),
         limit: &SearchLimit,
-    ) -> Result<(Sheets, usize, bool), NestError> {
+    ) -> Result<(Sheets, usize, bool, Instant), NestError> {
         let settings = &self.job.settings;
         let workers = settings.workers;
         let search_limit = limit.share_of(Instant::now(), SEARCH_TIME_SHARE);
         let (mut own, mut cut) = self.construct_all(&search_limit)?;
+        let first_layout = Instant::now();
         let mut best = own[0].clone();
         let iterations = self.job.iteration_budget();
         let epochs = (iterations / (workers * MIN_EPOCH_ITERATIONS)).clamp(1, MAX_EPOCHS);
@@ -149,7 +151,7 @@ impl Model<'_> {
             self.compressed(best.1, epochs + 1, self.compression_iterations(), &|| {
                 limit.reached()
             });
-        Ok((sheets, done, cut || stopped))
+        Ok((sheets, done, cut || stopped, first_layout))
     }
 
     /// Iterations' worth of compression for this job (`COMPRESSION_BOOST_COPIES`); none when
@@ -242,7 +244,8 @@ impl Model<'_> {
     /// through overlap ([`crate::compress`]) by `COMPRESSION_CHAINS_PER_WORKER` chains per
     /// worker, each on its own random stream with its share of `COMPRESSION_EVALUATIONS` per
     /// worker and iteration of `iterations`; the lowest top wins (ties to the lower chain).
-    /// Chains end early once `stop` says so, and the flag returned says whether any did.
+    /// Chains end early once `stop` says so, and the flag returned says whether any did. A
+    /// sheet of more than [`MAX_PARTS`] parts is left as it is.
     pub(super) fn compressed(
         &self,
         mut sheets: Sheets,
@@ -255,6 +258,9 @@ impl Model<'_> {
         };
         let top = |sheet: &[Placement]| self.sheet_top(sheet);
         let lowest = self.lowest_index(&sheets);
+        if sheets[lowest].len() > MAX_PARTS {
+            return (sheets, false);
+        }
         let settings = &self.job.settings;
         let chains = settings.workers * COMPRESSION_CHAINS_PER_WORKER;
         let budget = iterations * COMPRESSION_EVALUATIONS / COMPRESSION_CHAINS_PER_WORKER;

@@ -3,11 +3,10 @@
 //! iterations replay exactly, and a limit that strikes at once still gives a whole layout. Every
 //! layout is checked with `cam_nest::verify`.
 
-mod fixtures;
-
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use crate::fixtures;
 use cam_nest::{
     nest_strip_until, nest_until, verify, NestBin, NestItem, NestSettings, NestSolution, Reached,
     SearchEnd, SearchLimit, StripLayout,
@@ -41,6 +40,7 @@ fn strip(iterations: usize, limit: &SearchLimit) -> (StripLayout, Reached) {
 }
 
 #[test]
+#[ignore = "study: about 30 s in release (four strips of up to 5,000 iterations); run with -- --ignored"]
 fn a_longer_budget_never_gives_a_longer_strip_with_the_same_seed() {
     // 40 rounds take in compression passes, which begin once the rounds stall.
     let mut previous: Option<f64> = None;
@@ -102,6 +102,8 @@ fn a_deadline_already_past_still_gives_every_part_and_says_it_cannot_be_replayed
     assert_eq!(strip.solution.parts_placed(), 9);
     assert_eq!(reached.ended, SearchEnd::Time);
     assert!(!reached.replayable);
+    // Every part had to be placed after the deadline: the result says it ran over.
+    assert!(reached.over_budget.is_some());
 }
 
 #[test]
