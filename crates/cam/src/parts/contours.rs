@@ -3,10 +3,12 @@
 //! loops crossing, and loops nested into parts: an outer contour with the contours directly inside
 //! it as its cut-outs. Every refusal names the file and the entity.
 
+use super::crossing::{rings_in_contact, self_contact};
+use super::extent::{check_width, Extent};
 use super::ImportedPart;
 use crate::input::InputError;
 use cam_geometry::{signed_area, Point};
-use geo::{Contains, Coord, Intersects, LineString, Polygon, Validation};
+use geo::{BoundingRect, Contains, Coord, Intersects, LineString, Polygon, Rect};
 use std::path::Path;
 
 /// Ends of two pieces closer than this join, mm: CAD files store the shared end of a line and an arc
@@ -126,8 +128,10 @@ fn simple_ring(file: &Path, contour: &Contour) -> Result<Vec<Point>, InputError>
     if a < 0.0 {
         ring.reverse();
     }
-    let polygon = Polygon::new(line_string(&ring), Vec::new());
-    if !polygon.validation_errors().is_empty() {
+    let mut extent = Extent::default();
+    ring.iter().for_each(|p| extent.add(*p));
+    extent.check(file, &contour.entity)?;
+    if self_contact(&ring).is_some() {
         return Err(self_intersecting(file, contour));
     }
     Ok(ring)
@@ -170,32 +174,35 @@ pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>
         .iter()
         .map(|c| simple_ring(file, c))
         .collect::<Result<_, _>>()?;
-    let strings: Vec<LineString<f64>> = rings.iter().map(|r| line_string(r)).collect();
-    let polygons: Vec<Polygon<f64>> = strings
-        .iter()
-        .map(|s| Polygon::new(s.clone(), Vec::new()))
-        .collect();
-    for i in 0..rings.len() {
-        for j in i + 1..rings.len() {
-            if strings[i].intersects(&strings[j]) {
-                return Err(entity_error(
-                    file,
-                    &contours[j].entity,
-                    format!(
-                        "crosses or touches {}: contours of parts and their cut-outs must not meet",
-                        contours[i].entity
-                    ),
-                ));
-            }
-        }
+    if let Some((i, j)) = rings_in_contact(&rings) {
+        return Err(entity_error(
+            file,
+            &contours[j].entity,
+            format!(
+                "crosses or touches {}: contours of parts and their cut-outs must not meet",
+                contours[i].entity
+            ),
+        ));
     }
-    // Contours do not cross, so one is inside another exactly when one of its points is.
+    let boxes: Vec<Rect<f64>> = rings
+        .iter()
+        .map(|r| {
+            let s = line_string(r);
+            s.bounding_rect().expect("a ring has points")
+        })
+        .collect();
+    let polygons: Vec<Polygon<f64>> = rings
+        .iter()
+        .map(|r| Polygon::new(line_string(r), Vec::new()))
+        .collect();
+    // Contours do not cross, so one is inside another exactly when one of its points is; the
+    // bounding boxes rule out most pairs before a point-in-polygon test of the whole ring.
     let inside = |i: usize, j: usize| {
-        i != j
-            && polygons[j].contains(&Coord {
-                x: rings[i][0][0],
-                y: rings[i][0][1],
-            })
+        let p = Coord {
+            x: rings[i][0][0],
+            y: rings[i][0][1],
+        };
+        i != j && boxes[j].intersects(&p) && polygons[j].contains(&p)
     };
     let depth: Vec<usize> = (0..rings.len())
         .map(|i| (0..rings.len()).filter(|&j| inside(i, j)).count())
@@ -203,7 +210,9 @@ pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>
     let mut parts: Vec<(usize, ImportedPart)> = Vec::new();
     for i in 0..rings.len() {
         match depth[i] {
-            0 => parts.push((
+            0 => {
+                check_width(file, &contours[i].entity, &rings[i])?;
+                parts.push((
                 i,
                 ImportedPart {
                     file: file.to_path_buf(),
@@ -211,7 +220,8 @@ pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>
                     outer: rings[i].clone(),
                     holes: Vec::new(),
                 },
-            )),
+                ))
+            }
             1 => {}
             _ => {
                 return Err(entity_error(
