@@ -146,13 +146,8 @@ fn readable_handles(bytes: Vec<u8>) -> (Vec<u8>, Renamed) {
     (out, renamed)
 }
 
-/// Every contour of the drawing: closed ones as they are, open pieces chained.
-pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
-    crate::input::record(file);
-    let bytes = std::fs::read(file).map_err(|e| InputError::io(file, &e))?;
-    let (bytes, renamed) = readable_handles(bytes);
-    let drawing = dxf::Drawing::load(&mut bytes.as_slice())
-        .map_err(|e| InputError::whole_file(file, format!("not a readable DXF file: {e}")))?;
+/// The drawing must be in millimetres: `$INSUNITS = 4`.
+fn check_units(file: &Path, drawing: &dxf::Drawing) -> Result<(), InputError> {
     match drawing.header.default_drawing_units {
         Units::Millimeters => {}
         Units::Unitless => {
@@ -172,6 +167,17 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
             ))
         }
     }
+    Ok(())
+}
+
+/// Every contour of the drawing: closed ones as they are, open pieces chained.
+pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
+    crate::input::record(file);
+    let bytes = std::fs::read(file).map_err(|e| InputError::io(file, &e))?;
+    let (bytes, renamed) = readable_handles(bytes);
+    let drawing = dxf::Drawing::load(&mut bytes.as_slice())
+        .map_err(|e| InputError::whole_file(file, format!("not a readable DXF file: {e}")))?;
+    check_units(file, &drawing)?;
     let mut closed = Vec::new();
     let mut pieces = Vec::new();
     for (index, entity) in drawing.entities().enumerate() {

@@ -318,6 +318,31 @@ fn stretch(t: &Transform) -> f64 {
 /// 20,000 levels overflowed the main thread's 8 MiB.
 pub const MAX_NESTING: usize = 256;
 
+/// The refusal of an element nested past [`MAX_NESTING`], with its line in the file.
+fn too_deep(file: &Path, node: Node<'_, '_>) -> InputError {
+    InputError::whole_file(
+        file,
+        format!(
+            "elements nested more than {MAX_NESTING} levels deep (line {}): part drawings are read to {MAX_NESTING} levels of groups; ungroup the drawing",
+            node.document().text_pos_at(node.range().start).row
+        ),
+    )
+}
+
+/// The extent in mm of the ellipse at `centre` with semi-axes `rx`, `ry` (user units) through `t`:
+/// its image is an ellipse whose half-extents along x and y are the lengths of t's rows applied to
+/// the semi-axes.
+fn ellipse_extent(t: &Transform, centre: Point, rx: f64, ry: f64) -> Extent {
+    let c = apply(t, centre);
+    let half = [(t.a * rx).hypot(t.c * ry), (t.b * rx).hypot(t.d * ry)];
+    let mut extent = Extent::default();
+    extent.add_box((
+        [c[0] - half[0], c[1] - half[1]],
+        [c[0] + half[0], c[1] + half[1]],
+    ));
+    extent
+}
+
 struct Walk<'f> {
     file: &'f Path,
     shapes: usize,
@@ -336,13 +361,7 @@ impl Walk<'_> {
             return Ok(());
         }
         if depth > MAX_NESTING {
-            return Err(InputError::whole_file(
-                self.file,
-                format!(
-                    "elements nested more than {MAX_NESTING} levels deep (line {}): part drawings are read to {MAX_NESTING} levels of groups; ungroup the drawing",
-                    node.document().text_pos_at(node.range().start).row
-                ),
-            ));
+            return Err(too_deep(self.file, node));
         }
         let tag = node.tag_name().name();
         if NOT_RENDERED.contains(&tag) {
@@ -430,13 +449,7 @@ impl Walk<'_> {
                     return Err(entity_error(file, &entity, "zero area: the radius must be positive"));
                 }
                 let centre = [num("cx")?, num("cy")?];
-                // The ellipse's image under t is an ellipse whose half-extents along x and y are
-                // the lengths of t's rows applied to the semi-axes.
-                let c = apply(&t, centre);
-                let half = [(t.a * rx).hypot(t.c * ry), (t.b * rx).hypot(t.d * ry)];
-                let mut extent = Extent::default();
-                extent.add_box(([c[0] - half[0], c[1] - half[1]], [c[0] + half[0], c[1] + half[1]]));
-                extent.check(file, &entity)?;
+                ellipse_extent(&t, centre, rx, ry).check(file, &entity)?;
                 vec![(circumscribed_ellipse(centre, rx, ry, tol), true)]
             }
             "use" | "image" => {
