@@ -5,16 +5,18 @@
 //! `$INSUNITS = 4`.
 
 use super::contours::{chain, entity_error, Contour, Piece, JOIN_MM};
-use super::flatten::{bulge, circular_arc, circumscribed_ellipse, TOLERANCE_MM};
+use super::extent::{arc_bounds, Extent};
+use super::flatten::{bulge, bulge_arc, circular_arc, circumscribed_ellipse, TOLERANCE_MM};
 use crate::input::InputError;
 use cam_geometry::Point;
 use dxf::entities::{Entity, EntityType};
 use dxf::enums::Units;
+use std::collections::HashMap;
 use std::path::Path;
 
-/// The entity as messages name it: its type and handle (`LWPOLYLINE handle 2F`), or its position
-/// among the entities when it has no handle.
-fn name(entity: &Entity, index: usize) -> String {
+/// The entity as messages name it: its type and handle as the drawing wrote it (`LWPOLYLINE handle
+/// 2F`), or its position among the entities when it has no handle.
+fn name(entity: &Entity, index: usize, renamed: &Renamed) -> String {
     let debug = format!("{:?}", entity.specific);
     let kind = debug
         .split(['(', ' ', '{'])
@@ -23,7 +25,10 @@ fn name(entity: &Entity, index: usize) -> String {
         .to_ascii_uppercase();
     match entity.common.handle.0 {
         0 => format!("{kind} #{} (no handle)", index + 1),
-        h => format!("{kind} handle {h:X}"),
+        h => match renamed.get(&h) {
+            Some(written) => format!("{kind} handle {written}"),
+            None => format!("{kind} handle {h:X}"),
+        },
     }
 }
 
@@ -39,31 +44,110 @@ fn flat(file: &Path, entity: &str, normal_z: f64) -> Result<(), InputError> {
 }
 
 /// Points of a polyline with bulges: `(x, y, bulge)` per vertex; the bulge of the last vertex
-/// closes the ring when `closed`.
-fn polyline(vertices: &[(f64, f64, f64)], closed: bool) -> Vec<Point> {
-    let mut points: Vec<Point> = Vec::new();
+/// closes the ring when `closed`. Every bulge must be a finite number, and the polyline, its arcs
+/// included, must lie within [`MAX_SIDE_MM`](super::extent::MAX_SIDE_MM): both checked before any
+/// arc is cut into chords.
+fn polyline(
+    file: &Path,
+    entity: &str,
+    vertices: &[(f64, f64, f64)],
+    closed: bool,
+) -> Result<Vec<Point>, InputError> {
     let n = vertices.len();
-    if n == 0 {
-        return points;
-    }
-    points.push([vertices[0].0, vertices[0].1]);
     let segments = if closed { n } else { n - 1 };
-    for i in 0..segments {
+    let ends = |i: usize| {
         let (x0, y0, b) = vertices[i];
         let (x1, y1, _) = vertices[(i + 1) % n];
-        points.extend(bulge([x0, y0], [x1, y1], b, TOLERANCE_MM));
+        ([x0, y0], [x1, y1], b)
+    };
+    let mut extent = Extent::default();
+    for (k, &(x, y, b)) in vertices.iter().enumerate() {
+        if !b.is_finite() {
+            return Err(entity_error(
+                file,
+                entity,
+                format!(
+                    "vertex {}: bulge (group code 42) {b}: a bulge must be a finite number, tan(θ/4) of the arc's included angle θ",
+                    k + 1
+                ),
+            ));
+        }
+        extent.add([x, y]);
+    }
+    for i in 0..segments {
+        let (from, to, b) = ends(i);
+        if let Some(arc) = bulge_arc(from, to, b) {
+            extent.add_box(arc_bounds(
+                arc.centre,
+                arc.radius,
+                arc.start_rad,
+                arc.sweep_rad,
+            ));
+        }
+    }
+    extent.check(file, entity)?;
+    let mut points: Vec<Point> = vec![[vertices[0].0, vertices[0].1]];
+    for i in 0..segments {
+        let (from, to, b) = ends(i);
+        points.extend(bulge(from, to, b, TOLERANCE_MM));
     }
     if closed {
         points.pop();
     }
-    points
+    Ok(points)
 }
 
-/// Every contour of the drawing: closed ones as they are, open pieces chained.
-pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
-    crate::input::record(file);
-    let drawing = dxf::Drawing::load_file(file)
-        .map_err(|e| InputError::whole_file(file, format!("not a readable DXF file: {e}")))?;
+/// Group codes whose values are handles (DXF reference, "Group codes in numerical order"): an
+/// entity's own (5, 105), pointers to other objects (320-369, 390-399, 480-481) and extended data's
+/// (1005).
+fn is_handle_code(code: i32) -> bool {
+    matches!(code, 5 | 105 | 320..=369 | 390..=399 | 480 | 481 | 1005)
+}
+
+/// Handles the drawing wrote that are not hexadecimal numbers, by the number read in their place.
+type Renamed = HashMap<u64, String>;
+
+/// First number given to a handle that is not hexadecimal: far above the handles a CAD program
+/// counts up from 1, so it names no other object of the drawing.
+const RENAMED_FROM: u64 = 0xFFFF_0000_0000_0000;
+
+/// An ASCII DXF with every handle that is not a hexadecimal number replaced by one of its own
+/// (the same for every mention of it), and those numbers with the handles as written. Handles only
+/// name objects and link them; no coordinate depends on them, and some CAD and lab tools write their
+/// own (`G12`, `-1`), which the `dxf` crate refuses with a bare parse error. Lines come in pairs,
+/// group code then value; a binary DXF (no such lines) is returned as it is.
+fn readable_handles(bytes: Vec<u8>) -> (Vec<u8>, Renamed) {
+    let mut renamed = Renamed::new();
+    if bytes.starts_with(b"AutoCAD Binary DXF") || bytes.starts_with(b"AutoCAD DXB") {
+        return (bytes, renamed);
+    }
+    let mut by_text: HashMap<Vec<u8>, u64> = HashMap::new();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut handle_next = false;
+    for (k, line) in bytes.split_inclusive(|&b| b == b'\n').enumerate() {
+        let body = line.trim_ascii();
+        if k % 2 == 0 {
+            handle_next = std::str::from_utf8(body)
+                .ok()
+                .and_then(|c| c.parse::<i32>().ok())
+                .is_some_and(is_handle_code);
+        } else if handle_next && !body.iter().all(u8::is_ascii_hexdigit) {
+            let next = RENAMED_FROM + by_text.len() as u64;
+            let number = *by_text.entry(body.to_vec()).or_insert(next);
+            renamed
+                .entry(number)
+                .or_insert_with(|| String::from_utf8_lossy(body).into_owned());
+            out.extend(format!("{number:X}").bytes());
+            out.extend(&line[line.trim_ascii_end().len()..]);
+            continue;
+        }
+        out.extend(line);
+    }
+    (out, renamed)
+}
+
+/// The drawing must be in millimetres: `$INSUNITS = 4`.
+fn check_units(file: &Path, drawing: &dxf::Drawing) -> Result<(), InputError> {
     match drawing.header.default_drawing_units {
         Units::Millimeters => {}
         Units::Unitless => {
@@ -83,10 +167,21 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
             ))
         }
     }
+    Ok(())
+}
+
+/// Every contour of the drawing: closed ones as they are, open pieces chained.
+pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
+    crate::input::record(file);
+    let bytes = std::fs::read(file).map_err(|e| InputError::io(file, &e))?;
+    let (bytes, renamed) = readable_handles(bytes);
+    let drawing = dxf::Drawing::load(&mut bytes.as_slice())
+        .map_err(|e| InputError::whole_file(file, format!("not a readable DXF file: {e}")))?;
+    check_units(file, &drawing)?;
     let mut closed = Vec::new();
     let mut pieces = Vec::new();
     for (index, entity) in drawing.entities().enumerate() {
-        let entity_name = name(entity, index);
+        let entity_name = name(entity, index, &renamed);
         let mut add = |ring: Vec<Point>, is_closed: bool| {
             let ends_meet = ring.len() > 2
                 && (ring[0][0] - ring[ring.len() - 1][0])
@@ -112,7 +207,7 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
                 if v.len() < 2 {
                     return Err(entity_error(file, &entity_name, "fewer than two vertices"));
                 }
-                add(polyline(&v, p.is_closed()), p.is_closed());
+                add(polyline(file, &entity_name, &v, p.is_closed())?, p.is_closed());
             }
             EntityType::Polyline(p) => {
                 flat(file, &entity_name, p.normal.z)?;
@@ -123,7 +218,7 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
                 if v.len() < 2 {
                     return Err(entity_error(file, &entity_name, "fewer than two vertices"));
                 }
-                add(polyline(&v, p.is_closed()), p.is_closed());
+                add(polyline(file, &entity_name, &v, p.is_closed())?, p.is_closed());
             }
             EntityType::Circle(c) => {
                 flat(file, &entity_name, c.normal.z)?;
@@ -134,6 +229,10 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
                         format!("radius {}: a circle needs a positive radius", c.radius),
                     ));
                 }
+                let r = c.radius;
+                let mut extent = Extent::default();
+                extent.add_box(([c.center.x - r, c.center.y - r], [c.center.x + r, c.center.y + r]));
+                extent.check(file, &entity_name)?;
                 let ring = circumscribed_ellipse(
                     [c.center.x, c.center.y],
                     c.radius,
@@ -156,6 +255,14 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
                 if sweep == 0.0 {
                     sweep = 360.0;
                 }
+                let mut extent = Extent::default();
+                extent.add_box(arc_bounds(
+                    [a.center.x, a.center.y],
+                    a.radius,
+                    a.start_angle.to_radians(),
+                    sweep.to_radians(),
+                ));
+                extent.check(file, &entity_name)?;
                 add(
                     circular_arc(
                         [a.center.x, a.center.y],

@@ -160,11 +160,24 @@ pub fn quadratic(p0: Point, p1: Point, p2: Point, tolerance: f64) -> Vec<Point> 
     cubic([p0, lerp(p0, p1), lerp(p2, p1), p2], tolerance)
 }
 
+/// A circular arc: centre, radius, start angle and sweep (radians, negative clockwise).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arc {
+    /// Centre.
+    pub centre: Point,
+    /// Radius.
+    pub radius: f64,
+    /// Angle of the start point.
+    pub start_rad: f64,
+    /// Angle swept from the start point.
+    pub sweep_rad: f64,
+}
+
 /// The arc a DXF bulge describes between two polyline vertices: bulge = tan(θ/4), θ the included
-/// angle, positive counter-clockwise. The points exclude the start vertex and include the end.
-pub fn bulge(from: Point, to: Point, bulge: f64, tolerance: f64) -> Vec<Point> {
+/// angle, positive counter-clockwise. `None` for a straight edge (bulge 0, or the two vertices equal).
+pub fn bulge_arc(from: Point, to: Point, bulge: f64) -> Option<Arc> {
     if bulge == 0.0 || from == to {
-        return vec![to];
+        return None;
     }
     let theta = 4.0 * bulge.atan();
     let chord = ((to[0] - from[0]).powi(2) + (to[1] - from[1]).powi(2)).sqrt();
@@ -175,8 +188,27 @@ pub fn bulge(from: Point, to: Point, bulge: f64, tolerance: f64) -> Vec<Point> {
     let left = [-(to[1] - from[1]) / chord, (to[0] - from[0]) / chord];
     let h = chord / 2.0 / (theta / 2.0).tan();
     let centre = [mid[0] + left[0] * h, mid[1] + left[1] * h];
-    let start = (from[1] - centre[1]).atan2(from[0] - centre[0]);
-    let mut points = circular_arc(centre, radius, start, theta, tolerance);
+    Some(Arc {
+        centre,
+        radius,
+        start_rad: (from[1] - centre[1]).atan2(from[0] - centre[0]),
+        sweep_rad: theta,
+    })
+}
+
+/// The chords of the arc a DXF bulge describes ([`bulge_arc`]). The points exclude the start
+/// vertex and include the end.
+pub fn bulge(from: Point, to: Point, bulge: f64, tolerance: f64) -> Vec<Point> {
+    let Some(arc) = bulge_arc(from, to, bulge) else {
+        return vec![to];
+    };
+    let mut points = circular_arc(
+        arc.centre,
+        arc.radius,
+        arc.start_rad,
+        arc.sweep_rad,
+        tolerance,
+    );
     points.remove(0);
     if let Some(last) = points.last_mut() {
         *last = to;

@@ -10,6 +10,7 @@
 //! page's bottom-left corner is the origin), as every other drawing here.
 
 use super::contours::{entity_error, Contour};
+use super::extent::Extent;
 use super::flatten::{circumscribed_ellipse, cubic, elliptical_arc, quadratic, TOLERANCE_MM};
 use crate::input::InputError;
 use cam_geometry::Point;
@@ -142,7 +143,16 @@ fn number(file: &Path, entity: &str, node: Node<'_, '_>, key: &str) -> Result<f6
     }
 }
 
-fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpaths, InputError> {
+/// The subpaths of path data `d`. Each subpath's extent in mm (through `t`) is checked after every
+/// segment, so a curve far larger than any part is refused after its own chords, not the whole
+/// path's.
+fn path_subpaths(
+    file: &Path,
+    entity: &str,
+    d: &str,
+    t: &Transform,
+    tol: f64,
+) -> Result<Subpaths, InputError> {
     let mut out: Subpaths = Vec::new();
     let mut current: Vec<Point> = Vec::new();
     let mut pos = [0.0, 0.0];
@@ -157,9 +167,12 @@ fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpath
             current.clear();
         }
     };
+    let mut extent = Extent::default();
     for segment in PathParser::from(d) {
         let segment = segment
             .map_err(|e| entity_error(file, entity, format!("path data d is not valid: {e}")))?;
+        // Where this segment's points start in `current` (a new subpath starts its own extent).
+        let mut before = current.len();
         let abs_point = |abs: bool, x: f64, y: f64| {
             if abs {
                 [x, y]
@@ -175,6 +188,7 @@ fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpath
                 pos = abs_point(abs, x, y);
                 start = pos;
                 current.push(pos);
+                (extent, before) = (Extent::default(), 0);
             }
             PathSegment::LineTo { abs, x, y } => {
                 pos = abs_point(abs, x, y);
@@ -253,10 +267,15 @@ fn path_subpaths(file: &Path, entity: &str, d: &str, tol: f64) -> Result<Subpath
                 flush(&mut current, &mut out, true);
                 pos = start;
                 current.push(pos);
+                (extent, before) = (Extent::default(), 0);
             }
         }
         last_cubic = next_cubic;
         last_quad = next_quad;
+        current[before..]
+            .iter()
+            .for_each(|p| extent.add(apply(t, *p)));
+        extent.check(file, entity)?;
     }
     flush(&mut current, &mut out, false);
     Ok(out)
@@ -293,6 +312,37 @@ fn stretch(t: &Transform) -> f64 {
         .max(1e-12)
 }
 
+/// Deepest nesting of elements the walk follows. Drawings nest groups a few levels (an Inkscape
+/// layer, a group per part, a clone's wrapper); 256 is far past any CAD export, and keeps the
+/// recursive walk well inside the smallest stack it runs on (2 MiB, a test or worker thread) where
+/// 20,000 levels overflowed the main thread's 8 MiB.
+pub const MAX_NESTING: usize = 256;
+
+/// The refusal of an element nested past [`MAX_NESTING`], with its line in the file.
+fn too_deep(file: &Path, node: Node<'_, '_>) -> InputError {
+    InputError::whole_file(
+        file,
+        format!(
+            "elements nested more than {MAX_NESTING} levels deep (line {}): part drawings are read to {MAX_NESTING} levels of groups; ungroup the drawing",
+            node.document().text_pos_at(node.range().start).row
+        ),
+    )
+}
+
+/// The extent in mm of the ellipse at `centre` with semi-axes `rx`, `ry` (user units) through `t`:
+/// its image is an ellipse whose half-extents along x and y are the lengths of t's rows applied to
+/// the semi-axes.
+fn ellipse_extent(t: &Transform, centre: Point, rx: f64, ry: f64) -> Extent {
+    let c = apply(t, centre);
+    let half = [(t.a * rx).hypot(t.c * ry), (t.b * rx).hypot(t.d * ry)];
+    let mut extent = Extent::default();
+    extent.add_box((
+        [c[0] - half[0], c[1] - half[1]],
+        [c[0] + half[0], c[1] + half[1]],
+    ));
+    extent
+}
+
 struct Walk<'f> {
     file: &'f Path,
     shapes: usize,
@@ -300,9 +350,18 @@ struct Walk<'f> {
 }
 
 impl Walk<'_> {
-    fn element(&mut self, node: Node<'_, '_>, parent: &Transform) -> Result<(), InputError> {
+    /// Read `node` (at `depth` below the root) and the elements inside it.
+    fn element(
+        &mut self,
+        node: Node<'_, '_>,
+        parent: &Transform,
+        depth: usize,
+    ) -> Result<(), InputError> {
         if !node.is_element() || node.tag_name().namespace() != Some(SVG_NS) {
             return Ok(());
+        }
+        if depth > MAX_NESTING {
+            return Err(too_deep(self.file, node));
         }
         let tag = node.tag_name().name();
         if NOT_RENDERED.contains(&tag) {
@@ -344,11 +403,11 @@ impl Walk<'_> {
         let subpaths: Subpaths = match tag {
             "svg" | "g" | "a" | "switch" => {
                 for child in node.children() {
-                    self.element(child, &t)?;
+                    self.element(child, &t, depth + 1)?;
                 }
                 return Ok(());
             }
-            "path" => path_subpaths(file, &entity, node.attribute("d").unwrap_or(""), tol)?,
+            "path" => path_subpaths(file, &entity, node.attribute("d").unwrap_or(""), &t, tol)?,
             "polygon" | "polyline" => {
                 let points: Vec<Point> = svgtypes::PointsParser::from(
                     node.attribute("points").unwrap_or(""),
@@ -372,7 +431,13 @@ impl Walk<'_> {
                     (None, Some(_)) => (num("ry")?, num("ry")?),
                     _ => (num("rx")?, num("ry")?),
                 };
-                vec![(rect(num("x")?, num("y")?, w, h, rx, ry, tol), true)]
+                let (x, y) = (num("x")?, num("y")?);
+                let mut extent = Extent::default();
+                for corner in [[x, y], [x + w, y], [x + w, y + h], [x, y + h]] {
+                    extent.add(apply(&t, corner));
+                }
+                extent.check(file, &entity)?;
+                vec![(rect(x, y, w, h, rx, ry, tol), true)]
             }
             "circle" | "ellipse" => {
                 let (rx, ry) = if tag == "circle" {
@@ -383,7 +448,9 @@ impl Walk<'_> {
                 if !(rx > 0.0 && ry > 0.0) {
                     return Err(entity_error(file, &entity, "zero area: the radius must be positive"));
                 }
-                vec![(circumscribed_ellipse([num("cx")?, num("cy")?], rx, ry, tol), true)]
+                let centre = [num("cx")?, num("cy")?];
+                ellipse_extent(&t, centre, rx, ry).check(file, &entity)?;
+                vec![(circumscribed_ellipse(centre, rx, ry, tol), true)]
             }
             "use" | "image" => {
                 return Err(entity_error(
@@ -445,6 +512,6 @@ pub fn contours(file: &Path) -> Result<Vec<Contour>, InputError> {
         shapes: 0,
         contours: Vec::new(),
     };
-    walk.element(root, &page.to_mm)?;
+    walk.element(root, &page.to_mm, 0)?;
     Ok(walk.contours)
 }
