@@ -50,7 +50,7 @@ fn time(path: &Path) -> (f64, f64) {
     let mut times = Vec::new();
     for _ in 0..5 {
         let start = Instant::now();
-        let parts = actuator_cam::parts::import(path).expect("the ring imports");
+        let parts = actuator_cam::import_parts(path).expect("the ring imports");
         assert_eq!(parts.len(), 1);
         std::hint::black_box(parts);
         times.push(start.elapsed().as_secs_f64() * 1e3);

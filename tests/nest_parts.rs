@@ -1573,7 +1573,7 @@ fn a_ring_of_20000_vertices_imports_in_well_under_a_few_seconds_from_dxf_and_svg
     ] {
         let (_dir, path) = write_temp(name, &text);
         let start = std::time::Instant::now();
-        let parts = actuator_cam::parts::import(&path).unwrap();
+        let parts = actuator_cam::import_parts(&path).unwrap();
         let seconds = start.elapsed().as_secs_f64();
         assert_eq!(parts.len(), 1);
         assert_eq!(parts[0].outer.len(), 20_000, "{name}");
@@ -1621,7 +1621,7 @@ fn a_huge_curve_is_refused_by_its_extent_before_it_is_cut_into_chords() {
     ] {
         let (_dir, path) = write_temp(name, &text);
         let start = std::time::Instant::now();
-        let err = match actuator_cam::parts::import(&path) {
+        let err = match actuator_cam::import_parts(&path) {
             Ok(parts) => panic!("{name}: imported, {} points", parts[0].outer.len()),
             Err(e) => e.to_string(),
         };
@@ -1635,7 +1635,7 @@ fn a_huge_curve_is_refused_by_its_extent_before_it_is_cut_into_chords() {
     // 2000 mm across is allowed.
     let text = dxf_text(Some(4), &[circle("2A", [0.0, 0.0], 999.0)]);
     let (_dir, path) = write_temp("large.dxf", &text);
-    actuator_cam::parts::import(&path).unwrap();
+    actuator_cam::import_parts(&path).unwrap();
 }
 
 #[test]
@@ -1659,7 +1659,7 @@ fn groups_nested_past_the_limit_are_refused_in_one_line() {
         "{err}"
     );
     let (_dir, path) = write_temp("deep.svg", &nested(255));
-    assert_eq!(actuator_cam::parts::import(&path).unwrap().len(), 1);
+    assert_eq!(actuator_cam::import_parts(&path).unwrap().len(), 1);
 }
 
 #[test]
@@ -1674,7 +1674,7 @@ fn a_bulge_that_is_not_a_number_is_refused_naming_the_vertex_and_the_value() {
         "nan.dxf",
         &dxf_text(Some(4), &[lwpolyline("3C", &square, true)]),
     );
-    let err = actuator_cam::parts::import(&path).unwrap_err().to_string();
+    let err = actuator_cam::import_parts(&path).unwrap_err().to_string();
     assert_eq!(
         err,
         format!(
@@ -1701,7 +1701,7 @@ fn a_part_narrower_than_the_narrowest_feature_is_refused() {
         "{err}"
     );
     let (_dir, path) = write_temp("bar.dxf", &bar(0.1));
-    assert_eq!(actuator_cam::parts::import(&path).unwrap().len(), 1);
+    assert_eq!(actuator_cam::import_parts(&path).unwrap().len(), 1);
 }
 
 #[test]
@@ -1722,7 +1722,7 @@ fn handles_that_are_not_hexadecimal_do_not_stop_the_import() {
         ],
     );
     let (_dir, path) = write_temp("lab.dxf", &text);
-    let parts = actuator_cam::parts::import(&path).unwrap();
+    let parts = actuator_cam::import_parts(&path).unwrap();
     assert_eq!(parts.len(), 1);
     assert_eq!(parts[0].entity, "LWPOLYLINE handle G1");
     assert_eq!(parts[0].holes.len(), 1);
@@ -1735,7 +1735,7 @@ fn handles_that_are_not_hexadecimal_do_not_stop_the_import() {
         ],
     );
     let (_dir, path) = write_temp("lab.dxf", &text);
-    let err = actuator_cam::parts::import(&path).unwrap_err().to_string();
+    let err = actuator_cam::import_parts(&path).unwrap_err().to_string();
     assert!(
         err.contains("CIRCLE handle -1: crosses or touches LWPOLYLINE handle G1"),
         "{err}"
