@@ -208,12 +208,24 @@ impl ActuatorBeam {
     /// `extension` over a compliant extension.
     pub fn solve_with(&self, active: usize, extension: usize) -> Result<Modal, ModelError> {
         self.check()?;
+        let active = active.max(1);
+        let (elements, compliant) = self.mesh(active, extension);
+        let (k, mut m) = assemble(&elements);
+        // The tip edges' fillets at the end of the active region (node `active`).
+        m[(2 * active, 2 * active)] += self.tip_point_mass;
+        let load = self.tip_load(&mut m, compliant);
+        let (kr, mr, fr) = self.held_at_root(&k, &m, &load);
+        first_mode(&kr, &mr, &fr)
+    }
+
+    /// The beam's elements: `active` over the free active length `[h, l_p]`, then `extension` over a
+    /// compliant extension; and whether the extension is compliant (else it is rigid, or absent).
+    fn mesh(&self, active: usize, extension: usize) -> (Vec<Element>, bool) {
         let pl = &self.planform;
         let l_p = pl.piezo_length();
         let l_ext = pl.extension_length();
         let h = self.rigid_root;
         let w_tip = pl.tip_width();
-        let active = active.max(1);
         let mut elements = Vec::new();
         for i in 0..active {
             let a = h + (l_p - h) * i as f64 / active as f64;
@@ -243,26 +255,19 @@ impl ActuatorBeam {
                 });
             }
         }
-        let nodes = elements.len() + 1;
-        let full = 2 * nodes;
-        let mut k = DMatrix::<f64>::zeros(full, full);
-        let mut m = DMatrix::<f64>::zeros(full, full);
-        for (e, el) in elements.iter().enumerate() {
-            let ke = el.stiffness_matrix();
-            let me = el.mass_matrix();
-            for r in 0..4 {
-                for c in 0..4 {
-                    k[(2 * e + r, 2 * e + c)] += ke[(r, c)];
-                    m[(2 * e + r, 2 * e + c)] += me[(r, c)];
-                }
-            }
-        }
-        // The tip edges' fillets at the end of the active region (node `active`).
-        m[(2 * active, 2 * active)] += self.tip_point_mass;
-        let last = 2 * (nodes - 1);
+        (elements, compliant.is_some())
+    }
+
+    /// The unit tip load on the last node; a rigid extension (not `compliant`) adds its mass to
+    /// the last node in `m` and moves the load to its end.
+    fn tip_load(&self, m: &mut DMatrix<f64>, compliant: bool) -> DVector<f64> {
+        let full = m.nrows();
+        let l_ext = self.planform.extension_length();
+        let w_tip = self.planform.tip_width();
+        let last = full - 2;
         let mut load = DVector::<f64>::zeros(full);
         load[last] = 1.0;
-        if compliant.is_none() && l_ext > 0.0 {
+        if !compliant && l_ext > 0.0 {
             // The rigid extension: a line mass moving as `v + θ s`, `s` in [0, l_ext]; the tip load acts
             // at `s = l_ext`.
             let m_ext = self.extension_areal_mass * w_tip * l_ext;
@@ -272,68 +277,51 @@ impl ActuatorBeam {
             m[(last + 1, last + 1)] += m_ext * l_ext * l_ext / 3.0;
             load[last + 1] = l_ext;
         }
-        // The root: clamped (drop the first node's two degrees of freedom), or turning with the clamp's
-        // spring about x = 0, the held root `[0, h]` rigid with it: (v, θ) at x = h is (h ψ, ψ).
+        load
+    }
+
+    /// The system held at its root: clamped (drop the first node's two degrees of freedom), or
+    /// turning with the clamp's spring about x = 0, the held root `[0, h]` rigid with it: (v, θ) at
+    /// x = h is (h ψ, ψ).
+    fn held_at_root(
+        &self,
+        k: &DMatrix<f64>,
+        m: &DMatrix<f64>,
+        load: &DVector<f64>,
+    ) -> (DMatrix<f64>, DMatrix<f64>, DVector<f64>) {
+        let full = k.nrows();
+        let h = self.rigid_root;
         let spring = self.clamp_compliance > 0.0;
-        let (mut kr, mut mr, fr) = if spring {
-            // The root turns by ψ: (v, θ) at x = h is (h ψ, ψ), the other degrees of freedom as they are.
-            let reduce = |a: &DMatrix<f64>| {
-                let n = full - 1;
-                let mut r = DMatrix::<f64>::zeros(n, n);
-                let row = |j: usize| h * a[(0, j)] + a[(1, j)];
-                r[(0, 0)] = h * row(0) + row(1);
-                for j in 2..full {
-                    let v = row(j);
-                    r[(0, j - 1)] = v;
-                    r[(j - 1, 0)] = v;
-                }
-                r.view_mut((1, 1), (full - 2, full - 2))
-                    .copy_from(&a.view((2, 2), (full - 2, full - 2)));
-                r
-            };
-            let mut fr = DVector::<f64>::zeros(full - 1);
-            fr[0] = h * load[0] + load[1];
-            fr.rows_mut(1, full - 2).copy_from(&load.rows(2, full - 2));
-            (reduce(&k), reduce(&m), fr)
-        } else {
+        if !spring {
             // Clamped: the first node's two degrees of freedom dropped.
             let keep = |a: &DMatrix<f64>| a.view((2, 2), (full - 2, full - 2)).into_owned();
-            (keep(&k), keep(&m), load.rows(2, full - 2).into_owned())
-        };
-        if spring {
-            kr[(0, 0)] += 1.0 / self.clamp_compliance;
-            // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
-            let mu = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
-            mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
+            return (keep(k), keep(m), load.rows(2, full - 2).into_owned());
         }
-        let chol = kr.clone().cholesky().ok_or_else(|| {
-            ModelError::Laminate("the actuator's beam stiffness is not positive definite".into())
-        })?;
-        let static_shape = chol.solve(&fr);
-        let compliance = fr.dot(&static_shape);
-        let rayleigh_mass = static_shape.dot(&(&mr * &static_shape)) / (compliance * compliance);
-        // Inverse iteration from the static shape: the first mode dominates it, and the ratio of the
-        // first two eigenvalues (about 1/40 for a cantilever) makes each step gain more than a digit.
-        let mut x = static_shape;
-        let mut eigenvalue = 1.0 / (compliance * rayleigh_mass);
-        for _ in 0..200 {
-            let y = chol.solve(&(&mr * &x));
-            let next = x.dot(&(&mr * &x)) / x.dot(&(&mr * &y));
-            let norm = y.norm();
-            x = y / norm;
-            let done = ((next - eigenvalue) / next).abs() < 1e-15;
-            eigenvalue = next;
-            if done {
-                break;
+        // The root turns by ψ: (v, θ) at x = h is (h ψ, ψ), the other degrees of freedom as they are.
+        let reduce = |a: &DMatrix<f64>| {
+            let n = full - 1;
+            let mut r = DMatrix::<f64>::zeros(n, n);
+            let row = |j: usize| h * a[(0, j)] + a[(1, j)];
+            r[(0, 0)] = h * row(0) + row(1);
+            for j in 2..full {
+                let v = row(j);
+                r[(0, j - 1)] = v;
+                r[(j - 1, 0)] = v;
             }
-        }
-        // The Rayleigh quotient of the converged vector.
-        let eigenvalue = x.dot(&(&kr * &x)) / x.dot(&(&mr * &x));
-        Ok(Modal {
-            frequency: eigenvalue.sqrt() / (2.0 * std::f64::consts::PI),
-            static_stiffness: 1.0 / compliance,
-            rayleigh_mass,
-        })
+            r.view_mut((1, 1), (full - 2, full - 2))
+                .copy_from(&a.view((2, 2), (full - 2, full - 2)));
+            r
+        };
+        let mut fr = DVector::<f64>::zeros(full - 1);
+        fr[0] = h * load[0] + load[1];
+        fr.rows_mut(1, full - 2).copy_from(&load.rows(2, full - 2));
+        let (mut kr, mut mr) = (reduce(k), reduce(m));
+        kr[(0, 0)] += 1.0 / self.clamp_compliance;
+        // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
+        let pl = &self.planform;
+        let mu = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
+        mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
+        (kr, mr, fr)
     }
 
     fn check(&self) -> Result<(), ModelError> {
@@ -379,6 +367,61 @@ impl ActuatorBeam {
         }
         Ok(())
     }
+}
+
+/// The global stiffness and mass matrices of the elements, two degrees of freedom (v, θ) a node.
+fn assemble(elements: &[Element]) -> (DMatrix<f64>, DMatrix<f64>) {
+    let full = 2 * (elements.len() + 1);
+    let mut k = DMatrix::<f64>::zeros(full, full);
+    let mut m = DMatrix::<f64>::zeros(full, full);
+    for (e, el) in elements.iter().enumerate() {
+        let ke = el.stiffness_matrix();
+        let me = el.mass_matrix();
+        for r in 0..4 {
+            for c in 0..4 {
+                k[(2 * e + r, 2 * e + c)] += ke[(r, c)];
+                m[(2 * e + r, 2 * e + c)] += me[(r, c)];
+            }
+        }
+    }
+    (k, m)
+}
+
+/// The static tip compliance under the load `fr`, the Rayleigh mass of the static shape, and the
+/// first mode of the held system (stiffness `kr`, mass `mr`).
+fn first_mode(
+    kr: &DMatrix<f64>,
+    mr: &DMatrix<f64>,
+    fr: &DVector<f64>,
+) -> Result<Modal, ModelError> {
+    let chol = kr.clone().cholesky().ok_or_else(|| {
+        ModelError::Laminate("the actuator's beam stiffness is not positive definite".into())
+    })?;
+    let static_shape = chol.solve(fr);
+    let compliance = fr.dot(&static_shape);
+    let rayleigh_mass = static_shape.dot(&(mr * &static_shape)) / (compliance * compliance);
+    // Inverse iteration from the static shape: the first mode dominates it, and the ratio of the
+    // first two eigenvalues (about 1/40 for a cantilever) makes each step gain more than a digit.
+    let mut x = static_shape;
+    let mut eigenvalue = 1.0 / (compliance * rayleigh_mass);
+    for _ in 0..200 {
+        let y = chol.solve(&(mr * &x));
+        let next = x.dot(&(mr * &x)) / x.dot(&(mr * &y));
+        let norm = y.norm();
+        x = y / norm;
+        let done = ((next - eigenvalue) / next).abs() < 1e-15;
+        eigenvalue = next;
+        if done {
+            break;
+        }
+    }
+    // The Rayleigh quotient of the converged vector.
+    let eigenvalue = x.dot(&(kr * &x)) / x.dot(&(mr * &x));
+    Ok(Modal {
+        frequency: eigenvalue.sqrt() / (2.0 * std::f64::consts::PI),
+        static_stiffness: 1.0 / compliance,
+        rayleigh_mass,
+    })
 }
 
 /// One beam element on `[a, b]` with bending stiffness `EI` and line mass `μ` linear between the ends.

@@ -35,6 +35,9 @@ use crate::planform::Planform;
 use crate::section::Section;
 use serde::{Deserialize, Serialize};
 
+mod stack;
+pub use stack::{StackBasis, StackSection};
+
 /// Density of the epoxy that resin-rich plies carry in excess, kg/m³.
 pub const RESIN_DENSITY: f64 = 1200.0;
 
@@ -175,80 +178,6 @@ pub struct Actuator<'a> {
     pub planform: Planform,
     /// Drive mode and field.
     pub drive: Drive,
-}
-
-/// What the δ/F_b physics needs of one actuator once the stack is fixed: lets a fit vary η, β, Δ, φ, c_θ
-/// and s_k without re-solving the laminate. [`Effects::outputs`] applies them exactly as
-/// [`Effects::predict`] does (a unit test holds the two together).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StackBasis {
-    /// Free curvature with the nominal d31 at the drive field, 1/m.
-    pub free_curvature: f64,
-    /// Tip compliance of the tapered beam with a rigid extension, m/N.
-    pub beam_compliance: f64,
-    /// Extra tip compliance of an extension made of the bare plies (φ = 1), m/N.
-    pub extension_compliance: f64,
-    /// Drive field, V/m.
-    pub field: f64,
-    /// Planform.
-    pub planform: Planform,
-}
-
-/// The part of a [`StackBasis`] that depends on the stack and its drive alone, not on the planform: the
-/// actuators of a data set that share a stack and a drive field share it, so a calibration solves each
-/// distinct stack once per evaluation rather than once per actuator. [`StackSection::basis`] gives the
-/// same numbers [`Effects::basis`] gives for each planform (it is the same arithmetic).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StackSection {
-    /// Free curvature with the nominal d31 at the drive field, 1/m.
-    pub free_curvature: f64,
-    /// Bending compliance `C44` of the stack, 1/(N·m).
-    pub bending_compliance: f64,
-    /// Bending compliance `C44` of the plies alone, 1/(N·m); solved only for an actuator with an
-    /// extension (None otherwise).
-    pub passive_bending_compliance: Option<f64>,
-    /// Drive field, V/m.
-    pub field: f64,
-}
-
-impl StackSection {
-    /// The stack basis of a planform: the tapered beam's tip compliance `C44 l_p³ G(w_r, l_r) / (3 w_nom)`
-    /// (thesis eqs. 2.29-2.34, docs/physics.md §3) and the bare plies' extension `C44_pass l_ext³ / (3 w_tip)`.
-    pub fn basis(&self, pl: &Planform) -> Result<StackBasis, ModelError> {
-        let l_p = pl.piezo_length();
-        let beam =
-            self.bending_compliance * l_p.powi(3) * pl.shape_factor() / (3.0 * pl.nominal_width());
-        let extension = if pl.extension_ratio > 0.0 {
-            let Some(passive) = self.passive_bending_compliance else {
-                return Err(ModelError::Laminate(
-                    "the stack was solved for an actuator without an extension".into(),
-                ));
-            };
-            passive * pl.extension_length().powi(3) / (3.0 * pl.tip_width())
-        } else {
-            0.0
-        };
-        Ok(StackBasis {
-            free_curvature: self.free_curvature,
-            beam_compliance: beam,
-            extension_compliance: extension,
-            field: self.field,
-            planform: *pl,
-        })
-    }
-}
-
-impl StackBasis {
-    /// The same stack driven at another (positive) field of the same mode: the CLT free curvature is
-    /// linear in the layer fields (`DriveMode::layer_fields`, thesis eq. 2.20's piezoelectric moment
-    /// `∝ d31 E`) and the compliances do not depend on the field. Saves a stack solve per voltage.
-    pub fn at_field(&self, field: f64) -> StackBasis {
-        StackBasis {
-            free_curvature: self.free_curvature * field / self.field,
-            field,
-            ..*self
-        }
-    }
 }
 
 impl Effects {

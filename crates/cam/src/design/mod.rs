@@ -72,24 +72,7 @@ impl Design {
             .to_string();
         let materials = read_materials(&root)?;
 
-        let g = root.table("geometry")?;
-        let length = g.number_in("length_mm", LENGTH_MM)?;
-        let extension_ratio = g.number_in("extension_ratio", EXTENSION_RATIO)?;
-        let base_width = g.number_in("base_width_mm", BASE_WIDTH_MM)?;
-        let width_ratio = g.number_in("width_ratio", WIDTH_RATIO)?;
-        let base_tab = g
-            .optional_number_in("base_tab_mm", BASE_TAB_MM)?
-            .unwrap_or(0.0);
-        g.finish()?;
-        let planform = Planform::new(
-            length * 1e-3,
-            extension_ratio,
-            base_width * 1e-3,
-            width_ratio,
-            base_tab * 1e-3,
-        )
-        .map_err(|e| model_error(path, "geometry", e))?;
-        check_planform(path, "geometry", &planform)?;
+        let planform = read_planform(path, &root)?;
 
         let l = root.table("laminate")?;
         let pzt_name = l.string("pzt", "a PZT material name")?;
@@ -116,71 +99,10 @@ impl Design {
             })?,
         };
         let layup_deg = l.numbers_in("layup_deg", PLY_ANGLE_DEG, 1, MAX_PLIES)?;
-        let bond = match l.optional_string("bond", "a bond-layer material name")? {
-            Some(bond_name) => {
-                let m = resolve_material(path, &l.path("bond"), bond_name, &materials)?;
-                let t = match l.optional_number_in("bond_thickness_mm", PLY_THICKNESS_MM)? {
-                    Some(t) => t * 1e-3,
-                    None => m.ply_thickness.ok_or_else(|| {
-                        InputError::missing(
-                            path,
-                            &l.path("bond_thickness_mm"),
-                            &format!("a bond thickness, {PLY_THICKNESS_MM}"),
-                        )
-                    })?,
-                };
-                Some((m, t))
-            }
-            None => {
-                if l.has("bond_thickness_mm") {
-                    return Err(InputError::invalid(
-                        path,
-                        &l.path("bond_thickness_mm"),
-                        "(set)",
-                        "needs laminate.bond (the bond material)",
-                    ));
-                }
-                None
-            }
-        };
+        let bond = read_bond(path, &l, &materials)?;
         l.finish()?;
 
-        let d = root.table("drive")?;
-        let mode = read_drive_mode(&d)?;
-        let field = d.optional_number_in("field_V_per_mm", FIELD_V_PER_MM)?;
-        let voltage = d.optional_number_in("voltage_V", VOLTAGE_V)?;
-        let field = match (field, voltage) {
-            (Some(f), None) => f * 1e3,
-            (None, Some(v)) => mode.field_from_voltage(v, pzt_thickness),
-            (Some(f), Some(v)) => {
-                return Err(InputError::invalid(
-                    path,
-                    "drive",
-                    format!("field_V_per_mm = {f} and voltage_V = {v}"),
-                    "give exactly one of field_V_per_mm and voltage_V",
-                ))
-            }
-            (None, None) => {
-                return Err(InputError::missing(
-                    path,
-                    "drive.field_V_per_mm",
-                    "exactly one of field_V_per_mm and voltage_V",
-                ))
-            }
-        };
-        if !(field > 0.0 && field <= FIELD_V_PER_MM.hi * 1e3) {
-            return Err(InputError::invalid(
-                path,
-                "drive.voltage_V",
-                voltage.unwrap_or(0.0),
-                format!(
-                    "with laminate.pzt_thickness_mm = {} gives a plate field of {} V/mm, outside the {FIELD_V_PER_MM}",
-                    short_number(pzt_thickness * 1e3),
-                    short_number(field * 1e-3)
-                ),
-            ));
-        }
-        d.finish()?;
+        let drive = read_drive(path, &root, pzt_thickness)?;
         // The drive file's `[transmission]`, with the stroke its linkage is built for, which a drive
         // file gives at its top level.
         let transmission = match root.optional_table("transmission")? {
@@ -205,7 +127,7 @@ impl Design {
             ply_thickness,
             layup_deg,
             bond,
-            drive: Drive { mode, field },
+            drive,
             transmission,
             source: path.to_path_buf(),
         })
@@ -227,6 +149,112 @@ impl Design {
     pub fn layup_text(&self) -> String {
         layup::layup_text(&self.layup_deg)
     }
+}
+/// `[geometry]`: the planform, mm in the file, m inside.
+fn read_planform(path: &Path, root: &TableReader<'_>) -> Result<Planform, InputError> {
+    let g = root.table("geometry")?;
+    let length = g.number_in("length_mm", LENGTH_MM)?;
+    let extension_ratio = g.number_in("extension_ratio", EXTENSION_RATIO)?;
+    let base_width = g.number_in("base_width_mm", BASE_WIDTH_MM)?;
+    let width_ratio = g.number_in("width_ratio", WIDTH_RATIO)?;
+    let base_tab = g
+        .optional_number_in("base_tab_mm", BASE_TAB_MM)?
+        .unwrap_or(0.0);
+    g.finish()?;
+    let planform = Planform::new(
+        length * 1e-3,
+        extension_ratio,
+        base_width * 1e-3,
+        width_ratio,
+        base_tab * 1e-3,
+    )
+    .map_err(|e| model_error(path, "geometry", e))?;
+    check_planform(path, "geometry", &planform)?;
+    Ok(planform)
+}
+
+/// `laminate.bond` and `laminate.bond_thickness_mm`: the bond layer, if the laminate has one, and
+/// its thickness (the material's standard ply unless given), m.
+fn read_bond(
+    path: &Path,
+    l: &TableReader<'_>,
+    materials: &BTreeMap<String, Material>,
+) -> Result<Option<(Material, f64)>, InputError> {
+    Ok(
+        match l.optional_string("bond", "a bond-layer material name")? {
+            Some(bond_name) => {
+                let m = resolve_material(path, &l.path("bond"), bond_name, materials)?;
+                let t = match l.optional_number_in("bond_thickness_mm", PLY_THICKNESS_MM)? {
+                    Some(t) => t * 1e-3,
+                    None => m.ply_thickness.ok_or_else(|| {
+                        InputError::missing(
+                            path,
+                            &l.path("bond_thickness_mm"),
+                            &format!("a bond thickness, {PLY_THICKNESS_MM}"),
+                        )
+                    })?,
+                };
+                Some((m, t))
+            }
+            None => {
+                if l.has("bond_thickness_mm") {
+                    return Err(InputError::invalid(
+                        path,
+                        &l.path("bond_thickness_mm"),
+                        "(set)",
+                        "needs laminate.bond (the bond material)",
+                    ));
+                }
+                None
+            }
+        },
+    )
+}
+
+/// `[drive]`: the drive mode and the plate field, given as a field or as a voltage over the PZT
+/// plate (`pzt_thickness`, m), V/m.
+fn read_drive(
+    path: &Path,
+    root: &TableReader<'_>,
+    pzt_thickness: f64,
+) -> Result<Drive, InputError> {
+    let d = root.table("drive")?;
+    let mode = read_drive_mode(&d)?;
+    let field = d.optional_number_in("field_V_per_mm", FIELD_V_PER_MM)?;
+    let voltage = d.optional_number_in("voltage_V", VOLTAGE_V)?;
+    let field = match (field, voltage) {
+        (Some(f), None) => f * 1e3,
+        (None, Some(v)) => mode.field_from_voltage(v, pzt_thickness),
+        (Some(f), Some(v)) => {
+            return Err(InputError::invalid(
+                path,
+                "drive",
+                format!("field_V_per_mm = {f} and voltage_V = {v}"),
+                "give exactly one of field_V_per_mm and voltage_V",
+            ))
+        }
+        (None, None) => {
+            return Err(InputError::missing(
+                path,
+                "drive.field_V_per_mm",
+                "exactly one of field_V_per_mm and voltage_V",
+            ))
+        }
+    };
+    if !(field > 0.0 && field <= FIELD_V_PER_MM.hi * 1e3) {
+        return Err(InputError::invalid(
+            path,
+            "drive.voltage_V",
+            voltage.unwrap_or(0.0),
+            format!(
+                "with laminate.pzt_thickness_mm = {} gives a plate field of {} V/mm, outside the {FIELD_V_PER_MM}",
+                short_number(pzt_thickness * 1e3),
+                short_number(field * 1e-3)
+            ),
+        ));
+    }
+    d.finish()?;
+    Ok(Drive { mode, field })
 }
 
 fn read_materials(root: &TableReader<'_>) -> Result<BTreeMap<String, Material>, InputError> {

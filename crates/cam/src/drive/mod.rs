@@ -174,114 +174,13 @@ pub fn analyse(
     let force_limit = per_field * limit_field;
     let f = spec.frequency;
 
-    // The force the stroke needs whatever the field, then whether the field limit allows it.
-    let needed = system.force_for_stroke(spec.transmission.stroke, f, f64::INFINITY);
-    let (state, unreachable) = match needed {
-        Ok(s) if s.force <= force_limit => (Some(s), None),
-        Ok(s) => {
-            let best = system
-                .force_for_stroke(spec.transmission.stroke, f, force_limit)
-                .err()
-                .and_then(|u| u.best)
-                .map(|b| *b);
-            let field = s.force / per_field;
-            let change = format!(
-                "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm at survival {}: it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
-                field * 1e-3,
-                mode.name(),
-                fixed(mode.field_limit().survival(field), 4),
-                limit_field * 1e-3,
-                spec.survival,
-                s.force / force_limit,
-                system.linear_resonance(),
-            );
-            (
-                best,
-                Some(Unreachable {
-                    best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
-                    binding: format!(
-                        "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
-                        mode.name(),
-                        limit_field * 1e-3,
-                        spec.survival
-                    ),
-                    change,
-                }),
-            )
-        }
-        Err(_) => {
-            let best = system
-                .force_for_stroke(spec.transmission.stroke, f, force_limit)
-                .err()
-                .and_then(|u| u.best)
-                .map(|b| *b);
-            let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.transmission.stroke).is_some());
-            let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
-            let (binding, change) = if at_limit {
-                (
-                    format!(
-                        "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
-                        mode.name(),
-                        limit_field * 1e-3,
-                        spec.survival
-                    ),
-                    format!(
-                        "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
-                        system.linear_resonance()
-                    ),
-                )
-            } else if reach == [true, true] {
-                (
-                    format!(
-                        "no steady stroke of ±{:.1}° through this linkage (coupler {:.3} mm, crank {:.3} mm): the stroke's mean angle drifts toward the linkage's dead point",
-                        spec.transmission.stroke.to_degrees(),
-                        linkage.coupler * 1e3,
-                        linkage.crank * 1e3
-                    ),
-                    "stiffer flexures (flexure_stiffness_uNm_per_rad) to centre the stroke, a longer coupler, or a smaller stroke".to_string(),
-                )
-            } else {
-                (
-                    format!(
-                        "the linkage's reach: the coupler ({:.3} mm) cannot turn the crank ({:.3} mm) to ±{:.1}°",
-                        linkage.coupler * 1e3,
-                        linkage.crank * 1e3,
-                        spec.transmission.stroke.to_degrees()
-                    ),
-                    "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)".to_string(),
-                )
-            };
-            (
-                best,
-                Some(Unreachable {
-                    best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
-                    binding,
-                    change,
-                }),
-            )
-        }
-    };
+    let (state, unreachable) = steady_state(spec, &system, mode, per_field, limit_field);
 
     let operating = state
         .map(|s| operating_row(&system, design, &perf, mode, per_field, &s))
         .transpose()?;
     let modes = match state {
-        Some(s) if unreachable.is_none() => DriveMode::ALL
-            .into_iter()
-            .map(|m| {
-                let per = force_per_field(design, model, m)?;
-                let field = s.force / per;
-                let limit = m.field_limit().threshold(spec.survival)?;
-                Ok(ModeRow {
-                    mode: m.name().to_string(),
-                    field_V_per_mm: field * 1e-3,
-                    voltage_V: m.voltage_from_field(field, design.pzt_thickness),
-                    survival: m.field_limit().survival(field),
-                    limit_V_per_mm: limit * 1e-3,
-                    within_limit: field <= limit,
-                })
-            })
-            .collect::<Result<Vec<_>, ModelError>>()?,
+        Some(s) if unreachable.is_none() => mode_rows(spec, design, model, s.force)?,
         _ => Vec::new(),
     };
     let sweep_force = state.map_or(force_limit, |s| s.force);
@@ -340,6 +239,154 @@ pub fn analyse(
         state,
         report,
     })
+}
+
+/// The steady state at the required stroke, when the field limit allows it; else the best one within
+/// the limit, and why the stroke is out of reach.
+fn steady_state(
+    spec: &DriveSpec,
+    system: &FlappingSystem,
+    mode: DriveMode,
+    per_field: f64,
+    limit_field: f64,
+) -> (Option<SteadyState>, Option<Unreachable>) {
+    let force_limit = per_field * limit_field;
+    let f = spec.frequency;
+    // The force the stroke needs whatever the field, then whether the field limit allows it.
+    match system.force_for_stroke(spec.transmission.stroke, f, f64::INFINITY) {
+        Ok(s) if s.force <= force_limit => (Some(s), None),
+        Ok(s) => beyond_field_limit(spec, system, mode, per_field, limit_field, &s),
+        Err(_) => no_steady_state(spec, system, mode, limit_field, force_limit),
+    }
+}
+
+/// The best steady state the stroke search found with the force held within `force_limit`.
+fn best_within(spec: &DriveSpec, system: &FlappingSystem, force_limit: f64) -> Option<SteadyState> {
+    system
+        .force_for_stroke(spec.transmission.stroke, spec.frequency, force_limit)
+        .err()
+        .and_then(|u| u.best)
+        .map(|b| *b)
+}
+
+/// A stroke whose steady state `s` needs more than the field limit: the best stroke within the
+/// limit, and what would bring the required one within it.
+fn beyond_field_limit(
+    spec: &DriveSpec,
+    system: &FlappingSystem,
+    mode: DriveMode,
+    per_field: f64,
+    limit_field: f64,
+    s: &SteadyState,
+) -> (Option<SteadyState>, Option<Unreachable>) {
+    let force_limit = per_field * limit_field;
+    let best = best_within(spec, system, force_limit);
+    let field = s.force / per_field;
+    let change = format!(
+        "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm at survival {}: it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+        field * 1e-3,
+        mode.name(),
+        fixed(mode.field_limit().survival(field), 4),
+        limit_field * 1e-3,
+        spec.survival,
+        s.force / force_limit,
+        system.linear_resonance(),
+    );
+    (
+        best,
+        Some(Unreachable {
+            best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
+            binding: format!(
+                "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
+                mode.name(),
+                limit_field * 1e-3,
+                spec.survival
+            ),
+            change,
+        }),
+    )
+}
+
+/// A stroke with no steady state at any force: the best stroke within the field limit, and what
+/// binds, the field limit, the linkage's dead point or its reach.
+fn no_steady_state(
+    spec: &DriveSpec,
+    system: &FlappingSystem,
+    mode: DriveMode,
+    limit_field: f64,
+    force_limit: f64,
+) -> (Option<SteadyState>, Option<Unreachable>) {
+    let linkage = system.linkage;
+    let best = best_within(spec, system, force_limit);
+    let reach = [-1.0, 1.0].map(|s| linkage.travel(s * spec.transmission.stroke).is_some());
+    let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
+    let (binding, change) = if at_limit {
+        (
+            format!(
+                "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
+                mode.name(),
+                limit_field * 1e-3,
+                spec.survival
+            ),
+            format!(
+                "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+                system.linear_resonance()
+            ),
+        )
+    } else if reach == [true, true] {
+        (
+            format!(
+                "no steady stroke of ±{:.1}° through this linkage (coupler {:.3} mm, crank {:.3} mm): the stroke's mean angle drifts toward the linkage's dead point",
+                spec.transmission.stroke.to_degrees(),
+                linkage.coupler * 1e3,
+                linkage.crank * 1e3
+            ),
+            "stiffer flexures (flexure_stiffness_uNm_per_rad) to centre the stroke, a longer coupler, or a smaller stroke".to_string(),
+        )
+    } else {
+        (
+            format!(
+                "the linkage's reach: the coupler ({:.3} mm) cannot turn the crank ({:.3} mm) to ±{:.1}°",
+                linkage.coupler * 1e3,
+                linkage.crank * 1e3,
+                spec.transmission.stroke.to_degrees()
+            ),
+            "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)".to_string(),
+        )
+    };
+    (
+        best,
+        Some(Unreachable {
+            best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
+            binding,
+            change,
+        }),
+    )
+}
+
+/// The field, voltage and survival the steady force needs in each drive mode.
+fn mode_rows(
+    spec: &DriveSpec,
+    design: &Design,
+    model: &ModelChoice,
+    force: f64,
+) -> Result<Vec<ModeRow>, ModelError> {
+    DriveMode::ALL
+        .into_iter()
+        .map(|m| {
+            let per = force_per_field(design, model, m)?;
+            let field = force / per;
+            let limit = m.field_limit().threshold(spec.survival)?;
+            Ok(ModeRow {
+                mode: m.name().to_string(),
+                field_V_per_mm: field * 1e-3,
+                voltage_V: m.voltage_from_field(field, design.pzt_thickness),
+                survival: m.field_limit().survival(field),
+                limit_V_per_mm: limit * 1e-3,
+                within_limit: field <= limit,
+            })
+        })
+        .collect()
 }
 
 /// The operating point in lab units: field and voltage of the force, peak PZT stress and strain over a

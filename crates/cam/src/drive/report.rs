@@ -204,39 +204,62 @@ impl DriveReport {
 
     /// The summary `drive` prints: one quantity a line.
     pub fn table(&self) -> String {
-        let mut rows: Vec<(String, String, &str)> = Vec::new();
-        let mut row = |name: &str, value: String, unit: &'static str| {
-            rows.push((name.to_string(), value, unit));
-        };
-        row("design", self.design.clone(), "");
-        row("model", self.model.clone(), "");
-        row("flapping frequency", fixed(self.frequency_Hz, 1), "Hz");
-        row(
+        let mut rows = SummaryRows::default();
+        self.system_rows(&mut rows);
+        if let Some(o) = &self.operating {
+            self.operating_rows(o, &mut rows);
+        }
+        self.limit_rows(&mut rows);
+        let mut out = rows.aligned();
+        self.modes_table(&mut out);
+        if let Some(l) = &self.linkage_laminate {
+            let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
+        }
+        if let Some(u) = &self.unreachable {
+            let _ = writeln!(
+                out,
+                "\nNOT REACHED: ±{} deg is out of reach; the best stroke within the limit is ±{} deg.\n  binding: {}\n  to reach it: {}",
+                fixed(self.required_stroke_deg, 1),
+                fixed(u.best_stroke_deg, 2),
+                u.binding,
+                u.change
+            );
+        }
+        out
+    }
+
+    /// The system: design, model, frequency, stroke, resonances, linkage, wing, and whether the
+    /// stroke is reached.
+    fn system_rows(&self, rows: &mut SummaryRows) {
+        rows.row("design", self.design.clone(), "");
+        rows.row("model", self.model.clone(), "");
+        rows.row("flapping frequency", fixed(self.frequency_Hz, 1), "Hz");
+        rows.row(
             "required stroke",
             format!("±{}", fixed(self.required_stroke_deg, 1)),
             "deg",
         );
-        row(
+        rows.row(
             "resonance (actuator+linkage+wing)",
             fixed(self.resonance_Hz, 1),
             "Hz",
         );
-        row(
+        rows.row(
             "  bare actuator",
             fixed(self.actuator.resonance_Hz, 1),
             "Hz",
         );
-        row(
+        rows.row(
             "  actuator stiffness",
             fixed(self.actuator.stiffness_N_per_m, 1),
             "N/m",
         );
-        row(
+        rows.row(
             "  actuator modal mass",
             fixed(self.actuator.modal_mass_mg, 2),
             "mg",
         );
-        row(
+        rows.row(
             "linkage coupler / crank",
             format!(
                 "{} / {}",
@@ -245,64 +268,71 @@ impl DriveReport {
             ),
             "mm",
         );
-        row(
+        rows.row(
             "wing inertia",
             fixed(self.wing.inertia_mg_mm2, 1),
             "mg mm^2",
         );
-        row(
+        rows.row(
             "wing drag coefficient K",
             fixed(self.wing.damping_nN_m_s2, 4),
             "nN m s^2",
         );
-        row(
+        rows.row(
             "reached",
             if self.reached { "yes" } else { "NO" }.to_string(),
             "",
         );
-        if let Some(o) = &self.operating {
-            let at = if self.reached {
-                "at the required stroke"
-            } else {
-                "at the best stroke"
-            };
-            row(
-                &format!("stroke ({at})"),
-                format!("±{}", fixed(o.stroke_deg, 2)),
-                "deg",
-            );
-            row("  phase behind the drive", fixed(o.phase_deg, 1), "deg");
-            row(
-                "  actuator tip amplitude",
-                fixed(o.tip_amplitude_mm, 4),
-                "mm",
-            );
-            row(
-                &format!("  voltage ({})", self.drive_mode),
-                fixed(o.voltage_V, 1),
-                "V",
-            );
-            row("  field", fixed(o.field_V_per_mm, 1), "V/mm");
-            row("  field survival", fixed(o.survival, 4), "");
-            row("  peak PZT stress", fixed(o.peak_pzt_stress_MPa, 1), "MPa");
-            row(
-                "  peak PZT strain",
-                fixed(o.peak_pzt_strain * 1e6, 0),
-                "µstrain",
-            );
-            row("  peak tip load", fixed(o.peak_tip_load_N * 1e3, 2), "mN");
-            row(
-                "  mechanical power into the wing",
-                fixed(o.mechanical_power_mW, 3),
-                "mW",
-            );
-            row(
-                "  reactive electrical power",
-                fixed(o.reactive_power_mW, 3),
-                "mvar",
-            );
-        }
-        row(
+    }
+
+    /// The operating point: the stroke reached (the required one, else the best within the limit)
+    /// and what it takes.
+    fn operating_rows(&self, o: &OperatingRow, rows: &mut SummaryRows) {
+        let at = if self.reached {
+            "at the required stroke"
+        } else {
+            "at the best stroke"
+        };
+        rows.row(
+            &format!("stroke ({at})"),
+            format!("±{}", fixed(o.stroke_deg, 2)),
+            "deg",
+        );
+        rows.row("  phase behind the drive", fixed(o.phase_deg, 1), "deg");
+        rows.row(
+            "  actuator tip amplitude",
+            fixed(o.tip_amplitude_mm, 4),
+            "mm",
+        );
+        rows.row(
+            &format!("  voltage ({})", self.drive_mode),
+            fixed(o.voltage_V, 1),
+            "V",
+        );
+        rows.row("  field", fixed(o.field_V_per_mm, 1), "V/mm");
+        rows.row("  field survival", fixed(o.survival, 4), "");
+        rows.row("  peak PZT stress", fixed(o.peak_pzt_stress_MPa, 1), "MPa");
+        rows.row(
+            "  peak PZT strain",
+            fixed(o.peak_pzt_strain * 1e6, 0),
+            "µstrain",
+        );
+        rows.row("  peak tip load", fixed(o.peak_tip_load_N * 1e3, 2), "mN");
+        rows.row(
+            "  mechanical power into the wing",
+            fixed(o.mechanical_power_mW, 3),
+            "mW",
+        );
+        rows.row(
+            "  reactive electrical power",
+            fixed(o.reactive_power_mW, 3),
+            "mvar",
+        );
+    }
+
+    /// The field limit and the mass budget.
+    fn limit_rows(&self, rows: &mut SummaryRows) {
+        rows.row(
             "field limit",
             format!(
                 "{} (survival {})",
@@ -311,7 +341,7 @@ impl DriveReport {
             ),
             "V/mm",
         );
-        row(
+        rows.row(
             "mass: actuator + transmission",
             format!(
                 "{} + {} = {}",
@@ -321,7 +351,7 @@ impl DriveReport {
             ),
             "mg",
         );
-        row(
+        rows.row(
             "  budget",
             format!(
                 "{} ({})",
@@ -334,12 +364,10 @@ impl DriveReport {
             ),
             "mg",
         );
-        let width = rows.iter().map(|r| r.0.chars().count()).max().unwrap_or(0);
-        let mut out = String::new();
-        for (name, value, unit) in rows {
-            let pad = width - name.chars().count();
-            let _ = writeln!(out, "{name}{}  {value} {unit}", " ".repeat(pad));
-        }
+    }
+
+    /// The same stroke in each drive mode, when it is reached.
+    fn modes_table(&self, out: &mut String) {
         if !self.modes.is_empty() {
             let _ = writeln!(
                 out,
@@ -358,20 +386,6 @@ impl DriveReport {
                 );
             }
         }
-        if let Some(l) = &self.linkage_laminate {
-            let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
-        }
-        if let Some(u) = &self.unreachable {
-            let _ = writeln!(
-                out,
-                "\nNOT REACHED: ±{} deg is out of reach; the best stroke within the limit is ±{} deg.\n  binding: {}\n  to reach it: {}",
-                fixed(self.required_stroke_deg, 1),
-                fixed(u.best_stroke_deg, 2),
-                u.binding,
-                u.change
-            );
-        }
-        out
     }
 
     /// report.md: the table with a title.
@@ -493,5 +507,31 @@ impl DriveReport {
             }
         }
         c.finish()
+    }
+}
+
+/// The summary's quantities: name, value and unit, one a line, the values in one column.
+#[derive(Default)]
+struct SummaryRows(Vec<(String, String, &'static str)>);
+
+impl SummaryRows {
+    fn row(&mut self, name: &str, value: String, unit: &'static str) {
+        self.0.push((name.to_string(), value, unit));
+    }
+
+    /// The rows with the names padded to the longest.
+    fn aligned(self) -> String {
+        let width = self
+            .0
+            .iter()
+            .map(|r| r.0.chars().count())
+            .max()
+            .unwrap_or(0);
+        let mut out = String::new();
+        for (name, value, unit) in self.0 {
+            let pad = width - name.chars().count();
+            let _ = writeln!(out, "{name}{}  {value} {unit}", " ".repeat(pad));
+        }
+        out
     }
 }

@@ -16,6 +16,7 @@ use crate::linkage::pattern::Ply;
 use crate::linkage::LinkageLaminate;
 use crate::parts::{OwnSheet, PartOrder, PartSheet};
 use crate::pipeline::{BuildError, SheetDrawing};
+use crate::process::linkage::LinkageProcess;
 use crate::process::template::{PassiveCut, SheetSpec, Template};
 use actuator_model::model::{ModelChoice, ModelKind};
 use std::path::{Path, PathBuf};
@@ -132,74 +133,12 @@ pub fn item_linkage(
             DriveError::Model(e) => refuse(e.to_string()),
         })?;
     let process = &laminate.process;
-    let kerf = process.kerf_mm;
     let coupon = Coupon::of(&laminate, &tpl);
     let name = &design.name;
-    let layup = &process.carbon_layup_deg;
     let mut orders = Vec::new();
     let mut sheets = Vec::new();
     for part in coupon.parts(&laminate, drive_file) {
-        let (sheet, rotations, label): (PartSheet, &[f64], String) = match part.ply {
-            Ply::Carbon => match like {
-                Some(like) => (
-                    // The coupon is drawn with its links along its y axis, the sheet's fibres.
-                    PartSheet::Prepreg {
-                        layup_deg: layup.clone(),
-                        like,
-                        fibre_axis_deg: 90.0,
-                    },
-                    &CARBON_ROTATIONS_DEG,
-                    format!(
-                        "prepreg, layup {}{}",
-                        items[like].0.layup_text(),
-                        if template.passive_cut == PassiveCut::PlyByPly {
-                            ", cut ply by ply"
-                        } else {
-                            ""
-                        }
-                    ),
-                ),
-                None => (
-                    own_sheet(
-                        "linkage-carbon",
-                        &format!(
-                            "{} ({})",
-                            process.carbon.material, template.passive.material
-                        ),
-                        process.carbon.thickness_mm,
-                        process.carbon.density_kg_per_m3,
-                        &template.passive,
-                        kerf,
-                    ),
-                    &CARBON_ROTATIONS_DEG,
-                    "linkage-carbon (no design of the batch has its layup)".to_string(),
-                ),
-            },
-            Ply::Adhesive => (
-                own_sheet(
-                    "linkage-adhesive",
-                    &process.adhesive.material,
-                    process.adhesive.thickness_mm,
-                    process.adhesive.density_kg_per_m3,
-                    &template.passive,
-                    kerf,
-                ),
-                &SHEET_ROTATIONS_DEG,
-                "linkage-adhesive".to_string(),
-            ),
-            Ply::Film => (
-                own_sheet(
-                    "linkage-film",
-                    &process.film.material,
-                    process.film.thickness_mm,
-                    process.film.density_kg_per_m3,
-                    &template.passive,
-                    kerf,
-                ),
-                &SHEET_ROTATIONS_DEG,
-                "linkage-film".to_string(),
-            ),
-        };
+        let (sheet, rotations, label) = coupon_sheet(part.ply, like, items, template, process);
         let spec = match &sheet {
             PartSheet::Own(o) => &o.spec,
             _ => &template.passive,
@@ -242,6 +181,81 @@ pub fn item_linkage(
         },
         orders,
     )))
+}
+
+/// The sheet a coupon layer of `ply` is cut from, its rotations and how the report names the
+/// sheet: the carbon on the prepreg of the batch's design `like` laid up as the linkage's carbon,
+/// else each ply on a sheet of its own the prepreg sheet's size.
+fn coupon_sheet(
+    ply: Ply,
+    like: Option<usize>,
+    items: &[(&Design, usize)],
+    template: &Template,
+    process: &LinkageProcess,
+) -> (PartSheet, &'static [f64], String) {
+    let kerf = process.kerf_mm;
+    let layup = &process.carbon_layup_deg;
+    match ply {
+        Ply::Carbon => match like {
+            Some(like) => (
+                // The coupon is drawn with its links along its y axis, the sheet's fibres.
+                PartSheet::Prepreg {
+                    layup_deg: layup.clone(),
+                    like,
+                    fibre_axis_deg: 90.0,
+                },
+                &CARBON_ROTATIONS_DEG,
+                format!(
+                    "prepreg, layup {}{}",
+                    items[like].0.layup_text(),
+                    if template.passive_cut == PassiveCut::PlyByPly {
+                        ", cut ply by ply"
+                    } else {
+                        ""
+                    }
+                ),
+            ),
+            None => (
+                own_sheet(
+                    "linkage-carbon",
+                    &format!(
+                        "{} ({})",
+                        process.carbon.material, template.passive.material
+                    ),
+                    process.carbon.thickness_mm,
+                    process.carbon.density_kg_per_m3,
+                    &template.passive,
+                    kerf,
+                ),
+                &CARBON_ROTATIONS_DEG,
+                "linkage-carbon (no design of the batch has its layup)".to_string(),
+            ),
+        },
+        Ply::Adhesive => (
+            own_sheet(
+                "linkage-adhesive",
+                &process.adhesive.material,
+                process.adhesive.thickness_mm,
+                process.adhesive.density_kg_per_m3,
+                &template.passive,
+                kerf,
+            ),
+            &SHEET_ROTATIONS_DEG,
+            "linkage-adhesive".to_string(),
+        ),
+        Ply::Film => (
+            own_sheet(
+                "linkage-film",
+                &process.film.material,
+                process.film.thickness_mm,
+                process.film.density_kg_per_m3,
+                &template.passive,
+                kerf,
+            ),
+            &SHEET_ROTATIONS_DEG,
+            "linkage-film".to_string(),
+        ),
+    }
 }
 
 /// The coupon files of the batch's linkages, `linkage-<design>-N-<layer>-1` (the design's name as a

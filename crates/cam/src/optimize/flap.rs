@@ -232,6 +232,30 @@ fn screen(
                 .map_or(f64::NAN, |m| m.frequency)
         })
         .collect();
+    let table = resonance_table(problem, load, &modes)?;
+    let per: Vec<(Option<Screened>, Vec<Option<Screened>>)> = shapes
+        .par_iter()
+        .zip(modes.par_iter())
+        .map(|(&shape, &f_unit)| {
+            screen_shape(problem, &table, &lengths, load.frequency, shape, f_unit)
+        })
+        .collect();
+    let mut bests: Vec<Screened> = per.iter().filter_map(|p| p.0).collect();
+    bests.sort_by(|a, b| {
+        a.design
+            .mass
+            .total_cmp(&b.design.mass)
+            .then(a.design.length.total_cmp(&b.design.length))
+            .then(a.design.candidate.cmp(&b.design.candidate))
+    });
+    let front = front(&per);
+    let points = shapes.len() as u64 * lengths.len() as u64;
+    Ok((bests, front, points))
+}
+
+/// The table of the wing's load over the first modes the shapes can reach: each shape's unit-length
+/// mode (`modes`, NaN where it could not be solved) scaled by 1/length² across the length bounds.
+fn resonance_table(problem: &Problem, load: &WingLoad, modes: &[f64]) -> Result<Table, FlapError> {
     let (l_min, l_max) = (problem.bounds.length.lo, problem.bounds.length.hi);
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for f in modes.iter().filter(|f| f.is_finite()) {
@@ -243,89 +267,92 @@ fn screen(
             "no shape's first mode could be solved".into(),
         ));
     }
-    let table = Table::new(load, lo, hi);
+    Ok(Table::new(load, lo, hi))
+}
+
+/// The front level of a margin of resonance above the flapping frequency: levels 0, 0.05, …
+fn margin_level(margin: f64) -> Option<usize> {
+    (margin >= 0.0).then(|| ((margin / LEVEL_STEP).floor() as usize).min(FRONT_LEVELS - 1))
+}
+
+/// One shape (candidate, extension ratio, width ratio) with unit-length first mode `f_unit`, at
+/// every length: its lightest design that holds the wing at `f`, and its lightest at each front
+/// level.
+fn screen_shape(
+    problem: &Problem,
+    table: &Table,
+    lengths: &[f64],
+    f: f64,
+    (c, l_r, w_r): (usize, f64, f64),
+    f_unit: f64,
+) -> (Option<Screened>, Vec<Option<Screened>>) {
     let bounds = problem.bounds;
-    let f = load.frequency;
-    let level = |margin: f64| -> Option<usize> {
-        // Levels 0, 0.05, …: the margin of resonance above the flapping frequency.
-        (margin >= 0.0).then(|| ((margin / LEVEL_STEP).floor() as usize).min(FRONT_LEVELS - 1))
-    };
-    let per: Vec<(Option<Screened>, Vec<Option<Screened>>)> = shapes
-        .par_iter()
-        .zip(modes.par_iter())
-        .map(|(&(c, l_r, w_r), &f_unit)| {
-            let mut levels = vec![None::<Screened>; FRONT_LEVELS];
-            let mut best: Option<Screened> = None;
-            if !f_unit.is_finite() {
-                return (best, levels);
+    let mut levels = vec![None::<Screened>; FRONT_LEVELS];
+    let mut best: Option<Screened> = None;
+    if !f_unit.is_finite() {
+        return (best, levels);
+    }
+    let rates = problem.shape_rates(c, l_r, w_r);
+    let narrowest = bounds
+        .base_width
+        .lo
+        .max(problem.min_tip_width * w_r / (2.0 - w_r));
+    for &length in lengths {
+        let (energy, resonance) = table.at(f_unit / (length * length));
+        // U = l_tot w_0 u for the original model.
+        let width = (energy / (length * rates.energy)).max(narrowest);
+        if width.is_nan()
+            || width > bounds.base_width.hi * (1.0 + 1e-12)
+            || tip_width(width, w_r) < problem.min_tip_width * (1.0 - 1e-12)
+        {
+            continue;
+        }
+        let design = problem.design(c, rates, length, width, l_r, w_r);
+        let s = Screened {
+            design,
+            margin: resonance / f - 1.0,
+        };
+        if best.is_none_or(|b| design.mass < b.design.mass) {
+            best = Some(s);
+        }
+        if let Some(k) = margin_level(s.margin) {
+            if levels[k].is_none_or(|b| design.mass < b.design.mass) {
+                levels[k] = Some(s);
             }
-            let rates = problem.shape_rates(c, l_r, w_r);
-            let narrowest = bounds
-                .base_width
-                .lo
-                .max(problem.min_tip_width * w_r / (2.0 - w_r));
-            for &length in &lengths {
-                let (energy, resonance) = table.at(f_unit / (length * length));
-                // U = l_tot w_0 u for the original model.
-                let width = (energy / (length * rates.energy)).max(narrowest);
-                if width.is_nan()
-                    || width > bounds.base_width.hi * (1.0 + 1e-12)
-                    || tip_width(width, w_r) < problem.min_tip_width * (1.0 - 1e-12)
-                {
-                    continue;
-                }
-                let design = problem.design(c, rates, length, width, l_r, w_r);
-                let s = Screened {
+        }
+        // Above its own margin, the same shape and length widened to the energy a stiffer
+        // crank needs for each higher level (the front's other points).
+        let f1 = f_unit / (length * length);
+        for (k, slot) in levels.iter_mut().enumerate() {
+            let needed = LEVEL_STEP * k as f64;
+            if needed <= s.margin {
+                continue;
+            }
+            let energy = table.at_level(f1, k);
+            let width = (energy / (length * rates.energy)).max(narrowest);
+            if !width.is_finite()
+                || width > bounds.base_width.hi * (1.0 + 1e-12)
+                || tip_width(width, w_r) < problem.min_tip_width * (1.0 - 1e-12)
+            {
+                continue;
+            }
+            let design = problem.design(c, rates, length, width, l_r, w_r);
+            if slot.is_none_or(|b| design.mass < b.design.mass) {
+                *slot = Some(Screened {
                     design,
-                    margin: resonance / f - 1.0,
-                };
-                if best.is_none_or(|b| design.mass < b.design.mass) {
-                    best = Some(s);
-                }
-                if let Some(k) = level(s.margin) {
-                    if levels[k].is_none_or(|b| design.mass < b.design.mass) {
-                        levels[k] = Some(s);
-                    }
-                }
-                // Above its own margin, the same shape and length widened to the energy a stiffer
-                // crank needs for each higher level (the front's other points).
-                let f1 = f_unit / (length * length);
-                for (k, slot) in levels.iter_mut().enumerate() {
-                    let needed = LEVEL_STEP * k as f64;
-                    if needed <= s.margin {
-                        continue;
-                    }
-                    let energy = table.at_level(f1, k);
-                    let width = (energy / (length * rates.energy)).max(narrowest);
-                    if !width.is_finite()
-                        || width > bounds.base_width.hi * (1.0 + 1e-12)
-                        || tip_width(width, w_r) < problem.min_tip_width * (1.0 - 1e-12)
-                    {
-                        continue;
-                    }
-                    let design = problem.design(c, rates, length, width, l_r, w_r);
-                    if slot.is_none_or(|b| design.mass < b.design.mass) {
-                        *slot = Some(Screened {
-                            design,
-                            margin: needed,
-                        });
-                    }
-                }
+                    margin: needed,
+                });
             }
-            (best, levels)
-        })
-        .collect();
-    let mut bests: Vec<Screened> = per.iter().filter_map(|p| p.0).collect();
-    bests.sort_by(|a, b| {
-        a.design
-            .mass
-            .total_cmp(&b.design.mass)
-            .then(a.design.length.total_cmp(&b.design.length))
-            .then(a.design.candidate.cmp(&b.design.candidate))
-    });
-    // The front: at each level the lightest design with at least that margin.
+        }
+    }
+    (best, levels)
+}
+
+/// The front: at each level the lightest design with at least that margin, from each shape's
+/// lightest at each level.
+fn front(per: &[(Option<Screened>, Vec<Option<Screened>>)]) -> Vec<Screened> {
     let mut by_level = vec![None::<Screened>; FRONT_LEVELS];
-    for (_, levels) in &per {
+    for (_, levels) in per {
         for (k, s) in levels.iter().enumerate() {
             if let Some(s) = s {
                 if by_level[k].is_none_or(|b| s.design.mass < b.design.mass) {
@@ -348,8 +375,7 @@ fn screen(
     }
     front.reverse();
     front.dedup();
-    let points = shapes.len() as u64 * lengths.len() as u64;
-    Ok((bests, front, points))
+    front
 }
 
 /// The design file of a search design as its process builds it, and its prediction.

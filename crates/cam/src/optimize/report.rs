@@ -71,10 +71,28 @@ fn field_note(c: &Candidate) -> &'static str {
 
 /// The full text report.
 pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> String {
-    let p = &outcome.problem;
-    let best = &outcome.best;
-    let c = &p.candidates[best.candidate];
     let mut s = String::new();
+    search_text(&mut s, spec, file, outcome);
+    let _ = writeln!(s);
+    grid_against_refined(&mut s, outcome);
+    optimum_text(&mut s, spec, outcome, perf);
+    let _ = writeln!(s);
+    let _ = writeln!(s, "binding constraints");
+    let binding = binding(spec, &outcome.problem, &outcome.best, perf);
+    if binding.is_empty() {
+        let _ = writeln!(s, "  none");
+    }
+    for line in binding {
+        let _ = writeln!(s, "  {line}");
+    }
+    let _ = writeln!(s);
+    per_laminate_text(&mut s, outcome);
+    s
+}
+
+/// The search: model, objective, drive, requirement, bounds, grid and constraints.
+fn search_text(s: &mut String, spec: &Spec, file: &str, outcome: &Outcome) {
+    let p = &outcome.problem;
     let _ = writeln!(s, "actuator-cam optimize {file}");
     let field = match spec.field_source {
         FieldSource::Given => format!("{} V/mm", decimal(spec.field * 1e-3, 9)),
@@ -123,7 +141,12 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     if !limits.is_empty() {
         let _ = writeln!(s, "constraints: {}", limits.join(", "));
     }
-    let _ = writeln!(s);
+}
+
+/// The exhaustive grid's best against the refined optimum.
+fn grid_against_refined(s: &mut String, outcome: &Outcome) {
+    let p = &outcome.problem;
+    let best = &outcome.best;
     let grid_best = outcome.grid.best;
     match &grid_best {
         Some(g) => {
@@ -150,6 +173,13 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     }
     let _ = writeln!(s);
     let _ = writeln!(s);
+}
+
+/// The optimum: laminate, drive, planform and its predicted performance.
+fn optimum_text(s: &mut String, spec: &Spec, outcome: &Outcome, perf: &Performance) {
+    let p = &outcome.problem;
+    let best = &outcome.best;
+    let c = &p.candidates[best.candidate];
     let pl = best.planform();
     let _ = writeln!(s, "optimum, predicted by the {} model", p.model.name());
     let rows: Vec<(&str, String)> = vec![
@@ -223,16 +253,12 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
     for (k, v) in rows {
         let _ = writeln!(s, "  {k:<16} {v}");
     }
-    let _ = writeln!(s);
-    let _ = writeln!(s, "binding constraints");
-    let binding = binding(spec, p, best, perf);
-    if binding.is_empty() {
-        let _ = writeln!(s, "  none");
-    }
-    for line in binding {
-        let _ = writeln!(s, "  {line}");
-    }
-    let _ = writeln!(s);
+}
+
+/// Each laminate's best design, on the grid and refined, or the most energy it reaches.
+fn per_laminate_text(s: &mut String, outcome: &Outcome) {
+    let p = &outcome.problem;
+    let best = &outcome.best;
     let _ = writeln!(s, "best per laminate (refined; * = optimum)");
     let _ = writeln!(
         s,
@@ -282,7 +308,6 @@ pub fn text(spec: &Spec, file: &str, outcome: &Outcome, perf: &Performance) -> S
             }
         }
     }
-    s
 }
 
 /// The constraints and bounds the optimum sits on.

@@ -434,6 +434,33 @@ fn general_row(
     best
 }
 
+/// One laminate's grid from its `(laminate, l_r)` slices: its best design, its seeds for the
+/// refinement (the best of each shape, ranked by value, ties by grid index) and the design with the
+/// most energy.
+fn candidate_grid(problem: &Problem, slices: &[Vec<ShapeBest>]) -> CandidateGrid {
+    let shapes = slices.iter().flatten();
+    let mut ranked: Vec<(Design, u64)> = shapes.clone().filter_map(|s| s.best).collect();
+    ranked.sort_by(|a, b| {
+        problem
+            .value(a.0.energy, a.0.mass)
+            .total_cmp(&problem.value(b.0.energy, b.0.mass))
+            .then(a.1.cmp(&b.1))
+    });
+    let most_energy =
+        shapes
+            .filter_map(|s| s.most_energy)
+            .reduce(|a, b| if b.energy > a.energy { b } else { a });
+    CandidateGrid {
+        best: ranked.first().map(|r| r.0),
+        seeds: ranked
+            .iter()
+            .take(SEEDS_PER_CANDIDATE)
+            .map(|r| r.0)
+            .collect(),
+        most_energy,
+    }
+}
+
 /// Run the exhaustive stage, in parallel over `(laminate, l_r)` slices. The result does not depend on the
 /// number of threads: each slice reduces in index order, and slices are combined by (value, index).
 /// `progress` hears of each slice done.
@@ -522,32 +549,7 @@ pub fn exhaustive(problem: &Problem, progress: &dyn Progress) -> GridResult {
         .collect();
     progress.finish();
     let per_candidate: Vec<CandidateGrid> = (0..n_c)
-        .map(|c| {
-            let shapes = slices[c * n_r..(c + 1) * n_r].iter().flatten();
-            let mut ranked: Vec<(Design, u64)> = shapes.clone().filter_map(|s| s.best).collect();
-            ranked.sort_by(|a, b| {
-                problem
-                    .value(a.0.energy, a.0.mass)
-                    .total_cmp(&problem.value(b.0.energy, b.0.mass))
-                    .then(a.1.cmp(&b.1))
-            });
-            let most_energy = shapes.filter_map(|s| s.most_energy).reduce(|a, b| {
-                if b.energy > a.energy {
-                    b
-                } else {
-                    a
-                }
-            });
-            CandidateGrid {
-                best: ranked.first().map(|r| r.0),
-                seeds: ranked
-                    .iter()
-                    .take(SEEDS_PER_CANDIDATE)
-                    .map(|r| r.0)
-                    .collect(),
-                most_energy,
-            }
-        })
+        .map(|c| candidate_grid(problem, &slices[c * n_r..(c + 1) * n_r]))
         .collect();
     let best = per_candidate.iter().filter_map(|g| g.best).reduce(|a, b| {
         if problem.compare(&b, &a) == Ordering::Less {

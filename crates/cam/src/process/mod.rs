@@ -4,6 +4,7 @@
 
 mod features;
 pub mod linkage;
+mod read;
 pub mod template;
 
 pub use features::{Feature, FeatureMap};
