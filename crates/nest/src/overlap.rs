@@ -29,8 +29,9 @@ pub(crate) const CLEARANCE_MM: f32 = 2e-3;
 /// A projection onto an axis: `(min, max)`.
 type Interval = (f32, f32);
 
-/// `[x_min, y_min, x_max, y_max]`.
-pub(crate) type Bounds = [f32; 4];
+/// A box `[x_min, y_min, x_max, y_max]` in the collision engine's f32, beside the f64
+/// [`cam_geometry::Bounds`] of the app.
+pub(crate) type Box32 = [f32; 4];
 
 /// A convex polygon, counter-clockwise, with its outward unit edge normals.
 #[derive(Debug, Clone)]
@@ -43,14 +44,14 @@ struct Convex {
     /// Its own projection on each normal turned a quarter ([`across`]), for the width of an
     /// overlap found on that normal.
     across_extents: Vec<Interval>,
-    bounds: Bounds,
+    bounds: Box32,
 }
 
 /// A collision shape at the origin, as convex pieces.
 #[derive(Debug, Clone)]
 pub(crate) struct Pieces {
     pieces: Vec<Convex>,
-    pub(crate) bounds: Bounds,
+    pub(crate) bounds: Box32,
     /// Largest distance between two of its vertices.
     diameter: f32,
     /// Square root of its convex hull's area: a length that grows with the part.
@@ -497,11 +498,11 @@ fn cross(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
 }
 
 /// `b` moved by `d`.
-pub(crate) fn shifted(b: Bounds, d: [f32; 2]) -> Bounds {
+pub(crate) fn shifted(b: Box32, d: [f32; 2]) -> Box32 {
     [b[0] + d[0], b[1] + d[1], b[2] + d[0], b[3] + d[1]]
 }
 
-pub(crate) fn union(a: Bounds, b: Bounds) -> Bounds {
+pub(crate) fn union(a: Box32, b: Box32) -> Box32 {
     [
         a[0].min(b[0]),
         a[1].min(b[1]),
@@ -511,7 +512,7 @@ pub(crate) fn union(a: Bounds, b: Bounds) -> Bounds {
 }
 
 /// Whether two boxes come within [`CLEARANCE_MM`] of each other.
-pub(crate) fn bounds_meet(a: Bounds, b: Bounds) -> bool {
+pub(crate) fn bounds_meet(a: Box32, b: Box32) -> bool {
     a[0] < b[2] + CLEARANCE_MM
         && b[0] < a[2] + CLEARANCE_MM
         && a[1] < b[3] + CLEARANCE_MM

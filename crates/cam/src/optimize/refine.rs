@@ -453,7 +453,7 @@ mod tests {
     use super::*;
     use crate::optimize::model::SearchModel;
     use crate::optimize::search::{exhaustive, Candidate, FieldLimit};
-    use crate::optimize::spec::Bounds;
+    use crate::optimize::spec::SearchRanges;
     use actuator_model::planform::energy_shape_factor;
     use actuator_model::{Drive, DriveMode, Laminate, Material, Section};
 
@@ -481,7 +481,7 @@ mod tests {
             model: SearchModel::Original,
             objective: Objective::MinMass,
             energy,
-            bounds: Bounds {
+            bounds: SearchRanges {
                 length: Range {
                     lo: 40e-3,
                     hi: 60e-3,

@@ -10,7 +10,7 @@
 
 use super::model::{SearchModel, ShapeRates, Stack};
 use super::progress::Progress;
-use super::spec::{Bounds, Spec};
+use super::spec::{SearchRanges, Spec};
 use actuator_model::{Drive, Laminate, Material, ModelError, Performance, Planform, Section};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -115,7 +115,7 @@ pub struct Problem {
     /// Required energy, J.
     pub energy: f64,
     /// Planform bounds.
-    pub bounds: Bounds,
+    pub bounds: SearchRanges,
     /// Smallest tip width, m.
     pub min_tip_width: f64,
     /// Grid points per continuous variable.

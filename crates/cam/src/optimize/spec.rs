@@ -71,9 +71,9 @@ impl Range {
     }
 }
 
-/// The bounds of the four continuous planform variables, SI.
+/// The ranges the search spans for the four continuous planform variables, SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bounds {
+pub struct SearchRanges {
     /// Total length `l_tot`, m.
     pub length: Range,
     /// Base width `w_0`, m.
@@ -101,7 +101,7 @@ pub struct Spec {
     /// Highest supply voltage, V.
     pub max_voltage: Option<f64>,
     /// Planform bounds.
-    pub bounds: Bounds,
+    pub bounds: SearchRanges,
     /// PZT plate thicknesses, m.
     pub pzt_thicknesses: Vec<f64>,
     /// Passive layups, degrees.
@@ -172,7 +172,7 @@ impl Spec {
                 hi: hi * scale,
             })
         };
-        let bounds = Bounds {
+        let bounds = SearchRanges {
             length: span("length_mm", LENGTH_MM, 1e-3)?,
             base_width: span("base_width_mm", BASE_WIDTH_MM, 1e-3)?,
             extension_ratio: span("extension_ratio", EXTENSION_RATIO, 1.0)?,

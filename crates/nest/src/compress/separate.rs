@@ -6,7 +6,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
 use super::Footprints;
-use crate::overlap::{bounds_meet, loss, overlap, overlap_reaching, shifted, Bounds, Pieces};
+use crate::overlap::{bounds_meet, loss, overlap, overlap_reaching, shifted, Box32, Pieces};
 use crate::placement::Placement;
 
 /// Sweeps over the overlapping parts without a 1 % fall of the total overlap before an attempt
@@ -78,7 +78,7 @@ pub(super) struct Separation<'a> {
     pub(super) items: Vec<Placement>,
     pub(super) ceiling: f32,
     /// Shape bounds of each item where it is.
-    pub(super) bounds: Vec<Bounds>,
+    pub(super) bounds: Vec<Box32>,
     /// `n x n`, symmetric: unweighted loss of each pair ([`loss`]).
     overlaps: Vec<f32>,
     /// Kept from one small step to the next (where sparrow starts each strip width from unit
@@ -102,7 +102,7 @@ pub(super) struct Separation<'a> {
 }
 
 /// Items, their bounds and their pairwise overlaps: a layout a separation can go back to.
-type Layout = (Vec<Placement>, Vec<Bounds>, Vec<f32>);
+type Layout = (Vec<Placement>, Vec<Box32>, Vec<f32>);
 
 /// How a call of [`Separation::run`] ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -174,7 +174,7 @@ impl<'a> Separation<'a> {
         &self.footprints[s.part][s.rot].pieces
     }
 
-    pub(super) fn bounds_of(&self, s: Placement) -> Bounds {
+    pub(super) fn bounds_of(&self, s: Placement) -> Box32 {
         shifted(self.pieces(s).bounds, [s.t.0, s.t.1])
     }
 
