@@ -4,7 +4,7 @@
 //! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
 
 use crate::markdown;
-use crate::pipeline::{Build, MoldBand, PanelRun};
+use crate::pipeline::{Build, ClampBuild, MoldBand, PanelRun};
 use crate::process::template::{CureStep, Template};
 use serde::Serialize;
 
@@ -92,264 +92,17 @@ impl BuildBook {
     /// The book of `built`, made by `template`'s process, for `designs` (in job order).
     pub fn new(template: &Template, built: &Build, designs: &[DesignFacts]) -> BuildBook {
         let method_1 = template.bond.is_some();
-        let sheets_of = |layer: &dyn Fn(&str) -> bool| -> Vec<String> {
-            built
-                .sheets
-                .iter()
-                .filter(|s| layer(&s.layer))
-                .map(|s| s.file_stem.clone())
-                .collect()
-        };
-        let pzt = sheets_of(&|l| l == "pzt");
-        let passive = sheets_of(&|l| l.starts_with("passive"));
-        let bond = sheets_of(&|l| l == "pyralux");
-        let ply_by_ply = built.sheets.iter().any(|s| s.layer.starts_with("passive-"));
-
-        let mut cut = vec![format!(
-            "Every file below is named by its sheet and its stock (material, thickness): take that \
-             stock off the shelf, put it on the bed at the file's origin, and load the `.svg` or `.dxf` \
-             of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
-             grey REFERENCE layer's output off."
-        )];
-        let passive_cut = if ply_by_ply {
-            format!(
-                "Cut each prepreg ply on its own sheet, laid with its fibres along the sheet's y axis (up \
-                 the page); each part is turned to its ply angle in the file: {}. Stack the plies on the \
-                 registration pins through their holes.",
-                listed(&passive)
-            )
-        } else {
-            format!(
-                "Lay up the prepreg plies in the design's layup order, each at its angle from the stack's \
-                 0° direction, and cut the passive parts from the stack laid with that direction along \
-                 the sheet's y axis (up the page), as each file says: {}.",
-                listed(&passive)
-            )
-        };
-        if method_1 {
-            // Thesis §3.2.1: the passive layer is cured first, then cut; the Pyralux is cut on porous
-            // Teflon; the PZT is scored and snapped; then the molds and the clamp covers.
-            if let Some(pre) = &template.cure.passive {
-                cut.push(format!(
-                    "Lay up the prepreg plies and cure the layup before cutting it: {}.",
-                    cure_text(pre)
-                ));
-            }
-            cut.push(format!(
-                "Cut the passive parts from the cured layup, laid with its 0° fibres along the sheet's \
-                 y axis (up the page), as each file says: {}.",
-                listed(&passive)
-            ));
-            cut.push(format!(
-                "Peel the Pyralux off its backing, lay it on a sheet of porous Teflon and cut the bond \
-                 parts with their vias: {}. Leave the vias empty: the silver epoxy goes in at stacking.",
-                listed(&bond)
-            ));
-        }
-        cut.push(format!(
-            "Lay each PZT sheet on the bed with its + face (the supplier's pole mark) up and score it \
-             along the blue lines, several low-power passes to 1/3-1/2 of its thickness: {}. Scored from \
-             the + face, every plate's bevelled score edge marks its + face.",
-            listed(&pzt)
-        ));
-        let guides: Vec<String> = built.snap_guides.iter().map(|(n, _)| n.clone()).collect();
-        cut.push(format!(
-            "Snap the plates off in the order the numbers give, line 1 first: {} (one picture per \
-             PZT sheet, its score lines numbered). The lines that cross the whole sheet come first, \
-             each strip pressed over a straight edge, then the slanted lines between the plates of each \
-             strip, one plate at a time from one end; a slanted line breaks cleanly only once its strip \
-             is free. Put each plate + face up on a tray and mark the + face with a dot at its root.",
-            listed(&guides)
-        ));
-        for (k, clamp) in built.clamps.iter().enumerate() {
-            let stack = if built.clamps.len() > 1 {
-                format!(" of clamp stack {}", k + 1)
-            } else {
-                String::new()
-            };
-            let of_kind = |mold: bool| {
-                clamp
-                    .stack
-                    .iter()
-                    .zip(&clamp.files)
-                    .filter(|(name, _)| name.starts_with("mold-") == mold)
-                    .map(|(_, f)| listed_runs(f, &clamp.runs))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            let repeats = if clamp.runs.iter().any(|r| r.count > 1) {
-                " A file marked with a number of sheets is cut that many times, once per panel of \
-                 the panels its name gives."
-            } else {
-                ""
-            };
-            cut.push(format!(
-                "Cut the mold sheets{stack} from non-porous Teflon, each from the film its name gives \
-                 (the films differ: the mold must match the laminate band by band): {}.{repeats}",
-                of_kind(true)
-            ));
-            cut.push(format!(
-                "Cut the clamp covers{stack} (felt, Teflon{}): {}.",
-                if method_1 {
-                    ""
-                } else {
-                    ", porous Teflon, bleeder cloth"
-                },
-                of_kind(false)
-            ));
-        }
-        if !method_1 {
-            // Thesis §3.2.2 step 4: the prepreg is cut last, just before it goes into the mold.
-            cut.push(format!(
-                "{passive_cut} Cut it last, just before stacking: the prepreg must still be tacky."
-            ));
-        }
-
         let mut sections = vec![Section {
             title: "Cut".into(),
-            steps: cut,
+            steps: cut_steps(template, built),
         }];
         for (k, clamp) in built.clamps.iter().enumerate() {
-            let panels = clamp.files.first().map_or(0, Vec::len);
-            let title = if panels > 1 {
-                format!(
-                    "Stack clamp {} (panels {}-{})",
-                    k + 1,
-                    clamp.first_panel,
-                    clamp.first_panel + panels - 1
-                )
-            } else {
-                format!("Stack clamp {} (panel {})", k + 1, clamp.first_panel)
-            };
-            let mut steps = vec![format!(
-                "On the clamp's lower plate, bottom to top, each sheet over the registration pins \
-                 through its pin holes{}:",
-                if panels > 1 {
-                    "; one sheet of each layer per panel, each panel its own stack"
-                } else {
-                    ""
-                }
-            )];
-            let holds = &clamp.mold.bands;
-            let last_of = |band: MoldBand| -> Option<usize> {
-                holds
-                    .iter()
-                    .rposition(|b| *b == band)
-                    .map(|j| format!("mold-{}", j + 1))
-                    .and_then(|name| clamp.stack.iter().position(|s| *s == name))
-            };
-            let (lower, core, upper) = (
-                last_of(MoldBand::LowerPlate),
-                last_of(MoldBand::Core),
-                last_of(MoldBand::UpperPlate),
-            );
-            for (level, (name, files)) in clamp.stack.iter().zip(&clamp.files).enumerate() {
-                steps.push(format!("Lay {name}: {}.", listed_runs(files, &clamp.runs)));
-                if Some(level) == lower {
-                    steps.push(
-                        "Put a PZT plate in each cavity, + face up (the dot at its root, the \
-                         bevelled edge up)."
-                            .into(),
-                    );
-                }
-                if Some(level) == core {
-                    steps.push(if method_1 {
-                        "Into each cavity: a Pyralux part with a small drop of silver epoxy in its via, \
-                         the cured passive part, then a second Pyralux part with its drop of silver \
-                         epoxy."
-                            .into()
-                    } else {
-                        "Put the uncured passive part in each cavity, pressed flat onto the plate.".into()
-                    });
-                }
-                if Some(level) == upper {
-                    steps.push(
-                        "Put the second PZT plate in each cavity, + face up like the first, so both \
-                         plates are poled the same way (parallel drive)."
-                            .into(),
-                    );
-                }
-            }
-            steps.push(
-                "Look down the stacking windows: each shows its layer number, 1 at the bottom, in \
-                 order; a missing or repeated number is a sheet out of place."
-                    .into(),
-            );
-            sections.push(Section { title, steps });
+            sections.push(stack_section(k, clamp, method_1));
         }
-        let c = &template.cure.clamp;
-        sections.push(Section {
-            title: "Cure and clamp".into(),
-            steps: vec![
-                format!("Close the clamp: {}.", markdown::text(&c.pressure)),
-                format!(
-                    "Cure in the oven {} at {}.",
-                    duration(c.time_min),
-                    temperature(c.temperature_c)
-                ),
-                "Let the stack cool to room temperature in the clamp before opening it.".into(),
-            ],
-        });
-        sections.push(Section {
-            title: "Release and trim".into(),
-            steps: vec![
-                "Open the clamp and lift the sheets off one by one; push each actuator out of its cavity \
-                 from below, never levering on the PZT."
-                    .into(),
-                "Trim any flash from the outline by hand with a sharp blade.".into(),
-                "Scrape the squeeze-out off every edge with a sharp knife, along the PZT edges \
-                 especially: resin or silver epoxy bridging a plate's electrode to the carbon shorts \
-                 the actuator (thesis §4.9.3)."
-                    .into(),
-            ],
-        });
-        let mut checks = Vec::new();
-        for d in designs {
-            let predicted = match d.capacitance_nf {
-                Some(c) => format!("The model predicts {c:.2} nF per plate; well below it"),
-                None => "Well below the other plates' value".to_string(),
-            };
-            checks.push(format!(
-                "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
-                 at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
-                markdown::text(&d.name)
-            ));
-        }
-        checks.push(
-            "Check for shorts: each outer face to the carbon and face to face reads open on a meter's \
-             highest resistance range. A short is squeeze-out: scrape again, then re-measure."
-                .into(),
-        );
-        sections.push(Section {
-            title: "Electrical checks".into(),
-            steps: checks,
-        });
-        let mut wiring = Vec::new();
-        for d in designs {
-            let ground = if d.ground_tab_added {
-                format!(
-                    "ground tab behind the PZT root ({} mm of bare carbon, added by the process: \
-                     the design has no base tab)",
-                    d.base_tab_mm
-                )
-            } else if d.base_tab_mm > 0.0 {
-                format!("base tab ({} mm of bare carbon)", d.base_tab_mm)
-            } else {
-                "edge at the root end, the only carbon this design exposes (0.2-0.3 mm: it has no base \
-                 tab, and the process's ground_tab_mm is 0; a base tab of 1 mm or more gives the wire \
-                 a pad)"
-                    .to_string()
-            };
-            wiring.push(format!(
-                "{}: wires on with silver epoxy, cured with a heat gun: white to the carbon {ground}; \
-                 red to the + face; black to the - face.",
-                markdown::text(&d.name)
-            ));
-        }
-        sections.push(Section {
-            title: "Wiring".into(),
-            steps: wiring,
-        });
+        sections.push(cure_section(template));
+        sections.push(release_section());
+        sections.push(checks_section(designs));
+        sections.push(wiring_section(designs));
         BuildBook { sections }
     }
 
@@ -365,5 +118,290 @@ impl BuildBook {
             }
         }
         s
+    }
+}
+
+/// The cutting steps: the files of every layer with their stock, in the order the process cuts them.
+fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
+    let method_1 = template.bond.is_some();
+    let sheets_of = |layer: &dyn Fn(&str) -> bool| -> Vec<String> {
+        built
+            .sheets
+            .iter()
+            .filter(|s| layer(&s.layer))
+            .map(|s| s.file_stem.clone())
+            .collect()
+    };
+    let pzt = sheets_of(&|l| l == "pzt");
+    let passive = sheets_of(&|l| l.starts_with("passive"));
+    let bond = sheets_of(&|l| l == "pyralux");
+    let ply_by_ply = built.sheets.iter().any(|s| s.layer.starts_with("passive-"));
+
+    let mut cut = vec![format!(
+        "Every file below is named by its sheet and its stock (material, thickness): take that \
+         stock off the shelf, put it on the bed at the file's origin, and load the `.svg` or `.dxf` \
+         of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
+         grey REFERENCE layer's output off."
+    )];
+    let passive_cut = if ply_by_ply {
+        format!(
+            "Cut each prepreg ply on its own sheet, laid with its fibres along the sheet's y axis (up \
+             the page); each part is turned to its ply angle in the file: {}. Stack the plies on the \
+             registration pins through their holes.",
+            listed(&passive)
+        )
+    } else {
+        format!(
+            "Lay up the prepreg plies in the design's layup order, each at its angle from the stack's \
+             0° direction, and cut the passive parts from the stack laid with that direction along \
+             the sheet's y axis (up the page), as each file says: {}.",
+            listed(&passive)
+        )
+    };
+    if method_1 {
+        // Thesis §3.2.1: the passive layer is cured first, then cut; the Pyralux is cut on porous
+        // Teflon; the PZT is scored and snapped; then the molds and the clamp covers.
+        if let Some(pre) = &template.cure.passive {
+            cut.push(format!(
+                "Lay up the prepreg plies and cure the layup before cutting it: {}.",
+                cure_text(pre)
+            ));
+        }
+        cut.push(format!(
+            "Cut the passive parts from the cured layup, laid with its 0° fibres along the sheet's \
+             y axis (up the page), as each file says: {}.",
+            listed(&passive)
+        ));
+        cut.push(format!(
+            "Peel the Pyralux off its backing, lay it on a sheet of porous Teflon and cut the bond \
+             parts with their vias: {}. Leave the vias empty: the silver epoxy goes in at stacking.",
+            listed(&bond)
+        ));
+    }
+    cut.push(format!(
+        "Lay each PZT sheet on the bed with its + face (the supplier's pole mark) up and score it \
+         along the blue lines, several low-power passes to 1/3-1/2 of its thickness: {}. Scored from \
+         the + face, every plate's bevelled score edge marks its + face.",
+        listed(&pzt)
+    ));
+    let guides: Vec<String> = built.snap_guides.iter().map(|(n, _)| n.clone()).collect();
+    cut.push(format!(
+        "Snap the plates off in the order the numbers give, line 1 first: {} (one picture per \
+         PZT sheet, its score lines numbered). The lines that cross the whole sheet come first, \
+         each strip pressed over a straight edge, then the slanted lines between the plates of each \
+         strip, one plate at a time from one end; a slanted line breaks cleanly only once its strip \
+         is free. Put each plate + face up on a tray and mark the + face with a dot at its root.",
+        listed(&guides)
+    ));
+    cut.extend(clamp_cut_steps(built, method_1));
+    if !method_1 {
+        // Thesis §3.2.2 step 4: the prepreg is cut last, just before it goes into the mold.
+        cut.push(format!(
+            "{passive_cut} Cut it last, just before stacking: the prepreg must still be tacky."
+        ));
+    }
+    cut
+}
+
+/// The cutting steps of every clamp stack's mold sheets and covers.
+fn clamp_cut_steps(built: &Build, method_1: bool) -> Vec<String> {
+    let mut cut = Vec::new();
+    for (k, clamp) in built.clamps.iter().enumerate() {
+        let stack = if built.clamps.len() > 1 {
+            format!(" of clamp stack {}", k + 1)
+        } else {
+            String::new()
+        };
+        let of_kind = |mold: bool| {
+            clamp
+                .stack
+                .iter()
+                .zip(&clamp.files)
+                .filter(|(name, _)| name.starts_with("mold-") == mold)
+                .map(|(_, f)| listed_runs(f, &clamp.runs))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let repeats = if clamp.runs.iter().any(|r| r.count > 1) {
+            " A file marked with a number of sheets is cut that many times, once per panel of \
+             the panels its name gives."
+        } else {
+            ""
+        };
+        cut.push(format!(
+            "Cut the mold sheets{stack} from non-porous Teflon, each from the film its name gives \
+             (the films differ: the mold must match the laminate band by band): {}.{repeats}",
+            of_kind(true)
+        ));
+        cut.push(format!(
+            "Cut the clamp covers{stack} (felt, Teflon{}): {}.",
+            if method_1 {
+                ""
+            } else {
+                ", porous Teflon, bleeder cloth"
+            },
+            of_kind(false)
+        ));
+    }
+    cut
+}
+
+/// The stacking of clamp stack `k`: its sheets bottom to top, and the parts that go into the mold
+/// after each.
+fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
+    let panels = clamp.files.first().map_or(0, Vec::len);
+    let title = if panels > 1 {
+        format!(
+            "Stack clamp {} (panels {}-{})",
+            k + 1,
+            clamp.first_panel,
+            clamp.first_panel + panels - 1
+        )
+    } else {
+        format!("Stack clamp {} (panel {})", k + 1, clamp.first_panel)
+    };
+    let mut steps = vec![format!(
+        "On the clamp's lower plate, bottom to top, each sheet over the registration pins \
+         through its pin holes{}:",
+        if panels > 1 {
+            "; one sheet of each layer per panel, each panel its own stack"
+        } else {
+            ""
+        }
+    )];
+    let holds = &clamp.mold.bands;
+    let last_of = |band: MoldBand| -> Option<usize> {
+        holds
+            .iter()
+            .rposition(|b| *b == band)
+            .map(|j| format!("mold-{}", j + 1))
+            .and_then(|name| clamp.stack.iter().position(|s| *s == name))
+    };
+    let (lower, core, upper) = (
+        last_of(MoldBand::LowerPlate),
+        last_of(MoldBand::Core),
+        last_of(MoldBand::UpperPlate),
+    );
+    for (level, (name, files)) in clamp.stack.iter().zip(&clamp.files).enumerate() {
+        steps.push(format!("Lay {name}: {}.", listed_runs(files, &clamp.runs)));
+        if Some(level) == lower {
+            steps.push(
+                "Put a PZT plate in each cavity, + face up (the dot at its root, the \
+                 bevelled edge up)."
+                    .into(),
+            );
+        }
+        if Some(level) == core {
+            steps.push(if method_1 {
+                "Into each cavity: a Pyralux part with a small drop of silver epoxy in its via, \
+                 the cured passive part, then a second Pyralux part with its drop of silver \
+                 epoxy."
+                    .into()
+            } else {
+                "Put the uncured passive part in each cavity, pressed flat onto the plate.".into()
+            });
+        }
+        if Some(level) == upper {
+            steps.push(
+                "Put the second PZT plate in each cavity, + face up like the first, so both \
+                 plates are poled the same way (parallel drive)."
+                    .into(),
+            );
+        }
+    }
+    steps.push(
+        "Look down the stacking windows: each shows its layer number, 1 at the bottom, in \
+         order; a missing or repeated number is a sheet out of place."
+            .into(),
+    );
+    Section { title, steps }
+}
+
+/// Closing the clamp and the cure.
+fn cure_section(template: &Template) -> Section {
+    let c = &template.cure.clamp;
+    Section {
+        title: "Cure and clamp".into(),
+        steps: vec![
+            format!("Close the clamp: {}.", markdown::text(&c.pressure)),
+            format!(
+                "Cure in the oven {} at {}.",
+                duration(c.time_min),
+                temperature(c.temperature_c)
+            ),
+            "Let the stack cool to room temperature in the clamp before opening it.".into(),
+        ],
+    }
+}
+
+/// Opening the clamp and cleaning the actuators up.
+fn release_section() -> Section {
+    Section {
+        title: "Release and trim".into(),
+        steps: vec![
+            "Open the clamp and lift the sheets off one by one; push each actuator out of its cavity \
+             from below, never levering on the PZT."
+                .into(),
+            "Trim any flash from the outline by hand with a sharp blade.".into(),
+            "Scrape the squeeze-out off every edge with a sharp knife, along the PZT edges \
+             especially: resin or silver epoxy bridging a plate's electrode to the carbon shorts \
+             the actuator (thesis §4.9.3)."
+                .into(),
+        ],
+    }
+}
+
+/// The electrical checks of each design's actuators.
+fn checks_section(designs: &[DesignFacts]) -> Section {
+    let mut checks = Vec::new();
+    for d in designs {
+        let predicted = match d.capacitance_nf {
+            Some(c) => format!("The model predicts {c:.2} nF per plate; well below it"),
+            None => "Well below the other plates' value".to_string(),
+        };
+        checks.push(format!(
+            "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
+             at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
+            markdown::text(&d.name)
+        ));
+    }
+    checks.push(
+        "Check for shorts: each outer face to the carbon and face to face reads open on a meter's \
+         highest resistance range. A short is squeeze-out: scrape again, then re-measure."
+            .into(),
+    );
+    Section {
+        title: "Electrical checks".into(),
+        steps: checks,
+    }
+}
+
+/// The wiring of each design's actuators.
+fn wiring_section(designs: &[DesignFacts]) -> Section {
+    let mut wiring = Vec::new();
+    for d in designs {
+        let ground = if d.ground_tab_added {
+            format!(
+                "ground tab behind the PZT root ({} mm of bare carbon, added by the process: \
+                 the design has no base tab)",
+                d.base_tab_mm
+            )
+        } else if d.base_tab_mm > 0.0 {
+            format!("base tab ({} mm of bare carbon)", d.base_tab_mm)
+        } else {
+            "edge at the root end, the only carbon this design exposes (0.2-0.3 mm: it has no base \
+             tab, and the process's ground_tab_mm is 0; a base tab of 1 mm or more gives the wire \
+             a pad)"
+                .to_string()
+        };
+        wiring.push(format!(
+            "{}: wires on with silver epoxy, cured with a heat gun: white to the carbon {ground}; \
+             red to the + face; black to the - face.",
+            markdown::text(&d.name)
+        ));
+    }
+    Section {
+        title: "Wiring".into(),
+        steps: wiring,
     }
 }

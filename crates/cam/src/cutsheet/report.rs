@@ -320,7 +320,6 @@ impl Report {
     /// The readable report (Markdown, with the sheet SVGs as images).
     pub fn markdown(&self) -> String {
         let d = &self.design;
-        let p = &self.predicted;
         let mut s = String::new();
         let _ = writeln!(s, "# Cut sheet: {} x {}\n", md(&d.name), self.quantity);
         let _ = writeln!(
@@ -330,6 +329,52 @@ impl Report {
             code(&d.file)
         );
         let _ = writeln!(s, "![assembled actuator](preview-actuator.svg)\n");
+        self.write_design(&mut s);
+        self.write_layers(&mut s);
+        let _ = writeln!(s, "\n## Stock list\n");
+        let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
+        if let Some(note) = crate::pipeline::unlabelled_note(self.sheets_without_stock_label) {
+            let _ = writeln!(s, "\n{note}");
+        }
+        let _ = writeln!(s, "\n## Build book\n");
+        let _ = writeln!(
+            s,
+            "Clamp stack, bottom to top ({} panel(s)): {}",
+            self.clamp_panels,
+            self.stacking_order
+                .iter()
+                .map(|l| md(l))
+                .collect::<Vec<_>>()
+                .join(" → ")
+        );
+        let _ = write!(s, "{}", self.build_book.markdown());
+        if let Some(l) = &self.linkage {
+            l.markdown(&mut s);
+        }
+        let _ = writeln!(
+            s,
+            "\nKerf values are starting points: calibrate them on a coupon of each material.\n"
+        );
+        let _ = writeln!(s, "## Placement map\n");
+        for line in &self.placement_map {
+            let _ = writeln!(s, "- {}", md(line));
+        }
+        let _ = writeln!(s, "\n## Files\n");
+        for f in &self.files {
+            if f.ends_with(".svg") {
+                let _ = writeln!(s, "- `{f}`\n\n  ![{f}]({f})");
+            } else {
+                let _ = writeln!(s, "- `{f}`");
+            }
+        }
+        s
+    }
+
+    /// The design section: its geometry and laminate, the predicted performance, the masses and
+    /// what the process changes of the design.
+    fn write_design(&self, s: &mut String) {
+        let d = &self.design;
+        let p = &self.predicted;
         let _ = writeln!(s, "## Design\n");
         let _ = writeln!(s, "| l_tot mm | l_r | l_p mm | l_ext mm | w_0 mm | w_r | w_tip mm | tab mm | t_p mm | layup | drive |");
         let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
@@ -368,6 +413,10 @@ impl Report {
         if let Some(note) = &self.label_note {
             let _ = writeln!(s, "**Labels:** {note}.\n");
         }
+    }
+
+    /// The layers table, and the mold stack against the laminate.
+    fn write_layers(&self, s: &mut String) {
         let _ = writeln!(s, "## Layers\n");
         let _ = writeln!(s, "| layer | material | thickness mm | density kg/m³ | part area mm² | parts/actuator | mass/actuator mg | sheets | utilisation |");
         let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
@@ -424,42 +473,5 @@ impl Report {
         if let Some(w) = &m.warning {
             let _ = writeln!(s, "\n**Warning:** {w}.");
         }
-        let _ = writeln!(s, "\n## Stock list\n");
-        let _ = write!(s, "{}", StockCount::markdown(&self.stock_list));
-        if let Some(note) = crate::pipeline::unlabelled_note(self.sheets_without_stock_label) {
-            let _ = writeln!(s, "\n{note}");
-        }
-        let _ = writeln!(s, "\n## Build book\n");
-        let _ = writeln!(
-            s,
-            "Clamp stack, bottom to top ({} panel(s)): {}",
-            self.clamp_panels,
-            self.stacking_order
-                .iter()
-                .map(|l| md(l))
-                .collect::<Vec<_>>()
-                .join(" → ")
-        );
-        let _ = write!(s, "{}", self.build_book.markdown());
-        if let Some(l) = &self.linkage {
-            l.markdown(&mut s);
-        }
-        let _ = writeln!(
-            s,
-            "\nKerf values are starting points: calibrate them on a coupon of each material.\n"
-        );
-        let _ = writeln!(s, "## Placement map\n");
-        for line in &self.placement_map {
-            let _ = writeln!(s, "- {}", md(line));
-        }
-        let _ = writeln!(s, "\n## Files\n");
-        for f in &self.files {
-            if f.ends_with(".svg") {
-                let _ = writeln!(s, "- `{f}`\n\n  ![{f}]({f})");
-            } else {
-                let _ = writeln!(s, "- `{f}`");
-            }
-        }
-        s
     }
 }

@@ -1,6 +1,7 @@
 //! From geometry to laser files: the drawing model, SVG and DXF writers, kerf offsets and a
 //! single-stroke label font. Units are millimetres throughout; the model's y axis points up.
 
+mod arc;
 pub mod decimal;
 pub mod dxf;
 pub mod kerf;

@@ -5,7 +5,8 @@
 //! operations in [`Operation`] order (engrave, score, secondary, cut) so that inner features
 //! and score lines come before the outer contours that free a part (docs/cam.md §3).
 
-use cam_geometry::Point;
+use super::arc::CircularArc;
+use cam_geometry::{Bounds, Point};
 
 /// What the laser does along a shape. The derived order is the processing order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -114,57 +115,34 @@ pub enum Shape {
 
 impl Shape {
     /// Exact bounding box `(min, max)` of the shape: for circles and arcs the extreme points of the
-    /// curve itself (an arc reaches an axis direction only if its sweep passes it), not of its
-    /// control points, so the box is what a renderer draws.
+    /// curve itself (an arc reaches an axis direction only if its sweep passes it,
+    /// `CircularArc::bounds`), not of its control points, so the box is what a renderer draws.
     pub fn bounds(&self) -> (Point, Point) {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        let mut take = |p: Point| {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        };
+        let b = self.bounding_box();
+        (b.min, b.max)
+    }
+
+    /// [`Shape::bounds`] as the geometry crate's box.
+    fn bounding_box(&self) -> Bounds {
         match self {
-            Shape::Polygon(pts) | Shape::Polyline(pts) => pts.iter().for_each(|p| take(*p)),
-            Shape::Circle { center, radius } => {
-                take([center[0] - radius, center[1] - radius]);
-                take([center[0] + radius, center[1] + radius]);
-            }
+            Shape::Polygon(pts) | Shape::Polyline(pts) => Bounds::of(pts),
+            Shape::Circle { center, radius } => Bounds::of(&[
+                [center[0] - radius, center[1] - radius],
+                [center[0] + radius, center[1] + radius],
+            ]),
             Shape::Arc {
                 center,
                 radius,
                 start_deg,
                 end_deg,
-            } => {
-                let sweep = arc_sweep_deg(*start_deg, *end_deg);
-                take(on_circle(*center, *radius, *start_deg));
-                take(on_circle(*center, *radius, start_deg + sweep));
-                // Axis directions 0°, 90°, 180°, 270° the counter-clockwise sweep passes.
-                for axis in [0.0, 90.0, 180.0, 270.0] {
-                    if (axis - start_deg).rem_euclid(360.0) <= sweep {
-                        take(on_circle(*center, *radius, axis));
-                    }
-                }
+            } => CircularArc {
+                center: *center,
+                radius: *radius,
+                start_deg: *start_deg,
+                end_deg: *end_deg,
             }
+            .bounds(),
         }
-        (lo, hi)
-    }
-}
-
-/// The point at `deg` degrees (counter-clockwise from +x) on a circle.
-pub(crate) fn on_circle(center: Point, radius: f64, deg: f64) -> Point {
-    let (s, c) = deg.to_radians().sin_cos();
-    [center[0] + radius * c, center[1] + radius * s]
-}
-
-/// Counter-clockwise sweep of an arc in degrees, in (0, 360]; equal angles mean a full turn.
-pub(crate) fn arc_sweep_deg(start_deg: f64, end_deg: f64) -> f64 {
-    let sweep = (end_deg - start_deg).rem_euclid(360.0);
-    if sweep == 0.0 {
-        360.0
-    } else {
-        sweep
     }
 }
 
@@ -381,12 +359,11 @@ impl Drawing {
 
     /// Bounding box `(min, max)` of everything drawn, `None` for an empty drawing.
     pub fn extents(&self) -> Option<(Point, Point)> {
-        self.items.iter().map(|(_, s)| s.bounds()).reduce(|a, b| {
-            (
-                [a.0[0].min(b.0[0]), a.0[1].min(b.0[1])],
-                [a.1[0].max(b.1[0]), a.1[1].max(b.1[1])],
-            )
-        })
+        self.items
+            .iter()
+            .map(|(_, s)| s.bounding_box())
+            .reduce(Bounds::union)
+            .map(|b| (b.min, b.max))
     }
 
     /// The shapes of one operation, in insertion order.

@@ -8,9 +8,10 @@
 
 use std::fmt::Write as _;
 
+use super::arc::{on_circle, CircularArc};
 pub use super::decimal::fmt_mm;
 use super::decimal::push_mm;
-use super::model::{arc_sweep_deg, on_circle, Drawing, Operation, Shape};
+use super::model::{Drawing, Operation, Shape};
 use super::palette::Palette;
 use cam_geometry::Point;
 
@@ -148,14 +149,17 @@ fn path_data(d: &mut String, shape: &Shape, margin_mm: f64, page_height_mm: f64)
             start_deg,
             end_deg,
         } => {
-            // Split sweeps over 180° in two equal halves so the large-arc flag is never needed.
-            let sweep = arc_sweep_deg(*start_deg, *end_deg);
-            path.command('M', on_circle(*center, *radius, *start_deg));
-            if sweep > 180.0 {
-                let mid = start_deg + 0.5 * sweep;
-                path.arc_to(*radius, on_circle(*center, *radius, mid));
+            // Sweeps over 180° come in two equal halves so the large-arc flag is never needed.
+            let arc = CircularArc {
+                center: *center,
+                radius: *radius,
+                start_deg: *start_deg,
+                end_deg: *end_deg,
+            };
+            path.command('M', arc.start());
+            for end in arc.pieces() {
+                path.arc_to(*radius, end);
             }
-            path.arc_to(*radius, on_circle(*center, *radius, start_deg + sweep));
         }
     }
 }

@@ -13,7 +13,7 @@
 use crate::drawing::model::Shape;
 use crate::pipeline::SheetDrawing;
 use cam_geometry::offset::offset_ring;
-use cam_geometry::{signed_area, Point};
+use cam_geometry::{signed_area, Bounds, Point};
 use std::f64::consts::PI;
 
 /// What the checks need besides the drawings: the kerf, the film margin, each stack layer's mass per
@@ -50,14 +50,8 @@ impl Expected {
 type Band = [f64; 4];
 
 fn rect_of(ring: &[Point]) -> Option<Band> {
-    let xs = ring.iter().map(|p| p[0]);
-    let ys = ring.iter().map(|p| p[1]);
-    let b = [
-        xs.clone().fold(f64::INFINITY, f64::min),
-        xs.fold(f64::NEG_INFINITY, f64::max),
-        ys.clone().fold(f64::INFINITY, f64::min),
-        ys.fold(f64::NEG_INFINITY, f64::max),
-    ];
+    let Bounds { min, max } = Bounds::of(ring);
+    let b = [min[0], max[0], min[1], max[1]];
     let area = (b[1] - b[0]) * (b[3] - b[2]);
     (ring.len() == 4 && (signed_area(ring).abs() - area).abs() <= 1e-9 * area.max(1.0)).then_some(b)
 }
@@ -140,9 +134,76 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
     }
     let layers: Vec<Read> = stack.iter().map(read).collect();
     let released = read(release);
-    // Cut-outs with the kerf taken off (they were shrunk by kerf/2); the panel outline is the polygon
-    // that holds every other.
-    let cut_outs: Vec<Vec<Band>> = layers
+    let cut_outs = read_cut_outs(&layers, stack, k, &mut problems);
+    let carbon: Vec<usize> = stack
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.layer == "linkage-carbon")
+        .map(|(i, _)| i)
+        .collect();
+    let film = stack.iter().position(|d| d.layer == "linkage-film");
+    let adhesive: Vec<usize> = stack
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.layer == "linkage-adhesive")
+        .map(|(i, _)| i)
+        .collect();
+    let (Some(film), &[c0, c1], &[a0, a1]) = (film, carbon.as_slice(), adhesive.as_slice()) else {
+        return vec!["the stack is not carbon, adhesive, film, adhesive, carbon".into()];
+    };
+    let layer = |l: usize| Layer {
+        stem: &stack[l].stem,
+        cut_outs: &cut_outs[l],
+    };
+    check_gaps(
+        [layer(c0), layer(c1)],
+        layer(film),
+        [layer(a0), layer(a1)],
+        expected.film_margin_mm,
+        &mut problems,
+    );
+    for l in 0..stack.len() {
+        check_two_kerfs(layer(l), two, &mut problems);
+    }
+    // The released linkages, kerf off; their holes (circles inside them).
+    let outlines: Vec<Vec<Point>> = released
+        .polygons
+        .iter()
+        .filter_map(|p| offset_ring(p, -k / 2.0).ok())
+        .collect();
+    let holes = check_holes(&layers, stack, &released, &release.stem, k, &mut problems);
+    for ring in &outlines {
+        check_release_edges(ring, &release.stem, two, &mut problems);
+    }
+    // Mass: each layer's material inside each outline, from the drawn shapes.
+    for ring in &outlines {
+        let mass = drawn_mass(ring, stack, &cut_outs, &holes, expected, &mut problems);
+        if (mass - expected.mass_mg).abs() > 1e-6 * expected.mass_mg.max(1e-9) {
+            problems.push(format!(
+                "{}: the drawn areas give {mass:.9} mg, the report {:.9} mg",
+                release.stem, expected.mass_mg
+            ));
+        }
+    }
+    problems
+}
+
+/// A stack layer's name and its cut-outs read back, for the checks that compare layers.
+#[derive(Clone, Copy)]
+struct Layer<'a> {
+    stem: &'a str,
+    cut_outs: &'a [Band],
+}
+
+/// Each layer's cut-outs with the kerf taken off (they were shrunk by kerf/2); the panel outline is
+/// the polygon that holds every other. A cut-out that is not a rectangle is a problem.
+fn read_cut_outs(
+    layers: &[Read],
+    stack: &[SheetDrawing],
+    k: f64,
+    problems: &mut Vec<String>,
+) -> Vec<Vec<Band>> {
+    layers
         .iter()
         .zip(stack)
         .map(|(l, d)| {
@@ -165,53 +226,44 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
                 })
                 .collect()
         })
-        .collect();
-    let carbon: Vec<usize> = stack
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| d.layer == "linkage-carbon")
-        .map(|(i, _)| i)
-        .collect();
-    let film = stack.iter().position(|d| d.layer == "linkage-film");
-    let adhesive: Vec<usize> = stack
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| d.layer == "linkage-adhesive")
-        .map(|(i, _)| i)
-        .collect();
-    let (Some(film), [c0, c1], [a0, a1]) = (film, carbon.as_slice(), adhesive.as_slice()) else {
-        return vec!["the stack is not carbon, adhesive, film, adhesive, carbon".into()];
-    };
-    // Gaps line up: the two carbon layers' slots are the same.
-    let gaps = &cut_outs[*c0];
-    let same = gaps.len() == cut_outs[*c1].len()
+        .collect()
+}
+
+/// The flexure gaps: the two carbon layers' slots line up, the film covers each gap by
+/// `film_margin_mm`, and no adhesive lies over one.
+fn check_gaps(
+    [c0, c1]: [Layer<'_>; 2],
+    film: Layer<'_>,
+    adhesive: [Layer<'_>; 2],
+    film_margin_mm: f64,
+    problems: &mut Vec<String>,
+) {
+    let gaps = c0.cut_outs;
+    let same = gaps.len() == c1.cut_outs.len()
         && gaps
             .iter()
-            .zip(&cut_outs[*c1])
+            .zip(c1.cut_outs)
             .all(|(a, b)| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9));
     if !same {
         problems.push(format!(
             "{} and {}: the flexure gaps do not line up",
-            stack[*c0].stem, stack[*c1].stem
+            c0.stem, c1.stem
         ));
     }
     for g in gaps {
         // Film over each gap and its margins: no film window reaches into it.
-        let covered = [
-            g[0] - expected.film_margin_mm,
-            g[1] + expected.film_margin_mm,
-        ];
-        if cut_outs[film].iter().any(|w| {
+        let covered = [g[0] - film_margin_mm, g[1] + film_margin_mm];
+        if film.cut_outs.iter().any(|w| {
             w[2] < g[3] && w[3] > g[2] && w[0] < covered[1] - 1e-9 && w[1] > covered[0] + 1e-9
         }) {
             problems.push(format!(
                 "{}: the film does not cover the gap at x = {:.4} mm by its {} mm margin",
-                stack[film].stem, g[0], expected.film_margin_mm
+                film.stem, g[0], film_margin_mm
             ));
         }
         // No adhesive over the gap: an adhesive window holds it whole.
-        for a in [a0, a1] {
-            if !cut_outs[*a].iter().any(|w| {
+        for a in &adhesive {
+            if !a.cut_outs.iter().any(|w| {
                 w[0] <= g[0] + 1e-9
                     && w[1] >= g[1] - 1e-9
                     && w[2] <= g[2] + 1e-9
@@ -219,41 +271,49 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
             }) {
                 problems.push(format!(
                     "{}: adhesive over the flexure gap at x = {:.4} mm",
-                    stack[*a].stem, g[0]
+                    a.stem, g[0]
                 ));
             }
         }
     }
-    // Two kerfs: each cut-out, and the web between neighbours in a row.
-    for (l, bands) in cut_outs.iter().enumerate() {
-        let mut sorted = bands.clone();
-        sorted.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
-        for b in &sorted {
-            if b[1] - b[0] < two || b[3] - b[2] < two {
-                problems.push(format!(
-                    "{}: a {:.4} x {:.4} mm cut-out is under two kerfs",
-                    stack[l].stem,
-                    b[1] - b[0],
-                    b[3] - b[2]
-                ));
-            }
-        }
-        for w in sorted.windows(2) {
-            if (w[0][2] - w[1][2]).abs() < 1e-9 && w[1][0] - w[0][1] < two {
-                problems.push(format!(
-                    "{}: {:.4} mm of material between two cut-outs, under two kerfs",
-                    stack[l].stem,
-                    w[1][0] - w[0][1]
-                ));
-            }
+}
+
+/// Two kerfs (`two`, mm): each cut-out of `layer`, and the web between neighbours in a row.
+fn check_two_kerfs(layer: Layer<'_>, two: f64, problems: &mut Vec<String>) {
+    let mut sorted = layer.cut_outs.to_vec();
+    sorted.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
+    for b in &sorted {
+        if b[1] - b[0] < two || b[3] - b[2] < two {
+            problems.push(format!(
+                "{}: a {:.4} x {:.4} mm cut-out is under two kerfs",
+                layer.stem,
+                b[1] - b[0],
+                b[3] - b[2]
+            ));
         }
     }
-    // The released linkages, kerf off; their holes (circles inside them).
-    let outlines: Vec<Vec<Point>> = released
-        .polygons
-        .iter()
-        .filter_map(|p| offset_ring(p, -k / 2.0).ok())
-        .collect();
+    for w in sorted.windows(2) {
+        if (w[0][2] - w[1][2]).abs() < 1e-9 && w[1][0] - w[0][1] < two {
+            problems.push(format!(
+                "{}: {:.4} mm of material between two cut-outs, under two kerfs",
+                layer.stem,
+                w[1][0] - w[0][1]
+            ));
+        }
+    }
+}
+
+/// The pin holes, the same on every layer and on the release cut, and the release cut's other
+/// holes, each at least two kerfs across; those holes (centre, radius with the kerf off) returned.
+fn check_holes(
+    layers: &[Read],
+    stack: &[SheetDrawing],
+    released: &Read,
+    release: &str,
+    k: f64,
+    problems: &mut Vec<String>,
+) -> Vec<(Point, f64)> {
+    let two = 2.0 * k - 1e-9;
     let pins: Vec<(Point, f64)> = layers[0].circles.clone();
     for (l, layer) in layers.iter().enumerate() {
         let same = layer.circles.len() == pins.len()
@@ -276,76 +336,69 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
         .map(|(c, r)| (*c, r + k / 2.0))
         .collect();
     if released.circles.len() != holes.len() + pins.len() {
-        problems.push(format!(
-            "{}: the pin holes differ from the layers'",
-            release.stem
-        ));
+        problems.push(format!("{release}: the pin holes differ from the layers'"));
     }
     for (_, r) in &holes {
         if 2.0 * r < two {
             problems.push(format!(
-                "{}: a {:.4} mm hole is under two kerfs",
-                release.stem,
+                "{release}: a {:.4} mm hole is under two kerfs",
                 2.0 * r
             ));
         }
     }
-    for ring in &outlines {
-        let n = ring.len();
-        for i in 0..n {
-            let (p, q) = (ring[i], ring[(i + 1) % n]);
-            let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
-            if len < two {
-                problems.push(format!(
-                    "{}: a {len:.4} mm edge of the release outline is under two kerfs",
-                    release.stem
-                ));
-            }
-        }
-    }
-    // Mass: each layer's material inside each outline, from the drawn shapes.
-    for ring in &outlines {
-        let xs: Vec<f64> = ring.iter().map(|p| p[0]).collect();
-        let (x_lo, x_hi) = (
-            xs.iter().copied().fold(f64::INFINITY, f64::min),
-            xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        );
-        let ys: Vec<f64> = ring.iter().map(|p| p[1]).collect();
-        let (y_lo, y_hi) = (
-            ys.iter().copied().fold(f64::INFINITY, f64::min),
-            ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        );
-        let mut mass = 0.0;
-        for (l, bands) in cut_outs.iter().enumerate() {
-            let mut a = area(ring);
-            for b in bands
-                .iter()
-                .filter(|b| b[0] < x_hi && b[1] > x_lo && b[2] < y_hi && b[3] > y_lo)
-            {
-                if b[2] > y_lo || b[3] < y_hi {
-                    problems.push(format!(
-                        "{}: a cut-out stops inside the linkage instead of crossing it",
-                        stack[l].stem
-                    ));
-                }
-                a -= area(&clip_band(ring, b[0], b[1]));
-            }
-            for (c, r) in &holes {
-                let in_this = c[0] > x_lo && c[0] < x_hi && c[1] > y_lo && c[1] < y_hi;
-                if in_this && !bands.iter().any(|b| inside(*c, b)) {
-                    a -= PI * r * r;
-                }
-            }
-            mass += a * expected.areal_densities[l];
-        }
-        if (mass - expected.mass_mg).abs() > 1e-6 * expected.mass_mg.max(1e-9) {
+    holes
+}
+
+/// Every edge of a release outline (`ring`, kerf off) is at least two kerfs (`two`, mm) long.
+fn check_release_edges(ring: &[Point], release: &str, two: f64, problems: &mut Vec<String>) {
+    let n = ring.len();
+    for i in 0..n {
+        let (p, q) = (ring[i], ring[(i + 1) % n]);
+        let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+        if len < two {
             problems.push(format!(
-                "{}: the drawn areas give {mass:.9} mg, the report {:.9} mg",
-                release.stem, expected.mass_mg
+                "{release}: a {len:.4} mm edge of the release outline is under two kerfs"
             ));
         }
     }
-    problems
+}
+
+/// The mass of the linkage inside `ring`, mg: each layer's material (outline less its cut-outs and
+/// `holes`) times its mass per area. A cut-out that stops inside the linkage is a problem.
+fn drawn_mass(
+    ring: &[Point],
+    stack: &[SheetDrawing],
+    cut_outs: &[Vec<Band>],
+    holes: &[(Point, f64)],
+    expected: &Expected,
+    problems: &mut Vec<String>,
+) -> f64 {
+    let Bounds { min, max } = Bounds::of(ring);
+    let ([x_lo, y_lo], [x_hi, y_hi]) = (min, max);
+    let mut mass = 0.0;
+    for (l, bands) in cut_outs.iter().enumerate() {
+        let mut a = area(ring);
+        for b in bands
+            .iter()
+            .filter(|b| b[0] < x_hi && b[1] > x_lo && b[2] < y_hi && b[3] > y_lo)
+        {
+            if b[2] > y_lo || b[3] < y_hi {
+                problems.push(format!(
+                    "{}: a cut-out stops inside the linkage instead of crossing it",
+                    stack[l].stem
+                ));
+            }
+            a -= area(&clip_band(ring, b[0], b[1]));
+        }
+        for (c, r) in holes {
+            let in_this = c[0] > x_lo && c[0] < x_hi && c[1] > y_lo && c[1] < y_hi;
+            if in_this && !bands.iter().any(|b| inside(*c, b)) {
+                a -= PI * r * r;
+            }
+        }
+        mass += a * expected.areal_densities[l];
+    }
+    mass
 }
 
 /// The pivots O, B, A of each linkage read back from a carbon layer: the middles of its slots (the kerf

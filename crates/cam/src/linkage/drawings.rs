@@ -4,13 +4,13 @@
 //! layer (docs/cam.md §4): the release outline is grown by kerf/2, slots, windows and holes shrunk by
 //! kerf/2, so each comes out as drawn.
 
-use super::pattern::{Rect, STACK};
+use super::pattern::{Ply, Rect, STACK};
 use super::LinkageLaminate;
 use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{border_label, grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};
-use crate::process::Feature;
+use crate::process::{Feature, FeatureMap};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::Point;
 
@@ -99,10 +99,7 @@ pub(crate) fn draw_panels(
     title: &str,
     prefix: &str,
 ) -> Result<Vec<SheetDrawing>, InputError> {
-    let features = &template.features;
-    let p = &laminate.pattern;
-    let kerf = laminate.process.kerf_mm;
-    let half = kerf / 2.0;
+    let half = laminate.process.kerf_mm / 2.0;
     let outline = offset(&panel_outline(c), half, "panel outline", template)?;
     let pin_radius = c.pin_radius_mm - half;
     if pin_radius <= 0.0 {
@@ -113,114 +110,178 @@ pub(crate) fn draw_panels(
             format!("more than half the linkage kerf, {half} mm"),
         ));
     }
-    let release = offset(&p.outline(), half, "release outline", template)?;
-    let hole_radius = p.hole_diameter_mm / 2.0 - half;
-    let levels = STACK.len() + 1;
+    let p = &laminate.pattern;
+    let drawer = PanelDrawer {
+        laminate,
+        features: &template.features,
+        c,
+        title,
+        prefix,
+        half,
+        outline,
+        pin_radius,
+        release: offset(&p.outline(), half, "release outline", template)?,
+        hole_radius: p.hole_diameter_mm / 2.0 - half,
+        levels: STACK.len() + 1,
+    };
     let mut drawings = Vec::new();
     for (n, origins) in panels.iter().enumerate() {
         let panel = n + 1;
-        // The panel's stock on its top border, as a clamp panel engraves it: a sheet off the stack
-        // says which layer and film it is.
-        let label = |d: &mut Drawing, layer: &str, thickness_mm: Option<f64>| {
-            for s in border_label(c, title, layer, thickness_mm, &panel.to_string()) {
-                d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
-            }
-        };
-        let pins = |d: &mut Drawing| {
-            for centre in pin_centres(c) {
-                d.add(
-                    features.op(Feature::PinHole),
-                    Shape::Circle {
-                        center: centre,
-                        radius: pin_radius,
-                    },
-                );
-            }
-        };
         for (k, (ply, name)) in STACK.iter().enumerate() {
-            let sheet = match ply {
-                super::pattern::Ply::Carbon => &laminate.process.carbon,
-                super::pattern::Ply::Adhesive => &laminate.process.adhesive,
-                super::pattern::Ply::Film => &laminate.process.film,
-            };
-            let mut d = Drawing::on_stock(
-                &format!(
-                    "{title} linkage layer {}/{levels} ({name}), panel {panel}",
-                    k + 1
-                ),
-                c.panel_width_mm,
-                c.panel_height_mm,
-                Stock {
-                    material: sheet.material.clone(),
-                    thickness_mm: sheet.thickness_mm,
-                    // The carbon's 0° fibres along the links, which run along x on the panel: the
-                    // stiff direction of the links, as on the coupons the nester turns onto y.
-                    fibre_axis: (*ply == super::pattern::Ply::Carbon).then_some(FibreAxis::X),
+            drawings.push(drawer.stack_layer(panel, origins, k, *ply, name));
+        }
+        drawings.push(drawer.release_cut(panel, origins));
+    }
+    Ok(drawings)
+}
+
+/// What every linkage panel drawing of one laminate shares: the panel, the names, and the shapes
+/// with the kerf already applied.
+struct PanelDrawer<'a> {
+    laminate: &'a LinkageLaminate,
+    features: &'a FeatureMap,
+    c: &'a ClampSpec,
+    title: &'a str,
+    prefix: &'a str,
+    /// Half the kerf, mm.
+    half: f64,
+    /// The panel outline, grown by kerf/2.
+    outline: Vec<Point>,
+    /// The pin holes' radius, kerf/2 off.
+    pin_radius: f64,
+    /// One linkage's release outline, grown by kerf/2.
+    release: Vec<Point>,
+    /// The linkage's hole radius, kerf/2 off.
+    hole_radius: f64,
+    /// Stack layers and the release cut.
+    levels: usize,
+}
+
+impl PanelDrawer<'_> {
+    /// The panel's stock on its top border, as a clamp panel engraves it: a sheet off the stack
+    /// says which layer and film it is.
+    fn label(&self, d: &mut Drawing, panel: usize, layer: &str, thickness_mm: Option<f64>) {
+        for s in border_label(self.c, self.title, layer, thickness_mm, &panel.to_string()) {
+            d.add(self.features.op(Feature::PanelLabel), Shape::Polyline(s));
+        }
+    }
+
+    /// The panel's pin holes.
+    fn pins(&self, d: &mut Drawing) {
+        for centre in pin_centres(self.c) {
+            d.add(
+                self.features.op(Feature::PinHole),
+                Shape::Circle {
+                    center: centre,
+                    radius: self.pin_radius,
                 },
             );
-            d.add(
-                features.op(Feature::PanelOutline),
-                Shape::Polygon(outline.clone()),
-            );
-            pins(&mut d);
-            let layer = format!("{prefix}{}-{name}", k + 1);
-            label(&mut d, &layer, Some(sheet.thickness_mm));
-            for origin in origins {
-                for cut in p.cut_outs(*ply) {
-                    let r: Rect = cut.moved(*origin).grown(-half);
-                    d.add(
-                        features.op(Feature::LinkageCutOut),
-                        Shape::Polygon(r.ring()),
-                    );
-                }
-            }
-            drawings.push(SheetDrawing {
-                stem: file_stem(
-                    &format!("{prefix}{}-{name}-{panel}", k + 1),
-                    d.stock.as_ref(),
-                ),
-                layer: format!("linkage-{name}"),
-                drawing: d,
-            });
         }
+    }
+
+    /// Stack layer `k` (`ply`, `name`) of panel `panel`, whose linkages sit at `origins`.
+    fn stack_layer(
+        &self,
+        panel: usize,
+        origins: &[Point],
+        k: usize,
+        ply: Ply,
+        name: &str,
+    ) -> SheetDrawing {
+        let (c, features, prefix, levels) = (self.c, self.features, self.prefix, self.levels);
+        let process = &self.laminate.process;
+        let sheet = match ply {
+            Ply::Carbon => &process.carbon,
+            Ply::Adhesive => &process.adhesive,
+            Ply::Film => &process.film,
+        };
         let mut d = Drawing::on_stock(
-            &format!("{title} linkage layer {levels}/{levels} (release cut through the laminated stack), panel {panel}"),
+            &format!(
+                "{} linkage layer {}/{levels} ({name}), panel {panel}",
+                self.title,
+                k + 1
+            ),
+            c.panel_width_mm,
+            c.panel_height_mm,
+            Stock {
+                material: sheet.material.clone(),
+                thickness_mm: sheet.thickness_mm,
+                // The carbon's 0° fibres along the links, which run along x on the panel: the
+                // stiff direction of the links, as on the coupons the nester turns onto y.
+                fibre_axis: (ply == Ply::Carbon).then_some(FibreAxis::X),
+            },
+        );
+        d.add(
+            features.op(Feature::PanelOutline),
+            Shape::Polygon(self.outline.clone()),
+        );
+        self.pins(&mut d);
+        let layer = format!("{prefix}{}-{name}", k + 1);
+        self.label(&mut d, panel, &layer, Some(sheet.thickness_mm));
+        for origin in origins {
+            for cut in self.laminate.pattern.cut_outs(ply) {
+                let r: Rect = cut.moved(*origin).grown(-self.half);
+                d.add(
+                    features.op(Feature::LinkageCutOut),
+                    Shape::Polygon(r.ring()),
+                );
+            }
+        }
+        SheetDrawing {
+            stem: file_stem(
+                &format!("{prefix}{}-{name}-{panel}", k + 1),
+                d.stock.as_ref(),
+            ),
+            layer: format!("linkage-{name}"),
+            drawing: d,
+        }
+    }
+
+    /// The release cut through the laminated stack of panel `panel`, whose linkages sit at
+    /// `origins`: each linkage's hole and outline.
+    fn release_cut(&self, panel: usize, origins: &[Point]) -> SheetDrawing {
+        let (c, features, prefix, levels) = (self.c, self.features, self.prefix, self.levels);
+        let p = &self.laminate.pattern;
+        let mut d = Drawing::on_stock(
+            &format!(
+                "{} linkage layer {levels}/{levels} (release cut through the laminated stack), panel {panel}",
+                self.title
+            ),
             c.panel_width_mm,
             c.panel_height_mm,
             Stock {
                 material: "the laminated linkage stack".to_string(),
-                thickness_mm: laminate.stack_thickness_mm(),
+                thickness_mm: self.laminate.stack_thickness_mm(),
                 fibre_axis: None,
             },
         );
-        pins(&mut d);
-        label(&mut d, &format!("{prefix}{levels}-release"), None);
+        self.pins(&mut d);
+        self.label(&mut d, panel, &format!("{prefix}{levels}-release"), None);
         for origin in origins {
             d.add(
                 features.op(Feature::LinkageHole),
                 Shape::Circle {
                     center: [origin[0] + p.hole_centre[0], origin[1] + p.hole_centre[1]],
-                    radius: hole_radius,
+                    radius: self.hole_radius,
                 },
             );
             d.add(
                 features.op(Feature::LinkageRelease),
                 Shape::Polygon(
-                    release
+                    self.release
                         .iter()
                         .map(|q| [q[0] + origin[0], q[1] + origin[1]])
                         .collect(),
                 ),
             );
         }
-        drawings.push(SheetDrawing {
+        SheetDrawing {
             stem: file_stem(
                 &format!("{prefix}{levels}-release-{panel}"),
                 d.stock.as_ref(),
             ),
             layer: "linkage-release".to_string(),
             drawing: d,
-        });
+        }
     }
-    Ok(drawings)
 }

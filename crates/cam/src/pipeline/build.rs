@@ -107,120 +107,9 @@ pub fn build_into<'s>(
     }
     let mut drawn = Drawn::new(sink);
 
-    // PZT: one snappable layout per plate thickness (and PZT material).
-    let mut pzt_sheets = 0;
-    for group in groups(&jobs, |j| {
-        (
-            j.design.pzt.name.clone(),
-            (j.design.pzt_thickness * 1e9).round() as i64,
-        )
-    }) {
-        let d = group[0].1.design;
-        // The plates of a group share the PZT and its thickness: the stock every sheet names.
-        let stock = Stock {
-            material: format!("{} ({})", d.pzt.name, template.pzt.material),
-            thickness_mm: d.pzt_thickness * 1e3,
-            fibre_axis: None,
-        };
-        let mut spec = template.pzt.clone();
-        if names.name_designs {
-            spec.material = format!(
-                "{} {} mm ({})",
-                d.pzt.name,
-                d.pzt_thickness * 1e3,
-                spec.material
-            );
-        }
-        let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
-        let layouts = place_plates(&members, &spec, spec.stock, names)
-            .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
-        let before = drawn.sheets.len();
-        draw_pzt_sheets(
-            &members,
-            &spec,
-            &stock,
-            &layouts,
-            names,
-            &template.features,
-            &mut drawn,
-        );
-        for record in &mut drawn.sheets[before..] {
-            for part in &mut record.parts {
-                part.job = group[part.job].0;
-            }
-        }
-        pzt_sheets += layouts.len();
-        drawn.check_sink()?;
-    }
-
-    // Passive parts: one layer per layup (and per ply when plies are cut one by one), then Pyralux.
-    let mut layers: Vec<CutLayer> = Vec::new();
-    for group in groups(&jobs, |j| {
-        (
-            j.design.ply.name.clone(),
-            (j.design.ply_thickness * 1e9).round() as i64,
-            j.design.layup_text(),
-        )
-    }) {
-        let layup = group[0].1.design.layup_text();
-        for mut layer in passive_layers(&group, template, &template.passive)? {
-            if names.name_designs {
-                layer.material = format!("{}, layup {layup}", layer.material);
-            }
-            // Extra parts of this layup go on the same sheets: on the stack's one layer, or on
-            // every ply's layer, turned to that ply's angle (ply-by-ply cutting).
-            for (k, order) in parts.iter().enumerate() {
-                if let PartSheet::Prepreg { like, .. } = order.sheet {
-                    if group.iter().any(|(i, _)| *i == like) {
-                        let item = extra_item(jobs.len() + k, order, &layer, names)?;
-                        layer.items.push(item);
-                    }
-                }
-            }
-            layers.push(layer);
-        }
-    }
-    if let Some(mut layer) = pyralux_layer(&jobs, template, None)? {
-        for (k, order) in parts.iter().enumerate() {
-            if order.sheet == PartSheet::Pyralux {
-                let item = extra_item(jobs.len() + k, order, &layer, names)?;
-                layer.items.push(item);
-            }
-        }
-        layers.push(layer);
-    }
-    // Parts on sheets of their own (a linkage's film and adhesive): one layer per sheet, in order of
-    // first use.
-    let mut own: Vec<CutLayer> = Vec::new();
-    for (k, order) in parts.iter().enumerate() {
-        let PartSheet::Own(sheet) = &order.sheet else {
-            continue;
-        };
-        let at = match own.iter().position(|l| {
-            l.layer == sheet.layer
-                && l.material == sheet.material
-                && l.thickness_mm == sheet.thickness_mm
-        }) {
-            Some(at) => at,
-            None => {
-                own.push(CutLayer {
-                    layer: sheet.layer.clone(),
-                    material: sheet.material.clone(),
-                    thickness_mm: sheet.thickness_mm,
-                    density_kg_per_m3: sheet.density_kg_per_m3,
-                    spec: sheet.spec.clone(),
-                    items: Vec::new(),
-                    features: template.features,
-                    ply_deg: None,
-                    prepreg: sheet.prepreg,
-                });
-                own.len() - 1
-            }
-        };
-        let item = extra_item(jobs.len() + k, order, &own[at], names)?;
-        own[at].items.push(item);
-    }
-    layers.extend(own);
+    let pzt_sheets = build_pzt(&jobs, template, names, &mut drawn)?;
+    let mut layers = passive_and_pyralux_layers(&jobs, parts, template, names)?;
+    layers.extend(own_sheet_layers(jobs.len(), parts, template, names)?);
     let mut cut_layers = Vec::with_capacity(layers.len());
     let placed = place_cut_layers(&layers, packing, names);
     for (mut layer, placed) in layers.into_iter().zip(placed) {
@@ -265,4 +154,145 @@ pub fn build_into<'s>(
         clamps,
         snap_guides: drawn.snap_guides,
     })
+}
+
+/// PZT: one snappable layout per plate thickness (and PZT material), placed, verified and drawn;
+/// the PZT sheets used.
+fn build_pzt(
+    jobs: &[Job<'_>],
+    template: &Template,
+    names: &Names,
+    drawn: &mut Drawn,
+) -> Result<usize, BuildError> {
+    let mut pzt_sheets = 0;
+    for group in groups(jobs, |j| {
+        (
+            j.design.pzt.name.clone(),
+            (j.design.pzt_thickness * 1e9).round() as i64,
+        )
+    }) {
+        let d = group[0].1.design;
+        // The plates of a group share the PZT and its thickness: the stock every sheet names.
+        let stock = Stock {
+            material: format!("{} ({})", d.pzt.name, template.pzt.material),
+            thickness_mm: d.pzt_thickness * 1e3,
+            fibre_axis: None,
+        };
+        let mut spec = template.pzt.clone();
+        if names.name_designs {
+            spec.material = format!(
+                "{} {} mm ({})",
+                d.pzt.name,
+                d.pzt_thickness * 1e3,
+                spec.material
+            );
+        }
+        let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
+        let layouts = place_plates(&members, &spec, spec.stock, names)
+            .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
+        let before = drawn.sheets.len();
+        draw_pzt_sheets(
+            &members,
+            &spec,
+            &stock,
+            &layouts,
+            names,
+            &template.features,
+            drawn,
+        );
+        for record in &mut drawn.sheets[before..] {
+            for part in &mut record.parts {
+                part.job = group[part.job].0;
+            }
+        }
+        pzt_sheets += layouts.len();
+        drawn.check_sink()?;
+    }
+    Ok(pzt_sheets)
+}
+
+/// Passive parts: one layer per layup (and per ply when plies are cut one by one), then Pyralux;
+/// the extra `parts` of each sheet on it.
+fn passive_and_pyralux_layers(
+    jobs: &[Job<'_>],
+    parts: &[PartOrder],
+    template: &Template,
+    names: &Names,
+) -> Result<Vec<CutLayer>, BuildError> {
+    let mut layers: Vec<CutLayer> = Vec::new();
+    for group in groups(jobs, |j| {
+        (
+            j.design.ply.name.clone(),
+            (j.design.ply_thickness * 1e9).round() as i64,
+            j.design.layup_text(),
+        )
+    }) {
+        let layup = group[0].1.design.layup_text();
+        for mut layer in passive_layers(&group, template, &template.passive)? {
+            if names.name_designs {
+                layer.material = format!("{}, layup {layup}", layer.material);
+            }
+            // Extra parts of this layup go on the same sheets: on the stack's one layer, or on
+            // every ply's layer, turned to that ply's angle (ply-by-ply cutting).
+            for (k, order) in parts.iter().enumerate() {
+                if let PartSheet::Prepreg { like, .. } = order.sheet {
+                    if group.iter().any(|(i, _)| *i == like) {
+                        let item = extra_item(jobs.len() + k, order, &layer, names)?;
+                        layer.items.push(item);
+                    }
+                }
+            }
+            layers.push(layer);
+        }
+    }
+    if let Some(mut layer) = pyralux_layer(jobs, template, None)? {
+        for (k, order) in parts.iter().enumerate() {
+            if order.sheet == PartSheet::Pyralux {
+                let item = extra_item(jobs.len() + k, order, &layer, names)?;
+                layer.items.push(item);
+            }
+        }
+        layers.push(layer);
+    }
+    Ok(layers)
+}
+
+/// Parts on sheets of their own (a linkage's film and adhesive): one layer per sheet, in order of
+/// first use; the parts are numbered as jobs after the `designs` designs.
+fn own_sheet_layers(
+    designs: usize,
+    parts: &[PartOrder],
+    template: &Template,
+    names: &Names,
+) -> Result<Vec<CutLayer>, BuildError> {
+    let mut own: Vec<CutLayer> = Vec::new();
+    for (k, order) in parts.iter().enumerate() {
+        let PartSheet::Own(sheet) = &order.sheet else {
+            continue;
+        };
+        let at = match own.iter().position(|l| {
+            l.layer == sheet.layer
+                && l.material == sheet.material
+                && l.thickness_mm == sheet.thickness_mm
+        }) {
+            Some(at) => at,
+            None => {
+                own.push(CutLayer {
+                    layer: sheet.layer.clone(),
+                    material: sheet.material.clone(),
+                    thickness_mm: sheet.thickness_mm,
+                    density_kg_per_m3: sheet.density_kg_per_m3,
+                    spec: sheet.spec.clone(),
+                    items: Vec::new(),
+                    features: template.features,
+                    ply_deg: None,
+                    prepreg: sheet.prepreg,
+                });
+                own.len() - 1
+            }
+        };
+        let item = extra_item(designs + k, order, &own[at], names)?;
+        own[at].items.push(item);
+    }
+    Ok(own)
 }

@@ -14,8 +14,7 @@ use crate::drawing::model::{file_stem, Drawing, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::process::template::{ClampSpec, Template};
 use crate::process::Feature;
-use cam_geometry::place_ring;
-use cam_geometry::Point;
+use cam_geometry::{place_ring, Bounds, Point};
 use std::collections::HashMap;
 
 /// Offsets repeat on every panel of a clamp layer (the same windows, outline and cavity slots): each is
@@ -191,18 +190,11 @@ pub fn window_number(c: &ClampSpec, level: usize, inset_mm: f64) -> Vec<Vec<Poin
 
 /// Bounding box `(min, max)` of a set of strokes.
 fn strokes_extent(strokes: &[Vec<Point>]) -> (Point, Point) {
-    strokes
+    let b = strokes
         .iter()
-        .map(|s| Shape::Polyline(s.clone()).bounds())
-        .fold(
-            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-            |(lo, hi), (a, b)| {
-                (
-                    [lo[0].min(a[0]), lo[1].min(a[1])],
-                    [hi[0].max(b[0]), hi[1].max(b[1])],
-                )
-            },
-        )
+        .map(|s| Bounds::of(s))
+        .fold(Bounds::EMPTY, Bounds::union);
+    (b.min, b.max)
 }
 
 /// The smallest geometry whose panel cell holds every job's actuator (its own geometry for one job).
@@ -232,6 +224,13 @@ fn envelope(jobs: &[(usize, Job<'_>)]) -> PartGeometry {
     }
 }
 
+/// A panel's actuators: (position in the build's jobs, actuator, base point) each.
+type PanelMembers = Vec<(usize, usize, Point)>;
+
+/// One layer of a clamp stack: its kind (`mold` or a cover name), its stem prefix (`mold-2`,
+/// `felt-1`) and, for a mold layer, its band of the mold choice.
+type StackLayer = (String, String, usize);
+
 /// Assign the actuators of `jobs` (which share one laminate: the same plate and core thicknesses) to
 /// clamp panels and draw every
 /// clamp layer of every panel.
@@ -258,6 +257,67 @@ pub fn clamp_layers(
         });
     };
     let c = &template.clamp;
+    let first_panel = drawn.panels + 1;
+    let panels = assign_panels(jobs, c, names, drawn)?;
+    let runs = panel_runs(&panels, first_panel);
+    let mold = choose_mold(laminate_bands(first.design), &template.mold_stock);
+    if mold.films_mm.is_empty() {
+        return Err(no_film_holds_the_plate(template, first.design));
+    }
+    let stack = expand_stack(&c.stack, mold.bands.len());
+    // A number is seen through the windows of every layer above it: keep it clear of the widest kerf.
+    let widest_kerf = stack
+        .iter()
+        .map(|(kind, _, _)| {
+            if kind == "mold" {
+                template.mold.kerf_mm
+            } else {
+                template.covers[kind].kerf_mm
+            }
+        })
+        .fold(0.0, f64::max);
+    let drawer = ClampDrawer {
+        jobs,
+        template,
+        names,
+        mold: &mold,
+        outline: panel_outline(c),
+        levels: stack.len(),
+        number_inset: widest_kerf / 2.0 + NUMBER_CLEARANCE_MM,
+    };
+    let mut offsets = Offsets::default();
+    let mut files = vec![Vec::new(); stack.len()];
+    for (k, layer) in stack.iter().enumerate() {
+        let (kind, prefix, _) = layer;
+        for run in &runs {
+            let members = &panels[run.first - first_panel];
+            let d = drawer.draw(&mut offsets, k, layer, run, members)?;
+            let stem = format!("{prefix}-{}", run.stem());
+            files[k].push(file_stem(&stem, d.stock.as_ref()));
+            drawn.push_copies(stem, kind, d, run.count);
+        }
+    }
+    Ok(ClampBuild {
+        stack: stack.into_iter().map(|(_, stem, _)| stem).collect(),
+        panels: panels
+            .iter()
+            .map(|m| m.iter().map(|(k, a, _)| (jobs[*k].0, *a)).collect())
+            .collect(),
+        first_panel,
+        runs,
+        files,
+        mold,
+    })
+}
+
+/// Lay the actuators of `jobs` out on clamp panels (numbered on from `drawn`'s), each at the base
+/// point of its own tab, and note each in the placement map.
+fn assign_panels(
+    jobs: &[(usize, Job<'_>)],
+    c: &ClampSpec,
+    names: &Names,
+    drawn: &mut Drawn,
+) -> Result<Vec<PanelMembers>, BuildError> {
     let cell = envelope(jobs);
     // Every actuator in job order: (position in `jobs`, actuator).
     let actuators: Vec<(usize, usize)> = jobs
@@ -269,8 +329,7 @@ pub fn clamp_layers(
         .map_err(|e| names.error(format!("clamp panel: {e}")))?;
     let first_panel = drawn.panels + 1;
     drawn.panels += layout.panels.len();
-    // (position in `jobs`, actuator, base point) per panel.
-    let panels: Vec<Vec<(usize, usize, Point)>> = layout
+    let panels: Vec<PanelMembers> = layout
         .panels
         .iter()
         .map(|members| {
@@ -289,7 +348,6 @@ pub fn clamp_layers(
                 .collect()
         })
         .collect();
-    let runs = panel_runs(&panels, first_panel);
     for (p, members) in panels.iter().enumerate() {
         for (k, a, _) in members {
             drawn.placement_map.push(format!(
@@ -299,35 +357,39 @@ pub fn clamp_layers(
             ));
         }
     }
-    let mold = choose_mold(laminate_bands(first.design), &template.mold_stock);
-    if mold.films_mm.is_empty() {
-        // No film fits under a plate: no mold layer could hold or press any part, so nothing would be
-        // pressed at all. That is a process the template cannot run, not a warning.
-        let films: Vec<String> = template
-            .mold_stock
-            .films_mm
-            .iter()
-            .map(|t| short_number(*t))
-            .collect();
-        let plate_mm = short_number(first.design.pzt_thickness * 1e3);
-        return Err(InputError::invalid(
-            &template.source,
-            "layers.mold.stock_thicknesses_mm",
-            format!("[{}]", films.join(", ")),
-            format!(
-                "no stocked film is as thin as the {plate_mm} mm PZT plate of {}, so no mold layer can \
-                 hold it; stock a film of at most {plate_mm} mm",
-                first.design.source.display()
-            ),
-        )
-        .into());
-    }
-    let bands = &mold.bands;
-    // Expand the stack: "mold" becomes mold-1..n; other layers are numbered by occurrence.
-    let mut stack: Vec<(String, String, usize)> = Vec::new(); // (layer kind, stem prefix, index)
-    for name in &c.stack {
+    Ok(panels)
+}
+
+/// No stocked film fits under `design`'s plate: no mold layer could hold or press any part, so
+/// nothing would be pressed at all. That is a process the template cannot run, not a warning.
+fn no_film_holds_the_plate(template: &Template, design: &Design) -> BuildError {
+    let films: Vec<String> = template
+        .mold_stock
+        .films_mm
+        .iter()
+        .map(|t| short_number(*t))
+        .collect();
+    let plate_mm = short_number(design.pzt_thickness * 1e3);
+    InputError::invalid(
+        &template.source,
+        "layers.mold.stock_thicknesses_mm",
+        format!("[{}]", films.join(", ")),
+        format!(
+            "no stocked film is as thin as the {plate_mm} mm PZT plate of {}, so no mold layer can \
+             hold it; stock a film of at most {plate_mm} mm",
+            design.source.display()
+        ),
+    )
+    .into()
+}
+
+/// The clamp stack as written (`mold` and cover names, bottom to top) expanded: "mold" becomes
+/// mold-1..n, one per mold band; other layers are numbered by occurrence.
+fn expand_stack(names: &[String], bands: usize) -> Vec<StackLayer> {
+    let mut stack: Vec<StackLayer> = Vec::new();
+    for name in names {
         if name == "mold" {
-            for j in 0..bands.len() {
+            for j in 0..bands {
                 stack.push(("mold".into(), format!("mold-{}", j + 1), j));
             }
         } else {
@@ -335,141 +397,137 @@ pub fn clamp_layers(
             stack.push((name.clone(), format!("{name}-{occurrence}"), 0));
         }
     }
-    let outline = panel_outline(c);
-    let levels = stack.len();
-    // A number is seen through the windows of every layer above it: keep it clear of the widest kerf.
-    let widest_kerf = stack
-        .iter()
-        .map(|(kind, _, _)| {
-            if kind == "mold" {
-                template.mold.kerf_mm
-            } else {
-                template.covers[kind].kerf_mm
-            }
-        })
-        .fold(0.0, f64::max);
-    let number_inset = widest_kerf / 2.0 + NUMBER_CLEARANCE_MM;
-    // Errors about panel features name the first design (the single design of a cut sheet).
-    let design = first.design;
-    let features = &template.features;
-    let mut offsets = Offsets::default();
-    let mut files = vec![Vec::new(); levels];
-    for (k, (kind, prefix, j)) in stack.iter().enumerate() {
+    stack
+}
+
+/// What every clamp layer drawing of one laminate's stack shares.
+struct ClampDrawer<'a, 'j> {
+    jobs: &'a [(usize, Job<'j>)],
+    template: &'a Template,
+    names: &'a Names,
+    mold: &'a MoldChoice,
+    /// The panel's outline, before its kerf.
+    outline: Vec<Point>,
+    /// Layers in the stack.
+    levels: usize,
+    /// How far a window number keeps from its window's edge, mm.
+    number_inset: f64,
+}
+
+impl ClampDrawer<'_, '_> {
+    /// The drawing of stack layer `k` (`layer`) for the panels of `run`, which hold `members`.
+    fn draw(
+        &self,
+        offsets: &mut Offsets,
+        k: usize,
+        (kind, prefix, j): &StackLayer,
+        run: &PanelRun,
+        members: &PanelMembers,
+    ) -> Result<Drawing, BuildError> {
+        let (c, template, names, levels) =
+            (&self.template.clamp, self.template, self.names, self.levels);
+        // Errors about panel features name the first design (the single design of a cut sheet).
+        let design = self.jobs[0].1.design;
+        let features = &template.features;
         let spec = if kind == "mold" {
             &template.mold
         } else {
             &template.covers[kind]
         };
         let kerf = spec.kerf_mm;
-        for run in &runs {
-            let members = &panels[run.first - first_panel];
-            let numbers = run.numbers();
-            let mut d = Drawing::on_stock(
-                &format!(
-                    "{} clamp layer {}/{levels} ({prefix}), {}",
-                    names.title,
-                    k + 1,
-                    if run.count == 1 {
-                        format!("panel {numbers}")
-                    } else {
-                        format!("panels {numbers}: cut {} sheets", run.count)
-                    }
-                ),
-                c.panel_width_mm,
-                c.panel_height_mm,
-                Stock {
-                    material: spec.material.clone(),
-                    thickness_mm: if kind == "mold" {
-                        mold.films_mm[*j]
-                    } else {
-                        spec.thickness_mm
-                    },
-                    fibre_axis: None,
+        let numbers = run.numbers();
+        let mut d = Drawing::on_stock(
+            &format!(
+                "{} clamp layer {}/{levels} ({prefix}), {}",
+                names.title,
+                k + 1,
+                if run.count == 1 {
+                    format!("panel {numbers}")
+                } else {
+                    format!("panels {numbers}: cut {} sheets", run.count)
+                }
+            ),
+            c.panel_width_mm,
+            c.panel_height_mm,
+            Stock {
+                material: spec.material.clone(),
+                thickness_mm: if kind == "mold" {
+                    self.mold.films_mm[*j]
+                } else {
+                    spec.thickness_mm
                 },
-            );
-            for centre in pin_centres(c) {
-                let r = c.pin_radius_mm - kerf / 2.0;
-                if r <= 0.0 {
-                    return Err(super::jobs::design_error(
-                        design,
-                        format!(
-                            "clamp: pin hole radius {} mm vanishes in the {kerf} mm kerf",
-                            c.pin_radius_mm
-                        ),
-                    ));
-                }
-                d.add(
-                    features.op(Feature::PinHole),
-                    Shape::Circle {
-                        center: centre,
-                        radius: r,
-                    },
-                );
-            }
-            // Windows through this layer onto every layer below it: the stacking order shows from the top.
-            for below in 0..k {
-                let w = rect(
-                    window_origin(c, below),
-                    c.window_width_mm,
-                    c.window_height_mm,
-                );
-                d.add(
-                    features.op(Feature::StackingWindow),
-                    Shape::Polygon(offsets.kerfed(design, &w, -kerf / 2.0, "stacking window")?),
-                );
-            }
-            if kind == "mold" {
-                for (m, _, base) in members {
-                    let job = &jobs[*m].1;
-                    let cavity = cavity_outline(&job.geometry, bands[*j]);
-                    let grown = offsets.kerfed(
-                        job.design,
-                        &cavity,
-                        c.cavity_clearance_mm,
-                        "mold cavity clearance",
-                    )?;
-                    let placed = place_ring(&grown, 0.0, *base);
-                    d.add(
-                        features.op(Feature::MoldCavity),
-                        Shape::Polygon(offsets.kerfed(
-                            job.design,
-                            &placed,
-                            -kerf / 2.0,
-                            "mold cavity",
-                        )?),
-                    );
-                }
-            }
-            for s in window_number(c, k + 1, number_inset) {
-                d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
-            }
-            let thickness_mm = d.stock.as_ref().map(|s| s.thickness_mm);
-            for s in border_label(c, &names.title, prefix, thickness_mm, &numbers) {
-                d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
-            }
-            for f in fiducials(c) {
-                d.add(features.op(Feature::Fiducial), Shape::Polyline(f));
+                fibre_axis: None,
+            },
+        );
+        for centre in pin_centres(c) {
+            let r = c.pin_radius_mm - kerf / 2.0;
+            if r <= 0.0 {
+                return Err(super::jobs::design_error(
+                    design,
+                    format!(
+                        "clamp: pin hole radius {} mm vanishes in the {kerf} mm kerf",
+                        c.pin_radius_mm
+                    ),
+                ));
             }
             d.add(
-                features.op(Feature::PanelOutline),
-                Shape::Polygon(offsets.kerfed(design, &outline, kerf / 2.0, "panel outline")?),
+                features.op(Feature::PinHole),
+                Shape::Circle {
+                    center: centre,
+                    radius: r,
+                },
             );
-            let stem = format!("{prefix}-{}", run.stem());
-            files[k].push(file_stem(&stem, d.stock.as_ref()));
-            drawn.push_copies(stem, kind, d, run.count);
         }
+        // Windows through this layer onto every layer below it: the stacking order shows from the top.
+        for below in 0..k {
+            let w = rect(
+                window_origin(c, below),
+                c.window_width_mm,
+                c.window_height_mm,
+            );
+            d.add(
+                features.op(Feature::StackingWindow),
+                Shape::Polygon(offsets.kerfed(design, &w, -kerf / 2.0, "stacking window")?),
+            );
+        }
+        if kind == "mold" {
+            for (m, _, base) in members {
+                let job = &self.jobs[*m].1;
+                let cavity = cavity_outline(&job.geometry, self.mold.bands[*j]);
+                let grown = offsets.kerfed(
+                    job.design,
+                    &cavity,
+                    c.cavity_clearance_mm,
+                    "mold cavity clearance",
+                )?;
+                let placed = place_ring(&grown, 0.0, *base);
+                d.add(
+                    features.op(Feature::MoldCavity),
+                    Shape::Polygon(offsets.kerfed(
+                        job.design,
+                        &placed,
+                        -kerf / 2.0,
+                        "mold cavity",
+                    )?),
+                );
+            }
+        }
+        for s in window_number(c, k + 1, self.number_inset) {
+            d.add(features.op(Feature::WindowNumber), Shape::Polyline(s));
+        }
+        let thickness_mm = d.stock.as_ref().map(|s| s.thickness_mm);
+        for s in border_label(c, &names.title, prefix, thickness_mm, &numbers) {
+            d.add(features.op(Feature::PanelLabel), Shape::Polyline(s));
+        }
+        for f in fiducials(c) {
+            d.add(features.op(Feature::Fiducial), Shape::Polyline(f));
+        }
+        d.add(
+            features.op(Feature::PanelOutline),
+            Shape::Polygon(offsets.kerfed(design, &self.outline, kerf / 2.0, "panel outline")?),
+        );
+        Ok(d)
     }
-    Ok(ClampBuild {
-        stack: stack.into_iter().map(|(_, stem, _)| stem).collect(),
-        panels: panels
-            .iter()
-            .map(|m| m.iter().map(|(k, a, _)| (jobs[*k].0, *a)).collect())
-            .collect(),
-        first_panel,
-        runs,
-        files,
-        mold,
-    })
 }
 
 #[cfg(test)]

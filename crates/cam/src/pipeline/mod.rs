@@ -27,7 +27,7 @@ mod sheet_label;
 pub mod snap_guide;
 
 pub use build::{build, build_into, Build};
-pub use clamp::PanelRun;
+pub use clamp::{ClampBuild, PanelRun};
 pub use jobs::{unlabelled_note, DrawingSink, Names, SinkError, StockCount};
 pub use label::Label;
 pub use mold::{MoldBand, MoldChoice};

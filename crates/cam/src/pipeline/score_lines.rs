@@ -1,5 +1,7 @@
 //! PZT score sheets: drawing the snappable layout of every job's plates (docs/cam.md §4) once it is
-//! verified.
+//! verified. The score lines are planned in [`crate::layout::plates`] (its `planner`, which places the
+//! plates and the lines between them) and checked in [`super::place`]; here they are only drawn, in
+//! break order.
 
 use super::jobs::{Drawn, Job, Names, PartRecord, SheetRecord};
 use super::panel::{on_sheet_edge, rect};

@@ -9,7 +9,7 @@
 use crate::drawing::decimal::fmt_mm;
 use crate::drawing::label::{label_strokes, label_width};
 use crate::drawing::model::{Drawing, Stock};
-use cam_geometry::Point;
+use cam_geometry::{Bounds, Point};
 
 /// Label heights tried, largest first, mm: 1.5 mm reads at arm's length; 1 mm is the smallest the
 /// ProtoLaser engraves legibly (the part labels' size).
@@ -82,20 +82,10 @@ fn free_place(taken: &[Box2], w: f64, h: f64, lo: Point, hi: Point) -> Option<Po
 
 /// The bounding box of a placed part's outline, grown by the clearance: what a label keeps out of.
 pub fn part_box(ring: &[Point]) -> Box2 {
-    ring.iter().fold(
-        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-        |(lo, hi), p| {
-            (
-                [
-                    lo[0].min(p[0] - CLEARANCE_MM),
-                    lo[1].min(p[1] - CLEARANCE_MM),
-                ],
-                [
-                    hi[0].max(p[0] + CLEARANCE_MM),
-                    hi[1].max(p[1] + CLEARANCE_MM),
-                ],
-            )
-        },
+    let b = Bounds::of(ring);
+    (
+        [b.min[0] - CLEARANCE_MM, b.min[1] - CLEARANCE_MM],
+        [b.max[0] + CLEARANCE_MM, b.max[1] + CLEARANCE_MM],
     )
 }
 
@@ -140,15 +130,8 @@ mod tests {
     }
 
     fn extent(strokes: &[Vec<Point>]) -> Box2 {
-        strokes.iter().flatten().fold(
-            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-            |(lo, hi), p| {
-                (
-                    [lo[0].min(p[0]), lo[1].min(p[1])],
-                    [hi[0].max(p[0]), hi[1].max(p[1])],
-                )
-            },
-        )
+        let b = Bounds::of(&strokes.concat());
+        (b.min, b.max)
     }
 
     #[test]

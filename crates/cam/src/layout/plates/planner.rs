@@ -1,6 +1,9 @@
 //! The guillotine planner behind [`super::layout_plates`]: a sheet split recursively into regions, a
 //! strip of one item across each (plates turned alternately by 180°), the leftover at the end of the
 //! strip and the rest of the region filled in turn, with the slanted score lines between neighbours.
+//!
+//! The score lines are planned here and drawn in `crate::pipeline::score_lines` (the PZT sheets'
+//! layer files), after `crate::pipeline::place` has checked the plan with the verifier.
 
 use super::{plate_outline, PlateSpec};
 use crate::layout::LayoutError;

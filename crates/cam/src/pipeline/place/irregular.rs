@@ -1,0 +1,222 @@
+//! The irregular nester's layout of a cut layer ([`super::Packing::Irregular`]) on sheets or a
+//! roll, verified and compared with the bounding-box baseline on the same parts.
+
+use super::packing::{BaselineRow, NestObserver, NestOptions, SearchRow, WORKERS};
+use super::promise::{verify_cut_layouts, Promise};
+use super::refusal::sheet_too_small;
+use super::{items_of, placed_as, PlacedLayer};
+use crate::pipeline::cut::CutLayer;
+use crate::pipeline::jobs::Names;
+use crate::pipeline::BuildError;
+use cam_nest::{
+    nest_bounding_boxes, nest_strip_until, nest_until, NestBin, NestError, NestProgress,
+    NestSettings, NestSolution, NestedBin, SearchEnd,
+};
+use std::time::Instant;
+
+/// The irregular nester on the nominal outlines at each item's rotations (0° / 180° for actuator
+/// parts), kerf + spacing between parts and to the sheet edge; on sheets, or on a roll
+/// ([`crate::process::template::SheetSpec::roll`]: one strip of the roll's width, as short as the
+/// nester finds, drawn to its used length rounded up to 0.1 mm). The bounding-box baseline is nested too for the report.
+pub(super) fn irregular(
+    layer: &CutLayer,
+    opts: &NestOptions,
+    deadline: Option<Instant>,
+    observer: &dyn NestObserver,
+    names: &Names,
+) -> Result<PlacedLayer, BuildError> {
+    let spec = &layer.spec;
+    let context = if spec.roll {
+        format!(
+            "{} roll ({}, {} mm wide)",
+            layer.layer, layer.material, spec.width_mm
+        )
+    } else {
+        format!(
+            "{} sheets ({}, {} x {} mm)",
+            layer.layer, layer.material, spec.width_mm, spec.height_mm
+        )
+    };
+    let fail = |what: String| names.error(format!("{context}: {what}"));
+    let items = items_of(layer, |i| &i.nominal);
+    let copies: usize = items.iter().map(|i| i.demand).sum();
+    let settings = NestSettings {
+        separation_mm: spec.kerf_mm + spec.spacing_mm,
+        seed: opts.seed,
+        iterations: opts.iterations,
+        workers: WORKERS,
+    };
+    let refused = |e: NestError| refusal(layer, e, &fail);
+    let observe = |p: &NestProgress| observer.progress(p);
+    // `bin` is the sheet the layout is verified and drawn on; `room` the one the baseline uses.
+    let limit = opts.limit(deadline);
+    let (solution, bin, room, strip_length_mm, reached) = if spec.roll {
+        let (strip, reached) = nest_strip_until(&items, spec.width_mm, &settings, &limit, &observe)
+            .map_err(refused)?;
+        let length = (strip.length_mm * 10.0).ceil() / 10.0;
+        let bin = NestBin {
+            width_mm: spec.width_mm,
+            height_mm: length,
+            stock: 1,
+        };
+        let room = NestBin {
+            stock: copies.max(1),
+            ..strip.bin
+        };
+        (strip.solution, bin, room, Some(length), reached)
+    } else {
+        let bin = NestBin {
+            width_mm: spec.width_mm,
+            height_mm: spec.height_mm,
+            stock: spec.stock.unwrap_or(copies.max(1)),
+        };
+        let (solution, reached) =
+            nest_until(&items, &bin, &settings, &limit, &observe).map_err(refused)?;
+        let room = NestBin {
+            stock: copies.max(1),
+            ..bin
+        };
+        (solution, bin, room, None, reached)
+    };
+    let layouts = cut_layouts(layer, &solution);
+    let mut promise = Promise {
+        sheet: bin,
+        packed: items,
+        clearance_mm: settings.separation_mm,
+    };
+    verify_cut_layouts(layer, &layouts, &promise)
+        .map_err(|v| fail(format!("nest verifier: {v}")))?;
+    let boxes: NestSolution = nest_bounding_boxes(&promise.packed, &room, &settings)
+        .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
+    promise.sheet = room;
+    verify_cut_layouts(layer, &cut_layouts(layer, &boxes), &promise)
+        .map_err(|v| fail(format!("baseline verifier: {v}")))?;
+    // Only where a limit could end the search: a plain iteration budget's report stays as it is.
+    let search =
+        (deadline.is_some() || reached.ended != SearchEnd::Budget).then(|| SearchRow::of(&reached));
+    let baseline = baseline_row(
+        layer,
+        (&solution, &bin),
+        (&boxes, &room),
+        settings.separation_mm,
+        strip_length_mm,
+        search,
+    );
+    Ok(PlacedLayer {
+        layouts,
+        baseline: Some(baseline),
+        strip_length_mm,
+    })
+}
+
+/// The refusal of the irregular nester's error `e` on `layer`: a part larger than the sheet names
+/// the sheet field to change; anything else is a build error by `fail`, which names the stock.
+fn refusal(layer: &CutLayer, e: NestError, fail: &dyn Fn(String) -> BuildError) -> BuildError {
+    match e {
+        NestError::PartLargerThanBin {
+            item,
+            part_width_mm,
+            part_height_mm,
+            separation_mm,
+            edge_gap_mm,
+            ..
+        } => sheet_too_small(
+            &layer.spec,
+            &format!(
+                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
+                layer.layer, layer.items[item].owner
+            ),
+            [part_width_mm, part_height_mm],
+            [2.0 * edge_gap_mm; 2],
+            false,
+            None,
+        ),
+        NestError::StockTooSmall { needed, stock } => fail(format!(
+            "stock too small: the batch needs {needed} sheets but the stock is {stock}"
+        )),
+        other => fail(other.to_string()),
+    }
+}
+
+/// The report row of `layer`'s nest (`solution` on the sheet `bin` it is drawn on) against the
+/// bounding-box baseline (`boxes` on the sheets `room`), parts `separation_mm` apart.
+fn baseline_row(
+    layer: &CutLayer,
+    (solution, bin): (&NestSolution, &NestBin),
+    (boxes, room): (&NestSolution, &NestBin),
+    separation_mm: f64,
+    strip_length_mm: Option<f64>,
+    search: Option<SearchRow>,
+) -> BaselineRow {
+    let roll = layer.spec.roll;
+    let used = solution.used_length_utilization(bin, separation_mm);
+    let boxes_used = boxes.used_length_utilization(room, separation_mm);
+    BaselineRow {
+        layer: layer.layer.clone(),
+        material: layer.material.clone(),
+        parts: layer.items.iter().map(|i| i.count).sum(),
+        sheets: solution.bins_used(),
+        // On a roll the one sheet is the used strip: its utilisation is the used-length one.
+        utilization: if roll { used } else { solution.utilization() },
+        used_length_utilization: used,
+        baseline_sheets: boxes.bins_used(),
+        baseline_utilization: if roll {
+            boxes_used
+        } else {
+            boxes.utilization()
+        },
+        baseline_used_length_utilization: boxes_used,
+        strip_length_mm,
+        baseline_strip_length_mm: strip_length_mm
+            .map(|_| boxes.used_length_mm(room, separation_mm)),
+        search,
+    }
+}
+
+/// How many sheets of `width_mm` x `height_mm` (no stock limit) the parts of a layer nested on a
+/// roll would take instead: the irregular nester on the same parts, separation, seed and budget,
+/// checked by the same verifier. What a roll's cost is compared with. Under a time budget, which
+/// the roll's own nest has spent, the sheets get the base search's budget alone: a comparison of
+/// sheet counts, quick and the same on any machine.
+pub fn sheets_instead_of_roll(
+    layer: &CutLayer,
+    width_mm: f64,
+    height_mm: f64,
+    opts: &NestOptions,
+    observer: &dyn NestObserver,
+    names: &Names,
+) -> Result<usize, BuildError> {
+    let mut on_sheets = layer.clone();
+    on_sheets.spec.roll = false;
+    on_sheets.spec.stock = None;
+    on_sheets.spec.width_mm = width_mm;
+    on_sheets.spec.height_mm = height_mm;
+    let opts = match opts.time {
+        Some(_) => NestOptions {
+            iterations: opts.iterations.min(NestSettings::default().iterations),
+            time: None,
+            ..*opts
+        },
+        None => *opts,
+    };
+    let placed = irregular(&on_sheets, &opts, None, observer, names)?;
+    Ok(placed.layouts.len())
+}
+
+/// The sheets of a nest as layouts of the layer's cut paths, each turned and moved as its part was.
+fn cut_layouts(layer: &CutLayer, solution: &NestSolution) -> Vec<NestedBin> {
+    solution
+        .bins
+        .iter()
+        .map(|b| NestedBin {
+            index: b.index,
+            parts: b
+                .parts
+                .iter()
+                .map(|p| placed_as(p, &layer.items[p.item].cut))
+                .collect(),
+            utilization: b.utilization,
+            score_lines: b.score_lines.clone(),
+        })
+        .collect()
+}

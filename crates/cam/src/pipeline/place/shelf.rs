@@ -1,0 +1,27 @@
+//! The shelf packer's layout of a cut layer ([`super::Packing::Shelf`]), verified.
+
+use super::promise::{verify_cut_layouts, Promise};
+use super::{items_of, sheet_of};
+use crate::pipeline::cut::CutLayer;
+use crate::pipeline::jobs::Names;
+use crate::pipeline::BuildError;
+use cam_nest::{nest_shelves, NestedBin};
+
+/// The shelf packer on the cut paths, the template's spacing between them and to the sheet edge.
+pub(super) fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<NestedBin>, BuildError> {
+    let spec = &layer.spec;
+    let items = items_of(layer, |i| &i.cut);
+    // Without a stock limit a sheet takes at least one part, so no layout needs more sheets.
+    let copies: usize = items.iter().map(|i| i.demand).sum();
+    let sheet = sheet_of(spec, copies.max(1));
+    let layout = nest_shelves(&items, &sheet, spec.spacing_mm)
+        .map_err(|e| names.error(format!("{} layout: {e}", layer.layer)))?;
+    let promise = Promise {
+        sheet,
+        packed: items,
+        clearance_mm: spec.spacing_mm,
+    };
+    verify_cut_layouts(layer, &layout.bins, &promise)
+        .map_err(|v| names.error(format!("{} (verifier) layout: {v}", layer.layer)))?;
+    Ok(layout.bins)
+}
