@@ -155,11 +155,7 @@ fn path_subpaths(
 ) -> Result<Subpaths, InputError> {
     let mut out: Subpaths = Vec::new();
     let mut current: Vec<Point> = Vec::new();
-    let mut pos = [0.0, 0.0];
-    let mut start = [0.0, 0.0];
-    // The last control point, for the smooth (S, T) commands.
-    let mut last_cubic: Option<Point> = None;
-    let mut last_quad: Option<Point> = None;
+    let mut pen = Pen::default();
     let flush = |current: &mut Vec<Point>, out: &mut Subpaths, closed: bool| {
         if current.len() > 1 {
             out.push((std::mem::take(current), closed));
@@ -173,34 +169,88 @@ fn path_subpaths(
             .map_err(|e| entity_error(file, entity, format!("path data d is not valid: {e}")))?;
         // Where this segment's points start in `current` (a new subpath starts its own extent).
         let mut before = current.len();
-        let abs_point = |abs: bool, x: f64, y: f64| {
-            if abs {
-                [x, y]
-            } else {
-                [pos[0] + x, pos[1] + y]
-            }
-        };
-        let mut next_cubic = None;
-        let mut next_quad = None;
-        match segment {
-            PathSegment::MoveTo { abs, x, y } => {
+        match pen.step(segment, tol) {
+            Step::Draw(points) => current.extend(points),
+            Step::Move(to) => {
                 flush(&mut current, &mut out, false);
-                pos = abs_point(abs, x, y);
-                start = pos;
-                current.push(pos);
+                current.push(to);
                 (extent, before) = (Extent::default(), 0);
             }
+            Step::Close(to) => {
+                flush(&mut current, &mut out, true);
+                current.push(to);
+                (extent, before) = (Extent::default(), 0);
+            }
+        }
+        current[before..]
+            .iter()
+            .for_each(|p| extent.add(apply(t, *p)));
+        extent.check(file, entity)?;
+    }
+    flush(&mut current, &mut out, false);
+    Ok(out)
+}
+
+/// What one path segment does to the outline: draws points (curves as chords), starts a subpath at a
+/// point, or closes the subpath and goes back to its start.
+enum Step {
+    Draw(Vec<Point>),
+    Move(Point),
+    Close(Point),
+}
+
+/// A path's pen: the current point, the start of its subpath, and the last control points, which the
+/// smooth commands (S, T) mirror.
+#[derive(Default)]
+struct Pen {
+    pos: Point,
+    start: Point,
+    last_cubic: Option<Point>,
+    last_quad: Option<Point>,
+}
+
+impl Pen {
+    /// A segment's point in absolute coordinates.
+    fn at(&self, abs: bool, x: f64, y: f64) -> Point {
+        if abs {
+            [x, y]
+        } else {
+            [self.pos[0] + x, self.pos[1] + y]
+        }
+    }
+
+    /// The mirror of the last control point about the pen, or the pen if the last segment had none
+    /// (SVG 1.1 §8.3.6).
+    fn reflected(&self, last: Option<Point>) -> Point {
+        last.map_or(self.pos, |c| {
+            [2.0 * self.pos[0] - c[0], 2.0 * self.pos[1] - c[1]]
+        })
+    }
+
+    /// Move the pen along one segment, with curves cut into chords within `tol`.
+    fn step(&mut self, segment: PathSegment, tol: f64) -> Step {
+        let (mut next_cubic, mut next_quad) = (None, None);
+        let step = match segment {
+            PathSegment::MoveTo { abs, x, y } => {
+                self.pos = self.at(abs, x, y);
+                self.start = self.pos;
+                Step::Move(self.pos)
+            }
+            PathSegment::ClosePath { .. } => {
+                self.pos = self.start;
+                Step::Close(self.pos)
+            }
             PathSegment::LineTo { abs, x, y } => {
-                pos = abs_point(abs, x, y);
-                current.push(pos);
+                self.pos = self.at(abs, x, y);
+                Step::Draw(vec![self.pos])
             }
             PathSegment::HorizontalLineTo { abs, x } => {
-                pos = [if abs { x } else { pos[0] + x }, pos[1]];
-                current.push(pos);
+                self.pos = [if abs { x } else { self.pos[0] + x }, self.pos[1]];
+                Step::Draw(vec![self.pos])
             }
             PathSegment::VerticalLineTo { abs, y } => {
-                pos = [pos[0], if abs { y } else { pos[1] + y }];
-                current.push(pos);
+                self.pos = [self.pos[0], if abs { y } else { self.pos[1] + y }];
+                Step::Draw(vec![self.pos])
             }
             PathSegment::CurveTo {
                 abs,
@@ -211,34 +261,24 @@ fn path_subpaths(
                 x,
                 y,
             } => {
-                let (c1, c2, to) = (
-                    abs_point(abs, x1, y1),
-                    abs_point(abs, x2, y2),
-                    abs_point(abs, x, y),
-                );
-                current.extend(cubic([pos, c1, c2, to], tol));
+                let (c1, c2) = (self.at(abs, x1, y1), self.at(abs, x2, y2));
                 next_cubic = Some(c2);
-                pos = to;
+                self.cubic_to(c1, c2, self.at(abs, x, y), tol)
             }
             PathSegment::SmoothCurveTo { abs, x2, y2, x, y } => {
-                let c1 = last_cubic.map_or(pos, |c| [2.0 * pos[0] - c[0], 2.0 * pos[1] - c[1]]);
-                let (c2, to) = (abs_point(abs, x2, y2), abs_point(abs, x, y));
-                current.extend(cubic([pos, c1, c2, to], tol));
+                let (c1, c2) = (self.reflected(self.last_cubic), self.at(abs, x2, y2));
                 next_cubic = Some(c2);
-                pos = to;
+                self.cubic_to(c1, c2, self.at(abs, x, y), tol)
             }
             PathSegment::Quadratic { abs, x1, y1, x, y } => {
-                let (c, to) = (abs_point(abs, x1, y1), abs_point(abs, x, y));
-                current.extend(quadratic(pos, c, to, tol));
+                let c = self.at(abs, x1, y1);
                 next_quad = Some(c);
-                pos = to;
+                self.quadratic_to(c, self.at(abs, x, y), tol)
             }
             PathSegment::SmoothQuadratic { abs, x, y } => {
-                let c = last_quad.map_or(pos, |c| [2.0 * pos[0] - c[0], 2.0 * pos[1] - c[1]]);
-                let to = abs_point(abs, x, y);
-                current.extend(quadratic(pos, c, to, tol));
+                let c = self.reflected(self.last_quad);
                 next_quad = Some(c);
-                pos = to;
+                self.quadratic_to(c, self.at(abs, x, y), tol)
             }
             PathSegment::EllipticalArc {
                 abs,
@@ -250,35 +290,25 @@ fn path_subpaths(
                 x,
                 y,
             } => {
-                let to = abs_point(abs, x, y);
-                current.extend(elliptical_arc(
-                    pos,
-                    to,
-                    rx,
-                    ry,
-                    x_axis_rotation,
-                    large_arc,
-                    sweep,
-                    tol,
-                ));
-                pos = to;
+                let to = self.at(abs, x, y);
+                let from = std::mem::replace(&mut self.pos, to);
+                let arc = elliptical_arc(from, to, rx, ry, x_axis_rotation, large_arc, sweep, tol);
+                Step::Draw(arc)
             }
-            PathSegment::ClosePath { .. } => {
-                flush(&mut current, &mut out, true);
-                pos = start;
-                current.push(pos);
-                (extent, before) = (Extent::default(), 0);
-            }
-        }
-        last_cubic = next_cubic;
-        last_quad = next_quad;
-        current[before..]
-            .iter()
-            .for_each(|p| extent.add(apply(t, *p)));
-        extent.check(file, entity)?;
+        };
+        (self.last_cubic, self.last_quad) = (next_cubic, next_quad);
+        step
     }
-    flush(&mut current, &mut out, false);
-    Ok(out)
+
+    fn cubic_to(&mut self, c1: Point, c2: Point, to: Point, tol: f64) -> Step {
+        let from = std::mem::replace(&mut self.pos, to);
+        Step::Draw(cubic([from, c1, c2, to], tol))
+    }
+
+    fn quadratic_to(&mut self, c: Point, to: Point, tol: f64) -> Step {
+        let from = std::mem::replace(&mut self.pos, to);
+        Step::Draw(quadratic(from, c, to, tol))
+    }
 }
 
 /// A rectangle, its corners rounded by `rx`, `ry` (SVG 1.1 §9.2: a missing one takes the other's
@@ -461,9 +491,20 @@ impl Walk<'_> {
             }
             _ => return Ok(()),
         };
+        self.push_contours(&entity, subpaths, &t)
+    }
+
+    /// An element's subpaths as contours in mm: each must be closed and have an area.
+    fn push_contours(
+        &mut self,
+        entity: &str,
+        subpaths: Subpaths,
+        t: &Transform,
+    ) -> Result<(), InputError> {
+        let file = self.file;
         for (k, (points, closed)) in subpaths.into_iter().enumerate() {
             let name = if k == 0 {
-                entity.clone()
+                entity.to_string()
             } else {
                 format!("{entity} subpath {}", k + 1)
             };
@@ -487,7 +528,7 @@ impl Walk<'_> {
             }
             self.contours.push(Contour {
                 entity: name,
-                ring: points.iter().map(|p| apply(&t, *p)).collect(),
+                ring: points.iter().map(|p| apply(t, *p)).collect(),
             });
         }
         Ok(())
