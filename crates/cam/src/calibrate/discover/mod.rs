@@ -113,9 +113,9 @@ impl RankedCandidate {
     }
 
     /// The library effect fitted beside the primitive, in a combination.
-    pub fn partner(&self) -> Option<&'static str> {
+    pub fn partner(&self) -> Option<&str> {
         match &self.source {
-            Source::Primitive(f) => f.partner.map(|id| id.name()),
+            Source::Primitive(f) => f.partner.as_ref().map(|id| id.name()),
             Source::Library(_) => None,
         }
     }
@@ -178,13 +178,13 @@ pub fn discover(
     let partners = partners(data, selection);
     let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
     let tried = catalogue::catalogue(stack);
-    let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
+    let jobs: Vec<(&catalogue::Tried, Option<&Partner>)> = tried
         .iter()
         .map(|t| (t, None))
         .chain(
             partners
                 .iter()
-                .flat_map(|&x| tried.iter().map(move |t| (t, Some(x)))),
+                .flat_map(|x| tried.iter().map(move |t| (t, Some(x)))),
         )
         .collect();
     let fits: Vec<PrimitiveFit> = jobs
@@ -225,7 +225,7 @@ fn selection_candidates(
         .filter(|c| {
             !c.effects
                 .iter()
-                .any(|e| thickness::is_form(*e, &settings.declared))
+                .any(|e| thickness::is_form(e, &settings.declared))
         })
         .map(|c| {
             let ids = c.library_effects();
@@ -286,19 +286,19 @@ fn partners(data: &Dataset, selection: &Selection) -> Vec<Partner> {
     };
     let mut partners: Vec<Partner> = Vec::new();
     for c in [best_library(1), best_library(2)].into_iter().flatten() {
-        for (k, &id) in c.effects.iter().enumerate().skip(1) {
-            if partners.iter().any(|x| x.id == id) {
+        for (k, id) in c.effects.iter().enumerate().skip(1) {
+            if partners.iter().any(|x| x.id == *id) {
                 continue;
             }
             let p = id.param();
             // The selection's own cap on the dead length (docs/calibration.md §3).
-            let hi = if id == EffectId::DeadLength {
+            let hi = if *id == EffectId::DeadLength {
                 p.hi.min(0.8 * l_p_min_mm)
             } else {
                 p.hi
             };
             partners.push(Partner {
-                id,
+                id: id.clone(),
                 lo: p.lo,
                 hi,
                 start: c.values[k],
@@ -312,7 +312,7 @@ fn partners(data: &Dataset, selection: &Selection) -> Vec<Partner> {
 /// `{η, A, P}` (named `A + P`).
 fn primitive_candidate(f: PrimitiveFit, eta_aicc: f64) -> RankedCandidate {
     let single = catalogue::name(f.primitive);
-    let (name, parts, also) = match f.partner {
+    let (name, parts, also) = match &f.partner {
         Some(id) => (
             format!("{} + {single}", id.name()),
             vec![id.name().to_string(), single.clone()],

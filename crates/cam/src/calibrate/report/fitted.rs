@@ -12,11 +12,11 @@ use std::collections::BTreeMap;
 /// A selected effect and its one parameter, written as
 /// `{"name", "parameters": {p: v}, "intervals": {p: [lo, hi]}, "std_errors": {p: se}}`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SelectedEffect {
+pub struct SelectedEffect<'a> {
     /// Effect name.
-    pub name: &'static str,
+    pub name: &'a str,
     /// Parameter name (report units in the name).
-    pub parameter: &'static str,
+    pub parameter: &'a str,
     /// Estimate.
     pub estimate: f64,
     /// 95% interval.
@@ -43,7 +43,7 @@ impl Serialize for RoundedPair {
     }
 }
 
-impl Serialize for SelectedEffect {
+impl Serialize for SelectedEffect<'_> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let one = |v| BTreeMap::from([(self.parameter, v)]);
         let mut m = s.serialize_map(Some(4))?;
@@ -60,11 +60,11 @@ impl Serialize for SelectedEffect {
 
 /// Correlation of two fitted parameters.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ParameterCorrelation {
+pub struct ParameterCorrelation<'a> {
     /// First parameter.
-    pub a: &'static str,
+    pub a: &'a str,
     /// Second parameter.
-    pub b: &'static str,
+    pub b: &'a str,
     /// Correlation coefficient.
     #[serde(serialize_with = "six_digits")]
     pub rho: f64,
@@ -78,10 +78,10 @@ pub struct CandidateRow<'a> {
     /// `original`, `null` or `candidate`.
     pub role: &'static str,
     /// Effect names in parameter order.
-    pub effects: Vec<&'static str>,
+    pub effects: Vec<&'a str>,
     /// Estimate per parameter name.
     #[serde(serialize_with = "rounded_map")]
-    pub parameters: BTreeMap<&'static str, f64>,
+    pub parameters: BTreeMap<&'a str, f64>,
     /// AICc.
     #[serde(serialize_with = "six_digits")]
     pub aicc: f64,
@@ -102,7 +102,7 @@ pub struct CandidateRow<'a> {
     pub note: &'a str,
 }
 
-fn rounded_map<S: Serializer>(m: &BTreeMap<&'static str, f64>, s: S) -> Result<S::Ok, S::Error> {
+fn rounded_map<S: Serializer>(m: &BTreeMap<&str, f64>, s: S) -> Result<S::Ok, S::Error> {
     s.collect_map(m.iter().map(|(k, v)| (k, Rounded(*v))))
 }
 
@@ -117,7 +117,7 @@ impl CandidateRow<'_> {
 }
 
 /// Each selected effect with the parameter fitted for it, from the final mass or actuation model.
-pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
+pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect<'_>> {
     let s = &cal.selection;
     let mass = s.final_mass_index.map(|i| &s.mass_candidates[i]);
     let act = &s.candidates[s.final_index];
@@ -150,7 +150,7 @@ pub fn selected_effects(cal: &Calibration) -> Vec<SelectedEffect> {
 }
 
 /// The correlation of each pair of a model's parameters.
-pub(super) fn parameter_correlations(c: &Candidate) -> Vec<ParameterCorrelation> {
+pub(super) fn parameter_correlations(c: &Candidate) -> Vec<ParameterCorrelation<'_>> {
     let mut out = Vec::new();
     for (a, ea) in c.effects.iter().enumerate() {
         for (b, eb) in c.effects.iter().enumerate().skip(a + 1) {

@@ -24,9 +24,9 @@ pub struct Report<'a> {
     /// The contenders or the variable the residual follows.
     pub verdict_detail: VerdictDetail<'a>,
     /// Selected effects with their fitted parameter (mass stage first).
-    pub selected_effects: Vec<SelectedEffect>,
+    pub selected_effects: Vec<SelectedEffect<'a>>,
     /// Correlations between the final actuation model's parameters.
-    pub parameter_correlations: Vec<ParameterCorrelation>,
+    pub parameter_correlations: Vec<ParameterCorrelation<'a>>,
     /// Every fitted model, mass stage first.
     pub candidates: Vec<CandidateRow<'a>>,
     /// Errors of the original model.

@@ -208,18 +208,24 @@ fn actuation_sets(settings: &Settings, limits: &Limits) -> Vec<(Vec<EffectId>, R
         .collect();
     let mut sets: Vec<(Vec<EffectId>, Role)> = vec![
         (vec![], Role::Original),
-        (vec![eta], Role::Null),
-        (vec![eta, EffectId::StiffnessScale], Role::Null),
+        (vec![eta.clone()], Role::Null),
+        (vec![eta.clone(), EffectId::StiffnessScale], Role::Null),
     ];
     if limits.max_effects >= 1 {
         for a in &library {
-            sets.push(([&[eta], a.as_slice()].concat(), Role::Candidate));
+            sets.push((
+                [std::slice::from_ref(&eta), a.as_slice()].concat(),
+                Role::Candidate,
+            ));
         }
     }
     if limits.max_effects >= 2 {
         for (i, a) in library.iter().enumerate() {
             for b in &library[i + 1..] {
-                sets.push(([&[eta], a.as_slice(), b].concat(), Role::Candidate));
+                sets.push((
+                    [std::slice::from_ref(&eta), a.as_slice(), b.as_slice()].concat(),
+                    Role::Candidate,
+                ));
             }
         }
     }
@@ -257,10 +263,10 @@ fn thickness_form(
     let eta = EffectId::D31Scale;
     let own = chosen.library_effects();
     let mut forms = Vec::new();
-    for &t in &thickness_forms {
-        forms.push(vec![eta, t]);
+    for t in thickness_forms {
+        forms.push(vec![eta.clone(), t.clone()]);
         if !own.is_empty() && effect_names(&own).len() < limits.max_effects {
-            forms.push([&[eta], own.as_slice(), &[t]].concat());
+            forms.push([&[eta.clone()], own.as_slice(), &[t]].concat());
         }
     }
     forms.retain(|ids| ids.len() <= limits.max_params);

@@ -232,8 +232,8 @@ fn conclude(
 /// (fitted together).
 fn declared_in(settings: &Settings, stage: Stage) -> Vec<Vec<EffectId>> {
     let mut groups: Vec<Vec<EffectId>> = Vec::new();
-    for &d in &settings.declared {
-        let id = EffectId::Declared(d);
+    for d in &settings.declared {
+        let id = EffectId::Declared(d.clone());
         if id.stage() != stage {
             continue;
         }
