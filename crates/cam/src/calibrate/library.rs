@@ -357,7 +357,7 @@ mod tests {
             .zip(actuator_model::effects::EFFECT_NAMES)
         {
             assert_eq!(id.name(), name);
-            assert_eq!(EffectId::from_name(name), Some(*id));
+            assert_eq!(EffectId::from_name(name), Some(id.clone()));
             let mut e = EffectModel::default();
             id.apply(&mut e, id.param().null);
             assert!(e.effects.is_null() && e.primitives.is_empty());

@@ -212,6 +212,7 @@ pub(super) mod tests {
     use super::*;
     use crate::calibrate::baseline::OutputErrors;
     use crate::calibrate::select::adequacy::{CorrelationTest, LackOfFit};
+    use std::collections::BTreeMap;
     use std::sync::LazyLock;
 
     fn errors(k_mean: f64) -> OutputErrors {

@@ -266,7 +266,7 @@ fn thickness_form(
     for t in thickness_forms {
         forms.push(vec![eta.clone(), t.clone()]);
         if !own.is_empty() && effect_names(&own).len() < limits.max_effects {
-            forms.push([&[eta.clone()], own.as_slice(), &[t]].concat());
+            forms.push([std::slice::from_ref(&eta), own.as_slice(), &[t]].concat());
         }
     }
     forms.retain(|ids| ids.len() <= limits.max_params);

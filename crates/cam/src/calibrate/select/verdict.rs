@@ -87,7 +87,7 @@ pub(crate) fn decide(grounds: Grounds) -> Verdict {
             all.extend(contenders);
             Verdict::Ambiguous { contenders: all }
         }
-        Grounds::Fitted { selected, .. } if selected.is_empty() => Verdict::NoEffect,
+        Grounds::Fitted { selected: [], .. } => Verdict::NoEffect,
         Grounds::Fitted { .. } => Verdict::Explained,
         Grounds::UnfittableWithoutBroken { excluded, error } => Verdict::InsufficientData {
             reason: format!(
