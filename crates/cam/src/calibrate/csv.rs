@@ -351,23 +351,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
         .filter(|h| !REQUIRED_COLUMNS.contains(h) && !OPTIONAL_COLUMNS.contains(h))
         .map(str::to_string)
         .collect();
-    let col = |name: &str| headers.iter().position(|h| h == name);
-    let mut required = [0usize; 11];
-    for (slot, name) in required.iter_mut().zip(REQUIRED_COLUMNS) {
-        *slot = col(name).ok_or_else(|| {
-            InputError::invalid(
-                file,
-                "header",
-                headers.iter().collect::<Vec<_>>().join(","),
-                format!(
-                    "missing column `{name}`; required: {}",
-                    REQUIRED_COLUMNS.join(",")
-                ),
-            )
-        })?;
-    }
-    let [c_drive, c_pzt, c_ply, c_tab, c_f1, c_q] = OPTIONAL_COLUMNS.map(col);
-    let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = required;
+    let columns = Columns::of(file, &headers)?;
     let mut rows = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| csv_error(file, &e))?;
@@ -378,77 +362,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
             headers: &headers,
             record: &record,
         };
-        let id = row.cell(c_id).to_string();
-        if id.is_empty() {
-            return Err(InputError::missing(
-                file,
-                &row.field("id"),
-                "an actuator id (text)",
-            ));
-        }
-        let l_tot = row.needed(c_l, LENGTH_MM)?;
-        let l_r = row.needed(c_lr, EXTENSION_RATIO)?;
-        let w0 = row.needed(c_w0, BASE_WIDTH_MM)?;
-        let w_r = row.needed(c_wr, WIDTH_RATIO)?;
-        let t_p = row.needed(c_tp, PZT_THICKNESS_MM)?;
-        let voltage = row.needed(c_v, MEASURED_VOLTAGE_V)?;
-        let tab = match c_tab {
-            Some(c) => row.number(c, BASE_TAB_MM)?.unwrap_or(0.0),
-            None => 0.0,
-        };
-        let mass = row.number(c_m, MASS_MG)?;
-        let delta = row.number(c_d, FREE_DEFLECTION_MM)?;
-        let force = row.number(c_f, BLOCKED_FORCE_N)?;
-        let resonance = match c_f1 {
-            Some(c) => row.number(c, RESONANCE_HZ)?,
-            None => None,
-        };
-        let quality_factor = match c_q {
-            Some(c) => row.number(c, QUALITY_FACTOR)?,
-            None => None,
-        };
-        let layup_text = row.cell(c_layup).to_string();
-        let layup_deg = parse_layup(&layup_text).map_err(|_| {
-            row.error(
-                c_layup,
-                format!("{layup_text:?}"),
-                format!(
-                    "expected 1 to {MAX_PLIES} ply angles separated by `/`, like 0/90/0, each in the {PLY_ANGLE_DEG}"
-                ),
-            )
-        })?;
-        let pzt = library_pzt(file, &row.field("pzt"), row.text(c_pzt).unwrap_or("PZT-5H"))?;
-        let (ply, ply_thickness) = library_ply(
-            file,
-            &row.field("ply"),
-            row.text(c_ply).unwrap_or("CF-thesis"),
-        )?;
-        let drive_mode = match row.text(c_drive) {
-            None => DriveMode::Parallel,
-            Some(name) => drive_mode(file, &row.field("drive"), name)?,
-        };
-        let planform = Planform::new(l_tot * 1e-3, l_r, w0 * 1e-3, w_r, tab * 1e-3)
-            .map_err(|e| row.error(c_l, l_tot, format!("gives an invalid planform: {e}")))?;
-        let pzt_thickness = t_p * 1e-3;
-        rows.push(Measurement {
-            id,
-            line,
-            pzt,
-            ply,
-            pzt_thickness,
-            ply_thickness,
-            layup_deg,
-            layup: layup_text,
-            planform,
-            drive_mode,
-            voltage,
-            field: drive_mode.field_from_voltage(voltage, pzt_thickness),
-            mass: mass.map(|m| m * 1e-6),
-            free_deflection: delta.map(|d| d * 1e-3),
-            blocked_force: force,
-            resonance,
-            quality_factor,
-        });
+        rows.push(measurement(&row, &columns)?);
     }
     if rows.is_empty() {
         return Err(InputError::whole_file(file, "the file has no data rows"));
@@ -456,6 +370,116 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
     let mut data = Dataset::new(file, rows)?;
     data.unknown_columns = unknown_columns;
     Ok(data)
+}
+
+/// Where each column is: the required ones in [`REQUIRED_COLUMNS`] order, the optional ones in
+/// [`OPTIONAL_COLUMNS`] order where present.
+struct Columns {
+    required: [usize; 11],
+    optional: [Option<usize>; 6],
+}
+
+impl Columns {
+    /// The columns of `headers`, or the error naming the first required column missing.
+    fn of(file: &Path, headers: &::csv::StringRecord) -> Result<Self, InputError> {
+        let col = |name: &str| headers.iter().position(|h| h == name);
+        let mut required = [0usize; 11];
+        for (slot, name) in required.iter_mut().zip(REQUIRED_COLUMNS) {
+            *slot = col(name).ok_or_else(|| {
+                InputError::invalid(
+                    file,
+                    "header",
+                    headers.iter().collect::<Vec<_>>().join(","),
+                    format!(
+                        "missing column `{name}`; required: {}",
+                        REQUIRED_COLUMNS.join(",")
+                    ),
+                )
+            })?;
+        }
+        Ok(Columns {
+            required,
+            optional: OPTIONAL_COLUMNS.map(col),
+        })
+    }
+}
+
+/// One row validated into a measurement in SI units.
+fn measurement(row: &Row, columns: &Columns) -> Result<Measurement, InputError> {
+    let file = row.file;
+    let [c_drive, c_pzt, c_ply, c_tab, c_f1, c_q] = columns.optional;
+    let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = columns.required;
+    let id = row.cell(c_id).to_string();
+    if id.is_empty() {
+        return Err(InputError::missing(
+            file,
+            &row.field("id"),
+            "an actuator id (text)",
+        ));
+    }
+    let l_tot = row.needed(c_l, LENGTH_MM)?;
+    let l_r = row.needed(c_lr, EXTENSION_RATIO)?;
+    let w0 = row.needed(c_w0, BASE_WIDTH_MM)?;
+    let w_r = row.needed(c_wr, WIDTH_RATIO)?;
+    let t_p = row.needed(c_tp, PZT_THICKNESS_MM)?;
+    let voltage = row.needed(c_v, MEASURED_VOLTAGE_V)?;
+    let tab = match c_tab {
+        Some(c) => row.number(c, BASE_TAB_MM)?.unwrap_or(0.0),
+        None => 0.0,
+    };
+    let mass = row.number(c_m, MASS_MG)?;
+    let delta = row.number(c_d, FREE_DEFLECTION_MM)?;
+    let force = row.number(c_f, BLOCKED_FORCE_N)?;
+    let resonance = match c_f1 {
+        Some(c) => row.number(c, RESONANCE_HZ)?,
+        None => None,
+    };
+    let quality_factor = match c_q {
+        Some(c) => row.number(c, QUALITY_FACTOR)?,
+        None => None,
+    };
+    let layup_text = row.cell(c_layup).to_string();
+    let layup_deg = parse_layup(&layup_text).map_err(|_| {
+        row.error(
+            c_layup,
+            format!("{layup_text:?}"),
+            format!(
+                "expected 1 to {MAX_PLIES} ply angles separated by `/`, like 0/90/0, each in the {PLY_ANGLE_DEG}"
+            ),
+        )
+    })?;
+    let pzt = library_pzt(file, &row.field("pzt"), row.text(c_pzt).unwrap_or("PZT-5H"))?;
+    let (ply, ply_thickness) = library_ply(
+        file,
+        &row.field("ply"),
+        row.text(c_ply).unwrap_or("CF-thesis"),
+    )?;
+    let drive_mode = match row.text(c_drive) {
+        None => DriveMode::Parallel,
+        Some(name) => drive_mode(file, &row.field("drive"), name)?,
+    };
+    let planform = Planform::new(l_tot * 1e-3, l_r, w0 * 1e-3, w_r, tab * 1e-3)
+        .map_err(|e| row.error(c_l, l_tot, format!("gives an invalid planform: {e}")))?;
+    let pzt_thickness = t_p * 1e-3;
+    Ok(Measurement {
+        id,
+        line: row.line,
+        pzt,
+        ply,
+        pzt_thickness,
+        ply_thickness,
+        layup_deg,
+        layup: layup_text,
+        planform,
+        drive_mode,
+        voltage,
+        field: drive_mode.field_from_voltage(voltage, pzt_thickness),
+        mass: mass.map(|m| m * 1e-6),
+        free_deflection: delta.map(|d| d * 1e-3),
+        blocked_force: force,
+        resonance,
+        quality_factor,
+    })
 }
 
 /// A record the CSV reader refuses (a row with the wrong number of cells, text that is not UTF-8),

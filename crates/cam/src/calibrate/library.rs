@@ -5,9 +5,8 @@
 
 use actuator_model::primitives::{Applied, Link};
 use actuator_model::{DeclaredEffect, EffectModel};
-use std::cmp::Ordering;
 use std::hash::{Hash, Hasher};
-use std::sync::Mutex;
+use std::sync::Arc;
 
 /// One parameter of a declared effect: the primitives it drives, its bounds and null value (validated
 /// by the input layer: `lo < hi`, `lo <= null <= hi`, every primitive value inside its physical range
@@ -57,41 +56,30 @@ pub struct DeclaredSpec {
     pub parameters: Vec<DeclaredParameter>,
 }
 
-/// A declared effect's parameter as the selection holds it: `Copy` like the library's effects, so a
-/// candidate's effect list stays a list of ids with one parameter each (an effect with two parameters is
-/// two ids under one name). The specs are interned for the life of the process (a handful, read once
-/// per run; the same declaration read twice gives the same ids), which gives the `&'static` names the
-/// reports borrow.
-#[derive(Debug, Clone, Copy)]
-pub struct Declared {
-    index: usize,
-    spec: &'static Interned,
-}
+/// A declared effect's parameter as the selection holds it: one id per parameter like the library's
+/// effects, so a candidate's effect list stays a list of ids with one parameter each (an effect with
+/// two parameters is two ids under one name). Cloning it shares the declaration; two ids are equal when
+/// they are the same parameter of equal declarations, wherever each was read (the same declaration read
+/// twice gives equal ids).
+#[derive(Debug, Clone)]
+pub struct Declared(Arc<SharedParameter>);
 
+/// One parameter of a declaration the parameters' ids share, with its starting points.
 #[derive(Debug)]
-struct Interned {
-    spec: DeclaredSpec,
+struct SharedParameter {
+    spec: Arc<DeclaredSpec>,
     /// Which of its parameters.
     k: usize,
-    name: &'static str,
-    parameter: &'static str,
-    starts: &'static [f64],
+    /// Starting points of the multistart search.
+    starts: Vec<f64>,
 }
-
-static DECLARED: Mutex<Vec<&'static Interned>> = Mutex::new(Vec::new());
 
 impl Declared {
     /// The ids of a declared effect's parameters, in the declared order.
     pub fn all(spec: DeclaredSpec) -> Vec<Declared> {
-        let mut all = DECLARED.lock().unwrap_or_else(|e| e.into_inner());
+        let spec = Arc::new(spec);
         (0..spec.parameters.len())
             .map(|k| {
-                if let Some(index) = all.iter().position(|i| i.spec == spec && i.k == k) {
-                    return Declared {
-                        index,
-                        spec: all[index],
-                    };
-                }
                 let p = &spec.parameters[k];
                 // Starts: the null value and the midpoints towards each bound.
                 let mut starts = vec![p.null];
@@ -100,30 +88,23 @@ impl Declared {
                         starts.push(x);
                     }
                 }
-                let interned: &'static Interned = Box::leak(Box::new(Interned {
-                    name: Box::leak(spec.name.clone().into_boxed_str()),
-                    parameter: Box::leak(p.name.clone().into_boxed_str()),
-                    starts: Box::leak(starts.into_boxed_slice()),
+                Declared(Arc::new(SharedParameter {
+                    spec: Arc::clone(&spec),
                     k,
-                    spec: spec.clone(),
-                }));
-                all.push(interned);
-                Declared {
-                    index: all.len() - 1,
-                    spec: interned,
-                }
+                    starts,
+                }))
             })
             .collect()
     }
 
     /// The declaration this parameter belongs to.
-    pub fn spec(&self) -> &'static DeclaredSpec {
-        &self.spec.spec
+    pub fn spec(&self) -> &DeclaredSpec {
+        &self.0.spec
     }
 
     /// The parameter.
-    pub fn parameter(&self) -> &'static DeclaredParameter {
-        &self.spec.spec.parameters[self.spec.k]
+    pub fn parameter(&self) -> &DeclaredParameter {
+        &self.0.spec.parameters[self.0.k]
     }
 
     /// As the calibrated model records it, at value `value`: one entry per parameter, under the
@@ -131,7 +112,7 @@ impl Declared {
     pub fn record(&self, value: f64) -> DeclaredEffect {
         let p = self.parameter();
         DeclaredEffect {
-            name: self.spec.spec.name.clone(),
+            name: self.0.spec.name.clone(),
             parameter: p.name.clone(),
             value,
             null: p.null,
@@ -140,10 +121,25 @@ impl Declared {
     }
 }
 
+impl PartialEq for Declared {
+    fn eq(&self, other: &Self) -> bool {
+        let (a, b) = (&self.0, &other.0);
+        Arc::ptr_eq(a, b) || (a.k == b.k && (Arc::ptr_eq(&a.spec, &b.spec) || a.spec == b.spec))
+    }
+}
+// The input layer admits no NaN in a declaration, so equal declarations compare equal.
+impl Eq for Declared {}
+impl Hash for Declared {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.0.spec.name.hash(state);
+        self.0.k.hash(state);
+    }
+}
+
 /// The effect names of a list of ids, in order, each once (the parameters of one declared effect share
 /// its name).
-pub fn effect_names(ids: &[EffectId]) -> Vec<&'static str> {
-    let mut names: Vec<&'static str> = Vec::new();
+pub fn effect_names(ids: &[EffectId]) -> Vec<&str> {
+    let mut names: Vec<&str> = Vec::new();
     for id in ids {
         if !names.contains(&id.name()) {
             names.push(id.name());
@@ -152,30 +148,8 @@ pub fn effect_names(ids: &[EffectId]) -> Vec<&'static str> {
     names
 }
 
-impl PartialEq for Declared {
-    fn eq(&self, other: &Self) -> bool {
-        self.index == other.index
-    }
-}
-impl Eq for Declared {}
-impl PartialOrd for Declared {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Declared {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.index.cmp(&other.index)
-    }
-}
-impl Hash for Declared {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        self.index.hash(state);
-    }
-}
-
 /// One library effect (plus the thesis-style stiffness null), or a declared one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum EffectId {
     /// `d31-scale` η.
     D31Scale,
@@ -208,9 +182,9 @@ pub enum Stage {
 
 /// A fitted parameter in report units.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ParamSpec {
+pub struct ParamSpec<'a> {
     /// Name with unit, as in report.json.
-    pub name: &'static str,
+    pub name: &'a str,
     /// Value that switches the effect off.
     pub null: f64,
     /// Lower bound.
@@ -218,7 +192,7 @@ pub struct ParamSpec {
     /// Upper bound.
     pub hi: f64,
     /// Starting points of the multistart search.
-    pub starts: &'static [f64],
+    pub starts: &'a [f64],
 }
 
 impl EffectId {
@@ -234,7 +208,7 @@ impl EffectId {
     ];
 
     /// The name used in the reports, calibrated-model.toml and effects.toml.
-    pub fn name(self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             EffectId::D31Scale => "d31-scale",
             EffectId::FieldDependentD31 => "field-dependent-d31",
@@ -244,7 +218,7 @@ impl EffectId {
             EffectId::ClampCompliance => "clamp-compliance",
             EffectId::PlyThickness => "ply-thickness",
             EffectId::StiffnessScale => "stiffness-scale",
-            EffectId::Declared(d) => d.spec.name,
+            EffectId::Declared(d) => &d.spec().name,
         }
     }
 
@@ -257,7 +231,7 @@ impl EffectId {
     }
 
     /// Data that identify it.
-    pub fn stage(self) -> Stage {
+    pub fn stage(&self) -> Stage {
         match self {
             EffectId::BondLayer | EffectId::PlyThickness => Stage::Mass,
             EffectId::Declared(d) => d.parameter().stage(),
@@ -266,7 +240,7 @@ impl EffectId {
     }
 
     /// Its parameter (every library effect has one).
-    pub fn param(self) -> ParamSpec {
+    pub fn param(&self) -> ParamSpec<'_> {
         match self {
             EffectId::D31Scale => ParamSpec {
                 name: "eta",
@@ -327,11 +301,11 @@ impl EffectId {
             EffectId::Declared(d) => {
                 let p = d.parameter();
                 ParamSpec {
-                    name: d.spec.parameter,
+                    name: &p.name,
                     null: p.null,
                     lo: p.lo,
                     hi: p.hi,
-                    starts: d.spec.starts,
+                    starts: &d.0.starts,
                 }
             }
         }
@@ -339,7 +313,7 @@ impl EffectId {
 
     /// Set the effect's SI parameter from its report-unit value (a declared parameter adds its
     /// primitives: apply each id once).
-    pub fn apply(self, model: &mut EffectModel, value: f64) {
+    pub fn apply(&self, model: &mut EffectModel, value: f64) {
         let effects = &mut model.effects;
         match self {
             EffectId::D31Scale => effects.d31_scale = value,
@@ -356,7 +330,7 @@ impl EffectId {
 
     /// Read a library effect's parameter back in report units (`None` for a declared one, whose
     /// primitives do not name it).
-    pub fn value(self, model: &EffectModel) -> Option<f64> {
+    pub fn value(&self, model: &EffectModel) -> Option<f64> {
         let effects = &model.effects;
         Some(match self {
             EffectId::D31Scale => effects.d31_scale,
@@ -383,12 +357,43 @@ mod tests {
             .zip(actuator_model::effects::EFFECT_NAMES)
         {
             assert_eq!(id.name(), name);
-            assert_eq!(EffectId::from_name(name), Some(*id));
+            assert_eq!(EffectId::from_name(name), Some(id.clone()));
             let mut e = EffectModel::default();
             id.apply(&mut e, id.param().null);
             assert!(e.effects.is_null() && e.primitives.is_empty());
             id.apply(&mut e, 1.7);
             assert!((id.value(&e).unwrap() - 1.7).abs() < 1e-12);
         }
+    }
+
+    fn glue(name: &str, hi: f64) -> DeclaredSpec {
+        let parameter = |name: &str| DeclaredParameter {
+            name: name.into(),
+            null: 0.0,
+            lo: 0.0,
+            hi,
+            primitives: Vec::new(),
+        };
+        DeclaredSpec {
+            name: name.into(),
+            parameters: vec![parameter("a_um"), parameter("b_um")],
+        }
+    }
+
+    #[test]
+    fn equal_declarations_read_apart_give_equal_ids() {
+        let first = Declared::all(glue("glue", 10.0));
+        let again = Declared::all(glue("glue", 10.0));
+        assert_eq!(first, again);
+        // One id per parameter, each its own.
+        assert_ne!(first[0], first[1]);
+        assert_eq!(first[1].parameter().name, "b_um");
+        // Another bound or another name is another declaration.
+        assert_ne!(first, Declared::all(glue("glue", 20.0)));
+        assert_ne!(first, Declared::all(glue("paste", 10.0)));
+        let id = EffectId::Declared(again[0].clone());
+        assert_eq!(id, EffectId::Declared(first[0].clone()));
+        assert_eq!((id.name(), id.param().name), ("glue", "a_um"));
+        assert_eq!(id.param().starts, [0.0, 5.0]);
     }
 }

@@ -31,6 +31,7 @@ use baseline::{
 };
 use broken::BrokenActuator;
 use library::{effect_names, EffectId};
+use select::verdict::{decide, Grounds};
 
 /// Everything `calibrate` computed.
 #[derive(Debug, Clone)]
@@ -302,12 +303,10 @@ fn screen_broken(
             Ok(sel) => current = Some(sel),
             Err(e) => {
                 let (mut sel, flagged, _) = keep_all(first, flagged, None);
-                sel.verdict = Verdict::InsufficientData {
-                    reason: format!(
-                        "without the {} broken actuator(s) the rest cannot be fitted: {e}",
-                        flagged.len()
-                    ),
-                };
+                sel.verdict = decide(Grounds::UnfittableWithoutBroken {
+                    excluded: flagged.len(),
+                    error: &e,
+                });
                 return Ok((sel, flagged, None));
             }
         }

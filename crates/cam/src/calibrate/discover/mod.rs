@@ -113,9 +113,9 @@ impl RankedCandidate {
     }
 
     /// The library effect fitted beside the primitive, in a combination.
-    pub fn partner(&self) -> Option<&'static str> {
+    pub fn partner(&self) -> Option<&str> {
         match &self.source {
-            Source::Primitive(f) => f.partner.map(|id| id.name()),
+            Source::Primitive(f) => f.partner.as_ref().map(|id| id.name()),
             Source::Library(_) => None,
         }
     }
@@ -174,16 +174,58 @@ pub fn discover(
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| c.aicc);
+    let mut ranked = selection_candidates(selection, settings, eta_aicc);
+    let partners = partners(data, selection);
+    let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
+    let tried = catalogue::catalogue(stack);
+    let jobs: Vec<(&catalogue::Tried, Option<&Partner>)> = tried
+        .iter()
+        .map(|t| (t, None))
+        .chain(
+            partners
+                .iter()
+                .flat_map(|x| tried.iter().map(move |t| (t, Some(x)))),
+        )
+        .collect();
+    let fits: Vec<PrimitiveFit> = jobs
+        .par_iter()
+        .filter_map(|&(t, x)| primitive_fit::fit(data, &act, &base, t, x))
+        .collect();
+    ranked.extend(fits.into_iter().map(|f| primitive_candidate(f, eta_aicc)));
+    keep_gaining(&mut ranked, settings.min_delta_aicc);
+    ranked.sort_by(|a, b| a.aicc.total_cmp(&b.aicc).then(a.name.cmp(&b.name)));
+    let best = ranked.first().map_or(0.0, |c| c.aicc);
+    for c in &mut ranked {
+        c.delta_aicc = c.aicc - best;
+    }
+    let designs = discriminate(data, &predictors(&ranked, &base), 3);
+    Ok(Discovery {
+        power_laws,
+        trends,
+        leading_variable,
+        candidates: ranked,
+        ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
+        designs,
+        mass_forms: mass_fit::rank(data, selection),
+    })
+}
+
+/// The selection's own fits `{η, X}` and `{η, A, B}` as explanations (library and declared effects),
+/// but its thickness form, which the catalogue's inactive surface layer is, fitted with the primitives.
+fn selection_candidates(
+    selection: &Selection,
+    settings: &Settings,
+    eta_aicc: f64,
+) -> Vec<RankedCandidate> {
     let eta_id = EffectId::D31Scale;
-    let mut ranked: Vec<RankedCandidate> = selection
+    selection
         .candidates
         .iter()
         .filter(|c| c.role == Role::Candidate && c.effects.first() == Some(&eta_id))
-        // The selection's thickness form is the catalogue's inactive surface layer, fitted below.
         .filter(|c| {
             !c.effects
                 .iter()
-                .any(|e| thickness::is_form(*e, &settings.declared))
+                .any(|e| thickness::is_form(e, &settings.declared))
         })
         .map(|c| {
             let ids = c.library_effects();
@@ -220,10 +262,14 @@ pub fn discover(
                 },
             }
         })
-        .collect();
-    // The partners of the combinations: the library effects of the best library model with one effect
-    // and of the best with two (a library effect the data hold may fit worse alone than another that
-    // mimics part of the unexplained effect, as a constant clamp compliance mimics one per width).
+        .collect()
+}
+
+/// The partners of the combinations: the library effects of the best library model with one effect
+/// and of the best with two (a library effect the data hold may fit worse alone than another that
+/// mimics part of the unexplained effect, as a constant clamp compliance mimics one per width).
+fn partners(data: &Dataset, selection: &Selection) -> Vec<Partner> {
+    let eta_id = EffectId::D31Scale;
     let l_p_min_mm = data
         .rows
         .iter()
@@ -240,71 +286,64 @@ pub fn discover(
     };
     let mut partners: Vec<Partner> = Vec::new();
     for c in [best_library(1), best_library(2)].into_iter().flatten() {
-        for (k, &id) in c.effects.iter().enumerate().skip(1) {
-            if partners.iter().any(|x| x.id == id) {
+        for (k, id) in c.effects.iter().enumerate().skip(1) {
+            if partners.iter().any(|x| x.id == *id) {
                 continue;
             }
             let p = id.param();
             // The selection's own cap on the dead length (docs/calibration.md §3).
-            let hi = if id == EffectId::DeadLength {
+            let hi = if *id == EffectId::DeadLength {
                 p.hi.min(0.8 * l_p_min_mm)
             } else {
                 p.hi
             };
             partners.push(Partner {
-                id,
+                id: id.clone(),
                 lo: p.lo,
                 hi,
                 start: c.values[k],
             });
         }
     }
-    let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
-    let tried = catalogue::catalogue(stack);
-    let jobs: Vec<(&catalogue::Tried, Option<Partner>)> = tried
-        .iter()
-        .map(|t| (t, None))
-        .chain(
-            partners
-                .iter()
-                .flat_map(|&x| tried.iter().map(move |t| (t, Some(x)))),
-        )
-        .collect();
-    let fits: Vec<PrimitiveFit> = jobs
-        .par_iter()
-        .filter_map(|&(t, x)| primitive_fit::fit(data, &act, &base, t, x))
-        .collect();
-    ranked.extend(fits.into_iter().map(|f| {
-        let single = catalogue::name(f.primitive);
-        let (name, parts, also) = match f.partner {
-            Some(id) => (
-                format!("{} + {single}", id.name()),
-                vec![id.name().to_string(), single.clone()],
-                vec![AlsoFitted {
-                    parameter: id.param().name.into(),
-                    estimate: f.theta[2],
-                    interval: f.intervals[2],
-                }],
-            ),
-            None => (single, Vec::new(), Vec::new()),
-        };
-        RankedCandidate {
-            name,
-            library: false,
-            parameter: catalogue::parameter(f.primitive).into(),
-            estimate: f.theta[1],
-            interval: f.intervals[1],
-            eta: f.theta[0],
-            aicc: f.aicc,
-            delta_aicc: 0.0,
-            gain_over_eta: eta_aicc - f.aicc,
-            rmse_log: (f.rss / f.n.max(1) as f64).sqrt(),
-            also,
-            source: Source::Primitive(f),
-            parts,
-        }
-    }));
-    // A combination stays only when it gains the selection's margin over each of its parts.
+    partners
+}
+
+/// A primitive outside the library as an explanation, alone `{η, P}` or beside a library effect
+/// `{η, A, P}` (named `A + P`).
+fn primitive_candidate(f: PrimitiveFit, eta_aicc: f64) -> RankedCandidate {
+    let single = catalogue::name(f.primitive);
+    let (name, parts, also) = match &f.partner {
+        Some(id) => (
+            format!("{} + {single}", id.name()),
+            vec![id.name().to_string(), single.clone()],
+            vec![AlsoFitted {
+                parameter: id.param().name.into(),
+                estimate: f.theta[2],
+                interval: f.intervals[2],
+            }],
+        ),
+        None => (single, Vec::new(), Vec::new()),
+    };
+    RankedCandidate {
+        name,
+        library: false,
+        parameter: catalogue::parameter(f.primitive).into(),
+        estimate: f.theta[1],
+        interval: f.intervals[1],
+        eta: f.theta[0],
+        aicc: f.aicc,
+        delta_aicc: 0.0,
+        gain_over_eta: eta_aicc - f.aicc,
+        rmse_log: (f.rss / f.n.max(1) as f64).sqrt(),
+        also,
+        source: Source::Primitive(f),
+        parts,
+    }
+}
+
+/// Keep a combination only when it gains `min_delta_aicc` (the selection's margin) over each of its
+/// parts.
+fn keep_gaining(ranked: &mut Vec<RankedCandidate>, min_delta_aicc: f64) {
     let single_aicc = |name: &str| {
         ranked
             .iter()
@@ -316,17 +355,16 @@ pub fn discover(
         .map(|c| {
             c.parts
                 .iter()
-                .all(|p| c.aicc <= single_aicc(p) - settings.min_delta_aicc)
+                .all(|p| c.aicc <= single_aicc(p) - min_delta_aicc)
         })
         .collect();
     let mut keep = keep.into_iter();
     ranked.retain(|_| keep.next().unwrap_or(false));
-    ranked.sort_by(|a, b| a.aicc.total_cmp(&b.aicc).then(a.name.cmp(&b.name)));
-    let best = ranked.first().map_or(0.0, |c| c.aicc);
-    for c in &mut ranked {
-        c.delta_aicc = c.aicc - best;
-    }
-    let predictors: Vec<Predictor> = ranked
+}
+
+/// The predictions of the leading candidates, for the designs that separate them.
+fn predictors<'a>(ranked: &[RankedCandidate], base: &'a EffectModel) -> Vec<Predictor<'a>> {
+    ranked
         .iter()
         .take(LEADING)
         .map(|c| {
@@ -336,21 +374,11 @@ pub fn discover(
                     (c.name.clone(), Box::new(move |a| e.predict(a)))
                 }
                 Source::Primitive(p) => {
-                    let (p, base) = (p.clone(), &base);
+                    let p = p.clone();
                     (c.name.clone(), Box::new(move |a| p.predict(base, a)))
                 }
             };
             f
         })
-        .collect();
-    let designs = discriminate(data, &predictors, 3);
-    Ok(Discovery {
-        power_laws,
-        trends,
-        leading_variable,
-        candidates: ranked,
-        ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
-        designs,
-        mass_forms: mass_fit::rank(data, selection),
-    })
+        .collect()
 }

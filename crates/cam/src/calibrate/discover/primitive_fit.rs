@@ -25,7 +25,7 @@ use std::cell::RefCell;
 
 /// A library effect fitted beside the primitive: its id, the bounds of its parameter (report units)
 /// and the start (its estimate in its own `{η, A}` fit).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Partner {
     /// The library effect.
     pub id: EffectId,
@@ -57,15 +57,15 @@ pub struct PrimitiveFit {
 }
 
 /// Whether δ and F_b stay proportional to the field (true for everything but a field-dependent d31).
-fn field_linear(p: Primitive, partner: Option<EffectId>) -> bool {
-    !matches!(p, Primitive::FieldDependentD31) && partner != Some(EffectId::FieldDependentD31)
+fn field_linear(p: Primitive, partner: Option<&EffectId>) -> bool {
+    !matches!(p, Primitive::FieldDependentD31) && partner != Some(&EffectId::FieldDependentD31)
 }
 
 /// The model at the primitive's value `p` and the partner's value `a`, on top of `base` (η apart).
 fn model_at(
     base: &EffectModel,
     primitive: Primitive,
-    partner: Option<EffectId>,
+    partner: Option<&EffectId>,
     p: f64,
     a: f64,
 ) -> EffectModel {
@@ -90,9 +90,9 @@ pub(crate) fn fit(
     act: &ActuationData,
     base: &EffectModel,
     tried: &Tried,
-    partner: Option<Partner>,
+    partner: Option<&Partner>,
 ) -> Option<PrimitiveFit> {
-    let partner_id = partner.map(|x| x.id);
+    let partner_id = partner.map(|x| &x.id);
     let linear = field_linear(tried.primitive, partner_id);
     // Evaluation points (rows: an actuator's first, or every row) and, per observation, (point, ln
     // field ratio).
@@ -197,7 +197,7 @@ pub(crate) fn fit(
     let k = fit.theta.len();
     Some(PrimitiveFit {
         primitive: tried.primitive,
-        partner: partner_id,
+        partner: partner_id.cloned(),
         intervals: iv,
         rss: fit.rss,
         n: fit.n,
@@ -217,7 +217,7 @@ impl PrimitiveFit {
         let mut m = model_at(
             base,
             self.primitive,
-            self.partner,
+            self.partner.as_ref(),
             self.theta[1],
             self.theta.get(2).copied().unwrap_or(0.0),
         );

@@ -25,7 +25,7 @@ pub struct Suggestion {
     /// The effect name (the primitive's report name).
     pub name: String,
     /// The library effect it was fitted beside, in a combination.
-    pub partner: Option<&'static str>,
+    pub partner: Option<String>,
     /// The primitive.
     pub primitive: Primitive,
     /// The parameter's name with its unit (SI).
@@ -60,7 +60,7 @@ pub fn suggestions(d: &Discovery, mass_first: bool, min_delta_aicc: f64) -> Vec<
             rank: actuation.len() + 1,
             residual: "deflection and force",
             name: catalogue::name(p),
-            partner: c.partner(),
+            partner: c.partner().map(String::from),
             primitive: p,
             parameter: catalogue::parameter(p),
             null: p.null(),

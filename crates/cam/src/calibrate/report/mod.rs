@@ -2,6 +2,7 @@
 //! one tree of serde structs ([`tree::Report`]), the SVG parity and residual plots, and the model file,
 //! all rendered in memory.
 
+pub mod fitted;
 pub mod markdown;
 pub mod plots;
 pub mod suggested;

@@ -51,6 +51,7 @@ fn entry(x: &Suggestion) -> String {
     let mut t = String::new();
     let beside = x
         .partner
+        .as_ref()
         .map(|a| format!(", fitted beside the library's {a}"))
         .unwrap_or_default();
     let _ = writeln!(

@@ -8,16 +8,18 @@ use crate::calibrate::library::{effect_names, EffectId};
 /// better cross-validation than every parent, and intervals that exclude the null value.
 pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Settings) {
     // Parents by effect, not by parameter: a declared effect with two parameters is one effect.
+    let effects: Vec<Vec<EffectId>> = candidates.iter().map(Candidate::library_effects).collect();
     let snapshot: Vec<(Vec<&str>, f64, f64)> = candidates
         .iter()
-        .map(|c| (effect_names(&c.library_effects()), c.aicc, c.cv_rmse))
+        .zip(&effects)
+        .map(|(c, e)| (effect_names(e), c.aicc, c.cv_rmse))
         .collect();
     let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
-    for c in candidates.iter_mut() {
+    for (c, own) in candidates.iter_mut().zip(&effects) {
         if c.role != Role::Candidate {
             continue;
         }
-        let mine = effect_names(&c.library_effects());
+        let mine = effect_names(own);
         let mut parents: Vec<usize> = nulls.to_vec();
         if mine.len() >= 2 {
             parents = snapshot

@@ -147,34 +147,66 @@ pub(super) fn adequacy_of_fit(
     // The resonances' residuals follow the deflections' and forces': they enter the correlation tests
     // below, and the lack-of-fit test is that of the sweeps.
     let frequency_res = r.split_off(labels.len().min(r.len()));
-    let rss: f64 = r.iter().map(|x| x * x).sum();
-    let groups = data.actuators();
-    let mut row_res: Vec<[Option<f64>; 2]> = vec![[None, None]; act.obs.len()];
+    let lack_of_fit = lack_of_fit(act, &r, params);
+    let mut row_res: Vec<RowResiduals> = vec![[None, None]; act.obs.len()];
     for (&(i, output), &res) in labels.iter().zip(&r) {
         row_res[i][(output == "blocked_force") as usize] = Some(res);
     }
-    // Pure error: a line in the field per actuator and output.
-    let (rss_full, q, sweeps) = sweep_lines(act, &r);
-    let n = r.len();
-    let p = params;
-    let df2 = n as f64 - q as f64;
-    let df1 = q as f64 - p as f64;
-    let lack_of_fit = if sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0 {
-        let f = ((rss - rss_full).max(0.0) / df1) / (rss_full / df2);
-        Some(LackOfFit {
-            f,
-            df1,
-            df2,
-            p: stats::f_upper_p(f, df1, df2),
-            sigma_pure: (rss_full / df2).sqrt(),
-        })
-    } else {
-        None
-    };
-
-    // Correlations of the per-actuator mean residuals with the design variables.
+    let per_group = per_group_residuals(act, &row_res);
     let mut tests = Vec::new();
-    let mut per_group: Vec<(usize, [Vec<f64>; 2])> = Vec::new();
+    design_variable_tests(&mut tests, data, act, &per_group, mass, &frequency_res);
+    within_sweep_tests(&mut tests, act, &per_group, &row_res);
+    let raw: Vec<f64> = tests.iter().map(|t| t.p).collect();
+    for (t, adj) in tests.iter_mut().zip(stats::holm(&raw)) {
+        t.p_holm = adj;
+    }
+    let worst = tests
+        .iter()
+        .min_by(|a, b| a.p.total_cmp(&b.p))
+        .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r));
+    let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
+    let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
+    Adequacy {
+        lack_of_fit,
+        correlations: tests,
+        passed: correlations_pass && lof_pass,
+        worst_variable: worst,
+    }
+}
+
+/// One observation's log residuals: deflection, force (None where not measured).
+type RowResiduals = [Option<f64>; 2];
+
+/// Each actuator's residuals: its deflections', and its stiffnesses' (force minus deflection, where
+/// both were measured), in the order the actuators first appear in `act`.
+type GroupResiduals = Vec<(usize, [Vec<f64>; 2])>;
+
+/// The lack-of-fit F test of the deflection and force residuals `r` of a model with `params` fitted
+/// parameters against the pure error of the voltage sweeps (None without 3 sweeps of 3 levels or more
+/// and the degrees of freedom to test).
+fn lack_of_fit(act: &ActuationData, r: &[f64], params: usize) -> Option<LackOfFit> {
+    let rss: f64 = r.iter().map(|x| x * x).sum();
+    // Pure error: a line in the field per actuator and output.
+    let (rss_full, q, sweeps) = sweep_lines(act, r);
+    let n = r.len();
+    let df2 = n as f64 - q as f64;
+    let df1 = q as f64 - params as f64;
+    if !(sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0) {
+        return None;
+    }
+    let f = ((rss - rss_full).max(0.0) / df1) / (rss_full / df2);
+    Some(LackOfFit {
+        f,
+        df1,
+        df2,
+        p: stats::f_upper_p(f, df1, df2),
+        sigma_pure: (rss_full / df2).sqrt(),
+    })
+}
+
+/// The residuals of `act`'s observations grouped by actuator.
+fn per_group_residuals(act: &ActuationData, row_res: &[RowResiduals]) -> GroupResiduals {
+    let mut per_group: GroupResiduals = Vec::new();
     for (i, o) in act.obs.iter().enumerate() {
         let entry = match per_group.iter_mut().find(|(g, _)| *g == o.group) {
             Some(e) => e,
@@ -190,6 +222,20 @@ pub(super) fn adequacy_of_fit(
             }
         }
     }
+    per_group
+}
+
+/// Correlations of the per-actuator mean residuals (deflection, stiffness), the mass residuals under
+/// the mass model and the resonances' residuals `frequency_res` with the design variables.
+fn design_variable_tests(
+    tests: &mut Vec<CorrelationTest>,
+    data: &Dataset,
+    act: &ActuationData,
+    per_group: &GroupResiduals,
+    mass: Option<(&EffectModel, &MassData)>,
+    frequency_res: &[f64],
+) {
+    let groups = data.actuators();
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let mut mass_res = vec![None; groups];
     if let Some((mm, mass_data)) = mass {
@@ -206,24 +252,33 @@ pub(super) fn adequacy_of_fit(
             .filter(|(_, v)| !v[slot].is_empty())
             .map(|(g, v)| (*g, mean(&v[slot])))
             .collect();
-        push_variable_tests(&mut tests, kind, &pts, &first_row);
+        push_variable_tests(tests, kind, &pts, &first_row);
     }
     let mass_pts: Vec<(usize, f64)> = (0..groups)
         .filter_map(|g| mass_res[g].map(|v| (g, v)))
         .collect();
-    push_variable_tests(&mut tests, "mass", &mass_pts, &first_row);
+    push_variable_tests(tests, "mass", &mass_pts, &first_row);
     let frequency_pts: Vec<(usize, f64)> = act
         .resonances
         .obs
         .iter()
-        .zip(&frequency_res)
+        .zip(frequency_res)
         .map(|(o, &v)| (o.group, v))
         .collect();
-    push_variable_tests(&mut tests, "resonance", &frequency_pts, &first_row);
-    // Within-sweep trend with the field.
+    push_variable_tests(tests, "resonance", &frequency_pts, &first_row);
+}
+
+/// The trend of the deflection and stiffness residuals with the field within each actuator's sweep
+/// (each sweep centred on its own mean).
+fn within_sweep_tests(
+    tests: &mut Vec<CorrelationTest>,
+    act: &ActuationData,
+    per_group: &GroupResiduals,
+    row_res: &[RowResiduals],
+) {
     for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
         let (mut xs, mut ys) = (Vec::new(), Vec::new());
-        for (g, _) in &per_group {
+        for (g, _) in per_group {
             let pts: Vec<(f64, f64)> = act
                 .obs
                 .iter()
@@ -262,22 +317,6 @@ pub(super) fn adequacy_of_fit(
                 p_holm: 1.0,
             });
         }
-    }
-    let raw: Vec<f64> = tests.iter().map(|t| t.p).collect();
-    for (t, adj) in tests.iter_mut().zip(stats::holm(&raw)) {
-        t.p_holm = adj;
-    }
-    let worst = tests
-        .iter()
-        .min_by(|a, b| a.p.total_cmp(&b.p))
-        .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r));
-    let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
-    let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
-    Adequacy {
-        lack_of_fit,
-        correlations: tests,
-        passed: correlations_pass && lof_pass,
-        worst_variable: worst,
     }
 }
 

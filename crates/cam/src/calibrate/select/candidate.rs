@@ -59,7 +59,7 @@ pub struct Candidate {
 }
 
 /// A mass parameter refitted beside an actuation model.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CarriedValue {
     /// The mass effect.
     pub id: EffectId,
@@ -76,8 +76,8 @@ impl Candidate {
     pub fn library_effects(&self) -> Vec<EffectId> {
         self.effects
             .iter()
-            .copied()
             .filter(|e| !matches!(e, EffectId::D31Scale | EffectId::StiffnessScale))
+            .cloned()
             .collect()
     }
 

@@ -226,7 +226,7 @@ fn carried_values(carried: &[CarriedParameter], joint: &FitResult) -> Vec<Carrie
         .iter()
         .enumerate()
         .map(|(k, c)| CarriedValue {
-            id: c.id,
+            id: c.id.clone(),
             value: joint.theta[k],
             std_error: std_errors[k],
             interval: intervals[k],

@@ -60,7 +60,7 @@ pub fn not_identifiable(
             .iter()
             .map(|id| {
                 (
-                    *id,
+                    id.clone(),
                     format!(
                         "the model cannot be evaluated beside the fit of {} (a parameter at a physical limit)",
                         id.name()
@@ -77,7 +77,7 @@ pub fn not_identifiable(
         let norm = col.norm();
         if norm == 0.0 || !norm.is_finite() {
             out.push((
-                *id,
+                id.clone(),
                 format!(
                     "{} changes no prediction of this data (nothing it acts on varies or exists)",
                     id.name()
@@ -115,10 +115,10 @@ pub fn not_identifiable(
                     id.name()
                 ),
             };
-            out.push((*id, why));
+            out.push((id.clone(), why));
         } else if fit.rss <= 1e-20 * n as f64 {
             out.push((
-                *id,
+                id.clone(),
                 format!(
                     "the fit leaves no residual, so the data give no interval for {}",
                     id.name()

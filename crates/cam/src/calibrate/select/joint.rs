@@ -22,7 +22,7 @@ use actuator_model::{EffectModel, ModelError};
 
 /// One carried mass parameter: its masses-only estimate, the centre and step of the stencil the stacks
 /// are solved on, and the trust region the joint fit keeps it in.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(super) struct CarriedParameter {
     pub(super) id: EffectId,
     /// The masses-only estimate (the fit's start).
@@ -40,7 +40,7 @@ impl CarriedParameter {
     /// 1/1000 and at most 1/16 of the parameter's range (a quadratic over 1/4 of the range of a ply
     /// thickness or bond is still accurate to well below the noise).
     pub(super) fn of(mass: &Candidate, k: usize) -> CarriedParameter {
-        let id = mass.effects[k];
+        let id = &mass.effects[k];
         let p = id.param();
         let range = p.hi - p.lo;
         let se = mass.std_errors[k];
@@ -52,7 +52,7 @@ impl CarriedParameter {
         let start = mass.values[k];
         let centre = start.clamp(p.lo + step, p.hi - step);
         CarriedParameter {
-            id,
+            id: id.clone(),
             start,
             centre,
             step,

@@ -89,14 +89,19 @@ pub(super) fn forms(data: &Dataset, declared: &[Declared]) -> Vec<EffectId> {
     ]
     .into_iter()
     .filter(|spec| !already(spec.parameters[0].primitives[0].primitive))
-    .filter_map(|spec| Declared::all(spec).first().copied().map(EffectId::Declared))
+    .filter_map(|spec| {
+        Declared::all(spec)
+            .into_iter()
+            .next()
+            .map(EffectId::Declared)
+    })
     .collect()
 }
 
 /// Whether `id` is the thickness form the selection added (a declared effect the lab did not declare).
-pub fn is_form(id: EffectId, declared: &[Declared]) -> bool {
+pub fn is_form(id: &EffectId, declared: &[Declared]) -> bool {
     matches!(id, EffectId::Declared(d)
-        if !declared.contains(&d) && [NAME, POWER_NAME].contains(&d.spec().name.as_str()))
+        if !declared.contains(d) && [NAME, POWER_NAME].contains(&d.spec().name.as_str()))
 }
 
 /// Whether the candidate carries the power form.
