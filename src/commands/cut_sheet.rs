@@ -62,7 +62,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
                 .chain(Template::file_of(&design.process, &design.source))
                 .chain(args.drive.clone()),
         )
-        .stream_folder("-o", &args.output.required())?;
+        .stream_folder("-o", args.output.required())?;
     let (mut sheet, mut layer_files) =
         plan_and_put(&design, &template, &opts, &mut |name, bytes| {
             folder.add(name, bytes).map_err(Into::into)

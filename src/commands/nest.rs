@@ -174,7 +174,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
                 .chain(batch.items.iter().map(|i| i.design.source.clone()))
                 .chain(batch.parts.iter().map(|p| p.part.file.clone())),
         )
-        .folder("-o", &args.output.required(), files)
+        .folder("-o", args.output.required(), files)
         .write()?;
     if interrupt::search_ended() {
         eprintln!("the search was interrupted: the files hold the best layout found by then (the report says how far each layer got)");

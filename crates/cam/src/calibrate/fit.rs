@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// One fitted parameter's range and the point the search may start from.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bounds {
+pub struct ParameterRange {
     /// Lower bound.
     pub lo: f64,
     /// Upper bound.
@@ -73,7 +73,7 @@ impl FitResult {
 /// Minimise `Σ r(θ)²` over the box `bounds` from each start; keep the best.
 ///
 /// `residuals(θ, out)` fills `out` (same length on every call).
-pub fn least_squares<F>(residuals: &F, bounds: &[Bounds], starts: &[Vec<f64>]) -> FitResult
+pub fn least_squares<F>(residuals: &F, bounds: &[ParameterRange], starts: &[Vec<f64>]) -> FitResult
 where
     F: Fn(&[f64], &mut Vec<f64>),
 {
@@ -87,7 +87,7 @@ where
     best.unwrap_or_else(|| levenberg_marquardt(residuals, bounds, &[]))
 }
 
-fn clamp(theta: &mut [f64], bounds: &[Bounds]) {
+fn clamp(theta: &mut [f64], bounds: &[ParameterRange]) {
     for (t, b) in theta.iter_mut().zip(bounds) {
         *t = t.clamp(b.lo, b.hi);
     }
@@ -97,7 +97,7 @@ fn rss_of(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 
-fn jacobian<F>(residuals: &F, bounds: &[Bounds], theta: &[f64], r0: &[f64]) -> DMatrix<f64>
+fn jacobian<F>(residuals: &F, bounds: &[ParameterRange], theta: &[f64], r0: &[f64]) -> DMatrix<f64>
 where
     F: Fn(&[f64], &mut Vec<f64>),
 {
@@ -123,7 +123,7 @@ where
     j
 }
 
-fn levenberg_marquardt<F>(residuals: &F, bounds: &[Bounds], start: &[f64]) -> FitResult
+fn levenberg_marquardt<F>(residuals: &F, bounds: &[ParameterRange], start: &[f64]) -> FitResult
 where
     F: Fn(&[f64], &mut Vec<f64>),
 {
@@ -203,10 +203,16 @@ mod tests {
                     .map(|(x, y)| y - t[0] * (-t[1] * x).exp()),
             );
         };
-        let b = [Bounds { lo: 0.0, hi: 10.0 }, Bounds { lo: 0.0, hi: 5.0 }];
+        let b = [
+            ParameterRange { lo: 0.0, hi: 10.0 },
+            ParameterRange { lo: 0.0, hi: 5.0 },
+        ];
         let fit = least_squares(&f, &b, &[vec![1.0, 0.1]]);
         assert!((fit.theta[0] - 2.0).abs() < 1e-6 && (fit.theta[1] - 1.3).abs() < 1e-6);
-        let capped = [Bounds { lo: 0.0, hi: 10.0 }, Bounds { lo: 0.0, hi: 1.0 }];
+        let capped = [
+            ParameterRange { lo: 0.0, hi: 10.0 },
+            ParameterRange { lo: 0.0, hi: 1.0 },
+        ];
         let fit = least_squares(&f, &capped, &[vec![1.0, 0.1]]);
         assert!(fit.theta[1] <= 1.0 && (fit.theta[1] - 1.0).abs() < 1e-9);
     }

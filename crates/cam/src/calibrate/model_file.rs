@@ -371,7 +371,7 @@ mod tests {
                 .unwrap_err()
                 .to_string()
         };
-        // Bounds: calibrate's fit bounds (src/calibrate/library.rs) in SI: eta [0.05, 3],
+        // ParameterRange: calibrate's fit bounds (src/calibrate/library.rs) in SI: eta [0.05, 3],
         // dead length [0, 20] mm, bond layer [0, 200] um, beta [-0.4, 3] per V/um.
         assert_eq!(
             refused("d31_scale = 1e300"),

@@ -10,7 +10,7 @@
 
 use super::catalogue::{self, mass_catalogue, Tried};
 use crate::calibrate::csv::Dataset;
-use crate::calibrate::fit::{least_squares, Bounds};
+use crate::calibrate::fit::{least_squares, ParameterRange};
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
 use crate::calibrate::select::fitter::intervals;
 use crate::calibrate::select::{Role, Selection};
@@ -158,7 +158,7 @@ fn fit(
                 .map(|&(ln_m, m0, dm)| ln_m - (m0 + (theta[0] - null) * dm).max(1e-30).ln()),
         );
     };
-    let bounds = [Bounds {
+    let bounds = [ParameterRange {
         lo: tried.lo,
         hi: tried.hi,
     }];

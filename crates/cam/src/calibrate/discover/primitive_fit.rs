@@ -13,7 +13,7 @@
 
 use super::catalogue::Tried;
 use crate::calibrate::csv::Dataset;
-use crate::calibrate::fit::{least_squares, Bounds, FitResult};
+use crate::calibrate::fit::{least_squares, FitResult, ParameterRange};
 use crate::calibrate::library::EffectId;
 use crate::calibrate::select::fitter::intervals;
 use crate::calibrate::select::observations::ActuationData;
@@ -166,17 +166,17 @@ pub(crate) fn fit(
     };
     let eta = EffectId::D31Scale.param();
     let mut bounds = vec![
-        Bounds {
+        ParameterRange {
             lo: eta.lo,
             hi: eta.hi,
         },
-        Bounds {
+        ParameterRange {
             lo: tried.lo,
             hi: tried.hi,
         },
     ];
     if let Some(x) = partner {
-        bounds.push(Bounds { lo: x.lo, hi: x.hi });
+        bounds.push(ParameterRange { lo: x.lo, hi: x.hi });
     }
     let starts: Vec<Vec<f64>> = tried
         .starts

@@ -6,7 +6,7 @@ use super::cross_validation;
 use super::identifiability;
 use super::joint::CarriedParameter;
 use super::observations::StageData;
-use crate::calibrate::fit::{least_squares, Bounds, FitResult};
+use crate::calibrate::fit::{least_squares, FitResult, ParameterRange};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
@@ -61,7 +61,7 @@ pub(super) struct Fitter<'a> {
 }
 
 impl Fitter<'_> {
-    fn bounds(&self, ids: &[EffectId]) -> Vec<Bounds> {
+    fn bounds(&self, ids: &[EffectId]) -> Vec<ParameterRange> {
         ids.iter()
             .map(|id| {
                 let p = id.param();
@@ -70,7 +70,7 @@ impl Fitter<'_> {
                 } else {
                     p.hi
                 };
-                Bounds { lo: p.lo, hi }
+                ParameterRange { lo: p.lo, hi }
             })
             .collect()
     }
@@ -101,7 +101,7 @@ impl Fitter<'_> {
         } else {
             0
         };
-        let mut bounds: Vec<Bounds> = self.carried[..c].iter().map(|p| p.bounds).collect();
+        let mut bounds: Vec<ParameterRange> = self.carried[..c].iter().map(|p| p.bounds).collect();
         bounds.extend(self.bounds(ids));
         // The carried parameters held: their stacks once, and the masses, which only they move, left out.
         let held_data = (c == 0)

@@ -15,7 +15,7 @@
 
 use super::candidate::Candidate;
 use super::observations::{ActuationData, ActuationObs, MassData, StageData};
-use crate::calibrate::fit::Bounds;
+use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, ModelError};
@@ -32,7 +32,7 @@ pub(super) struct CarriedParameter {
     /// Step of the stencil.
     step: f64,
     /// Where the joint fit may move it: two steps either side of the centre, inside the bounds.
-    pub(super) bounds: Bounds,
+    pub(super) bounds: ParameterRange,
 }
 
 impl CarriedParameter {
@@ -56,7 +56,7 @@ impl CarriedParameter {
             start,
             centre,
             step,
-            bounds: Bounds {
+            bounds: ParameterRange {
                 lo: (centre - 2.0 * step).max(p.lo),
                 hi: (centre + 2.0 * step).min(p.hi),
             },
