@@ -605,6 +605,43 @@ fn a_time_budget_nests_until_it_runs_out_and_the_report_says_how_far_each_layer_
     assert!(md.contains("## Search (time budget 3 s)"), "{md}");
 }
 
+/// A budget shorter than placing every part once: the layout is still complete and verified, and
+/// the run says on stderr, in the JSON and in the Markdown report that the budget was exceeded and by
+/// how long the first layout took. With a budget the first layout fits in, none of it appears.
+#[test]
+fn a_budget_the_first_layout_overruns_is_said_with_the_time_it_took() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = nest(
+        Path::new(&example("batch.toml")),
+        &out,
+        &["--time", "0.001"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_report(&out, &example_designs(), 0.3);
+    let err = stderr(&o);
+    assert!(err.contains("the time budget was exceeded"), "{err}");
+    let report = nest_report_json(&out);
+    let over: Vec<f64> = report["baseline"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|l| l["search"]["over_budget_s"].as_f64())
+        .collect();
+    assert!(
+        !over.is_empty() && over.iter().all(|t| *t > 0.001),
+        "{report}"
+    );
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    assert!(md.contains("past the budget"), "{md}");
+    let roomy = dir.path().join("roomy");
+    let o = nest(Path::new(&example("batch.toml")), &roomy, &["--time", "3s"]);
+    assert!(!stderr(&o).contains("exceeded"), "{}", stderr(&o));
+    assert!(!std::fs::read_to_string(roomy.join("nest-report.json"))
+        .unwrap()
+        .contains("over_budget_s"));
+}
+
 /// The example batch nested with a time budget far longer than the test, interrupted
 /// `interrupts` times once its search is under way (SIGINT, as Ctrl-C sends).
 fn interrupted_nest(

@@ -176,6 +176,15 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
         )
         .folder("-o", args.output.required(), files)
         .write()?;
+    // A time budget that the first layout alone overran is said, with how long the layer's search took.
+    for b in &report.baseline {
+        if let Some(t) = b.search.as_ref().and_then(|r| r.over_budget_s) {
+            eprintln!(
+                "nest: layer {}: the time budget was exceeded: placing every part once took {t:.1} s",
+                b.layer
+            );
+        }
+    }
     if interrupt::search_ended() {
         eprintln!("the search was interrupted: the files hold the best layout found by then (the report says how far each layer got)");
     }

@@ -67,11 +67,14 @@ impl NestReport {
             } else {
                 "not replayable".into()
             };
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {replay} |",
-                b.layer, r.iterations, r.ended
-            );
+            let ended = match r.over_budget_s {
+                Some(t) => format!(
+                    "{} (its first layout took {t:.1} s, past the budget)",
+                    r.ended
+                ),
+                None => r.ended.clone(),
+            };
+            let _ = writeln!(s, "| {} | {} | {ended} | {replay} |", b.layer, r.iterations);
         }
         s.push('\n');
         s

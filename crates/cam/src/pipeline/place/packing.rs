@@ -79,6 +79,10 @@ pub struct SearchRow {
     /// What ended the search: `budget` (iterations or the search's stop rules), `time`, or
     /// `interrupt`.
     pub ended: String,
+    /// The search's wall time, s, when its first layout was finished past the time budget: every part
+    /// must be placed once, however long that takes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub over_budget_s: Option<f64>,
 }
 
 impl SearchRow {
@@ -93,6 +97,7 @@ impl SearchRow {
                 SearchEnd::Interrupt => "interrupt",
             }
             .into(),
+            over_budget_s: reached.over_budget.map(|d| d.as_secs_f64()),
         }
     }
 }
