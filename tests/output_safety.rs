@@ -409,16 +409,15 @@ fn every_file_a_run_reads_is_an_input_no_output_replaces() {
     assert_eq!(snapshot(&inputs), before);
     let named = Path::new(&scratch).join("design.toml");
     fs::copy(&model, &named).unwrap();
-    let args = vec![
-        "optimize".to_string(),
-        at("optimize-thesis.toml"),
-        "--model".into(),
-        named.to_str().unwrap().to_string(),
-        "-o".into(),
-        scratch.clone(),
-        "--force".into(),
-    ];
-    let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let o = run(&[
+        "optimize",
+        &at("optimize-thesis.toml"),
+        "--model",
+        named.to_str().unwrap(),
+        "-o",
+        &scratch,
+        "--force",
+    ]);
     let err = refused_in_one_line(&o);
     assert!(err.contains("design.toml is an input of this run"), "{err}");
     let factors = at("sweep-table-3-2.toml");
