@@ -158,7 +158,7 @@ pub fn parse_model(text: &str) -> Result<ModelChoice, String> {
 pub fn parse_built_in_model(text: &str) -> Result<ModelKind, String> {
     built_in(text).ok_or_else(|| {
         format!(
-            "a sweep takes a built-in model, one of {BUILT_IN} (a calibrated model is not swept)"
+            "unknown model for a sweep; expected a built-in model, one of {BUILT_IN} (a calibrated model is not swept)"
         )
     })
 }

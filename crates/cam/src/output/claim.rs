@@ -3,9 +3,8 @@
 //! once. The lock is an advisory `flock` on [`LOCK`], which the system releases when the process ends
 //! however it ends; the file also holds the pid and the command, to name the owner to a second run.
 
-use super::destination::file_id;
 use super::journal::{self, RecoverError};
-use super::own_file::{self, OwnFileError};
+use super::own_file::{self, file_id, OwnFileError};
 use super::staging::{register, unregister, Cleanup};
 use std::fs::{self, File};
 use std::io::{self, Write};

@@ -6,7 +6,7 @@ use super::error::{in_words, OutputError};
 use super::journal::RecoverError;
 use super::manifest::{foreign_entries, Manifest, ManifestError};
 use super::name::is_plain_file_name;
-use super::own_file::OwnFileError;
+use super::own_file::{file_id, OwnFileError};
 use super::{INTENT, LOCK, MANIFEST, STAGING_PREFIX};
 use std::collections::BTreeSet;
 use std::fs;
@@ -217,11 +217,6 @@ impl Run {
     pub(super) fn is_input(&self, path: &Path) -> bool {
         fs::metadata(path).is_ok_and(|m| self.ids.contains(&file_id(&m)))
     }
-}
-
-pub(super) fn file_id(m: &fs::Metadata) -> (u64, u64) {
-    use std::os::unix::fs::MetadataExt;
-    (m.dev(), m.ino())
 }
 
 /// The policy for one file name: a plain name, not a folder, not an input of the run.

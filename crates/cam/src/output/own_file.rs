@@ -137,3 +137,9 @@ pub(super) fn file_size_limit_as_error() {
         }
     });
 }
+
+/// A file's identity on its file system (device, inode): the same file under any name or link.
+pub(super) fn file_id(m: &std::fs::Metadata) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    (m.dev(), m.ino())
+}

@@ -5,7 +5,7 @@
 
 use super::crossing::{rings_in_contact, self_contact};
 use super::extent::{check_width, Extent};
-use super::ImportedPart;
+use super::{entity_error, ImportedPart};
 use crate::input::InputError;
 use cam_geometry::{signed_area, Point};
 use geo::{BoundingRect, Contains, Coord, Intersects, LineString, Polygon, Rect};
@@ -32,11 +32,6 @@ pub struct Piece {
     pub entity: String,
     /// At least two points.
     pub points: Vec<Point>,
-}
-
-/// One line naming the file and the entity.
-pub fn entity_error(file: &Path, entity: &str, what: impl Into<String>) -> InputError {
-    InputError::invalid(file, entity, "", what)
 }
 
 fn close(a: Point, b: Point) -> bool {

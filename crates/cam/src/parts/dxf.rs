@@ -4,7 +4,8 @@
 //! so nothing in the drawing is silently left uncut. The drawing must be in millimetres:
 //! `$INSUNITS = 4`.
 
-use super::contours::{chain, entity_error, Contour, Piece, JOIN_MM};
+use super::contours::{chain, Contour, Piece, JOIN_MM};
+use super::entity_error;
 use super::extent::{arc_bounds, Extent};
 use super::flatten::{bulge, bulge_arc, circular_arc, circumscribed_ellipse, TOLERANCE_MM};
 use crate::input::InputError;

@@ -9,7 +9,7 @@
 //!   narrowest feature any cut part may have (`MIN_FEATURE_MM`, docs/limits.md): the laser takes
 //!   about a kerf (25-50 µm) along every cut, so a narrower part is burnt away or left a sliver.
 
-use super::contours::entity_error;
+use super::entity_error;
 use crate::input::limits::{MIN_FEATURE_MM, SHEET_SIDE_MM};
 use crate::input::{short_number, InputError};
 use cam_geometry::Point;

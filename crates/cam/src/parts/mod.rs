@@ -168,3 +168,8 @@ pub struct PartOrder {
     /// coupon's pins. A drawing's circles are cut-outs instead (circumscribed polygons).
     pub pin_holes: Vec<(Point, f64)>,
 }
+
+/// One line naming the file and the entity: the refusal of every drawing reader.
+pub fn entity_error(file: &Path, entity: &str, what: impl Into<String>) -> InputError {
+    InputError::invalid(file, entity, "", what)
+}

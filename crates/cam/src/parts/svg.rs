@@ -9,7 +9,8 @@
 //! user units onto them with the same scale on both axes. Coordinates become mm with y up (the
 //! page's bottom-left corner is the origin), as every other drawing here.
 
-use super::contours::{entity_error, Contour};
+use super::contours::Contour;
+use super::entity_error;
 use super::extent::Extent;
 use super::flatten::{circumscribed_ellipse, cubic, elliptical_arc, quadratic, TOLERANCE_MM};
 use crate::input::InputError;

@@ -226,7 +226,7 @@ impl PartFit<'_> {
                     spec.width_mm, spec.height_mm
                 )
             };
-            return Err(crate::parts::contours::entity_error(
+            return Err(crate::parts::entity_error(
                 self.drawing,
                 &part.entity,
                 format!(
