@@ -520,25 +520,7 @@ fn copy_folder(from: &Path, to: &Path) {
 #[test]
 fn a_run_killed_after_any_move_is_finished_by_the_next_run() {
     let dir = tempfile::tempdir().unwrap();
-    // Before: 40 actuators' files, the user's notes, and a design optimize wrote.
-    let before = dir.path().join("before");
-    run_ok(&[
-        "cut-sheet",
-        "examples/thesis-C.toml",
-        "-o",
-        before.to_str().unwrap(),
-        "--quantity",
-        "40",
-        "--format",
-        "svg",
-    ]);
-    fs::write(before.join("notes.txt"), "mine").unwrap();
-    run_ok(&[
-        "optimize",
-        "examples/optimize-thesis.toml",
-        "-o",
-        before.to_str().unwrap(),
-    ]);
+    let before = written_before(dir.path());
     // What the killed run meant: 2 actuators' files (fewer sheets: stale ones go).
     let meant = dir.path().join("meant");
     copy_folder(&before, &meant);
