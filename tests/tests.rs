@@ -22,6 +22,7 @@ mod optimize;
 mod optimize_wing;
 mod output_safety;
 mod parsers;
+mod parts_import;
 mod predict;
 mod press_fit;
 mod readme_help;
