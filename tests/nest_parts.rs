@@ -722,7 +722,7 @@ fn bad_roll_prices_are_refused_in_one_line() {
         ),
         (
             "prepreg = { width_mm = 80, strip = true, price_per_m = 3, compare_with = { width_mm = 80, height_mm = 0 } }",
-            "sheets.prepreg.compare_with.height_mm = 0: outside the allowed range (0, 2000] mm",
+            "sheets.prepreg.compare_with.height_mm = 0: outside the allowed range [1, 2000] mm",
         ),
         (
             "prepreg = { width_mm = 80, strip = true, price_per_m = 3, compare_with = { width_mm = 80, height_mm = 60, price_per_m = 2 } }",

@@ -374,11 +374,11 @@ fn pin_holes_through_the_panel_are_refused_naming_the_template_field() {
 
 #[test]
 fn a_sheet_too_small_for_a_plate_names_the_sheet_field() {
-    let (dir, design, _) = method_1_with("sheet_width_mm = 72.4", "sheet_width_mm = 0.001");
+    let (dir, design, _) = method_1_with("sheet_width_mm = 72.4", "sheet_width_mm = 1.5");
     let out = dir.path().join("out");
     let err = refused_in_one_line(&cut_sheet(&design, &out, &[]));
     assert!(
-        err.contains("tpl.toml: layers.pzt.sheet_width_mm = 0.001: a ")
+        err.contains("tpl.toml: layers.pzt.sheet_width_mm = 1.5: a ")
             && err.contains("PZT plate does not fit the sheet; it needs at least"),
         "{err}"
     );
@@ -455,11 +455,22 @@ fn a_fit_that_cannot_run_names_the_measured_file() {
 
 #[test]
 fn names_and_materials_are_escaped_in_markdown_and_stay_one_line_in_dxf() {
-    // A name with Markdown's table, emphasis and HTML characters, and a template material holding a
-    // line break and DXF group codes that would end the file early if written as they are.
-    let (dir, design, tpl) = method_1_with(
+    // A template material holding a line break and DXF group codes, which would end a DXF early if
+    // written as they are, is refused where it is read.
+    let (bad, design, _) = method_1_with(
         "material = \"PTFE, non-porous\"",
         "material = \"PTFE|<b>\\n0\\nEOF\"",
+    );
+    let err = refused_in_one_line(&cut_sheet(&design, &bad.path().join("out"), &[]));
+    assert!(
+        err.contains("layers.mold.material = \"PTFE|<b>\\n0\\nEOF\": expected printable text"),
+        "{err}"
+    );
+    // A name with Markdown's table, emphasis and HTML characters, and a material with the DXF's
+    // group code and end marker on one line.
+    let (dir, design, tpl) = method_1_with(
+        "material = \"PTFE, non-porous\"",
+        "material = \"PTFE|<b> 0 EOF\"",
     );
     let text = std::fs::read_to_string(&design)
         .unwrap()
@@ -494,4 +505,95 @@ fn names_and_materials_are_escaped_in_markdown_and_stay_one_line_in_dxf() {
         assert_eq!(eofs, 1, "{name}");
         assert_eq!(lines.last(), Some(&"EOF"), "{name}");
     }
+}
+
+#[test]
+fn a_template_sheet_or_panel_too_small_names_the_template_and_its_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = dir.path().join("d.toml");
+    std::fs::write(
+        &design,
+        design_c_with(&[]).replace("process = \"method-2\"", "process = \"tpl.toml\""),
+    )
+    .unwrap();
+    let template = shipped_template("method-2.toml");
+    for (from, to, says) in [
+        (
+            "sheet_width_mm = 150.0\nsheet_height_mm = 150.0",
+            "sheet_width_mm = 150.0\nsheet_height_mm = 5",
+            "tpl.toml: layers.passive.sheet_height_mm = 5: the passive part of thesis-C",
+        ),
+        (
+            "panel_height_mm = 100.0",
+            "panel_height_mm = 5",
+            "tpl.toml: clamp.panel_height_mm = 5: the actuator (5.20 x 43.90 mm with clearance) does not fit the clamp panel inside its 10 mm border; it needs at least 63.90 mm",
+        ),
+        (
+            "sheet_width_mm = 150.0\nsheet_height_mm = 150.0",
+            "sheet_width_mm = 150.0\nsheet_height_mm = 1e-300",
+            "tpl.toml: layers.passive.sheet_height_mm = 1e-300: outside the allowed range [1, 2000] mm",
+        ),
+    ] {
+        assert!(template.contains(from), "{from}");
+        std::fs::write(dir.path().join("tpl.toml"), template.replace(from, to)).unwrap();
+        let out = dir.path().join("out");
+        let err = refused_in_one_line(&cut_sheet(design.to_str().unwrap(), &out, &[]));
+        assert!(err.contains(says) && !err.contains("d.toml"), "{err}");
+        assert!(err.len() < 400, "{err}");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn control_characters_in_any_user_string_are_refused_and_never_printed_raw() {
+    let effects = std::fs::read_to_string(example("effects-clamp-width.toml")).unwrap();
+    let from = "parameter = \"c_w_rad_m_per_N_m\"";
+    assert!(effects.contains(from));
+    let (dir, f) = write_temp(
+        "effects.toml",
+        &effects.replace(from, "parameter = \"c_w\\u001b[31m\""),
+    );
+    let out = dir.path().join("out");
+    let o = run(&[
+        "calibrate",
+        &example("measured-thesis-like.csv"),
+        "--effects",
+        f.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = refused_in_one_line(&o);
+    assert!(
+        err.contains("effect[1].parameter = \"c_w\\u{1b}[31m\": expected printable text"),
+        "{err}"
+    );
+    assert!(!stderr(&o).contains('\u{1b}'), "{err}");
+    assert!(!out.exists());
+    // The same in a template's free text (the pressure the book prints) and a part's name.
+    let template = shipped_template("method-2.toml");
+    let pressure = template
+        .lines()
+        .find(|l| l.starts_with("pressure = "))
+        .expect("the template's pressure");
+    let (dir, t) = write_temp(
+        "tpl.toml",
+        &template.replace(pressure, "pressure = \"hand\\tpress\""),
+    );
+    std::fs::write(
+        dir.path().join("d.toml"),
+        design_c_with(&[]).replace("process = \"method-2\"", "process = \"tpl.toml\""),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&cut_sheet(
+        dir.path().join("d.toml").to_str().unwrap(),
+        &out,
+        &[],
+    ));
+    assert!(
+        err.contains(&format!("{}: ", t.display()))
+            && err.contains("pressure = \"hand\\tpress\": expected printable text"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }

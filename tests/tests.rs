@@ -15,6 +15,7 @@ mod cut_sheet;
 mod drive;
 mod golden;
 mod linkage;
+mod misspelt_keys;
 mod nest;
 mod nest_linkage;
 mod nest_parts;

@@ -16,7 +16,7 @@ use crate::input::limits::{
     MASS_MG, MAX_PLIES, MEASURED_VOLTAGE_V, PLY_ANGLE_DEG, PZT_THICKNESS_MM, QUALITY_FACTOR,
     RESONANCE_HZ, WIDTH_RATIO,
 };
-use crate::input::{InputError, Range};
+use crate::input::{nearest, InputError, Range};
 use actuator_model::effects::{drive_at_voltage, Actuator};
 use actuator_model::{DriveMode, Material, Planform};
 use std::collections::BTreeMap;
@@ -386,6 +386,25 @@ impl Columns {
         let mut required = [0usize; 11];
         for (slot, name) in required.iter_mut().zip(REQUIRED_COLUMNS) {
             *slot = col(name).ok_or_else(|| {
+                // A header the file kind does not know, one typo from the missing column, is what the
+                // user wrote for it.
+                let unknown = headers
+                    .iter()
+                    .filter(|h| !REQUIRED_COLUMNS.contains(h) && !OPTIONAL_COLUMNS.contains(h));
+                if let Some(typo) = unknown
+                    .into_iter()
+                    .find(|h| nearest(h, std::iter::once(name)).is_some())
+                {
+                    return InputError::invalid(
+                        file,
+                        "header",
+                        typo,
+                        format!(
+                            "unknown column; did you mean `{name}`? required: {}",
+                            REQUIRED_COLUMNS.join(",")
+                        ),
+                    );
+                }
                 InputError::invalid(
                     file,
                     "header",
@@ -514,6 +533,21 @@ mod tests {
         assert_eq!(d.rows[1].mass, Some(500e-6));
         assert_eq!(d.rows[1].blocked_force, None);
         assert!((d.rows[1].field - 100.0 / 191e-6).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_misspelt_required_column_is_named_as_written() {
+        let header = HEADER.replace("free_deflection_mm", "free_defelction_mm");
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{header}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("m.csv: header = free_defelction_mm: unknown column; did you mean `free_deflection_mm`?"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -234,9 +234,8 @@ fn read_drive(
             ))
         }
         (None, None) => {
-            return Err(InputError::missing(
-                path,
-                "drive.field_V_per_mm",
+            return Err(d.missing_one_of(
+                &["field_V_per_mm", "voltage_V"],
                 "exactly one of field_V_per_mm and voltage_V",
             ))
         }

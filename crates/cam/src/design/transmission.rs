@@ -171,12 +171,16 @@ fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputEr
     let angles = t.has("end_angles_deg");
     let symmetric = t.optional_bool("solve_for_stroke")?.unwrap_or(false);
     let ways = [given, angles, symmetric].iter().filter(|w| **w).count();
+    const WAYS: &str = "give exactly one of: coupler_mm and crank_mm; end_angles_deg and coupler_ratio; solve_for_stroke = true and coupler_ratio";
+    if ways == 0 {
+        return Err(t.missing_one_of(&["crank_mm", "end_angles_deg", "solve_for_stroke"], WAYS));
+    }
     if ways != 1 {
         return Err(InputError::invalid(
             t.file(),
             &t.prefix_or("transmission"),
             format!("{ways} linkages given"),
-            "give exactly one of: coupler_mm and crank_mm; end_angles_deg and coupler_ratio; solve_for_stroke = true and coupler_ratio",
+            WAYS,
         ));
     }
     if given {

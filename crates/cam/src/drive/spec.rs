@@ -144,16 +144,16 @@ impl DriveSpec {
 fn read_wing(t: &TableReader<'_>) -> Result<WingSpec, InputError> {
     let planform = t.has("span_mm");
     let direct = t.has("inertia_mg_mm2");
+    const WAYS: &str = "give a planform (span_mm, chord, areal_density_g_per_m2, drag_coefficient) or the wing directly (inertia_mg_mm2, damping_nN_m_s2), not both";
+    if !planform && !direct {
+        return Err(t.missing_one_of(&["span_mm", "inertia_mg_mm2"], WAYS));
+    }
     if planform == direct {
         return Err(InputError::invalid(
             t.file(),
             &t.prefix_or("wing"),
-            if planform {
-                "span_mm and inertia_mg_mm2"
-            } else {
-                "neither span_mm nor inertia_mg_mm2"
-            },
-            "give a planform (span_mm, chord, areal_density_g_per_m2, drag_coefficient) or the wing directly (inertia_mg_mm2, damping_nN_m_s2), not both",
+            "span_mm and inertia_mg_mm2",
+            WAYS,
         ));
     }
     let spec = if direct {

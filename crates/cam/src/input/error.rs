@@ -159,16 +159,32 @@ impl InputError {
     }
 }
 
+/// `text` with every control character written as an escape (`\u{1b}`): a file name, a key or a
+/// value the user wrote reaches the terminal as text, never as a line break or an escape sequence.
+fn escaped(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return text.into();
+    }
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                format!("\\u{{{:x}}}", c as u32)
+            } else {
+                c.to_string()
+            }
+        })
+        .collect::<String>()
+        .into()
+}
+
 impl fmt::Display for InputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (self.field.is_empty(), self.value.is_empty()) {
-            (true, _) => write!(f, "{}: {}", self.file, self.expected),
-            (false, true) => write!(f, "{}: {}: {}", self.file, self.field, self.expected),
-            (false, false) => write!(
-                f,
-                "{}: {} = {}: {}",
-                self.file, self.field, self.value, self.expected
-            ),
+        let (file, field) = (escaped(&self.file), escaped(&self.field));
+        let (value, expected) = (escaped(&self.value), escaped(&self.expected));
+        match (field.is_empty(), value.is_empty()) {
+            (true, _) => write!(f, "{file}: {expected}"),
+            (false, true) => write!(f, "{file}: {field}: {expected}"),
+            (false, false) => write!(f, "{file}: {field} = {value}: {expected}"),
         }
     }
 }
@@ -178,6 +194,22 @@ impl std::error::Error for InputError {}
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_characters_a_user_wrote_are_printed_as_escapes() {
+        let e = InputError::invalid(
+            Path::new("a\u{1b}[2J.toml"),
+            "effect[1].\u{7}key",
+            "\"x\u{1b}y\"",
+            "expected \t text",
+        )
+        .to_string();
+        assert!(!e.chars().any(char::is_control), "{e:?}");
+        assert_eq!(
+            e,
+            "a\\u{1b}[2J.toml: effect[1].\\u{7}key = \"x\\u{1b}y\": expected \\u{9} text"
+        );
+    }
 
     #[test]
     fn every_form_is_one_line() {

@@ -120,9 +120,8 @@ pub fn read_drive_field(
             format!("field_V_per_mm = {e} and survival = {s}"),
             "give exactly one of field_V_per_mm and survival",
         )),
-        (None, None) => Err(InputError::missing(
-            t.file(),
-            &t.path("field_V_per_mm"),
+        (None, None) => Err(t.missing_one_of(
+            &["field_V_per_mm", "survival"],
             &format!("exactly one of field_V_per_mm ({FIELD_V_PER_MM}) and survival ({SURVIVAL})"),
         )),
         (Some(e), None) => Ok((e * 1e3, FieldSource::Given)),

@@ -108,7 +108,7 @@ pub const NEST_TIME_S: Range = Range::positive_up_to(86_400.0, "s");
 // Process templates and batch sheet overrides.
 
 /// Side of a stock sheet or a clamp panel.
-pub const SHEET_SIDE_MM: Range = Range::positive_up_to(2000.0, "mm");
+pub const SHEET_SIDE_MM: Range = Range::closed(1.0, 2000.0, "mm");
 /// Hairline stroke width of the SVG files: the range a laser's hairline setting reads.
 pub const STROKE_MM: Range = Range::positive_up_to(1.0, "mm");
 /// Laser kerf.

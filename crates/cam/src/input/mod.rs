@@ -28,7 +28,7 @@ pub use finite::ensure_finite;
 pub use library::FieldSource;
 pub use range::Range;
 pub use read::{files_read, read_text, record};
-pub use table::TableReader;
+pub use table::{nearest, TableReader};
 
 use std::path::Path;
 

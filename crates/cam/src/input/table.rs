@@ -235,13 +235,23 @@ impl<'a> TableReader<'a> {
     /// (`length_m`, `Width_ratio`), that key is what the user wrote: it is named, with `key` as the
     /// "did you mean".
     fn missing(&self, key: &str, expected: &str) -> InputError {
+        self.missing_one_of(&[key], expected)
+    }
+
+    /// None of `keys`, a group of which one is required, is present. The unasked key nearest to any of
+    /// them is what the user wrote (`sapn_mm` for `span_mm`): it is named as written, with the key it
+    /// misses. The nearest wins, so a valid key that has not been read yet (`window_height_mm`) is not
+    /// blamed for a typo of its neighbour (`windoww_idth_mm`).
+    pub fn missing_one_of(&self, keys: &[&str], expected: &str) -> InputError {
         let used = self.used.borrow();
-        let mut unasked = self
+        let typo = self
             .table
             .keys()
             .map(String::as_str)
-            .filter(|k| !used.contains(*k));
-        if let Some(typo) = unasked.find(|k| nearest(k, std::iter::once(key)).is_some()) {
+            .filter(|k| !used.contains(*k))
+            .filter_map(|k| nearest_with_distance(k, keys.iter().copied()).map(|(d, m)| (d, k, m)))
+            .min_by_key(|(d, _, _)| *d);
+        if let Some((_, typo, meant)) = typo {
             let value = match &self.table[typo] {
                 Value::Table(_) => "(table)".to_string(),
                 v => v.to_string(),
@@ -250,10 +260,10 @@ impl<'a> TableReader<'a> {
                 self.file,
                 &self.path(typo),
                 value,
-                format!("unknown key; did you mean `{key}`? ({expected})"),
+                format!("unknown key; did you mean `{meant}`? ({expected})"),
             );
         }
-        InputError::missing(self.file, &self.path(key), expected)
+        InputError::missing(self.file, &self.path(keys[0]), expected)
     }
 
     /// An optional `true` / `false`.
@@ -270,10 +280,24 @@ impl<'a> TableReader<'a> {
         }
     }
 
-    /// A required string.
+    /// Text a user wrote, which reaches a terminal, a report or a drawing: a control character (a line
+    /// break, a tab, an escape sequence) would break the line it is printed on, or drive the terminal.
+    fn printable(&self, key: &str, text: &'a str) -> Result<&'a str, InputError> {
+        if text.chars().any(char::is_control) {
+            return Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                format!("{text:?}"),
+                "expected printable text: no control characters (tabs, line breaks, \\u0001, …)",
+            ));
+        }
+        Ok(text)
+    }
+
+    /// A required string, printable ([`TableReader::printable`]).
     pub fn string(&self, key: &str, expected: &str) -> Result<&'a str, InputError> {
         match self.get(key) {
-            Some(Value::String(s)) => Ok(s),
+            Some(Value::String(s)) => self.printable(key, s),
             Some(v) => Err(InputError::invalid(
                 self.file,
                 &self.path(key),
@@ -284,7 +308,7 @@ impl<'a> TableReader<'a> {
         }
     }
 
-    /// An optional string.
+    /// An optional string, printable.
     pub fn optional_string(
         &self,
         key: &str,
@@ -292,7 +316,7 @@ impl<'a> TableReader<'a> {
     ) -> Result<Option<&'a str>, InputError> {
         match self.get(key) {
             None => Ok(None),
-            Some(Value::String(s)) => Ok(Some(s)),
+            Some(Value::String(s)) => self.printable(key, s).map(Some),
             Some(v) => Err(InputError::invalid(
                 self.file,
                 &self.path(key),
@@ -337,21 +361,23 @@ impl<'a> TableReader<'a> {
         }
     }
 
-    /// A required array of strings.
+    /// A required array of printable strings.
     pub fn strings(&self, key: &str, expected: &str) -> Result<Vec<String>, InputError> {
         match self.get(key) {
             Some(Value::Array(items)) => items
                 .iter()
                 .enumerate()
                 .map(|(i, v)| {
-                    v.as_str().map(str::to_string).ok_or_else(|| {
-                        InputError::invalid(
+                    let item = format!("{key}[{i}]");
+                    match v.as_str() {
+                        Some(s) => self.printable(&item, s).map(str::to_string),
+                        None => Err(InputError::invalid(
                             self.file,
-                            &self.path(&format!("{key}[{i}]")),
+                            &self.path(&item),
                             v,
                             format!("expected {expected}"),
-                        )
-                    })
+                        )),
+                    }
                 })
                 .collect(),
             Some(v) => Err(InputError::invalid(
@@ -397,19 +423,15 @@ impl<'a> TableReader<'a> {
     /// DXF value).
     pub fn name(&self, key: &str, expected: &str) -> Result<String, InputError> {
         let name = self.string(key, expected)?;
-        let why = if name.trim().is_empty() || name.len() > 64 {
-            "expected 1 to 64 characters"
-        } else if name.chars().any(char::is_control) {
-            "expected printable text: no control characters (tabs, line breaks, \\u0001, …)"
-        } else {
-            return Ok(name.to_string());
-        };
-        Err(InputError::invalid(
-            self.file,
-            &self.path(key),
-            format!("{name:?}"),
-            why,
-        ))
+        if name.trim().is_empty() || name.len() > 64 {
+            return Err(InputError::invalid(
+                self.file,
+                &self.path(key),
+                format!("{name:?}"),
+                "expected 1 to 64 characters",
+            ));
+        }
+        Ok(name.to_string())
     }
 
     /// A required, non-empty array of tables (`[[key]]`), each named `key[i]` in errors.
@@ -460,31 +482,44 @@ impl<'a> TableReader<'a> {
 
 /// The known key closest to `key` by edit distance (letter case ignored), if it is close enough to be a
 /// typo of it: at most a third of its letters changed.
-fn nearest<'k>(key: &str, known: impl Iterator<Item = &'k str>) -> Option<&'k str> {
+pub fn nearest<'k>(key: &str, known: impl Iterator<Item = &'k str>) -> Option<&'k str> {
+    nearest_with_distance(key, known).map(|(_, k)| k)
+}
+
+/// [`nearest`] with its edit distance.
+fn nearest_with_distance<'k>(
+    key: &str,
+    known: impl Iterator<Item = &'k str>,
+) -> Option<(usize, &'k str)> {
     let key = key.to_lowercase();
     known
         .map(|k| (edit_distance(&key, &k.to_lowercase()), k))
         .filter(|(d, k)| *d <= (k.chars().count() / 3).max(1))
         .min_by_key(|(d, _)| *d)
-        .map(|(_, k)| k)
 }
 
-/// Levenshtein distance: insertions, deletions and substitutions of one character.
+/// Optimal-string-alignment distance: insertions, deletions and substitutions of one character, and
+/// swaps of two neighbours, each one edit. The swap matters for short keys: `omde` is one edit from
+/// `mode`, where plain Levenshtein counts two, more than a four-letter key's typo allowance.
 fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let next = (row[j + 1] + 1)
-                .min(row[j] + 1)
-                .min(diagonal + usize::from(ca != *cb));
-            diagonal = row[j + 1];
-            row[j + 1] = next;
+    // Three rows: the one before last is needed for the swap.
+    let mut before: Vec<usize> = vec![0; b.len() + 1];
+    let mut last: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut row = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut d = (last[j] + 1).min(row[j - 1] + 1).min(last[j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d = d.min(before[j - 2] + 1);
+            }
+            row[j] = d;
         }
+        before = std::mem::replace(&mut last, row);
     }
-    row[b.len()]
+    last[b.len()]
 }
 
 #[cfg(test)]
@@ -537,5 +572,62 @@ mod tests {
             None
         );
         assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("omde", "mode"), 1);
+        assert_eq!(edit_distance("ca", "abc"), 3);
+    }
+
+    #[test]
+    fn short_keys_with_two_letters_swapped_are_named() {
+        let f = Path::new("d.toml");
+        for (typo, meant) in [
+            ("omde", "mode"),
+            ("ifle", "file"),
+            ("chrod", "chord"),
+            ("nmae", "name"),
+            ("kidn", "kind"),
+            ("stakc", "stack"),
+        ] {
+            let t = table(&format!("{typo} = \"x\""));
+            let r = TableReader::new(f, "t", &t);
+            let e = r.string(meant, "text").unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!("d.toml: t.{typo} = ")) && e.contains(&format!("`{meant}`")),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_group_of_which_one_is_required_names_the_misspelt_member() {
+        let f = Path::new("d.toml");
+        let t = table("field_V_pe_rmm = 100");
+        let r = TableReader::new(f, "drive", &t);
+        assert!(!r.has("field_V_per_mm") && !r.has("voltage_V"));
+        let e = r
+            .missing_one_of(&["field_V_per_mm", "voltage_V"], "exactly one of …")
+            .to_string();
+        assert!(
+            e.starts_with(
+                "d.toml: drive.field_V_pe_rmm = 100: unknown key; did you mean `field_V_per_mm`?"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_nearest_unasked_key_is_blamed_not_a_valid_neighbour() {
+        let f = Path::new("t.toml");
+        let t = table("window_height_mm = 1\nwindoww_idth_mm = 2");
+        let r = TableReader::new(f, "sheet", &t);
+        let e = r
+            .number_in("window_width_mm", Range::closed(0.0, 10.0, "mm"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "t.toml: sheet.windoww_idth_mm = 2: unknown key; did you mean `window_width_mm`?"
+            ),
+            "{e}"
+        );
     }
 }

@@ -155,7 +155,15 @@ impl Spec {
         };
         let energy = match flap {
             Some(_) => 0.0,
-            None => r.number_in("energy_mJ", ENERGY_MJ)? * 1e-3,
+            None => match r.optional_number_in("energy_mJ", ENERGY_MJ)? {
+                Some(energy) => energy * 1e-3,
+                None => {
+                    return Err(r.missing_one_of(
+                        &["energy_mJ", "flap"],
+                        &format!("energy_mJ ({ENERGY_MJ}) or flap (a drive file)"),
+                    ))
+                }
+            },
         };
         r.finish()?;
 

@@ -258,7 +258,7 @@ pub fn clamp_layers(
     };
     let c = &template.clamp;
     let first_panel = drawn.panels + 1;
-    let panels = assign_panels(jobs, c, names, drawn)?;
+    let panels = assign_panels(jobs, template, names, drawn)?;
     let runs = panel_runs(&panels, first_panel);
     let mold = choose_mold(laminate_bands(first.design), &template.mold_stock);
     if mold.films_mm.is_empty() {
@@ -314,10 +314,11 @@ pub fn clamp_layers(
 /// point of its own tab, and note each in the placement map.
 fn assign_panels(
     jobs: &[(usize, Job<'_>)],
-    c: &ClampSpec,
+    template: &Template,
     names: &Names,
     drawn: &mut Drawn,
 ) -> Result<Vec<PanelMembers>, BuildError> {
+    let c = &template.clamp;
     let cell = envelope(jobs);
     // Every actuator in job order: (position in `jobs`, actuator).
     let actuators: Vec<(usize, usize)> = jobs
@@ -325,8 +326,16 @@ fn assign_panels(
         .enumerate()
         .flat_map(|(k, (_, j))| (0..j.quantity).map(move |a| (k, a)))
         .collect();
-    let layout = layout_panels(c, &cell, actuators.len())
-        .map_err(|e| names.error(format!("clamp panel: {e}")))?;
+    // A panel too small is the template's to change: the refusal names its file and field.
+    let layout = layout_panels(c, &cell, actuators.len()).map_err(|e| {
+        let (key, value, need) = e.side_to_grow();
+        BuildError::Input(InputError::invalid(
+            &template.source,
+            &format!("clamp.{key}"),
+            short_number(value),
+            format!("{e}; it needs at least {need:.2} mm"),
+        ))
+    })?;
     let first_panel = drawn.panels + 1;
     drawn.panels += layout.panels.len();
     let panels: Vec<PanelMembers> = layout

@@ -23,13 +23,27 @@ pub struct PanelLayout {
 
 /// The panel cannot hold even one actuator.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("the actuator ({part_width_mm:.2} x {part_length_mm:.2} mm with clearance) does not fit the {width_mm} x {height_mm} mm clamp panel inside its {border_mm} mm border")]
+#[error("the actuator ({part_width_mm:.2} x {part_length_mm:.2} mm with clearance) does not fit the clamp panel inside its {border_mm} mm border")]
 pub struct PanelTooSmall {
     part_width_mm: f64,
     part_length_mm: f64,
     width_mm: f64,
     height_mm: f64,
     border_mm: f64,
+}
+
+impl PanelTooSmall {
+    /// The `[clamp]` key to change (`panel_width_mm` or `panel_height_mm`), its value and the least
+    /// value that holds one actuator, mm (the other side as it is, if that one is wide enough).
+    pub fn side_to_grow(&self) -> (&'static str, f64, f64) {
+        let need_w = self.part_width_mm + 2.0 * self.border_mm;
+        let need_h = self.part_length_mm + 2.0 * self.border_mm;
+        if self.width_mm < need_w {
+            ("panel_width_mm", self.width_mm, need_w)
+        } else {
+            ("panel_height_mm", self.height_mm, need_h)
+        }
+    }
 }
 
 /// Columns and rows of cells `cell_w` x `cell_h` (each holding a part and the `spacing` after it) inside a

@@ -3,7 +3,7 @@
 
 use super::packing::{BaselineRow, NestObserver, NestOptions, SearchRow, WORKERS};
 use super::promise::{verify_cut_layouts, Promise};
-use super::refusal::sheet_too_small;
+use super::refusal::refusal;
 use super::{items_of, placed_as, PlacedLayer};
 use crate::pipeline::cut::CutLayer;
 use crate::pipeline::jobs::Names;
@@ -107,35 +107,6 @@ pub(super) fn irregular(
         baseline: Some(baseline),
         strip_length_mm,
     })
-}
-
-/// The refusal of the irregular nester's error `e` on `layer`: a part larger than the sheet names
-/// the sheet field to change; anything else is a build error by `fail`, which names the stock.
-fn refusal(layer: &CutLayer, e: NestError, fail: &dyn Fn(String) -> BuildError) -> BuildError {
-    match e {
-        NestError::PartLargerThanBin {
-            item,
-            part_width_mm,
-            part_height_mm,
-            separation_mm,
-            edge_gap_mm,
-            ..
-        } => sheet_too_small(
-            &layer.spec,
-            &format!(
-                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
-                layer.layer, layer.items[item].owner
-            ),
-            [part_width_mm, part_height_mm],
-            [2.0 * edge_gap_mm; 2],
-            false,
-            None,
-        ),
-        NestError::StockTooSmall { needed, stock } => fail(format!(
-            "stock too small: the batch needs {needed} sheets but the stock is {stock}"
-        )),
-        other => fail(other.to_string()),
-    }
 }
 
 /// The report row of `layer`'s nest (`solution` on the sheet `bin` it is drawn on) against the

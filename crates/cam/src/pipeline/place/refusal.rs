@@ -2,8 +2,10 @@
 //! and the least size that holds the part.
 
 use crate::input::{short_number, InputError};
+use crate::pipeline::cut::CutLayer;
 use crate::pipeline::BuildError;
 use crate::process::template::SheetSpec;
+use cam_nest::NestError;
 
 /// How far above its estimate a refusal looks for a size the packer takes, in hundredths of a mm.
 const PROBED_HUNDREDTHS: usize = 1000;
@@ -90,4 +92,37 @@ pub(super) fn sheet_too_small(
         short_number(value),
         format!("{what} does not fit the sheet; it needs {need}"),
     ))
+}
+
+/// The refusal of a nester's error `e` on `layer` (the irregular nester's or the shelf packer's): a part larger than the sheet names
+/// the sheet field to change; anything else is a build error by `fail`, which names the stock.
+pub(super) fn refusal(
+    layer: &CutLayer,
+    e: NestError,
+    fail: &dyn Fn(String) -> BuildError,
+) -> BuildError {
+    match e {
+        NestError::PartLargerThanBin {
+            item,
+            part_width_mm,
+            part_height_mm,
+            separation_mm,
+            edge_gap_mm,
+            ..
+        } => sheet_too_small(
+            &layer.spec,
+            &format!(
+                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
+                layer.layer, layer.items[item].owner
+            ),
+            [part_width_mm, part_height_mm],
+            [2.0 * edge_gap_mm; 2],
+            false,
+            None,
+        ),
+        NestError::StockTooSmall { needed, stock } => fail(format!(
+            "stock too small: the batch needs {needed} sheets but the stock is {stock}"
+        )),
+        other => fail(other.to_string()),
+    }
 }

@@ -1,6 +1,7 @@
 //! The shelf packer's layout of a cut layer ([`super::Packing::Shelf`]), verified.
 
 use super::promise::{verify_cut_layouts, Promise};
+use super::refusal::refusal;
 use super::{items_of, sheet_of};
 use crate::pipeline::cut::CutLayer;
 use crate::pipeline::jobs::Names;
@@ -14,8 +15,9 @@ pub(super) fn shelf(layer: &CutLayer, names: &Names) -> Result<Vec<NestedBin>, B
     // Without a stock limit a sheet takes at least one part, so no layout needs more sheets.
     let copies: usize = items.iter().map(|i| i.demand).sum();
     let sheet = sheet_of(spec, copies.max(1));
-    let layout = nest_shelves(&items, &sheet, spec.spacing_mm)
-        .map_err(|e| names.error(format!("{} layout: {e}", layer.layer)))?;
+    let fail = |what: String| names.error(format!("{} layout: {what}", layer.layer));
+    let layout =
+        nest_shelves(&items, &sheet, spec.spacing_mm).map_err(|e| refusal(layer, e, &fail))?;
     let promise = Promise {
         sheet,
         packed: items,
