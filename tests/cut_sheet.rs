@@ -802,7 +802,7 @@ fn with_force_an_existing_output_folder_keeps_the_users_files() {
     std::fs::write(out.join("notes.txt"), "n").unwrap();
     std::fs::write(out.join("photos/coupon.txt"), "p").unwrap();
     std::fs::write(out.join("report.md"), "stale").unwrap();
-    // Without --force the folder is refused (tests/output_safety.rs); with it, the user's files stay.
+    // Without --force the folder is refused (tests/output_safety/folders.rs); with it, the user's files stay.
     let o = cut_sheet(design.to_str().unwrap(), &out, &["--force"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "n");
