@@ -65,6 +65,37 @@ fn both_examples_reach_the_stroke_and_the_time_integration_agrees() {
 }
 
 #[test]
+fn the_resonance_at_the_operating_stroke_is_where_that_stroke_lags_the_drive_by_90_degrees() {
+    // docs/physics.md §14, "Resonance at a stroke": the slider-crank's ratio rises away from rest, so at
+    // the examples' large strokes the system resonates below its small-stroke resonance.
+    for name in ["drive-hawkmoth.toml", "drive-robobee.toml"] {
+        let path = example_path(name);
+        let spec = DriveSpec::load(&path).unwrap();
+        let a = drive_analysis(&path);
+        let r = &a.report;
+        let f_r = r.resonance_at_stroke_Hz.expect("a resonance at the stroke");
+        assert!(
+            f_r < 0.9 * r.resonance_Hz,
+            "{name}: {f_r} vs {}",
+            r.resonance_Hz
+        );
+        let at = a
+            .system
+            .balance_at_stroke(spec.transmission.stroke, f_r, a.state.as_ref())
+            .unwrap();
+        assert!((at.stroke_amplitude - spec.transmission.stroke).abs() < 1e-6);
+        assert!(
+            (at.phase.to_degrees() - 90.0).abs() < 1e-3,
+            "{name}: {}",
+            at.phase
+        );
+        // The examples flap just below it: the phase at the flapping frequency is under 90°.
+        let o = r.operating.as_ref().unwrap();
+        assert!(spec.frequency < f_r && o.phase_deg < 90.0, "{name}");
+    }
+}
+
+#[test]
 fn a_tiny_actuator_cannot_flap_the_hawk_moth_wing_and_says_why() {
     let dir = tempfile::tempdir().unwrap();
     let design = std::fs::read_to_string(example_path("thesis-C.toml"))

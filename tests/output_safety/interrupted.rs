@@ -1,5 +1,6 @@
-//! Interrupted runs: a signal or a SIGKILL at any point of a run leaves the folder as the old set or the
-//! new one once the next run has looked, and two runs into one folder never mix.
+//! Interrupted runs: after a signal or a SIGKILL at any point of a run, once the next run has looked, the
+//! folder holds the files of the run before it or of the interrupted run in full; two runs into one folder
+//! never mix.
 
 use super::*;
 

@@ -442,6 +442,71 @@ impl FlappingSystem {
         Ok(0.5 * (hi - lo))
     }
 
+    /// [`Self::balance_at_stroke`] continued from a small stroke in eight steps, so that Newton stays on
+    /// the branch that starts at rest.
+    fn continued_to_stroke(&self, stroke: f64, frequency: f64) -> Option<SteadyState> {
+        let mut start: Option<SteadyState> = None;
+        for i in 1..=8 {
+            start = Some(
+                self.balance_at_stroke(stroke * i as f64 / 8.0, frequency, start.as_ref())
+                    .ok()?,
+            );
+        }
+        start
+    }
+
+    /// The resonance at a stroke amplitude (rad), Hz: the frequency at which the steady stroke of that
+    /// amplitude is 90° behind the drive (docs/physics.md §14, "Resonance at a stroke"). At a small stroke it is
+    /// [`Self::linear_resonance`]; the linkage's ratio changes with the angle, so the system's stiffness
+    /// and inertia seen at the tip change with the stroke, and so does the resonance. At a fixed
+    /// amplitude the phase is one function of the frequency, rising through 90° once. The search starts
+    /// at `near` (a frequency where the stroke has a steady state: the flapping frequency), walks in
+    /// steps of 5 % towards the side the phase says, each step continued from the last, until the phase
+    /// crosses 90° (within a factor of 4 of the small-stroke resonance), then bisects.
+    pub fn resonance_at_stroke(&self, stroke: f64, near: f64) -> Result<f64, ModelError> {
+        let unreached = || ModelError::OutOfRange {
+            name: "stroke",
+            value: stroke,
+            range: "a steady stroke within the linkage's reach up to its resonance",
+        };
+        let state = |f: f64, from: &SteadyState| {
+            self.balance_at_stroke(stroke, f, Some(from))
+                .ok()
+                .or_else(|| self.continued_to_stroke(stroke, f))
+        };
+        let behind = |s: &SteadyState| s.phase > 0.5 * PI;
+        let f0 = self.linear_resonance();
+        let mut lo = self
+            .continued_to_stroke(stroke, near)
+            .ok_or_else(unreached)?;
+        let above = behind(&lo);
+        let step = if above { 1.0 / 1.05 } else { 1.05 };
+        let mut hi = loop {
+            let next = lo.frequency * step;
+            if !(0.25 * f0..=4.0 * f0).contains(&next) {
+                return Err(unreached());
+            }
+            let s = state(next, &lo).ok_or_else(unreached)?;
+            if behind(&s) != above {
+                break s;
+            }
+            lo = s;
+        };
+        if above {
+            std::mem::swap(&mut lo, &mut hi);
+        }
+        // 40 halvings of a 5 % bracket: far below the balance's own tolerance.
+        for _ in 0..40 {
+            let mid = state(0.5 * (lo.frequency + hi.frequency), &lo).ok_or_else(unreached)?;
+            if behind(&mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Ok(0.5 * (lo.frequency + hi.frequency))
+    }
+
     /// The blocked-force amplitude (N) that gives a stroke amplitude (rad) at a frequency (Hz), by
     /// [`Self::balance_at_stroke`]. `Err` with the largest stroke whose force is within `force_limit`
     /// when the limit binds, or when the linkage cannot reach the stroke.
@@ -451,17 +516,7 @@ impl FlappingSystem {
         frequency: f64,
         force_limit: f64,
     ) -> Result<SteadyState, Unreached> {
-        // Continue from a small stroke so Newton stays on the branch that starts at rest.
-        let mut start: Option<SteadyState> = None;
-        for i in 1..=8 {
-            match self.balance_at_stroke(stroke * i as f64 / 8.0, frequency, start.as_ref()) {
-                Ok(s) => start = Some(s),
-                Err(_) => {
-                    start = None;
-                    break;
-                }
-            }
-        }
+        let start = self.continued_to_stroke(stroke, frequency);
         match start {
             Some(s) if s.force <= force_limit => Ok(s),
             _ => {
@@ -556,6 +611,41 @@ mod tests {
             .unwrap()
             .displacement_amplitude;
         assert!((got / want - 1.0).abs() < 1e-4, "{got} vs {want}");
+    }
+
+    #[test]
+    fn the_resonance_at_a_small_stroke_is_the_linear_one() {
+        // A linear oscillator with viscous (here structural, η k / ω) and quadratic drag is 90° behind
+        // its drive at ω_n = √(k_eff / m_eff) whatever the damping: the drag is in phase with the
+        // velocity.
+        let s = system();
+        let f_n = s.linear_resonance();
+        let small = s
+            .resonance_at_stroke(0.2f64.to_radians(), 0.8 * f_n)
+            .unwrap();
+        assert!((small / f_n - 1.0).abs() < 1e-3, "{small} vs {f_n}");
+        // And the phase there is 90° to the balance's tolerance.
+        let at = s
+            .balance_at_stroke(0.2f64.to_radians(), small, None)
+            .unwrap();
+        assert!((at.phase - 0.5 * PI).abs() < 1e-6, "{}", at.phase);
+    }
+
+    #[test]
+    fn the_resonance_moves_with_the_stroke_and_the_phase_there_is_90_degrees() {
+        // The slider-crank's ratio dθ/dx rises away from the middle of the stroke, so the wing's
+        // inertia seen at the tip (I T²) grows with the stroke and the resonance falls.
+        let s = system();
+        let stroke = 50f64.to_radians();
+        let f_r = s
+            .resonance_at_stroke(stroke, 0.9 * s.linear_resonance())
+            .unwrap();
+        assert!(f_r < 0.97 * s.linear_resonance(), "{f_r}");
+        let at = s.continued_to_stroke(stroke, f_r).unwrap();
+        assert!((at.phase.to_degrees() - 90.0).abs() < 1e-6, "{}", at.phase);
+        // Below it the stroke lags by less, above it by more.
+        assert!(s.continued_to_stroke(stroke, 0.95 * f_r).unwrap().phase < 0.5 * PI);
+        assert!(s.continued_to_stroke(stroke, 1.05 * f_r).unwrap().phase > 0.5 * PI);
     }
 
     #[test]

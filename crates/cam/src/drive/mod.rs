@@ -197,6 +197,7 @@ pub fn analyse(
         required_stroke_deg: spec.transmission.stroke.to_degrees(),
         reached: unreachable.is_none(),
         resonance_Hz: system.linear_resonance(),
+        resonance_at_stroke_Hz: system.resonance_at_stroke(spec.transmission.stroke, f).ok(),
         actuator: ActuatorRow {
             resonance_Hz: modal.frequency,
             stiffness_N_per_m: perf.stiffness,
@@ -290,7 +291,7 @@ fn beyond_field_limit(
         limit_field * 1e-3,
         spec.survival,
         s.force / force_limit,
-        system.linear_resonance(),
+        nearest_resonance(system, spec.transmission.stroke),
     );
     (
         best,
@@ -330,7 +331,7 @@ fn no_steady_state(
             ),
             format!(
                 "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
-                system.linear_resonance()
+                nearest_resonance(system, spec.transmission.stroke)
             ),
         )
     } else if reach == [true, true] {
@@ -438,6 +439,14 @@ fn operating_row(
 }
 
 /// Phase of the stroke behind the force in degrees, in [-90, 270).
+/// The resonance a user should move the flapping frequency towards: the one at the required stroke,
+/// or the small-stroke one where the stroke has no steady state to resonate at.
+fn nearest_resonance(system: &FlappingSystem, stroke: f64) -> f64 {
+    system
+        .resonance_at_stroke(stroke, system.linear_resonance())
+        .unwrap_or_else(|_| system.linear_resonance())
+}
+
 fn phase_deg(phase: f64) -> f64 {
     let d = phase.to_degrees().rem_euclid(360.0);
     if d >= 270.0 {

@@ -112,6 +112,9 @@ pub struct DriveReport {
     pub reached: bool,
     /// Small-stroke resonance of actuator + transmission + wing.
     pub resonance_Hz: f64,
+    /// Resonance at the required stroke: the frequency where the steady stroke of that amplitude is
+    /// 90° behind the drive (none where no steady state of that amplitude is found).
+    pub resonance_at_stroke_Hz: Option<f64>,
     pub actuator: ActuatorRow,
     pub linkage: LinkageRow,
     pub wing: WingRow,
@@ -135,6 +138,10 @@ impl DriveReport {
         let l = &self.linkage;
         let mut n = vec![
             ("resonance_Hz", self.resonance_Hz),
+            (
+                "resonance_at_stroke_Hz",
+                self.resonance_at_stroke_Hz.unwrap_or(0.0),
+            ),
             ("actuator.resonance_Hz", a.resonance_Hz),
             ("actuator.stiffness_N_per_m", a.stiffness_N_per_m),
             ("actuator.modal_mass_mg", a.modal_mass_mg),
@@ -239,8 +246,17 @@ impl DriveReport {
             format!("±{}", fixed(self.required_stroke_deg, 1)),
             "deg",
         );
+        let at_stroke = match self.resonance_at_stroke_Hz {
+            Some(f) => fixed(f, 1),
+            None => "none found".to_string(),
+        };
         rows.row(
-            "resonance (actuator+linkage+wing)",
+            &format!("resonance at ±{}", fixed(self.required_stroke_deg, 1)),
+            at_stroke,
+            "Hz",
+        );
+        rows.row(
+            "resonance at small stroke",
             fixed(self.resonance_Hz, 1),
             "Hz",
         );
