@@ -241,9 +241,10 @@ fn example_planform(name: &str) -> (DriveSpec, actuator_model::wing::WingPlanfor
 
 /// Cycle-mean quasi-steady lift, N, of a wing flapped `θ = Θ sin ωt` at a constant incidence:
 /// `½ ρ C_L ⟨θ̇²⟩ ∫ c r² dr` with `⟨θ̇²⟩ = (Θ ω)² / 2`. The area moment `∫ c r² dr` is the model's
-/// wing inertia over the areal density.
+/// wing inertia, without its added mass, over the areal density.
 fn mean_lift(spec: &DriveSpec, p: &actuator_model::wing::WingPlanform, c_l: f64) -> f64 {
-    let second_moment = p.wing().unwrap().inertia / p.areal_density;
+    let wing = p.wing().unwrap();
+    let second_moment = (wing.inertia - wing.added_inertia) / p.areal_density;
     let omega = 2.0 * std::f64::consts::PI * spec.frequency;
     let mean_square_rate = (spec.transmission.stroke * omega).powi(2) / 2.0;
     0.5 * p.air_density * c_l * mean_square_rate * second_moment

@@ -198,7 +198,7 @@ fn what_the_wing_optimizer_cannot_take_is_refused_in_one_line() {
         &drive,
         text.replace("solve_for_stroke = true", "coupler_mm = 4\ncrank_mm = 1")
             .replace("coupler_ratio = 4\n", "")
-            .replace("travel_mm = 0.75\n", ""),
+            .replace("travel_mm = 0.85\n", ""),
     )
     .unwrap();
     let err = refused_in_one_line(&run(&["optimize", s]));

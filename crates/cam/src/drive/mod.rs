@@ -216,6 +216,7 @@ pub fn analyse(
         },
         wing: WingRow {
             inertia_mg_mm2: wing.inertia * 1e12,
+            added_inertia_mg_mm2: wing.added_inertia * 1e12,
             damping_nN_m_s2: wing.damping * 1e9,
             mass_mg: wing.mass * 1e6,
         },

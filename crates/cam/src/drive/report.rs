@@ -36,7 +36,10 @@ pub struct LinkageRow {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[allow(non_snake_case)]
 pub struct WingRow {
+    /// The wing's own inertia and its added mass's.
     pub inertia_mg_mm2: f64,
+    /// The added mass's part of the inertia (docs/physics.md §13).
+    pub added_inertia_mg_mm2: f64,
     pub damping_nN_m_s2: f64,
     pub mass_mg: f64,
 }
@@ -158,6 +161,7 @@ impl DriveReport {
                 l.ratio_at_rest_deg_per_mm,
             ),
             ("wing.inertia_mg_mm2", self.wing.inertia_mg_mm2),
+            ("wing.added_inertia_mg_mm2", self.wing.added_inertia_mg_mm2),
             ("wing.damping_nN_m_s2", self.wing.damping_nN_m_s2),
             ("field_limit_V_per_mm", self.field_limit_V_per_mm),
             ("mass.total_mg", self.mass.total_mg),
@@ -287,6 +291,11 @@ impl DriveReport {
         rows.row(
             "wing inertia",
             fixed(self.wing.inertia_mg_mm2, 1),
+            "mg mm^2",
+        );
+        rows.row(
+            "  of which added mass",
+            fixed(self.wing.added_inertia_mg_mm2, 1),
             "mg mm^2",
         );
         rows.row(

@@ -5,14 +5,21 @@ pub use crate::design::transmission::LinkageSpec;
 use crate::design::transmission::{TransmissionSpec, MG_MM2};
 use crate::input::limits::{
     AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, DRAG_COEFFICIENT,
-    FLAPPING_FREQUENCY_HZ, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG, PART_MASS_MG, STROKE_DEG,
-    SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM, WING_SPAN_MM,
+    FLAPPING_FREQUENCY_HZ, INCIDENCE_DEG, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG,
+    PART_MASS_MG, STROKE_DEG, SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM,
+    WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
 use actuator_model::wing::{Chord, Wing, WingPlanform, AIR_DENSITY};
 use actuator_model::ModelChoice;
 use std::path::{Path, PathBuf};
+
+/// The wing's angle of attack at mid-stroke when the drive file gives none, deg: the 37.5° of the
+/// drive examples, inside the 30-40° Manduca keeps (Willmott & Ellington, J. Exp. Biol. 200:2723, 1997)
+/// and the 20-45° of RoboBee's passive hinge (Jafferis, Graule & Wood, ICRA 2016). An assumption, used
+/// only for the added mass (docs/drive.md §4).
+pub const DEFAULT_INCIDENCE_DEG: f64 = 37.5;
 
 /// Actuator + transmission mass per wing of the thesis' hawk-moth-sized vehicle: half the thorax
 /// (thesis §2.3.1), kg.
@@ -38,6 +45,7 @@ impl WingSpec {
             // The planform was validated when read.
             WingSpec::Planform(p) => p.wing().unwrap_or(Wing {
                 inertia: 0.0,
+                added_inertia: 0.0,
                 damping: 0.0,
                 mass: 0.0,
             }),
@@ -159,6 +167,7 @@ fn read_wing(t: &TableReader<'_>) -> Result<WingSpec, InputError> {
     let spec = if direct {
         WingSpec::Direct(Wing {
             inertia: t.number_in("inertia_mg_mm2", INERTIA_MG_MM2)? * MG_MM2,
+            added_inertia: 0.0,
             damping: t.number_in("damping_nN_m_s2", WING_DAMPING_NN_M_S2)? * 1e-9,
             mass: t
                 .optional_number_in("mass_mg", PART_MASS_MG)?
@@ -193,6 +202,10 @@ fn read_wing(t: &TableReader<'_>) -> Result<WingSpec, InputError> {
             air_density: t
                 .optional_number_in("air_density_kg_per_m3", AIR_DENSITY_KG_PER_M3)?
                 .unwrap_or(AIR_DENSITY),
+            incidence: t
+                .optional_number_in("incidence_deg", INCIDENCE_DEG)?
+                .unwrap_or(DEFAULT_INCIDENCE_DEG)
+                .to_radians(),
         };
         planform.validate().map_err(|e| {
             InputError::invalid(t.file(), &t.prefix_or("wing"), "(planform)", e.to_string())

@@ -175,6 +175,8 @@ pub const TABLE_CHORD_MM: Range = Range::closed(0.0, 1000.0, "mm");
 pub const AREAL_DENSITY_G_PER_M2: Range = Range::positive_up_to(2000.0, "g/m^2");
 /// Drag coefficient of the wing at mid-stroke.
 pub const DRAG_COEFFICIENT: Range = Range::positive_up_to(10.0, "");
+/// The wing's angle of attack at mid-stroke (its added mass goes as sin² of it).
+pub const INCIDENCE_DEG: Range = Range::positive_up_to(90.0, "deg");
 /// Density of the air the wing flaps in.
 pub const AIR_DENSITY_KG_PER_M3: Range = Range::positive_up_to(10.0, "kg/m^3");
 /// Wing or link inertia about the stroke axis.
