@@ -17,7 +17,7 @@ fn both_examples_reach_the_stroke_and_the_time_integration_agrees() {
         let spec = DriveSpec::load(&path).unwrap();
         let a = drive_analysis(&path);
         let r = &a.report;
-        assert!(r.reached, "{name}: {}", r.table());
+        assert!(r.unreachable.is_none(), "{name}: {}", r.table());
         let s = a.state.unwrap();
         assert!(
             (s.stroke_amplitude - spec.transmission.stroke).abs() < 1e-6,
@@ -93,6 +93,44 @@ fn the_resonance_at_the_operating_stroke_is_where_that_stroke_lags_the_drive_by_
         let o = r.operating.as_ref().unwrap();
         assert!(spec.frequency < f_r && o.phase_deg < 90.0, "{name}");
     }
+}
+
+#[test]
+fn a_linkage_its_film_cannot_bend_is_not_reached_and_says_which_flexure() {
+    // The insect-scale example reaches its stroke within the field limit through a linkage given by
+    // its stiffness, but the flexure rules cut-sheet draws it with (docs/cam.md §7) cannot make its wing
+    // hinge: ±56° on a 12.7 µm film needs 208 µm of gap, and a 0.208 mm crank holds at most 0.3 of
+    // itself. drive says so, as cut-sheet refuses the same linkage.
+    let path = example_path("drive-robobee.toml");
+    let r = drive_analysis(&path).report;
+    assert!(r.unreachable.is_none() && !r.reached, "{}", r.table());
+    let why = r.unbuildable_linkage.as_deref().unwrap();
+    assert!(
+        why.starts_with("flexure O (crank on airframe, the wing hinge): 208.0 to 62.3 µm")
+            && why.contains("a longer crank"),
+        "{why}"
+    );
+    let err = refused_in_one_line(&run(&["drive", path.to_str().unwrap()]));
+    assert!(
+        err.contains("drive-robobee.toml: transmission: the linkage cannot be built: flexure O"),
+        "{err}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let cut = refused_in_one_line(&run(&[
+        "cut-sheet",
+        example_path("robobee-class.toml").to_str().unwrap(),
+        "--drive",
+        path.to_str().unwrap(),
+        "-o",
+        dir.path().join("out").to_str().unwrap(),
+    ]));
+    assert!(cut.contains(why.split(';').next().unwrap()), "{cut}");
+    // The hawk-moth example's linkage is drawn without complaint.
+    assert!(
+        drive_analysis(&example_path("drive-hawkmoth.toml"))
+            .report
+            .reached
+    );
 }
 
 #[test]
@@ -181,7 +219,7 @@ fn bad_drive_files_are_refused_in_one_line_naming_the_field() {
 
 #[test]
 fn the_same_bytes_twice_and_minus_o_through_the_writer() {
-    let drive = example_path("drive-robobee.toml");
+    let drive = example_path("drive-hawkmoth.toml");
     let d = drive.to_str().unwrap();
     let one = run_ok(&["drive", d, "--json"]).stdout;
     let two = run_ok(&["drive", d, "--json"]).stdout;

@@ -65,6 +65,12 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
             println!("\nwrote {}", dir.display());
         }
     }
+    if let Some(why) = &report.unbuildable_linkage {
+        anyhow::bail!(
+            "{}: transmission: the linkage cannot be built: {why}",
+            args.drive.display()
+        );
+    }
     if let Some(u) = &report.unreachable {
         anyhow::bail!(
             "{}: stroke_deg = {}: not reached at {} Hz: the best stroke is ±{:.1}°; binding: {}",

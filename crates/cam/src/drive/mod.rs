@@ -137,6 +137,24 @@ pub fn linkage_laminate_in(
     )?)
 }
 
+/// Why the linkage of a drive file that gives no flexures cannot be built with its design's process
+/// (the flexure rules cut-sheet applies: the film's fatigue strain, the gap against the links beside it,
+/// the carbon left bonded), or `None` when it can, or when the process has no `[linkage]` to build it with.
+fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -> Option<String> {
+    let template = Template::resolve(&design.process, &design.source).ok()?;
+    template.linkage.as_ref()?;
+    let refusal =
+        linkage_laminate_in(&spec.transmission, &spec.source, design, model, &template).err()?;
+    // The refusal's field is the flexure request the file leaves out; what is wrong is its text.
+    let why = match refusal {
+        DriveError::Input(e) => e.expected,
+        e => e.to_string(),
+    };
+    Some(format!(
+        "{why}; to build it: a longer crank (a larger travel_mm), a thinner film (film_thickness_um), or a second stage"
+    ))
+}
+
 /// Analyse a drive file's design (already built for its process) under a model. With flexures in the
 /// file, the transmission's stiffness, inertia and mass are the drawn linkage's.
 pub fn analyse(
@@ -152,6 +170,12 @@ pub fn analyse(
     let laminate = match spec.transmission.flexures {
         Some(_) => Some(linkage_laminate(spec, design, model)?),
         None => None,
+    };
+    // A linkage given by its stiffness alone is still drawn, as cut-sheet would draw it, to check that
+    // its flexures can be built at all.
+    let unbuildable = match &laminate {
+        Some(_) => None,
+        None => unbuildable_linkage(spec, design, model),
     };
     let (flexure_stiffness, link_inertia, transmission_mass) = match &laminate {
         Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
@@ -195,7 +219,8 @@ pub fn analyse(
         drive_mode: mode.name().to_string(),
         frequency_Hz: f,
         required_stroke_deg: spec.transmission.stroke.to_degrees(),
-        reached: unreachable.is_none(),
+        reached: unreachable.is_none() && unbuildable.is_none(),
+        unbuildable_linkage: unbuildable,
         resonance_Hz: system.linear_resonance(),
         resonance_at_stroke_Hz: system.resonance_at_stroke(spec.transmission.stroke, f).ok(),
         actuator: ActuatorRow {

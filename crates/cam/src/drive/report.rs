@@ -112,7 +112,12 @@ pub struct DriveReport {
     pub drive_mode: String,
     pub frequency_Hz: f64,
     pub required_stroke_deg: f64,
+    /// The stroke reached within the field limit, and the linkage buildable.
     pub reached: bool,
+    /// Why the linkage cannot be built, for a drive file that gives its flexures' stiffness, not their
+    /// sizes (the drawn check of docs/cam.md §7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unbuildable_linkage: Option<String>,
     /// Small-stroke resonance of actuator + transmission + wing.
     pub resonance_Hz: f64,
     /// Resonance at the required stroke: the frequency where the steady stroke of that amplitude is
@@ -226,6 +231,9 @@ impl DriveReport {
         if let Some(l) = &self.linkage_laminate {
             let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
         }
+        if let Some(why) = &self.unbuildable_linkage {
+            let _ = writeln!(out, "\nNOT BUILDABLE: {why}");
+        }
         if let Some(u) = &self.unreachable {
             let _ = writeln!(
                 out,
@@ -313,7 +321,7 @@ impl DriveReport {
     /// The operating point: the stroke reached (the required one, else the best within the limit)
     /// and what it takes.
     fn operating_rows(&self, o: &OperatingRow, rows: &mut SummaryRows) {
-        let at = if self.reached {
+        let at = if self.unreachable.is_none() {
             "at the required stroke"
         } else {
             "at the best stroke"
