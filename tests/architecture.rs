@@ -387,9 +387,18 @@ fn without_literals(line: &str) -> String {
 }
 
 /// Every source file of the workspace's crates.
+/// Every Rust file of the workspace: the crates' sources, and the tests and benchmarks that drive them.
 fn source_files() -> Vec<PathBuf> {
+    let harnesses = [
+        "tests",
+        "benches",
+        "crates/nest/tests",
+        "crates/nest/benches",
+    ];
     CRATES
         .iter()
+        .chain(&harnesses)
+        .filter(|dir| root().join(dir).is_dir())
         .flat_map(|c| module_files(&root().join(c)))
         .map(|(_, p)| p)
         .collect()

@@ -40,6 +40,13 @@ fn case(name: impl Into<String>, args: &[&str]) -> Case {
 }
 
 fn cases() -> Vec<Case> {
+    let mut cases = design_cases();
+    cases.extend(command_cases());
+    cases
+}
+
+/// predict, cut-sheet and nest on the shipped designs and batches.
+fn design_cases() -> Vec<Case> {
     let mut cases = Vec::new();
     // Every shipped design: the six thesis designs and design C by method 1.
     for d in common::THESIS_DESIGNS.iter().chain(&["thesis-C-method-1"]) {
@@ -111,6 +118,12 @@ fn cases() -> Vec<Case> {
             "--json",
         ],
     ));
+    cases
+}
+
+/// optimize, sweep, laminate, weibull and drive on their examples.
+fn command_cases() -> Vec<Case> {
+    let mut cases = Vec::new();
     for spec in ["optimize-thesis", "optimize-rectangular"] {
         let file = format!("examples/{spec}.toml");
         cases.push(case(spec, &["optimize", &file, "-o", "{out}", "--pareto"]));

@@ -10,48 +10,11 @@ use common::{
     sheet_name, stderr,
 };
 
-#[test]
-fn the_insect_scale_linkage_is_cut_with_its_actuator() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("bee");
-    let drive = example("drive-robobee-linkage.toml");
-    let o = cut_sheet(
-        &example("robobee-class.toml"),
-        &out,
-        &["--drive", &drive, "--quantity", "12"],
-    );
-    assert!(o.status.success(), "{}", common::stderr(&o));
-    let written = files(&out);
-    let report = report_json(&out);
-    let l = &report["linkage"];
-    let panels = l["panels"].as_u64().unwrap() as usize;
-    assert!(panels >= 1);
-    for p in 1..=panels {
-        for stem in [
-            "linkage-1-carbon",
-            "linkage-2-adhesive",
-            "linkage-3-film",
-            "linkage-4-adhesive",
-            "linkage-5-carbon",
-            "linkage-6-release",
-        ] {
-            for ext in ["svg", "dxf"] {
-                // Each file's name carries its stock after the sheet's name.
-                let name = format!("{stem}-{p}.{ext}");
-                let file = written
-                    .keys()
-                    .find(|f| sheet_name(f) == name)
-                    .unwrap_or_else(|| panic!("{name}"));
-                assert!(file.contains("mm."), "{file} names no stock");
-                let listed = report["files"].as_array().unwrap();
-                assert!(listed.iter().any(|f| f == file), "{file} not listed");
-            }
-        }
-    }
-    // The carbon layers say which way their fibres lie, along the links (x), and the other layers name
-    // no fibres; a carbon slot crosses the strip, so it is narrower in x than in y: the links run
-    // along x, the stated fibre direction.
-    for (name, bytes) in sheet_files(&out) {
+/// Every linkage sheet of `out` engraves its label; the carbon layers say which way their fibres lie,
+/// along the links (x), and the other layers name no fibres; a carbon slot crosses the strip, so it is
+/// narrower in x than in y: the links run along x, the stated fibre direction.
+fn linkage_sheets_carry_their_labels_and_fibre_direction(out: &std::path::Path) {
+    for (name, bytes) in sheet_files(out) {
         if !name.starts_with("linkage-") || !name.ends_with(".svg") {
             continue;
         }
@@ -105,6 +68,47 @@ fn the_insect_scale_linkage_is_cut_with_its_actuator() {
             }
         }
     }
+}
+
+#[test]
+fn the_insect_scale_linkage_is_cut_with_its_actuator() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bee");
+    let drive = example("drive-robobee-linkage.toml");
+    let o = cut_sheet(
+        &example("robobee-class.toml"),
+        &out,
+        &["--drive", &drive, "--quantity", "12"],
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let written = files(&out);
+    let report = report_json(&out);
+    let l = &report["linkage"];
+    let panels = l["panels"].as_u64().unwrap() as usize;
+    assert!(panels >= 1);
+    for p in 1..=panels {
+        for stem in [
+            "linkage-1-carbon",
+            "linkage-2-adhesive",
+            "linkage-3-film",
+            "linkage-4-adhesive",
+            "linkage-5-carbon",
+            "linkage-6-release",
+        ] {
+            for ext in ["svg", "dxf"] {
+                // Each file's name carries its stock after the sheet's name.
+                let name = format!("{stem}-{p}.{ext}");
+                let file = written
+                    .keys()
+                    .find(|f| sheet_name(f) == name)
+                    .unwrap_or_else(|| panic!("{name}"));
+                assert!(file.contains("mm."), "{file} names no stock");
+                let listed = report["files"].as_array().unwrap();
+                assert!(listed.iter().any(|f| f == file), "{file} not listed");
+            }
+        }
+    }
+    linkage_sheets_carry_their_labels_and_fibre_direction(&out);
     // Twelve release outlines over the panels: one linkage per actuator.
     let outlines: usize = (1..=panels)
         .map(|p| {

@@ -119,6 +119,51 @@ fn check_sheet_label(name: &str, svg: &str, w: f64, h: f64) -> bool {
     true
 }
 
+/// The file `name` (SVG `text`, at `path`) states its stock `material`, `t` mm thick, in its title and its
+/// DXF twin's leading comments; a carbon-fibre sheet, cured or not (and no other), says which way its
+/// fibres must lie, in the title and as data: its parts were placed for that direction. A linkage panel's
+/// (or coupon's) carbon layer has its links, and so its fibres, along x.
+fn check_title_and_dxf_stock(name: &str, text: &str, path: &Path, material: &str, t: f64) {
+    let title = &text[text.find("<title>").unwrap()..text.find("</title>").unwrap()];
+    assert!(
+        title.contains(&format!("{t} mm thick")),
+        "{name}: the title names no thickness: {title}"
+    );
+    // A carbon-fibre sheet, cured or not (and no other), says which way its fibres must lie, in the
+    // title and as data; its parts were placed for that direction.
+    // A linkage panel's (or coupon's) carbon layer has its links, and so its fibres, along x.
+    let prepreg = material.contains("carbon-fibre");
+    let linkage_carbon = !prepreg && name.starts_with("linkage-") && name.contains("-carbon-");
+    let axis = if prepreg {
+        Some("y")
+    } else {
+        linkage_carbon.then_some("x")
+    };
+    assert_eq!(
+        axis.map(|a| title.contains(&format!("0° fibres along the sheet's {a} axis"))),
+        (prepreg || linkage_carbon).then_some(true),
+        "{name}: the fibre direction in the title: {title}"
+    );
+    assert_eq!(
+        title.contains("0° fibres"),
+        prepreg || linkage_carbon,
+        "{name}: {title}"
+    );
+    let stock_tag = start_tag(text, "<stock ").unwrap();
+    assert_eq!(attr(&stock_tag, "fibre_axis").as_deref(), axis, "{name}");
+    // The DXF twin states the same stock in its leading comments.
+    let dxf = std::fs::read_to_string(path.with_extension("dxf")).unwrap();
+    let head: String = dxf.lines().take(4).collect::<Vec<_>>().join("\n");
+    assert!(
+        head.starts_with("999"),
+        "{name}: the DXF has no stock comment"
+    );
+    assert!(
+        head.contains(&format!("{t} mm thick")),
+        "{name}: the DXF's stock comment: {head}"
+    );
+}
+
 /// Every cut file of `out` with the stock it states, and the stock list of its report; every part
 /// sheet with its stock label clear of its parts, but as many as the report says had no room.
 fn check_folder(out: &Path, report: &str) {
@@ -156,45 +201,7 @@ fn check_folder(out: &Path, report: &str) {
                 stock_part.starts_with(&first_word) && stock_part.ends_with(&format!("-{t}mm")),
                 "{name}: the file name does not carry its stock ({material}, {t} mm)"
             );
-            let title = &text[text.find("<title>").unwrap()..text.find("</title>").unwrap()];
-            assert!(
-                title.contains(&format!("{t} mm thick")),
-                "{name}: the title names no thickness: {title}"
-            );
-            // A carbon-fibre sheet, cured or not (and no other), says which way its fibres must lie, in the
-            // title and as data; its parts were placed for that direction.
-            // A linkage panel's (or coupon's) carbon layer has its links, and so its fibres, along x.
-            let prepreg = material.contains("carbon-fibre");
-            let linkage_carbon =
-                !prepreg && name.starts_with("linkage-") && name.contains("-carbon-");
-            let axis = if prepreg {
-                Some("y")
-            } else {
-                linkage_carbon.then_some("x")
-            };
-            assert_eq!(
-                axis.map(|a| title.contains(&format!("0° fibres along the sheet's {a} axis"))),
-                (prepreg || linkage_carbon).then_some(true),
-                "{name}: the fibre direction in the title: {title}"
-            );
-            assert_eq!(
-                title.contains("0° fibres"),
-                prepreg || linkage_carbon,
-                "{name}: {title}"
-            );
-            let stock_tag = start_tag(&text, "<stock ").unwrap();
-            assert_eq!(attr(&stock_tag, "fibre_axis").as_deref(), axis, "{name}");
-            // The DXF twin states the same stock in its leading comments.
-            let dxf = std::fs::read_to_string(path.with_extension("dxf")).unwrap();
-            let head: String = dxf.lines().take(4).collect::<Vec<_>>().join("\n");
-            assert!(
-                head.starts_with("999"),
-                "{name}: the DXF has no stock comment"
-            );
-            assert!(
-                head.contains(&format!("{t} mm thick")),
-                "{name}: the DXF's stock comment: {head}"
-            );
+            check_title_and_dxf_stock(&name, &text, &path, &material, t);
             // A nest's linkage coupon drawing (`linkage-<design>-<N>-<layer>-1`) shows one coupon as
             // it is nested; the coupons are cut on the sheets the stock list counts.
             let coupon = name.strip_prefix("linkage-").is_some_and(|rest| {

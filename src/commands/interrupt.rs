@@ -27,7 +27,7 @@ pub fn end_search() -> bool {
 }
 
 /// After a search an interrupt ended, the library's test hook may hold the run a moment before it
-/// writes (only in a build with its `test-hooks` feature: tests/nest.rs sends its second interrupt
+/// writes (only in a build with its `test-hooks` feature: tests/nest/budget.rs sends its second interrupt
 /// there).
 pub fn pause_after_interrupted_search() {
     if search_ended() {

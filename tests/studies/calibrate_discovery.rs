@@ -25,7 +25,7 @@
 //! right in at least 8 of 10 discoveries, the primitive in the top two in at least 8 of 10 (the rigid
 //! root: 7 of 10, what the measuring seeds give; [`hidden`] says why), and discovery run (verdict
 //! `not-explained`) in at least 8 of 10.
-//! `cargo test --release --test calibrate_discovery -- --nocapture` prints the table in
+//! `cargo test --release --test tests calibrate_discovery -- --ignored --nocapture` prints the table in
 //! docs/calibration.md.
 
 use crate::synthetic;

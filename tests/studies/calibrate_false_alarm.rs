@@ -3,7 +3,7 @@
 //! `not-explained` is a false alarm. Every primitive kind of the loop, 20 data sets each (30 random
 //! actuators x 4 voltages, 5 % noise on δ and F_b, 1 % on the mass): at most 1 false alarm in 20.
 //!
-//! `cargo test --release --test calibrate_false_alarm -- --ignored --nocapture` prints the table (about
+//! `cargo test --release --test tests calibrate_false_alarm -- --ignored --nocapture` prints the table (about
 //! 5 minutes on two cores).
 
 use crate::synthetic;

@@ -7,7 +7,7 @@
 //! fitted with the thesis-style null {η, s_k} (what a uniform d31 scale and stiffness explain) and the
 //! adequacy test of docs/calibration.md §3 is run on the fit: a detection is a failed test.
 //!
-//! `cargo test --release --test calibrate_power -- --ignored --nocapture` prints the table in
+//! `cargo test --release --test tests calibrate_power -- --ignored --nocapture` prints the table in
 //! docs/calibration.md; the fast test checks the t_p row (a loss growing as the PZT gets thinner).
 
 use crate::synthetic;

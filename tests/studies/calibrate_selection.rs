@@ -17,7 +17,7 @@
 //! (`CALIBRATE_SEED_BASE=5500` runs seeds 5500-5519); the thresholds are measured on seeds 5000-5019 of
 //! that stream (`seed * 104_723 + 29`), never looked at while tuning.
 //!
-//! CI runs every case on the first 4 measuring seeds (`cargo test --release --test calibrate_selection`),
+//! CI runs every case on the first 4 measuring seeds (`cargo test --release --test tests calibrate_selection -- --ignored`),
 //! with the thresholds scaled to them (every one of the 4 must pass): the null case, the single effects
 //! and the effects outside the library in one test, the 21 pairs in the other. `ACTUATOR_CAM_FULL_STUDY=1`
 //! runs all 20 measuring seeds, and with `-- --nocapture` prints the table in docs/calibration.md (about

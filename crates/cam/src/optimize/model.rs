@@ -24,7 +24,7 @@
 //! [`EffectModel::outputs`] (a clamp compliance per width is `c_w / w_0` there; a rigid root and edge
 //! margins take that planform's piezo length and widths), the function
 //! [`EffectModel::predict`] is held to. Nothing is dropped: a test compares every primitive kind with the
-//! exact prediction, and `tests/calibrate_declared.rs` the optimizer's chosen design with `predict`.
+//! exact prediction, and `tests/studies/calibrate_declared.rs` the optimizer's chosen design with `predict`.
 
 use actuator_model::effects::StackBasis;
 use actuator_model::performance::{energy_and_mass, evaluate};
