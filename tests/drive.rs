@@ -350,3 +350,95 @@ fn both_example_wings_have_an_insect_aspect_ratio() {
         assert!((2.8..=10.9).contains(&aspect), "{name}: {aspect}");
     }
 }
+
+#[test]
+fn design_7_on_the_hawk_moth_wing_strains_most_at_the_plate_end() {
+    // Source: docs/physics.md eqs. 6.1-6.3 and §12.2 written out here, not through the tool's
+    // along-the-plate code or its linkage. Design 7 (examples/thesis-7.toml: 50 mm, l_r 1, w_0 20 mm,
+    // w_r 1.75, 267 µm PZT-5H on [0/0/90/0/0]) is symmetric in parallel drive (ε0 = 0), so a surface
+    // strain is (t/2) κ with κ(x, t) = P sin ωt - C44 (F sin ωt - k x(t)) (L - x)/w(x) (Timoshenko's
+    // M = F (L - x) over the local width). The tip's travel is x = δ(θ) - δ0 with
+    // δ(θ) = L1 + L3 sin θ - √(L1² - L3² (1 - cos θ)²) (§12.2), θ(t) the steady stroke.
+    use actuator_model::{DriveMode, Laminate, Material};
+    use std::f64::consts::PI;
+    let a = drive_analysis(&example_path("drive-hawkmoth.toml"));
+    let r = &a.report;
+    let o = r.operating.as_ref().unwrap();
+    let state = a.state.unwrap();
+    let (pzt, cf) = (
+        Material::builtin("PZT-5H").unwrap(),
+        Material::builtin("CF-thesis").unwrap(),
+    );
+    let lam = Laminate::bimorph(
+        &pzt,
+        267e-6,
+        &cf,
+        61.8e-6,
+        &[0.0, 0.0, 90.0, 0.0, 0.0],
+        None,
+    )
+    .unwrap();
+    let field = o.field_V_per_mm * 1e3;
+    let p = lam
+        .free_curvature(&DriveMode::Parallel.layer_fields(field))
+        .abs();
+    let c44 = lam.bending_compliance();
+    let (force, k) = (o.force_amplitude_N, r.actuator.stiffness_N_per_m);
+    let l = &r.linkage;
+    let (l1, l3, d0) = (l.coupler_mm * 1e-3, l.crank_mm * 1e-3, l.offset_mm * 1e-3);
+    let travel =
+        |t: f64| l1 + l3 * t.sin() - (l1 * l1 - (l3 * (1.0 - t.cos())).powi(2)).sqrt() - d0;
+    let (length, l_p, w_0) = (50e-3, 25e-3, 20e-3);
+    let w_tip = w_0 * (2.0 - 1.75) / 1.75;
+    let (mut root, mut end) = (0.0f64, 0.0f64);
+    for i in 0..2048 {
+        let wt = 2.0 * PI * i as f64 / 2048.0;
+        let load = force * wt.sin() - k * travel(state.angle_at(wt));
+        let strain = |arm_over_width: f64| {
+            (0.5 * lam.thickness() * (p * wt.sin() - c44 * load * arm_over_width)).abs()
+        };
+        root = root.max(strain(length / w_0));
+        end = end.max(strain((length - l_p) / w_tip));
+    }
+    eprintln!(
+        "±60°: tool {:.1} µε; closed form {:.1} µε at the plate's end, {:.1} µε at the root",
+        o.peak_pzt_strain * 1e6,
+        end * 1e6,
+        root * 1e6
+    );
+    assert!(end > 3.0 * root, "end {end}, root {root}");
+    let rel = o.peak_pzt_strain / end - 1.0;
+    assert!(
+        rel.abs() < 0.02,
+        "tool {:.1} µε, closed form {:.1} µε",
+        o.peak_pzt_strain * 1e6,
+        end * 1e6
+    );
+    assert_eq!(o.peak_pzt_strain_x_over_l_p, 1.0);
+    assert_eq!(o.peak_pzt_stress_x_over_l_p, 1.0);
+    // The printed table names the peak and where it is.
+    let table = r.table();
+    let row = |name: &str| {
+        table
+            .lines()
+            .find(|l| l.trim_start().starts_with(name))
+            .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+            .unwrap_or_default()
+    };
+    assert_eq!(
+        row("peak PZT strain along the plate"),
+        format!(
+            "peak PZT strain along the plate {:.0} µstrain at x/l_p 1.00",
+            o.peak_pzt_strain * 1e6
+        ),
+        "{table}"
+    );
+    assert_eq!(
+        row("peak PZT stress along the plate"),
+        format!(
+            "peak PZT stress along the plate {:.1} MPa at x/l_p 1.00",
+            o.peak_pzt_stress_MPa
+        ),
+        "{table}"
+    );
+}

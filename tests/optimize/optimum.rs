@@ -300,3 +300,77 @@ fn calibrated_model_file_optimum_meets_the_energy_and_beats_an_independent_grid(
     let original = run(&["optimize", spec.to_str().unwrap()]);
     assert!(mass_mg > refined_mass(&stdout(&original)) * 1.1);
 }
+
+// Strain along the plate (docs/physics.md eqs. 6.1-6.3).
+
+/// The example spec narrowed to one laminate, 0.267 mm PZT on [0/90/0], and to tapers past the
+/// uniform-strain ridge (l_r 1 to 1.5, w_r 1.7 to 1.95, against a ridge at 4/3 and below), with a strain
+/// limit.
+fn past_the_ridge(dir: &Path, limit: &str) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(example("optimize-thesis.toml"))
+        .unwrap()
+        .replacen("[0.127, 0.191, 0.267]", "[0.267]", 1)
+        .replacen(
+            "[[0, 90, 0], [0, 0, 90, 0, 0], [0, 0, 0, 90, 0, 0, 0]]",
+            "[[0, 90, 0]]",
+            1,
+        )
+        .replacen(
+            "extension_ratio = [0, 1.5]",
+            "extension_ratio = [1, 1.5]",
+            1,
+        )
+        .replacen("width_ratio = [1, 1.95]", "width_ratio = [1.7, 1.95]", 1)
+        .replacen(
+            "max_peak_pzt_strain = 0.0009",
+            &format!("max_peak_pzt_strain = {limit}"),
+            1,
+        );
+    let spec = dir.join(format!("past-{limit}.toml"));
+    std::fs::write(&spec, text).unwrap();
+    spec
+}
+
+#[test]
+fn the_strain_limit_holds_along_the_plate_from_free_to_blocked() {
+    // Source: docs/physics.md eqs. 6.1-6.3: past the ridge the blocked moment per width is largest at the
+    // plate's outer end, where this laminate's strain exceeds its free 328 µm/m. Unconstrained, the optimum
+    // strains its plate end more than its free deflection; a limit between the two leaves no shape in
+    // these ranges, and the refusal names the limit.
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("optimum");
+    let o = run(&[
+        "optimize",
+        past_the_ridge(dir.path(), "0.01").to_str().unwrap(),
+        "-o",
+        folder.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (section, p, _) = read_design(&folder.join("design.toml")).predict();
+    assert!(p.peak_pzt_strain > 1.05 * section.peak_pzt_strain);
+    assert_eq!(p.peak_pzt_strain_at, 1.0);
+    assert!(stdout(&o).contains(&format!(
+        "peak PZT strain  {:.6} at x/l_p 1.00",
+        p.peak_pzt_strain
+    )));
+    // A limit above the optimum's own peak keeps it.
+    let above = format!("{:.6}", p.peak_pzt_strain + 1e-6);
+    let kept = run(&[
+        "optimize",
+        past_the_ridge(dir.path(), &above).to_str().unwrap(),
+    ]);
+    assert!(kept.status.success(), "{}", stderr(&kept));
+    assert_eq!(refined_mass(&stdout(&kept)), refined_mass(&stdout(&o)));
+    // Between the free strain and every shape's plate end: refused in one line naming the limit.
+    let refused = run(&[
+        "optimize",
+        past_the_ridge(dir.path(), "0.00034").to_str().unwrap(),
+    ]);
+    assert!(!refused.status.success());
+    let err = stderr(&refused);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("strains its plate past constraints.max_peak_pzt_strain"),
+        "{err}"
+    );
+}

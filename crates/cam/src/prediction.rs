@@ -7,7 +7,7 @@ use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::Actuator;
 use actuator_model::model::{predict, ModelChoice, ModelKind};
 use actuator_model::performance::evaluate;
-use actuator_model::{ModelError, Performance, Section};
+use actuator_model::{ModelError, Performance, Section, Weibull};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -45,8 +45,14 @@ pub struct Prediction {
     pub field_V_per_mm: f64,
     pub voltage_V: f64,
     pub survival: f64,
+    /// Peak strain and stress along the active length from free to blocked, and where each is
+    /// (`x / l_p`).
     pub peak_pzt_strain: f64,
+    pub peak_pzt_strain_x_over_l_p: f64,
+    /// Survival of the peak strain by the thesis' strain fit (Table 4.12).
+    pub strain_survival: f64,
     pub peak_pzt_stress_MPa: f64,
+    pub peak_pzt_stress_x_over_l_p: f64,
     pub base_stress_MPa: f64,
     pub capacitance_nF: f64,
     pub mass_breakdown_mg: MassBreakdownMg,
@@ -161,7 +167,10 @@ impl Prediction {
                 .voltage_from_field(drive.field, design.pzt_thickness),
             survival: drive.survival(),
             peak_pzt_strain: p.peak_pzt_strain,
+            peak_pzt_strain_x_over_l_p: p.peak_pzt_strain_at,
+            strain_survival: Weibull::STRAIN.survival(p.peak_pzt_strain),
             peak_pzt_stress_MPa: p.peak_pzt_stress * 1e-6,
+            peak_pzt_stress_x_over_l_p: p.peak_pzt_stress_at,
             base_stress_MPa: p.base_stress * 1e-6,
             capacitance_nF: p.capacitance * 1e9,
             mass_breakdown_mg: MassBreakdownMg {
@@ -188,7 +197,16 @@ impl Prediction {
             ("voltage_V", self.voltage_V),
             ("survival", self.survival),
             ("peak_pzt_strain", self.peak_pzt_strain),
+            (
+                "peak_pzt_strain_x_over_l_p",
+                self.peak_pzt_strain_x_over_l_p,
+            ),
+            ("strain_survival", self.strain_survival),
             ("peak_pzt_stress_MPa", self.peak_pzt_stress_MPa),
+            (
+                "peak_pzt_stress_x_over_l_p",
+                self.peak_pzt_stress_x_over_l_p,
+            ),
             ("base_stress_MPa", self.base_stress_MPa),
             ("capacitance_nF", self.capacitance_nF),
             ("mass_breakdown_mg.pzt", self.mass_breakdown_mg.pzt),
@@ -269,12 +287,27 @@ impl Prediction {
             (
                 "peak PZT strain",
                 format!("{:.0}", self.peak_pzt_strain * 1e6),
-                "µm/m (free)",
+                "µm/m (free to blocked, along the plate)",
+            ),
+            (
+                "  at x/l_p",
+                format!("{:.2}", self.peak_pzt_strain_x_over_l_p),
+                "",
+            ),
+            (
+                "  strain survival",
+                format!("{:.4}", self.strain_survival),
+                "(thesis Table 4.12)",
             ),
             (
                 "peak PZT stress",
                 format!("{:.1}", self.peak_pzt_stress_MPa),
-                "MPa (blocked, root)",
+                "MPa (free to blocked, along the plate)",
+            ),
+            (
+                "  at x/l_p",
+                format!("{:.2}", self.peak_pzt_stress_x_over_l_p),
+                "",
             ),
             (
                 "base stress",

@@ -544,10 +544,8 @@ pub fn rigid_extension_tip_mass_ratio(extension_ratio: f64, mass_ratio: f64) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::{Drive, DriveMode};
-    use crate::laminate::Laminate;
-    use crate::material::Material;
     use crate::performance::{evaluate, tip_compliance};
+    use crate::section::thesis_section;
 
     /// A uniform beam: `EI = w / C44`, `μ = w × areal mass`.
     fn uniform(length: f64, extension_ratio: f64) -> ActuatorBeam {
@@ -563,20 +561,6 @@ mod tests {
             edge_line_mass: 0.0,
             tip_point_mass: 0.0,
         }
-    }
-
-    fn thesis_section(t_p: f64, layup: &[f64]) -> Section {
-        let pzt = Material::builtin("PZT-5H").unwrap();
-        let cf = Material::builtin("CF-thesis").unwrap();
-        let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
-        Section::new(
-            &lam,
-            Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            },
-        )
-        .unwrap()
     }
 
     #[test]

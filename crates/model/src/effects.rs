@@ -511,17 +511,15 @@ impl Effects {
             ..base.mass_breakdown
         };
         let mut p = base.with_outputs(delta, force, masses);
-        // Stresses under the changed blocked force (thesis eq. 3.3 and the CLT root moment; with a rigid
-        // root the beam's root is at h, where the moment is F (L - h) over the width w(h)).
+        // Stresses under the changed blocked force (thesis eq. 3.3, and the CLT stress and strain along
+        // the plate; with a rigid root the beam's root is at h, where the moment is F (L - h) over w(h)).
         let pl = &a.planform;
         p.base_stress = 6.0 * force * pl.length / (pl.base_width * section.thickness.powi(2));
-        let root_moment_per_width = if self.rigid_root > 0.0 {
-            let held = self.held_root(pl);
-            force * (pl.length - held) / pl.width_at(held)
-        } else {
-            force * pl.length / pl.base_width
-        };
-        p.peak_pzt_stress = section.peak_pzt_stress(root_moment_per_width);
+        let plate = crate::plate::over_stroke(&section, pl, force, self.held_root(pl));
+        p.peak_pzt_strain = plate.strain;
+        p.peak_pzt_strain_at = plate.strain_at;
+        p.peak_pzt_stress = plate.stress;
+        p.peak_pzt_stress_at = plate.stress_at;
         Ok(p)
     }
 }

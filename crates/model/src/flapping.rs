@@ -572,8 +572,8 @@ mod tests {
     #[test]
     fn harmonic_balance_agrees_with_time_integration() {
         // The stroke amplitudes must agree within 2 % at, below and above resonance; at strokes of
-        // 28-52° where the linkage's ratio has fallen by a third (the balance in θ, the integration in x)
-        // three harmonics are within 0.05 %, held here to 0.2 %.
+        // 28-52°, where the linkage's ratio T = dθ/dx has risen (the balance in θ, the integration in
+        // x), three harmonics are within 0.05 %, held here to 0.2 %.
         let s = system();
         let f_r = s.linear_resonance();
         for (ratio, force) in [(0.5, 0.07), (0.9, 0.04), (1.0, 0.08), (1.3, 0.08)] {

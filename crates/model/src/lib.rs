@@ -21,6 +21,7 @@ pub mod material;
 pub mod model;
 pub mod performance;
 pub mod planform;
+pub mod plate;
 pub mod primitives;
 pub mod section;
 pub mod transmission;
@@ -37,5 +38,6 @@ pub use model::{
 };
 pub use performance::{MassBreakdown, Performance};
 pub use planform::Planform;
+pub use plate::PlatePeak;
 pub use section::Section;
 pub use weibull::Weibull;

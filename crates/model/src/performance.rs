@@ -44,10 +44,15 @@ pub struct Performance {
     pub energy_density: f64,
     /// Tip stiffness `F_b / δ`, N/m.
     pub stiffness: f64,
-    /// Peak |strain| on a PZT surface in free deflection.
+    /// Peak |ε_x| on a PZT surface along the active length over the stroke, free to blocked
+    /// ([`crate::plate::over_stroke`]).
     pub peak_pzt_strain: f64,
-    /// Peak |σ_x| in the PZT at the root under the blocked force (CLT), Pa.
+    /// Where the peak strain is, `x / l_p`.
+    pub peak_pzt_strain_at: f64,
+    /// Peak |σ_x| on a PZT surface along the active length over the stroke, free to blocked (CLT), Pa.
     pub peak_pzt_stress: f64,
+    /// Where the peak stress is, `x / l_p`.
+    pub peak_pzt_stress_at: f64,
     /// Thesis base stress under blocked force, `σ = 6 F_b l_tot / (w_0 t²)` (eq. 3.3), Pa.
     pub base_stress: f64,
     /// Capacitance of one PZT plate, `ε0 K33 A / t_p`, F.
@@ -111,7 +116,7 @@ pub fn evaluate(section: &Section, planform: &Planform) -> Performance {
     let delta = free_deflection(section, planform);
     let force = blocked_force(section, planform);
     let masses = mass(section, planform);
-    let root_moment = force * planform.length / planform.base_width;
+    let plate = crate::plate::over_stroke(section, planform, force, 0.0);
     let t = section.thickness;
     let base = Performance {
         free_deflection: 0.0,
@@ -121,8 +126,10 @@ pub fn evaluate(section: &Section, planform: &Planform) -> Performance {
         mass_breakdown: MassBreakdown::default(),
         energy_density: 0.0,
         stiffness: 0.0,
-        peak_pzt_strain: section.peak_pzt_strain,
-        peak_pzt_stress: section.peak_pzt_stress(root_moment),
+        peak_pzt_strain: plate.strain,
+        peak_pzt_strain_at: plate.strain_at,
+        peak_pzt_stress: plate.stress,
+        peak_pzt_stress_at: plate.stress_at,
         base_stress: 6.0 * force * planform.length / (planform.base_width * t * t),
         capacitance: VACUUM_PERMITTIVITY * section.relative_permittivity * planform.piezo_area()
             / section.pzt_thickness,

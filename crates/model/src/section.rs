@@ -153,3 +153,20 @@ impl Section {
         })
     }
 }
+
+/// A thesis laminate (PZT-5H plates of `t_p` on the thesis CF plies of 61.8 µm in `layup`) solved in
+/// parallel drive at the thesis' 800 V/mm: the section the unit tests share.
+#[cfg(test)]
+pub(crate) fn thesis_section(t_p: f64, layup: &[f64]) -> Section {
+    let pzt = crate::material::Material::builtin("PZT-5H").unwrap();
+    let cf = crate::material::Material::builtin("CF-thesis").unwrap();
+    let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
+    Section::new(
+        &lam,
+        Drive {
+            mode: crate::drive::DriveMode::Parallel,
+            field: 800e3,
+        },
+    )
+    .unwrap()
+}

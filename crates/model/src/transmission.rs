@@ -338,4 +338,35 @@ mod tests {
         assert!(Linkage::solve(0.3e-3, -sixty, sixty, 0.4).is_err());
         assert!(Linkage::solve(0.3e-3, sixty, -sixty, 3.0).is_err());
     }
+
+    #[test]
+    fn the_hawk_moth_ratio_rises_with_stroke() {
+        // Source: docs/physics.md §12.2, T = 1/(dδ/dθ) with dδ/dθ written out here, on the hawk-moth
+        // linkage of examples/drive-hawkmoth.toml (solved for ±60° from a 0.75 mm travel, coupler 4 times
+        // the crank: L3 = 0.75 mm / sin 60° = 0.866 mm, §12.3). T L3 is 1 at rest (eq. 2.6) and rises
+        // toward both ends of the stroke, faster on the side the crank swings toward the coupler.
+        let sixty = PI / 3.0;
+        let link = Linkage::solve(0.75e-3, -sixty, sixty, 4.0).unwrap();
+        let (l1, l3) = (link.coupler, link.crank);
+        assert!((l3 - 0.75e-3 / sixty.sin()).abs() < 1e-15);
+        let by_hand = |t: f64| {
+            let q = 1.0 - t.cos();
+            1.0 / (l3 * t.cos() + l3 * l3 * q * t.sin() / (l1 * l1 - l3 * l3 * q * q).sqrt())
+        };
+        let table = [
+            (-60.0, 2.5583),
+            (-45.0, 1.5263),
+            (-30.0, 1.1775),
+            (0.0, 1.0),
+            (30.0, 1.1328),
+            (45.0, 1.3175),
+            (60.0, 1.6417),
+        ];
+        for (deg, want) in table {
+            let t = f64::to_radians(deg);
+            let got = link.ratio_at_angle(t) * l3;
+            assert!((got - by_hand(t) * l3).abs() < 1e-12);
+            assert!((got - want).abs() < 5e-5, "{deg}°: {got}");
+        }
+    }
 }

@@ -20,8 +20,9 @@ use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
 use actuator_model::model::ModelChoice;
+use actuator_model::plate::{self, PlatePeak};
 use actuator_model::transmission::Linkage;
-use actuator_model::{ModelError, Performance, Section};
+use actuator_model::{ModelError, Performance, Section, Weibull};
 use report::{
     ActuatorRow, DriveReport, LinkageRow, MassRow, ModeRow, OperatingRow, SweepPoint, Unreachable,
     WingRow,
@@ -416,8 +417,8 @@ fn mode_rows(
         .collect()
 }
 
-/// The operating point in lab units: field and voltage of the force, peak PZT stress and strain over a
-/// period, power into the wing and reactive power through the plates.
+/// The operating point in lab units: field and voltage of the force, peak PZT stress and strain along
+/// the plate over a period and the strain's Weibull survival, power into the wing and reactive power through the plates.
 fn operating_row(
     system: &FlappingSystem,
     design: &Design,
@@ -429,17 +430,21 @@ fn operating_row(
     let field = s.force / per_field;
     let section = Section::new(&design.laminate()?, Drive { mode, field })?;
     let omega = 2.0 * PI * s.frequency;
-    let lever = design.planform.length / design.planform.base_width;
-    let (mut stress, mut strain) = (0.0f64, 0.0f64);
+    let mut peak = PlatePeak::default();
     for i in 0..PERIOD_SAMPLES {
         let phase = 2.0 * PI * i as f64 / PERIOD_SAMPLES as f64;
         let angle = s.angle_at(phase);
         let x = system.linkage.travel(angle).unwrap_or(0.0);
-        // The tip load: what holds the tip back from its free motion (`F sin ωt - k x`).
+        // The tip load: what holds the tip back from its free motion (`F sin ωt - k x`), along the
+        // whole plate (docs/physics.md §15).
         let load = s.force * phase.sin() - system.actuator.stiffness * x;
-        let (st, sn) = section.peak_pzt_stress_and_strain(phase.sin(), load * lever);
-        stress = stress.max(st);
-        strain = strain.max(sn);
+        peak = peak.max(plate::peak(
+            &section,
+            &design.planform,
+            phase.sin(),
+            load,
+            0.0,
+        ));
     }
     // ½ ω C V² per plate at the plate's AC field amplitude.
     let reactive: f64 = mode
@@ -456,8 +461,11 @@ fn operating_row(
         field_V_per_mm: field * 1e-3,
         voltage_V: mode.voltage_from_field(field, design.pzt_thickness),
         survival: mode.field_limit().survival(field),
-        peak_pzt_stress_MPa: stress * 1e-6,
-        peak_pzt_strain: strain,
+        peak_pzt_stress_MPa: peak.stress * 1e-6,
+        peak_pzt_stress_x_over_l_p: peak.stress_at,
+        peak_pzt_strain: peak.strain,
+        peak_pzt_strain_x_over_l_p: peak.strain_at,
+        strain_survival: Weibull::STRAIN.survival(peak.strain),
         peak_tip_load_N: s.peak_tip_load,
         mechanical_power_mW: s.aero_power * 1e3,
         reactive_power_mW: reactive * 1e3,

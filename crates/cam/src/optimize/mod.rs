@@ -111,12 +111,24 @@ pub fn optimize(problem: Problem, progress: &dyn Progress) -> Result<Outcome, Op
                     a
                 }
             });
+            // No energy anywhere because the most energetic shape strains its plate past the limit.
+            let strained = top.is_some_and(|d| {
+                d.energy <= 0.0
+                    && problem
+                        .strains_past_limit(d.candidate, d.extension_ratio, d.width_ratio)
+                        .unwrap_or(false)
+            });
             Err(OptimizeError::Infeasible {
                 most_energy_mj: top.map_or("0".into(), |d| short_number(d.energy * 1e3)),
-                limit: top.map_or(FieldLimit::Requested, |d| {
-                    problem.candidates[d.candidate].field_limit
-                }),
+                limit: match top {
+                    _ if strained => FieldLimit::Strain,
+                    Some(d) => problem.candidates[d.candidate].field_limit,
+                    None => FieldLimit::Requested,
+                },
                 design: top.map_or("no design meets the tip width".into(), |d| {
+                    if strained {
+                        return "every shape in the ranges strains its plate past constraints.max_peak_pzt_strain somewhere along it between free deflection and blocked".into();
+                    }
                     let c = &problem.candidates[d.candidate];
                     format!(
                         "t_p {} mm {}, l_tot {:.4} mm, l_r {:.4}, w_0 {:.4} mm, w_r {:.4}",

@@ -213,6 +213,22 @@ impl SearchModel {
         }
     }
 
+    /// Peak PZT strain of a shape along its plate over the stroke, free to blocked. The original model's
+    /// depends on the shape alone (`M(x)/w(x)` under `F_b` is the same at every `(l_tot, w_0)`,
+    /// docs/physics.md eq. 6.1), so the unit planform gives it for the whole shape; the thesis-adjusted
+    /// model keeps the original's stresses; a calibrated model with a length of its own is taken at that
+    /// planform too.
+    pub fn shape_strain(
+        &self,
+        section: &Section,
+        stack: &Stack,
+        extension_ratio: f64,
+        width_ratio: f64,
+    ) -> Result<f64, ModelError> {
+        let unit = unit_planform(extension_ratio, width_ratio);
+        Ok(self.performance(section, stack, &unit)?.peak_pzt_strain)
+    }
+
     /// Prediction of a built-in model from the solved section alone (`None` for a calibrated model,
     /// which rebuilds the stack).
     pub fn section_performance(
@@ -296,6 +312,9 @@ mod tests {
                     assert!(((mass - want.mass) / want.mass).abs() < 1e-12);
                     let p = model.performance(&section, &st, &pl).unwrap();
                     assert!(((p.energy - want.energy) / want.energy).abs() < 1e-14);
+                    // The strain along the plate is the shape's (docs/physics.md eq. 6.1).
+                    let strain = model.shape_strain(&section, &st, l_r, w_r).unwrap();
+                    assert!((strain / want.peak_pzt_strain - 1.0).abs() < 1e-12);
                 }
             }
         }

@@ -494,6 +494,7 @@ mod tests {
                 width_ratio: Range { lo: 1.0, hi: 1.95 },
             },
             min_tip_width: 0.0,
+            max_strain: None,
             grid: 15,
             candidates: vec![Candidate {
                 pzt_thickness: 267e-6,

@@ -244,10 +244,20 @@ fn optimum_text(s: &mut String, spec: &Spec, outcome: &Outcome, perf: &Performan
         ),
         ("energy density", format!("{:.5} J/kg", perf.energy_density)),
         ("stiffness", format!("{:.2} N/m", perf.stiffness)),
-        ("peak PZT strain", format!("{:.6}", perf.peak_pzt_strain)),
+        (
+            "peak PZT strain",
+            format!(
+                "{:.6} at x/l_p {:.2} (free to blocked, along the plate)",
+                perf.peak_pzt_strain, perf.peak_pzt_strain_at
+            ),
+        ),
         (
             "peak PZT stress",
-            format!("{:.3} MPa", perf.peak_pzt_stress * 1e-6),
+            format!(
+                "{:.3} MPa at x/l_p {:.2}",
+                perf.peak_pzt_stress * 1e-6,
+                perf.peak_pzt_stress_at
+            ),
         ),
     ];
     for (k, v) in rows {

@@ -42,7 +42,8 @@ pub enum FieldLimit {
     Requested,
     /// `max_voltage_V` at this PZT thickness and drive mode.
     Voltage,
-    /// `max_peak_pzt_strain` in free deflection.
+    /// `max_peak_pzt_strain` in free deflection (uniform along the plate; a shape whose stroke strains
+    /// its plate more is left out, [`Problem::shape_rates`]).
     Strain,
 }
 
@@ -105,6 +106,9 @@ pub fn tip_width(base_width: f64, width_ratio: f64) -> f64 {
 /// Relative slack on the tip-width check, so a design built exactly on the limit passes it.
 pub(crate) const TIP_SLACK: f64 = 1e-12;
 
+/// Relative slack on the strain check, so a laminate whose field the strain limit capped passes it.
+const STRAIN_SLACK: f64 = 1e-12;
+
 /// A fully specified search.
 #[derive(Debug, Clone)]
 pub struct Problem {
@@ -118,6 +122,8 @@ pub struct Problem {
     pub bounds: SearchRanges,
     /// Smallest tip width, m.
     pub min_tip_width: f64,
+    /// Largest peak PZT strain along the plate over the stroke, free to blocked (`None`: unconstrained).
+    pub max_strain: Option<f64>,
     /// Grid points per continuous variable.
     pub grid: usize,
     /// Laminates, in spec order (thickness outer, layup inner).
@@ -152,6 +158,7 @@ impl Problem {
             energy: spec.energy,
             bounds: spec.bounds,
             min_tip_width: spec.min_tip_width,
+            max_strain: spec.max_peak_pzt_strain,
             grid: spec.grid,
             candidates,
             pzt: spec.pzt.clone(),
@@ -187,22 +194,46 @@ impl Problem {
         }
     }
 
+    /// The shape's rates, or `None` when its plate strains beyond `max_strain` along it.
     fn try_shape_rates(
         &self,
         candidate: usize,
         extension_ratio: f64,
         width_ratio: f64,
-    ) -> Result<ShapeRates, ModelError> {
-        self.model.shape_rates(
+    ) -> Result<Option<ShapeRates>, ModelError> {
+        let rates = self.model.shape_rates(
             &self.candidates[candidate].section,
             &self.stack(candidate),
             extension_ratio,
             width_ratio,
-        )
+        )?;
+        if self.strains_past_limit(candidate, extension_ratio, width_ratio)? {
+            return Ok(None);
+        }
+        Ok(Some(rates))
+    }
+
+    /// True when the shape's plate strains beyond `max_strain` somewhere along it over the stroke
+    /// ([`SearchModel::shape_strain`]).
+    pub fn strains_past_limit(
+        &self,
+        candidate: usize,
+        extension_ratio: f64,
+        width_ratio: f64,
+    ) -> Result<bool, ModelError> {
+        let Some(limit) = self.max_strain else {
+            return Ok(false);
+        };
+        let (section, stack) = (&self.candidates[candidate].section, self.stack(candidate));
+        let strain = self
+            .model
+            .shape_strain(section, &stack, extension_ratio, width_ratio)?;
+        Ok(strain > limit * (1.0 + STRAIN_SLACK))
     }
 
     /// The model's rates of one shape on one laminate. [`Problem::from_spec`] has solved every stack
-    /// once, so this cannot fail; were it to, the shape gets no energy and is never chosen.
+    /// once, so this cannot fail; were it to, or were the shape's plate strained beyond the limit, the
+    /// shape gets no energy and is never chosen.
     pub fn shape_rates(
         &self,
         candidate: usize,
@@ -210,6 +241,8 @@ impl Problem {
         width_ratio: f64,
     ) -> ShapeRates {
         self.try_shape_rates(candidate, extension_ratio, width_ratio)
+            .ok()
+            .flatten()
             .unwrap_or(ShapeRates {
                 energy: 0.0,
                 mass: f64::INFINITY,
