@@ -266,6 +266,15 @@ impl DriveReport {
             "mg",
         );
         rows.row(
+            "  actuator loss factor",
+            format!(
+                "{} (Q {})",
+                fixed(self.actuator.loss_factor, 4),
+                fixed(1.0 / self.actuator.loss_factor, 1)
+            ),
+            "",
+        );
+        rows.row(
             "linkage coupler / crank",
             format!(
                 "{} / {}",
