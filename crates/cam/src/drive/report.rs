@@ -264,25 +264,12 @@ impl DriveReport {
             format!("±{}", fixed(self.required_stroke_deg, 1)),
             "deg",
         );
-        let at_stroke = match self.resonance_at_stroke_Hz {
-            Some(f) => fixed(f, 1),
-            None => "none found".to_string(),
-        };
-        rows.row(
-            &format!("resonance at ±{}", fixed(self.required_stroke_deg, 1)),
-            at_stroke,
-            "Hz",
-        );
-        rows.row(
-            "resonance at small stroke",
-            fixed(self.resonance_Hz, 1),
-            "Hz",
-        );
-        rows.row(
-            "  bare actuator",
-            fixed(self.actuator.resonance_Hz, 1),
-            "Hz",
-        );
+        let at_stroke = (self.resonance_at_stroke_Hz).map_or("none found".into(), |f| fixed(f, 1));
+        let stroke = fixed(self.required_stroke_deg, 1);
+        rows.row(&format!("resonance at ±{stroke}"), at_stroke, "Hz");
+        let (small, bare) = (self.resonance_Hz, self.actuator.resonance_Hz);
+        rows.row("resonance at small stroke", fixed(small, 1), "Hz");
+        rows.row("  bare actuator", fixed(bare, 1), "Hz");
         rows.row(
             "  actuator stiffness",
             fixed(self.actuator.stiffness_N_per_m, 1),
@@ -292,6 +279,15 @@ impl DriveReport {
             "  actuator modal mass",
             fixed(self.actuator.modal_mass_mg, 2),
             "mg",
+        );
+        rows.row(
+            "  actuator loss factor",
+            format!(
+                "{} (Q {})",
+                fixed(self.actuator.loss_factor, 4),
+                fixed(1.0 / self.actuator.loss_factor, 1)
+            ),
+            "",
         );
         rows.row(
             "linkage coupler / crank",

@@ -6,8 +6,8 @@ use crate::design::transmission::{TransmissionSpec, MG_MM2};
 use crate::input::limits::{
     AIR_DENSITY_KG_PER_M3, AREAL_DENSITY_G_PER_M2, CHORD_MM, DRAG_COEFFICIENT,
     FLAPPING_FREQUENCY_HZ, INCIDENCE_DEG, INERTIA_MG_MM2, LOSS_FACTOR, MASS_BUDGET_MG,
-    PART_MASS_MG, STROKE_DEG, SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2, WING_ROOT_OFFSET_MM,
-    WING_SPAN_MM,
+    PART_MASS_MG, QUALITY_FACTOR, STROKE_DEG, SURVIVAL, TABLE_CHORD_MM, WING_DAMPING_NN_M_S2,
+    WING_ROOT_OFFSET_MM, WING_SPAN_MM,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
 use actuator_model::dynamics::DEFAULT_LOSS_FACTOR;
@@ -65,7 +65,8 @@ pub struct DriveSpec {
     pub frequency: f64,
     /// Field survival share that bounds the drive.
     pub survival: f64,
-    /// Structural loss factor of the actuator as the file gives it (None: see [`DriveSpec::loss_factor`]).
+    /// Structural loss factor of the actuator as the file gives it, `loss_factor` or `1/quality_factor`
+    /// (None: see [`DriveSpec::loss_factor`]).
     pub loss_factor_given: Option<f64>,
     /// Mass budget of actuator + transmission, kg.
     pub mass_budget: f64,
@@ -76,10 +77,27 @@ pub struct DriveSpec {
     pub transmission: TransmissionSpec,
 }
 
+/// The actuator's loss as a drive file gives it: `loss_factor` η, or a measured `quality_factor` Q of
+/// its first resonance as `η = 1/Q`; at most one of the two.
+fn read_loss(root: &TableReader<'_>) -> Result<Option<f64>, InputError> {
+    let eta = root.optional_number_in("loss_factor", LOSS_FACTOR)?;
+    let q = root.optional_number_in("quality_factor", QUALITY_FACTOR)?;
+    match (eta, q) {
+        (Some(e), Some(q)) => Err(InputError::invalid(
+            root.file(),
+            "loss_factor",
+            format!("{e} and quality_factor = {q}"),
+            "give at most one of loss_factor and quality_factor (η = 1/Q)",
+        )),
+        (None, Some(q)) => Ok(Some(1.0 / q)),
+        (eta, None) => Ok(eta),
+    }
+}
+
 impl DriveSpec {
-    /// The actuator's structural loss factor: the file's `loss_factor`, else a calibrated model's
-    /// measured one (`η = 1/Q` of its actuators, docs/calibration.md §3), else the PZT's
-    /// [`DEFAULT_LOSS_FACTOR`].
+    /// The actuator's structural loss factor: the file's `loss_factor` or `1/quality_factor`, else a
+    /// calibrated model's measured one (`η = 1/Q` of its actuators, docs/calibration.md §3), else
+    /// [`DEFAULT_LOSS_FACTOR`], `1/Q` of built bending actuators (docs/physics.md §11.4).
     pub fn loss_factor(&self, model: &ModelChoice) -> f64 {
         let measured = match model {
             ModelChoice::Calibrated(c) => c.loss.map(|l| l.loss_factor),
@@ -105,6 +123,7 @@ impl DriveSpec {
             "stroke_deg",
             "survival",
             "loss_factor",
+            "quality_factor",
             "mass_budget_mg",
             "wing",
             "transmission",
@@ -125,7 +144,7 @@ impl DriveSpec {
         let survival = root
             .optional_number_in("survival", SURVIVAL)?
             .unwrap_or(DEFAULT_SURVIVAL);
-        let loss_factor_given = root.optional_number_in("loss_factor", LOSS_FACTOR)?;
+        let loss_factor_given = read_loss(&root)?;
         let mass_budget = root
             .optional_number_in("mass_budget_mg", MASS_BUDGET_MG)?
             .map_or(DEFAULT_MASS_BUDGET, |m| m * 1e-6);
