@@ -139,7 +139,8 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
 
     let mut cut = vec![format!(
         "Every file below is named by its sheet and its stock (material, thickness): take that \
-         stock off the shelf, put it on the bed at the file's origin, and load the `.svg` or `.dxf` \
+         stock off the shelf, lay the sheet's lower-left corner on the file's origin (the DXF's (0, 0), \
+         the lower-left corner of the SVG page, which is the sheet), and load the `.svg` or `.dxf` \
          of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
          grey REFERENCE layer's output off."
     )];
