@@ -3,10 +3,13 @@
 //! - one origin (docs/cam.md §3 "One origin"): the SVG page is the sheet its stock names, one user unit
 //!   a millimetre from the page corner, the DXF's drawing limits the same sheet from (0, 0), both files
 //!   state it, and every shape lies at the same place in both formats to 1 µm; a PZT sheet's drawn edge
-//!   is the sheet, a clamp or linkage panel's outline is centred on it.
+//!   is the sheet, a clamp or linkage panel's outline is centred on it;
+//! - cut order (docs/cam.md §3): in both formats every shape inside a closed through-cut contour comes
+//!   before it, so holes, slots, windows and marks are cut while the part or panel is still held.
 
 use crate::common;
 use common::*;
+use geo::{Contains, Coord, LineString, Polygon};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -425,6 +428,17 @@ fn dist(a: P, b: P) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// The centre of a circle drawn through `points` that hold a diameter (an SVG circle's arc ends): the
+/// middle of the first point and the point farthest from it.
+fn diameter_centre(points: &[P]) -> P {
+    let a = points[0];
+    let b = *points
+        .iter()
+        .max_by(|p, q| dist(**p, a).total_cmp(&dist(**q, a)))
+        .unwrap();
+    [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
+}
+
 /// Why the SVG shape `s` is not the DXF shape `d` at the same place, if it is not.
 fn mismatch(s: &Shape, d: &Shape) -> Option<String> {
     if s.layer != d.layer || s.closed != d.closed || s.radius.is_some() != d.radius.is_some() {
@@ -450,13 +464,7 @@ fn mismatch(s: &Shape, d: &Shape) -> Option<String> {
                 return Some(format!("{p:?} is not on the circle about {c:?} r {rd}"));
             }
             if s.closed {
-                let a = s.points[0];
-                let b = *s
-                    .points
-                    .iter()
-                    .max_by(|p, q| dist(**p, a).total_cmp(&dist(**q, a)))
-                    .unwrap();
-                let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+                let mid = diameter_centre(&s.points);
                 (!close(mid, c)).then(|| format!("circle about {mid:?} / {c:?}"))
             } else {
                 let (first, last) = (s.points[0], *s.points.last().unwrap());
@@ -570,4 +578,122 @@ fn bounds(points: &[P]) -> (P, P) {
             )
         },
     )
+}
+
+/// The points that stand for a shape when asking what lies inside what: its vertices, and for a
+/// circle or arc points round its circle (the DXF gives the centre; the SVG its end points, a
+/// circle's diameter among them).
+fn sample(s: &Shape) -> Vec<P> {
+    match (s.radius, s.centre) {
+        (Some(r), Some(c)) => (0..16)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::PI / 8.0;
+                [c[0] + r * a.cos(), c[1] + r * a.sin()]
+            })
+            .collect(),
+        _ => s.points.clone(),
+    }
+}
+
+/// A closed through-cut contour as a polygon (circles by 16 points), if `s` is one.
+fn through_cut(s: &Shape) -> Option<Polygon<f64>> {
+    if !s.closed || !(s.layer == "CUT" || s.layer == "SECONDARY") {
+        return None;
+    }
+    let ring = match (s.radius, s.centre) {
+        (Some(_), None) => {
+            // An SVG circle, which gives its end points only.
+            sample(&Shape {
+                centre: Some(diameter_centre(&s.points)),
+                ..s.clone()
+            })
+        }
+        _ => sample(s),
+    };
+    Some(Polygon::new(
+        LineString::from(ring.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>()),
+        vec![],
+    ))
+}
+
+/// The shapes of `shapes` that lie inside a closed through-cut contour drawn before them: `(inner,
+/// contour)` indices. A cut contour frees what it surrounds, so what lies inside must be cut first.
+fn cut_after_their_outline(shapes: &[Shape]) -> Vec<(usize, usize)> {
+    let boxes: Vec<(P, P)> = shapes.iter().map(|s| bounds(&sample(s))).collect();
+    let mut late = Vec::new();
+    for (k, outer) in shapes.iter().enumerate() {
+        let Some(poly) = through_cut(outer) else {
+            continue;
+        };
+        let (lo, hi) = boxes[k];
+        for (j, inner) in shapes.iter().enumerate().skip(k + 1) {
+            let (a, b) = boxes[j];
+            let within = a[0] >= lo[0] && a[1] >= lo[1] && b[0] <= hi[0] && b[1] <= hi[1];
+            if inner.layer == "REFERENCE" || !within {
+                continue;
+            }
+            let sampled = match (inner.radius, inner.centre) {
+                (Some(_), None) => inner.points.clone(),
+                _ => sample(inner),
+            };
+            if sampled
+                .iter()
+                .all(|p| poly.contains(&Coord { x: p[0], y: p[1] }))
+            {
+                late.push((j, k));
+            }
+        }
+    }
+    late
+}
+
+#[test]
+fn every_file_cuts_what_lies_inside_a_contour_before_the_contour() {
+    let mut contours = 0;
+    for p in pairs() {
+        for (format, shapes) in [("svg", &p.svg_shapes), ("dxf", &p.dxf_shapes)] {
+            contours += shapes.iter().filter(|s| through_cut(s).is_some()).count();
+            let late = cut_after_their_outline(shapes);
+            assert!(
+                late.is_empty(),
+                "{}.{format}: {} shape(s) cut after the contour around them, the first shape {} ({} layer) after contour {}",
+                p.name,
+                late.len(),
+                late[0].0,
+                shapes[late[0].0].layer,
+                late[0].1
+            );
+        }
+    }
+    assert!(contours > 1000, "{contours} contours");
+}
+
+#[test]
+fn the_order_check_finds_an_outline_cut_before_its_hole() {
+    // The check above on a part whose hole comes after its outline, and on the same part in cut order.
+    let shape = |layer: &str, points: Vec<P>| Shape {
+        layer: layer.into(),
+        points,
+        closed: true,
+        radius: None,
+        centre: None,
+    };
+    let outline = shape(
+        "CUT",
+        vec![[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]],
+    );
+    let hole = Shape {
+        radius: Some(0.5),
+        centre: Some([2.0, 2.0]),
+        ..shape("CUT", vec![[2.5, 2.0]])
+    };
+    let label = Shape {
+        closed: false,
+        ..shape("ENGRAVE", vec![[5.0, 2.0], [7.0, 2.0]])
+    };
+    assert_eq!(
+        cut_after_their_outline(&[outline.clone(), hole.clone(), label.clone()]),
+        [(1, 0), (2, 0)]
+    );
+    assert!(cut_after_their_outline(&[label, hole, outline]).is_empty());
 }

@@ -211,10 +211,6 @@ impl PanelDrawer<'_> {
                 fibre_axis: (ply == Ply::Carbon).then_some(FibreAxis::X),
             },
         );
-        d.add(
-            features.op(Feature::PanelOutline),
-            Shape::Polygon(self.outline.clone()),
-        );
         self.pins(&mut d);
         let layer = format!("{prefix}{}-{name}", k + 1);
         self.label(&mut d, panel, &layer, Some(sheet.thickness_mm));
@@ -227,6 +223,12 @@ impl PanelDrawer<'_> {
                 );
             }
         }
+        // The outline last: cut first, it would free the panel (a 7.6 µm film among them) before its
+        // slots and pin holes, which then cut a sheet that moves.
+        d.add(
+            features.op(Feature::PanelOutline),
+            Shape::Polygon(self.outline.clone()),
+        );
         SheetDrawing {
             stem: file_stem(
                 &format!("{prefix}{}-{name}-{panel}", k + 1),
