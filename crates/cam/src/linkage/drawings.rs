@@ -166,6 +166,14 @@ impl PanelDrawer<'_> {
         }
     }
 
+    /// The release outline of the linkage at `origin`.
+    fn released_at(&self, origin: Point) -> Vec<Point> {
+        self.release
+            .iter()
+            .map(|q| [q[0] + origin[0], q[1] + origin[1]])
+            .collect()
+    }
+
     /// The panel's pin holes.
     fn pins(&self, d: &mut Drawing) {
         for centre in pin_centres(self.c) {
@@ -215,6 +223,9 @@ impl PanelDrawer<'_> {
         let layer = format!("{prefix}{}-{name}", k + 1);
         self.label(&mut d, panel, &layer, Some(sheet.thickness_mm));
         for origin in origins {
+            // Each stack layer is laminated to its neighbours over the linkage (its release outline):
+            // a bonded face, where nothing may be engraved. The border around is cut away.
+            d.add_guide("bonded-zone", self.released_at(*origin));
             for cut in self.laminate.pattern.cut_outs(ply) {
                 let r: Rect = cut.moved(*origin).grown(-self.half);
                 d.add(
@@ -269,12 +280,7 @@ impl PanelDrawer<'_> {
             );
             d.add(
                 features.op(Feature::LinkageRelease),
-                Shape::Polygon(
-                    self.release
-                        .iter()
-                        .map(|q| [q[0] + origin[0], q[1] + origin[1]])
-                        .collect(),
-                ),
+                Shape::Polygon(self.released_at(*origin)),
             );
         }
         SheetDrawing {
