@@ -859,6 +859,9 @@ fn the_mark_check_finds_a_label_on_a_plate() {
         layer: "SCORE".into(),
         ..stroke(10.0)
     };
-    assert_eq!(mark_in_zone(std::slice::from_ref(&score), &zones, true), None);
+    assert_eq!(
+        mark_in_zone(std::slice::from_ref(&score), &zones, true),
+        None
+    );
     assert_eq!(mark_in_zone(&[score], &zones, false), Some((0, 0)));
 }
