@@ -74,9 +74,41 @@ fn parts_go_in_after_their_band(steps: &[(String, String)], holds: &[Value]) {
             .unwrap();
         stack[at + 1].as_str()
     };
-    assert!(after("lower plate").starts_with("Put a PZT plate in each cavity, + face up"));
+    assert!(after("lower plate")
+        .starts_with("Put a PZT plate from the lower tray in each cavity, + face up"));
     assert!(after("core").contains("passive part"));
     assert!(after("upper plate").starts_with("Put the second PZT plate"));
+    polarity_mark_stays_free(steps);
+}
+
+/// The polarity mark goes only on a face that stays free (docs/cam.md §6): both plates go in + face up,
+/// so the lower plate's + face is bonded to the passive layer and the upper plate's is the actuator's
+/// outer face. The upper plates are dotted on their + face, the lower plates carry no mark, and the
+/// wiring finds + by the dot.
+fn polarity_mark_stays_free(steps: &[(String, String)]) {
+    let snap = &steps[first(steps, "Snap the plates off")].1;
+    assert!(
+        snap.contains("Dot the + face of every upper plate")
+            && snap.contains("Mark no lower plate"),
+        "{snap}"
+    );
+    let lower = &steps[first(steps, "from the lower tray")].1;
+    assert!(lower.contains("carries no mark"), "{lower}");
+    let upper = &steps[first(steps, "Put the second PZT plate")].1;
+    assert!(upper.contains("from the upper tray, dot up"), "{upper}");
+    let wires = &steps[first(steps, "wires on with silver epoxy")].1;
+    assert!(
+        wires.contains("red to the + face (the dotted face)"),
+        "{wires}"
+    );
+    // No step marks a plate where it is bonded.
+    assert!(
+        !steps
+            .iter()
+            .any(|(_, t)| t.contains("dot at its root")
+                || t.contains("dot on its + face at its root")),
+        "a step marks the bonded face"
+    );
 }
 
 #[test]

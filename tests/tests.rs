@@ -13,6 +13,7 @@ mod calibrate;
 mod cam_writers;
 mod cut_sheet;
 mod drive;
+mod file_pairs;
 mod golden;
 mod linkage;
 mod misspelt_keys;

@@ -9,9 +9,13 @@ Walks each directory recursively and checks
   *.svg  well-formed XML, root width/height in "mm", a viewBox "0 0 W H" matching them,
          every <path d> made of absolute M, L, A, Z commands only.
 Cross-layer checks (issue 16):
-  *.svg  every drawn point (path end points; arcs by their end points and radius) lies on the page;
+  *.svg  a laser file's page is its stock sheet (metadata width_mm, height_mm), and every drawn point
+         (path end points; arcs by their end points and radius) lies on the page or no farther off it
+         than the file's <desc> states ("Shapes reach X mm past the sheet edge"; a picture, with no
+         stock, within its page);
          no path on the REFERENCE layer uses the stroke colour of the CUT layer or pure red;
-  *.dxf  $EXTMIN/$EXTMAX set (not both the origin) and every entity inside them; the REFERENCE
+  *.dxf  $LIMMIN at the origin and $LIMMAX the page of the SVG of the same name (one origin);
+         $EXTMIN/$EXTMAX set (not both the origin) and every entity inside them; the REFERENCE
          layer's colour is not the CUT layer's nor ACI 1 (red), and it is not plotted;
   report.json (cut-sheet)  the mold stack is not above the laminate, and within the template's
          tolerance below it (or the report carries its warning); the press fit of the laminate and of
@@ -230,7 +234,24 @@ def check_dxf(path):
     if kinds:
         problems.append(f"entities other than LWPOLYLINE/CIRCLE/ARC: {', '.join(kinds)}")
     problems += check_dxf_cross_layer(doc)
+    problems += check_dxf_origin(Path(path), doc)
     return problems
+
+
+def check_dxf_origin(path, doc):
+    """One origin (docs/cam.md §3): the drawing limits are the sheet from (0, 0), and the SVG of the
+    same name, when there is one, has that sheet as its page."""
+    lo, hi = doc.header.get("$LIMMIN"), doc.header.get("$LIMMAX")
+    if lo is None or hi is None or abs(lo[0]) > EPS or abs(lo[1]) > EPS:
+        return [f"$LIMMIN {lo}: the sheet's corner must be the origin"]
+    svg = path.with_suffix(".svg")
+    if not svg.exists():
+        return []
+    root = ET.parse(svg).getroot()
+    page = (mm_length(root.get("width")), mm_length(root.get("height")))
+    if None in page or abs(page[0] - hi[0]) > 1e-5 or abs(page[1] - hi[1]) > 1e-5:
+        return [f"$LIMMAX {tuple(hi)[:2]} is not the page {page} of {svg.name}"]
+    return []
 
 
 def mm_length(value):
@@ -291,11 +312,20 @@ def check_svg(path):
                 if p.get("stroke", "").upper() in cut_strokes:
                     problems.append(f"reference geometry in a cut colour {p.get('stroke')}")
                     break
+    stock = root.find(f"{SVG_NS}metadata/{{urn:actuator-cam:stock}}stock")
+    overhang = 0.0
+    if stock is not None and page is not None:
+        sheet = (float(stock.get("width_mm")), float(stock.get("height_mm")))
+        if abs(sheet[0] - page[2]) > EPS or abs(sheet[1] - page[3]) > EPS:
+            problems.append(f"page {page[2]} x {page[3]} mm is not the {sheet[0]} x {sheet[1]} mm sheet")
+        desc = root.find(SVG_NS + "desc")
+        stated = re.search(r"Shapes reach ([0-9.]+) mm past the sheet edge", desc.text or "") if desc is not None else None
+        overhang = float(stated.group(1)) if stated else 0.0
     off_page = 0
     for element in root.iter(SVG_NS + "path"):
         d = element.get("d", "")
         if page is not None:
-            off_page += path_points_off_page(d, page)
+            off_page += path_points_off_page(d, page, overhang)
         tokens = PATH_TOKEN.findall(d)
         leftover = PATH_TOKEN.sub("", d).replace(",", "").strip()
         commands = {t for t in tokens if t.isalpha()}
@@ -303,17 +333,18 @@ def check_svg(path):
         if bad or leftover or not tokens or tokens[0] != "M":
             problems.append(f"path d uses other than absolute M/L/A/Z: {d[:60]!r}")
     if off_page:
-        problems.append(f"{off_page} drawn point(s) off the page")
+        problems.append(f"{off_page} drawn point(s) off the page by more than {overhang} mm")
     if Path(path).name.startswith("passive-"):
         problems += check_bonded_zones(Path(path), root)
     return problems
 
 
-def path_points_off_page(d, page):
-    """Number of points of one path off the page: the end point of every command, and for an arc
-    its end point moved out by the radius (a conservative box for the arcs the writer emits: at most
-    half circles)."""
+def path_points_off_page(d, page, overhang=0.0):
+    """Number of points of one path off the page grown by `overhang` on every side: the end point of
+    every command, and for an arc its end point moved out by the radius (a conservative box for the
+    arcs the writer emits: at most half circles)."""
     x0, y0, w, h = page
+    x0, y0, w, h = x0 - overhang, y0 - overhang, w + 2 * overhang, h + 2 * overhang
     tokens = PATH_TOKEN.findall(d)
     count = 0
     i = 0

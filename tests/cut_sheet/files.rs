@@ -113,9 +113,10 @@ fn preview_uses_no_operation_colour_or_layer_name() {
 }
 
 #[test]
-fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
-    // Kerf-offset clamp outlines of a 100 mm panel reach -0.05 ... 100.05 mm: the SVG page must hold
-    // them, and a DXF's $EXTMIN and $EXTMAX must bound what it draws, not sit at (0, 0, 0).
+fn every_svg_states_how_far_its_shapes_run_off_the_page_and_dxf_extents_are_set() {
+    // Kerf-offset clamp outlines of a 100 mm panel reach -0.05 ... 100.05 mm and score lines run past
+    // the PZT sheet: the SVG page is the sheet, and its desc says how far shapes run past it, exactly;
+    // a DXF's $EXTMIN and $EXTMAX must bound what it draws, not sit at (0, 0, 0).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = cut_sheet("examples/thesis-C.toml", &out, &[]);
@@ -127,6 +128,15 @@ fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
         match path.extension().and_then(|e| e.to_str()) {
             Some("svg") => {
                 let vb = view_box(&text);
+                let stated: f64 = match text.split("Shapes reach ").nth(1) {
+                    Some(rest) => rest.split(' ').next().unwrap().parse().unwrap(),
+                    None if path.to_string_lossy().contains("preview-") => continue,
+                    None => {
+                        assert!(text.contains("Every shape lies on the sheet."), "{path:?}");
+                        0.0
+                    }
+                };
+                let mut farthest = 0.0f64;
                 for group in text.split(" d=\"").skip(1) {
                     let d = group.split('"').next().unwrap();
                     // Every end point of every command (arcs: their end points; the circles here are
@@ -142,15 +152,25 @@ fn every_svg_page_holds_everything_drawn_and_dxf_extents_are_set() {
                         nums.chunks(2).map(|c| [c[0], c[1]]).collect()
                     };
                     for p in points {
+                        let off = [
+                            vb[0] - p[0],
+                            p[0] - vb[0] - vb[2],
+                            vb[1] - p[1],
+                            p[1] - vb[1] - vb[3],
+                        ]
+                        .into_iter()
+                        .fold(0.0f64, f64::max);
                         assert!(
-                            p[0] >= vb[0]
-                                && p[0] <= vb[0] + vb[2]
-                                && p[1] >= vb[1]
-                                && p[1] <= vb[1] + vb[3],
-                            "{path:?}: {p:?} off the page {vb:?}"
+                            off <= stated + 1e-6,
+                            "{path:?}: {p:?} {off} mm off the page {vb:?}, {stated} mm stated"
                         );
+                        farthest = farthest.max(off);
                     }
                 }
+                assert!(
+                    (farthest - stated).abs() < 1e-6,
+                    "{path:?}: {farthest} mm, {stated} stated"
+                );
                 checked += 1;
             }
             Some("dxf") => {

@@ -139,7 +139,8 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
 
     let mut cut = vec![format!(
         "Every file below is named by its sheet and its stock (material, thickness): take that \
-         stock off the shelf, put it on the bed at the file's origin, and load the `.svg` or `.dxf` \
+         stock off the shelf, lay the sheet's lower-left corner on the file's origin (the DXF's (0, 0), \
+         the lower-left corner of the SVG page, which is the sheet), and load the `.svg` or `.dxf` \
          of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
          grey REFERENCE layer's output off."
     )];
@@ -190,7 +191,13 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
          PZT sheet, its score lines numbered). The lines that cross the whole sheet come first, \
          each strip pressed over a straight edge, then the slanted lines between the plates of each \
          strip, one plate at a time from one end; a slanted line breaks cleanly only once its strip \
-         is free. Put each plate + face up on a tray and mark the + face with a dot at its root.",
+         is free. Lift each plate off + face up, never turned over, onto one of two trays, one plate \
+         per actuator on each: the lower plates and the upper plates. Dot the + face of every upper \
+         plate near its tip end with a fine permanent marker: it becomes the actuator's outer + face, \
+         free in the stack, where the red wire goes. Mark no lower plate: its + face is bonded to the \
+         passive layer, and ink there is a void in the bond line at the root, where the stress is \
+         highest; its + face is the one whose edges carry the smooth laser-cut bevel (a loupe shows \
+         it), the - face's the rough fracture.",
         listed(&guides)
     ));
     cut.extend(clamp_cut_steps(built, method_1));
@@ -286,8 +293,8 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
         steps.push(format!("Lay {name}: {}.", listed_runs(files, &clamp.runs)));
         if Some(level) == lower {
             steps.push(
-                "Put a PZT plate in each cavity, + face up (the dot at its root, the \
-                 bevelled edge up)."
+                "Put a PZT plate from the lower tray in each cavity, + face up (the bevelled edge \
+                 up, checked under a loupe; this plate carries no mark, its + face is bonded)."
                     .into(),
             );
         }
@@ -303,8 +310,8 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
         }
         if Some(level) == upper {
             steps.push(
-                "Put the second PZT plate in each cavity, + face up like the first, so both \
-                 plates are poled the same way (parallel drive)."
+                "Put the second PZT plate in each cavity, from the upper tray, dot up: + face up \
+                 like the first, so both plates are poled the same way (parallel drive)."
                     .into(),
             );
         }
@@ -396,7 +403,7 @@ fn wiring_section(designs: &[DesignFacts]) -> Section {
         };
         wiring.push(format!(
             "{}: wires on with silver epoxy, cured with a heat gun: white to the carbon {ground}; \
-             red to the + face; black to the - face.",
+             red to the + face (the dotted face); black to the - face.",
             markdown::text(&d.name)
         ));
     }

@@ -17,7 +17,9 @@
 //!   followed by its entities, then the seven TABLE heads;
 //! - a handle and owner 0 on every TABLE head, as AutoCAD writes them (the crate itself leaves them
 //!   out, which ezdxf's audit has to repair: "invalid table head handle");
-//! - numbers with up to 12 decimals, trailing zeros trimmed but one kept after the point.
+//! - numbers with up to 12 decimals, trailing zeros trimmed but one kept after the point;
+//! - the sheet as the drawing limits, `$LIMMIN` (0, 0) to `$LIMMAX` (width, height): the sheet's
+//!   lower-left corner is the origin (docs/cam.md §3 "One origin").
 
 use std::sync::OnceLock;
 
@@ -57,6 +59,8 @@ enum Slot {
     ExtMinY,
     ExtMaxX,
     ExtMaxY,
+    LimMaxX,
+    LimMaxY,
     HandSeed,
     TableHandle,
     Layers,
@@ -80,6 +84,8 @@ fn head() -> &'static [Piece] {
                 "@EXTMIN_Y@" => Some(Slot::ExtMinY),
                 "@EXTMAX_X@" => Some(Slot::ExtMaxX),
                 "@EXTMAX_Y@" => Some(Slot::ExtMaxY),
+                "@LIMMAX_X@" => Some(Slot::LimMaxX),
+                "@LIMMAX_Y@" => Some(Slot::LimMaxY),
                 "@HANDSEED@" => Some(Slot::HandSeed),
                 "@TABLE@" => Some(Slot::TableHandle),
                 "@LAYERS@" => Some(Slot::Layers),
@@ -287,6 +293,18 @@ fn check(op: Operation, shape: &Shape) -> Result<(), DxfError> {
     Ok(())
 }
 
+/// The origin convention in a comment line (docs/cam.md §3 "One origin"): the sheet's lower-left corner
+/// at (0, 0), the sheet as the drawing limits, the same corner as the SVG page's.
+fn origin_comment(drawing: &Drawing) -> String {
+    format!(
+        "origin: (0, 0) is the sheet's lower-left corner, x to the right, y up; the sheet runs to ({}, {}) \
+         mm ($LIMMIN, $LIMMAX); the SVG of the same name has its page on the sheet, the same corner \
+         lower left",
+        super::decimal::fmt_mm(drawing.width_mm),
+        super::decimal::fmt_mm(drawing.height_mm)
+    )
+}
+
 /// Writes `drawing` as an ASCII DXF R2000 file with the default colours (deterministic: same drawing,
 /// same bytes).
 pub fn to_dxf(drawing: &Drawing) -> Result<Vec<u8>, DxfError> {
@@ -314,11 +332,12 @@ pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfE
     let mut w = Writer {
         out: String::with_capacity(HEAD_TEMPLATE.len() + 256 + 160 * drawing.items().len()),
     };
-    // The stock as DXF comments (group 999) before the header: laser software and ezdxf skip them, a
-    // person opening the file in a text editor reads them first.
+    // The stock and the origin as DXF comments (group 999) before the header: laser software and
+    // ezdxf skip them, a person opening the file in a text editor reads them first.
     if let Some(stock) = drawing.stock_line() {
         w.text(999, &format!("actuator-cam: {}", drawing.title_line()));
         w.text(999, &format!("stock: {stock}"));
+        w.text(999, &origin_comment(drawing));
     }
     let mut table = first_table_handle;
     for piece in head() {
@@ -328,6 +347,8 @@ pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfE
             Piece::Slot(Slot::ExtMinY) => w.real_value(lo[1]),
             Piece::Slot(Slot::ExtMaxX) => w.real_value(hi[0]),
             Piece::Slot(Slot::ExtMaxY) => w.real_value(hi[1]),
+            Piece::Slot(Slot::LimMaxX) => w.real_value(drawing.width_mm),
+            Piece::Slot(Slot::LimMaxY) => w.real_value(drawing.height_mm),
             Piece::Slot(Slot::HandSeed) => w.handle_value(first_table_handle + TABLE_HEADS),
             Piece::Slot(Slot::TableHandle) => {
                 w.handle_value(table);
@@ -479,6 +500,24 @@ mod tests {
     }
 
     #[test]
+    fn a_laser_file_states_its_origin() {
+        // A laser file (one with a stock) says so in its comment, with the sheet's size.
+        let mut d = sample();
+        d.stock = Some(crate::drawing::model::Stock {
+            material: "PZT-5H".into(),
+            thickness_mm: 0.127,
+            fibre_axis: None,
+        });
+        let text = String::from_utf8(to_dxf(&d).unwrap()).unwrap();
+        assert!(
+            text.contains("999\r\norigin: (0, 0) is the sheet's lower-left corner")
+                && text.contains("the sheet runs to (80, 50) mm"),
+            "{}",
+            &text[..600]
+        );
+    }
+
+    #[test]
     fn entities_and_layers_parse_back() {
         let bytes = to_dxf(&sample()).unwrap();
         let doc = dxf::Drawing::load(&mut bytes.as_slice()).unwrap();
@@ -534,7 +573,7 @@ mod tests {
     }
 
     #[test]
-    fn header_extents_are_the_drawn_extents() {
+    fn header_extents_are_the_drawn_extents_and_the_limits_the_sheet() {
         // Sample extents, worked out by hand in drawing.rs: x 0..80, y 5..43 (the arc's top).
         let bytes = to_dxf(&sample()).unwrap();
         let doc = dxf::Drawing::load(&mut bytes.as_slice()).unwrap();
@@ -543,6 +582,12 @@ mod tests {
             &doc.header.maximum_drawing_extents,
         );
         assert_eq!((lo.x, lo.y, hi.x, hi.y), (0.0, 5.0, 80.0, 43.0));
+        // The drawing limits are the 80 x 50 mm sheet, its corner the origin.
+        let (lo, hi) = (
+            &doc.header.minimum_drawing_limits,
+            &doc.header.maximum_drawing_limits,
+        );
+        assert_eq!((lo.x, lo.y, hi.x, hi.y), (0.0, 0.0, 80.0, 50.0));
     }
 
     #[test]

@@ -5,6 +5,10 @@
 //! is one millimetre; one Inkscape layer per operation in processing order; every shape a
 //! `<path>` with absolute `M`/`L`/`A`/`Z` commands, `fill="none"`, a hairline stroke in the
 //! operation's pure colour. The drawing model is y-up; SVG is y-down, so `y_svg = H - y`.
+//!
+//! A laser file's page is its sheet, so the page's corners are the sheet's corners and the page's
+//! lower-left corner is the DXF's origin (docs/cam.md §3 "One origin"); what runs past the sheet edge
+//! (score overruns, the outer half of a kerf) lies off the page, and the file's `<desc>` says how far.
 
 use std::fmt::Write as _;
 
@@ -52,12 +56,11 @@ pub fn xml_escape(text: &str) -> String {
 /// Step the page grows in, mm, so grown pages keep round sizes.
 const PAGE_STEP_MM: f64 = 0.1;
 
-/// Margin (mm) the SVG page grows by on every side so that it holds everything drawn: 0 when
-/// every shape lies on the sheet (edges included), else the overflow rounded up to
-/// [`PAGE_STEP_MM`], which also leaves room for the hairline stroke of an outline just past
-/// the sheet. Kerf-offset outlines reach past the sheet they are drawn on (a 100 mm panel cut in
-/// a 0.1 mm kerf runs from -0.05 to 100.05 mm), and a renderer clips what lies off the page.
-pub fn page_margin_mm(drawing: &Drawing) -> f64 {
+/// How far (mm) the farthest shape reaches past the sheet edge, 0 when every shape lies on the
+/// sheet (edges included). Kerf-offset outlines reach past the sheet they are drawn on (a 100 mm
+/// panel cut in a 0.1 mm kerf runs from -0.05 to 100.05 mm), and score lines run past it by the
+/// template's overrun.
+pub fn overhang_mm(drawing: &Drawing) -> f64 {
     let Some((lo, hi)) = drawing.extents() else {
         return 0.0;
     };
@@ -69,12 +72,46 @@ pub fn page_margin_mm(drawing: &Drawing) -> f64 {
     ]
     .into_iter()
     .fold(f64::NEG_INFINITY, f64::max);
-    // Shapes on the sheet edge (score lines, sheet outlines) are on the page.
+    // Shapes on the sheet edge (score lines, sheet outlines) are on the sheet.
     if overflow <= 1e-9 {
         0.0
     } else {
-        (overflow / PAGE_STEP_MM - 1e-9).ceil() * PAGE_STEP_MM
+        overflow
     }
+}
+
+/// Margin (mm) a picture's page grows by on every side so that it holds everything drawn: the
+/// [`overhang_mm`] rounded up to [`PAGE_STEP_MM`], which also leaves room for the hairline stroke
+/// of an outline just past the sheet, as a renderer clips what lies off the page. Laser files keep
+/// the page at the sheet ([`to_svg`]).
+pub fn page_margin_mm(drawing: &Drawing) -> f64 {
+    let overhang = overhang_mm(drawing);
+    if overhang == 0.0 {
+        0.0
+    } else {
+        (overhang / PAGE_STEP_MM - 1e-9).ceil() * PAGE_STEP_MM
+    }
+}
+
+/// The origin convention of a laser file in words, for its `<desc>` (and, in DXF terms, its comment):
+/// where the sheet lies and how far shapes run past its edge.
+pub fn origin_statement(drawing: &Drawing) -> String {
+    let (w, h) = (fmt_mm(drawing.width_mm), fmt_mm(drawing.height_mm));
+    let overhang = overhang_mm(drawing);
+    let past = if overhang == 0.0 {
+        "Every shape lies on the sheet.".to_string()
+    } else {
+        format!(
+            "Shapes reach {} mm past the sheet edge (score overruns, kerf), off the page: a program \
+             that imports the paths keeps them, a print driver that clips at the page loses them.",
+            fmt_mm(overhang)
+        )
+    };
+    format!(
+        "Origin: the page is the {w} x {h} mm sheet. Its lower-left corner is the sheet's lower-left \
+         corner and the (0, 0) of the DXF of the same name (x to the right, y up); SVG user units run \
+         from its upper-left corner, also a sheet corner. Lay the sheet's corner on the file's. {past}"
+    )
 }
 
 /// Builds one path's `d` string in SVG coordinates: shifted by the page margin and y flipped
@@ -175,26 +212,46 @@ pub struct LayerStyle {
     pub filled: bool,
 }
 
-/// Writes `drawing` as an SVG document (deterministic: same drawing, same bytes).
+/// Writes `drawing` as a laser file's SVG document (deterministic: same drawing, same bytes).
 ///
-/// The page is the drawing's sheet grown by [`page_margin_mm`] on every side, so that everything
-/// drawn lies on it; the drawing's origin then sits at `(margin, margin)` from the page's lower left.
+/// The page is the drawing's sheet, so the sheet's lower-left corner is the page's, as it is the
+/// DXF's origin; shapes past the sheet edge lie off the page, and the `<desc>` says so
+/// ([`origin_statement`]).
 pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
-    write_svg(drawing, opts.stroke_mm, |op| LayerStyle {
-        name: op.layer_name().to_string(),
-        colour: opts.palette.svg_colour(op).to_string(),
-        filled: false,
-    })
+    document(
+        drawing,
+        opts.stroke_mm,
+        |op| LayerStyle {
+            name: op.layer_name().to_string(),
+            colour: opts.palette.svg_colour(op).to_string(),
+            filled: false,
+        },
+        0.0,
+        Some(&origin_statement(drawing)),
+    )
 }
 
-/// [`to_svg`] with the layer names and colours of `style` instead of the operations' own: for
-/// drawings that are not laser files (the preview), which must not look like one to laser software.
+/// A picture (the preview), not a laser file: the layer names and colours of `style` instead of the
+/// operations' own, so that it does not look like a laser file to laser software, and the page grown
+/// by [`page_margin_mm`] on every side so that everything drawn shows; the drawing's origin then sits
+/// at `(margin, margin)` from the page's lower left.
 pub fn write_svg(
     drawing: &Drawing,
     stroke_mm: f64,
     style: impl Fn(Operation) -> LayerStyle,
 ) -> String {
-    let margin = page_margin_mm(drawing);
+    document(drawing, stroke_mm, style, page_margin_mm(drawing), None)
+}
+
+/// The SVG document of `drawing`: its page the sheet grown by `margin` mm on every side, `desc` as its
+/// `<desc>`.
+fn document(
+    drawing: &Drawing,
+    stroke_mm: f64,
+    style: impl Fn(Operation) -> LayerStyle,
+    margin: f64,
+    desc: Option<&str>,
+) -> String {
     let page_height = drawing.height_mm + 2.0 * margin;
     let w = fmt_mm(drawing.width_mm + 2.0 * margin);
     let h = fmt_mm(page_height);
@@ -210,13 +267,22 @@ pub fn write_svg(
     );
     match drawing.stock_line() {
         Some(stock) => {
-            let s = drawing.stock.as_ref().expect("a stock line has a stock");
             let _ = writeln!(
                 out,
                 "  <title>{}; stock: {}</title>",
                 xml_escape(&drawing.title),
                 xml_escape(&stock)
             );
+        }
+        None => {
+            let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
+        }
+    }
+    if let Some(desc) = desc {
+        let _ = writeln!(out, "  <desc>{}</desc>", xml_escape(desc));
+    }
+    match &drawing.stock {
+        Some(s) => {
             // The stock again as data, for tools that read the file rather than show it.
             let _ = write!(
                 out,
@@ -231,7 +297,6 @@ pub fn write_svg(
             );
         }
         None => {
-            let _ = writeln!(out, "  <title>{}</title>", xml_escape(&drawing.title));
             if !drawing.guides().is_empty() {
                 out.push_str("  <metadata>");
             }
@@ -329,17 +394,51 @@ mod tests {
         assert!(cut.find("M5 45").unwrap() < cut.find(" A0.79 0.79").unwrap());
     }
 
-    #[test]
-    fn page_grows_to_hold_outlines_past_the_sheet() {
-        // A 100 mm panel outline kerf-offset by 0.05 mm runs from -0.05 to 100.05 mm: the page
-        // grows by one 0.1 mm step per side to 100.2 mm and the outline starts at 0.1 - 0.05.
+    /// A 100 mm panel outline kerf-offset by 0.05 mm: it runs from -0.05 to 100.05 mm.
+    fn kerfed_panel() -> Drawing {
         let mut d = Drawing::new("panel", 100.0, 100.0);
         let (a, b) = (-0.05, 100.05);
         d.add(
             Operation::Cut,
             Shape::Polygon(vec![[a, a], [b, a], [b, b], [a, b]]),
         );
-        let svg = to_svg(&d, &SvgOptions::default());
+        d
+    }
+
+    #[test]
+    fn a_laser_files_page_is_its_sheet_and_its_desc_says_how_far_shapes_run_past() {
+        // The page stays the 100 mm sheet, so the outline's corner lies 0.05 mm off the page's
+        // corners, and the page's lower-left corner is the drawing's (0, 0), as in the DXF.
+        let svg = to_svg(&kerfed_panel(), &SvgOptions::default());
+        assert!(
+            svg.contains("width=\"100mm\" height=\"100mm\" viewBox=\"0 0 100 100\""),
+            "{svg}"
+        );
+        assert!(
+            svg.contains("d=\"M-0.05 100.05 L100.05 100.05 L100.05 -0.05 L-0.05 -0.05 Z\""),
+            "{svg}"
+        );
+        assert!(
+            svg.contains("the page is the 100 x 100 mm sheet")
+                && svg.contains("Shapes reach 0.05 mm past the sheet edge"),
+            "{svg}"
+        );
+        // A drawing on its sheet (the sample's score line ends on both edges) says so.
+        assert!(to_svg(&sample(), &SvgOptions::default())
+            .contains("Every shape lies on the sheet.</desc>"));
+    }
+
+    #[test]
+    fn a_pictures_page_grows_to_hold_outlines_past_the_sheet() {
+        // The same outline in a picture: the page grows by one 0.1 mm step per side to 100.2 mm and
+        // the outline starts at 0.1 - 0.05.
+        let d = kerfed_panel();
+        let style = |op: Operation| LayerStyle {
+            name: op.layer_name().to_string(),
+            colour: "#123456".to_string(),
+            filled: true,
+        };
+        let svg = write_svg(&d, 0.0254, style);
         assert!(
             svg.contains("width=\"100.2mm\" height=\"100.2mm\" viewBox=\"0 0 100.2 100.2\""),
             "{svg}"
@@ -348,7 +447,7 @@ mod tests {
             svg.contains("d=\"M0.05 100.15 L100.15 100.15 L100.15 0.05 L0.05 0.05 Z\""),
             "{svg}"
         );
-        // A drawing on its sheet (the sample's score line ends on both edges) keeps its page.
+        assert!(!svg.contains("<desc>"), "a picture states no origin: {svg}");
         assert_eq!(page_margin_mm(&sample()), 0.0);
     }
 

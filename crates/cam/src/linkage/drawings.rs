@@ -166,6 +166,14 @@ impl PanelDrawer<'_> {
         }
     }
 
+    /// The release outline of the linkage at `origin`.
+    fn released_at(&self, origin: Point) -> Vec<Point> {
+        self.release
+            .iter()
+            .map(|q| [q[0] + origin[0], q[1] + origin[1]])
+            .collect()
+    }
+
     /// The panel's pin holes.
     fn pins(&self, d: &mut Drawing) {
         for centre in pin_centres(self.c) {
@@ -211,14 +219,13 @@ impl PanelDrawer<'_> {
                 fibre_axis: (ply == Ply::Carbon).then_some(FibreAxis::X),
             },
         );
-        d.add(
-            features.op(Feature::PanelOutline),
-            Shape::Polygon(self.outline.clone()),
-        );
         self.pins(&mut d);
         let layer = format!("{prefix}{}-{name}", k + 1);
         self.label(&mut d, panel, &layer, Some(sheet.thickness_mm));
         for origin in origins {
+            // Each stack layer is laminated to its neighbours over the linkage (its release outline):
+            // a bonded face, where nothing may be engraved. The border around is cut away.
+            d.add_guide("bonded-zone", self.released_at(*origin));
             for cut in self.laminate.pattern.cut_outs(ply) {
                 let r: Rect = cut.moved(*origin).grown(-self.half);
                 d.add(
@@ -227,6 +234,12 @@ impl PanelDrawer<'_> {
                 );
             }
         }
+        // The outline last: cut first, it would free the panel (a 7.6 µm film among them) before its
+        // slots and pin holes, which then cut a sheet that moves.
+        d.add(
+            features.op(Feature::PanelOutline),
+            Shape::Polygon(self.outline.clone()),
+        );
         SheetDrawing {
             stem: file_stem(
                 &format!("{prefix}{}-{name}-{panel}", k + 1),
@@ -267,12 +280,7 @@ impl PanelDrawer<'_> {
             );
             d.add(
                 features.op(Feature::LinkageRelease),
-                Shape::Polygon(
-                    self.release
-                        .iter()
-                        .map(|q| [q[0] + origin[0], q[1] + origin[1]])
-                        .collect(),
-                ),
+                Shape::Polygon(self.released_at(*origin)),
             );
         }
         SheetDrawing {

@@ -168,6 +168,8 @@ pub fn item_linkage(
             sheet,
             pin_holes: part.pins,
             part: part.part,
+            // The coupon's layers are laminated face to face.
+            bonded: true,
         });
     }
     Ok(Some((

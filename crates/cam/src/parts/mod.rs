@@ -167,6 +167,9 @@ pub struct PartOrder {
     /// Round holes (centre, radius; mm, part coordinates) cut as registration holes: a linkage
     /// coupon's pins. A drawing's circles are cut-outs instead (circumscribed polygons).
     pub pin_holes: Vec<(Point, f64)>,
+    /// The part is bonded all over in its stack (a linkage coupon): its sheet marks it so, and
+    /// nothing is engraved on it. A drawing's parts are not known to be.
+    pub bonded: bool,
 }
 
 /// One line naming the file and the entity: the refusal of every drawing reader.

@@ -44,6 +44,10 @@ pub struct CutItem {
     pub count: usize,
     /// Engraved label.
     pub label: Label,
+    /// Where a face of the part is bonded in the stack (part coordinates): the PZT zone of a passive
+    /// part, the whole of a ply, a Pyralux part or a linkage coupon; `None` for an extra part, whose
+    /// use the tool does not know. Written into the sheet's SVG as data, so nothing is engraved there.
+    pub bonded_zone: Option<Vec<Point>>,
     /// Cut-outs of the part (a flexure's slot), nominal, part coordinates; empty for actuator parts.
     pub cutouts: Vec<Vec<Point>>,
     /// Their cut paths: each cut-out shrunk by kerf/2, so the hole comes out as drawn.
@@ -120,13 +124,15 @@ fn item(
     Ok(CutItem {
         job: job_index,
         part: part.into(),
-        nominal,
         cut,
         holes,
         hole,
         per_actuator,
         count: per_actuator * job.quantity,
         label,
+        // Plies and bond parts are bonded all over; a passive part's zone is set by its layer.
+        bonded_zone: Some(nominal.clone()),
+        nominal,
         cutouts: Vec::new(),
         cutout_paths: Vec::new(),
         rotations_deg: CUT_ROTATIONS_DEG.to_vec(),
@@ -153,7 +159,7 @@ pub fn passive_layers(
                 .map(|(i, job)| {
                     let label = Label::passive(job.geometry, &job.design.name, template);
                     let outline = job.geometry.passive_outline();
-                    item(
+                    let mut part = item(
                         *i,
                         job,
                         "passive",
@@ -163,9 +169,12 @@ pub fn passive_layers(
                         1,
                         label,
                         "passive",
-                    )
+                    )?;
+                    // The plates are bonded over the PZT zone; the tab and the extension stay free.
+                    part.bonded_zone = Some(job.geometry.pzt_outline());
+                    Ok(part)
                 })
-                .collect::<Result<Vec<_>, _>>()?;
+                .collect::<Result<Vec<_>, BuildError>>()?;
             Ok(vec![CutLayer {
                 layer: "passive".into(),
                 material,
@@ -408,10 +417,10 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
         }
         for p in &layout.parts {
             let item = &layer.items[p.item];
-            if let Some(zone) = item.label.bonded_zone() {
+            if let Some(zone) = &item.bonded_zone {
                 d.add_guide(
                     "bonded-zone",
-                    place_ring(&zone, p.rotation_deg, p.translation),
+                    place_ring(zone, p.rotation_deg, p.translation),
                 );
             }
             if let Some(strokes) = item.label.strokes(p.copy / item.per_actuator) {
@@ -522,6 +531,7 @@ pub fn extra_item(
         job,
         part: "part".into(),
         cut: offset(&outer, spec.kerf_mm / 2.0, "outline")?,
+        bonded_zone: order.bonded.then(|| outer.clone()),
         nominal: outer,
         holes: pins,
         hole: Feature::RegistrationHole,

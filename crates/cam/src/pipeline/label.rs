@@ -46,15 +46,6 @@ impl Label {
         }
     }
 
-    /// The part's bonded zone (the PZT plate's outline, part coordinates) when it is labelled, so
-    /// the drawings can show where the label must not go.
-    pub fn bonded_zone(&self) -> Option<Vec<Point>> {
-        match self {
-            Label::None => None,
-            Label::OffBonded { geometry, .. } => Some(geometry.pzt_outline()),
-        }
-    }
-
     /// Strokes of the label of copy `copy` (0-based), in part coordinates: the full label where it
     /// fits, else the copy number alone, else none.
     pub fn strokes(&self, copy: usize) -> Option<Vec<Vec<Point>>> {

@@ -46,6 +46,12 @@ pub(crate) fn draw_pzt_sheets(
             .iter()
             .map(|p| place_ring(&nominal[p.item], p.rotation_deg, p.translation))
             .collect();
+        // Every plate is bonded on one face (the lower plate + face up against the passive part, the
+        // upper plate on its - face), and either face may be the one up on the bed: the whole plate is
+        // a bonded zone, written into the SVG as data so that no mark goes there.
+        for ring in &plates {
+            d.add_guide("bonded-zone", ring.clone());
+        }
         let parts: Vec<_> = plates
             .iter()
             .map(|ring| part_box(ring))

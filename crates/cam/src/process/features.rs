@@ -57,7 +57,8 @@ const SCORE_LINE: &[Operation] = &[Operation::Score, Operation::Cut, Operation::
 const GUIDE: &[Operation] = &[Operation::Reference, Operation::Engrave, Operation::Score];
 
 impl Feature {
-    /// Every feature, in the order of the `[features]` table of the shipped templates.
+    /// Every feature, in the order of the `[features]` table of the shipped templates: each outer
+    /// contour followed by what lies inside it ([`Feature::inside`]).
     pub const ALL: [Feature; 17] = [
         Feature::PztScoreLine,
         Feature::PztSheetOutline,
@@ -124,6 +125,18 @@ impl Feature {
             | Feature::PanelLabel
             | Feature::Fiducial => MARK,
             _ => THROUGH,
+        }
+    }
+
+    /// The features drawn inside this one's contour when it is an outer contour that frees a part or
+    /// a panel: they must be cut (or marked) while it still holds, so before it (docs/cam.md §3).
+    pub fn inside(self) -> &'static [Feature] {
+        // `ALL` lists each outer contour with the features drawn inside it right after it.
+        match self {
+            Feature::PartOutline => &Feature::ALL[3..6],
+            Feature::PanelOutline => &Feature::ALL[7..14],
+            Feature::LinkageRelease => &Feature::ALL[15..16],
+            _ => &[],
         }
     }
 
@@ -200,7 +213,37 @@ impl FeatureMap {
             map.ops[feature.index()] = op;
         }
         table.finish()?;
+        map.check_cut_order(path, &table)?;
         Ok(map)
+    }
+
+    /// Every outer contour runs no earlier than the features inside it: the operations run in their
+    /// order (engrave, score, secondary, cut), so an outline on the second pass with a hole inside it
+    /// on `cut` would free the part before its hole is cut.
+    fn check_cut_order(&self, path: &Path, table: &TableReader<'_>) -> Result<(), InputError> {
+        for outer in Feature::ALL {
+            let late = outer
+                .inside()
+                .iter()
+                .find(|inner| self.op(**inner) > self.op(outer));
+            if let Some(inner) = late {
+                return Err(InputError::invalid(
+                    path,
+                    &table.path(outer.key()),
+                    format!("{:?}", self.op(outer).template_key()),
+                    format!(
+                        "the {} inside it is on {:?}, which runs after it and would cut a part \
+                         already free; give the {} no later an operation than {:?} (in the order {})",
+                        inner.key().replace('-', " "),
+                        self.op(*inner).template_key(),
+                        outer.key().replace('-', " "),
+                        self.op(outer).template_key(),
+                        op_names(&Operation::ALL)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -227,6 +270,43 @@ mod tests {
         keys.dedup();
         assert_eq!(keys.len(), Feature::ALL.len());
         assert_eq!(read("").unwrap(), FeatureMap::default());
+    }
+
+    #[test]
+    fn an_outline_never_runs_before_what_lies_inside_it() {
+        assert_eq!(
+            Feature::PartOutline.inside(),
+            [Feature::Via, Feature::RegistrationHole, Feature::PartLabel]
+        );
+        assert_eq!(Feature::LinkageRelease.inside(), [Feature::LinkageHole]);
+        let panel = Feature::PanelOutline.inside();
+        assert!(panel.contains(&Feature::PinHole) && panel.contains(&Feature::LinkageCutOut));
+        assert!(
+            !panel.contains(&Feature::LinkageRelease) && !panel.contains(&Feature::PanelOutline)
+        );
+        // The defaults cut every inner feature on or before its outline's operation.
+        let map = FeatureMap::default();
+        for outer in Feature::ALL {
+            for inner in outer.inside() {
+                assert!(map.op(*inner) <= map.op(outer), "{outer:?} {inner:?}");
+            }
+        }
+        // The second pass runs before `cut`: an outline on it with its via on `cut` frees the part first.
+        let e = read("[features]\npart-outline = \"secondary\"").unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("features.part-outline")
+                && text.contains("the via inside it is on \"cut\""),
+            "{text}"
+        );
+        assert_eq!(text.trim().lines().count(), 1, "{text}");
+        // Inner features on the second pass too, or marks engraved, keep the order.
+        let ok = read(
+            "[features]\npart-outline = \"secondary\"\nvia = \"secondary\"\n\
+             registration-hole = \"secondary\"",
+        )
+        .unwrap();
+        assert_eq!(ok.op(Feature::PartOutline), Operation::Secondary);
     }
 
     #[test]

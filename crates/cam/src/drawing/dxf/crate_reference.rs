@@ -90,6 +90,7 @@ fn entity(op: Operation, shape: &Shape) -> Entity {
 /// `drawing` written by the crate, with the TABLE head handles added.
 pub(super) fn crate_dxf(drawing: &Drawing, palette: &Palette) -> Vec<u8> {
     let mut doc = fixed_document();
+    doc.header.maximum_drawing_limits = dxf::Point::new(drawing.width_mm, drawing.height_mm, 0.0);
     if let Some((lo, hi)) = drawing.extents() {
         doc.header.minimum_drawing_extents = dxf::Point::new(lo[0], lo[1], 0.0);
         doc.header.maximum_drawing_extents = dxf::Point::new(hi[0], hi[1], 0.0);

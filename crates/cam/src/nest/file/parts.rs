@@ -104,6 +104,7 @@ pub(super) fn part_orders(
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),
                 pin_holes: Vec::new(),
+                bonded: false,
             })
         })
         .collect()
