@@ -97,16 +97,21 @@ fn rss_of(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 
-fn jacobian<F>(residuals: &F, bounds: &[ParameterRange], theta: &[f64], r0: &[f64]) -> DMatrix<f64>
-where
+/// Fill `j` (n x p) with the forward-difference Jacobian at `theta`, whose residuals are `r0`; `r` is
+/// scratch space for the shifted residuals.
+fn jacobian_into<F>(
+    residuals: &F,
+    bounds: &[ParameterRange],
+    theta: &[f64],
+    r0: &[f64],
+    j: &mut DMatrix<f64>,
+    r: &mut Vec<f64>,
+) where
     F: Fn(&[f64], &mut Vec<f64>),
 {
     let n = r0.len();
-    let p = theta.len();
-    let mut j = DMatrix::zeros(n, p);
     let mut shifted = theta.to_vec();
-    let mut r = Vec::with_capacity(n);
-    for k in 0..p {
+    for (k, column) in j.as_mut_slice().chunks_exact_mut(n.max(1)).enumerate() {
         let b = bounds[k];
         let scale = (b.hi - b.lo).abs().max(1e-12);
         let mut h = 1e-7 * scale.max(theta[k].abs());
@@ -114,13 +119,38 @@ where
             h = -h;
         }
         shifted[k] = theta[k] + h;
-        residuals(&shifted, &mut r);
-        for i in 0..n {
-            j[(i, k)] = (r[i] - r0[i]) / h;
+        residuals(&shifted, r);
+        for ((x, ri), r0i) in column.iter_mut().zip(r.iter()).zip(r0) {
+            *x = (ri - r0i) / h;
         }
         shifted[k] = theta[k];
     }
-    j
+}
+
+/// `Σ a_i b_i`, summed in the order of the rows.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut pairs = a.iter().zip(b);
+    let Some((a0, b0)) = pairs.next() else {
+        return 0.0;
+    };
+    pairs.fold(a0 * b0, |sum, (x, y)| x * y + sum)
+}
+
+/// The normal equations' `JᵀJ` and `Jᵀr`, from the columns of `j` (no transposed copy): each entry a sum
+/// over the rows in their order, as a matrix product sums it.
+fn normal_equations(j: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let (n, p) = j.shape();
+    let column = |k: usize| &j.as_slice()[k * n..(k + 1) * n];
+    let mut jtj = DMatrix::zeros(p, p);
+    for a in 0..p {
+        for b in a..p {
+            let s = dot(column(a), column(b));
+            jtj[(a, b)] = s;
+            jtj[(b, a)] = s;
+        }
+    }
+    let g = DVector::from_fn(p, |a, _| dot(column(a), r));
+    (jtj, g)
 }
 
 fn levenberg_marquardt<F>(residuals: &F, bounds: &[ParameterRange], start: &[f64]) -> FitResult
@@ -137,11 +167,14 @@ where
     let mut lambda = 1e-3;
     let mut trial = vec![0.0; p];
     let mut r_trial = Vec::new();
+    let mut j = DMatrix::zeros(r.len(), p);
+    // Whether `j` is the Jacobian at `theta`: a search that ends without a step keeps it for the result.
+    let mut j_at_theta = false;
     if p > 0 {
         for _ in 0..200 {
-            let j = jacobian(residuals, bounds, &theta, &r);
-            let jtj = j.transpose() * &j;
-            let g = j.transpose() * DVector::from_column_slice(&r);
+            jacobian_into(residuals, bounds, &theta, &r, &mut j, &mut r_trial);
+            j_at_theta = true;
+            let (jtj, g) = normal_equations(&j, &r);
             let mut improved = false;
             for _ in 0..30 {
                 let mut a = jtj.clone();
@@ -163,6 +196,7 @@ where
                     theta.copy_from_slice(&trial);
                     std::mem::swap(&mut r, &mut r_trial);
                     rss = rss_trial;
+                    j_at_theta = false;
                     lambda = (lambda / 3.0).max(1e-12);
                     improved = gain > 1e-12;
                     break;
@@ -177,13 +211,15 @@ where
             }
         }
     }
-    let jacobian = jacobian(residuals, bounds, &theta, &r);
+    if !j_at_theta {
+        jacobian_into(residuals, bounds, &theta, &r, &mut j, &mut r_trial);
+    }
     FitResult {
         n: r.len(),
         theta,
         rss,
         residuals: r,
-        jacobian,
+        jacobian: j,
     }
 }
 
