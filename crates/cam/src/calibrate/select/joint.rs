@@ -14,6 +14,7 @@
 //! a few masses-only standard errors, where the quadratic holds (a unit test bounds its error).
 
 use super::candidate::Candidate;
+use super::drive_groups::GroupBasis;
 use super::observations::{ActuationData, ActuationObs, MassData, StageData};
 use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
@@ -120,7 +121,24 @@ impl Quadratic {
         }
     }
 
+    /// ln of the quantity at `t` (NaN where it is negative).
+    fn ln_eval(&self, t: &[f64]) -> f64 {
+        match self.log_sign {
+            Some(sign) if sign > 0.0 => self.log_eval(t),
+            _ => self.eval(t).ln(),
+        }
+    }
+
     fn eval(&self, t: &[f64]) -> f64 {
+        let v = self.log_eval(t);
+        match self.log_sign {
+            Some(sign) => sign * v.exp(),
+            None => v,
+        }
+    }
+
+    /// The quadratic itself (of ln|q| where it is one of the logarithm).
+    fn log_eval(&self, t: &[f64]) -> f64 {
         let mut v = self.f0;
         for (j, tj) in t.iter().enumerate() {
             v += self.a[j] * tj + self.b[j] * tj * tj;
@@ -132,10 +150,7 @@ impl Quadratic {
                 at += 1;
             }
         }
-        match self.log_sign {
-            Some(sign) => sign * v.exp(),
-            None => v,
-        }
+        v
     }
 }
 
@@ -177,8 +192,8 @@ struct StackModel {
 pub(crate) struct JointData<'a> {
     pub(crate) act: ActuationData<'a>,
     pub(super) carried: Vec<CarriedParameter>,
-    /// Per observation, its stack model.
-    stack_of: Vec<usize>,
+    /// Per group of the observations ([`ActuationData::drive_groups`]: an actuator at one drive mode),
+    /// its stack model.
     stacks: Vec<StackModel>,
     /// Per measured mass: (group, ln measured mass, model mass at the stencil's centre, its change per
     /// unit step of each carried parameter). The library's mass effects change the mass linearly (a
@@ -211,31 +226,21 @@ impl<'a> JointData<'a> {
             })
             .collect();
         let rows = &act.data.rows;
-        // Each node's stacks solved once per distinct stack.
+        // Each node's stacks solved once per distinct stack; a stack model per group, so the solves stay
+        // linear in the actuators.
         let mut solvers: Vec<_> = models
             .iter()
             .map(|m| act.stacks.solver(act.data, m))
             .collect();
-        let mut stack_of = Vec::with_capacity(act.obs.len());
-        let mut stacks: Vec<StackModel> = Vec::new();
-        // For each actuator, (row the stack was solved for, stack model) of each drive mode it was
-        // measured in: looked up by actuator, so the solves stay linear in the actuators.
-        let mut solved_for: Vec<Vec<(usize, usize)>> = vec![Vec::new(); act.groups];
-        for o in &act.obs {
-            let same = solved_for[o.group]
-                .iter()
-                .find(|&&(row, _)| rows[row].drive_mode == rows[o.row].drive_mode)
-                .map(|&(_, s)| s);
-            if let Some(s) = same {
-                stack_of.push(s);
-                continue;
-            }
+        let mut stacks: Vec<StackModel> = Vec::with_capacity(act.drive_groups.len());
+        for g in 0..act.drive_groups.len() {
+            let row = act.obs[act.drive_groups.first(g)].row;
             let bases = solvers
                 .iter_mut()
                 .zip(&models)
                 .map(|(s, m)| {
-                    s.basis(o.row)
-                        .map_or_else(|| m.basis(&rows[o.row].actuator()), Ok)
+                    s.basis(row)
+                        .map_or_else(|| m.basis(&rows[row].actuator()), Ok)
                 })
                 .collect::<Result<Vec<StackBasis>, _>>()?;
             let quad = |q: fn(&StackBasis) -> f64| {
@@ -248,8 +253,6 @@ impl<'a> JointData<'a> {
                 beam_compliance: quad(|b| b.beam_compliance),
                 extension_compliance: quad(|b| b.extension_compliance),
             });
-            solved_for[o.group].push((o.row, stacks.len() - 1));
-            stack_of.push(stacks.len() - 1);
         }
         drop(solvers);
         let mut masses = Vec::new();
@@ -269,21 +272,16 @@ impl<'a> JointData<'a> {
             + act.resonances.len();
         // Each resonance's stack: its actuator's first (None: no deflection or force measured, so no
         // stack was solved; its basis stays the frozen one).
+        let first_group = act.drive_groups.first_of_actuators(act.groups);
         let resonance_stack = act
             .resonances
             .obs
             .iter()
-            .map(|r| {
-                solved_for
-                    .get(r.group)
-                    .and_then(|solved| solved.first())
-                    .map(|&(_, stack)| stack)
-            })
+            .map(|r| first_group.get(r.group).copied().flatten())
             .collect();
         Ok(JointData {
             act,
             carried,
-            stack_of,
             stacks,
             masses,
             mass_weight,
@@ -317,8 +315,8 @@ impl<'a> JointData<'a> {
         self.act
             .obs
             .iter()
-            .zip(&self.stack_of)
-            .map(|(o, &s)| at[s].at_field(o.basis.field))
+            .enumerate()
+            .map(|(i, o)| at[self.act.drive_groups.of_obs(i)].at_field(o.basis.field))
             .collect()
     }
 
@@ -331,27 +329,11 @@ impl<'a> JointData<'a> {
         out.clear();
         let t = self.coordinates(effects);
         // Each stack model once per evaluation (its voltages share it).
-        let mut at: Vec<Option<StackBasis>> = vec![None; self.stacks.len()];
-        for (o, &s) in self.act.obs.iter().zip(&self.stack_of) {
-            if keep.is_some_and(|k| !k[o.group]) {
-                continue;
-            }
-            let m = &self.stacks[s];
-            let basis = *at[s].get_or_insert_with(|| StackBasis {
-                free_curvature: m.free_curvature.eval(&t),
-                beam_compliance: m.beam_compliance.eval(&t),
-                extension_compliance: m.extension_compliance.eval(&t),
-                field: m.field,
-                planform: o.basis.planform,
-            });
-            let (delta, force) = effects.outputs(&basis.at_field(o.basis.field));
-            if let Some(d) = o.ln_delta {
-                out.push(d - delta.ln());
-            }
-            if let Some(f) = o.ln_force {
-                out.push(f - force.ln());
-            }
-        }
+        let mut solve =
+            |g: usize, compliances: bool| Some(self.stacks[g].group_basis(&t, compliances));
+        self.act
+            .drive_groups
+            .residuals(&self.act.obs, effects, keep, Some(&mut solve), out);
         let res = &self.act.resonances;
         for (k, (o, stack)) in res.obs.iter().zip(&self.resonance_stack).enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
@@ -367,6 +349,28 @@ impl<'a> JointData<'a> {
 }
 
 impl StackModel {
+    /// The stack at stencil coordinates `t` for [`DriveGroups`](super::drive_groups::DriveGroups): the
+    /// logs of its curvature and beam compliance (the quadratics themselves where they are of the
+    /// logarithm), and the basis on its own planform with its compliances only if `compliances`.
+    fn group_basis(&self, t: &[f64], compliances: bool) -> GroupBasis {
+        let basis = if compliances {
+            self.at(t, self.planform)
+        } else {
+            StackBasis {
+                free_curvature: f64::NAN,
+                beam_compliance: f64::NAN,
+                extension_compliance: f64::NAN,
+                field: self.field,
+                planform: self.planform,
+            }
+        };
+        GroupBasis {
+            basis,
+            ln_curvature: self.free_curvature.ln_eval(t),
+            ln_beam: self.beam_compliance.ln_eval(t),
+        }
+    }
+
     /// The stack basis at stencil coordinates `t`.
     fn at(&self, t: &[f64], planform: actuator_model::Planform) -> StackBasis {
         StackBasis {
@@ -409,26 +413,20 @@ impl StageData for JointData<'_> {
             .map(|(o, basis)| ActuationObs { basis, ..*o })
             .collect();
         let t = self.coordinates(effects);
-        let resonances = self.act.resonances.with_bases(|r| {
-            let k = self
-                .act
-                .resonances
-                .obs
-                .iter()
-                .position(|x| x.group == r.group);
-            match k.and_then(|k| self.resonance_stack[k]) {
+        let resonances = self
+            .act
+            .resonances
+            .with_bases(|k, r| match self.resonance_stack[k] {
                 Some(s) => self.stacks[s].at(&t, r.basis.planform),
                 None => r.basis,
-            }
-        });
-        Some(ActuationData {
-            data: self.act.data,
+            });
+        Some(ActuationData::new(
+            self.act.data,
             obs,
-            groups: self.act.groups,
-            frozen_primitives: 0,
+            0,
             resonances,
-            stacks: self.act.stacks.clone(),
-        })
+            self.act.stacks.clone(),
+        ))
     }
 }
 

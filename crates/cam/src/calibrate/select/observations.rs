@@ -2,6 +2,7 @@
 //! deflections and forces, then the measured first resonances (actuation stage), with whole actuators
 //! maskable for cross-validation.
 
+use super::drive_groups::{DriveGroups, GroupBasis, Solve};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::dynamics::{ActuatorBeam, Modal};
@@ -79,6 +80,8 @@ pub(crate) struct ActuationData<'a> {
     pub(crate) resonances: Resonances,
     /// The data's distinct stacks: a model that changes the stack solves each once per evaluation.
     pub(crate) stacks: Stacks,
+    /// The observations by actuator and drive mode, which the residuals are evaluated per.
+    pub(crate) drive_groups: DriveGroups,
 }
 
 /// One actuator's measured first resonance.
@@ -143,13 +146,15 @@ impl Resonances {
         self.weight.store(weight.to_bits(), Ordering::Relaxed);
     }
 
-    /// The same resonances with each basis replaced (the joint data's bases at the carried values).
-    pub(crate) fn with_bases(&self, basis: impl Fn(&ResonanceObs) -> StackBasis) -> Self {
+    /// The same resonances with each basis replaced (the joint data's bases at the carried values), given
+    /// each resonance's index and observation.
+    pub(crate) fn with_bases(&self, basis: impl Fn(usize, &ResonanceObs) -> StackBasis) -> Self {
         let obs = self
             .obs
             .iter()
-            .map(|o| ResonanceObs {
-                basis: basis(o),
+            .enumerate()
+            .map(|(k, o)| ResonanceObs {
+                basis: basis(k, o),
                 ..*o
             })
             .collect();
@@ -210,43 +215,31 @@ impl StageData for ActuationData<'_> {
             .iter()
             .skip(self.frozen_primitives)
             .any(|x| x.primitive.changes_stack());
-        // Re-solved bases, one stack solve per distinct stack, one basis per actuator: its other
-        // voltages move the basis to their field (same drive mode).
-        let mut solved: Vec<Option<(usize, StackBasis)>> =
-            vec![None; if resolve { self.groups } else { 0 }];
+        let groups = &self.drive_groups;
+        // Re-solved bases: one stack solve per distinct stack, one basis per group.
         let mut stacks = self.stacks.solver(self.data, effects);
-        for o in &self.obs {
-            if keep.is_some_and(|k| !k[o.group]) {
-                continue;
-            }
-            let (delta, force) = if resolve {
-                let rows = &self.data.rows;
-                let basis = match solved[o.group] {
-                    Some((row, b)) if rows[row].drive_mode == rows[o.row].drive_mode => {
-                        Some(b.at_field(o.basis.field))
-                    }
-                    _ => stacks.basis(o.row).inspect(|b| {
-                        solved[o.group] = Some((o.row, *b));
-                    }),
-                };
-                basis.map_or((f64::NAN, f64::NAN), |b| effects.outputs(&b))
-            } else {
-                effects.outputs(&o.basis)
-            };
-            if let Some(d) = o.ln_delta {
-                out.push(d - delta.ln());
-            }
-            if let Some(f) = o.ln_force {
-                out.push(f - force.ln());
-            }
-        }
+        let mut bases: Vec<Option<StackBasis>> = vec![None; if resolve { groups.len() } else { 0 }];
+        let mut solve = |g: usize, _: bool| {
+            let basis = stacks.basis(self.obs[groups.first(g)].row);
+            bases[g] = basis;
+            basis.map(GroupBasis::of)
+        };
+        let solved = resolve.then_some(&mut solve as Solve);
+        groups.residuals(&self.obs, effects, keep, solved, out);
+        // A resonance's basis: its actuator's first group's, solved again, or its own when the actuator
+        // has no deflection or force.
+        let first_group = if resolve {
+            groups.first_of_actuators(self.groups)
+        } else {
+            Vec::new()
+        };
         for (k, o) in self.resonances.obs.iter().enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
             }
             let basis = if resolve {
-                match solved[o.group] {
-                    Some((_, b)) => Some(b),
+                match first_group[o.group] {
+                    Some(g) => bases[g],
                     None => stacks.basis(o.row),
                 }
             } else {
@@ -262,7 +255,26 @@ impl StageData for ActuationData<'_> {
     }
 }
 
-impl ActuationData<'_> {
+impl<'a> ActuationData<'a> {
+    /// The actuation data of `obs` (and `resonances`) of `data`, on stacks solved with the model's first
+    /// `frozen_primitives` primitives.
+    pub(crate) fn new(
+        data: &'a Dataset,
+        obs: Vec<ActuationObs>,
+        frozen_primitives: usize,
+        resonances: Resonances,
+        stacks: Stacks,
+    ) -> ActuationData<'a> {
+        ActuationData {
+            drive_groups: DriveGroups::new(data, &obs),
+            data,
+            obs,
+            groups: data.actuators(),
+            frozen_primitives,
+            resonances,
+            stacks,
+        }
+    }
     /// The log residuals of each observation under `effects`: `[deflection, force]`, None where not
     /// measured.
     pub(crate) fn row_residuals(&self, effects: &EffectModel) -> Vec<[Option<f64>; 2]> {

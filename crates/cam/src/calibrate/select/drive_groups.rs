@@ -1,0 +1,357 @@
+//! The actuation stage's log residuals, evaluated once per actuator and drive mode rather than once per
+//! row (docs/calibration.md §3, "Speed").
+//!
+//! An actuator's rows at one drive mode share the stack and the planform and differ only in the field.
+//! With the driving curvature `P = κ |η (1 + β E)|` the model gives `δ = P a` and `F_b = P a / c`, where
+//! the arm `a` ([`Effects::deflection_arm`]) and the tip compliance `c` ([`Effects::tip_compliance`])
+//! depend on the planform and the boundary effects alone, and CLT's free curvature κ is linear in the
+//! field ([`StackBasis::at_field`]; a model-crate test holds every primitive but the field-dependent d31 to
+//! this). So
+//!
+//! `ln δ = ln κ_g + ln(E / E_g) + ln |η (1 + β E)| + ln a`, `ln F_b = ln δ - ln c`,
+//!
+//! with `κ_g` the curvature at the group's first field `E_g`: `a`, `c` and their logarithms once per group,
+//! a sum per row (and the log of the d31 factor per row when it depends on the field). Against the log of
+//! [`EffectModel::outputs`] row by row this differs by rounding alone (a unit test below).
+
+use super::observations::ActuationObs;
+use crate::calibrate::csv::Dataset;
+use actuator_model::effects::StackBasis;
+use actuator_model::{EffectModel, Planform};
+
+/// One actuator's observations at one drive mode.
+#[derive(Debug, Clone)]
+struct Group {
+    actuator: usize,
+    /// Its first observation, whose basis is the group's.
+    first: usize,
+    planform: Planform,
+    /// ln of the arm with the whole PZT driven (the original model's): most models leave it.
+    ln_nominal_arm: f64,
+    /// ln of the beam compliance of its first observation's basis.
+    ln_beam: f64,
+}
+
+/// One residual: the log deflection or force of one observation.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    /// The measured log.
+    measured: f64,
+    /// ln κ of the observation's own basis (frozen bases), and ln of its field over its group's (bases
+    /// solved per group).
+    own: [f64; 2],
+    /// Twice its group, plus one for a force.
+    at: u32,
+    obs: u32,
+    actuator: u32,
+}
+
+/// The actuation observations grouped by actuator and drive mode, groups numbered in the order their
+/// first observations come, and their residuals in the order of the observations (deflection, then
+/// force, where measured).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct DriveGroups {
+    groups: Vec<Group>,
+    /// Per observation, its group.
+    of_obs: Vec<usize>,
+    slots: Vec<Slot>,
+}
+
+/// A group's stack in one evaluation, at the group's field: the logs of its curvature and beam
+/// compliance, and its basis (whose compliances are read only where the model's tip compliance is more
+/// than the beam's).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GroupBasis {
+    pub(crate) basis: StackBasis,
+    pub(crate) ln_curvature: f64,
+    pub(crate) ln_beam: f64,
+}
+
+impl GroupBasis {
+    pub(crate) fn of(basis: StackBasis) -> GroupBasis {
+        GroupBasis {
+            basis,
+            ln_curvature: basis.free_curvature.ln(),
+            ln_beam: basis.beam_compliance.ln(),
+        }
+    }
+}
+
+/// Where each group's stack comes from in an evaluation that changes it: `(group, compliances needed)`,
+/// None where the model cannot evaluate it.
+pub(crate) type Solve<'s> = &'s mut dyn FnMut(usize, bool) -> Option<GroupBasis>;
+
+impl DriveGroups {
+    pub(crate) fn new(data: &Dataset, obs: &[ActuationObs]) -> DriveGroups {
+        let mut groups: Vec<Group> = Vec::new();
+        // Per actuator, its groups so far.
+        let mut of_actuator: Vec<Vec<usize>> = vec![Vec::new(); data.actuators()];
+        let mut of_obs = Vec::with_capacity(obs.len());
+        let mut slots = Vec::with_capacity(2 * obs.len());
+        for (i, o) in obs.iter().enumerate() {
+            let mode = data.rows[o.row].drive_mode;
+            let same = of_actuator[o.group]
+                .iter()
+                .copied()
+                .find(|&g| data.rows[obs[groups[g].first].row].drive_mode == mode);
+            let g = same.unwrap_or_else(|| {
+                let pl = o.basis.planform;
+                groups.push(Group {
+                    actuator: o.group,
+                    first: i,
+                    planform: pl,
+                    ln_nominal_arm: EffectModel::default().effects.deflection_arm(&pl).ln(),
+                    ln_beam: o.basis.beam_compliance.ln(),
+                });
+                of_actuator[o.group].push(groups.len() - 1);
+                groups.len() - 1
+            });
+            of_obs.push(g);
+            let own = [
+                o.basis.free_curvature.ln(),
+                (o.basis.field / obs[groups[g].first].basis.field).ln(),
+            ];
+            for (k, measured) in [o.ln_delta, o.ln_force].into_iter().enumerate() {
+                if let Some(measured) = measured {
+                    slots.push(Slot {
+                        measured,
+                        own,
+                        at: (2 * g + k) as u32,
+                        obs: i as u32,
+                        actuator: o.group as u32,
+                    });
+                }
+            }
+        }
+        DriveGroups {
+            groups,
+            of_obs,
+            slots,
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// The first observation of group `g`.
+    pub(crate) fn first(&self, g: usize) -> usize {
+        self.groups[g].first
+    }
+
+    /// The group of observation `i`.
+    pub(crate) fn of_obs(&self, i: usize) -> usize {
+        self.of_obs[i]
+    }
+
+    /// The first group of each actuator (None: no deflection or force measured).
+    pub(crate) fn first_of_actuators(&self, actuators: usize) -> Vec<Option<usize>> {
+        let mut first = vec![None; actuators];
+        for (g, group) in self.groups.iter().enumerate() {
+            first[group.actuator].get_or_insert(g);
+        }
+        first
+    }
+
+    /// Push the log residuals of the observations of the actuators `keep` marks (None: all) under
+    /// `model`. `solved` gives each group's stack when the model changes it; without it every observation
+    /// keeps the basis it was built with.
+    pub(crate) fn residuals(
+        &self,
+        obs: &[ActuationObs],
+        model: &EffectModel,
+        keep: Option<&[bool]>,
+        solved: Option<Solve>,
+        out: &mut Vec<f64>,
+    ) {
+        let Some(first) = self.groups.first() else {
+            return;
+        };
+        // η, β, the dead length, the edge margins and the stiffness scale do not depend on the
+        // planform; the clamp compliance does through a clamp compliance per width.
+        let shared = model.boundary_effects(&first.planform);
+        let frozen = solved.is_none();
+        let logs = self.group_logs(obs, model, &shared, keep, solved);
+        let linear = model.linear_in_field();
+        let ln_d31 = shared.d31_factor(obs[first.first].basis.field).abs().ln();
+        let per_obs: Vec<f64> = if linear {
+            Vec::new()
+        } else {
+            obs.iter()
+                .map(|o| shared.d31_factor(o.basis.field).abs().ln())
+                .collect()
+        };
+        let mode = usize::from(!frozen);
+        let value = |s: &Slot| {
+            let d31 = if linear {
+                ln_d31
+            } else {
+                per_obs[s.obs as usize]
+            };
+            s.measured - (logs[s.at as usize] + s.own[mode] + d31)
+        };
+        match keep {
+            None => out.extend(self.slots.iter().map(value)),
+            Some(k) => out.extend(
+                self.slots
+                    .iter()
+                    .filter(|s| k[s.actuator as usize])
+                    .map(value),
+            ),
+        }
+    }
+
+    /// Per group, `ln κ_g + ln a` (its deflection's log less the observation's own terms) and the same
+    /// less `ln c` (its force's), at `2 g` and `2 g + 1`; NaN for a group left out or that cannot be
+    /// evaluated.
+    fn group_logs(
+        &self,
+        obs: &[ActuationObs],
+        model: &EffectModel,
+        shared: &actuator_model::Effects,
+        keep: Option<&[bool]>,
+        mut solved: Option<Solve>,
+    ) -> Vec<f64> {
+        let uniform = model.boundary_is_uniform();
+        let whole = shared.drives_whole_pzt();
+        let ln_stiffness = shared.stiffness_scale.ln();
+        let mut logs = vec![f64::NAN; 2 * self.groups.len()];
+        for (g, group) in self.groups.iter().enumerate() {
+            if keep.is_some_and(|k| !k[group.actuator]) {
+                continue;
+            }
+            let own;
+            let e = if uniform {
+                shared
+            } else {
+                own = model.boundary_effects(&group.planform);
+                &own
+            };
+            let beam_only = e.compliance_is_beam();
+            let stack;
+            let (ln_curvature, ln_beam, basis) = match solved.as_mut() {
+                None => (0.0, group.ln_beam, &obs[group.first].basis),
+                Some(solve) => match solve(g, !beam_only) {
+                    Some(s) => {
+                        stack = s;
+                        (s.ln_curvature, s.ln_beam, &stack.basis)
+                    }
+                    None => continue,
+                },
+            };
+            let ln_arm = if whole {
+                group.ln_nominal_arm
+            } else {
+                e.deflection_arm(&group.planform).ln()
+            };
+            let ln_c = if beam_only {
+                ln_beam - ln_stiffness
+            } else {
+                e.tip_compliance(basis).ln()
+            };
+            logs[2 * g] = ln_curvature + ln_arm;
+            logs[2 * g + 1] = logs[2 * g] - ln_c;
+        }
+        logs
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::csv::parse;
+    use crate::calibrate::select::actuation_data;
+    use actuator_model::primitives::{Applied, Primitive};
+
+    /// Two actuators, one at three voltages in two drive modes, one at one voltage.
+    fn data() -> Dataset {
+        parse(
+            "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N,drive\n\
+             a,30,0.6,8,1.2,0.191,0/90/0,150,60,0.3,0.05,parallel\n\
+             a,30,0.6,8,1.2,0.191,0/90/0,100,,0.2,0.035,parallel\n\
+             b,40,0,6,0.8,0.127,0/0/90/0/0,120,60,0.25,0.04,parallel\n\
+             a,30,0.6,8,1.2,0.191,0/90/0,50,,0.1,,series\n",
+        )
+        .expect("valid rows")
+    }
+
+    #[test]
+    fn groups_are_an_actuators_rows_at_one_drive_mode() {
+        let data = data();
+        let act = actuation_data(&data, &EffectModel::default()).expect("physical stacks");
+        let groups = &act.drive_groups;
+        assert_eq!(groups.len(), 3);
+        assert_eq!(
+            (0..4).map(|i| groups.of_obs(i)).collect::<Vec<_>>(),
+            [0, 0, 1, 2]
+        );
+        assert_eq!(groups.first_of_actuators(2), [Some(0), Some(1)]);
+    }
+
+    /// The residuals per group against `ln` of [`EffectModel::outputs`] per row, on frozen bases and on
+    /// bases solved per group: with every boundary effect on, and with η and the stiffness scale alone
+    /// (the arm and the compliance in their original forms); each with a field-dependent d31 and a clamp
+    /// compliance per width.
+    #[test]
+    fn group_logs_are_the_log_outputs_of_each_row() {
+        let data = data();
+        let mut every = EffectModel::default();
+        let e = &mut every.effects;
+        (e.d31_scale, e.dead_length, e.edge_margin) = (0.8, 2e-3, 0.2e-3);
+        (
+            e.extension_flexibility,
+            e.clamp_compliance,
+            e.stiffness_scale,
+        ) = (1.5, 0.3, 0.9);
+        e.rigid_root = 1e-3;
+        let mut few = EffectModel::default();
+        (few.effects.d31_scale, few.effects.stiffness_scale) = (1.2, 0.8);
+        for (model, primitives) in [every, few].into_iter().flat_map(|model| {
+            [
+                vec![],
+                vec![Applied {
+                    primitive: Primitive::FieldDependentD31,
+                    value: 0.5e-6,
+                }],
+                vec![Applied {
+                    primitive: Primitive::ClampCompliancePerWidth,
+                    value: 2e-3,
+                }],
+            ]
+            .map(move |p| (model.clone(), p))
+        }) {
+            let model = EffectModel {
+                primitives,
+                ..model
+            };
+            let act = actuation_data(&data, &EffectModel::default()).expect("physical stacks");
+            let mut want = Vec::new();
+            for o in &act.obs {
+                let (d, f) = model.outputs(&o.basis);
+                want.extend(o.ln_delta.map(|x| x - d.ln()));
+                want.extend(o.ln_force.map(|x| x - f.ln()));
+            }
+            let groups = &act.drive_groups;
+            let mut frozen = Vec::new();
+            groups.residuals(&act.obs, &model, None, None, &mut frozen);
+            let mut solve = |g: usize, _: bool| {
+                let o = &act.obs[groups.first(g)];
+                Some(GroupBasis::of(o.basis))
+            };
+            let mut solved = Vec::new();
+            groups.residuals(&act.obs, &model, None, Some(&mut solve), &mut solved);
+            assert_eq!(want.len(), 7);
+            for got in [frozen, solved] {
+                assert_eq!(got.len(), want.len());
+                for (x, y) in got.iter().zip(&want) {
+                    assert!((x - y).abs() < 1e-12, "{x} vs {y}");
+                }
+            }
+            // A held-out actuator leaves its rows out.
+            let mut kept = Vec::new();
+            groups.residuals(&act.obs, &model, Some(&[false, true]), None, &mut kept);
+            assert_eq!(kept.len(), 2);
+            assert!((kept[0] - want[4]).abs() < 1e-12);
+        }
+    }
+}
