@@ -306,6 +306,7 @@ impl Effects {
     }
 
     /// Factor on d31 at a drive field: `η (1 + β E)`.
+    #[inline]
     pub fn d31_factor(&self, field: f64) -> f64 {
         self.d31_scale * (1.0 + self.d31_field_coefficient * field)
     }
@@ -415,6 +416,7 @@ impl Effects {
 
     /// The rigid root's length as the beam uses it: clipped at 0.95 `l_p`, as the dead length is, so a
     /// free length always remains (docs/calibration.md §2).
+    #[inline]
     fn held_root(&self, pl: &Planform) -> f64 {
         self.rigid_root.min(0.95 * pl.piezo_length())
     }
@@ -448,12 +450,14 @@ impl Effects {
 
     /// Where the driven part of the PZT begins, `x0 = max(Δ, h)`, each clipped at 0.95 `l_p`
     /// ([`Effects::outputs`]), m.
+    #[inline]
     fn driven_start(&self, pl: &Planform) -> f64 {
         let dead = self.dead_length.min(0.95 * pl.piezo_length());
         dead.max(self.held_root(pl))
     }
 
     /// Both edge margins together, `2m` clipped at 0.95 of the narrowest width, m.
+    #[inline]
     fn edge_margins(&self, pl: &Planform) -> f64 {
         (2.0 * self.edge_margin).min(0.95 * pl.narrowest_width())
     }
@@ -463,6 +467,7 @@ impl Effects {
     /// `((L - x0)² - l_ext²) / 2 - 2m ∫x0..l_p (L - x)/w dx`. It depends on the planform and the boundary
     /// effects alone, not on the field, so an actuator's voltages share it: `δ = P a` and
     /// `F_b = P a / c` ([`Effects::tip_compliance`]).
+    #[inline]
     pub fn deflection_arm(&self, pl: &Planform) -> f64 {
         let l_ext = pl.extension_length();
         let tip = pl.piezo_length() + l_ext;
@@ -476,18 +481,21 @@ impl Effects {
 
     /// True when [`Effects::deflection_arm`] is the planform's own, `(L² - l_ext²) / 2`, as in the original
     /// model: no dead length, rigid root or edge margin.
+    #[inline]
     pub fn drives_whole_pzt(&self) -> bool {
         self.dead_length == 0.0 && self.rigid_root == 0.0 && self.edge_margin == 0.0
     }
 
     /// True when [`Effects::tip_compliance`] is the beam's alone, `c_beam / s_k`: no rigid root, compliant
     /// extension or clamp compliance.
+    #[inline]
     pub fn compliance_is_beam(&self) -> bool {
         self.rigid_root == 0.0 && self.extension_flexibility == 0.0 && self.clamp_compliance == 0.0
     }
 
     /// Tip compliance `c = c_beam(h) / s_k + φ c_ext + c_θ l_tot²` of a basis, m/N: `δ / F_b` of
     /// [`Effects::outputs`], whatever the drive.
+    #[inline]
     pub fn tip_compliance(&self, b: &StackBasis) -> f64 {
         let pl = &b.planform;
         let held = self.held_root(pl);

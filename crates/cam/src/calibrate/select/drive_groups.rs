@@ -18,6 +18,7 @@ use super::observations::ActuationObs;
 use crate::calibrate::csv::Dataset;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, Planform};
+use std::collections::HashMap;
 
 /// One actuator's observations at one drive mode.
 #[derive(Debug, Clone)]
@@ -42,8 +43,29 @@ struct Slot {
     own: [f64; 2],
     /// Twice its group, plus one for a force.
     at: u32,
-    obs: u32,
+    /// Its field, in [`DriveGroups::fields`].
+    field: u32,
     actuator: u32,
+}
+
+/// The rows of one group's deflection (or force) as a grouped search sees them: with `c = measured -
+/// own` (per basis mode), their number's root, the mean of `c` and its spread `Σ (c - mean)²`. Every
+/// row of it has the residual `c - v` for one model value `v`, so their sum of squares is
+/// `spread + n (mean - v)²`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    root_count: f64,
+    mean: [f64; 2],
+    spread: [f64; 2],
+}
+
+/// Which residuals an evaluation gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Form {
+    /// One per measured deflection or force.
+    Rows,
+    /// One per group's deflection and per group's force, weighted ([`Sums`]; a model linear in the field).
+    Groups,
 }
 
 /// The actuation observations grouped by actuator and drive mode, groups numbered in the order their
@@ -55,6 +77,11 @@ pub(crate) struct DriveGroups {
     /// Per observation, its group.
     of_obs: Vec<usize>,
     slots: Vec<Slot>,
+    /// The distinct fields, V/m (a data set has a few voltages per plate thickness): a field-dependent
+    /// d31 takes one logarithm per field.
+    fields: Vec<f64>,
+    /// Per group, its deflections' and its forces' (at `2 g` and `2 g + 1`).
+    sums: Vec<Sums>,
 }
 
 /// A group's stack in one evaluation, at the group's field: the logs of its curvature and beam
@@ -88,6 +115,8 @@ impl DriveGroups {
         let mut of_actuator: Vec<Vec<usize>> = vec![Vec::new(); data.actuators()];
         let mut of_obs = Vec::with_capacity(obs.len());
         let mut slots = Vec::with_capacity(2 * obs.len());
+        let mut fields = Vec::new();
+        let mut field_index: HashMap<u64, u32> = HashMap::new();
         for (i, o) in obs.iter().enumerate() {
             let mode = data.rows[o.row].drive_mode;
             let same = of_actuator[o.group]
@@ -111,22 +140,31 @@ impl DriveGroups {
                 o.basis.free_curvature.ln(),
                 (o.basis.field / obs[groups[g].first].basis.field).ln(),
             ];
+            let field = *field_index
+                .entry(o.basis.field.to_bits())
+                .or_insert_with(|| {
+                    fields.push(o.basis.field);
+                    (fields.len() - 1) as u32
+                });
             for (k, measured) in [o.ln_delta, o.ln_force].into_iter().enumerate() {
                 if let Some(measured) = measured {
                     slots.push(Slot {
                         measured,
                         own,
                         at: (2 * g + k) as u32,
-                        obs: i as u32,
+                        field,
                         actuator: o.group as u32,
                     });
                 }
             }
         }
+        let sums = sums(2 * groups.len(), &slots);
         DriveGroups {
             groups,
             of_obs,
             slots,
+            fields,
+            sums,
         }
     }
 
@@ -154,39 +192,54 @@ impl DriveGroups {
     }
 
     /// Push the log residuals of the observations of the actuators `keep` marks (None: all) under
-    /// `model`. `solved` gives each group's stack when the model changes it; without it every observation
-    /// keeps the basis it was built with.
-    pub(crate) fn residuals(
+    /// `model`, in `form`, and return the sum of squares they leave out (0 for the rows themselves).
+    /// `solved` gives each group's stack when the model changes it; without it every observation keeps
+    /// the basis it was built with. Grouped residuals need a model linear in the field
+    /// ([`EffectModel::linear_in_field`]; NaN otherwise).
+    pub(crate) fn evaluate(
         &self,
         obs: &[ActuationObs],
         model: &EffectModel,
         keep: Option<&[bool]>,
         solved: Option<Solve>,
+        form: Form,
         out: &mut Vec<f64>,
-    ) {
+    ) -> f64 {
         let Some(first) = self.groups.first() else {
-            return;
+            return 0.0;
         };
         // η, β, the dead length, the edge margins and the stiffness scale do not depend on the
         // planform; the clamp compliance does through a clamp compliance per width.
         let shared = model.boundary_effects(&first.planform);
-        let frozen = solved.is_none();
+        let mode = usize::from(solved.is_some());
         let logs = self.group_logs(obs, model, &shared, keep, solved);
         let linear = model.linear_in_field();
         let ln_d31 = shared.d31_factor(obs[first.first].basis.field).abs().ln();
-        let per_obs: Vec<f64> = if linear {
+        if form == Form::Groups {
+            let kept = |at: usize| keep.is_none_or(|k| k[self.groups[at / 2].actuator]);
+            let mut spread = 0.0;
+            for (at, s) in self.sums.iter().enumerate() {
+                if s.root_count > 0.0 && kept(at) {
+                    let v = if linear { logs[at] + ln_d31 } else { f64::NAN };
+                    out.push(s.root_count * (s.mean[mode] - v));
+                    spread += s.spread[mode];
+                }
+            }
+            return spread;
+        }
+        let per_field: Vec<f64> = if linear {
             Vec::new()
         } else {
-            obs.iter()
-                .map(|o| shared.d31_factor(o.basis.field).abs().ln())
+            self.fields
+                .iter()
+                .map(|&field| shared.d31_factor(field).abs().ln())
                 .collect()
         };
-        let mode = usize::from(!frozen);
         let value = |s: &Slot| {
             let d31 = if linear {
                 ln_d31
             } else {
-                per_obs[s.obs as usize]
+                per_field[s.field as usize]
             };
             s.measured - (logs[s.at as usize] + s.own[mode] + d31)
         };
@@ -199,6 +252,7 @@ impl DriveGroups {
                     .map(value),
             ),
         }
+        0.0
     }
 
     /// Per group, `ln κ_g + ln a` (its deflection's log less the observation's own terms) and the same
@@ -254,6 +308,32 @@ impl DriveGroups {
         }
         logs
     }
+}
+
+/// [`Sums`] of each of `outputs` from the slots that give it.
+fn sums(outputs: usize, slots: &[Slot]) -> Vec<Sums> {
+    let mut count = vec![0usize; outputs];
+    let mut total = vec![[0.0; 2]; outputs];
+    for s in slots {
+        count[s.at as usize] += 1;
+        for (t, own) in total[s.at as usize].iter_mut().zip(s.own) {
+            *t += s.measured - own;
+        }
+    }
+    let mut sums: Vec<Sums> = (0..outputs)
+        .map(|at| Sums {
+            root_count: (count[at] as f64).sqrt(),
+            mean: total[at].map(|t| t / count[at].max(1) as f64),
+            spread: [0.0; 2],
+        })
+        .collect();
+    for s in slots {
+        let at = &mut sums[s.at as usize];
+        for ((spread, mean), own) in at.spread.iter_mut().zip(at.mean).zip(s.own) {
+            *spread += (s.measured - own - mean).powi(2);
+        }
+    }
+    sums
 }
 
 #[cfg(test)]
@@ -333,13 +413,20 @@ mod tests {
             }
             let groups = &act.drive_groups;
             let mut frozen = Vec::new();
-            groups.residuals(&act.obs, &model, None, None, &mut frozen);
+            groups.evaluate(&act.obs, &model, None, None, Form::Rows, &mut frozen);
             let mut solve = |g: usize, _: bool| {
                 let o = &act.obs[groups.first(g)];
                 Some(GroupBasis::of(o.basis))
             };
             let mut solved = Vec::new();
-            groups.residuals(&act.obs, &model, None, Some(&mut solve), &mut solved);
+            groups.evaluate(
+                &act.obs,
+                &model,
+                None,
+                Some(&mut solve),
+                Form::Rows,
+                &mut solved,
+            );
             assert_eq!(want.len(), 7);
             for got in [frozen, solved] {
                 assert_eq!(got.len(), want.len());
@@ -349,7 +436,14 @@ mod tests {
             }
             // A held-out actuator leaves its rows out.
             let mut kept = Vec::new();
-            groups.residuals(&act.obs, &model, Some(&[false, true]), None, &mut kept);
+            groups.evaluate(
+                &act.obs,
+                &model,
+                Some(&[false, true]),
+                None,
+                Form::Rows,
+                &mut kept,
+            );
             assert_eq!(kept.len(), 2);
             assert!((kept[0] - want[4]).abs() < 1e-12);
         }

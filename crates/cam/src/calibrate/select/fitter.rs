@@ -6,7 +6,7 @@ use super::cross_validation;
 use super::identifiability;
 use super::joint::CarriedParameter;
 use super::observations::StageData;
-use crate::calibrate::fit::{least_squares, FitResult, ParameterRange};
+use crate::calibrate::fit::{least_squares_grouped, FitResult, ParameterRange};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
@@ -119,7 +119,28 @@ impl Fitter<'_> {
                 }
             }
         };
-        least_squares(&f, &bounds, starts_list)
+        // A model linear in the field at every value of its parameters (the carried mass effects are)
+        // is searched on the grouped residuals, where the stage has them.
+        let linear = self.base.linear_in_field() && ids.iter().all(EffectId::linear_in_field);
+        let grouped = |theta: &[f64], out: &mut Vec<f64>| {
+            let left_out = if !linear {
+                None
+            } else if c > 0 {
+                let model = self.model_at(&theta[..c], ids, &theta[c..]);
+                self.data.grouped(&model, keep, out)
+            } else {
+                let model = self.model_at(held, ids, theta);
+                match &held_data {
+                    Some(d) => d.grouped(&model, keep, out),
+                    None => self.data.grouped_held_out(&model, keep, out),
+                }
+            };
+            if left_out.is_none() {
+                f(theta, out);
+            }
+            left_out
+        };
+        least_squares_grouped(&grouped, &f, &bounds, starts_list)
     }
 
     pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {

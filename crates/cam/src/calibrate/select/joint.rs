@@ -14,7 +14,7 @@
 //! a few masses-only standard errors, where the quadratic holds (a unit test bounds its error).
 
 use super::candidate::Candidate;
-use super::drive_groups::GroupBasis;
+use super::drive_groups::{Form, GroupBasis};
 use super::observations::{ActuationData, ActuationObs, MassData, StageData};
 use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
@@ -320,20 +320,28 @@ impl<'a> JointData<'a> {
             .collect()
     }
 
+    /// The deflections' and forces' log residuals in `form`, then the resonances'; the sum of squares
+    /// the form leaves out.
     fn actuation_residuals(
         &self,
         effects: &EffectModel,
         keep: Option<&[bool]>,
+        form: Form,
         out: &mut Vec<f64>,
-    ) {
+    ) -> f64 {
         out.clear();
         let t = self.coordinates(effects);
         // Each stack model once per evaluation (its voltages share it).
         let mut solve =
             |g: usize, compliances: bool| Some(self.stacks[g].group_basis(&t, compliances));
-        self.act
-            .drive_groups
-            .residuals(&self.act.obs, effects, keep, Some(&mut solve), out);
+        let left_out = self.act.drive_groups.evaluate(
+            &self.act.obs,
+            effects,
+            keep,
+            Some(&mut solve),
+            form,
+            out,
+        );
         let res = &self.act.resonances;
         for (k, (o, stack)) in res.obs.iter().zip(&self.resonance_stack).enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
@@ -344,6 +352,19 @@ impl<'a> JointData<'a> {
                 None => o.basis,
             };
             out.push(res.residual(self.act.data, k, effects, &basis));
+        }
+        left_out
+    }
+
+    /// Each measured mass's log residual times the mass weight.
+    fn mass_residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+        let t = self.coordinates(effects);
+        for (g, ln_m, m0, slopes) in &self.masses {
+            if keep.is_some_and(|k| !k[*g]) {
+                continue;
+            }
+            let m = m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>();
+            out.push((ln_m - m.ln()) * self.mass_weight);
         }
     }
 }
@@ -385,21 +406,32 @@ impl StackModel {
 
 impl StageData for JointData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
-        self.actuation_residuals(effects, keep, out);
-        let t = self.coordinates(effects);
-        for (g, ln_m, m0, slopes) in &self.masses {
-            if keep.is_some_and(|k| !k[*g]) {
-                continue;
-            }
-            let m = m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>();
-            out.push((ln_m - m.ln()) * self.mass_weight);
-        }
+        self.actuation_residuals(effects, keep, Form::Rows, out);
+        self.mass_residuals(effects, keep, out);
+    }
+    fn grouped(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        let left_out = self.actuation_residuals(effects, keep, Form::Groups, out);
+        self.mass_residuals(effects, keep, out);
+        Some(left_out)
     }
     fn groups(&self) -> usize {
         self.act.groups
     }
     fn held_out(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
-        self.actuation_residuals(effects, keep, out);
+        self.actuation_residuals(effects, keep, Form::Rows, out);
+    }
+    fn grouped_held_out(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        Some(self.actuation_residuals(effects, keep, Form::Groups, out))
     }
     fn scored_rows(&self) -> Option<usize> {
         Some(self.scored)

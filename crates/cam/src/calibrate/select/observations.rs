@@ -2,7 +2,7 @@
 //! deflections and forces, then the measured first resonances (actuation stage), with whole actuators
 //! maskable for cross-validation.
 
-use super::drive_groups::{DriveGroups, GroupBasis, Solve};
+use super::drive_groups::{DriveGroups, Form, GroupBasis, Solve};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::dynamics::{ActuatorBeam, Modal};
@@ -25,6 +25,28 @@ pub(crate) trait StageData: Sync {
     /// and intervals count them; the rest (the weighted masses of the joint data) steer the fit only.
     fn scored_rows(&self) -> Option<usize> {
         None
+    }
+    /// The residuals of [`StageData::residuals`] in the grouped form of a search
+    /// ([`crate::calibrate::fit::least_squares_grouped`]): the rows of each actuator's deflections (and
+    /// forces) at one drive mode as their weighted mean, and the sum of squares that leaves out; for a
+    /// model linear in the field. None (and `out` untouched) where the stage has no grouped form.
+    fn grouped(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        let _ = (effects, keep, out);
+        None
+    }
+    /// The grouped form of [`StageData::held_out`].
+    fn grouped_held_out(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        self.grouped(effects, keep, out)
     }
     /// The deflections and forces with the carried mass parameters held at their values in `effects`,
     /// each stack solved (or interpolated) once (None: nothing is carried; use these data).
@@ -209,6 +231,31 @@ impl Resonances {
 
 impl StageData for ActuationData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+        self.evaluate(effects, keep, Form::Rows, out);
+    }
+    fn grouped(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        Some(self.evaluate(effects, keep, Form::Groups, out))
+    }
+    fn groups(&self) -> usize {
+        self.groups
+    }
+}
+
+impl ActuationData<'_> {
+    /// The deflections' and forces' log residuals in `form`, then the resonances'; the sum of squares
+    /// the form leaves out.
+    fn evaluate(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        form: Form,
+        out: &mut Vec<f64>,
+    ) -> f64 {
         out.clear();
         let resolve = effects
             .primitives
@@ -225,7 +272,7 @@ impl StageData for ActuationData<'_> {
             basis.map(GroupBasis::of)
         };
         let solved = resolve.then_some(&mut solve as Solve);
-        groups.residuals(&self.obs, effects, keep, solved, out);
+        let left_out = groups.evaluate(&self.obs, effects, keep, solved, form, out);
         // A resonance's basis: its actuator's first group's, solved again, or its own when the actuator
         // has no deflection or force.
         let first_group = if resolve {
@@ -249,9 +296,7 @@ impl StageData for ActuationData<'_> {
                 self.resonances.residual(self.data, k, effects, &b)
             }));
         }
-    }
-    fn groups(&self) -> usize {
-        self.groups
+        left_out
     }
 }
 
