@@ -36,7 +36,7 @@ use crate::section::Section;
 use serde::{Deserialize, Serialize};
 
 mod stack;
-pub use stack::{StackBasis, StackSection};
+pub use stack::{PlanformTerms, StackBasis, StackSection};
 
 /// Density of the epoxy that resin-rich plies carry in excess, kg/m³.
 pub const RESIN_DENSITY: f64 = 1200.0;

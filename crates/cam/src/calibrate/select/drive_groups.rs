@@ -1,29 +1,35 @@
-//! The actuation stage's log residuals, evaluated once per actuator and drive mode rather than once per
+//! The actuation stage's log residuals, evaluated once per design and drive mode rather than once per
 //! row (docs/calibration.md §3, "Speed").
 //!
-//! An actuator's rows at one drive mode share the stack and the planform and differ only in the field.
-//! With the driving curvature `P = κ |η (1 + β E)|` the model gives `δ = P a` and `F_b = P a / c`, where
-//! the arm `a` ([`Effects::deflection_arm`]) and the tip compliance `c` ([`Effects::tip_compliance`])
-//! depend on the planform and the boundary effects alone, and CLT's free curvature κ is linear in the
-//! field ([`StackBasis::at_field`]; a model-crate test holds every primitive but the field-dependent d31 to
-//! this). So
+//! An actuator's rows at one drive mode share the stack and the planform and differ only in the field;
+//! so do the rows of actuators built to one design (a lab builds several of each). With the driving
+//! curvature `P = κ |η (1 + β E)|` the model gives `δ = P a` and `F_b = P a / c`, where the arm `a`
+//! ([`Effects::deflection_arm`](actuator_model::Effects::deflection_arm)) and the tip compliance `c`
+//! ([`Effects::tip_compliance`](actuator_model::Effects::tip_compliance)) depend on the planform and the
+//! boundary effects alone, and CLT's free curvature κ is linear in the field ([`StackBasis::at_field`]; a
+//! model-crate test holds every primitive but the field-dependent d31 to this). So
 //!
 //! `ln δ = ln κ_g + ln(E / E_g) + ln |η (1 + β E)| + ln a`, `ln F_b = ln δ - ln c`,
 //!
 //! with `κ_g` the curvature at the group's first field `E_g`: `a`, `c` and their logarithms once per group,
-//! a sum per row (and the log of the d31 factor per row when it depends on the field). Against the log of
-//! [`EffectModel::outputs`] row by row this differs by rounding alone (a unit test below).
+//! a sum per row (and the log of the d31 factor per field when it depends on the field). Against the log
+//! of [`EffectModel::outputs`] row by row this differs by rounding alone (a unit test below).
+//!
+//! Under a model linear in the field the rows of a group's deflections (or forces) differ from one
+//! model value by constants, so a search can take their mean in place of them ([`Form::Groups`]).
 
 use super::observations::ActuationObs;
-use crate::calibrate::csv::Dataset;
+use super::stacks::Stacks;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, Planform};
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
-/// One actuator's observations at one drive mode.
+/// The observations of one design at one drive mode ([`Stacks::design`]).
 #[derive(Debug, Clone)]
 struct Group {
-    actuator: usize,
+    /// The actuators whose observations it has.
+    actuators: Vec<usize>,
     /// Its first observation, whose basis is the group's.
     first: usize,
     planform: Planform,
@@ -68,10 +74,10 @@ pub(crate) enum Form {
     Groups,
 }
 
-/// The actuation observations grouped by actuator and drive mode, groups numbered in the order their
+/// The actuation observations grouped by design and drive mode, groups numbered in the order their
 /// first observations come, and their residuals in the order of the observations (deflection, then
 /// force, where measured).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub(crate) struct DriveGroups {
     groups: Vec<Group>,
     /// Per observation, its group.
@@ -82,7 +88,18 @@ pub(crate) struct DriveGroups {
     fields: Vec<f64>,
     /// Per group, its deflections' and its forces' (at `2 g` and `2 g + 1`).
     sums: Vec<Sums>,
+    /// The same over the actuators of each keep mask asked for (cross-validation's folds, the same for
+    /// every model fitted).
+    kept_sums: Mutex<Vec<KeptSums>>,
+    /// Whether a group has more than one row of an output: else the grouped residuals are the rows.
+    pools: bool,
 }
+
+/// A keep mask and the sums of the actuators it keeps.
+type KeptSums = (Vec<bool>, Arc<Vec<Sums>>);
+
+/// Keep masks whose sums are held (two repeats of five folds, and room to spare).
+const KEPT_MASKS: usize = 32;
 
 /// A group's stack in one evaluation, at the group's field: the logs of its curvature and beam
 /// compliance, and its basis (whose compliances are read only where the model's tip compliance is more
@@ -109,32 +126,28 @@ impl GroupBasis {
 pub(crate) type Solve<'s> = &'s mut dyn FnMut(usize, bool) -> Option<GroupBasis>;
 
 impl DriveGroups {
-    pub(crate) fn new(data: &Dataset, obs: &[ActuationObs]) -> DriveGroups {
+    pub(crate) fn new(obs: &[ActuationObs], stacks: &Stacks) -> DriveGroups {
         let mut groups: Vec<Group> = Vec::new();
-        // Per actuator, its groups so far.
-        let mut of_actuator: Vec<Vec<usize>> = vec![Vec::new(); data.actuators()];
+        let mut of_design: HashMap<usize, usize> = HashMap::new();
         let mut of_obs = Vec::with_capacity(obs.len());
         let mut slots = Vec::with_capacity(2 * obs.len());
         let mut fields = Vec::new();
         let mut field_index: HashMap<u64, u32> = HashMap::new();
         for (i, o) in obs.iter().enumerate() {
-            let mode = data.rows[o.row].drive_mode;
-            let same = of_actuator[o.group]
-                .iter()
-                .copied()
-                .find(|&g| data.rows[obs[groups[g].first].row].drive_mode == mode);
-            let g = same.unwrap_or_else(|| {
+            let g = *of_design.entry(stacks.design(o.row)).or_insert_with(|| {
                 let pl = o.basis.planform;
                 groups.push(Group {
-                    actuator: o.group,
+                    actuators: Vec::new(),
                     first: i,
                     planform: pl,
                     ln_nominal_arm: EffectModel::default().effects.deflection_arm(&pl).ln(),
                     ln_beam: o.basis.beam_compliance.ln(),
                 });
-                of_actuator[o.group].push(groups.len() - 1);
                 groups.len() - 1
             });
+            if groups[g].actuators.last() != Some(&o.group) {
+                groups[g].actuators.push(o.group);
+            }
             of_obs.push(g);
             let own = [
                 o.basis.free_curvature.ln(),
@@ -158,14 +171,48 @@ impl DriveGroups {
                 }
             }
         }
-        let sums = sums(2 * groups.len(), &slots);
+        for g in &mut groups {
+            g.actuators.sort_unstable();
+            g.actuators.dedup();
+        }
+        let sums = sums(2 * groups.len(), slots.iter());
         DriveGroups {
             groups,
             of_obs,
             slots,
             fields,
+            pools: sums.iter().any(|s| s.root_count > 1.0),
             sums,
+            kept_sums: Mutex::default(),
         }
+    }
+
+    /// Whether grouped residuals are fewer than the rows ([`Form::Groups`]).
+    pub(crate) fn pools(&self) -> bool {
+        self.pools
+    }
+
+    /// `f` of the sums of the rows of the actuators `keep` marks (None: all).
+    fn with_sums<R>(&self, keep: Option<&[bool]>, f: impl FnOnce(&[Sums]) -> R) -> R {
+        let Some(keep) = keep else {
+            return f(&self.sums);
+        };
+        let found = {
+            let mut held = self.kept_sums.lock().unwrap_or_else(|e| e.into_inner());
+            match held.iter().find(|(mask, _)| mask == keep) {
+                Some((_, sums)) => Arc::clone(sums),
+                None => {
+                    let kept = self.slots.iter().filter(|s| keep[s.actuator as usize]);
+                    let sums = Arc::new(sums(self.sums.len(), kept));
+                    if held.len() >= KEPT_MASKS {
+                        held.remove(0);
+                    }
+                    held.push((keep.to_vec(), Arc::clone(&sums)));
+                    sums
+                }
+            }
+        };
+        f(&found)
     }
 
     pub(crate) fn len(&self) -> usize {
@@ -182,11 +229,15 @@ impl DriveGroups {
         self.of_obs[i]
     }
 
-    /// The first group of each actuator (None: no deflection or force measured).
-    pub(crate) fn first_of_actuators(&self, actuators: usize) -> Vec<Option<usize>> {
+    /// The group of each actuator's first observation (None: no deflection or force measured).
+    pub(crate) fn first_of_actuators(
+        &self,
+        obs: &[ActuationObs],
+        actuators: usize,
+    ) -> Vec<Option<usize>> {
         let mut first = vec![None; actuators];
-        for (g, group) in self.groups.iter().enumerate() {
-            first[group.actuator].get_or_insert(g);
+        for (o, &g) in obs.iter().zip(&self.of_obs) {
+            first[o.group].get_or_insert(g);
         }
         first
     }
@@ -216,16 +267,17 @@ impl DriveGroups {
         let linear = model.linear_in_field();
         let ln_d31 = shared.d31_factor(obs[first.first].basis.field).abs().ln();
         if form == Form::Groups {
-            let kept = |at: usize| keep.is_none_or(|k| k[self.groups[at / 2].actuator]);
-            let mut spread = 0.0;
-            for (at, s) in self.sums.iter().enumerate() {
-                if s.root_count > 0.0 && kept(at) {
-                    let v = if linear { logs[at] + ln_d31 } else { f64::NAN };
-                    out.push(s.root_count * (s.mean[mode] - v));
-                    spread += s.spread[mode];
+            return self.with_sums(keep, |sums| {
+                let mut spread = 0.0;
+                for (at, s) in sums.iter().enumerate() {
+                    if s.root_count > 0.0 {
+                        let v = if linear { logs[at] + ln_d31 } else { f64::NAN };
+                        out.push(s.root_count * (s.mean[mode] - v));
+                        spread += s.spread[mode];
+                    }
                 }
-            }
-            return spread;
+                spread
+            });
         }
         let per_field: Vec<f64> = if linear {
             Vec::new()
@@ -271,7 +323,7 @@ impl DriveGroups {
         let ln_stiffness = shared.stiffness_scale.ln();
         let mut logs = vec![f64::NAN; 2 * self.groups.len()];
         for (g, group) in self.groups.iter().enumerate() {
-            if keep.is_some_and(|k| !k[group.actuator]) {
+            if keep.is_some_and(|k| !group.actuators.iter().any(|&a| k[a])) {
                 continue;
             }
             let own;
@@ -311,10 +363,10 @@ impl DriveGroups {
 }
 
 /// [`Sums`] of each of `outputs` from the slots that give it.
-fn sums(outputs: usize, slots: &[Slot]) -> Vec<Sums> {
+fn sums<'s>(outputs: usize, slots: impl Iterator<Item = &'s Slot> + Clone) -> Vec<Sums> {
     let mut count = vec![0usize; outputs];
     let mut total = vec![[0.0; 2]; outputs];
-    for s in slots {
+    for s in slots.clone() {
         count[s.at as usize] += 1;
         for (t, own) in total[s.at as usize].iter_mut().zip(s.own) {
             *t += s.measured - own;
@@ -339,7 +391,7 @@ fn sums(outputs: usize, slots: &[Slot]) -> Vec<Sums> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calibrate::csv::parse;
+    use crate::calibrate::csv::{parse, Dataset};
     use crate::calibrate::select::actuation_data;
     use actuator_model::primitives::{Applied, Primitive};
 
@@ -355,8 +407,20 @@ mod tests {
         .expect("valid rows")
     }
 
+    /// Three actuators of one design (one at another voltage, one a force short) and one of another.
+    fn replicates() -> Dataset {
+        parse(
+            "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N\n\
+             a,30,0.6,8,1.2,0.191,0/90/0,150,60,0.3,0.05\n\
+             b,40,0,6,0.8,0.127,0/0/90/0/0,120,60,0.25,0.04\n\
+             c,30,0.6,8,1.2,0.191,0/90/0,150,61,0.32,0.052\n\
+             d,30,0.6,8,1.2,0.191,0/90/0,100,59,0.21,\n",
+        )
+        .expect("valid rows")
+    }
+
     #[test]
-    fn groups_are_an_actuators_rows_at_one_drive_mode() {
+    fn groups_are_the_rows_of_a_design_at_one_drive_mode() {
         let data = data();
         let act = actuation_data(&data, &EffectModel::default()).expect("physical stacks");
         let groups = &act.drive_groups;
@@ -365,7 +429,44 @@ mod tests {
             (0..4).map(|i| groups.of_obs(i)).collect::<Vec<_>>(),
             [0, 0, 1, 2]
         );
-        assert_eq!(groups.first_of_actuators(2), [Some(0), Some(1)]);
+        assert_eq!(groups.first_of_actuators(&act.obs, 2), [Some(0), Some(1)]);
+        assert!(groups.pools());
+        let data = replicates();
+        let act = actuation_data(&data, &EffectModel::default()).expect("physical stacks");
+        let groups = &act.drive_groups;
+        assert_eq!(groups.len(), 2);
+        assert_eq!(
+            (0..4).map(|i| groups.of_obs(i)).collect::<Vec<_>>(),
+            [0, 1, 0, 0]
+        );
+    }
+
+    /// The grouped residuals' sum of squares and the spread they leave out add up to the rows' sum of
+    /// squares, for all the actuators and for a fold of them, on frozen and on solved bases.
+    #[test]
+    fn grouped_residuals_keep_the_rows_sum_of_squares() {
+        let data = replicates();
+        let act = actuation_data(&data, &EffectModel::default()).expect("physical stacks");
+        let groups = &act.drive_groups;
+        let mut model = EffectModel::default();
+        (model.effects.d31_scale, model.effects.clamp_compliance) = (0.7, 0.4);
+        let square = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+        for keep in [None, Some(&[true, false, false, true][..])] {
+            for solved in [false, true] {
+                let mut solve =
+                    |g: usize, _: bool| Some(GroupBasis::of(act.obs[groups.first(g)].basis));
+                let mut eval = |form: Form, out: &mut Vec<f64>| {
+                    let solver = solved.then_some(&mut solve as Solve);
+                    groups.evaluate(&act.obs, &model, keep, solver, form, out)
+                };
+                let (mut rows, mut grouped) = (Vec::new(), Vec::new());
+                assert_eq!(eval(Form::Rows, &mut rows), 0.0);
+                let spread = eval(Form::Groups, &mut grouped);
+                assert!(grouped.len() < rows.len() && spread > 0.0);
+                let (want, got) = (square(&rows), square(&grouped) + spread);
+                assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+            }
+        }
     }
 
     /// The residuals per group against `ln` of [`EffectModel::outputs`] per row, on frozen bases and on

@@ -272,7 +272,7 @@ impl<'a> JointData<'a> {
             + act.resonances.len();
         // Each resonance's stack: its actuator's first (None: no deflection or force measured, so no
         // stack was solved; its basis stays the frozen one).
-        let first_group = act.drive_groups.first_of_actuators(act.groups);
+        let first_group = act.drive_groups.first_of_actuators(&act.obs, act.groups);
         let resonance_stack = act
             .resonances
             .obs
@@ -415,6 +415,9 @@ impl StageData for JointData<'_> {
         keep: Option<&[bool]>,
         out: &mut Vec<f64>,
     ) -> Option<f64> {
+        if !self.act.drive_groups.pools() {
+            return None;
+        }
         let left_out = self.actuation_residuals(effects, keep, Form::Groups, out);
         self.mass_residuals(effects, keep, out);
         Some(left_out)
@@ -431,7 +434,8 @@ impl StageData for JointData<'_> {
         keep: Option<&[bool]>,
         out: &mut Vec<f64>,
     ) -> Option<f64> {
-        Some(self.actuation_residuals(effects, keep, Form::Groups, out))
+        let pools = self.act.drive_groups.pools();
+        pools.then(|| self.actuation_residuals(effects, keep, Form::Groups, out))
     }
     fn scored_rows(&self) -> Option<usize> {
         Some(self.scored)

@@ -102,7 +102,7 @@ pub(crate) struct ActuationData<'a> {
     pub(crate) resonances: Resonances,
     /// The data's distinct stacks: a model that changes the stack solves each once per evaluation.
     pub(crate) stacks: Stacks,
-    /// The observations by actuator and drive mode, which the residuals are evaluated per.
+    /// The observations by design and drive mode, which the residuals are evaluated per.
     pub(crate) drive_groups: DriveGroups,
 }
 
@@ -239,7 +239,8 @@ impl StageData for ActuationData<'_> {
         keep: Option<&[bool]>,
         out: &mut Vec<f64>,
     ) -> Option<f64> {
-        Some(self.evaluate(effects, keep, Form::Groups, out))
+        let pools = self.drive_groups.pools();
+        pools.then(|| self.evaluate(effects, keep, Form::Groups, out))
     }
     fn groups(&self) -> usize {
         self.groups
@@ -276,7 +277,7 @@ impl ActuationData<'_> {
         // A resonance's basis: its actuator's first group's, solved again, or its own when the actuator
         // has no deflection or force.
         let first_group = if resolve {
-            groups.first_of_actuators(self.groups)
+            groups.first_of_actuators(&self.obs, self.groups)
         } else {
             Vec::new()
         };
@@ -311,7 +312,7 @@ impl<'a> ActuationData<'a> {
         stacks: Stacks,
     ) -> ActuationData<'a> {
         ActuationData {
-            drive_groups: DriveGroups::new(data, &obs),
+            drive_groups: DriveGroups::new(&obs, &stacks),
             data,
             obs,
             groups: data.actuators(),
