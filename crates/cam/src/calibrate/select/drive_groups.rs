@@ -19,11 +19,11 @@
 //! model value by constants, so a search can take their mean in place of them ([`Form::Groups`]).
 
 use super::observations::ActuationObs;
+use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, Planform};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
 
 /// The observations of one design at one drive mode ([`Stacks::design`]).
 #[derive(Debug, Clone)]
@@ -54,30 +54,19 @@ struct Slot {
     actuator: u32,
 }
 
-/// The rows of one group's deflection (or force) as a grouped search sees them: with `c = measured -
-/// own` (per basis mode), their number's root, the mean of `c` and its spread `Σ (c - mean)²`. Every
-/// row of it has the residual `c - v` for one model value `v`, so their sum of squares is
-/// `spread + n (mean - v)²`.
-#[derive(Debug, Clone, Copy, Default)]
-struct Sums {
-    root_count: f64,
-    mean: [f64; 2],
-    spread: [f64; 2],
-}
-
 /// Which residuals an evaluation gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Form {
     /// One per measured deflection or force.
     Rows,
-    /// One per group's deflection and per group's force, weighted ([`Sums`]; a model linear in the field).
+    /// One per group's deflection and per group's force ([`Pools`]; a model linear in the field).
     Groups,
 }
 
 /// The actuation observations grouped by design and drive mode, groups numbered in the order their
 /// first observations come, and their residuals in the order of the observations (deflection, then
 /// force, where measured).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct DriveGroups {
     groups: Vec<Group>,
     /// Per observation, its group.
@@ -86,20 +75,10 @@ pub(crate) struct DriveGroups {
     /// The distinct fields, V/m (a data set has a few voltages per plate thickness): a field-dependent
     /// d31 takes one logarithm per field.
     fields: Vec<f64>,
-    /// Per group, its deflections' and its forces' (at `2 g` and `2 g + 1`).
-    sums: Vec<Sums>,
-    /// The same over the actuators of each keep mask asked for (cross-validation's folds, the same for
-    /// every model fitted).
-    kept_sums: Mutex<Vec<KeptSums>>,
-    /// Whether a group has more than one row of an output: else the grouped residuals are the rows.
-    pools: bool,
+    /// Per group, its deflections and its forces pooled (at `2 g` and `2 g + 1`), each row less its own
+    /// terms on frozen bases and on bases solved per group.
+    pooled: Pools<2>,
 }
-
-/// A keep mask and the sums of the actuators it keeps.
-type KeptSums = (Vec<bool>, Arc<Vec<Sums>>);
-
-/// Keep masks whose sums are held (two repeats of five folds, and room to spare).
-const KEPT_MASKS: usize = 32;
 
 /// A group's stack in one evaluation, at the group's field: the logs of its curvature and beam
 /// compliance, and its basis (whose compliances are read only where the model's tip compliance is more
@@ -175,44 +154,26 @@ impl DriveGroups {
             g.actuators.sort_unstable();
             g.actuators.dedup();
         }
-        let sums = sums(2 * groups.len(), slots.iter());
+        let members = slots
+            .iter()
+            .map(|s| Member {
+                pool: s.at as usize,
+                actuator: s.actuator as usize,
+                value: s.own.map(|own| s.measured - own),
+            })
+            .collect();
         DriveGroups {
+            pooled: Pools::new(2 * groups.len(), members),
             groups,
             of_obs,
             slots,
             fields,
-            pools: sums.iter().any(|s| s.root_count > 1.0),
-            sums,
-            kept_sums: Mutex::default(),
         }
     }
 
     /// Whether grouped residuals are fewer than the rows ([`Form::Groups`]).
     pub(crate) fn pools(&self) -> bool {
-        self.pools
-    }
-
-    /// `f` of the sums of the rows of the actuators `keep` marks (None: all).
-    fn with_sums<R>(&self, keep: Option<&[bool]>, f: impl FnOnce(&[Sums]) -> R) -> R {
-        let Some(keep) = keep else {
-            return f(&self.sums);
-        };
-        let found = {
-            let mut held = self.kept_sums.lock().unwrap_or_else(|e| e.into_inner());
-            match held.iter().find(|(mask, _)| mask == keep) {
-                Some((_, sums)) => Arc::clone(sums),
-                None => {
-                    let kept = self.slots.iter().filter(|s| keep[s.actuator as usize]);
-                    let sums = Arc::new(sums(self.sums.len(), kept));
-                    if held.len() >= KEPT_MASKS {
-                        held.remove(0);
-                    }
-                    held.push((keep.to_vec(), Arc::clone(&sums)));
-                    sums
-                }
-            }
-        };
-        f(&found)
+        self.pooled.pools()
     }
 
     pub(crate) fn len(&self) -> usize {
@@ -267,7 +228,7 @@ impl DriveGroups {
         let linear = model.linear_in_field();
         let ln_d31 = shared.d31_factor(obs[first.first].basis.field).abs().ln();
         if form == Form::Groups {
-            return self.with_sums(keep, |sums| {
+            return self.pooled.with_sums(keep, |sums| {
                 let mut spread = 0.0;
                 for (at, s) in sums.iter().enumerate() {
                     if s.root_count > 0.0 {
@@ -360,32 +321,6 @@ impl DriveGroups {
         }
         logs
     }
-}
-
-/// [`Sums`] of each of `outputs` from the slots that give it.
-fn sums<'s>(outputs: usize, slots: impl Iterator<Item = &'s Slot> + Clone) -> Vec<Sums> {
-    let mut count = vec![0usize; outputs];
-    let mut total = vec![[0.0; 2]; outputs];
-    for s in slots.clone() {
-        count[s.at as usize] += 1;
-        for (t, own) in total[s.at as usize].iter_mut().zip(s.own) {
-            *t += s.measured - own;
-        }
-    }
-    let mut sums: Vec<Sums> = (0..outputs)
-        .map(|at| Sums {
-            root_count: (count[at] as f64).sqrt(),
-            mean: total[at].map(|t| t / count[at].max(1) as f64),
-            spread: [0.0; 2],
-        })
-        .collect();
-    for s in slots {
-        let at = &mut sums[s.at as usize];
-        for ((spread, mean), own) in at.spread.iter_mut().zip(at.mean).zip(s.own) {
-            *spread += (s.measured - own - mean).powi(2);
-        }
-    }
-    sums
 }
 
 #[cfg(test)]

@@ -16,10 +16,12 @@
 use super::candidate::Candidate;
 use super::drive_groups::{Form, GroupBasis};
 use super::observations::{ActuationData, ActuationObs, MassData, StageData};
+use super::pooled::{Member, Pools};
 use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, ModelError};
+use std::collections::HashMap;
 
 /// One carried mass parameter: its masses-only estimate, the centre and step of the stencil the stacks
 /// are solved on, and the trust region the joint fit keeps it in.
@@ -195,10 +197,9 @@ pub(crate) struct JointData<'a> {
     /// Per group of the observations ([`ActuationData::drive_groups`]: an actuator at one drive mode),
     /// its stack model.
     stacks: Vec<StackModel>,
-    /// Per measured mass: (group, ln measured mass, model mass at the stencil's centre, its change per
-    /// unit step of each carried parameter). The library's mass effects change the mass linearly (a
-    /// thicker resin-rich ply adds resin, a bond adds its layer), so this is exact.
-    masses: Vec<(usize, f64, f64, Vec<f64>)>,
+    /// The measured masses (apart: the variant of the stage's input that holds these data stays near
+    /// the size of the one that holds the actuation data alone).
+    masses: Box<JointMasses>,
     mass_weight: f64,
     /// Number of deflection, force and resonance residuals.
     scored: usize,
@@ -255,15 +256,7 @@ impl<'a> JointData<'a> {
             });
         }
         drop(solvers);
-        let mut masses = Vec::new();
-        for &(g, row, ln_m) in mass.map_or(&[][..], |m| &m.obs[..]) {
-            let a = act.data.rows[row].actuator();
-            let total = |m: &EffectModel| m.mass(&a).map_or(f64::NAN, |x| x.total());
-            let m0 = total(&models[0]);
-            // Nodes 1, 3, 5, ...: +1 step along each parameter.
-            let slopes = (0..k).map(|j| total(&models[1 + 2 * j]) - m0).collect();
-            masses.push((g, ln_m, m0, slopes));
-        }
+        let masses = Box::new(JointMasses::new(&act, mass, &models, k));
         let scored = act
             .obs
             .iter()
@@ -356,16 +349,93 @@ impl<'a> JointData<'a> {
         left_out
     }
 
-    /// Each measured mass's log residual times the mass weight.
-    fn mass_residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
+    /// Each measured mass's log residual times the mass weight, in `form` (pooled by design); the sum
+    /// of squares the form leaves out.
+    fn mass_residuals(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        form: Form,
+        out: &mut Vec<f64>,
+    ) -> f64 {
         let t = self.coordinates(effects);
-        for (g, ln_m, m0, slopes) in &self.masses {
-            if keep.is_some_and(|k| !k[*g]) {
-                continue;
-            }
-            let m = m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>();
-            out.push((ln_m - m.ln()) * self.mass_weight);
+        let w = self.mass_weight;
+        let m = &self.masses;
+        let ln_model: Vec<f64> = m
+            .models
+            .iter()
+            .map(|(m0, slopes)| (m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>()).ln())
+            .collect();
+        if form == Form::Groups {
+            return m.pooled.with_sums(keep, |sums| {
+                let mut spread = 0.0;
+                for (s, ln_model) in sums.iter().zip(&ln_model) {
+                    if s.root_count > 0.0 {
+                        out.push(w * s.root_count * (s.mean[0] - ln_model));
+                        spread += w * w * s.spread[0];
+                    }
+                }
+                spread
+            });
         }
+        for &(g, design, ln_m) in &m.measured {
+            if keep.is_none_or(|k| k[g]) {
+                out.push((ln_m - ln_model[design]) * w);
+            }
+        }
+        0.0
+    }
+}
+
+/// The joint data's measured masses: per weighed actuator (group, design, ln measured mass), per design
+/// the model mass at the stencil's centre and its change per unit step of each carried parameter, and the
+/// log masses pooled by design. The library's mass effects change the mass linearly (a thicker resin-rich
+/// ply adds resin, a bond adds its layer), so this is exact; actuators of one design have one model mass.
+#[derive(Debug)]
+struct JointMasses {
+    measured: Vec<(usize, usize, f64)>,
+    models: Vec<(f64, Vec<f64>)>,
+    pooled: Pools<1>,
+}
+
+impl JointMasses {
+    /// The masses of `mass` (none without it), with the model masses of the stencil's `models` ([`nodes`]
+    /// of `k` parameters).
+    fn new(
+        act: &ActuationData,
+        mass: Option<&MassData>,
+        models: &[EffectModel],
+        k: usize,
+    ) -> JointMasses {
+        let mut of_design: HashMap<usize, usize> = HashMap::new();
+        let mut masses = JointMasses {
+            measured: Vec::new(),
+            models: Vec::new(),
+            pooled: Pools::new(0, Vec::new()),
+        };
+        for &(g, row, ln_m) in mass.map_or(&[][..], |m| &m.obs[..]) {
+            let design = *of_design.entry(act.stacks.design(row)).or_insert_with(|| {
+                let a = act.data.rows[row].actuator();
+                let total = |m: &EffectModel| m.mass(&a).map_or(f64::NAN, |x| x.total());
+                let m0 = total(&models[0]);
+                // Nodes 1, 3, 5, ...: +1 step along each parameter.
+                let slopes = (0..k).map(|j| total(&models[1 + 2 * j]) - m0).collect();
+                masses.models.push((m0, slopes));
+                masses.models.len() - 1
+            });
+            masses.measured.push((g, design, ln_m));
+        }
+        let members = masses
+            .measured
+            .iter()
+            .map(|&(actuator, pool, ln_m)| Member {
+                pool,
+                actuator,
+                value: [ln_m],
+            })
+            .collect();
+        masses.pooled = Pools::new(masses.models.len(), members);
+        masses
     }
 }
 
@@ -407,7 +477,7 @@ impl StackModel {
 impl StageData for JointData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
         self.actuation_residuals(effects, keep, Form::Rows, out);
-        self.mass_residuals(effects, keep, out);
+        self.mass_residuals(effects, keep, Form::Rows, out);
     }
     fn grouped(
         &self,
@@ -415,12 +485,11 @@ impl StageData for JointData<'_> {
         keep: Option<&[bool]>,
         out: &mut Vec<f64>,
     ) -> Option<f64> {
-        if !self.act.drive_groups.pools() {
+        if !self.act.drive_groups.pools() && !self.masses.pooled.pools() {
             return None;
         }
         let left_out = self.actuation_residuals(effects, keep, Form::Groups, out);
-        self.mass_residuals(effects, keep, out);
-        Some(left_out)
+        Some(left_out + self.mass_residuals(effects, keep, Form::Groups, out))
     }
     fn groups(&self) -> usize {
         self.act.groups

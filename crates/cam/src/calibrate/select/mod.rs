@@ -16,6 +16,7 @@ mod mass_choice;
 mod mass_stage;
 pub(crate) mod observations;
 pub mod outliers;
+mod pooled;
 mod resonance_weight;
 pub mod separating;
 pub mod settings;

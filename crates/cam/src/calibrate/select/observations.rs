@@ -3,11 +3,13 @@
 //! maskable for cross-validation.
 
 use super::drive_groups::{DriveGroups, Form, GroupBasis, Solve};
+use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::StackBasis;
 use actuator_model::EffectModel;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
@@ -60,20 +62,89 @@ pub(crate) struct MassData<'a> {
     pub(crate) data: &'a Dataset,
     /// (group, row, ln measured mass)
     pub(crate) obs: Vec<(usize, usize, f64)>,
+    /// Per observation its design (actuators of one design have one model mass), and a row of each.
+    design_of_obs: Vec<usize>,
+    design_rows: Vec<usize>,
+    /// The log masses pooled by design.
+    pooled: Pools<1>,
+}
+
+impl<'a> MassData<'a> {
+    /// The measured masses `obs` (group, row, ln mass) of `data`.
+    pub(crate) fn new(data: &'a Dataset, obs: Vec<(usize, usize, f64)>) -> MassData<'a> {
+        let stacks = Stacks::new(data);
+        let mut of_design: HashMap<usize, usize> = HashMap::new();
+        let mut design_rows = Vec::new();
+        let design_of_obs: Vec<usize> = obs
+            .iter()
+            .map(|&(_, row, _)| {
+                *of_design.entry(stacks.design(row)).or_insert_with(|| {
+                    design_rows.push(row);
+                    design_rows.len() - 1
+                })
+            })
+            .collect();
+        let members = obs
+            .iter()
+            .zip(&design_of_obs)
+            .map(|(&(actuator, _, ln_m), &pool)| Member {
+                pool,
+                actuator,
+                value: [ln_m],
+            })
+            .collect();
+        MassData {
+            data,
+            pooled: Pools::new(design_rows.len(), members),
+            obs,
+            design_of_obs,
+            design_rows,
+        }
+    }
+
+    /// ln of the model mass of each design under `effects` (NaN where the model cannot evaluate it).
+    fn ln_model_masses(&self, effects: &EffectModel) -> Vec<f64> {
+        self.design_rows
+            .iter()
+            .map(|&row| {
+                let m = effects.mass(&self.data.rows[row].actuator());
+                m.map_or(f64::NAN, |m| m.total()).ln()
+            })
+            .collect()
+    }
 }
 
 impl StageData for MassData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
         out.clear();
-        for &(g, row, ln_m) in &self.obs {
-            if keep.is_some_and(|k| !k[g]) {
-                continue;
+        let ln_model = self.ln_model_masses(effects);
+        for (&(g, _, ln_m), &design) in self.obs.iter().zip(&self.design_of_obs) {
+            if keep.is_none_or(|k| k[g]) {
+                out.push(ln_m - ln_model[design]);
             }
-            let m = effects
-                .mass(&self.data.rows[row].actuator())
-                .map_or(f64::NAN, |m| m.total());
-            out.push(ln_m - m.ln());
         }
+    }
+    fn grouped(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        if !self.pooled.pools() {
+            return None;
+        }
+        out.clear();
+        let ln_model = self.ln_model_masses(effects);
+        Some(self.pooled.with_sums(keep, |sums| {
+            let mut spread = 0.0;
+            for (s, ln_model) in sums.iter().zip(&ln_model) {
+                if s.root_count > 0.0 {
+                    out.push(s.root_count * (s.mean[0] - ln_model));
+                    spread += s.spread[0];
+                }
+            }
+            spread
+        }))
     }
     fn groups(&self) -> usize {
         self.data.actuators()
