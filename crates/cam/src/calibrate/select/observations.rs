@@ -347,7 +347,7 @@ impl ActuationData<'_> {
         let left_out = groups.evaluate(&self.obs, effects, keep, solved, form, out);
         // A resonance's basis: its actuator's first group's, solved again, or its own when the actuator
         // has no deflection or force.
-        let first_group = if resolve {
+        let first_group = if resolve && self.resonances.len() > 0 {
             groups.first_of_actuators(&self.obs, self.groups)
         } else {
             Vec::new()
@@ -402,6 +402,15 @@ impl<'a> ActuationData<'a> {
             rows[i][(output == "blocked_force") as usize] = Some(res);
         }
         rows
+    }
+
+    /// The observations of each actuator, in their order.
+    pub(crate) fn obs_by_actuator(&self) -> Vec<Vec<usize>> {
+        let mut by = vec![Vec::new(); self.groups];
+        for (i, o) in self.obs.iter().enumerate() {
+            by[o.group].push(i);
+        }
+        by
     }
 
     /// (obs index, output name) of each residual in the unmasked order.
