@@ -39,21 +39,6 @@ struct Group {
     ln_beam: f64,
 }
 
-/// One residual: the log deflection or force of one observation.
-#[derive(Debug, Clone, Copy)]
-struct Slot {
-    /// The measured log.
-    measured: f64,
-    /// ln κ of the observation's own basis (frozen bases), and ln of its field over its group's (bases
-    /// solved per group).
-    own: [f64; 2],
-    /// Twice its group, plus one for a force.
-    at: u32,
-    /// Its field, in [`DriveGroups::fields`].
-    field: u32,
-    actuator: u32,
-}
-
 /// Which residuals an evaluation gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Form {
@@ -71,7 +56,16 @@ pub(crate) struct DriveGroups {
     groups: Vec<Group>,
     /// Per observation, its group.
     of_obs: Vec<usize>,
-    slots: Vec<Slot>,
+    /// Per residual (the log deflection or force of an observation), the measured log less the
+    /// observation's own terms: ln κ of its own basis (frozen bases, `[0]`) or ln of its field over its
+    /// group's (bases solved per group, `[1]`).
+    values: [Vec<f64>; 2],
+    /// Per residual, twice its group, plus one for a force.
+    at: Vec<u32>,
+    /// Per residual, its field in `fields`.
+    field_of: Vec<u32>,
+    /// Per residual, its actuator.
+    actuator_of: Vec<u32>,
     /// The distinct fields, V/m (a data set has a few voltages per plate thickness): a field-dependent
     /// d31 takes one logarithm per field.
     fields: Vec<f64>,
@@ -109,7 +103,8 @@ impl DriveGroups {
         let mut groups: Vec<Group> = Vec::new();
         let mut of_design: HashMap<usize, usize> = HashMap::new();
         let mut of_obs = Vec::with_capacity(obs.len());
-        let mut slots = Vec::with_capacity(2 * obs.len());
+        let mut members: Vec<Member<2>> = Vec::with_capacity(2 * obs.len());
+        let mut field_of = Vec::with_capacity(2 * obs.len());
         let mut fields = Vec::new();
         let mut field_index: HashMap<u64, u32> = HashMap::new();
         for (i, o) in obs.iter().enumerate() {
@@ -140,13 +135,12 @@ impl DriveGroups {
                 });
             for (k, measured) in [o.ln_delta, o.ln_force].into_iter().enumerate() {
                 if let Some(measured) = measured {
-                    slots.push(Slot {
-                        measured,
-                        own,
-                        at: (2 * g + k) as u32,
-                        field,
-                        actuator: o.group as u32,
+                    members.push(Member {
+                        pool: 2 * g + k,
+                        actuator: o.group,
+                        value: own.map(|own| measured - own),
                     });
+                    field_of.push(field);
                 }
             }
         }
@@ -154,19 +148,14 @@ impl DriveGroups {
             g.actuators.sort_unstable();
             g.actuators.dedup();
         }
-        let members = slots
-            .iter()
-            .map(|s| Member {
-                pool: s.at as usize,
-                actuator: s.actuator as usize,
-                value: s.own.map(|own| s.measured - own),
-            })
-            .collect();
         DriveGroups {
+            values: [0, 1].map(|mode| members.iter().map(|m| m.value[mode]).collect()),
+            at: members.iter().map(|m| m.pool as u32).collect(),
+            actuator_of: members.iter().map(|m| m.actuator as u32).collect(),
+            field_of,
             pooled: Pools::new(2 * groups.len(), members),
             groups,
             of_obs,
-            slots,
             fields,
         }
     }
@@ -248,21 +237,27 @@ impl DriveGroups {
                 .map(|&field| shared.d31_factor(field).abs().ln())
                 .collect()
         };
-        let value = |s: &Slot| {
+        let values = &self.values[mode];
+        let row = |j: usize| {
             let d31 = if linear {
                 ln_d31
             } else {
-                per_field[s.field as usize]
+                per_field[self.field_of[j] as usize]
             };
-            s.measured - (logs[s.at as usize] + s.own[mode] + d31)
+            values[j] - (logs[self.at[j] as usize] + d31)
         };
         match keep {
-            None => out.extend(self.slots.iter().map(value)),
-            Some(k) => out.extend(
-                self.slots
+            None if linear => out.extend(
+                values
                     .iter()
-                    .filter(|s| k[s.actuator as usize])
-                    .map(value),
+                    .zip(&self.at)
+                    .map(|(c, &at)| c - (logs[at as usize] + ln_d31)),
+            ),
+            None => out.extend((0..values.len()).map(row)),
+            Some(k) => out.extend(
+                (0..values.len())
+                    .filter(|&j| k[self.actuator_of[j] as usize])
+                    .map(row),
             ),
         }
         0.0
