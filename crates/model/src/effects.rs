@@ -36,7 +36,7 @@ use crate::section::Section;
 use serde::{Deserialize, Serialize};
 
 mod stack;
-pub use stack::{StackBasis, StackSection};
+pub use stack::{PlanformTerms, StackBasis, StackSection};
 
 /// Density of the epoxy that resin-rich plies carry in excess, kg/m³.
 pub const RESIN_DENSITY: f64 = 1200.0;
@@ -306,6 +306,7 @@ impl Effects {
     }
 
     /// Factor on d31 at a drive field: `η (1 + β E)`.
+    #[inline]
     pub fn d31_factor(&self, field: f64) -> f64 {
         self.d31_scale * (1.0 + self.d31_field_coefficient * field)
     }
@@ -415,6 +416,7 @@ impl Effects {
 
     /// The rigid root's length as the beam uses it: clipped at 0.95 `l_p`, as the dead length is, so a
     /// free length always remains (docs/calibration.md §2).
+    #[inline]
     fn held_root(&self, pl: &Planform) -> f64 {
         self.rigid_root.min(0.95 * pl.piezo_length())
     }
@@ -436,22 +438,64 @@ impl Effects {
     pub fn outputs(&self, b: &StackBasis) -> (f64, f64) {
         let curvature = b.free_curvature * self.d31_factor(b.field).abs();
         let pl = &b.planform;
-        let l_p = pl.piezo_length();
         let l_ext = pl.extension_length();
-        let tip = l_p + l_ext;
-        let dead = self.dead_length.min(0.95 * l_p);
-        let held = self.held_root(pl);
-        let start = dead.max(held);
+        let tip = pl.piezo_length() + l_ext;
+        let start = self.driven_start(pl);
         let mut delta = 0.5 * curvature * ((tip - start).powi(2) - l_ext * l_ext);
         if self.edge_margin > 0.0 {
-            let margins = (2.0 * self.edge_margin).min(0.95 * pl.narrowest_width());
-            delta -= curvature * margins * pl.arm_over_width_from(start);
+            delta -= curvature * self.edge_margins(pl) * pl.arm_over_width_from(start);
         }
         (delta, delta / self.tip_compliance(b))
     }
 
+    /// Where the driven part of the PZT begins, `x0 = max(Δ, h)`, each clipped at 0.95 `l_p`
+    /// ([`Effects::outputs`]), m.
+    #[inline]
+    fn driven_start(&self, pl: &Planform) -> f64 {
+        let dead = self.dead_length.min(0.95 * pl.piezo_length());
+        dead.max(self.held_root(pl))
+    }
+
+    /// Both edge margins together, `2m` clipped at 0.95 of the narrowest width, m.
+    #[inline]
+    fn edge_margins(&self, pl: &Planform) -> f64 {
+        (2.0 * self.edge_margin).min(0.95 * pl.narrowest_width())
+    }
+
+    /// The free deflection per unit of driving curvature, m²: `δ / P` of [`Effects::outputs`] with the
+    /// curvature `P` at the nominal d31 times `|η (1 + β E)|`, i.e.
+    /// `((L - x0)² - l_ext²) / 2 - 2m ∫x0..l_p (L - x)/w dx`. It depends on the planform and the boundary
+    /// effects alone, not on the field, so an actuator's voltages share it: `δ = P a` and
+    /// `F_b = P a / c` ([`Effects::tip_compliance`]).
+    #[inline]
+    pub fn deflection_arm(&self, pl: &Planform) -> f64 {
+        let l_ext = pl.extension_length();
+        let tip = pl.piezo_length() + l_ext;
+        let start = self.driven_start(pl);
+        let mut arm = 0.5 * ((tip - start).powi(2) - l_ext * l_ext);
+        if self.edge_margin > 0.0 {
+            arm -= self.edge_margins(pl) * pl.arm_over_width_from(start);
+        }
+        arm
+    }
+
+    /// True when [`Effects::deflection_arm`] is the planform's own, `(L² - l_ext²) / 2`, as in the original
+    /// model: no dead length, rigid root or edge margin.
+    #[inline]
+    pub fn drives_whole_pzt(&self) -> bool {
+        self.dead_length == 0.0 && self.rigid_root == 0.0 && self.edge_margin == 0.0
+    }
+
+    /// True when [`Effects::tip_compliance`] is the beam's alone, `c_beam / s_k`: no rigid root, compliant
+    /// extension or clamp compliance.
+    #[inline]
+    pub fn compliance_is_beam(&self) -> bool {
+        self.rigid_root == 0.0 && self.extension_flexibility == 0.0 && self.clamp_compliance == 0.0
+    }
+
     /// Tip compliance `c = c_beam(h) / s_k + φ c_ext + c_θ l_tot²` of a basis, m/N: `δ / F_b` of
     /// [`Effects::outputs`], whatever the drive.
+    #[inline]
     pub fn tip_compliance(&self, b: &StackBasis) -> f64 {
         let pl = &b.planform;
         let held = self.held_root(pl);
@@ -963,5 +1007,64 @@ mod tests {
         .unwrap();
         let want = (1.0f64 - 0.1).powi(2);
         assert!((p.free_deflection / base.free_deflection - want).abs() < 1e-12);
+    }
+
+    /// The shortcuts a calibration takes per actuator: with no dead length, rigid root or edge margin the
+    /// arm is the original model's bit for bit, and with no rigid root, extension flexibility or clamp
+    /// compliance the tip compliance is `c_beam / s_k`; each of those effects alone moves them.
+    #[test]
+    fn the_arm_and_the_compliance_keep_their_original_form_without_their_effects() {
+        let (pzt, cf) = materials();
+        let layup = [0.0, 90.0, 0.0];
+        let a = actuator(&pzt, &cf, &layup);
+        let b = Effects::null().basis(&a).unwrap();
+        let pl = &a.planform;
+        let kept = Effects {
+            d31_scale: 0.8,
+            d31_field_coefficient: 1e-6,
+            stiffness_scale: 0.9,
+            ply_thickness_scale: 1.2,
+            bond_thickness: 20e-6,
+            ..Effects::null()
+        };
+        assert!(kept.drives_whole_pzt() && kept.compliance_is_beam());
+        assert_eq!(kept.deflection_arm(pl), Effects::null().deflection_arm(pl));
+        assert_eq!(kept.tip_compliance(&b), b.beam_compliance / 0.9);
+        let arm_movers = [
+            Effects {
+                dead_length: 2e-3,
+                ..kept
+            },
+            Effects {
+                rigid_root: 2e-3,
+                ..kept
+            },
+            Effects {
+                edge_margin: 0.2e-3,
+                ..kept
+            },
+        ];
+        for e in arm_movers {
+            assert!(!e.drives_whole_pzt());
+            assert_ne!(e.deflection_arm(pl), kept.deflection_arm(pl));
+        }
+        let compliance_movers = [
+            Effects {
+                rigid_root: 2e-3,
+                ..kept
+            },
+            Effects {
+                extension_flexibility: 1.0,
+                ..kept
+            },
+            Effects {
+                clamp_compliance: 0.3,
+                ..kept
+            },
+        ];
+        for e in compliance_movers {
+            assert!(!e.compliance_is_beam());
+            assert_ne!(e.tip_compliance(&b), kept.tip_compliance(&b));
+        }
     }
 }

@@ -110,6 +110,16 @@ impl EffectModel {
         self.primitives.iter().any(|x| x.primitive.changes_stack())
     }
 
+    /// True when δ and F_b are proportional to the drive field under this model: no field-dependent d31,
+    /// neither as an effect nor as a primitive ([`primitives::Primitive::linear_in_field`]).
+    pub fn linear_in_field(&self) -> bool {
+        self.effects.d31_field_coefficient == 0.0
+            && self
+                .primitives
+                .iter()
+                .all(|x| x.primitive.linear_in_field())
+    }
+
     /// The stack basis of an actuator with the stack effects and stack primitives applied (η, β and the
     /// boundary primitives are left to [`EffectModel::outputs`]).
     pub fn basis(&self, a: &Actuator) -> Result<StackBasis, ModelError> {
@@ -139,6 +149,12 @@ impl EffectModel {
     /// primitives need [`EffectModel::basis`]).
     pub fn boundary_effects(&self, planform: &Planform) -> Effects {
         primitives::boundary(&self.primitives, &self.effects, planform)
+    }
+
+    /// True when [`EffectModel::boundary_effects`] are the same for every planform
+    /// ([`primitives::boundary_is_uniform`]).
+    pub fn boundary_is_uniform(&self) -> bool {
+        primitives::boundary_is_uniform(&self.primitives)
     }
 
     /// Mass by layer kind.

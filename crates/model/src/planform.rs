@@ -53,21 +53,25 @@ impl Planform {
     }
 
     /// Piezo length `l_p = l_tot / (1 + l_r)`.
+    #[inline]
     pub fn piezo_length(&self) -> f64 {
         self.length / (1.0 + self.extension_ratio)
     }
 
     /// Extension length `l_ext = l_r l_p`.
+    #[inline]
     pub fn extension_length(&self) -> f64 {
         self.extension_ratio * self.piezo_length()
     }
 
     /// Nominal (mean) width `w_nom = w_0 / w_r`.
+    #[inline]
     pub fn nominal_width(&self) -> f64 {
         self.base_width / self.width_ratio
     }
 
     /// Tip width `w_tip = (2 - w_r) w_nom`.
+    #[inline]
     pub fn tip_width(&self) -> f64 {
         (2.0 - self.width_ratio) * self.nominal_width()
     }
@@ -125,6 +129,7 @@ impl Planform {
     }
 
     /// The narrowest width of the piezo, `min(w_0, w_tip)` (the width is linear in x), m.
+    #[inline]
     pub fn narrowest_width(&self) -> f64 {
         self.base_width.min(self.tip_width())
     }

@@ -149,6 +149,15 @@ impl Primitive {
         )
     }
 
+    /// True when δ and F_b stay proportional to the drive field with the primitive applied: CLT's free
+    /// curvature is linear in the piezoelectric strain `d31 E` and nothing else in the model depends on
+    /// the field, so every primitive but the field-dependent d31, whose `d31 (1 + β E)` adds a term in E²
+    /// (a test holds each primitive to this). A calibration evaluates one field of an actuator and
+    /// scales its other voltages.
+    pub fn linear_in_field(self) -> bool {
+        !matches!(self, Primitive::FieldDependentD31)
+    }
+
     /// True when the primitive changes the mass (a density, a thickness, an inserted layer or an added
     /// mass).
     pub fn changes_mass(self) -> bool {
@@ -399,6 +408,14 @@ pub fn boundary<'x>(
         }
     }
     e
+}
+
+/// True when [`boundary`] gives the same effects for every planform: none of `applied` is a clamp
+/// compliance per width (the one boundary primitive that reads the planform).
+pub fn boundary_is_uniform<'x>(applied: impl IntoIterator<Item = &'x Applied>) -> bool {
+    applied
+        .into_iter()
+        .all(|x| x.primitive != Primitive::ClampCompliancePerWidth)
 }
 
 /// Predict an actuator with the primitives applied on top of `base` (the model's own effects; the
@@ -865,5 +882,132 @@ pub(crate) mod tests {
             assert!(dense.mass > orig.mass);
             assert_eq!(dense.free_deflection, orig.free_deflection);
         });
+    }
+
+    /// Every primitive at a value away from its null, for the tests that go through all of them (a
+    /// new variant fails to compile here until it is given one).
+    fn every_primitive() -> Vec<Applied> {
+        let sample = |primitive: Primitive| Applied {
+            primitive,
+            value: match primitive {
+                Primitive::Scale { .. } => 1.1,
+                Primitive::InsertedLayer => 20e-6,
+                Primitive::FieldDependentD31 => 0.8e-6,
+                Primitive::ElectrodeMargin | Primitive::RigidRoot => 2e-3,
+                Primitive::ClampCompliance => 0.5,
+                Primitive::ClampCompliancePerWidth => 0.5 * 8e-3,
+                Primitive::CompliantExtension => 2.0,
+                Primitive::EdgeMargin => 0.3e-3,
+                Primitive::InactiveSurfaceLayer => 10e-6,
+                Primitive::D31ThicknessPower => -0.8,
+                Primitive::AddedMass => 5e-6,
+                Primitive::AddedMassPerLength => 1e-4,
+                Primitive::AddedMassPerArea => 1e-3,
+            },
+        };
+        let properties = [
+            Property::E1,
+            Property::E2,
+            Property::G12,
+            Property::Nu12,
+            Property::D31,
+            Property::Permittivity,
+            Property::Density,
+            Property::Thickness,
+        ];
+        let mut all: Vec<Primitive> = [Target::Pzt, Target::Passive, Target::Bond]
+            .into_iter()
+            .flat_map(|target| properties.map(|property| Primitive::Scale { target, property }))
+            .filter(|p| p.is_defined())
+            .collect();
+        all.extend([
+            Primitive::InsertedLayer,
+            Primitive::FieldDependentD31,
+            Primitive::ElectrodeMargin,
+            Primitive::ClampCompliance,
+            Primitive::ClampCompliancePerWidth,
+            Primitive::CompliantExtension,
+            Primitive::RigidRoot,
+            Primitive::EdgeMargin,
+            Primitive::InactiveSurfaceLayer,
+            Primitive::D31ThicknessPower,
+            Primitive::AddedMass,
+            Primitive::AddedMassPerLength,
+            Primitive::AddedMassPerArea,
+        ]);
+        all.into_iter().map(sample).collect()
+    }
+
+    /// The field enters δ and F_b only through the piezoelectric strain `d31 E` (CLT, thesis eq. 2.20:
+    /// the free curvature is linear in the layer fields): with each primitive flagged linear, twice the
+    /// field gives exactly twice δ and F_b, the stack solved at each field (parallel and series drive,
+    /// a bond layer under the bond scales); the field-dependent d31 gives `2 (1 + 2βE) / (1 + βE)`.
+    /// And the factoring a calibration evaluates per actuator: `δ = P a` and `F_b = P a / c`
+    /// ([`Effects::deflection_arm`], [`Effects::tip_compliance`]), `P` the basis' curvature times
+    /// `|η (1 + β E)|`.
+    #[test]
+    fn every_primitive_but_the_field_dependent_d31_is_linear_in_the_field() {
+        let bond = Effects {
+            bond_thickness: 20e-6,
+            ..Effects::default()
+        };
+        for mode in [DriveMode::Parallel, DriveMode::Series] {
+            with(|a| {
+                for x in every_primitive() {
+                    let model = crate::EffectModel {
+                        effects: bond,
+                        primitives: vec![x],
+                    };
+                    let at = |field: f64| Actuator {
+                        drive: Drive { mode, field },
+                        ..*a
+                    };
+                    let (e1, e2) = (300e3, 600e3);
+                    let (p1, p2) = (model.predict(&at(e1)), model.predict(&at(e2)));
+                    let (p1, p2) = (p1.unwrap(), p2.unwrap());
+                    let beta = if x.primitive.linear_in_field() {
+                        0.0
+                    } else {
+                        x.value
+                    };
+                    let want = 2.0 * (1.0 + beta * e2) / (1.0 + beta * e1);
+                    for (y1, y2) in [
+                        (p1.free_deflection, p2.free_deflection),
+                        (p1.blocked_force, p2.blocked_force),
+                    ] {
+                        assert!(
+                            (y2 / y1 / want - 1.0).abs() < 1e-12,
+                            "{x:?} {mode:?}: {}",
+                            y2 / y1
+                        );
+                    }
+                    assert_eq!(x.primitive.linear_in_field(), beta == 0.0);
+                    assert_eq!(model.linear_in_field(), beta == 0.0);
+                    // The factoring, on the basis at the higher field.
+                    let b = model.basis(&at(e2)).unwrap();
+                    let e = model.boundary_effects(&b.planform);
+                    let p = b.free_curvature * e.d31_factor(e2).abs();
+                    let delta = p * e.deflection_arm(&b.planform);
+                    let force = delta / e.tip_compliance(&b);
+                    let (d, f) = model.outputs(&b);
+                    assert!((delta / d - 1.0).abs() < 1e-14, "{x:?}");
+                    assert!((force / f - 1.0).abs() < 1e-14, "{x:?}");
+                }
+            });
+        }
+    }
+
+    /// `boundary_is_uniform` is what a calibration relies on to add the boundary primitives once per
+    /// evaluation rather than once per actuator: it holds exactly when two planforms of different
+    /// widths, lengths and tapers get the same effects.
+    #[test]
+    fn only_a_clamp_compliance_per_width_makes_the_boundary_depend_on_the_planform() {
+        let narrow = Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap();
+        let wide = Planform::new(25e-3, 0.0, 12e-3, 0.7, 0.0).unwrap();
+        for x in every_primitive() {
+            let same = boundary([&x], &Effects::default(), &narrow)
+                == boundary([&x], &Effects::default(), &wide);
+            assert_eq!(boundary_is_uniform([&x]), same, "{x:?}");
+        }
     }
 }

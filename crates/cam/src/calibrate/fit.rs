@@ -77,14 +77,37 @@ pub fn least_squares<F>(residuals: &F, bounds: &[ParameterRange], starts: &[Vec<
 where
     F: Fn(&[f64], &mut Vec<f64>),
 {
+    let search = |theta: &[f64], out: &mut Vec<f64>| {
+        residuals(theta, out);
+        None
+    };
+    least_squares_grouped(&search, residuals, bounds, starts)
+}
+
+/// [`least_squares`] with a shorter form of the residuals to search on: `search(θ, out)` fills `out` with
+/// residuals whose sum of squares is that of `residuals` less a constant it returns (rows that share
+/// every term of the model replaced by their group's mean, weighted by the root of their number; the
+/// constant is the rows' spread about their means), or returns None after filling `out` with the
+/// residuals themselves. The same form on every call. The result has the residuals, their sum of
+/// squares and their Jacobian at the optimum.
+pub fn least_squares_grouped<S, F>(
+    search: &S,
+    residuals: &F,
+    bounds: &[ParameterRange],
+    starts: &[Vec<f64>],
+) -> FitResult
+where
+    S: Fn(&[f64], &mut Vec<f64>) -> Option<f64>,
+    F: Fn(&[f64], &mut Vec<f64>),
+{
     let mut best: Option<FitResult> = None;
     for start in starts {
-        let fit = levenberg_marquardt(residuals, bounds, start);
+        let fit = levenberg_marquardt(search, residuals, bounds, start);
         if best.as_ref().is_none_or(|b| fit.rss < b.rss) {
             best = Some(fit);
         }
     }
-    best.unwrap_or_else(|| levenberg_marquardt(residuals, bounds, &[]))
+    best.unwrap_or_else(|| levenberg_marquardt(search, residuals, bounds, &[]))
 }
 
 fn clamp(theta: &mut [f64], bounds: &[ParameterRange]) {
@@ -97,16 +120,21 @@ fn rss_of(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 
-fn jacobian<F>(residuals: &F, bounds: &[ParameterRange], theta: &[f64], r0: &[f64]) -> DMatrix<f64>
-where
+/// Fill `j` (n x p) with the forward-difference Jacobian at `theta`, whose residuals are `r0`; `r` is
+/// scratch space for the shifted residuals.
+fn jacobian_into<F>(
+    residuals: &F,
+    bounds: &[ParameterRange],
+    theta: &[f64],
+    r0: &[f64],
+    j: &mut DMatrix<f64>,
+    r: &mut Vec<f64>,
+) where
     F: Fn(&[f64], &mut Vec<f64>),
 {
     let n = r0.len();
-    let p = theta.len();
-    let mut j = DMatrix::zeros(n, p);
     let mut shifted = theta.to_vec();
-    let mut r = Vec::with_capacity(n);
-    for k in 0..p {
+    for (k, column) in j.as_mut_slice().chunks_exact_mut(n.max(1)).enumerate() {
         let b = bounds[k];
         let scale = (b.hi - b.lo).abs().max(1e-12);
         let mut h = 1e-7 * scale.max(theta[k].abs());
@@ -114,17 +142,58 @@ where
             h = -h;
         }
         shifted[k] = theta[k] + h;
-        residuals(&shifted, &mut r);
-        for i in 0..n {
-            j[(i, k)] = (r[i] - r0[i]) / h;
+        residuals(&shifted, r);
+        for ((x, ri), r0i) in column.iter_mut().zip(r.iter()).zip(r0) {
+            *x = (ri - r0i) / h;
         }
         shifted[k] = theta[k];
     }
-    j
 }
 
-fn levenberg_marquardt<F>(residuals: &F, bounds: &[ParameterRange], start: &[f64]) -> FitResult
+/// `Σ a_i b_i`, summed in the order of the rows.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut pairs = a.iter().zip(b);
+    let Some((a0, b0)) = pairs.next() else {
+        return 0.0;
+    };
+    pairs.fold(a0 * b0, |sum, (x, y)| x * y + sum)
+}
+
+/// The normal equations' `JᵀJ` and `Jᵀr`, from the columns of `j` (no transposed copy): each entry a sum
+/// over the rows in their order, as a matrix product sums it.
+fn normal_equations(j: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let (n, p) = j.shape();
+    let column = |k: usize| &j.as_slice()[k * n..(k + 1) * n];
+    let mut jtj = DMatrix::zeros(p, p);
+    for a in 0..p {
+        for b in a..p {
+            let s = dot(column(a), column(b));
+            jtj[(a, b)] = s;
+            jtj[(b, a)] = s;
+        }
+    }
+    let g = DVector::from_fn(p, |a, _| dot(column(a), r));
+    (jtj, g)
+}
+
+/// The search's residuals at `theta` in `r`, and their sum of squares with the constant they leave out;
+/// whether they are grouped.
+fn search_at<S>(search: &S, theta: &[f64], r: &mut Vec<f64>) -> (f64, bool)
 where
+    S: Fn(&[f64], &mut Vec<f64>) -> Option<f64>,
+{
+    let left_out = search(theta, r);
+    (rss_of(r) + left_out.unwrap_or(0.0), left_out.is_some())
+}
+
+fn levenberg_marquardt<S, F>(
+    search: &S,
+    residuals: &F,
+    bounds: &[ParameterRange],
+    start: &[f64],
+) -> FitResult
+where
+    S: Fn(&[f64], &mut Vec<f64>) -> Option<f64>,
     F: Fn(&[f64], &mut Vec<f64>),
 {
     let p = bounds.len();
@@ -132,16 +201,21 @@ where
     theta.resize(p, 0.0);
     clamp(&mut theta, bounds);
     let mut r = Vec::new();
-    residuals(&theta, &mut r);
-    let mut rss = rss_of(&r);
+    let (mut rss, grouped) = search_at(search, &theta, &mut r);
+    let searched = |t: &[f64], out: &mut Vec<f64>| {
+        search(t, out);
+    };
     let mut lambda = 1e-3;
     let mut trial = vec![0.0; p];
     let mut r_trial = Vec::new();
+    let mut j = DMatrix::zeros(r.len(), p);
+    // Whether `j` is the Jacobian at `theta`: a search that ends without a step keeps it for the result.
+    let mut j_at_theta = false;
     if p > 0 {
         for _ in 0..200 {
-            let j = jacobian(residuals, bounds, &theta, &r);
-            let jtj = j.transpose() * &j;
-            let g = j.transpose() * DVector::from_column_slice(&r);
+            jacobian_into(&searched, bounds, &theta, &r, &mut j, &mut r_trial);
+            j_at_theta = true;
+            let (jtj, g) = normal_equations(&j, &r);
             let mut improved = false;
             for _ in 0..30 {
                 let mut a = jtj.clone();
@@ -156,13 +230,13 @@ where
                     trial[k] = theta[k] + step[k];
                 }
                 clamp(&mut trial, bounds);
-                residuals(&trial, &mut r_trial);
-                let rss_trial = rss_of(&r_trial);
+                let (rss_trial, _) = search_at(search, &trial, &mut r_trial);
                 if rss_trial.is_finite() && rss_trial < rss {
                     let gain = (rss - rss_trial) / rss.max(1e-300);
                     theta.copy_from_slice(&trial);
                     std::mem::swap(&mut r, &mut r_trial);
                     rss = rss_trial;
+                    j_at_theta = false;
                     lambda = (lambda / 3.0).max(1e-12);
                     improved = gain > 1e-12;
                     break;
@@ -177,13 +251,21 @@ where
             }
         }
     }
-    let jacobian = jacobian(residuals, bounds, &theta, &r);
+    if grouped {
+        // The residuals themselves at the optimum, and their Jacobian.
+        residuals(&theta, &mut r);
+        rss = rss_of(&r);
+        j = DMatrix::zeros(r.len(), p);
+        jacobian_into(residuals, bounds, &theta, &r, &mut j, &mut r_trial);
+    } else if !j_at_theta {
+        jacobian_into(&searched, bounds, &theta, &r, &mut j, &mut r_trial);
+    }
     FitResult {
         n: r.len(),
         theta,
         rss,
         residuals: r,
-        jacobian,
+        jacobian: j,
     }
 }
 
@@ -215,5 +297,42 @@ mod tests {
         ];
         let fit = least_squares(&f, &capped, &[vec![1.0, 0.1]]);
         assert!(fit.theta[1] <= 1.0 && (fit.theta[1] - 1.0).abs() < 1e-9);
+    }
+
+    /// Rows that share every term of the model searched as their groups' weighted means give the fit
+    /// of the rows themselves, with the rows' residuals and Jacobian at the optimum.
+    #[test]
+    fn a_grouped_search_finds_the_fit_of_the_rows() {
+        // Five x values, three noisy rows at each.
+        let xs: Vec<f64> = (0..5).map(|i| i as f64 * 0.4).collect();
+        let noise = [0.03, -0.02, -0.01];
+        let rows: Vec<(usize, f64)> = (0..15)
+            .map(|k| (k / 3, 2.0 * (-1.3 * xs[k / 3]).exp() + noise[k % 3]))
+            .collect();
+        let model = |t: &[f64], x: f64| t[0] * (-t[1] * x).exp();
+        let f = |t: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend(rows.iter().map(|&(i, y)| y - model(t, xs[i])));
+        };
+        let mean = |i: usize| rows[3 * i..3 * i + 3].iter().map(|r| r.1).sum::<f64>() / 3.0;
+        let spread: f64 = rows.iter().map(|&(i, y)| (y - mean(i)).powi(2)).sum();
+        let grouped = |t: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend((0..5).map(|i| 3f64.sqrt() * (mean(i) - model(t, xs[i]))));
+            Some(spread)
+        };
+        let b = [
+            ParameterRange { lo: 0.0, hi: 10.0 },
+            ParameterRange { lo: 0.0, hi: 5.0 },
+        ];
+        let rows_fit = least_squares(&f, &b, &[vec![1.0, 0.1]]);
+        let fit = least_squares_grouped(&grouped, &f, &b, &[vec![1.0, 0.1]]);
+        for (x, y) in fit.theta.iter().zip(&rows_fit.theta) {
+            assert!((x - y).abs() < 1e-9, "{x} vs {y}");
+        }
+        assert_eq!(fit.n, 15);
+        assert!((fit.rss / rows_fit.rss - 1.0).abs() < 1e-12);
+        assert_eq!(fit.jacobian.shape(), (15, 2));
+        assert!((&fit.jacobian - &rows_fit.jacobian).amax() < 1e-6);
     }
 }

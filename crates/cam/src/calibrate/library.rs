@@ -328,6 +328,21 @@ impl EffectId {
         }
     }
 
+    /// True when the effect keeps δ and F_b proportional to the field at every value of its parameter:
+    /// all but a field-dependent d31, as the library's effect or among a declared effect's primitives
+    /// ([`actuator_model::primitives::Primitive::linear_in_field`]).
+    pub fn linear_in_field(&self) -> bool {
+        match self {
+            EffectId::FieldDependentD31 => false,
+            EffectId::Declared(d) => d
+                .parameter()
+                .primitives
+                .iter()
+                .all(|l| l.primitive.linear_in_field()),
+            _ => true,
+        }
+    }
+
     /// Read a library effect's parameter back in report units (`None` for a declared one, whose
     /// primitives do not name it).
     pub fn value(&self, model: &EffectModel) -> Option<f64> {

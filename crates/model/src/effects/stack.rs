@@ -43,18 +43,23 @@ impl StackSection {
     /// The stack basis of a planform: the tapered beam's tip compliance `C44 l_p³ G(w_r, l_r) / (3 w_nom)`
     /// (thesis eqs. 2.29-2.34, docs/physics.md §3) and the bare plies' extension `C44_pass l_ext³ / (3 w_tip)`.
     pub fn basis(&self, pl: &Planform) -> Result<StackBasis, ModelError> {
-        let l_p = pl.piezo_length();
+        self.basis_with(pl, &PlanformTerms::of(pl))
+    }
+
+    /// [`StackSection::basis`] with the planform's terms computed already (the same numbers).
+    pub fn basis_with(&self, pl: &Planform, t: &PlanformTerms) -> Result<StackBasis, ModelError> {
         let beam =
-            self.bending_compliance * l_p.powi(3) * pl.shape_factor() / (3.0 * pl.nominal_width());
-        let extension = if pl.extension_ratio > 0.0 {
-            let Some(passive) = self.passive_bending_compliance else {
-                return Err(ModelError::Laminate(
-                    "the stack was solved for an actuator without an extension".into(),
-                ));
-            };
-            passive * pl.extension_length().powi(3) / (3.0 * pl.tip_width())
-        } else {
-            0.0
+            self.bending_compliance * t.piezo_length_cubed * t.shape_factor / t.three_nominal_width;
+        let extension = match t.extension {
+            Some((length_cubed, three_tip_width)) => {
+                let Some(passive) = self.passive_bending_compliance else {
+                    return Err(ModelError::Laminate(
+                        "the stack was solved for an actuator without an extension".into(),
+                    ));
+                };
+                passive * length_cubed / three_tip_width
+            }
+            None => 0.0,
         };
         Ok(StackBasis {
             free_curvature: self.free_curvature,
@@ -63,6 +68,30 @@ impl StackSection {
             field: self.field,
             planform: *pl,
         })
+    }
+}
+
+/// The planform's part of [`StackSection::basis`]: `l_p³`, the shape factor `G(w_r, l_r)` and `3 w_nom`, and
+/// with an extension `l_ext³` and `3 w_tip`. The same under every stack, so a fit that solves the stacks
+/// again on each evaluation computes them once per planform (the shape factor is an integral).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanformTerms {
+    piezo_length_cubed: f64,
+    shape_factor: f64,
+    three_nominal_width: f64,
+    extension: Option<(f64, f64)>,
+}
+
+impl PlanformTerms {
+    /// The terms of `pl`.
+    pub fn of(pl: &Planform) -> PlanformTerms {
+        PlanformTerms {
+            piezo_length_cubed: pl.piezo_length().powi(3),
+            shape_factor: pl.shape_factor(),
+            three_nominal_width: 3.0 * pl.nominal_width(),
+            extension: (pl.extension_ratio > 0.0)
+                .then(|| (pl.extension_length().powi(3), 3.0 * pl.tip_width())),
+        }
     }
 }
 

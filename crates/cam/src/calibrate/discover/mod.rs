@@ -189,7 +189,7 @@ pub fn discover(
         .collect();
     let fits: Vec<PrimitiveFit> = jobs
         .par_iter()
-        .filter_map(|&(t, x)| primitive_fit::fit(data, &act, &base, t, x))
+        .filter_map(|&(t, x)| primitive_fit::fit(&act, &base, t, x))
         .collect();
     ranked.extend(fits.into_iter().map(|f| primitive_candidate(f, eta_aicc)));
     keep_gaining(&mut ranked, settings.min_delta_aicc);

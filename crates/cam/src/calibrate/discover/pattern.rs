@@ -54,12 +54,10 @@ fn residuals(act: &ActuationData, model: &EffectModel, mass: &[(usize, f64)]) ->
     let mut actuation = Vec::new();
     let mut sweep = Vec::new();
     let mut sweeps = 0;
-    for g in 0..act.groups {
-        let mine: Vec<(f64, Option<f64>, Option<f64>)> = act
-            .obs
+    for (g, obs) in act.obs_by_actuator().iter().enumerate() {
+        let mine: Vec<(f64, Option<f64>, Option<f64>)> = obs
             .iter()
-            .zip(&rows)
-            .filter(|(o, _)| o.group == g)
+            .map(|&i| (&act.obs[i], &rows[i]))
             .map(|(o, r)| (o.basis.field.ln(), r[0], r[1].zip(r[0]).map(|(f, d)| f - d)))
             .collect();
         if mine.is_empty() {

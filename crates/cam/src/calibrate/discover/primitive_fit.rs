@@ -1,24 +1,23 @@
 //! Fit one primitive as a one-parameter effect, with the d31 scale η beside it as every library
 //! candidate has it: `{η, P}` on the deflections and forces, by the same bounded least squares as the
-//! library ([`least_squares`]), scored by the same AICc. With a [`Partner`], a library effect A is fitted
+//! library ([`least_squares_grouped`]), scored by the same AICc. With a [`Partner`], a library effect A is fitted
 //! beside it, `{η, P, A}`: the residual of data where a library effect and an effect outside the library
 //! are both present.
 //!
-//! Speed: the stack is solved ([`EffectModel::basis`]) once per actuator and value of the primitive, and
-//! η, the partner and the primitive's boundary part act on it ([`EffectModel::outputs`], held to
-//! [`EffectModel::predict`] by the model crate's tests); η scales δ and F_b by itself, and δ
-//! and F_b are proportional to the field at a field-independent d31 (CLT curvature is linear in the
-//! piezoelectric strain `d31 E`), so the other voltages of an actuator follow by ratio (a unit test
-//! holds this to the model).
+//! Speed: the residuals are the selection's own, per actuator and drive mode
+//! ([`DriveGroups`](crate::calibrate::select::drive_groups::DriveGroups)), searched in their grouped form
+//! where the fitted model is linear in the field. The stack depends on the primitive's value alone (η and
+//! the library partners act on a solved stack: field, boundary and compliance effects), so the stacks
+//! solved at the last few values are kept (none for a primitive that leaves the stack alone), and a
+//! Jacobian column of η or the partner solves none.
 
 use super::catalogue::Tried;
-use crate::calibrate::csv::Dataset;
-use crate::calibrate::fit::{least_squares, FitResult, ParameterRange};
+use crate::calibrate::fit::{least_squares_grouped, FitResult, ParameterRange};
 use crate::calibrate::library::EffectId;
+use crate::calibrate::select::drive_groups::{Form, GroupBasis};
 use crate::calibrate::select::fitter::intervals;
 use crate::calibrate::select::observations::ActuationData;
 use crate::calibrate::stats;
-use actuator_model::effects::StackBasis;
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::EffectModel;
 use std::cell::RefCell;
@@ -56,11 +55,6 @@ pub struct PrimitiveFit {
     pub aicc: f64,
 }
 
-/// Whether δ and F_b stay proportional to the field (true for everything but a field-dependent d31).
-fn field_linear(p: Primitive, partner: Option<&EffectId>) -> bool {
-    !matches!(p, Primitive::FieldDependentD31) && partner != Some(&EffectId::FieldDependentD31)
-}
-
 /// The model at the primitive's value `p` and the partner's value `a`, on top of `base` (η apart).
 fn model_at(
     base: &EffectModel,
@@ -81,87 +75,77 @@ fn model_at(
     m
 }
 
-/// ln δ and ln F_b at each evaluation point.
-type LogOutputs = Vec<(f64, f64)>;
+/// Stacks solved at the last few values of a stack primitive.
+const KEPT_STACKS: usize = 4;
 
 /// Fit `{η, P}`, or `{η, P, A}` with a partner, on top of `base` (the frozen mass-stage effects).
 pub(crate) fn fit(
-    data: &Dataset,
     act: &ActuationData,
     base: &EffectModel,
     tried: &Tried,
     partner: Option<&Partner>,
 ) -> Option<PrimitiveFit> {
     let partner_id = partner.map(|x| &x.id);
-    let linear = field_linear(tried.primitive, partner_id);
-    // Evaluation points (rows: an actuator's first, or every row) and, per observation, (point, ln
-    // field ratio).
-    let mut points: Vec<usize> = Vec::new();
-    let mut first_of_group: Vec<Option<usize>> = vec![None; act.groups];
-    let mut map: Vec<(usize, f64)> = Vec::with_capacity(act.obs.len());
-    for o in &act.obs {
-        let k = match (linear, first_of_group[o.group]) {
-            (true, Some(k)) => k,
-            _ => {
-                points.push(o.row);
-                first_of_group[o.group] = Some(points.len() - 1);
-                points.len() - 1
-            }
-        };
-        let ratio = (o.basis.field / data.rows[points[k]].field).ln();
-        map.push((k, ratio));
-    }
-    // The stack depends on the primitive's value alone (η and the library partners act on a solved
-    // stack: field, boundary and compliance effects), so the stack bases of the last few values are
-    // kept (one for a primitive that leaves the stack alone); each (p, a) then costs one `outputs` per
-    // point.
-    let bases: RefCell<Vec<(f64, Vec<Option<StackBasis>>)>> = RefCell::new(Vec::new());
-    let basis_at = |p: f64| -> Vec<Option<StackBasis>> {
-        // A boundary or field primitive leaves the stack as it is (`EffectModel::basis` applies the stack
-        // primitives only): one basis, at its null value, serves every value.
-        let p = if tried.primitive.changes_stack() {
-            p
-        } else {
-            tried.primitive.null()
-        };
-        if let Some((_, b)) = bases.borrow().iter().find(|(x, _)| *x == p) {
-            return b.clone();
+    let groups = &act.drive_groups;
+    // Each group's stack at a value of the primitive, the last few values kept.
+    let stacks: RefCell<Vec<(f64, Vec<Option<GroupBasis>>)>> = RefCell::new(Vec::new());
+    let solved_at = |p: f64| {
+        if stacks.borrow().iter().any(|(x, _)| *x == p) {
+            return;
         }
         let model = model_at(base, tried.primitive, None, p, 0.0);
-        // Each distinct stack solved once.
-        let mut stacks = act.stacks.solver(act.data, &model);
-        let b: Vec<Option<StackBasis>> = points.iter().map(|&row| stacks.basis(row)).collect();
-        let mut c = bases.borrow_mut();
-        if c.len() >= 4 {
-            c.remove(0);
-        }
-        c.push((p, b.clone()));
-        b
-    };
-    let solve = |p: f64, a: f64| -> LogOutputs {
-        let model = model_at(base, tried.primitive, partner_id, p, a);
-        basis_at(p)
-            .iter()
-            .map(|b| match b.as_ref().map(|b| model.outputs(b)) {
-                Some((d, f)) if d > 0.0 && f > 0.0 => (d.ln(), f.ln()),
-                // A value the model refuses (a layer thinned to nothing): no fit there.
-                _ => (f64::NAN, f64::NAN),
+        let mut solver = act.stacks.solver(act.data, &model);
+        let bases = (0..groups.len())
+            .map(|g| {
+                solver
+                    .basis(act.obs[groups.first(g)].row)
+                    .map(GroupBasis::of)
             })
-            .collect()
+            .collect();
+        let mut kept = stacks.borrow_mut();
+        if kept.len() >= KEPT_STACKS {
+            kept.remove(0);
+        }
+        kept.push((p, bases));
+    };
+    // The residuals at θ = (η, p, a) in `form`, each one the model cannot evaluate (a layer thinned to
+    // nothing) held at 1e3: no fit there.
+    let evaluate = |theta: &[f64], form: Form, out: &mut Vec<f64>| {
+        out.clear();
+        let p = theta[1];
+        let mut model = model_at(
+            base,
+            tried.primitive,
+            partner_id,
+            p,
+            theta.get(2).copied().unwrap_or(0.0),
+        );
+        model.effects.d31_scale *= theta[0];
+        let left_out = if tried.primitive.changes_stack() {
+            solved_at(p);
+            let kept = stacks.borrow();
+            let bases = &kept.iter().find(|(x, _)| *x == p).expect("just solved").1;
+            let mut solve = |g: usize, _: bool| bases[g];
+            groups.evaluate(&act.obs, &model, None, Some(&mut solve), form, out)
+        } else {
+            groups.evaluate(&act.obs, &model, None, None, form, out)
+        };
+        for r in out.iter_mut().filter(|r| !r.is_finite()) {
+            *r = 1e3;
+        }
+        left_out
     };
     let residuals = |theta: &[f64], out: &mut Vec<f64>| {
-        out.clear();
-        let ln_eta = theta[0].ln();
-        let s = solve(theta[1], theta.get(2).copied().unwrap_or(0.0));
-        for (o, &(k, ratio)) in act.obs.iter().zip(&map) {
-            let (ld, lf) = s[k];
-            let bad = |x: f64| if x.is_finite() { x } else { 1e3 };
-            if let Some(d) = o.ln_delta {
-                out.push(bad(d - ln_eta - ld - ratio));
-            }
-            if let Some(f) = o.ln_force {
-                out.push(bad(f - ln_eta - lf - ratio));
-            }
+        evaluate(theta, Form::Rows, out);
+    };
+    let linear =
+        tried.primitive.linear_in_field() && partner_id.is_none_or(EffectId::linear_in_field);
+    let search = |theta: &[f64], out: &mut Vec<f64>| {
+        if linear {
+            Some(evaluate(theta, Form::Groups, out))
+        } else {
+            residuals(theta, out);
+            None
         }
     };
     let eta = EffectId::D31Scale.param();
@@ -187,7 +171,7 @@ pub(crate) fn fit(
             s
         })
         .collect();
-    let fit: FitResult = least_squares(&residuals, &bounds, &starts);
+    let fit: FitResult = least_squares_grouped(&search, &residuals, &bounds, &starts);
     // A fit stuck where the model refuses every value has nothing to say.
     if !fit.rss.is_finite() || fit.residuals.iter().any(|r| r.abs() >= 1e3) {
         return None;

@@ -159,7 +159,6 @@ fn stage_input<'a>(
     joint: Option<(Vec<CarriedParameter>, &MassData, f64)>,
     settings: &Settings,
 ) -> Result<(StageInput<'a>, Vec<CarriedParameter>, EffectModel), ModelError> {
-    let groups = data.actuators();
     let stacks = Stacks::new(data);
     let obs = actuation_obs(data, &base, &stacks)?;
     let act_groups: std::collections::BTreeSet<usize> = obs.iter().map(|o| o.group).collect();
@@ -172,14 +171,8 @@ fn stage_input<'a>(
             max_parameters(settings) + 2
         )));
     }
-    let act_data = ActuationData {
-        data,
-        obs,
-        groups,
-        frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, &base, &stacks)?,
-        stacks,
-    };
+    let resonances = resonance_obs(data, &base, &stacks)?;
+    let act_data = ActuationData::new(data, obs, base.primitives.len(), resonances, stacks);
     Ok(match joint {
         Some((carried, mass, weight)) => (
             StageInput::Joint(JointData::new(

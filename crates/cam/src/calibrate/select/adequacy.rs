@@ -207,14 +207,14 @@ fn lack_of_fit(act: &ActuationData, r: &[f64], params: usize) -> Option<LackOfFi
 /// The residuals of `act`'s observations grouped by actuator.
 fn per_group_residuals(act: &ActuationData, row_res: &[RowResiduals]) -> GroupResiduals {
     let mut per_group: GroupResiduals = Vec::new();
+    // Each actuator's entry, in the order their first observations come.
+    let mut entry_of = vec![None; act.groups];
     for (i, o) in act.obs.iter().enumerate() {
-        let entry = match per_group.iter_mut().find(|(g, _)| *g == o.group) {
-            Some(e) => e,
-            None => {
-                per_group.push((o.group, [Vec::new(), Vec::new()]));
-                per_group.last_mut().expect("just pushed")
-            }
-        };
+        let at = *entry_of[o.group].get_or_insert_with(|| {
+            per_group.push((o.group, [Vec::new(), Vec::new()]));
+            per_group.len() - 1
+        });
+        let entry = &mut per_group[at];
         if let Some(d) = row_res[i][0] {
             entry.1[0].push(d);
             if let Some(f) = row_res[i][1] {
@@ -276,14 +276,13 @@ fn within_sweep_tests(
     per_group: &GroupResiduals,
     row_res: &[RowResiduals],
 ) {
+    let obs_of = act.obs_by_actuator();
     for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
         let (mut xs, mut ys) = (Vec::new(), Vec::new());
         for (g, _) in per_group {
-            let pts: Vec<(f64, f64)> = act
-                .obs
+            let pts: Vec<(f64, f64)> = obs_of[*g]
                 .iter()
-                .enumerate()
-                .filter(|(_, o)| o.group == *g)
+                .map(|&i| (i, &act.obs[i]))
                 .filter_map(|(i, o)| {
                     let d = row_res[i][0];
                     let v = if slot == 0 {

@@ -5,8 +5,8 @@ use super::candidate::{Candidate, CarriedValue, Role};
 use super::cross_validation;
 use super::identifiability;
 use super::joint::CarriedParameter;
-use super::observations::StageData;
-use crate::calibrate::fit::{least_squares, FitResult, ParameterRange};
+use super::observations::{ActuationData, StageData};
+use crate::calibrate::fit::{least_squares_grouped, FitResult, ParameterRange};
 use crate::calibrate::library::{EffectId, Stage};
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
@@ -87,12 +87,20 @@ impl Fitter<'_> {
         e
     }
 
-    /// Fit `ids` (after the carried mass parameters, held at `held` unless it is empty, when they are
-    /// fitted too: then `theta` starts with them).
+    /// The stage's deflections and forces with the carried mass parameters held at `held`: their stacks
+    /// once, and the masses, which only they move, left out (None: nothing is carried; fit the stage's
+    /// data).
+    fn held_data(&self, held: &[f64]) -> Option<ActuationData<'_>> {
+        self.data.held_at(&self.model_at(held, &[], &[]))
+    }
+
+    /// Fit `ids` after the carried mass parameters, which are fitted too when `held` is empty (then
+    /// `theta` starts with them) and else held there, with `held_data` the stage's data at them
+    /// ([`Fitter::held_data`]).
     fn fit_on(
         &self,
         ids: &[EffectId],
-        held: &[f64],
+        (held, held_data): (&[f64], Option<&ActuationData>),
         keep: Option<&[bool]>,
         starts_list: &[Vec<f64>],
     ) -> FitResult {
@@ -103,10 +111,6 @@ impl Fitter<'_> {
         };
         let mut bounds: Vec<ParameterRange> = self.carried[..c].iter().map(|p| p.bounds).collect();
         bounds.extend(self.bounds(ids));
-        // The carried parameters held: their stacks once, and the masses, which only they move, left out.
-        let held_data = (c == 0)
-            .then(|| self.data.held_at(&self.model_at(held, &[], &[])))
-            .flatten();
         let f = |theta: &[f64], out: &mut Vec<f64>| {
             if c > 0 {
                 let model = self.model_at(&theta[..c], ids, &theta[c..]);
@@ -119,7 +123,28 @@ impl Fitter<'_> {
                 }
             }
         };
-        least_squares(&f, &bounds, starts_list)
+        // A model linear in the field at every value of its parameters (the carried mass effects are)
+        // is searched on the grouped residuals, where the stage has them.
+        let linear = self.base.linear_in_field() && ids.iter().all(EffectId::linear_in_field);
+        let grouped = |theta: &[f64], out: &mut Vec<f64>| {
+            let left_out = if !linear {
+                None
+            } else if c > 0 {
+                let model = self.model_at(&theta[..c], ids, &theta[c..]);
+                self.data.grouped(&model, keep, out)
+            } else {
+                let model = self.model_at(held, ids, theta);
+                match &held_data {
+                    Some(d) => d.grouped(&model, keep, out),
+                    None => self.data.grouped_held_out(&model, keep, out),
+                }
+            };
+            if left_out.is_none() {
+                f(theta, out);
+            }
+            left_out
+        };
+        least_squares_grouped(&grouped, &f, &bounds, starts_list)
     }
 
     pub(super) fn fit(&self, ids: &[EffectId], stage: Stage, role: Role) -> Candidate {
@@ -142,12 +167,14 @@ impl Fitter<'_> {
         // The search from every start with the mass parameters at their masses-only values (as cheap
         // as a frozen mass model), then one joint fit of all of them from the best.
         let masses_only: Vec<f64> = self.carried.iter().map(|c| c.start).collect();
-        let frozen = self.fit_on(ids, &masses_only, None, &starts(&specs));
+        let masses_only_data = self.held_data(&masses_only);
+        let at_masses_only = (&masses_only[..], masses_only_data.as_ref());
+        let frozen = self.fit_on(ids, at_masses_only, None, &starts(&specs));
         let joint = if self.carried.is_empty() {
             frozen
         } else {
             let start: Vec<f64> = masses_only.iter().chain(&frozen.theta).copied().collect();
-            self.fit_on(ids, &[], None, &[start])
+            self.fit_on(ids, (&[], None), None, &[start])
         };
         let c = self.carried.len();
         let carried = carried_values(&self.carried, &joint);
@@ -181,12 +208,14 @@ impl Fitter<'_> {
         let cv_rmse = if !cv {
             f64::INFINITY
         } else {
+            let held_data = (!ids.is_empty()).then(|| self.held_data(&held)).flatten();
             cross_validation::rmse(self.data, &self.folds, |train| {
                 if ids.is_empty() {
                     self.model_at(&held, ids, &[])
                 } else {
+                    let at_held = (&held[..], held_data.as_ref());
                     let refit =
-                        self.fit_on(ids, &held, Some(train), std::slice::from_ref(&fit.theta));
+                        self.fit_on(ids, at_held, Some(train), std::slice::from_ref(&fit.theta));
                     self.model_at(&held, ids, &refit.theta)
                 }
             })

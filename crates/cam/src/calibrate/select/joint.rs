@@ -14,11 +14,14 @@
 //! a few masses-only standard errors, where the quadratic holds (a unit test bounds its error).
 
 use super::candidate::Candidate;
+use super::drive_groups::{Form, GroupBasis};
 use super::observations::{ActuationData, ActuationObs, MassData, StageData};
+use super::pooled::{Member, Pools};
 use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, ModelError};
+use std::collections::HashMap;
 
 /// One carried mass parameter: its masses-only estimate, the centre and step of the stencil the stacks
 /// are solved on, and the trust region the joint fit keeps it in.
@@ -120,7 +123,24 @@ impl Quadratic {
         }
     }
 
+    /// ln of the quantity at `t` (NaN where it is negative).
+    fn ln_eval(&self, t: &[f64]) -> f64 {
+        match self.log_sign {
+            Some(sign) if sign > 0.0 => self.log_eval(t),
+            _ => self.eval(t).ln(),
+        }
+    }
+
     fn eval(&self, t: &[f64]) -> f64 {
+        let v = self.log_eval(t);
+        match self.log_sign {
+            Some(sign) => sign * v.exp(),
+            None => v,
+        }
+    }
+
+    /// The quadratic itself (of ln|q| where it is one of the logarithm).
+    fn log_eval(&self, t: &[f64]) -> f64 {
         let mut v = self.f0;
         for (j, tj) in t.iter().enumerate() {
             v += self.a[j] * tj + self.b[j] * tj * tj;
@@ -132,10 +152,7 @@ impl Quadratic {
                 at += 1;
             }
         }
-        match self.log_sign {
-            Some(sign) => sign * v.exp(),
-            None => v,
-        }
+        v
     }
 }
 
@@ -177,13 +194,12 @@ struct StackModel {
 pub(crate) struct JointData<'a> {
     pub(crate) act: ActuationData<'a>,
     pub(super) carried: Vec<CarriedParameter>,
-    /// Per observation, its stack model.
-    stack_of: Vec<usize>,
+    /// Per group of the observations ([`ActuationData::drive_groups`]: an actuator at one drive mode),
+    /// its stack model.
     stacks: Vec<StackModel>,
-    /// Per measured mass: (group, ln measured mass, model mass at the stencil's centre, its change per
-    /// unit step of each carried parameter). The library's mass effects change the mass linearly (a
-    /// thicker resin-rich ply adds resin, a bond adds its layer), so this is exact.
-    masses: Vec<(usize, f64, f64, Vec<f64>)>,
+    /// The measured masses (apart: the variant of the stage's input that holds these data stays near
+    /// the size of the one that holds the actuation data alone).
+    masses: Box<JointMasses>,
     mass_weight: f64,
     /// Number of deflection, force and resonance residuals.
     scored: usize,
@@ -211,31 +227,21 @@ impl<'a> JointData<'a> {
             })
             .collect();
         let rows = &act.data.rows;
-        // Each node's stacks solved once per distinct stack.
+        // Each node's stacks solved once per distinct stack; a stack model per group, so the solves stay
+        // linear in the actuators.
         let mut solvers: Vec<_> = models
             .iter()
             .map(|m| act.stacks.solver(act.data, m))
             .collect();
-        let mut stack_of = Vec::with_capacity(act.obs.len());
-        let mut stacks: Vec<StackModel> = Vec::new();
-        // For each actuator, (row the stack was solved for, stack model) of each drive mode it was
-        // measured in: looked up by actuator, so the solves stay linear in the actuators.
-        let mut solved_for: Vec<Vec<(usize, usize)>> = vec![Vec::new(); act.groups];
-        for o in &act.obs {
-            let same = solved_for[o.group]
-                .iter()
-                .find(|&&(row, _)| rows[row].drive_mode == rows[o.row].drive_mode)
-                .map(|&(_, s)| s);
-            if let Some(s) = same {
-                stack_of.push(s);
-                continue;
-            }
+        let mut stacks: Vec<StackModel> = Vec::with_capacity(act.drive_groups.len());
+        for g in 0..act.drive_groups.len() {
+            let row = act.obs[act.drive_groups.first(g)].row;
             let bases = solvers
                 .iter_mut()
                 .zip(&models)
                 .map(|(s, m)| {
-                    s.basis(o.row)
-                        .map_or_else(|| m.basis(&rows[o.row].actuator()), Ok)
+                    s.basis(row)
+                        .map_or_else(|| m.basis(&rows[row].actuator()), Ok)
                 })
                 .collect::<Result<Vec<StackBasis>, _>>()?;
             let quad = |q: fn(&StackBasis) -> f64| {
@@ -248,19 +254,9 @@ impl<'a> JointData<'a> {
                 beam_compliance: quad(|b| b.beam_compliance),
                 extension_compliance: quad(|b| b.extension_compliance),
             });
-            solved_for[o.group].push((o.row, stacks.len() - 1));
-            stack_of.push(stacks.len() - 1);
         }
         drop(solvers);
-        let mut masses = Vec::new();
-        for &(g, row, ln_m) in mass.map_or(&[][..], |m| &m.obs[..]) {
-            let a = act.data.rows[row].actuator();
-            let total = |m: &EffectModel| m.mass(&a).map_or(f64::NAN, |x| x.total());
-            let m0 = total(&models[0]);
-            // Nodes 1, 3, 5, ...: +1 step along each parameter.
-            let slopes = (0..k).map(|j| total(&models[1 + 2 * j]) - m0).collect();
-            masses.push((g, ln_m, m0, slopes));
-        }
+        let masses = Box::new(JointMasses::new(&act, mass, &models, k));
         let scored = act
             .obs
             .iter()
@@ -269,21 +265,16 @@ impl<'a> JointData<'a> {
             + act.resonances.len();
         // Each resonance's stack: its actuator's first (None: no deflection or force measured, so no
         // stack was solved; its basis stays the frozen one).
+        let first_group = act.drive_groups.first_of_actuators(&act.obs, act.groups);
         let resonance_stack = act
             .resonances
             .obs
             .iter()
-            .map(|r| {
-                solved_for
-                    .get(r.group)
-                    .and_then(|solved| solved.first())
-                    .map(|&(_, stack)| stack)
-            })
+            .map(|r| first_group.get(r.group).copied().flatten())
             .collect();
         Ok(JointData {
             act,
             carried,
-            stack_of,
             stacks,
             masses,
             mass_weight,
@@ -317,41 +308,33 @@ impl<'a> JointData<'a> {
         self.act
             .obs
             .iter()
-            .zip(&self.stack_of)
-            .map(|(o, &s)| at[s].at_field(o.basis.field))
+            .enumerate()
+            .map(|(i, o)| at[self.act.drive_groups.of_obs(i)].at_field(o.basis.field))
             .collect()
     }
 
+    /// The deflections' and forces' log residuals in `form`, then the resonances'; the sum of squares
+    /// the form leaves out.
     fn actuation_residuals(
         &self,
         effects: &EffectModel,
         keep: Option<&[bool]>,
+        form: Form,
         out: &mut Vec<f64>,
-    ) {
+    ) -> f64 {
         out.clear();
         let t = self.coordinates(effects);
         // Each stack model once per evaluation (its voltages share it).
-        let mut at: Vec<Option<StackBasis>> = vec![None; self.stacks.len()];
-        for (o, &s) in self.act.obs.iter().zip(&self.stack_of) {
-            if keep.is_some_and(|k| !k[o.group]) {
-                continue;
-            }
-            let m = &self.stacks[s];
-            let basis = *at[s].get_or_insert_with(|| StackBasis {
-                free_curvature: m.free_curvature.eval(&t),
-                beam_compliance: m.beam_compliance.eval(&t),
-                extension_compliance: m.extension_compliance.eval(&t),
-                field: m.field,
-                planform: o.basis.planform,
-            });
-            let (delta, force) = effects.outputs(&basis.at_field(o.basis.field));
-            if let Some(d) = o.ln_delta {
-                out.push(d - delta.ln());
-            }
-            if let Some(f) = o.ln_force {
-                out.push(f - force.ln());
-            }
-        }
+        let mut solve =
+            |g: usize, compliances: bool| Some(self.stacks[g].group_basis(&t, compliances));
+        let left_out = self.act.drive_groups.evaluate(
+            &self.act.obs,
+            effects,
+            keep,
+            Some(&mut solve),
+            form,
+            out,
+        );
         let res = &self.act.resonances;
         for (k, (o, stack)) in res.obs.iter().zip(&self.resonance_stack).enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
@@ -363,10 +346,122 @@ impl<'a> JointData<'a> {
             };
             out.push(res.residual(self.act.data, k, effects, &basis));
         }
+        left_out
+    }
+
+    /// Each measured mass's log residual times the mass weight, in `form` (pooled by design); the sum
+    /// of squares the form leaves out.
+    fn mass_residuals(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        form: Form,
+        out: &mut Vec<f64>,
+    ) -> f64 {
+        let t = self.coordinates(effects);
+        let w = self.mass_weight;
+        let m = &self.masses;
+        let ln_model: Vec<f64> = m
+            .models
+            .iter()
+            .map(|(m0, slopes)| (m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>()).ln())
+            .collect();
+        if form == Form::Groups {
+            return m.pooled.with_sums(keep, |sums| {
+                let mut spread = 0.0;
+                for (s, ln_model) in sums.iter().zip(&ln_model) {
+                    if s.root_count > 0.0 {
+                        out.push(w * s.root_count * (s.mean[0] - ln_model));
+                        spread += w * w * s.spread[0];
+                    }
+                }
+                spread
+            });
+        }
+        for &(g, design, ln_m) in &m.measured {
+            if keep.is_none_or(|k| k[g]) {
+                out.push((ln_m - ln_model[design]) * w);
+            }
+        }
+        0.0
+    }
+}
+
+/// The joint data's measured masses: per weighed actuator (group, design, ln measured mass), per design
+/// the model mass at the stencil's centre and its change per unit step of each carried parameter, and the
+/// log masses pooled by design. The library's mass effects change the mass linearly (a thicker resin-rich
+/// ply adds resin, a bond adds its layer), so this is exact; actuators of one design have one model mass.
+#[derive(Debug)]
+struct JointMasses {
+    measured: Vec<(usize, usize, f64)>,
+    models: Vec<(f64, Vec<f64>)>,
+    pooled: Pools<1>,
+}
+
+impl JointMasses {
+    /// The masses of `mass` (none without it), with the model masses of the stencil's `models` ([`nodes`]
+    /// of `k` parameters).
+    fn new(
+        act: &ActuationData,
+        mass: Option<&MassData>,
+        models: &[EffectModel],
+        k: usize,
+    ) -> JointMasses {
+        let mut of_design: HashMap<usize, usize> = HashMap::new();
+        let mut masses = JointMasses {
+            measured: Vec::new(),
+            models: Vec::new(),
+            pooled: Pools::new(0, Vec::new()),
+        };
+        for &(g, row, ln_m) in mass.map_or(&[][..], |m| &m.obs[..]) {
+            let design = *of_design.entry(act.stacks.design(row)).or_insert_with(|| {
+                let a = act.data.rows[row].actuator();
+                let total = |m: &EffectModel| m.mass(&a).map_or(f64::NAN, |x| x.total());
+                let m0 = total(&models[0]);
+                // Nodes 1, 3, 5, ...: +1 step along each parameter.
+                let slopes = (0..k).map(|j| total(&models[1 + 2 * j]) - m0).collect();
+                masses.models.push((m0, slopes));
+                masses.models.len() - 1
+            });
+            masses.measured.push((g, design, ln_m));
+        }
+        let members = masses
+            .measured
+            .iter()
+            .map(|&(actuator, pool, ln_m)| Member {
+                pool,
+                actuator,
+                value: [ln_m],
+            })
+            .collect();
+        masses.pooled = Pools::new(masses.models.len(), members);
+        masses
     }
 }
 
 impl StackModel {
+    /// The stack at stencil coordinates `t` for [`DriveGroups`](super::drive_groups::DriveGroups): the
+    /// logs of its curvature and beam compliance (the quadratics themselves where they are of the
+    /// logarithm), and the basis on its own planform with its compliances only if `compliances`.
+    fn group_basis(&self, t: &[f64], compliances: bool) -> GroupBasis {
+        let basis = if compliances {
+            self.at(t, self.planform)
+        } else {
+            StackBasis {
+                free_curvature: f64::NAN,
+                beam_compliance: f64::NAN,
+                extension_compliance: f64::NAN,
+                field: self.field,
+                planform: self.planform,
+            }
+        };
+        GroupBasis {
+            basis,
+            ln_curvature: self.free_curvature.ln_eval(t),
+            ln_beam: self.beam_compliance.ln_eval(t),
+        }
+    }
+
     /// The stack basis at stencil coordinates `t`.
     fn at(&self, t: &[f64], planform: actuator_model::Planform) -> StackBasis {
         StackBasis {
@@ -381,21 +476,35 @@ impl StackModel {
 
 impl StageData for JointData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
-        self.actuation_residuals(effects, keep, out);
-        let t = self.coordinates(effects);
-        for (g, ln_m, m0, slopes) in &self.masses {
-            if keep.is_some_and(|k| !k[*g]) {
-                continue;
-            }
-            let m = m0 + slopes.iter().zip(&t).map(|(s, t)| s * t).sum::<f64>();
-            out.push((ln_m - m.ln()) * self.mass_weight);
+        self.actuation_residuals(effects, keep, Form::Rows, out);
+        self.mass_residuals(effects, keep, Form::Rows, out);
+    }
+    fn grouped(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        if !self.act.drive_groups.pools() && !self.masses.pooled.pools() {
+            return None;
         }
+        let left_out = self.actuation_residuals(effects, keep, Form::Groups, out);
+        Some(left_out + self.mass_residuals(effects, keep, Form::Groups, out))
     }
     fn groups(&self) -> usize {
         self.act.groups
     }
     fn held_out(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
-        self.actuation_residuals(effects, keep, out);
+        self.actuation_residuals(effects, keep, Form::Rows, out);
+    }
+    fn grouped_held_out(
+        &self,
+        effects: &EffectModel,
+        keep: Option<&[bool]>,
+        out: &mut Vec<f64>,
+    ) -> Option<f64> {
+        let pools = self.act.drive_groups.pools();
+        pools.then(|| self.actuation_residuals(effects, keep, Form::Groups, out))
     }
     fn scored_rows(&self) -> Option<usize> {
         Some(self.scored)
@@ -409,26 +518,20 @@ impl StageData for JointData<'_> {
             .map(|(o, basis)| ActuationObs { basis, ..*o })
             .collect();
         let t = self.coordinates(effects);
-        let resonances = self.act.resonances.with_bases(|r| {
-            let k = self
-                .act
-                .resonances
-                .obs
-                .iter()
-                .position(|x| x.group == r.group);
-            match k.and_then(|k| self.resonance_stack[k]) {
+        let resonances = self
+            .act
+            .resonances
+            .with_bases(|k, r| match self.resonance_stack[k] {
                 Some(s) => self.stacks[s].at(&t, r.basis.planform),
                 None => r.basis,
-            }
-        });
-        Some(ActuationData {
-            data: self.act.data,
+            });
+        Some(ActuationData::new(
+            self.act.data,
             obs,
-            groups: self.act.groups,
-            frozen_primitives: 0,
+            0,
             resonances,
-            stacks: self.act.stacks.clone(),
-        })
+            self.act.stacks.clone(),
+        ))
     }
 }
 

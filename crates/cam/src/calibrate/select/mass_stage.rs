@@ -91,7 +91,7 @@ fn weighed(data: &Dataset) -> MassData<'_> {
             obs.push((g, i, m.ln()));
         }
     }
-    MassData { data, obs }
+    MassData::new(data, obs)
 }
 
 /// The mass stage's effect sets: the original, each mass effect with its parameters (a declared effect

@@ -8,6 +8,7 @@ mod actuation_stage;
 pub mod adequacy;
 pub mod candidate;
 mod cross_validation;
+pub(crate) mod drive_groups;
 pub(crate) mod fitter;
 pub mod identifiability;
 mod joint;
@@ -15,6 +16,7 @@ mod mass_choice;
 mod mass_stage;
 pub(crate) mod observations;
 pub mod outliers;
+mod pooled;
 mod resonance_weight;
 pub mod separating;
 pub mod settings;
@@ -288,14 +290,13 @@ pub(crate) fn actuation_data<'a>(
     base: &EffectModel,
 ) -> Result<ActuationData<'a>, ModelError> {
     let stacks = Stacks::new(data);
-    Ok(ActuationData {
+    Ok(ActuationData::new(
         data,
-        obs: actuation_obs(data, base, &stacks)?,
-        groups: data.actuators(),
-        frozen_primitives: base.primitives.len(),
-        resonances: resonance_obs(data, base, &stacks)?,
+        actuation_obs(data, base, &stacks)?,
+        base.primitives.len(),
+        resonance_obs(data, base, &stacks)?,
         stacks,
-    })
+    ))
 }
 
 /// Row `row`'s stack basis under `base` from the solved stacks, or the model's own error where it cannot

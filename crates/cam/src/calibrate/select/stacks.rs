@@ -5,7 +5,7 @@
 //! the actuators' count to the stacks' (docs/benchmarks.md, "calibrate").
 
 use crate::calibrate::csv::{Dataset, Measurement};
-use actuator_model::effects::{StackBasis, StackSection};
+use actuator_model::effects::{PlanformTerms, StackBasis, StackSection};
 use actuator_model::EffectModel;
 use std::collections::HashMap;
 
@@ -16,6 +16,11 @@ pub(crate) struct Stacks {
     of_row: Vec<usize>,
     /// Per stack, the first row that has it.
     first_row: Vec<usize>,
+    /// Per row, its planform's terms of the basis (an integral each, computed once).
+    terms: Vec<PlanformTerms>,
+    /// Per row, its design: the rows of one design (the same stack at any field, the same planform) give
+    /// the same deflection and force per unit field under every model.
+    design_of_row: Vec<usize>,
 }
 
 /// The numbers that decide a row's stack section, compared bit for bit (the materials beside them).
@@ -33,30 +38,72 @@ fn key(r: &Measurement) -> Key {
     )
 }
 
+/// A row's [`Key`] at no field, with its planform's numbers: what decides its design.
+fn design_key(r: &Measurement) -> (Key, [u64; 5]) {
+    let pl = &r.planform;
+    let (t_p, t_ply, layup, mode, _, extension) = key(r);
+    (
+        (t_p, t_ply, layup, mode, 0, extension),
+        [
+            pl.length,
+            pl.extension_ratio,
+            pl.base_width,
+            pl.width_ratio,
+            pl.base_tab,
+        ]
+        .map(f64::to_bits),
+    )
+}
+
+/// Per row, the index of its class under `key` (rows with equal keys and materials share one), and the
+/// first row of each class.
+fn classes<K: std::hash::Hash + Eq>(
+    data: &Dataset,
+    key: impl Fn(&Measurement) -> K,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut by_key: HashMap<K, Vec<usize>> = HashMap::new();
+    let mut first_row: Vec<usize> = Vec::new();
+    let of_row = data
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let same = by_key.entry(key(r)).or_default();
+            // Same numbers: the same class if the materials agree too.
+            let found = same.iter().copied().find(|&s| {
+                let first = &data.rows[first_row[s]];
+                first.pzt == r.pzt && first.ply == r.ply
+            });
+            found.unwrap_or_else(|| {
+                first_row.push(i);
+                same.push(first_row.len() - 1);
+                first_row.len() - 1
+            })
+        })
+        .collect();
+    (of_row, first_row)
+}
+
 impl Stacks {
     /// Index the rows of `data`.
     pub(crate) fn new(data: &Dataset) -> Stacks {
-        let mut by_key: HashMap<Key, Vec<usize>> = HashMap::new();
-        let mut first_row: Vec<usize> = Vec::new();
-        let of_row = data
+        let (of_row, first_row) = classes(data, key);
+        let terms = data
             .rows
             .iter()
-            .enumerate()
-            .map(|(i, r)| {
-                let same = by_key.entry(key(r)).or_default();
-                // Same numbers: the same stack if the materials agree too.
-                let found = same.iter().copied().find(|&s| {
-                    let first = &data.rows[first_row[s]];
-                    first.pzt == r.pzt && first.ply == r.ply
-                });
-                found.unwrap_or_else(|| {
-                    first_row.push(i);
-                    same.push(first_row.len() - 1);
-                    first_row.len() - 1
-                })
-            })
+            .map(|r| PlanformTerms::of(&r.planform))
             .collect();
-        Stacks { of_row, first_row }
+        Stacks {
+            of_row,
+            first_row,
+            terms,
+            design_of_row: classes(data, design_key).0,
+        }
+    }
+
+    /// The design of row `row` ([`Stacks::design_of_row`]).
+    pub(crate) fn design(&self, row: usize) -> usize {
+        self.design_of_row[row]
     }
 
     /// Number of distinct stacks.
@@ -97,7 +144,8 @@ impl Solver<'_> {
         }
         let section = *self.solved[s]
             .get_or_insert_with(|| model.stack_section(&data.rows[first].actuator()).ok());
-        section.and_then(|x| x.basis(&data.rows[row].planform).ok())
+        let terms = &self.stacks.terms[row];
+        section.and_then(|x| x.basis_with(&data.rows[row].planform, terms).ok())
     }
 }
 
