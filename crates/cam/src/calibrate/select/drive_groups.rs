@@ -18,12 +18,21 @@
 //! Under a model linear in the field the rows of a group's deflections (or forces) differ from one
 //! model value by constants, so a search can take their mean in place of them ([`Form::Groups`]).
 
-use super::observations::ActuationObs;
 use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
 use actuator_model::effects::StackBasis;
 use actuator_model::{EffectModel, Planform};
 use std::collections::HashMap;
+
+/// One row of the actuation stage.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ActuationObs {
+    pub(crate) group: usize,
+    pub(crate) row: usize,
+    pub(crate) basis: StackBasis,
+    pub(crate) ln_delta: Option<f64>,
+    pub(crate) ln_force: Option<f64>,
+}
 
 /// The observations of one design at one drive mode ([`Stacks::design`]).
 #[derive(Debug, Clone)]

@@ -2,6 +2,7 @@
 //! deflections and forces, then the measured first resonances (actuation stage), with whole actuators
 //! maskable for cross-validation.
 
+pub(crate) use super::drive_groups::ActuationObs;
 use super::drive_groups::{DriveGroups, Form, GroupBasis, Solve};
 use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
@@ -149,16 +150,6 @@ impl StageData for MassData<'_> {
     fn groups(&self) -> usize {
         self.data.actuators()
     }
-}
-
-/// One row of the actuation stage.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ActuationObs {
-    pub(crate) group: usize,
-    pub(crate) row: usize,
-    pub(crate) basis: StackBasis,
-    pub(crate) ln_delta: Option<f64>,
-    pub(crate) ln_force: Option<f64>,
 }
 
 pub(crate) struct ActuationData<'a> {
