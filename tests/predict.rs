@@ -425,3 +425,72 @@ fn method_1_design_predicts_its_pyralux_bond_layers_as_cut_sheet_does() {
         m1["blocked_force_N"]
     );
 }
+
+/// The biased drive (docs/physics.md §2.1): the signal bends the stack as parallel drive at the same
+/// field does, the bias only adds the same field along both plates' poling, so the deflection is
+/// parallel's and the plates see `E_b/2 + E` along and nothing against their poling; its bias is
+/// required, held to at most twice the signal's reach, and refused on any other mode.
+#[test]
+fn the_biased_drive_bends_as_parallel_and_keeps_the_plates_along_their_poling() {
+    let text = std::fs::read_to_string(example_path("thesis-C.toml")).unwrap();
+    let with = |drive: &str| {
+        text.replace(
+            "[drive]\nmode = \"parallel\"\nfield_V_per_mm = 800",
+            &format!("[drive]\n{drive}"),
+        )
+    };
+    assert!(text.contains("[drive]\nmode = \"parallel\"\nfield_V_per_mm = 800"));
+    let (_d1, biased) = write_temp(
+        "biased.toml",
+        &with("mode = \"biased\"\nvoltage_V = 80\nbias_V = 200"),
+    );
+    let (_d2, parallel) = write_temp(
+        "parallel.toml",
+        &with("mode = \"parallel\"\nvoltage_V = 80"),
+    );
+    let b = predict_json(biased.to_str().unwrap(), &[]);
+    let p = predict_json(parallel.to_str().unwrap(), &[]);
+    let free = |v: &serde_json::Value| v["free_deflection_mm"].as_f64().unwrap();
+    assert!((free(&b) / free(&p) - 1.0).abs() < 1e-12);
+    // 0.267 mm plates: signal 80 V is 299.6 V/mm, bias 200 V 749.1 V/mm; along 674.2, against 0.
+    let row = b["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["mode"] == "biased")
+        .unwrap();
+    let along = row["along_V_per_mm"].as_f64().unwrap();
+    assert!((along - (100.0 + 80.0) / 0.267).abs() < 1e-6, "{row}");
+    assert_eq!(row["against_V_per_mm"].as_f64().unwrap(), 0.0);
+    assert_eq!(row["bias_V"].as_f64().unwrap(), 200.0);
+    // The same signal in parallel puts 299.6 V/mm against a plate's poling, just within PZT-5H's 300.
+    let par = &p["modes"].as_array().unwrap()[0];
+    assert!(
+        (par["depolarization_margin_V_per_mm"].as_f64().unwrap() - (300.0 - 80.0 / 0.267)).abs()
+            < 1e-6
+    );
+    for (drive, field, allowed) in [
+        (
+            "mode = \"biased\"\nvoltage_V = 80",
+            "drive",
+            "bias_V_per_mm or bias_V",
+        ),
+        (
+            "mode = \"biased\"\nvoltage_V = 120\nbias_V = 200",
+            "drive.voltage_V",
+            "at most half the bias (100)",
+        ),
+        (
+            "mode = \"parallel\"\nvoltage_V = 80\nbias_V = 200",
+            "drive.bias_V",
+            "only mode = \"biased\" takes a bias",
+        ),
+    ] {
+        let (_d, path) = write_temp("bad.toml", &with(drive));
+        let err = refused_in_one_line(&run(&["predict", path.to_str().unwrap()]));
+        assert!(
+            err.contains(field) && err.contains(allowed),
+            "{drive}: {err}"
+        );
+    }
+}

@@ -71,6 +71,13 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
             args.drive.display()
         );
     }
+    if let Some(why) = &report.past_small_deflection {
+        anyhow::bail!(
+            "{}: stroke_deg = {}: {why}",
+            args.drive.display(),
+            short_number(report.required_stroke_deg)
+        );
+    }
     if let Some(u) = &report.unreachable {
         anyhow::bail!(
             "{}: stroke_deg = {}: not reached at {} Hz: the best stroke is ±{:.1}°; binding: {}",

@@ -3,11 +3,10 @@
 
 use super::flags::{ModelFlag, OutputDir};
 use actuator_cam::{
-    analyse_drive, field_survival, flap_drive_toml, flap_front_csv, flap_report, optimize,
-    optimize_flap, optimize_report, optimized_design_toml, pareto_csv, pareto_front, pareto_svg,
-    short_number, wing_load, DriveSpec, FieldLimit, LinkageSpec, Objective, OptimizeError,
-    OptimizeSpec as Spec, Output, Problem, Progress, SearchModel, SearchPoint, Silent,
-    TransmissionSpec, PARETO_LEVELS,
+    analyse_drive, flap_drive_toml, flap_front_csv, flap_report, optimize, optimize_flap,
+    optimize_report, optimized_design_toml, pareto_csv, pareto_front, pareto_svg, short_number,
+    wing_load, DriveSpec, FieldLimit, LinkageSpec, Objective, OptimizeError, OptimizeSpec as Spec,
+    Output, Problem, Progress, SearchModel, SearchPoint, Silent, TransmissionSpec, PARETO_LEVELS,
 };
 use actuator_model::primitives::Primitive;
 use actuator_model::ModelChoice;
@@ -234,13 +233,16 @@ fn run_flap(
     }
     let drive = DriveSpec::load(flap)?;
     let load = wing_load(&drive, &args.model.model)?;
+    // What `drive` will hold the design to, the search holds its field to.
+    let spec = &Spec {
+        poling_survival: Some(drive.survival),
+        ..spec.clone()
+    };
     let problem = Problem::from_spec(spec, model, Objective::MinMass)
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
     let outcome = optimize_flap(spec, &problem, &load, &args.model.model)
         .map_err(|e| anyhow::anyhow!("{file}: requirement.flap = {}: {e}", flap.display()))?;
     let chosen = &outcome.chosen;
-    let cand = &problem.candidates[chosen.design.candidate];
-    let survival = field_survival(cand.section.drive.field, cand.section.drive.mode);
     // The chosen design driven as `drive` will drive it from the files written here.
     let design_path = args
         .output
@@ -248,7 +250,6 @@ fn run_flap(
         .map_or_else(|| PathBuf::from(DESIGN_FILE), |d| d.join(DESIGN_FILE));
     let check = DriveSpec {
         design: design_path.clone(),
-        survival,
         transmission: TransmissionSpec {
             linkage: match drive.transmission.linkage {
                 LinkageSpec::Solve {
@@ -293,7 +294,7 @@ fn run_flap(
         ),
         (
             "drive.toml".to_string(),
-            flap_drive_toml(flap, &file, DESIGN_FILE, survival, chosen.travel)?.into_bytes(),
+            flap_drive_toml(flap, &file, DESIGN_FILE, chosen.travel)?.into_bytes(),
         ),
     ];
     if args.pareto {

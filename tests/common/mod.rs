@@ -211,3 +211,29 @@ pub fn drive_analysis(path: &Path) -> actuator_cam::Analysis {
         actuator_model::model::ModelChoice::Kind(actuator_model::model::ModelKind::Original);
     actuator_cam::analyse_drive(&spec, &design, &model).unwrap()
 }
+
+/// A folder with the example drive file `name` and its design, the design's PZT-5H replaced by a user
+/// material equal to it but for its depolarization field, raised to PZT-5H's coercive field (800 V/mm,
+/// thesis Table 2.1). The examples drive their plates in parallel at 750-800 V/mm, past the library's
+/// 300 V/mm depolarization field; with the limit at the coercive field the required stroke is within
+/// every limit, so a test can study the physics there (docs/physics.md §2.1). Returns the folder and the
+/// drive file's path in it (same file name).
+pub fn coercive_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let drive = std::fs::read_to_string(example_path(name)).unwrap();
+    let design = drive
+        .lines()
+        .find_map(|l| l.strip_prefix("design = \""))
+        .and_then(|l| l.strip_suffix('"'))
+        .unwrap()
+        .to_string();
+    let text = std::fs::read_to_string(example_path(&design)).unwrap();
+    assert!(text.contains("pzt = \"PZT-5H\""), "{design}");
+    let text = text.replace("pzt = \"PZT-5H\"", "pzt = \"PZT-5H-coercive\"")
+        + "\n[materials.PZT-5H-coercive]\ne1_GPa = 62\nnu12 = 0.31\ndensity_kg_per_m3 = 7800\n\
+           d31_pm_per_V = -320\nrelative_permittivity = 3800\ndepolarization_field_V_per_mm = 800\n";
+    std::fs::write(dir.path().join(&design), text).unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, drive).unwrap();
+    (dir, path)
+}

@@ -34,10 +34,7 @@ impl Written {
     /// The written design's section and its original-model prediction, through the model crate.
     fn predict(&self) -> (Section, Performance, Planform) {
         let (lam, _) = thesis_section(self.pzt_thickness, &self.layup);
-        let drive = Drive {
-            mode: DriveMode::Parallel,
-            field: self.field,
-        };
+        let drive = Drive::new(DriveMode::Parallel, self.field);
         let pl = Planform::new(
             self.length,
             self.extension_ratio,
@@ -87,14 +84,7 @@ fn thesis_section(t_p: f64, layup: &[f64]) -> (Laminate, Section) {
     let pzt = Material::builtin("PZT-5H").unwrap();
     let cf = Material::builtin("CF-thesis").unwrap();
     let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
-    let s = Section::new(
-        &lam,
-        Drive {
-            mode: DriveMode::Parallel,
-            field: 800e3,
-        },
-    )
-    .unwrap();
+    let s = Section::new(&lam, Drive::new(DriveMode::Parallel, 800e3)).unwrap();
     (lam, s)
 }
 

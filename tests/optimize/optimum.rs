@@ -180,10 +180,7 @@ fn calibrated_predict(
             ply_thickness: 61.8e-6,
             layup_deg: layup,
             planform: pl,
-            drive: Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            },
+            drive: Drive::new(DriveMode::Parallel, 800e3),
         })
         .unwrap()
 }

@@ -25,6 +25,7 @@ mod cutsheet;
 mod design;
 mod drawing;
 mod drive;
+mod field_limits;
 mod input;
 mod layout;
 mod linkage;
@@ -84,8 +85,7 @@ pub use drive::{analyse as analyse_drive, Analysis, DriveError};
 // optimize: the lightest design for an energy or a wing.
 pub use optimize::flap::{optimize_flap, wing_load};
 pub use optimize::flap_report::{
-    drive_toml as flap_drive_toml, front_csv as flap_front_csv, survival_at as field_survival,
-    text as flap_report,
+    drive_toml as flap_drive_toml, front_csv as flap_front_csv, text as flap_report,
 };
 pub use optimize::model::SearchModel;
 pub use optimize::pareto::{front as pareto_front, to_csv as pareto_csv, to_svg as pareto_svg};

@@ -2,12 +2,13 @@
 //! `predict` and embedded in cut-sheet reports.
 
 use crate::design::Design;
+use crate::field_limits::{mode_row, modes_table, ModeRow};
 use crate::input::{ensure_finite, short_number, InputError};
 use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::Actuator;
 use actuator_model::model::{predict, ModelChoice, ModelKind};
 use actuator_model::performance::evaluate;
-use actuator_model::{ModelError, Performance, Section, Weibull};
+use actuator_model::{Drive, DriveMode, ModelError, Performance, Section, Weibull};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -62,7 +63,15 @@ pub struct Prediction {
     /// Lumped tip mass `k / ω1²` (`predict` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modal_mass_mg: Option<f64>,
+    /// The same free deflection in every drive mode against the limits on the plates' field at
+    /// survival [`DESIGN_SURVIVAL`] (`predict` only; docs/physics.md §2.1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modes: Option<Vec<ModeRow>>,
 }
+
+/// The survival share `predict` holds each mode's failure fit to: the thesis' design point (§4.10,
+/// 90 % survival).
+pub const DESIGN_SURVIVAL: f64 = 0.9;
 
 /// The actuator's raw inputs as the effects take them.
 pub fn actuator(design: &Design) -> Actuator<'_> {
@@ -107,6 +116,18 @@ pub fn actuator_modes(
     Ok(beam.solve()?.with_stiffness(performance.stiffness))
 }
 
+/// Blocked force per unit peak plate field of a design in a drive mode, N/(V/m) (the model is linear
+/// in the field).
+pub fn force_per_field(
+    design: &Design,
+    model: &ModelChoice,
+    mode: DriveMode,
+) -> Result<f64, ModelError> {
+    let mut d = design.clone();
+    d.drive = Drive::new(mode, design.drive.field);
+    Ok(performance(&d, model)?.blocked_force / design.drive.field)
+}
+
 /// The model's performance of a design at its drive (SI): a built-in model on the design's laminate, a
 /// calibrated one on its effects.
 pub fn performance(design: &Design, model: &ModelChoice) -> Result<Performance, ModelError> {
@@ -145,6 +166,13 @@ impl Prediction {
         let mut p = Self::from_performance(design, model.name(), &performance);
         p.resonance_Hz = Some(modal.frequency);
         p.modal_mass_mg = Some(modal.modal_mass() * 1e6);
+        // The modes the model covers (Euler-Bernoulli takes parallel and series only).
+        let modes = DriveMode::ALL
+            .into_iter()
+            .filter_map(|m| force_per_field(design, model, m).ok().map(|per| (m, per)))
+            .map(|(m, per)| mode_row(design, m, performance.blocked_force, per, DESIGN_SURVIVAL))
+            .collect::<Result<Vec<_>, _>>()?;
+        p.modes = Some(modes);
         Ok(p)
     }
 
@@ -181,6 +209,7 @@ impl Prediction {
             },
             resonance_Hz: None,
             modal_mass_mg: None,
+            modes: None,
         }
     }
 
@@ -332,6 +361,9 @@ impl Prediction {
         );
         for (label, value, unit) in rows {
             let _ = writeln!(out, "  {label:<18} {value:>12}  {unit}");
+        }
+        if let Some(modes) = &self.modes {
+            modes_table(modes, "deflection", &mut out);
         }
         out
     }

@@ -570,10 +570,7 @@ impl Effects {
 
 /// Helper for callers with a drive given as a voltage.
 pub fn drive_at_voltage(mode: DriveMode, voltage: f64, pzt_thickness: f64) -> Drive {
-    Drive {
-        mode,
-        field: mode.field_from_voltage(voltage, pzt_thickness),
-    }
+    Drive::new(mode, mode.field_from_voltage(voltage, pzt_thickness))
 }
 
 #[cfg(test)]
@@ -595,10 +592,7 @@ mod tests {
             ply_thickness: 61.8e-6,
             layup_deg: layup,
             planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
-            drive: Drive {
-                mode: DriveMode::Parallel,
-                field: 600e3,
-            },
+            drive: Drive::new(DriveMode::Parallel, 600e3),
         }
     }
 

@@ -58,14 +58,7 @@ mod tests {
         let pzt = Material::builtin("PZT-5H").unwrap();
         let cf = Material::builtin("CF-thesis").unwrap();
         let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
-        let s = Section::new(
-            &lam,
-            Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            },
-        )
-        .unwrap();
+        let s = Section::new(&lam, Drive::new(DriveMode::Parallel, 800e3)).unwrap();
         let pl = Planform::new(l, l_r, w0, w_r, 0.0).unwrap();
         adjust(&evaluate(&s, &pl), &pl, t_p)
     }

@@ -21,6 +21,16 @@ pub enum ModelError {
     /// Not enough or degenerate data for a statistical fit.
     #[error("fit: {0}")]
     Fit(String),
+    /// A choice (a drive mode, a shape) outside what a model covers.
+    #[error("{name} = {value}: {allowed}")]
+    NotCovered {
+        /// The choice as the model knows it.
+        name: &'static str,
+        /// Its value, as written.
+        value: &'static str,
+        /// What the model covers.
+        allowed: &'static str,
+    },
 }
 
 /// Check `lo < value < hi` (open interval) and finiteness.

@@ -111,14 +111,7 @@ mod tests {
             (191e-6, 400e-6, 60e-3, 20e-3, 300e3),
         ] {
             let lam = Laminate::bimorph(&pzt, t_p, &core, t_m, &[0.0], None).unwrap();
-            let section = Section::new(
-                &lam,
-                Drive {
-                    mode: DriveMode::Parallel,
-                    field,
-                },
-            )
-            .unwrap();
+            let section = Section::new(&lam, Drive::new(DriveMode::Parallel, field)).unwrap();
             let clt = evaluate(&section, &Planform::new(l, 0.0, w, 1.0, 0.0).unwrap());
             let beam = BeamBimorph::from_laminate(&lam, l, w).unwrap();
             assert!((beam.passive_modulus / core.e1 - 1.0).abs() < 1e-12);

@@ -22,11 +22,35 @@ pub fn small_angle_error(curvature: f64, l_p: f64, l_ext: f64) -> f64 {
     linear / exact_tip_deflection(curvature, l_p, l_ext) - 1.0
 }
 
+/// The largest small-angle overestimate of the tip deflection the linear model is trusted to: 1 %.
+/// For a plate without extension it is reached at a root-to-tip rotation of 0.35 rad, `δ / l_p ≈ 0.17`
+/// (docs/physics.md §3.1).
+pub const SMALL_ANGLE_BOUND: f64 = 0.01;
+
+/// The small-angle overestimate at a linear tip deflection `deflection` of a plate `l_p` with a rigid
+/// extension `l_ext`, taking the curvature as uniform: `P = δ / (l_p (l_p/2 + l_ext))` (docs/physics.md §3).
+pub fn small_angle_error_at(deflection: f64, l_p: f64, l_ext: f64) -> f64 {
+    let curvature = deflection / (l_p * (0.5 * l_p + l_ext));
+    small_angle_error(curvature, l_p, l_ext)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::effects::{Actuator, Effects};
     use crate::{Drive, DriveMode, Material, Planform};
+
+    #[test]
+    fn the_small_angle_bound_is_reached_near_a_fifth_of_the_plate() {
+        // Closed form for a uniform arc without extension: δ_lin/δ_exact - 1 = (θ²/2)/(1 - cos θ) - 1
+        // ≈ θ²/12, so 1 % at θ ≈ 0.346 rad, δ/l_p = θ/2 ≈ 0.173.
+        let l_p = 0.04;
+        let at = |ratio: f64| small_angle_error_at(ratio * l_p, l_p, 0.0);
+        assert!(at(0.17) < SMALL_ANGLE_BOUND && at(0.177) > SMALL_ANGLE_BOUND);
+        let theta: f64 = 0.3;
+        let want = (theta * theta / 2.0) / (1.0 - theta.cos()) - 1.0;
+        assert!((at(theta / 2.0) - want).abs() < 1e-12);
+    }
 
     #[test]
     fn matches_the_series_of_the_arc() {
@@ -67,10 +91,7 @@ mod tests {
                                 ply_thickness: 61.8e-6,
                                 layup_deg: layup,
                                 planform,
-                                drive: Drive {
-                                    mode: DriveMode::Parallel,
-                                    field,
-                                },
+                                drive: Drive::new(DriveMode::Parallel, field),
                             };
                             let b = Effects::null().basis(&a).unwrap();
                             let l_p = planform.piezo_length();

@@ -22,6 +22,7 @@ pub mod model;
 pub mod performance;
 pub mod planform;
 pub mod plate;
+pub mod poling;
 pub mod primitives;
 pub mod section;
 pub mod transmission;

@@ -28,6 +28,10 @@ pub struct Material {
     pub relative_permittivity: f64,
     /// Nominal thickness of one ply or sheet, m, where the material comes in a standard ply.
     pub ply_thickness: Option<f64>,
+    /// Highest field a piezoelectric plate may carry against its poling without depoling, V/m (the
+    /// initial depolarizing field, docs/physics.md §2.1); 0 for passive materials.
+    #[serde(default)]
+    pub depolarization_field: f64,
 }
 
 impl Material {
@@ -52,13 +56,15 @@ impl Material {
             d31: 0.0,
             relative_permittivity: 0.0,
             ply_thickness: None,
+            depolarization_field: 0.0,
         }
     }
 
-    fn pzt(name: &str, e: f64, d31: f64) -> Self {
+    fn pzt(name: &str, e: f64, d31: f64, depolarization_field: f64) -> Self {
         Material {
             d31,
             relative_permittivity: 3800.0,
+            depolarization_field,
             ..Self::isotropic(name, e, 0.31, 7800.0)
         }
     }
@@ -74,6 +80,7 @@ impl Material {
             d31: 0.0,
             relative_permittivity: 0.0,
             ply_thickness: Some(t),
+            depolarization_field: 0.0,
         }
     }
 
@@ -90,15 +97,17 @@ pub fn builtin_names() -> Vec<String> {
 
 /// The built-in library: docs/physics.md §8.
 ///
-/// - PZT-5H (PSI-5H4E): E = 62 GPa, ν = 0.31, ρ = 7800, d31 = -320 pm/V, K33 = 3800.
-/// - PZT-5A: E = 66 GPa, d31 = -190 pm/V.
+/// - PZT-5H (PSI-5H4E): E = 62 GPa, ν = 0.31, ρ = 7800, d31 = -320 pm/V, K33 = 3800; depolarization
+///   field against the poling 300 V/mm (the initial depolarizing field E_C,i of Piezo Systems' PZT-5H,
+///   thesis Table 2.1; its coercive field E_C,f is 800 V/mm).
+/// - PZT-5A: E = 66 GPa, d31 = -190 pm/V; depolarization field 500 V/mm (thesis Table 2.1).
 /// - CF-thesis: thesis Table 3.3 (420 / 5.51 / 4.83 GPa, ν12 = 0.25, 61.8 µm) with the density read as
 ///   1390 kg/m³ (the table's "1.39 kg/m³" is a unit slip for g/cm³).
 /// - M60J-epoxy: mid-range 300 GPa, 50 µm ply; S2-glass-epoxy; stainless steel; Pyralux LF (25 µm).
 pub fn builtin_library() -> Vec<Material> {
     vec![
-        Material::pzt("PZT-5H", 62e9, -320e-12),
-        Material::pzt("PZT-5A", 66e9, -190e-12),
+        Material::pzt("PZT-5H", 62e9, -320e-12, 300e3),
+        Material::pzt("PZT-5A", 66e9, -190e-12, 500e3),
         Material::ply("CF-thesis", 420e9, 5.51e9, 4.83e9, 0.25, 1390.0, 61.8e-6),
         Material::ply("M60J-epoxy", 300e9, 7e9, 5e9, 0.33, 1500.0, 50e-6),
         Material::ply("S2-glass-epoxy", 55e9, 14e9, 5e9, 0.28, 1780.0, 100e-6),

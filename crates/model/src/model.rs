@@ -61,13 +61,13 @@ pub fn predict(
                     range: "the Euler-Bernoulli model covers rectangles only (w_r = 1, l_r = 0)",
                 });
             }
-            if drive.mode != crate::drive::DriveMode::Parallel
-                && drive.mode != crate::drive::DriveMode::Series
-            {
-                return Err(ModelError::OutOfRange {
+            // The beam's plates move by ±E (docs/physics.md §2); the biased mode's bias bends nothing.
+            use crate::drive::DriveMode::{Biased, Parallel, Series};
+            if ![Parallel, Series, Biased].contains(&drive.mode) {
+                return Err(ModelError::NotCovered {
                     name: "drive mode",
-                    value: f64::NAN,
-                    range: "the Euler-Bernoulli model covers parallel and series drive",
+                    value: drive.mode.name(),
+                    allowed: "the Euler-Bernoulli model covers parallel, series and biased drive",
                 });
             }
             let beam = BeamBimorph::from_laminate(laminate, planform.length, planform.base_width)?;
@@ -375,10 +375,7 @@ mod tests {
             ply_thickness: 61.8e-6,
             layup_deg: &layup,
             planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
-            drive: Drive {
-                mode: crate::drive::DriveMode::Parallel,
-                field: 600e3,
-            },
+            drive: Drive::new(crate::drive::DriveMode::Parallel, 600e3),
         };
         let lam = Laminate::bimorph(&pzt, 191e-6, &cf, 61.8e-6, &layup, None).unwrap();
         let orig = predict(ModelKind::Original, &lam, &a.planform, a.drive).unwrap();

@@ -162,14 +162,7 @@ mod tests {
         let pzt = Material::builtin("PZT-5H").unwrap();
         let cf = Material::builtin("CF-thesis").unwrap();
         let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, &layup, None).unwrap();
-        Section::new(
-            &lam,
-            Drive {
-                mode: DriveMode::Parallel,
-                field,
-            },
-        )
-        .unwrap()
+        Section::new(&lam, Drive::new(DriveMode::Parallel, field)).unwrap()
     }
 
     #[test]

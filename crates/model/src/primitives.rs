@@ -498,10 +498,7 @@ pub(crate) mod tests {
             ply_thickness: 61.8e-6,
             layup_deg: &layup,
             planform: Planform::new(40e-3, 0.6, 8e-3, 1.4, 2e-3).unwrap(),
-            drive: Drive {
-                mode: DriveMode::Parallel,
-                field: 600e3,
-            },
+            drive: Drive::new(DriveMode::Parallel, 600e3),
         };
         f(&a)
     }
@@ -959,7 +956,7 @@ pub(crate) mod tests {
                         primitives: vec![x],
                     };
                     let at = |field: f64| Actuator {
-                        drive: Drive { mode, field },
+                        drive: Drive::new(mode, field),
                         ..*a
                     };
                     let (e1, e2) = (300e3, 600e3);

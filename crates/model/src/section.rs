@@ -161,12 +161,5 @@ pub(crate) fn thesis_section(t_p: f64, layup: &[f64]) -> Section {
     let pzt = crate::material::Material::builtin("PZT-5H").unwrap();
     let cf = crate::material::Material::builtin("CF-thesis").unwrap();
     let lam = Laminate::bimorph(&pzt, t_p, &cf, 61.8e-6, layup, None).unwrap();
-    Section::new(
-        &lam,
-        Drive {
-            mode: crate::drive::DriveMode::Parallel,
-            field: 800e3,
-        },
-    )
-    .unwrap()
+    Section::new(&lam, Drive::new(crate::drive::DriveMode::Parallel, 800e3)).unwrap()
 }

@@ -139,12 +139,12 @@ pub fn plan_linkage(
         format!(
             "{} gives the transmission as {} µN·m/rad, {} mg·mm² and {} mg; the drawn linkage has {} µN·m/rad, {} mg·mm² and {} mg: give its flexures (flexure_length_um, flexure_width_mm, film_thickness_um) for `drive` to use the drawn linkage",
             drive_file.display(),
-            crate::drive::fixed(spec.flexure_stiffness * 1e6, 3),
-            crate::drive::fixed(spec.link_inertia * 1e12, 3),
-            crate::drive::fixed(spec.transmission_mass * 1e6, 3),
-            crate::drive::fixed(report.flexure_stiffness_uNm_per_rad, 3),
-            crate::drive::fixed(report.link_inertia_mg_mm2, 3),
-            crate::drive::fixed(report.mass_mg, 3),
+            crate::input::fixed(spec.flexure_stiffness * 1e6, 3),
+            crate::input::fixed(spec.link_inertia * 1e12, 3),
+            crate::input::fixed(spec.transmission_mass * 1e6, 3),
+            crate::input::fixed(report.flexure_stiffness_uNm_per_rad, 3),
+            crate::input::fixed(report.link_inertia_mg_mm2, 3),
+            crate::input::fixed(report.mass_mg, 3),
         )
     });
     Ok(LinkageCut {

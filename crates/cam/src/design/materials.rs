@@ -1,8 +1,8 @@
 //! Materials named in a design file: the built-in library, or a `[materials.NAME]` table.
 
 use crate::input::limits::{
-    D31_PM_PER_V, DENSITY_KG_PER_M3 as DENSITY, MODULUS_GPA, PERMITTIVITY, PLY_THICKNESS_MM,
-    POISSON,
+    D31_PM_PER_V, DENSITY_KG_PER_M3 as DENSITY, DEPOLARIZATION_V_PER_MM, MODULUS_GPA, PERMITTIVITY,
+    PLY_THICKNESS_MM, POISSON,
 };
 use crate::input::{short_number, InputError, TableReader};
 use actuator_model::material::builtin_names;
@@ -12,7 +12,8 @@ use std::path::Path;
 
 /// A user material from `[materials.NAME]`: `e1_GPa`, optional `e2_GPa` (default e1), `g12_GPa`
 /// (default `e1 / (2 (1 + ν12))`), `nu12`, `density_kg_per_m3`, optional `d31_pm_per_V`,
-/// `relative_permittivity`, `ply_thickness_mm`.
+/// `relative_permittivity`, `ply_thickness_mm`, `depolarization_field_V_per_mm` (default PZT-5H's for a
+/// piezoelectric material).
 pub fn material_from_table(name: &str, t: &TableReader<'_>) -> Result<Material, InputError> {
     let e1 = t.number_in("e1_GPa", MODULUS_GPA)? * 1e9;
     let e2 = t
@@ -41,6 +42,21 @@ pub fn material_from_table(name: &str, t: &TableReader<'_>) -> Result<Material, 
         ply_thickness: t
             .optional_number_in("ply_thickness_mm", PLY_THICKNESS_MM)?
             .map(|x| x * 1e-3),
+        depolarization_field: 0.0,
+    };
+    // A piezoelectric material without its own figure takes PZT-5H's (docs/physics.md §2.1): every
+    // plate driven against its poling is then held to a depolarization limit.
+    let m = Material {
+        depolarization_field: match t
+            .optional_number_in("depolarization_field_V_per_mm", DEPOLARIZATION_V_PER_MM)?
+        {
+            Some(e) => e * 1e3,
+            None if m.is_piezoelectric() => {
+                Material::builtin("PZT-5H").map_or(0.0, |p| p.depolarization_field)
+            }
+            None => 0.0,
+        },
+        ..m
     };
     // Plane-stress stiffness needs 1 - ν12 ν21 = 1 - ν12² E2 / E1 > 0. Only E1 is in the
     // denominator, and a small E1 is what breaks it (E2 and ν12 are bounded by their ranges), so E1 is

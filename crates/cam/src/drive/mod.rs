@@ -12,20 +12,23 @@ pub mod spec;
 
 use crate::design::transmission::TransmissionSpec;
 use crate::design::Design;
+use crate::field_limits::{self as limits, ModeRow, PolingRow};
+use crate::input::fixed;
 use crate::input::InputError;
 use crate::linkage::LinkageLaminate;
-use crate::prediction::{actuator_modes, performance};
+use crate::prediction::{actuator_modes, force_per_field, performance};
 use crate::process::template::Template;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
+use actuator_model::large_deflection::{small_angle_error_at, SMALL_ANGLE_BOUND};
 use actuator_model::model::ModelChoice;
 use actuator_model::plate::{self, PlatePeak};
+use actuator_model::poling::{Binding, FieldCheck};
 use actuator_model::transmission::Linkage;
 use actuator_model::{ModelError, Performance, Section, Weibull};
 use report::{
-    ActuatorRow, DriveReport, LinkageRow, MassRow, ModeRow, OperatingRow, SweepPoint, Unreachable,
-    WingRow,
+    ActuatorRow, DriveReport, LinkageRow, MassRow, OperatingRow, SweepPoint, Unreachable, WingRow,
 };
 use spec::{DriveSpec, LinkageSpec};
 use std::f64::consts::PI;
@@ -58,21 +61,6 @@ pub struct Analysis {
     pub state: Option<SteadyState>,
     /// Everything printed and written.
     pub report: DriveReport,
-}
-
-/// Blocked force per unit peak plate field of a design in a drive mode, N/(V/m) (the model is linear
-/// in the field).
-fn force_per_field(
-    design: &Design,
-    model: &ModelChoice,
-    mode: DriveMode,
-) -> Result<f64, ModelError> {
-    let mut d = design.clone();
-    d.drive = Drive {
-        mode,
-        field: design.drive.field,
-    };
-    Ok(performance(&d, model)?.blocked_force / design.drive.field)
 }
 
 /// The linkage of the spec; a solved one from the actuator's free deflection unless a travel is given.
@@ -195,19 +183,23 @@ pub fn analyse(
     };
     let mode = design.drive.mode;
     let per_field = force_per_field(design, model, mode)?;
-    let limit_field = mode.field_limit().threshold(spec.survival)?;
+    let limits = limits::check(design, &design.drive, spec.survival)?;
+    let limit_field = limits.max_signal;
     let force_limit = per_field * limit_field;
     let f = spec.frequency;
 
-    let (state, unreachable) = steady_state(spec, &system, mode, per_field, limit_field);
+    let (state, unreachable, required) = steady_state(spec, &system, design, per_field, &limits);
 
     let operating = state
-        .map(|s| operating_row(&system, design, &perf, mode, per_field, &s))
+        .map(|s| operating_row(&system, design, &perf, spec.survival, per_field, &s))
         .transpose()?;
-    let modes = match state {
-        Some(s) if unreachable.is_none() => mode_rows(spec, design, model, s.force)?,
-        _ => Vec::new(),
+    let modes = match required {
+        Some(force) => mode_rows(spec, design, model, force)?,
+        None => Vec::new(),
     };
+    let past_small_deflection = operating
+        .as_ref()
+        .and_then(|o| past_small_deflection(design, o.tip_amplitude_mm * 1e-3));
     let sweep_force = state.map_or(force_limit, |s| s.force);
     let sweep = sweep(&system, sweep_force, f);
     let actuator_mass = perf.mass;
@@ -220,8 +212,9 @@ pub fn analyse(
         drive_mode: mode.name().to_string(),
         frequency_Hz: f,
         required_stroke_deg: spec.transmission.stroke.to_degrees(),
-        reached: unreachable.is_none() && unbuildable.is_none(),
+        reached: unreachable.is_none() && unbuildable.is_none() && past_small_deflection.is_none(),
         unbuildable_linkage: unbuildable,
+        past_small_deflection,
         resonance_Hz: system.linear_resonance(),
         resonance_at_stroke_Hz: system.resonance_at_stroke(spec.transmission.stroke, f).ok(),
         actuator: ActuatorRow {
@@ -247,6 +240,9 @@ pub fn analyse(
             mass_mg: wing.mass * 1e6,
         },
         field_limit_V_per_mm: limit_field * 1e-3,
+        field_limit_binds: limits.binds.name().to_string(),
+        failure_limit_V_per_mm: limits.failure_limit * 1e-3,
+        depolarization_limit_V_per_mm: limits.depolarization_limit * 1e-3,
         survival_limit: spec.survival,
         operating,
         modes,
@@ -269,22 +265,80 @@ pub fn analyse(
     })
 }
 
-/// The steady state at the required stroke, when the field limit allows it; else the best one within
-/// the limit, and why the stroke is out of reach.
+/// Why a tip amplitude `deflection` (m) is past the range the linear model holds, if it is
+/// (docs/physics.md §3.1).
+fn past_small_deflection(design: &Design, deflection: f64) -> Option<String> {
+    let (l_p, l_ext) = (
+        design.planform.piezo_length(),
+        design.planform.extension_length(),
+    );
+    let error = small_angle_error_at(deflection, l_p, l_ext);
+    (error > SMALL_ANGLE_BOUND).then(|| {
+        format!(
+            "the tip amplitude of {:.3} mm on a {:.1} mm actuator is past the small-deflection range the model holds: the small-angle deflection is {:.1} % too large, over the {:.0} % bound; a longer actuator or a linkage with more travel per degree",
+            deflection * 1e3,
+            design.planform.length * 1e3,
+            error * 100.0,
+            SMALL_ANGLE_BOUND * 100.0
+        )
+    })
+}
+
+/// The steady state at the required stroke, when the field limits allow it; else the best one within
+/// them, and why the stroke is out of reach. Also the force amplitude the required stroke takes at any
+/// field, where it has a steady state.
 fn steady_state(
     spec: &DriveSpec,
     system: &FlappingSystem,
-    mode: DriveMode,
+    design: &Design,
     per_field: f64,
-    limit_field: f64,
-) -> (Option<SteadyState>, Option<Unreachable>) {
-    let force_limit = per_field * limit_field;
+    limits: &FieldCheck,
+) -> (Option<SteadyState>, Option<Unreachable>, Option<f64>) {
+    let force_limit = per_field * limits.max_signal;
     let f = spec.frequency;
-    // The force the stroke needs whatever the field, then whether the field limit allows it.
+    // The force the stroke needs whatever the field, then whether the field limits allow it.
     match system.force_for_stroke(spec.transmission.stroke, f, f64::INFINITY) {
-        Ok(s) if s.force <= force_limit => (Some(s), None),
-        Ok(s) => beyond_field_limit(spec, system, mode, per_field, limit_field, &s),
-        Err(_) => no_steady_state(spec, system, mode, limit_field, force_limit),
+        Ok(s) if s.force <= force_limit => (Some(s), None, Some(s.force)),
+        Ok(s) => {
+            let (best, why) = beyond_field_limit(spec, system, design, per_field, limits, &s);
+            (best, why, Some(s.force))
+        }
+        Err(_) => {
+            let (best, why) = no_steady_state(spec, system, design, limits, force_limit);
+            (best, why, None)
+        }
+    }
+}
+
+/// The limit that binds the design's mode, in words.
+fn binding_text(spec: &DriveSpec, design: &Design, limits: &FieldCheck) -> String {
+    let mode = design.drive.mode.name();
+    match limits.binds {
+        Binding::Failure => format!(
+            "the field limit of {mode} drive: {:.0} V/mm (Weibull survival {})",
+            limits.max_signal * 1e-3,
+            spec.survival
+        ),
+        Binding::Depolarization => format!(
+            "the depolarization limit of {mode} drive: {:.0} V/mm against the poling ({}'s depolarization field)",
+            limits.depolarization_limit * 1e-3,
+            design.pzt.name
+        ),
+        Binding::Bias => format!(
+            "the bias of biased drive: a signal of at most {:.0} V/mm, half the bias, keeps it between 0 and the bias",
+            limits.max_signal * 1e-3
+        ),
+    }
+}
+
+/// What would relax the binding limit, besides a stronger actuator.
+fn relief(limits: &FieldCheck) -> &'static str {
+    match limits.binds {
+        Binding::Failure => "a lower survival share",
+        Binding::Depolarization => {
+            "a drive that keeps each plate along its poling (mode = \"biased\" with a DC bias)"
+        }
+        Binding::Bias => "a higher bias (drive.bias_V)",
     }
 }
 
@@ -302,34 +356,30 @@ fn best_within(spec: &DriveSpec, system: &FlappingSystem, force_limit: f64) -> O
 fn beyond_field_limit(
     spec: &DriveSpec,
     system: &FlappingSystem,
-    mode: DriveMode,
+    design: &Design,
     per_field: f64,
-    limit_field: f64,
+    limits: &FieldCheck,
     s: &SteadyState,
 ) -> (Option<SteadyState>, Option<Unreachable>) {
-    let force_limit = per_field * limit_field;
+    let force_limit = per_field * limits.max_signal;
     let best = best_within(spec, system, force_limit);
     let field = s.force / per_field;
     let change = format!(
-        "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm at survival {}: it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+        "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm ({}): it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), {}, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
         field * 1e-3,
-        mode.name(),
-        fixed(mode.field_limit().survival(field), 4),
-        limit_field * 1e-3,
-        spec.survival,
+        design.drive.mode.name(),
+        fixed(Drive { field, ..design.drive }.survival(), 4),
+        limits.max_signal * 1e-3,
+        limits.binds.name(),
         s.force / force_limit,
+        relief(limits),
         nearest_resonance(system, spec.transmission.stroke),
     );
     (
         best,
         Some(Unreachable {
             best_stroke_deg: best.map_or(0.0, |b| b.stroke_amplitude.to_degrees()),
-            binding: format!(
-                "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
-                mode.name(),
-                limit_field * 1e-3,
-                spec.survival
-            ),
+            binding: binding_text(spec, design, limits),
             change,
         }),
     )
@@ -340,8 +390,8 @@ fn beyond_field_limit(
 fn no_steady_state(
     spec: &DriveSpec,
     system: &FlappingSystem,
-    mode: DriveMode,
-    limit_field: f64,
+    design: &Design,
+    limits: &FieldCheck,
     force_limit: f64,
 ) -> (Option<SteadyState>, Option<Unreachable>) {
     let linkage = system.linkage;
@@ -350,14 +400,10 @@ fn no_steady_state(
     let at_limit = best.is_some_and(|b| b.force >= force_limit * (1.0 - 1e-6));
     let (binding, change) = if at_limit {
         (
+            binding_text(spec, design, limits),
             format!(
-                "the field limit of {} drive: {:.0} V/mm (Weibull survival {})",
-                mode.name(),
-                limit_field * 1e-3,
-                spec.survival
-            ),
-            format!(
-                "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), a lower survival share, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+                "more blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), {}, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+                relief(limits),
                 nearest_resonance(system, spec.transmission.stroke)
             ),
         )
@@ -392,7 +438,7 @@ fn no_steady_state(
     )
 }
 
-/// The field, voltage and survival the steady force needs in each drive mode.
+/// The field, voltage and margins to the limits the steady force needs in each drive mode.
 fn mode_rows(
     spec: &DriveSpec,
     design: &Design,
@@ -403,16 +449,7 @@ fn mode_rows(
         .into_iter()
         .map(|m| {
             let per = force_per_field(design, model, m)?;
-            let field = force / per;
-            let limit = m.field_limit().threshold(spec.survival)?;
-            Ok(ModeRow {
-                mode: m.name().to_string(),
-                field_V_per_mm: field * 1e-3,
-                voltage_V: m.voltage_from_field(field, design.pzt_thickness),
-                survival: m.field_limit().survival(field),
-                limit_V_per_mm: limit * 1e-3,
-                within_limit: field <= limit,
-            })
+            limits::mode_row(design, m, force, per, spec.survival)
         })
         .collect()
 }
@@ -423,12 +460,18 @@ fn operating_row(
     system: &FlappingSystem,
     design: &Design,
     perf: &Performance,
-    mode: DriveMode,
+    survival: f64,
     per_field: f64,
     s: &SteadyState,
 ) -> Result<OperatingRow, ModelError> {
+    let mode = design.drive.mode;
     let field = s.force / per_field;
-    let section = Section::new(&design.laminate()?, Drive { mode, field })?;
+    let drive = Drive {
+        field,
+        ..design.drive
+    };
+    let check = limits::check(design, &drive, survival)?;
+    let section = Section::new(&design.laminate()?, drive)?;
     let omega = 2.0 * PI * s.frequency;
     let mut peak = PlatePeak::default();
     for i in 0..PERIOD_SAMPLES {
@@ -460,7 +503,7 @@ fn operating_row(
         force_amplitude_N: s.force,
         field_V_per_mm: field * 1e-3,
         voltage_V: mode.voltage_from_field(field, design.pzt_thickness),
-        survival: mode.field_limit().survival(field),
+        survival: drive.survival(),
         peak_pzt_stress_MPa: peak.stress * 1e-6,
         peak_pzt_stress_x_over_l_p: peak.stress_at,
         peak_pzt_strain: peak.strain,
@@ -469,6 +512,7 @@ fn operating_row(
         peak_tip_load_N: s.peak_tip_load,
         mechanical_power_mW: s.aero_power * 1e3,
         reactive_power_mW: reactive * 1e3,
+        poling: PolingRow::new(design, &drive, &check),
     })
 }
 
@@ -513,13 +557,4 @@ pub fn sweep(system: &FlappingSystem, force: f64, frequency: f64) -> Vec<SweepPo
         }
     }
     points
-}
-
-/// `x` with `decimals` decimals, or its short form when that would be long.
-pub fn fixed(x: f64, decimals: usize) -> String {
-    if x.is_finite() && x.abs() < 1e9 {
-        format!("{x:.decimals$}")
-    } else {
-        crate::input::short_number(x)
-    }
 }

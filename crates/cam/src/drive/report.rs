@@ -1,8 +1,9 @@
 //! The drive report in lab units: the table `drive` prints, report.md, report.json and the
 //! frequency-response plot.
 
-use super::fixed;
 use crate::drawing::svg::xml_escape;
+pub use crate::field_limits::{ModeRow, PolingRow};
+use crate::input::fixed;
 use crate::plot::{nice_ceiling, Anchor, Area, Canvas, Label, Marker, DASHED};
 use actuator_model::ModelError;
 use serde::Serialize;
@@ -66,18 +67,9 @@ pub struct OperatingRow {
     pub peak_tip_load_N: f64,
     pub mechanical_power_mW: f64,
     pub reactive_power_mW: f64,
-}
-
-/// The same stroke in one drive mode.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[allow(non_snake_case)]
-pub struct ModeRow {
-    pub mode: String,
-    pub field_V_per_mm: f64,
-    pub voltage_V: f64,
-    pub survival: f64,
-    pub limit_V_per_mm: f64,
-    pub within_limit: bool,
+    /// The plates' field against the limits of the mode (docs/physics.md §2.1).
+    #[serde(flatten)]
+    pub poling: PolingRow,
 }
 
 /// Actuator + transmission against the budget.
@@ -123,6 +115,9 @@ pub struct DriveReport {
     /// sizes (the drawn check of docs/cam.md §7).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unbuildable_linkage: Option<String>,
+    /// Why the tip amplitude is past the small-deflection range of the model (docs/physics.md §3.1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub past_small_deflection: Option<String>,
     /// Small-stroke resonance of actuator + transmission + wing.
     pub resonance_Hz: f64,
     /// Resonance at the required stroke: the frequency where the steady stroke of that amplitude is
@@ -131,7 +126,13 @@ pub struct DriveReport {
     pub actuator: ActuatorRow,
     pub linkage: LinkageRow,
     pub wing: WingRow,
+    /// The highest signal field within every limit of the design's mode, and the limit that sets it.
     pub field_limit_V_per_mm: f64,
+    pub field_limit_binds: String,
+    /// The failure fit's field at `survival_limit`, along the poling.
+    pub failure_limit_V_per_mm: f64,
+    /// The PZT's depolarization field, against the poling.
+    pub depolarization_limit_V_per_mm: f64,
     pub survival_limit: f64,
     /// At the required stroke when reached, else at the best stroke within the field limit.
     pub operating: Option<OperatingRow>,
@@ -190,9 +191,13 @@ impl DriveReport {
                 ("operating.reactive_power_mW", o.reactive_power_mW),
             ]);
         }
+        if let Some(o) = &self.operating {
+            n.extend(o.poling.numbers());
+        }
         for m in &self.modes {
             n.push(("modes.field_V_per_mm", m.field_V_per_mm));
             n.push(("modes.voltage_V", m.voltage_V));
+            n.extend(m.poling.numbers());
         }
         for p in &self.sweep {
             n.push(("sweep.stroke_deg", p.stroke_deg));
@@ -233,12 +238,15 @@ impl DriveReport {
         }
         self.limit_rows(&mut rows);
         let mut out = rows.aligned();
-        self.modes_table(&mut out);
+        crate::field_limits::modes_table(&self.modes, "stroke", &mut out);
         if let Some(l) = &self.linkage_laminate {
             let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
         }
         if let Some(why) = &self.unbuildable_linkage {
             let _ = writeln!(out, "\nNOT BUILDABLE: {why}");
+        }
+        if let Some(why) = &self.past_small_deflection {
+            let _ = writeln!(out, "\nPAST THE MODEL: {why}");
         }
         if let Some(u) = &self.unreachable {
             let _ = writeln!(
@@ -345,7 +353,29 @@ impl DriveReport {
             "V",
         );
         rows.row("  field", fixed(o.field_V_per_mm, 1), "V/mm");
+        if o.poling.bias_V > 0.0 {
+            rows.row("  bias", fixed(o.poling.bias_V, 1), "V");
+        }
+        rows.row(
+            "  plate field along / against poling",
+            format!(
+                "{} / {}",
+                fixed(o.poling.along_V_per_mm, 1),
+                fixed(o.poling.against_V_per_mm, 1)
+            ),
+            "V/mm",
+        );
         rows.row("  field survival", fixed(o.survival, 4), "");
+        rows.row(
+            "  margin to the failure fit",
+            fixed(o.poling.failure_margin_V_per_mm, 1),
+            "V/mm (along the poling)",
+        );
+        rows.row(
+            "  margin to depolarization",
+            fixed(o.poling.depolarization_margin_V_per_mm, 1),
+            "V/mm (against the poling)",
+        );
         rows.row(
             "  peak PZT stress along the plate",
             format!(
@@ -387,9 +417,12 @@ impl DriveReport {
         rows.row(
             "field limit",
             format!(
-                "{} (survival {})",
+                "{} (binds: {}; failure fit {} at survival {}, depolarization {} against the poling)",
                 fixed(self.field_limit_V_per_mm, 1),
-                self.survival_limit
+                self.field_limit_binds,
+                fixed(self.failure_limit_V_per_mm, 1),
+                self.survival_limit,
+                fixed(self.depolarization_limit_V_per_mm, 1)
             ),
             "V/mm",
         );
@@ -416,28 +449,6 @@ impl DriveReport {
             ),
             "mg",
         );
-    }
-
-    /// The same stroke in each drive mode, when it is reached.
-    fn modes_table(&self, out: &mut String) {
-        if !self.modes.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nthe same stroke by drive mode:\n  mode          field V/mm   voltage V   survival   limit V/mm   within"
-            );
-            for m in &self.modes {
-                let _ = writeln!(
-                    out,
-                    "  {:<12}  {:>10}  {:>10}  {:>9}  {:>11}   {}",
-                    m.mode,
-                    fixed(m.field_V_per_mm, 1),
-                    fixed(m.voltage_V, 1),
-                    fixed(m.survival, 4),
-                    fixed(m.limit_V_per_mm, 1),
-                    if m.within_limit { "yes" } else { "no" }
-                );
-            }
-        }
     }
 
     /// report.md: the table with a title.

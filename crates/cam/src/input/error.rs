@@ -58,6 +58,15 @@ fn shorten_word(word: &str) -> String {
     }
 }
 
+/// `x` with `decimals` decimals, or its short form when that would be long.
+pub fn fixed(x: f64, decimals: usize) -> String {
+    if x.is_finite() && x.abs() < 1e9 {
+        format!("{x:.decimals$}")
+    } else {
+        short_number(x)
+    }
+}
+
 /// A number as error messages print it: plain when it reads well (`42.2`, `0.0003`), otherwise in
 /// scientific form with at most 6 significant digits (`1e300`, `1.23457e-300`), so that an absurd value
 /// never fills the terminal. Every [`InputError`] passes its value and message through this.

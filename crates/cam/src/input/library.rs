@@ -1,7 +1,7 @@
 //! Fields that name things rather than numbers, shared by several file kinds: a material from the
 //! built-in library, a drive mode, and the drive field given directly or as a survival share.
 
-use super::limits::{FIELD_V_PER_MM, SURVIVAL};
+use super::limits::{FIELD_V_PER_MM, SURVIVAL, VOLTAGE_V};
 use super::{InputError, TableReader};
 use actuator_model::material::builtin_names;
 use actuator_model::{DriveMode, Material};
@@ -105,11 +105,81 @@ pub enum FieldSource {
     Survival(f64),
 }
 
+/// The bias field of a `[drive]` table, V/m: `bias_V_per_mm`, or `bias_V` over a PZT plate of
+/// `pzt_thickness` (m) where the file fixes one. Required by the biased mode and refused by every other.
+pub fn read_drive_bias(
+    t: &TableReader<'_>,
+    mode: DriveMode,
+    pzt_thickness: Option<f64>,
+) -> Result<f64, InputError> {
+    let keys: &[&str] = if pzt_thickness.is_some() {
+        &["bias_V_per_mm", "bias_V"]
+    } else {
+        &["bias_V_per_mm"]
+    };
+    if mode != DriveMode::Biased {
+        if let Some(k) = keys.iter().find(|k| t.has(k)) {
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path(k),
+                "(set)",
+                format!(
+                    "only mode = \"biased\" takes a bias; {} = \"{}\" does not",
+                    t.path("mode"),
+                    mode.name()
+                ),
+            ));
+        }
+        return Ok(0.0);
+    }
+    let field = t.optional_number_in("bias_V_per_mm", FIELD_V_PER_MM)?;
+    let voltage = match pzt_thickness {
+        Some(_) => t.optional_number_in("bias_V", VOLTAGE_V)?,
+        None => None,
+    };
+    let bias = match (field, voltage, pzt_thickness) {
+        (Some(e), None, _) => e * 1e3,
+        (None, Some(v), Some(tp)) => v / tp,
+        (Some(e), Some(v), _) => {
+            return Err(InputError::invalid(
+                t.file(),
+                &t.prefix_or("drive"),
+                format!("bias_V_per_mm = {e} and bias_V = {v}"),
+                "give exactly one of bias_V_per_mm and bias_V",
+            ))
+        }
+        _ => {
+            return Err(t.missing_one_of(
+                keys,
+                &format!(
+                    "the bias of mode = \"biased\": {} ({FIELD_V_PER_MM})",
+                    keys.join(" or ")
+                ),
+            ))
+        }
+    };
+    if !FIELD_V_PER_MM.contains(bias * 1e-3) {
+        return Err(InputError::invalid(
+            t.file(),
+            &t.path("bias_V"),
+            super::short_number(bias * pzt_thickness.unwrap_or(1e-3)),
+            format!(
+                "gives a bias field of {} V/mm, outside the {FIELD_V_PER_MM}",
+                super::short_number(bias * 1e-3)
+            ),
+        ));
+    }
+    Ok(bias)
+}
+
 /// The drive field of a `[drive]` table, V/m: `field_V_per_mm`, or the level a `survival` share
-/// withstands in the mode's Weibull fit (thesis eq. 3.2, Table 4.12). Exactly one of the two.
+/// withstands in the mode's Weibull fit (thesis eq. 3.2, Table 4.12; for the biased mode the signal
+/// that takes the plates to it over the bias `bias`, V/m, and at most half the bias). Exactly one of
+/// the two.
 pub fn read_drive_field(
     t: &TableReader<'_>,
     mode: DriveMode,
+    bias: f64,
 ) -> Result<(f64, FieldSource), InputError> {
     let field = t.optional_number_in("field_V_per_mm", FIELD_V_PER_MM)?;
     let survival = t.optional_number_in("survival", SURVIVAL)?;
@@ -126,9 +196,14 @@ pub fn read_drive_field(
         )),
         (Some(e), None) => Ok((e * 1e3, FieldSource::Given)),
         (None, Some(s)) => {
-            let field = mode.field_limit().threshold(s).map_err(|e| {
-                InputError::invalid(t.file(), &t.path("survival"), s, e.to_string())
-            })?;
+            let open = actuator_model::Drive {
+                mode,
+                field: 0.0,
+                bias,
+            };
+            let field = actuator_model::poling::FieldCheck::new(&open, s, f64::INFINITY)
+                .map_err(|e| InputError::invalid(t.file(), &t.path("survival"), s, e.to_string()))?
+                .max_signal;
             if !FIELD_V_PER_MM.contains(field * 1e-3) {
                 return Err(InputError::invalid(
                     t.file(),

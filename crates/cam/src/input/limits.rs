@@ -52,6 +52,9 @@ pub const DENSITY_KG_PER_M3: Range = Range::positive_up_to(30_000.0, "kg/m^3");
 pub const D31_PM_PER_V: Range = Range::closed(-2000.0, 2000.0, "pm/V");
 /// |d31| of a sweep level (the library material's sign is kept).
 pub const D31_MAGNITUDE_PM_PER_V: Range = Range::positive_up_to(2000.0, "pm/V");
+/// A PZT's depolarization field against its poling: soft ceramics begin to depole at tens of V/mm and
+/// the hardest reach their coercive field near 2000 V/mm (thesis §2.2.3, Table 2.1).
+pub const DEPOLARIZATION_V_PER_MM: Range = Range::positive_up_to(3000.0, "V/mm");
 /// Relative permittivity ε33/ε0.
 pub const PERMITTIVITY: Range = Range::closed(0.0, 100_000.0, "");
 

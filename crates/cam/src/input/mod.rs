@@ -23,7 +23,7 @@ mod read;
 mod table;
 
 pub use columns::refuse_repeated_columns;
-pub use error::{short_number, InputError};
+pub use error::{fixed, short_number, InputError};
 pub use finite::ensure_finite;
 pub use library::FieldSource;
 pub use range::Range;

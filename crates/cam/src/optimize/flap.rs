@@ -494,10 +494,7 @@ mod tests {
         let ply = Material::builtin("CF-thesis").unwrap();
         for (t_p, layup) in [(0.127e-3, vec![0.0, 90.0, 0.0]), (0.267e-3, vec![0.0; 7])] {
             let laminate = Laminate::bimorph(&pzt, t_p, &ply, 61.8e-6, &layup, None).unwrap();
-            let drive = Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            };
+            let drive = Drive::new(DriveMode::Parallel, 800e3);
             let section = Section::new(&laminate, drive).unwrap();
             for l_r in [0.0, 0.5, 1.5] {
                 for w_r in [1.0, 1.5, 1.95] {

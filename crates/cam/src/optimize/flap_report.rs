@@ -10,24 +10,17 @@ use crate::input::{read_toml, InputError};
 use std::fmt::Write;
 use std::path::Path;
 
-/// The field survival share written into the drive file: the mode's Weibull survival at the design's
-/// field, rounded down to six decimals so that the limit `drive` reads back is at or above that field.
-pub fn survival_at(field: f64, mode: actuator_model::DriveMode) -> f64 {
-    (mode.field_limit().survival(field) * 1e6).floor() / 1e6
-}
-
-/// The drive file of the chosen design: the requirement's drive file with its design, its survival and
-/// its linkage's travel replaced (the wing, frequency, stroke and flexures as given).
+/// The drive file of the chosen design: the requirement's drive file with its design and its linkage's
+/// travel replaced (the wing, frequency, stroke, survival and flexures as given: the search held the
+/// design's field to that survival's limits).
 pub fn drive_toml(
     flap: &Path,
     spec_file: &str,
     design_file: &str,
-    survival: f64,
     travel: f64,
 ) -> Result<String, InputError> {
     let mut table = read_toml(flap)?;
     table.insert("design".into(), toml::Value::String(design_file.into()));
-    table.insert("survival".into(), toml::Value::Float(survival));
     if let Some(toml::Value::Table(t)) = table.get_mut("transmission") {
         t.insert("travel_mm".into(), toml::Value::Float(travel * 1e3));
     }
@@ -35,8 +28,7 @@ pub fn drive_toml(
         .map_err(|e| InputError::invalid(flap, "(drive file)", "(table)", e.to_string()))?;
     Ok(format!(
         "# The drive of the design optimized by `actuator-cam optimize {spec_file}` for the wing of\n\
-         # {}: `actuator-cam drive` on this file. travel_mm is the linkage's size the optimizer chose;\n\
-         # survival is the Weibull share at the design's field.\n{body}",
+         # {}: `actuator-cam drive` on this file. travel_mm is the linkage's size the optimizer chose.\n{body}",
         flap.display()
     ))
 }
@@ -82,6 +74,9 @@ pub fn text(
         d.width_ratio,
         c.performance.mass * 1e6
     );
+    for bound in super::report::bounds_reached(problem, d) {
+        let _ = writeln!(s, "  on the search's bounds: {bound}");
+    }
     let _ = writeln!(
         s,
         "  energy ½ F_b δ        {:.3} µJ (the wing needs {:.3} µJ at the actuator's resonance of {:.1} Hz)",
@@ -106,12 +101,15 @@ pub fn text(
     if let Some(o) = &drive.operating {
         let _ = writeln!(
             s,
-            "  drive (as `drive`)    ±{:.2}° at {:.1} V {}, field {:.1} V/mm of the limit {:.1} V/mm",
+            "  drive (as `drive`)    ±{:.2}° at {:.1} V {}, field {:.1} V/mm of the limit {:.1} V/mm ({} binds; margins {:.1} V/mm to the failure fit, {:.1} V/mm to depolarization)",
             o.stroke_deg,
             o.voltage_V,
             drive.drive_mode,
             o.field_V_per_mm,
-            drive.field_limit_V_per_mm
+            drive.field_limit_V_per_mm,
+            drive.field_limit_binds,
+            o.poling.failure_margin_V_per_mm,
+            o.poling.depolarization_margin_V_per_mm
         );
     }
     let m = &drive.mass;

@@ -5,6 +5,7 @@
 //! then a continuous refinement from the best grid cells of each laminate ([`refine`]). The laminate is
 //! solved once per `(t_p, layup, field)`.
 
+mod field_limit;
 pub mod flap;
 pub mod flap_report;
 pub mod model;
@@ -18,6 +19,7 @@ pub mod spec;
 pub use progress::{Progress, Silent};
 
 use crate::input::short_number;
+use actuator_model::poling::Binding;
 use rayon::prelude::*;
 use search::{Design, FieldLimit, GridResult, Problem};
 
@@ -64,6 +66,15 @@ fn capped_text(limit: FieldLimit) -> &'static str {
         }
         FieldLimit::Strain => {
             ", its field held down by constraints.max_peak_pzt_strain: raise that limit"
+        }
+        FieldLimit::Poling(Binding::Depolarization) => {
+            ", its field held down by the PZT's depolarization field against the poling: a drive mode that keeps the plates along their poling (biased)"
+        }
+        FieldLimit::Poling(Binding::Failure) => {
+            ", its field held down by the drive mode's failure fit at the drive file's survival"
+        }
+        FieldLimit::Poling(Binding::Bias) => {
+            ", its signal held to half the bias: raise drive.bias_V_per_mm"
         }
     }
 }

@@ -281,10 +281,7 @@ mod tests {
             ply_thickness: 61.8e-6,
             layup_deg: layup,
             planform: unit_planform(0.0, 1.0),
-            drive: Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            },
+            drive: Drive::new(DriveMode::Parallel, 800e3),
         }
     }
 

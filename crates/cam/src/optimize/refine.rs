@@ -465,14 +465,7 @@ mod tests {
         let pzt = Material::builtin("PZT-5H").unwrap();
         let cf = Material::builtin("CF-thesis").unwrap();
         let lam = Laminate::bimorph(&pzt, 267e-6, &cf, 61.8e-6, &[0.0, 90.0, 0.0], None).unwrap();
-        let mut section = Section::new(
-            &lam,
-            Drive {
-                mode: DriveMode::Parallel,
-                field: 800e3,
-            },
-        )
-        .unwrap();
+        let mut section = Section::new(&lam, Drive::new(DriveMode::Parallel, 800e3)).unwrap();
         section.passive_areal_mass = 0.0;
         let k = 3.0 * section.free_curvature.powi(2) / (8.0 * section.bending_compliance);
         // Piezo area l_p w_nom = 200 mm² on the ridge: inside the box for every l_r in [0, 1.5].

@@ -66,6 +66,11 @@ fn field_note(c: &Candidate) -> &'static str {
         FieldLimit::Requested => "requested",
         FieldLimit::Voltage => "capped by max_voltage_V",
         FieldLimit::Strain => "capped by max_peak_pzt_strain",
+        FieldLimit::Poling(b) => match b {
+            actuator_model::poling::Binding::Failure => "capped by the failure fit",
+            actuator_model::poling::Binding::Depolarization => "capped by depolarization",
+            actuator_model::poling::Binding::Bias => "capped at half the bias",
+        },
     }
 }
 
@@ -320,16 +325,9 @@ fn per_laminate_text(s: &mut String, outcome: &Outcome) {
     }
 }
 
-/// The constraints and bounds the optimum sits on.
-fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<String> {
+/// The search bounds a design sits on, in words (none when it is inside every range).
+pub(super) fn bounds_reached(p: &Problem, d: &Design) -> Vec<String> {
     let mut out = Vec::new();
-    if perf.energy <= p.energy * (1.0 + AT_LIMIT) {
-        out.push(format!(
-            "energy: U = {:.6} mJ meets U_min = {} mJ (active)",
-            perf.energy * 1e3,
-            decimal(p.energy * 1e3, 12)
-        ));
-    }
     let at = |x: f64, bound: f64| (x - bound).abs() <= AT_LIMIT * bound.abs().max(1e-12);
     let b = &p.bounds;
     let vars = [
@@ -360,6 +358,20 @@ fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<Stri
             ));
         }
     }
+    out
+}
+
+/// The constraints and bounds the optimum sits on.
+fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<String> {
+    let mut out = Vec::new();
+    if perf.energy <= p.energy * (1.0 + AT_LIMIT) {
+        out.push(format!(
+            "energy: U = {:.6} mJ meets U_min = {} mJ (active)",
+            perf.energy * 1e3,
+            decimal(p.energy * 1e3, 12)
+        ));
+    }
+    out.extend(bounds_reached(p, d));
     if p.min_tip_width > 0.0 && d.tip_width() <= p.min_tip_width * (1.0 + AT_LIMIT) {
         out.push(format!(
             "tip width {:.4} mm at min_tip_width_mm = {}",
@@ -379,6 +391,13 @@ fn binding(spec: &Spec, p: &Problem, d: &Design, perf: &Performance) -> Vec<Stri
         FieldLimit::Strain => out.push(format!(
             "max_peak_pzt_strain = {}: field capped at {:.1} V/mm (requested {:.1} V/mm)",
             spec.max_peak_pzt_strain.unwrap_or(f64::NAN),
+            c.section.drive.field * 1e-3,
+            spec.field * 1e-3
+        )),
+        FieldLimit::Poling(b) => out.push(format!(
+            "the {} limit of {} drive: field capped at {:.1} V/mm (requested {:.1} V/mm)",
+            b.name(),
+            spec.mode.name(),
             c.section.drive.field * 1e-3,
             spec.field * 1e-3
         )),
@@ -425,7 +444,7 @@ pub fn design_toml(spec: &Spec, problem: &Problem, d: &Design) -> String {
          \n\
          [drive]\n\
          mode = \"{}\"\n\
-         field_V_per_mm = {}\n",
+         field_V_per_mm = {}\n{}",
         toml_float(d.length * 1e3),
         toml_float(d.extension_ratio),
         toml_float(d.base_width * 1e3),
@@ -436,5 +455,13 @@ pub fn design_toml(spec: &Spec, problem: &Problem, d: &Design) -> String {
         angles.join(", "),
         c.section.drive.mode.name(),
         toml_float(c.section.drive.field * 1e-3),
+        if c.section.drive.mode == actuator_model::DriveMode::Biased {
+            format!(
+                "bias_V_per_mm = {}\n",
+                toml_float(c.section.drive.bias * 1e-3)
+            )
+        } else {
+            String::new()
+        },
     )
 }

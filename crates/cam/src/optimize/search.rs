@@ -8,9 +8,11 @@
 //! dead length or a clamp compliance is not linear in `l_tot`; its rows evaluate each length through
 //! [`SearchModel::energy`] (a few dozen flops, no allocation).
 
+pub use super::field_limit::FieldLimit;
 use super::model::{SearchModel, ShapeRates, Stack};
 use super::progress::Progress;
 use super::spec::{SearchRanges, Spec};
+use actuator_model::poling::FieldCheck;
 use actuator_model::{Drive, Laminate, Material, ModelError, Performance, Planform, Section};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -32,19 +34,6 @@ impl Objective {
             Objective::MaxEnergyDensity => "max-energy-density",
         }
     }
-}
-
-/// What set the drive field of a laminate: the requested field (or survival), the supply voltage, or
-/// the PZT strain limit. Strain and field are proportional, so each limit is a cap on the field.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FieldLimit {
-    /// The field as requested.
-    Requested,
-    /// `max_voltage_V` at this PZT thickness and drive mode.
-    Voltage,
-    /// `max_peak_pzt_strain` in free deflection (uniform along the plate; a shape whose stroke strains
-    /// its plate more is left out, [`Problem::shape_rates`]).
-    Strain,
 }
 
 /// One laminate option, solved once at its drive field.
@@ -321,15 +310,12 @@ fn solve_candidate(
     t_p: f64,
     layup: &[f64],
 ) -> Result<Candidate, ModelError> {
-    let at = |field: f64| {
-        Section::new(
-            laminate,
-            Drive {
-                mode: spec.mode,
-                field,
-            },
-        )
+    let drive = |field: f64| Drive {
+        mode: spec.mode,
+        field,
+        bias: spec.bias,
     };
+    let at = |field: f64| Section::new(laminate, drive(field));
     let requested = at(spec.field)?;
     let mut field = spec.field;
     let mut limit = FieldLimit::Requested;
@@ -346,6 +332,13 @@ fn solve_candidate(
         if by_strain < field {
             field = by_strain;
             limit = FieldLimit::Strain;
+        }
+    }
+    if let Some(survival) = spec.poling_survival {
+        let check = FieldCheck::new(&drive(field), survival, spec.pzt.depolarization_field)?;
+        if check.max_signal < field {
+            field = check.max_signal;
+            limit = FieldLimit::Poling(check.binds);
         }
     }
     let section = if limit == FieldLimit::Requested {

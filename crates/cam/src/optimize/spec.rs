@@ -2,7 +2,9 @@
 //! into SI settings ([`Spec`]), through the checked reader and the shared field ranges of
 //! [`crate::input`]. Everything after [`Spec::from_file`] trusts its input.
 
-use crate::input::library::{read_drive_field, read_drive_mode, read_library_laminate};
+use crate::input::library::{
+    read_drive_bias, read_drive_field, read_drive_mode, read_library_laminate,
+};
 use crate::input::limits::{
     BASE_WIDTH_MM, ENERGY_MJ, EXTENSION_RATIO, GRID, LENGTH_MM, MAX_LEVELS, MAX_PLIES,
     MIN_TIP_WIDTH_MM, PLY_ANGLE_DEG, PZT_STRAIN, PZT_THICKNESS_MM, VOLTAGE_V, WIDTH_RATIO,
@@ -98,6 +100,8 @@ pub struct Spec {
     pub field: f64,
     /// How the field was given.
     pub field_source: FieldSource,
+    /// The biased mode's bias field, V/m (0 for the other modes).
+    pub bias: f64,
     /// Highest supply voltage, V.
     pub max_voltage: Option<f64>,
     /// Planform bounds.
@@ -118,6 +122,10 @@ pub struct Spec {
     pub min_tip_width: f64,
     /// Largest peak PZT strain.
     pub max_peak_pzt_strain: Option<f64>,
+    /// The survival share at which the field is held to the mode's limits on the plates (the failure
+    /// fit and the depolarization field, docs/physics.md §2.1): the drive file's, when optimizing for a
+    /// wing; `None` holds the field to the spec's own limits alone.
+    pub poling_survival: Option<f64>,
 }
 
 impl Spec {
@@ -169,7 +177,8 @@ impl Spec {
 
         let d = root.table("drive")?;
         let mode = read_drive_mode(&d)?;
-        let (field, field_source) = read_drive_field(&d, mode)?;
+        let bias = read_drive_bias(&d, mode, None)?;
+        let (field, field_source) = read_drive_field(&d, mode, bias)?;
         let max_voltage = d.optional_number_in("max_voltage_V", VOLTAGE_V)?;
         d.finish()?;
 
@@ -217,6 +226,7 @@ impl Spec {
             mode,
             field,
             field_source,
+            bias,
             max_voltage,
             bounds,
             pzt_thicknesses,
@@ -227,6 +237,7 @@ impl Spec {
             ply_thickness,
             min_tip_width: min_tip_width_mm.unwrap_or(0.0) * 1e-3,
             max_peak_pzt_strain,
+            poling_survival: None,
         };
         spec.check_tip_width_reachable(path, min_tip_width_mm.unwrap_or(0.0))?;
         Ok(spec)

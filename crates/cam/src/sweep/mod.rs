@@ -121,6 +121,7 @@ fn evaluate_laminate(
         actuator_model::Drive {
             mode: spec.mode,
             field: spec.field,
+            bias: spec.bias,
         },
     )?;
     range

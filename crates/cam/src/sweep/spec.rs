@@ -2,7 +2,9 @@
 //! into SI levels, through the checked reader and the shared field ranges of [`crate::input`].
 
 use crate::design::check_planform;
-use crate::input::library::{read_drive_field, read_drive_mode, read_library_laminate};
+use crate::input::library::{
+    read_drive_bias, read_drive_field, read_drive_mode, read_library_laminate,
+};
 use crate::input::limits::{
     BASE_WIDTH_MM, D31_MAGNITUDE_PM_PER_V, EXTENSION_RATIO, LENGTH_MM, MAX_DESIGNS, MAX_LEVELS,
     MAX_PLIES, MODULUS_GPA, PLY_ANGLE_DEG, PZT_THICKNESS_MM, WIDTH_RATIO,
@@ -76,6 +78,8 @@ pub struct SweepSpec {
     pub field: f64,
     /// How the field was given.
     pub field_source: FieldSource,
+    /// The biased mode's bias field, V/m (0 for the other modes).
+    pub bias: f64,
     /// PZT modulus levels, Pa.
     pub pzt_modulus: Vec<f64>,
     /// PZT d31 levels, m/V, signed as the library material.
@@ -113,7 +117,8 @@ impl SweepSpec {
 
         let d = root.table("drive")?;
         let mode = read_drive_mode(&d)?;
-        let (field, field_source) = read_drive_field(&d, mode)?;
+        let bias = read_drive_bias(&d, mode, None)?;
+        let (field, field_source) = read_drive_field(&d, mode, bias)?;
         d.finish()?;
 
         let f = root.table("factors")?;
@@ -137,6 +142,7 @@ impl SweepSpec {
             mode,
             field,
             field_source,
+            bias,
             pzt_modulus,
             pzt_d31,
             pzt_thickness: levels("pzt_thickness_mm", PZT_THICKNESS_MM, 1e-3)?,

@@ -83,10 +83,7 @@ impl Probe<'_> {
             ply_thickness: self.row.ply_thickness,
             layup_deg: &self.row.layup_deg,
             planform: self.planform,
-            drive: Drive {
-                mode: self.row.drive_mode,
-                field: self.field,
-            },
+            drive: Drive::new(self.row.drive_mode, self.field),
         }
     }
 
