@@ -30,6 +30,7 @@ pzt = "PZT-5H"
 ply = "CF-thesis"
 [constraints]
 min_tip_width_mm = 0.5
+max_peak_pzt_strain = 0.0009
 "#;
 
 /// A folder with the spec, the drive file and its design.
@@ -141,6 +142,7 @@ fn drive_accepts_every_optimum_in_every_mode() {
             "{drive}: {o:?}"
         );
         assert!(r.past_small_deflection.is_none(), "{drive}");
+        assert!(o.peak_pzt_strain <= 0.0009, "{drive}: {o:?}");
         if let Some(limit) = capped {
             assert!(
                 out.contains(&format!("{limit} binds")) && (o.field_V_per_mm - 300.0).abs() < 0.5,

@@ -271,14 +271,29 @@ fn run_flap(
     };
     let analysis = analyse_drive(&check, &chosen.built, &args.model.model)
         .map_err(|e| anyhow::anyhow!("{file}: the optimized design's drive: {e}"))?;
-    if !analysis.report.reached {
+    // Every check `drive` makes, and the spec's strain limit on the strain along the plate in flight.
+    let r = &analysis.report;
+    let strained = r.operating.as_ref().and_then(|o| {
+        let max = spec.max_peak_pzt_strain?;
+        (o.peak_pzt_strain > max).then(|| {
+            format!(
+                "its plate strains {:.0} µstrain at x/l_p {:.2} in flight, past constraints.max_peak_pzt_strain = {}",
+                o.peak_pzt_strain * 1e6,
+                o.peak_pzt_strain_x_over_l_p,
+                short_number(max)
+            )
+        })
+    });
+    let failed = r
+        .unbuildable_linkage
+        .clone()
+        .or_else(|| r.past_small_deflection.clone())
+        .or_else(|| r.unreachable.as_ref().map(|u| u.binding.clone()))
+        .or(strained);
+    if let Some(why) = failed {
         bail!(
-            "internal: the optimized design does not reach the stroke when driven: {}",
-            analysis
-                .report
-                .unreachable
-                .as_ref()
-                .map_or(String::new(), |u| u.binding.clone())
+            "{file}: requirement.flap = {}: the lightest design that meets the wing's energy fails `drive`: {why}",
+            flap.display()
         );
     }
     let text = flap_report(spec, &file, &problem, &outcome, &analysis.report);
