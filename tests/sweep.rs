@@ -249,3 +249,30 @@ fn absurd_and_repeated_levels_are_refused() {
         "{err}"
     );
 }
+
+/// The biased mode in a sweep spec: its bias is required (named as missing, not blamed on the signal's
+/// key), and a signal above half the bias is refused naming it (docs/physics.md §2.1).
+#[test]
+fn a_biased_sweep_needs_its_bias_and_a_signal_within_half_of_it() {
+    use common::{refused_in_one_line, run_ok, stdout, write_temp};
+    let text = std::fs::read_to_string(example("sweep-table-3-2.toml")).unwrap();
+    let line = text.lines().find(|l| l.starts_with("mode = ")).unwrap();
+    for (drive, want) in [
+        ("mode = \"biased\"", "drive.bias_V_per_mm: missing"),
+        (
+            "mode = \"biased\"\nbias_V_per_mm = 900",
+            "drive.field_V_per_mm = 800: the biased signal's amplitude is at most half the bias (450 V/mm)",
+        ),
+    ] {
+        let (_d, path) = write_temp("sweep.toml", &text.replace(line, drive));
+        let err = refused_in_one_line(&run(&["sweep", path.to_str().unwrap()]));
+        assert!(err.contains(want), "{drive}: {err}");
+    }
+    let (_d, path) = write_temp(
+        "sweep.toml",
+        &text.replace(line, "mode = \"biased\"\nbias_V_per_mm = 1600"),
+    );
+    assert!(
+        stdout(&run_ok(&["sweep", path.to_str().unwrap()])).contains("biased drive at 800.0 V/mm")
+    );
+}

@@ -148,9 +148,11 @@ pub fn read_drive_bias(
                 "give exactly one of bias_V_per_mm and bias_V",
             ))
         }
+        // A plain "missing": the keys read after the bias (the signal's) are not misspellings of it.
         _ => {
-            return Err(t.missing_one_of(
-                keys,
+            return Err(InputError::missing(
+                t.file(),
+                &t.path(keys[0]),
                 &format!(
                     "the bias of mode = \"biased\": {} ({FIELD_V_PER_MM})",
                     keys.join(" or ")
@@ -194,6 +196,17 @@ pub fn read_drive_field(
             &["field_V_per_mm", "survival"],
             &format!("exactly one of field_V_per_mm ({FIELD_V_PER_MM}) and survival ({SURVIVAL})"),
         )),
+        (Some(e), None) if mode == DriveMode::Biased && e * 1e3 > 0.5 * bias * (1.0 + 1e-12) => {
+            Err(InputError::invalid(
+                t.file(),
+                &t.path("field_V_per_mm"),
+                e,
+                format!(
+                    "the biased signal's amplitude is at most half the bias ({} V/mm), so that the signal stays between 0 and the bias",
+                    super::short_number(0.5 * bias * 1e-3)
+                ),
+            ))
+        }
         (Some(e), None) => Ok((e * 1e3, FieldSource::Given)),
         (None, Some(s)) => {
             let open = actuator_model::Drive {
