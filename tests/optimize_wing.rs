@@ -263,3 +263,22 @@ fn what_the_wing_optimizer_cannot_take_is_refused_in_one_line() {
         "{err}"
     );
 }
+
+/// An optimum on a bound of the search says so: the hawk-moth wing wants a longer actuator than 50 mm
+/// (the widened search's optimum is 80 mm long), so with lengths up to 50 mm the optimum is at 50 mm.
+#[test]
+fn an_optimum_on_a_search_bound_says_so() {
+    let (dir, spec) = folder(&SPEC.replace("length_mm = [40, 80]", "length_mm = [40, 50]"));
+    let out = stdout(&run_ok(&[
+        "optimize",
+        spec.to_str().unwrap(),
+        "-o",
+        dir.path().join("optimum").to_str().unwrap(),
+    ]));
+    assert!(
+        out.contains("on the search's bounds: total length at its upper bound 50 mm"),
+        "{out}"
+    );
+    let design = std::fs::read_to_string(dir.path().join("optimum/design.toml")).unwrap();
+    assert!(design.contains("length_mm = 50"), "{design}");
+}
