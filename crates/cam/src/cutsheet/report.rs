@@ -236,7 +236,7 @@ impl Report {
                 name: design.name.clone(),
                 base_tab_mm: p.base_tab * 1e3,
                 ground_tab_added: ground_tab.is_some(),
-                capacitance_nf: Some(predicted.capacitance_nF),
+                expected: crate::book::Expected::of(design),
             }],
         );
         Report {

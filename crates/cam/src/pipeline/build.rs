@@ -52,6 +52,9 @@ pub struct Build {
     /// The snapping-order picture of each PZT sheet, (file name, SVG), in sheet order: written beside
     /// the layer files, not a layer file.
     pub snap_guides: Vec<(String, String)>,
+    /// The test-score coupon of each PZT stock, (file stem, [width, height] mm), in sheet order: cut
+    /// from an offcut, before the production sheets.
+    pub coupons: Vec<(String, [f64; 2])>,
 }
 
 /// Jobs grouped by a key, groups in order of first appearance, each member with its job index.
@@ -153,6 +156,7 @@ pub fn build_into<'s>(
         cut_layers,
         clamps,
         snap_guides: drawn.snap_guides,
+        coupons: drawn.coupons,
     })
 }
 
@@ -190,6 +194,7 @@ fn build_pzt(
         let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
         let layouts = place_plates(&members, &spec, spec.stock, names)
             .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
+        super::coupon::draw_coupon(&spec, &stock, &names.title, &template.features, drawn);
         let before = drawn.sheets.len();
         draw_pzt_sheets(
             &members,

@@ -187,6 +187,8 @@ pub struct Drawn<'s> {
     pub placement_map: Vec<String>,
     /// The snapping-order picture of each PZT sheet, (file name, SVG) (`super::snap_guide`).
     pub snap_guides: Vec<(String, String)>,
+    /// The test-score coupon of each PZT stock, (file stem, [width, height] mm) (`super::coupon`).
+    pub coupons: Vec<(String, [f64; 2])>,
     /// Next sheet number of each layer (stems are numbered per layer across the whole build).
     numbers: BTreeMap<String, usize>,
     /// Takes each drawing as it is made, so a large build never holds them all.
@@ -237,9 +239,9 @@ impl<'s> Drawn<'s> {
     }
 
     /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
-    /// the files hold the drawing once.
+    /// the files hold the drawing once. A drawing of 0 copies is cut from an offcut and adds no line.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
-        if let Some(s) = &drawing.stock {
+        if let Some(s) = drawing.stock.as_ref().filter(|_| copies > 0) {
             let same = |c: &&mut StockCount| {
                 c.material == s.material
                     && c.thickness_mm == s.thickness_mm

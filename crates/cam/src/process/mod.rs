@@ -3,6 +3,7 @@
 //! drawn feature gets. Read once through the input layer; the layout pipeline and the reports use it.
 
 mod features;
+pub mod laser;
 pub mod linkage;
 mod read;
 pub mod template;

@@ -3,6 +3,7 @@
 //! ranges and refusing unknown keys, in the order the file's errors are reported.
 
 use super::features::FeatureMap;
+use super::laser::LaserSettings;
 use super::linkage::LinkageProcess;
 use super::template::{
     BondSpec, ClampLayerSpec, ClampSpec, Cure, CureStep, MoldStock, PassiveCut, SheetOrigin,
@@ -12,10 +13,10 @@ use super::template::{
 use crate::drawing::model::Operation;
 use crate::drawing::palette::Palette;
 use crate::input::limits::{
-    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM,
-    GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK,
-    MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM,
-    SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
+    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, DOWEL_DIAMETER_MM,
+    FRACTION, GAP_MM, GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM,
+    MAX_STOCK, MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRESSURE_KPA, PRICE,
+    SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
 use crate::input::{short_number, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -59,6 +60,14 @@ impl Template {
         check_pins(path, &clamp, widest_clamp_kerf)?;
         let palette = read_palette(path, &root)?;
         let features = FeatureMap::read(path, &root)?;
+        let laser = {
+            let mut names = vec!["pzt", "passive", "mold"];
+            if bond.is_some() {
+                names.push("pyralux");
+            }
+            names.extend(covers.keys().map(String::as_str));
+            LaserSettings::read(&root, &names)?
+        };
         let linkage = match root.optional_table("linkage")? {
             None => None,
             Some(t) => {
@@ -86,6 +95,7 @@ impl Template {
             features,
             pzt_edge_margin_mm,
             linkage,
+            laser,
             ground_tab_mm,
         })
     }
@@ -116,6 +126,7 @@ fn read_cure_step(t: &TableReader<'_>) -> Result<CureStep, InputError> {
         pressure: t
             .string("pressure", "how the stack is pressed, in words")?
             .to_string(),
+        pressure_kpa: t.optional_number_in("pressure_kPa", PRESSURE_KPA)?,
     })
 }
 
@@ -146,6 +157,7 @@ fn read_clamp(root: &TableReader<'_>) -> Result<ClampSpec, InputError> {
         cavity_spacing_mm: c.number_in("cavity_spacing_mm", GAP_MM)?,
         pin_radius_mm: c.number_in("pin_radius_mm", PIN_RADIUS_MM)?,
         pin_inset_mm: c.number_in("pin_inset_mm", GAP_MM)?,
+        dowel_diameter_mm: c.optional_number_in("dowel_diameter_mm", DOWEL_DIAMETER_MM)?,
         fiducial_size_mm: c.number_in("fiducial_size_mm", GAP_MM)?,
         window_width_mm: c.number_in("window_width_mm", GAP_MM)?,
         window_height_mm: c.number_in("window_height_mm", GAP_MM)?,
@@ -285,6 +297,20 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
 /// the outline outside the panel), and clear of the cavity region inside `border_mm`.
 fn check_pins(path: &Path, clamp: &ClampSpec, kerf_mm: f64) -> Result<(), InputError> {
     let (r, inset) = (clamp.pin_radius_mm, clamp.pin_inset_mm);
+    if let Some(d) = clamp.dowel_diameter_mm.filter(|d| *d > 2.0 * r) {
+        // A film forced over a larger dowel tears or buckles around the hole, and every sheet after it
+        // sits off its pins by the buckle.
+        return Err(InputError::invalid(
+            path,
+            "clamp.dowel_diameter_mm",
+            short_number(d),
+            format!(
+                "larger than the pin holes (2 x clamp.pin_radius_mm = {} mm); allowed range (0, {}] mm",
+                short_number(2.0 * r),
+                short_number(2.0 * r)
+            ),
+        ));
+    }
     let largest = (inset - MIN_FEATURE_MM).min(clamp.border_mm - inset);
     if r <= largest && r > kerf_mm / 2.0 {
         return Ok(());

@@ -122,6 +122,9 @@ pub struct CureStep {
     pub time_min: f64,
     /// How the stack is pressed, in the lab's words (a C-clamp, a press and its pressure).
     pub pressure: String,
+    /// The pressure on the parts, kPa (`pressure_kPa`), when the template gives it as a number: the
+    /// book turns it into the force on each panel's parts.
+    pub pressure_kpa: Option<f64>,
 }
 
 /// The cures a process needs: the clamp stack in the oven, and (method 1) the passive layup pressed
@@ -190,6 +193,9 @@ pub struct ClampSpec {
     pub pin_radius_mm: f64,
     /// Pin centre distance from the panel edges, mm.
     pub pin_inset_mm: f64,
+    /// Diameter of the dowels the pins are, mm (`dowel_diameter_mm`), when the template gives it: the
+    /// book states the fit in the pin holes.
+    pub dowel_diameter_mm: Option<f64>,
     /// Fiducial crosshair size, mm.
     pub fiducial_size_mm: f64,
     /// Stacking-order window width, mm.
@@ -248,6 +254,8 @@ pub struct Template {
     pub pzt_edge_margin_mm: f64,
     /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
     pub linkage: Option<super::linkage::LinkageProcess>,
+    /// Laser settings by layer and operation (`[laser.LAYER]`), as far as the template gives them.
+    pub laser: super::laser::LaserSettings,
     /// The base tab the process gives a design that has none, mm (`[layers.passive] ground_tab_mm`,
     /// default [`DEFAULT_GROUND_TAB_MM`]; 0 adds none): the wiring needs bare carbon to reach.
     pub ground_tab_mm: f64,

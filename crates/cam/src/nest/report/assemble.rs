@@ -10,9 +10,7 @@ use crate::linkage::checklist::coupon_steps;
 use crate::nest::file::Batch;
 use crate::parts::PartSheet;
 use crate::pipeline::{Build, NestOptions, WORKERS};
-use crate::prediction::Prediction;
 use crate::process::template::PassiveCut;
-use actuator_model::ModelKind;
 
 impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
@@ -283,9 +281,7 @@ fn build_book(batch: &Batch, built: &Build, linkages: &[NestLinkageRow]) -> Buil
                 name: item.design.name.clone(),
                 base_tab_mm: item.design.planform.base_tab * 1e3,
                 ground_tab_added: item.ground_tab_mm.is_some(),
-                capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
-                    .ok()
-                    .map(|p| p.capacitance_nF),
+                expected: crate::book::Expected::of(&item.design),
             })
             .collect::<Vec<_>>(),
     );

@@ -3,6 +3,12 @@
 //! their stock, the order the plates snap in, what goes into the mold after which sheet, the cure, the
 //! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
 
+mod function;
+mod laser;
+mod press;
+
+pub use function::Expected;
+
 use crate::markdown;
 use crate::pipeline::{Build, ClampBuild, MoldBand, PanelRun};
 use crate::process::template::{CureStep, Template};
@@ -27,8 +33,8 @@ pub struct DesignFacts {
     pub base_tab_mm: f64,
     /// The base tab is the process's ground tab, added because the design has none.
     pub ground_tab_added: bool,
-    /// Predicted capacitance of one PZT plate, nF, when the model gives one.
-    pub capacitance_nf: Option<f64>,
+    /// What the functional check compares the actuators with, when the model gives a prediction.
+    pub expected: Option<Expected>,
 }
 
 /// The build book of a build, stage by stage.
@@ -97,12 +103,24 @@ impl BuildBook {
             steps: cut_steps(template, built),
         }];
         for (k, clamp) in built.clamps.iter().enumerate() {
-            sections.push(stack_section(k, clamp, method_1));
+            let mut section = stack_section(k, clamp, method_1);
+            section.steps[0] = format!(
+                "{} {}",
+                press::dowel_text(template, clamp),
+                section.steps[0]
+            );
+            sections.push(section);
         }
-        sections.push(cure_section(template));
-        sections.push(release_section());
-        sections.push(checks_section(designs));
+        sections.push(cure_section(template, built));
+        let mut release = release_section();
+        release.steps.extend(function::weigh_steps(designs));
+        sections.push(release);
+        sections.push(checks_section(designs, built));
         sections.push(wiring_section(designs));
+        sections.push(Section {
+            title: "Functional check".into(),
+            steps: function::function_steps(designs),
+        });
         BuildBook { sections }
     }
 
@@ -144,6 +162,8 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
          of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
          grey REFERENCE layer's output off."
     )];
+    cut.push(laser::settings_step(template, built));
+    cut.push(press::measure_step(template, built));
     let passive_cut = if ply_by_ply {
         format!(
             "Cut each prepreg ply on its own sheet, laid with its fibres along the sheet's y axis (up \
@@ -179,10 +199,11 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
             listed(&bond)
         ));
     }
+    cut.extend(laser::coupon_step(built));
     cut.push(format!(
         "Lay each PZT sheet on the bed with its + face (the supplier's pole mark) up and score it \
-         along the blue lines, several low-power passes to 1/3-1/2 of its thickness: {}. Scored from \
-         the + face, every plate's bevelled score edge marks its + face.",
+         along the blue lines with the setting the coupon passed, to 1/3-1/2 of its thickness: {}. \
+         Scored from the + face, every plate's bevelled score edge marks its + face.",
         listed(&pzt)
     ));
     let guides: Vec<String> = built.snap_guides.iter().map(|(n, _)| n.clone()).collect();
@@ -256,7 +277,8 @@ fn clamp_cut_steps(built: &Build, method_1: bool) -> Vec<String> {
 /// The stacking of clamp stack `k`: its sheets bottom to top, and the parts that go into the mold
 /// after each.
 fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
-    let panels = clamp.files.first().map_or(0, Vec::len);
+    // Every panel of the stack: a file of a run of identical panels is cut once per panel.
+    let panels = clamp.panels.len();
     let title = if panels > 1 {
         format!(
             "Stack clamp {} (panels {}-{})",
@@ -325,12 +347,19 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
 }
 
 /// Closing the clamp and the cure.
-fn cure_section(template: &Template) -> Section {
+fn cure_section(template: &Template, built: &Build) -> Section {
     let c = &template.cure.clamp;
+    let close = match press::force_text(template, built) {
+        Some(force) => format!(
+            "Close the clamp to {force}. {}.",
+            markdown::text(&c.pressure)
+        ),
+        None => format!("Close the clamp: {}.", markdown::text(&c.pressure)),
+    };
     Section {
         title: "Cure and clamp".into(),
         steps: vec![
-            format!("Close the clamp: {}.", markdown::text(&c.pressure)),
+            close,
             format!(
                 "Cure in the oven {} at {}.",
                 duration(c.time_min),
@@ -359,18 +388,11 @@ fn release_section() -> Section {
 }
 
 /// The electrical checks of each design's actuators.
-fn checks_section(designs: &[DesignFacts]) -> Section {
+fn checks_section(designs: &[DesignFacts], built: &Build) -> Section {
     let mut checks = Vec::new();
-    for d in designs {
-        let predicted = match d.capacitance_nf {
-            Some(c) => format!("The model predicts {c:.2} nF per plate; well below it"),
-            None => "Well below the other plates' value".to_string(),
-        };
-        checks.push(format!(
-            "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
-             at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
-            markdown::text(&d.name)
-        ));
+    for (d, g) in designs.iter().zip(&built.geometry) {
+        let area = cam_geometry::signed_area(&g.pzt_outline()).abs();
+        checks.push(function::capacitance_step(d, area));
     }
     checks.push(
         "Check for shorts: each outer face to the carbon and face to face reads open on a meter's \
