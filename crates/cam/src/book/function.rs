@@ -46,9 +46,14 @@ pub struct Expected {
 }
 
 impl Expected {
-    /// The original model's prediction of `design` (none if the model refuses it).
-    pub fn of(design: &Design) -> Option<Expected> {
+    /// The original model's prediction of `design` (none if the model refuses it), its bond mass the
+    /// bond parts as drawn, `bond_mg`, when the build cuts them.
+    pub fn of(design: &Design, bond_mg: Option<f64>) -> Option<Expected> {
         let p = Prediction::of(design, ModelKind::Original).ok()?;
+        let p = match bond_mg {
+            Some(b) => p.with_drawn_bond(b),
+            None => p,
+        };
         Some(Expected {
             pzt: design.pzt.name.clone(),
             k33: design.pzt.relative_permittivity,

@@ -11,7 +11,7 @@ pub use function::Expected;
 
 use crate::markdown;
 use crate::pipeline::{Build, ClampBuild, MoldBand, PanelRun};
-use crate::process::template::{CureStep, Template};
+use crate::process::template::{BondSpec, CureStep, Template};
 use serde::Serialize;
 
 /// One section of the book: a stage of the process, its steps in order.
@@ -97,13 +97,12 @@ fn listed_runs(files: &[String], runs: &[PanelRun]) -> String {
 impl BuildBook {
     /// The book of `built`, made by `template`'s process, for `designs` (in job order).
     pub fn new(template: &Template, built: &Build, designs: &[DesignFacts]) -> BuildBook {
-        let method_1 = template.bond.is_some();
         let mut sections = vec![Section {
             title: "Cut".into(),
             steps: cut_steps(template, built),
         }];
         for (k, clamp) in built.clamps.iter().enumerate() {
-            let mut section = stack_section(k, clamp, method_1);
+            let mut section = stack_section(k, clamp, template.bond.as_ref());
             section.steps[0] = format!(
                 "{} {}",
                 press::dowel_text(template, clamp),
@@ -276,7 +275,7 @@ fn clamp_cut_steps(built: &Build, method_1: bool) -> Vec<String> {
 
 /// The stacking of clamp stack `k`: its sheets bottom to top, and the parts that go into the mold
 /// after each.
-fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
+fn stack_section(k: usize, clamp: &ClampBuild, bond: Option<&BondSpec>) -> Section {
     // Every panel of the stack: a file of a run of identical panels is cut once per panel.
     let panels = clamp.panels.len();
     let title = if panels > 1 {
@@ -319,23 +318,25 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
                  up, checked under a loupe; this plate carries no mark, its + face is bonded)."
                     .into(),
             );
+            steps.extend(bond.map(bond_step));
         }
         if Some(level) == core {
-            steps.push(if method_1 {
-                "Into each cavity: a Pyralux part with a small drop of silver epoxy in its via, \
-                 the cured passive part, then a second Pyralux part with its drop of silver \
-                 epoxy."
-                    .into()
+            steps.push(if bond.is_some() {
+                "Put the cured passive part in each cavity, flat on the Pyralux.".into()
             } else {
                 "Put the uncured passive part in each cavity, pressed flat onto the plate.".into()
             });
         }
         if Some(level) == upper {
-            steps.push(
-                "Put the second PZT plate in each cavity, from the upper tray, dot up: + face up \
-                 like the first, so both plates are poled the same way (parallel drive)."
-                    .into(),
-            );
+            steps.push(format!(
+                "Put the second PZT plate in each cavity, from the upper tray, dot up{}: + face \
+                     up like the first, so both plates are poled the same way (parallel drive).",
+                if bond.is_some() {
+                    ", its Pyralux part down"
+                } else {
+                    ""
+                }
+            ));
         }
     }
     steps.push(
@@ -344,6 +345,27 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
             .into(),
     );
     Section { title, steps }
+}
+
+/// Method 1's bond: each Pyralux part tacked onto its plate where it must lie, its via filled with
+/// the epoxy it holds. A bond part lies inside its plate's outline, in the plate's band of the mold.
+fn bond_step(b: &BondSpec) -> String {
+    // The via's volume, π (d/2)² t, mm³: what fills it level with the film.
+    let via_mm3 = std::f64::consts::PI * (b.via_diameter_mm / 2.0).powi(2) * b.thickness_mm;
+    format!(
+        "Onto each lower plate, a Pyralux part, laid with the plate's {} mm margin (the template's \
+         {}) showing evenly all round under a loupe and tacked there with a tacking iron at its tip \
+         end: the cavity is wider than the plate, and a loose part slides over the plate's edge. \
+         Fill its via with silver epoxy level with the film: {via_mm3:.4} mm³, the via's π (d/2)² t \
+         (Ø{} mm through {} mm), a dab from a pin's tip, never a drop standing proud of the film: \
+         the excess spreads along the bond line to the plate's edge, the short of thesis §4.9.3. \
+         Tack the second Pyralux part onto the - face of each upper plate the same way and fill its \
+         via.",
+        b.inset_mm,
+        markdown::code("layers.pyralux.inset_mm"),
+        b.via_diameter_mm,
+        b.thickness_mm
+    )
 }
 
 /// Closing the clamp and the cure.

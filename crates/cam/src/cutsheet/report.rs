@@ -78,7 +78,8 @@ fn band_name(band: MoldBand) -> &'static str {
 }
 
 impl MoldReport {
-    fn new(m: &MoldChoice, tolerance_mm: f64) -> MoldReport {
+    /// The report of mold `m` against `tolerance_mm` (a `nest` panel's press fit too).
+    pub(crate) fn new(m: &MoldChoice, tolerance_mm: f64) -> MoldReport {
         // Rounded to 0.1 µm and 1 nm so float noise does not reach the report.
         let um = |v: f64| (v * 10.0).round() / 10.0;
         let mm = |v: f64| (v * 1e6).round() / 1e6;
@@ -236,7 +237,7 @@ impl Report {
                 name: design.name.clone(),
                 base_tab_mm: p.base_tab * 1e3,
                 ground_tab_added: ground_tab.is_some(),
-                expected: crate::book::Expected::of(design),
+                expected: crate::book::Expected::of(design, built.drawn_bond_mg(0)),
             }],
         );
         Report {

@@ -57,6 +57,28 @@ pub struct Build {
     pub coupons: Vec<(String, [f64; 2])>,
 }
 
+impl Build {
+    /// The mass of job `job`'s bond parts as drawn, per actuator, mg (`area x thickness x density x
+    /// parts`), if the build cuts any: what the model's bond mass is set to, so that the drawn and the
+    /// predicted mass agree.
+    pub fn drawn_bond_mg(&self, job: usize) -> Option<f64> {
+        let layer = &self
+            .cut_layers
+            .iter()
+            .find(|c| c.layer.layer == "pyralux")?
+            .layer;
+        let item = layer.items.iter().find(|i| i.job == job)?;
+        // mm² x mm x kg/m³ = 1e-9 kg = 1e-3 mg.
+        Some(
+            cam_geometry::signed_area(&item.nominal)
+                * layer.thickness_mm
+                * layer.density_kg_per_m3
+                * 1e-3
+                * item.per_actuator as f64,
+        )
+    }
+}
+
 /// Jobs grouped by a key, groups in order of first appearance, each member with its job index.
 fn groups<'a, K: PartialEq>(
     jobs: &[Job<'a>],
