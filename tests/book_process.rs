@@ -1,35 +1,12 @@
-//! The build book as a process a lab can run on numbers (issue 58): a test coupon scored before any
+//! The build book as a process a lab can run on numbers: a test coupon scored before any
 //! production PZT sheet, the laser settings per stock and operation, the clamp's dowels, measuring
 //! step and force as data, and a functional check that closes every book, each checked against the
 //! report's own figures and the files written.
 
+use crate::build_book::{first, steps};
 use crate::common;
 use common::*;
 use serde_json::Value;
-
-/// The book's steps in order, each with its section's title.
-fn steps(r: &Value) -> Vec<(String, String)> {
-    r["build_book"]["sections"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .flat_map(|s| {
-            let title = s["title"].as_str().unwrap().to_string();
-            s["steps"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(move |t| (title.clone(), t.as_str().unwrap().to_string()))
-        })
-        .collect()
-}
-
-fn first(steps: &[(String, String)], text: &str) -> usize {
-    steps
-        .iter()
-        .position(|(_, s)| s.contains(text))
-        .unwrap_or_else(|| panic!("no step says {text:?}"))
-}
 
 /// `cut-sheet` of `design` into a fresh folder: the report and the folder.
 fn cut(design: &str) -> (tempfile::TempDir, std::path::PathBuf, Value) {
@@ -54,7 +31,7 @@ fn with_template(edit: impl Fn(String) -> String) -> (tempfile::TempDir, std::pa
 #[test]
 fn the_coupon_is_scored_before_any_production_pzt_sheet() {
     let (_dir, out, r) = cut("examples/thesis-C.toml");
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let coupon = first(&s, "score the test coupon");
     let score = first(&s, "score it along the blue lines");
     assert!(
@@ -106,7 +83,7 @@ fn a_batch_scores_one_coupon_per_pzt_stock() {
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     let r = nest_report_json(&out);
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let coupon = &s[first(&s, "score the test coupon")].1;
     for t in ["0.267mm", "0.191mm", "0.127mm"] {
         let stem = files(&out)
@@ -128,7 +105,7 @@ fn laser_settings_come_from_the_template_and_the_rest_are_starting_points() {
     let out = dir.path().join("out");
     let o = cut_sheet(design.to_str().unwrap(), &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let s = steps(&report_json(&out));
+    let s = steps(&report_json(&out)["build_book"]);
     let set = &s[first(&s, "Set the laser up")].1;
     assert!(
         set.contains(
@@ -154,7 +131,7 @@ fn laser_settings_come_from_the_template_and_the_rest_are_starting_points() {
 
     // The shipped templates give no settings: every operation is a starting point.
     let (_d, _o, r) = cut("examples/thesis-C.toml");
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let set = &s[first(&s, "Set the laser up")].1;
     assert!(!set.contains("From the template") && set.contains("score on pzt (starting point"));
 
@@ -168,7 +145,7 @@ fn laser_settings_come_from_the_template_and_the_rest_are_starting_points() {
 #[test]
 fn the_dowels_stand_through_the_molds_and_below_the_top_layer() {
     let (_dir, _out, r) = cut("examples/thesis-C.toml");
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let dowels = &s[first(&s, "Stand the registration dowels")].1;
     // The method-2 stack, from the template's thicknesses and the report's mold films: felt 1,
     // Teflon cover 0.05, the molds, porous Teflon 0.05, bleeder 0.3, Teflon cover 0.05, felt 1.
@@ -205,7 +182,7 @@ fn the_dowels_stand_through_the_molds_and_below_the_top_layer() {
 #[test]
 fn the_measuring_step_and_the_clamp_force_are_the_press_fits_numbers() {
     let (_dir, _out, r) = cut("examples/thesis-C.toml");
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let measure = first(&s, "measure with a micrometer");
     assert!(measure < first(&s, "Cut the mold sheets"));
     let proud = r["mold"]["press_fit"][0]["proud_um"].as_f64().unwrap();
@@ -236,7 +213,7 @@ fn every_book_ends_with_the_functional_check() {
         let (_dir, _out, r) = cut(example);
         let sections = r["build_book"]["sections"].as_array().unwrap();
         assert_eq!(sections.last().unwrap()["title"], "Functional check");
-        let s = steps(&r);
+        let s = steps(&r["build_book"]);
         let p = &r["predicted"];
         assert_eq!(p["model"], "original");
         // Capacitance: ε0 K33 A / t_p of the drawn plate, written out (K33 = 3800, PZT-5H, docs/physics.md §8).
@@ -289,11 +266,64 @@ fn a_stack_clamp_names_every_panel_it_holds() {
     assert!(o.status.success(), "{}", stderr(&o));
     let r = report_json(&out);
     assert_eq!(r["clamp_panels"], 3);
-    let s = steps(&r);
+    let s = steps(&r["build_book"]);
     let (title, lay) = &s[first(&s, "Lay mold-1:")];
     assert_eq!(title, "Stack clamp 1 (panels 1-3)");
     assert!(
         lay.contains("mold-1-1to2_") && lay.contains("mold-1-3_"),
         "{lay}"
     );
+}
+
+#[test]
+fn the_linkage_cures_on_the_templates_cycle() {
+    // The shipped [linkage.cure]: the prepreg's 2 h at 350 F (thesis §3.2.2), at the Pyralux LF
+    // datasheet's 2070 kPa, in the steps and in the report.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = cut_sheet(
+        "examples/robobee-class.toml",
+        &out,
+        &["--drive", "examples/drive-robobee-linkage.toml"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report_json(&out);
+    let steps: Vec<&str> = r["linkage"]["build_steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    let cure = steps
+        .iter()
+        .find(|s| s.starts_with("Cure the stack"))
+        .unwrap();
+    assert!(
+        cure.contains("2 h at 177 °C (350 F)")
+            && cure.contains("(2070 kPa on the parts)")
+            && cure.contains("`[linkage.cure]`"),
+        "{cure}"
+    );
+    assert!(r["linkage"]["cure"].is_string());
+    // The stock list buys the linkage's sheets: each layer file one sheet of its stock (two carbon,
+    // two adhesive, one film per panel); the release cut runs through the laminate, no stock of its own.
+    let files: Vec<String> = files(&out).into_keys().collect();
+    for (stock, layers) in [
+        ("CF-thesis (2 plies)", 2),
+        ("Pyralux LF", 2),
+        ("Kapton HN", 1),
+    ] {
+        let row = r["stock_list"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|row| row["material"].as_str().unwrap().starts_with(stock))
+            .unwrap_or_else(|| panic!("no {stock} on the stock list: {}", r["stock_list"]));
+        let panels = r["linkage"]["panels"].as_u64().unwrap();
+        assert_eq!(row["sheets"].as_u64(), Some(layers * panels), "{row}");
+    }
+    assert!(files.iter().any(|f| f.starts_with("linkage-6-release-1")));
+    assert!(!r["stock_list"]
+        .to_string()
+        .contains("laminated linkage stack"));
 }

@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::path::Path;
 
 /// The book's steps, in order, each with the title of its section.
-fn steps(book: &Value) -> Vec<(String, String)> {
+pub(crate) fn steps(book: &Value) -> Vec<(String, String)> {
     book["sections"]
         .as_array()
         .unwrap()
@@ -25,7 +25,7 @@ fn steps(book: &Value) -> Vec<(String, String)> {
 }
 
 /// Index of the first step containing `text`.
-fn first(steps: &[(String, String)], text: &str) -> usize {
+pub(crate) fn first(steps: &[(String, String)], text: &str) -> usize {
     steps
         .iter()
         .position(|(_, s)| s.contains(text))

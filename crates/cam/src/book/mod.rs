@@ -59,12 +59,16 @@ fn duration(min: f64) -> String {
     }
 }
 
-fn cure_text(c: &CureStep) -> String {
+/// A cure as the book and the linkage steps say it: time, temperature, how it is pressed, and the
+/// pressure when the template gives it as a number.
+pub(crate) fn cure_text(c: &CureStep) -> String {
     format!(
-        "{} at {}, {}",
+        "{} at {}, {}{}",
         duration(c.time_min),
         temperature(c.temperature_c),
-        markdown::text(&c.pressure)
+        markdown::text(&c.pressure),
+        c.pressure_kpa
+            .map_or(String::new(), |p| format!(" ({p} kPa on the parts)"))
     )
 }
 

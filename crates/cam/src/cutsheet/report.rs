@@ -68,6 +68,24 @@ pub struct PressFitRow {
     pub within_tolerance: bool,
 }
 
+impl PressFitRow {
+    /// `extension: 0.4 µm proud of the mold layer over it, 15 µm void under it`, and whether it is out
+    /// of tolerance.
+    pub fn text(&self) -> String {
+        format!(
+            "{}: {} µm proud of the mold layer over it, {} µm void under it{}",
+            self.region,
+            self.proud_um,
+            self.void_below_um,
+            if self.within_tolerance {
+                ""
+            } else {
+                " (out of tolerance)"
+            }
+        )
+    }
+}
+
 /// What a mold layer of `band` holds, as the report says it.
 fn band_name(band: MoldBand) -> &'static str {
     match band {
@@ -458,18 +476,7 @@ impl Report {
             m.tolerance_um
         );
         for f in &m.press_fit {
-            let _ = writeln!(
-                s,
-                "- press fit, {}: {} µm proud of the mold layer over it, {} µm void under it{}",
-                f.region,
-                f.proud_um,
-                f.void_below_um,
-                if f.within_tolerance {
-                    ""
-                } else {
-                    " (out of tolerance)"
-                }
-            );
+            let _ = writeln!(s, "- press fit, {}", f.text());
         }
         if let Some(w) = &m.warning {
             let _ = writeln!(s, "\n**Warning:** {w}.");

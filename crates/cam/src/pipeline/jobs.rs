@@ -135,6 +135,28 @@ pub struct StockCount {
 }
 
 impl StockCount {
+    /// Count `copies` sheets of `drawing`'s stock into `rows`: onto its line if the list has one (same
+    /// material, thickness and sheet size), else a line of its own at the end.
+    pub fn count(rows: &mut Vec<StockCount>, drawing: &Drawing, copies: usize) {
+        let Some(s) = &drawing.stock else { return };
+        let same = |c: &&mut StockCount| {
+            c.material == s.material
+                && c.thickness_mm == s.thickness_mm
+                && c.width_mm == drawing.width_mm
+                && c.height_mm == drawing.height_mm
+        };
+        match rows.iter_mut().find(same) {
+            Some(c) => c.sheets += copies,
+            None => rows.push(StockCount {
+                material: s.material.clone(),
+                thickness_mm: s.thickness_mm,
+                width_mm: drawing.width_mm,
+                height_mm: drawing.height_mm,
+                sheets: copies,
+            }),
+        }
+    }
+
     /// The stock list as a Markdown table, one row per stock.
     pub fn markdown(rows: &[StockCount]) -> String {
         let mut s =
@@ -241,23 +263,8 @@ impl<'s> Drawn<'s> {
     /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
     /// the files hold the drawing once. A drawing of 0 copies is cut from an offcut and adds no line.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
-        if let Some(s) = drawing.stock.as_ref().filter(|_| copies > 0) {
-            let same = |c: &&mut StockCount| {
-                c.material == s.material
-                    && c.thickness_mm == s.thickness_mm
-                    && c.width_mm == drawing.width_mm
-                    && c.height_mm == drawing.height_mm
-            };
-            match self.stock.iter_mut().find(same) {
-                Some(c) => c.sheets += copies,
-                None => self.stock.push(StockCount {
-                    material: s.material.clone(),
-                    thickness_mm: s.thickness_mm,
-                    width_mm: drawing.width_mm,
-                    height_mm: drawing.height_mm,
-                    sheets: copies,
-                }),
-            }
+        if copies > 0 {
+            StockCount::count(&mut self.stock, &drawing, copies);
         }
         let drawing = SheetDrawing {
             stem: file_stem(&stem, drawing.stock.as_ref()),

@@ -6,17 +6,17 @@ use super::features::FeatureMap;
 use super::laser::LaserSettings;
 use super::linkage::LinkageProcess;
 use super::template::{
-    BondSpec, ClampLayerSpec, ClampSpec, Cure, CureStep, MoldStock, PassiveCut, SheetOrigin,
-    SheetSpec, Template, DEFAULT_BOND_INSET_MM, DEFAULT_GROUND_TAB_MM, DEFAULT_MOLD_TOLERANCE_MM,
+    BondSpec, ClampLayerSpec, ClampSpec, Cure, MoldStock, PassiveCut, SheetOrigin, SheetSpec,
+    Template, DEFAULT_BOND_INSET_MM, DEFAULT_GROUND_TAB_MM, DEFAULT_MOLD_TOLERANCE_MM,
     DEFAULT_SCORE_OVERRUN_MM, DEFAULT_SNAP_STRIP_THICKNESSES,
 };
 use crate::drawing::model::Operation;
 use crate::drawing::palette::Palette;
 use crate::input::limits::{
-    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, DOWEL_DIAMETER_MM,
-    FRACTION, GAP_MM, GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM,
-    MAX_STOCK, MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRESSURE_KPA, PRICE,
-    SCORE_OVERRUN_MM, SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
+    ACI, BOND_INSET_MM, DENSITY_KG_PER_M3 as DENSITY, DOWEL_DIAMETER_MM, FRACTION, GAP_MM,
+    GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK,
+    MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM,
+    SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
 };
 use crate::input::{short_number, InputError, TableReader};
 use std::collections::BTreeMap;
@@ -35,7 +35,7 @@ impl Template {
         let label_height_mm = root
             .optional_number_in("label_height_mm", LABEL_HEIGHT_MM)?
             .unwrap_or(1.0);
-        let cure = read_cure(&root)?;
+        let cure = Cure::read(&root)?;
         let clamp = read_clamp(&root)?;
         let layers = root.table("layers")?;
         let (pzt, pzt_edge_margin_mm) = read_pzt(&layers)?;
@@ -116,34 +116,6 @@ fn read_passive_cut(path: &Path, root: &TableReader<'_>) -> Result<PassiveCut, I
             "expected \"stack\" or \"ply-by-ply\"",
         )),
     }
-}
-
-/// One step of the cure recipe: `temperature_C`, `time_min`, `pressure`.
-fn read_cure_step(t: &TableReader<'_>) -> Result<CureStep, InputError> {
-    Ok(CureStep {
-        temperature_c: t.number_in("temperature_C", CURE_C)?,
-        time_min: t.number_in("time_min", CURE_MIN)?,
-        pressure: t
-            .string("pressure", "how the stack is pressed, in words")?
-            .to_string(),
-        pressure_kpa: t.optional_number_in("pressure_kPa", PRESSURE_KPA)?,
-    })
-}
-
-/// `[cure]`: the clamp's cure, and `[cure.passive]`, the passive stack's own cure, if it has one.
-fn read_cure(root: &TableReader<'_>) -> Result<Cure, InputError> {
-    let cure_table = root.table("cure")?;
-    let clamp = read_cure_step(&cure_table)?;
-    let passive = match cure_table.optional_table("passive")? {
-        Some(t) => {
-            let s = read_cure_step(&t)?;
-            t.finish()?;
-            Some(s)
-        }
-        None => None,
-    };
-    cure_table.finish()?;
-    Ok(Cure { clamp, passive })
 }
 
 /// `[clamp]`: the clamp panel, its cavities, pins, fiducials and windows, and its stack of layers.

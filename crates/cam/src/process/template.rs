@@ -113,29 +113,7 @@ pub struct MoldStock {
     pub tolerance_mm: f64,
 }
 
-/// A cure: temperature and time, and how the stack is pressed (`[cure]`, `[cure.passive]`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct CureStep {
-    /// Oven or press temperature, °C.
-    pub temperature_c: f64,
-    /// Time at temperature, minutes.
-    pub time_min: f64,
-    /// How the stack is pressed, in the lab's words (a C-clamp, a press and its pressure).
-    pub pressure: String,
-    /// The pressure on the parts, kPa (`pressure_kPa`), when the template gives it as a number: the
-    /// book turns it into the force on each panel's parts.
-    pub pressure_kpa: Option<f64>,
-}
-
-/// The cures a process needs: the clamp stack in the oven, and (method 1) the passive layup pressed
-/// and cured before it is cut.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Cure {
-    /// The clamp stack's cure.
-    pub clamp: CureStep,
-    /// The passive layup's own cure before cutting (method 1), if the process has one.
-    pub passive: Option<CureStep>,
-}
+pub use super::cure::{Cure, CureStep};
 
 /// Default inset of a Pyralux bond part from the PZT plate edge, mm (docs/cam.md §1, "Method 1 bond
 /// parts"): a starting point, to be set from the squeeze-out a lab sees on its first clamp.

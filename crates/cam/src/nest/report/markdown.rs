@@ -305,23 +305,7 @@ impl NestReport {
                 .map(|a| format!("{} #{}", md(&a.design), a.actuator))
                 .collect();
             let films: Vec<String> = p.mold_films_mm.iter().map(|t| t.to_string()).collect();
-            let fits: Vec<String> = p
-                .press_fit
-                .iter()
-                .map(|f| {
-                    format!(
-                        "{} {} µm proud, {} µm void under it{}",
-                        f.region,
-                        f.proud_um,
-                        f.void_below_um,
-                        if f.within_tolerance {
-                            ""
-                        } else {
-                            " (out of tolerance)"
-                        }
-                    )
-                })
-                .collect();
+            let fits: Vec<String> = p.press_fit.iter().map(|f| f.text()).collect();
             let _ = writeln!(
                 s,
                 "- panel {} ({} layers: {}; mold films bottom to top {} mm; press fit: {}): {}",
