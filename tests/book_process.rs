@@ -322,7 +322,24 @@ fn the_linkage_cures_on_the_templates_cycle() {
         let panels = r["linkage"]["panels"].as_u64().unwrap();
         assert_eq!(row["sheets"].as_u64(), Some(layers * panels), "{row}");
     }
-    assert!(files.iter().any(|f| f.starts_with("linkage-6-release-1")));
+    // The release cut runs with the stack on its dowels: its four pin holes are grey guides, never
+    // run, and only the mounting holes are cut.
+    let release = files
+        .iter()
+        .find(|f| f.starts_with("linkage-6-release-1") && f.ends_with(".svg"))
+        .unwrap();
+    let svg = std::fs::read_to_string(out.join(release)).unwrap();
+    let circles = |colour: &str| {
+        svg.lines()
+            .filter(|l| l.contains(" A") && l.contains(&format!("stroke=\"{colour}\"")))
+            .count()
+    };
+    assert_eq!(circles("#808080"), 4, "{svg}");
+    assert_eq!(
+        circles("#FF0000") as u64,
+        r["quantity"].as_u64().unwrap(),
+        "{svg}"
+    );
     assert!(!r["stock_list"]
         .to_string()
         .contains("laminated linkage stack"));

@@ -20,7 +20,7 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
             stack.join(" → ")
         ),
         cure_step(l, "the stack", "on the same pins"),
-        "Put the laminated stack back on the laser's pins and run the release cut (linkage-6-release-*): it cuts the outlines and the mounting holes through the stack, and the film alone across each gap.".to_string(),
+        "Put the laminated stack back on the laser's pins and run the release cut (linkage-6-release-*): it cuts the outlines and the mounting holes through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the stack sits on the steel dowels through them.".to_string(),
     ]
     .into_iter()
     .chain(assembly(l))
@@ -60,7 +60,7 @@ pub fn coupon_steps(
         ),
         cure_step(l, "the coupons", "on their pins"),
         format!(
-            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap."
+            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
         ),
     ]
     .into_iter()
