@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::path::Path;
 
 /// The book's steps, in order, each with the title of its section.
-fn steps(book: &Value) -> Vec<(String, String)> {
+pub(crate) fn steps(book: &Value) -> Vec<(String, String)> {
     book["sections"]
         .as_array()
         .unwrap()
@@ -25,7 +25,7 @@ fn steps(book: &Value) -> Vec<(String, String)> {
 }
 
 /// Index of the first step containing `text`.
-fn first(steps: &[(String, String)], text: &str) -> usize {
+pub(crate) fn first(steps: &[(String, String)], text: &str) -> usize {
     steps
         .iter()
         .position(|(_, s)| s.contains(text))
@@ -244,8 +244,15 @@ fn method_1_cures_the_passive_first_and_fills_the_vias_at_stacking() {
     assert!(s[cure].1.contains("192 °C"), "{}", s[cure].1);
     // The vias are filled when the Pyralux goes into the mold, not when it is cut.
     assert!(s[pyralux].1.contains("Leave the vias empty"));
-    let core = first(&s, "silver epoxy in its via");
-    assert!(s[core].0.starts_with("Stack clamp"));
+    // Each Pyralux part is tacked onto its plate, in the plate's band, with the via's own volume of
+    // epoxy: π (0.25 mm)² x 0.025 mm = 0.0049 mm³.
+    let bond = first(&s, "Onto each lower plate, a Pyralux part");
+    assert!(s[bond].0.starts_with("Stack clamp"));
+    assert!(s[bond - 1]
+        .1
+        .starts_with("Put a PZT plate from the lower tray"));
+    assert!(s[bond].1.contains("0.0049 mm³"), "{}", s[bond].1);
+    assert!((std::f64::consts::PI * 0.25f64.powi(2) * 0.025 - 0.0049).abs() < 5e-5);
     parts_go_in_after_their_band(&s, r["mold"]["holds"].as_array().unwrap());
     assert!(s[first(&s, "Cure in the oven")].1.contains("1 h at 177 °C"));
 }

@@ -412,11 +412,27 @@ fn method_1_design_predicts_its_pyralux_bond_layers_as_cut_sheet_does() {
     assert!(run_out.status.success(), "{}", stderr(&run_out));
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
-    // Less the ground tab cut-sheet adds to a design without a tab, and states with its mass.
+    // Less the ground tab cut-sheet adds to a design without a tab, and states with its mass; its
+    // bond mass is the Pyralux parts as drawn, inset from the plate (the pyralux layer row), where
+    // predict, knowing no process's inset, bonds the whole plate.
     let tab_mg = report["ground_tab"]["mass_mg"].as_f64().unwrap();
     let cut = report["predicted"]["mass_mg"].as_f64().unwrap();
+    let drawn_bond = report["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["layer"] == "pyralux")
+        .unwrap()["mass_per_actuator_mg"]
+        .as_f64()
+        .unwrap();
+    assert_eq!(
+        report["predicted"]["mass_breakdown_mg"]["bond"].as_f64(),
+        Some(drawn_bond)
+    );
+    assert!(drawn_bond < mb(&m1, "bond"));
     assert!(
-        (cut - tab_mg - m1["mass_mg"].as_f64().unwrap()).abs() < 1e-9,
+        (cut - tab_mg - (m1["mass_mg"].as_f64().unwrap() - mb(&m1, "bond") + drawn_bond)).abs()
+            < 1e-9,
         "{cut} - {tab_mg} against {}",
         m1["mass_mg"]
     );

@@ -105,11 +105,13 @@ fn every_example_presses_every_part_within_the_tolerance() {
                 "{design}: a cavity column with a gap {column:?}"
             );
             let (bottom, top) = (height_below(lo), height_below(hi + 1));
+            // The passive part alone over the extension: a bond part lies only on its plate, so the
+            // passive part lies from the lower bond's top to the upper bond's underside.
             let (part_bottom, part_top) = if lo == 0 {
                 (0.0, laminate_mm)
             } else {
                 extension_seen = true;
-                (plate_mm, plate_mm + core_mm)
+                (plate_mm + bond_mm(d), plate_mm + core_mm - bond_mm(d))
             };
             let void = part_bottom - bottom;
             let proud = part_top - top;

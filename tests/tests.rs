@@ -8,6 +8,7 @@ mod studies;
 mod synthetic;
 
 mod architecture;
+mod book_process;
 mod build_book;
 mod calibrate;
 mod cam_writers;

@@ -74,6 +74,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
             layer_files.push(name);
         }
         sheet.report.linkage = Some(LinkageSection::new(l));
+        l.count_stock(&mut sheet.report.stock_list);
     }
     for (name, bytes) in render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {
         folder.add(&name, &bytes)?;

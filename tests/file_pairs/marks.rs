@@ -40,6 +40,10 @@ pub(super) fn mark_in_zone(
 /// parts' sheets.
 pub(super) fn holds_bonded_parts(file: &str) -> bool {
     let stem = file.split('_').next().unwrap();
+    // The PZT test coupon is scored on an offcut and holds no plate.
+    if stem.starts_with("pzt-coupon-") {
+        return false;
+    }
     ["pzt-", "passive-", "pyralux-"]
         .iter()
         .any(|k| stem.starts_with(k))

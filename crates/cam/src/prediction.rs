@@ -213,6 +213,25 @@ impl Prediction {
         }
     }
 
+    /// The prediction with its bond mass from the bond parts as drawn, mg (method 1's Pyralux parts
+    /// are the plate inset by the template's `inset_mm`, docs/cam.md §1): the actuator's mass and its
+    /// energy density follow, so the geometry's mass and the model's are the same parts. The model's
+    /// stiffness keeps the bond over the whole plate: the strip a 0.15 mm inset leaves out is a film
+    /// 170 times softer than the carbon beside it. A prediction with no bond mass (method 2, or a
+    /// calibrated model, whose fitted effects hold the bond) is kept as it is.
+    pub fn with_drawn_bond(mut self, bond_mg: f64) -> Prediction {
+        if self.mass_breakdown_mg.bond <= 0.0 {
+            return self;
+        }
+        let m = &mut self.mass_breakdown_mg;
+        m.bond = bond_mg;
+        let mass = m.pzt + m.passive + m.bond + m.added;
+        // D = U / m (docs/physics.md §3): the same energy over the drawn mass.
+        self.energy_density_J_per_kg *= self.mass_mg / mass;
+        self.mass_mg = mass;
+        self
+    }
+
     /// Every number by its `--json` name, for the finite check.
     pub fn numbers(&self) -> Vec<(&'static str, f64)> {
         let mut numbers = vec![

@@ -5,6 +5,7 @@
 //! [`Laminate::bimorph`] → [`Section::new`] at a [`Drive`] → [`performance::evaluate`] for a [`Planform`],
 //! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
 
+pub mod capacitance;
 pub mod drive;
 pub mod drive_energy;
 pub mod dynamics;

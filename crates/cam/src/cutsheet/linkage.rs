@@ -30,6 +30,21 @@ pub struct LinkageCut {
     pub note: Option<String>,
 }
 
+impl LinkageCut {
+    /// Count the sheets the linkage's layers are cut from into the stock list `rows`: every layer
+    /// file is a sheet of its stock; the release cut runs through the laminated stack, no stock of its
+    /// own.
+    pub fn count_stock(&self, rows: &mut Vec<crate::pipeline::StockCount>) {
+        for d in self
+            .drawings
+            .iter()
+            .filter(|d| d.layer != "linkage-release")
+        {
+            crate::pipeline::StockCount::count(rows, &d.drawing, 1);
+        }
+    }
+}
+
 /// Why the linkage cannot be cut.
 #[derive(Debug, thiserror::Error)]
 pub enum LinkageCutError {

@@ -185,6 +185,10 @@ pub fn plan_into<'s>(
         sink,
     )?;
     let rows = layers::layer_rows(&design, &template, &built);
+    let prediction = match built.drawn_bond_mg(0) {
+        Some(bond_mg) => prediction.with_drawn_bond(bond_mg),
+        None => prediction,
+    };
     let report = Report::new(&design, &template, prediction, rows, &built, ground_tab);
     report.ensure_finite(&design)?;
     Ok(CutSheet {

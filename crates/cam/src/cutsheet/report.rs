@@ -68,6 +68,24 @@ pub struct PressFitRow {
     pub within_tolerance: bool,
 }
 
+impl PressFitRow {
+    /// `extension: 0.4 µm proud of the mold layer over it, 15 µm void under it`, and whether it is out
+    /// of tolerance.
+    pub fn text(&self) -> String {
+        format!(
+            "{}: {} µm proud of the mold layer over it, {} µm void under it{}",
+            self.region,
+            self.proud_um,
+            self.void_below_um,
+            if self.within_tolerance {
+                ""
+            } else {
+                " (out of tolerance)"
+            }
+        )
+    }
+}
+
 /// What a mold layer of `band` holds, as the report says it.
 fn band_name(band: MoldBand) -> &'static str {
     match band {
@@ -78,7 +96,8 @@ fn band_name(band: MoldBand) -> &'static str {
 }
 
 impl MoldReport {
-    fn new(m: &MoldChoice, tolerance_mm: f64) -> MoldReport {
+    /// The report of mold `m` against `tolerance_mm` (a `nest` panel's press fit too).
+    pub(crate) fn new(m: &MoldChoice, tolerance_mm: f64) -> MoldReport {
         // Rounded to 0.1 µm and 1 nm so float noise does not reach the report.
         let um = |v: f64| (v * 10.0).round() / 10.0;
         let mm = |v: f64| (v * 1e6).round() / 1e6;
@@ -236,7 +255,7 @@ impl Report {
                 name: design.name.clone(),
                 base_tab_mm: p.base_tab * 1e3,
                 ground_tab_added: ground_tab.is_some(),
-                capacitance_nf: Some(predicted.capacitance_nF),
+                expected: crate::book::Expected::of(design, built.drawn_bond_mg(0)),
             }],
         );
         Report {
@@ -457,18 +476,7 @@ impl Report {
             m.tolerance_um
         );
         for f in &m.press_fit {
-            let _ = writeln!(
-                s,
-                "- press fit, {}: {} µm proud of the mold layer over it, {} µm void under it{}",
-                f.region,
-                f.proud_um,
-                f.void_below_um,
-                if f.within_tolerance {
-                    ""
-                } else {
-                    " (out of tolerance)"
-                }
-            );
+            let _ = writeln!(s, "- press fit, {}", f.text());
         }
         if let Some(w) = &m.warning {
             let _ = writeln!(s, "\n**Warning:** {w}.");

@@ -151,6 +151,18 @@ pub const GROUND_TAB_MM: Range = Range::closed(0.0, 20.0, "mm");
 pub const VIA_DIAMETER_MM: Range = Range::positive_up_to(10.0, "mm");
 /// A position as a fraction of a length, ends excluded.
 pub const FRACTION: Range = Range::open(0.0, 1.0, "");
+/// Laser power of a `[laser]` setting, % of the laser's full power.
+pub const LASER_POWER_PERCENT: Range = Range::positive_up_to(100.0, "%");
+/// Head speed of a `[laser]` setting: no laboratory laser moves its head faster than 10 m/s.
+pub const LASER_SPEED_MM_PER_S: Range = Range::positive_up_to(10_000.0, "mm/s");
+/// Most passes of a `[laser]` setting over one line.
+pub const PASSES: i64 = 100;
+/// Focal plane below the top surface of a `[laser]` setting: within a lens's usual focus travel.
+pub const FOCUS_MM: Range = Range::closed(-20.0, 20.0, "mm");
+/// Dowel (registration pin) diameter of a clamp, at most the largest pin hole.
+pub const DOWEL_DIAMETER_MM: Range = Range::positive_up_to(40.0, "mm");
+/// Clamp pressure on the stack, kPa: up to 10 MPa, well past any prepreg or Pyralux press schedule.
+pub const PRESSURE_KPA: Range = Range::positive_up_to(10_000.0, "kPa");
 /// AutoCAD colour index.
 pub const ACI: Range = Range::closed(1.0, 255.0, "");
 

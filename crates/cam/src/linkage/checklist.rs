@@ -19,8 +19,8 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
             "Stack on the clamp's pins, bottom to top: {}; peel each adhesive liner as its layer goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
-        "Cure under the clamp as the adhesive's datasheet asks, on the same pins.".to_string(),
-        "Put the laminated stack back on the laser's pins and run the release cut (linkage-6-release-*): it cuts the outlines and the mounting holes through the stack, and the film alone across each gap.".to_string(),
+        cure_step(l, "the stack", "on the same pins"),
+        "Put the laminated stack back on the laser's pins and run the release cut (linkage-6-release-*): it cuts the outlines and the mounting holes through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the stack sits on the steel dowels through them.".to_string(),
     ]
     .into_iter()
     .chain(assembly(l))
@@ -58,14 +58,27 @@ pub fn coupon_steps(
             "For each linkage stack its coupons on four pins through their pin holes, the chamfered corner matching, bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
-        "Cure the coupons under the clamp as the adhesive's datasheet asks, on their pins.".to_string(),
+        cure_step(l, "the coupons", "on their pins"),
         format!(
-            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap."
+            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
         ),
     ]
     .into_iter()
     .chain(assembly(l))
     .collect()
+}
+
+/// The laminate's cure: the template's `[linkage.cure]`, or, where it has none, the adhesive's
+/// datasheet, named as missing.
+fn cure_step(l: &LinkageReport, what: &str, pins: &str) -> String {
+    match &l.cure {
+        Some(cure) => format!(
+            "Cure {what} under the clamp, {pins}, between non-porous Teflon release films: {cure} (the template's `[linkage.cure]`); let it cool in the clamp."
+        ),
+        None => format!(
+            "Cure {what} under the clamp, {pins}, between non-porous Teflon release films, as the adhesive's and the carbon's datasheets ask: the template gives no `[linkage.cure]`."
+        ),
+    }
 }
 
 /// Assembling a released linkage to its actuator and checking it.

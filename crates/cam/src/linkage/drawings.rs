@@ -6,7 +6,7 @@
 
 use super::pattern::{Ply, Rect, STACK};
 use super::LinkageLaminate;
-use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, FibreAxis, Operation, Shape, Stock};
 use crate::input::InputError;
 use crate::pipeline::{border_label, grid, grid_slots, panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};
@@ -175,10 +175,10 @@ impl PanelDrawer<'_> {
     }
 
     /// The panel's pin holes.
-    fn pins(&self, d: &mut Drawing) {
+    fn pins(&self, d: &mut Drawing, op: Operation) {
         for centre in pin_centres(self.c) {
             d.add(
-                self.features.op(Feature::PinHole),
+                op,
                 Shape::Circle {
                     center: centre,
                     radius: self.pin_radius,
@@ -219,7 +219,7 @@ impl PanelDrawer<'_> {
                 fibre_axis: (ply == Ply::Carbon).then_some(FibreAxis::X),
             },
         );
-        self.pins(&mut d);
+        self.pins(&mut d, self.features.op(Feature::PinHole));
         let layer = format!("{prefix}{}-{name}", k + 1);
         self.label(&mut d, panel, &layer, Some(sheet.thickness_mm));
         for origin in origins {
@@ -268,7 +268,9 @@ impl PanelDrawer<'_> {
                 fibre_axis: None,
             },
         );
-        self.pins(&mut d);
+        // The stack sits on the steel dowels through its pin holes while the release cut runs: the
+        // holes are drawn as a guide the laser never runs, or the beam would land on the dowels.
+        self.pins(&mut d, Operation::Reference);
         self.label(&mut d, panel, &format!("{prefix}{levels}-release"), None);
         for origin in origins {
             d.add(

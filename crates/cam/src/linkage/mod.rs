@@ -70,6 +70,9 @@ pub struct LinkageReport {
     pub flexure_stiffness_uNm_per_rad: f64,
     pub link_inertia_mg_mm2: f64,
     pub mass_mg: f64,
+    /// The laminate's cure from the template's `[linkage.cure]`, as the steps say it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cure: Option<String>,
 }
 
 /// One layer's share of the linkage's mass.
@@ -303,6 +306,7 @@ impl LinkageLaminate {
             flexure_stiffness_uNm_per_rad: self.flexure_stiffness() * 1e6,
             link_inertia_mg_mm2: self.link_inertia() * 1e12,
             mass_mg: self.mass.total_mg,
+            cure: self.process.cure.as_ref().map(crate::book::cure_text),
         }
     }
 }

@@ -101,6 +101,8 @@ pub struct PanelRow {
     pub stacking_order: Vec<String>,
     /// The film of each mold sheet of the panel, bottom to top, mm.
     pub mold_films_mm: Vec<f64>,
+    /// How each part region sits in the panel's cavities, as `cut-sheet` reports it.
+    pub press_fit: Vec<crate::cutsheet::report::PressFitRow>,
     pub actuators: Vec<ActuatorRef>,
 }
 

@@ -52,6 +52,31 @@ pub struct Build {
     /// The snapping-order picture of each PZT sheet, (file name, SVG), in sheet order: written beside
     /// the layer files, not a layer file.
     pub snap_guides: Vec<(String, String)>,
+    /// The test-score coupon of each PZT stock, (file stem, [width, height] mm), in sheet order: cut
+    /// from an offcut, before the production sheets.
+    pub coupons: Vec<(String, [f64; 2])>,
+}
+
+impl Build {
+    /// The mass of job `job`'s bond parts as drawn, per actuator, mg (`area x thickness x density x
+    /// parts`), if the build cuts any: what the model's bond mass is set to, so that the drawn and the
+    /// predicted mass agree.
+    pub fn drawn_bond_mg(&self, job: usize) -> Option<f64> {
+        let layer = &self
+            .cut_layers
+            .iter()
+            .find(|c| c.layer.layer == "pyralux")?
+            .layer;
+        let item = layer.items.iter().find(|i| i.job == job)?;
+        // mm² x mm x kg/m³ = 1e-9 kg = 1e-3 mg.
+        Some(
+            cam_geometry::signed_area(&item.nominal)
+                * layer.thickness_mm
+                * layer.density_kg_per_m3
+                * 1e-3
+                * item.per_actuator as f64,
+        )
+    }
 }
 
 /// Jobs grouped by a key, groups in order of first appearance, each member with its job index.
@@ -153,6 +178,7 @@ pub fn build_into<'s>(
         cut_layers,
         clamps,
         snap_guides: drawn.snap_guides,
+        coupons: drawn.coupons,
     })
 }
 
@@ -190,6 +216,7 @@ fn build_pzt(
         let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
         let layouts = place_plates(&members, &spec, spec.stock, names)
             .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
+        super::coupon::draw_coupon(&spec, &stock, &names.title, &template.features, drawn);
         let before = drawn.sheets.len();
         draw_pzt_sheets(
             &members,

@@ -123,11 +123,11 @@ fn panel_runs(panels: &[Vec<(usize, usize, Point)>], first_panel: usize) -> Vec<
 
 /// The bands of a design's laminate, mm: a plate, and the passive core of plies and bond layers.
 pub fn laminate_bands(design: &Design) -> LaminateBands {
+    let bond = design.bond.as_ref().map_or(0.0, |(_, t)| *t);
     LaminateBands {
         plate_mm: design.pzt_thickness * 1e3,
-        core_mm: (design.ply_thickness * design.layup_deg.len() as f64
-            + 2.0 * design.bond.as_ref().map(|(_, t)| *t).unwrap_or(0.0))
-            * 1e3,
+        core_mm: (design.ply_thickness * design.layup_deg.len() as f64 + 2.0 * bond) * 1e3,
+        bond_mm: bond * 1e3,
     }
 }
 
@@ -251,6 +251,7 @@ pub fn clamp_layers(
                 LaminateBands {
                     plate_mm: 0.0,
                     core_mm: 0.0,
+                    bond_mm: 0.0,
                 },
                 &template.mold_stock,
             ),

@@ -135,6 +135,28 @@ pub struct StockCount {
 }
 
 impl StockCount {
+    /// Count `copies` sheets of `drawing`'s stock into `rows`: onto its line if the list has one (same
+    /// material, thickness and sheet size), else a line of its own at the end.
+    pub fn count(rows: &mut Vec<StockCount>, drawing: &Drawing, copies: usize) {
+        let Some(s) = &drawing.stock else { return };
+        let same = |c: &&mut StockCount| {
+            c.material == s.material
+                && c.thickness_mm == s.thickness_mm
+                && c.width_mm == drawing.width_mm
+                && c.height_mm == drawing.height_mm
+        };
+        match rows.iter_mut().find(same) {
+            Some(c) => c.sheets += copies,
+            None => rows.push(StockCount {
+                material: s.material.clone(),
+                thickness_mm: s.thickness_mm,
+                width_mm: drawing.width_mm,
+                height_mm: drawing.height_mm,
+                sheets: copies,
+            }),
+        }
+    }
+
     /// The stock list as a Markdown table, one row per stock.
     pub fn markdown(rows: &[StockCount]) -> String {
         let mut s =
@@ -187,6 +209,8 @@ pub struct Drawn<'s> {
     pub placement_map: Vec<String>,
     /// The snapping-order picture of each PZT sheet, (file name, SVG) (`super::snap_guide`).
     pub snap_guides: Vec<(String, String)>,
+    /// The test-score coupon of each PZT stock, (file stem, [width, height] mm) (`super::coupon`).
+    pub coupons: Vec<(String, [f64; 2])>,
     /// Next sheet number of each layer (stems are numbered per layer across the whole build).
     numbers: BTreeMap<String, usize>,
     /// Takes each drawing as it is made, so a large build never holds them all.
@@ -237,25 +261,10 @@ impl<'s> Drawn<'s> {
     }
 
     /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
-    /// the files hold the drawing once.
+    /// the files hold the drawing once. A drawing of 0 copies is cut from an offcut and adds no line.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
-        if let Some(s) = &drawing.stock {
-            let same = |c: &&mut StockCount| {
-                c.material == s.material
-                    && c.thickness_mm == s.thickness_mm
-                    && c.width_mm == drawing.width_mm
-                    && c.height_mm == drawing.height_mm
-            };
-            match self.stock.iter_mut().find(same) {
-                Some(c) => c.sheets += copies,
-                None => self.stock.push(StockCount {
-                    material: s.material.clone(),
-                    thickness_mm: s.thickness_mm,
-                    width_mm: drawing.width_mm,
-                    height_mm: drawing.height_mm,
-                    sheets: copies,
-                }),
-            }
+        if copies > 0 {
+            StockCount::count(&mut self.stock, &drawing, copies);
         }
         let drawing = SheetDrawing {
             stem: file_stem(&stem, drawing.stock.as_ref()),

@@ -15,6 +15,7 @@
 
 mod build;
 mod clamp;
+mod coupon;
 mod cut;
 mod jobs;
 mod label;

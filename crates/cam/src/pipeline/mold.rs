@@ -30,12 +30,24 @@ pub struct LaminateBands {
     pub plate_mm: f64,
     /// Thickness of the passive core between the plates (plies and bond layers), mm.
     pub core_mm: f64,
+    /// Thickness of one bond layer, mm (0 without): each bond part lies on its plate, inside the
+    /// plate's outline, so it goes with the plate's band, and the passive part (the extension
+    /// included, which has no bond under or over it) lies from one bond's top to the other's bottom.
+    pub bond_mm: f64,
 }
 
 impl LaminateBands {
     /// Height of the whole laminate, mm.
     pub fn laminate_mm(&self) -> f64 {
         2.0 * self.plate_mm + self.core_mm
+    }
+
+    /// The passive part's underside and top, mm.
+    pub fn passive_mm(&self) -> (f64, f64) {
+        (
+            self.plate_mm + self.bond_mm,
+            self.plate_mm + self.core_mm - self.bond_mm,
+        )
     }
 }
 
@@ -113,9 +125,10 @@ pub fn choose_mold(bands: LaminateBands, stock: &MoldStock) -> MoldChoice {
     let mut films: Vec<f64> = stock.films_mm.clone();
     films.sort_by(|a, b| b.total_cmp(a));
     films.dedup();
+    let (passive_bottom, passive_top) = bands.passive_mm();
     let tops = [
-        (MoldBand::LowerPlate, bands.plate_mm),
-        (MoldBand::Core, bands.plate_mm + bands.core_mm),
+        (MoldBand::LowerPlate, passive_bottom),
+        (MoldBand::Core, passive_top),
         (MoldBand::UpperPlate, bands.laminate_mm()),
     ];
     let mut films_mm = Vec::new();
@@ -155,8 +168,8 @@ pub fn choose_mold(bands: LaminateBands, stock: &MoldStock) -> MoldChoice {
         },
         PressFit {
             region: "extension",
-            void_below_mm: bands.plate_mm - band_top[0],
-            proud_mm: bands.plate_mm + bands.core_mm - band_top[1],
+            void_below_mm: passive_bottom - band_top[0],
+            proud_mm: passive_top - band_top[1],
         },
     ];
     MoldChoice {
@@ -226,6 +239,7 @@ mod tests {
     const C: LaminateBands = LaminateBands {
         plate_mm: 0.267,
         core_mm: 3.0 * 0.0618,
+        bond_mm: 0.0,
     };
 
     #[test]
@@ -255,6 +269,43 @@ mod tests {
         assert!(c.within_tolerance);
     }
 
+    #[test]
+    fn a_bond_layer_goes_with_its_plate_and_the_extension_lies_on_the_bond() {
+        // Design C, method 1: 0.025 mm Pyralux on each plate's inner face. The passive part (the
+        // extension has no Pyralux under or over it) lies from 0.292 to 0.4774 mm. By hand:
+        // - under 0.292: 2 x 0.127 + 0.05 = 0.304 is too tall; 0.25 + 0.05 = 0.3 too; 2 x 0.127 =
+        //   0.254, 0.127 + 3 x 0.05 = 0.277, 0.25 = 0.25, 5 x 0.05 = 0.25: 0.277 (top 0.277);
+        // - up to 0.4774: 0.2004 left: 4 x 0.05 = 0.2 (top 0.477);
+        // - up to 0.7694: 0.2924 left: 0.127 + 3 x 0.05 = 0.277 (top 0.754).
+        // Under the extension 15 µm of void (it lies on the lower Pyralux's top, not on the plate's),
+        // 0.4 µm proud; the laminate 15.4 µm above the mold.
+        let bonded = LaminateBands {
+            core_mm: 3.0 * 0.0618 + 2.0 * 0.025,
+            bond_mm: 0.025,
+            ..C
+        };
+        let c = choose_mold(bonded, &stock(&[0.05, 0.127, 0.25], 0.025));
+        let tops: Vec<f64> = c.layer_heights_mm().iter().map(|(_, t)| *t).collect();
+        let band_top = |b: MoldBand| {
+            c.bands
+                .iter()
+                .rposition(|x| *x == b)
+                .map(|k| tops[k])
+                .unwrap()
+        };
+        assert!(
+            (band_top(MoldBand::LowerPlate) - 0.277).abs() < 1e-12,
+            "{c:?}"
+        );
+        assert!((band_top(MoldBand::Core) - 0.477).abs() < 1e-12, "{c:?}");
+        assert!((c.mold_mm - 0.754).abs() < 1e-12, "{c:?}");
+        let ext = c.fits[1];
+        assert!((ext.void_below_mm - 0.015).abs() < 1e-12, "{ext:?}");
+        assert!((ext.proud_mm - 0.0004).abs() < 1e-12, "{ext:?}");
+        assert!((c.difference_um() - 15.4).abs() < 1e-9);
+        assert!(c.within_tolerance);
+    }
+
     /// The tallest sum of at most `max_layers` films not above `limit`, by brute force over counts.
     fn tallest(films: &[f64], limit: f64, max_layers: usize) -> f64 {
         let mut best: f64 = 0.0;
@@ -279,6 +330,7 @@ mod tests {
             let bands = LaminateBands {
                 plate_mm: 0.1 + 0.007 * k as f64,
                 core_mm: 0.06 + 0.011 * (k % 23) as f64,
+                bond_mm: 0.0,
             };
             let c = choose_mold(bands, &stock(&films, 0.025));
             let mut top = 0.0;
@@ -316,6 +368,7 @@ mod tests {
         let thin = LaminateBands {
             plate_mm: 0.01,
             core_mm: 0.02,
+            bond_mm: 0.0,
         };
         let c = choose_mold(thin, &stock(&[0.05, 0.127], 0.025));
         assert!(c.films_mm.is_empty());

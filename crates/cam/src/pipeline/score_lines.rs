@@ -113,7 +113,7 @@ pub(crate) fn draw_pzt_sheets(
 /// it along the line, so the score reaches the edge although the laser is still accelerating where a
 /// path starts (docs/cam.md §4). An end on an earlier score line stays there: running on would score
 /// the plate across that line. The verified layout keeps the exact lines; only the drawing overruns.
-fn overrun(line: [Point; 2], spec: &SheetSpec) -> [Point; 2] {
+pub(super) fn overrun(line: [Point; 2], spec: &SheetSpec) -> [Point; 2] {
     let on_edge = |p: Point| on_sheet_edge(p, spec.width_mm, spec.height_mm);
     let [a, b] = line;
     let length = (b[0] - a[0]).hypot(b[1] - a[1]);

@@ -2,6 +2,7 @@
 //! layup of the links, the polyimide film of the flexures, the sheet adhesive, the laser kerf on the
 //! laminate and the margins that keep adhesive off the hinges (docs/cam.md §7; drawn by `crate::linkage`).
 
+use super::cure::CureStep;
 use crate::input::limits::{
     DENSITY_KG_PER_M3, FATIGUE_STRAIN, FILM_MODULUS_GPA, FLEXURE_FRACTION, FLEXURE_THICKNESSES,
     GAP_MM, HOLE_DIAMETER_MM, KERF_MM, LAYER_THICKNESS_MM, PLY_ANGLE_DEG,
@@ -69,6 +70,8 @@ pub struct LinkageProcess {
     pub min_length_thicknesses: f64,
     /// Longest flexure as a share of the shorter link beside it: a longer gap is no pivot.
     pub max_length_fraction: f64,
+    /// The laminate's cure on the clamp's pins (`[linkage.cure]`), if the template gives it.
+    pub cure: Option<CureStep>,
 }
 
 impl LinkageProcess {
@@ -121,6 +124,7 @@ impl LinkageProcess {
             flexure_width_mm: t.number_in("flexure_width_mm", GAP_MM)?,
             min_length_thicknesses: t.number_in("min_length_thicknesses", FLEXURE_THICKNESSES)?,
             max_length_fraction: t.number_in("max_length_fraction", FLEXURE_FRACTION)?,
+            cure: CureStep::optional(t, "cure")?,
         };
         // The film must be bonded beyond the adhesive's cut-back, or the flexure is loose film.
         if process.film_margin_mm < process.adhesive_cutback_mm + 2.0 * process.kerf_mm {

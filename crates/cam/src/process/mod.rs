@@ -2,7 +2,9 @@
 //! materials, sheets, kerfs and spacings, the clamp panel, the cure recipe, and which laser operation each
 //! drawn feature gets. Read once through the input layer; the layout pipeline and the reports use it.
 
+mod cure;
 mod features;
+pub mod laser;
 pub mod linkage;
 mod read;
 pub mod template;

@@ -3,16 +3,17 @@
 //! ranges and refusing unknown keys, in the order the file's errors are reported.
 
 use super::features::FeatureMap;
+use super::laser::LaserSettings;
 use super::linkage::LinkageProcess;
 use super::template::{
-    BondSpec, ClampLayerSpec, ClampSpec, Cure, CureStep, MoldStock, PassiveCut, SheetOrigin,
-    SheetSpec, Template, DEFAULT_BOND_INSET_MM, DEFAULT_GROUND_TAB_MM, DEFAULT_MOLD_TOLERANCE_MM,
+    BondSpec, ClampLayerSpec, ClampSpec, Cure, MoldStock, PassiveCut, SheetOrigin, SheetSpec,
+    Template, DEFAULT_BOND_INSET_MM, DEFAULT_GROUND_TAB_MM, DEFAULT_MOLD_TOLERANCE_MM,
     DEFAULT_SCORE_OVERRUN_MM, DEFAULT_SNAP_STRIP_THICKNESSES,
 };
 use crate::drawing::model::Operation;
 use crate::drawing::palette::Palette;
 use crate::input::limits::{
-    ACI, BOND_INSET_MM, CURE_C, CURE_MIN, DENSITY_KG_PER_M3 as DENSITY, FRACTION, GAP_MM,
+    ACI, BOND_INSET_MM, DENSITY_KG_PER_M3 as DENSITY, DOWEL_DIAMETER_MM, FRACTION, GAP_MM,
     GROUND_TAB_MM, KERF_MM, LABEL_HEIGHT_MM, LAYER_THICKNESS_MM as THICKNESS_MM, MAX_STOCK,
     MIN_FEATURE_MM, PASSIVE_EDGE_MARGIN_MM, PIN_RADIUS_MM, PRICE, SCORE_OVERRUN_MM,
     SHEET_SIDE_MM as SHEET_MM, SNAP_STRIP_THICKNESSES, VIA_DIAMETER_MM,
@@ -34,7 +35,7 @@ impl Template {
         let label_height_mm = root
             .optional_number_in("label_height_mm", LABEL_HEIGHT_MM)?
             .unwrap_or(1.0);
-        let cure = read_cure(&root)?;
+        let cure = Cure::read(&root)?;
         let clamp = read_clamp(&root)?;
         let layers = root.table("layers")?;
         let (pzt, pzt_edge_margin_mm) = read_pzt(&layers)?;
@@ -59,6 +60,14 @@ impl Template {
         check_pins(path, &clamp, widest_clamp_kerf)?;
         let palette = read_palette(path, &root)?;
         let features = FeatureMap::read(path, &root)?;
+        let laser = {
+            let mut names = vec!["pzt", "passive", "mold"];
+            if bond.is_some() {
+                names.push("pyralux");
+            }
+            names.extend(covers.keys().map(String::as_str));
+            LaserSettings::read(&root, &names)?
+        };
         let linkage = match root.optional_table("linkage")? {
             None => None,
             Some(t) => {
@@ -86,6 +95,7 @@ impl Template {
             features,
             pzt_edge_margin_mm,
             linkage,
+            laser,
             ground_tab_mm,
         })
     }
@@ -108,33 +118,6 @@ fn read_passive_cut(path: &Path, root: &TableReader<'_>) -> Result<PassiveCut, I
     }
 }
 
-/// One step of the cure recipe: `temperature_C`, `time_min`, `pressure`.
-fn read_cure_step(t: &TableReader<'_>) -> Result<CureStep, InputError> {
-    Ok(CureStep {
-        temperature_c: t.number_in("temperature_C", CURE_C)?,
-        time_min: t.number_in("time_min", CURE_MIN)?,
-        pressure: t
-            .string("pressure", "how the stack is pressed, in words")?
-            .to_string(),
-    })
-}
-
-/// `[cure]`: the clamp's cure, and `[cure.passive]`, the passive stack's own cure, if it has one.
-fn read_cure(root: &TableReader<'_>) -> Result<Cure, InputError> {
-    let cure_table = root.table("cure")?;
-    let clamp = read_cure_step(&cure_table)?;
-    let passive = match cure_table.optional_table("passive")? {
-        Some(t) => {
-            let s = read_cure_step(&t)?;
-            t.finish()?;
-            Some(s)
-        }
-        None => None,
-    };
-    cure_table.finish()?;
-    Ok(Cure { clamp, passive })
-}
-
 /// `[clamp]`: the clamp panel, its cavities, pins, fiducials and windows, and its stack of layers.
 fn read_clamp(root: &TableReader<'_>) -> Result<ClampSpec, InputError> {
     let c = root.table("clamp")?;
@@ -146,6 +129,7 @@ fn read_clamp(root: &TableReader<'_>) -> Result<ClampSpec, InputError> {
         cavity_spacing_mm: c.number_in("cavity_spacing_mm", GAP_MM)?,
         pin_radius_mm: c.number_in("pin_radius_mm", PIN_RADIUS_MM)?,
         pin_inset_mm: c.number_in("pin_inset_mm", GAP_MM)?,
+        dowel_diameter_mm: c.optional_number_in("dowel_diameter_mm", DOWEL_DIAMETER_MM)?,
         fiducial_size_mm: c.number_in("fiducial_size_mm", GAP_MM)?,
         window_width_mm: c.number_in("window_width_mm", GAP_MM)?,
         window_height_mm: c.number_in("window_height_mm", GAP_MM)?,
@@ -285,6 +269,20 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
 /// the outline outside the panel), and clear of the cavity region inside `border_mm`.
 fn check_pins(path: &Path, clamp: &ClampSpec, kerf_mm: f64) -> Result<(), InputError> {
     let (r, inset) = (clamp.pin_radius_mm, clamp.pin_inset_mm);
+    if let Some(d) = clamp.dowel_diameter_mm.filter(|d| *d > 2.0 * r) {
+        // A film forced over a larger dowel tears or buckles around the hole, and every sheet after it
+        // sits off its pins by the buckle.
+        return Err(InputError::invalid(
+            path,
+            "clamp.dowel_diameter_mm",
+            short_number(d),
+            format!(
+                "larger than the pin holes (2 x clamp.pin_radius_mm = {} mm); allowed range (0, {}] mm",
+                short_number(2.0 * r),
+                short_number(2.0 * r)
+            ),
+        ));
+    }
     let largest = (inset - MIN_FEATURE_MM).min(clamp.border_mm - inset);
     if r <= largest && r > kerf_mm / 2.0 {
         return Ok(());

@@ -113,26 +113,7 @@ pub struct MoldStock {
     pub tolerance_mm: f64,
 }
 
-/// A cure: temperature and time, and how the stack is pressed (`[cure]`, `[cure.passive]`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct CureStep {
-    /// Oven or press temperature, °C.
-    pub temperature_c: f64,
-    /// Time at temperature, minutes.
-    pub time_min: f64,
-    /// How the stack is pressed, in the lab's words (a C-clamp, a press and its pressure).
-    pub pressure: String,
-}
-
-/// The cures a process needs: the clamp stack in the oven, and (method 1) the passive layup pressed
-/// and cured before it is cut.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Cure {
-    /// The clamp stack's cure.
-    pub clamp: CureStep,
-    /// The passive layup's own cure before cutting (method 1), if the process has one.
-    pub passive: Option<CureStep>,
-}
+pub use super::cure::{Cure, CureStep};
 
 /// Default inset of a Pyralux bond part from the PZT plate edge, mm (docs/cam.md §1, "Method 1 bond
 /// parts"): a starting point, to be set from the squeeze-out a lab sees on its first clamp.
@@ -190,6 +171,9 @@ pub struct ClampSpec {
     pub pin_radius_mm: f64,
     /// Pin centre distance from the panel edges, mm.
     pub pin_inset_mm: f64,
+    /// Diameter of the dowels the pins are, mm (`dowel_diameter_mm`), when the template gives it: the
+    /// book states the fit in the pin holes.
+    pub dowel_diameter_mm: Option<f64>,
     /// Fiducial crosshair size, mm.
     pub fiducial_size_mm: f64,
     /// Stacking-order window width, mm.
@@ -248,6 +232,8 @@ pub struct Template {
     pub pzt_edge_margin_mm: f64,
     /// The flexure linkage laminate (`[linkage]`), if the process cuts one.
     pub linkage: Option<super::linkage::LinkageProcess>,
+    /// Laser settings by layer and operation (`[laser.LAYER]`), as far as the template gives them.
+    pub laser: super::laser::LaserSettings,
     /// The base tab the process gives a design that has none, mm (`[layers.passive] ground_tab_mm`,
     /// default [`DEFAULT_GROUND_TAB_MM`]; 0 adds none): the wiring needs bare carbon to reach.
     pub ground_tab_mm: f64,

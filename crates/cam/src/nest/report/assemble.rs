@@ -10,9 +10,7 @@ use crate::linkage::checklist::coupon_steps;
 use crate::nest::file::Batch;
 use crate::parts::PartSheet;
 use crate::pipeline::{Build, NestOptions, WORKERS};
-use crate::prediction::Prediction;
 use crate::process::template::PassiveCut;
-use actuator_model::ModelKind;
 
 impl NestReport {
     /// Assemble the report from what the planner drew; `files` is filled in by the writer.
@@ -211,11 +209,14 @@ fn clamp_panel_rows(totals: &mut Vec<TotalRow>, batch: &Batch, built: &Build) ->
             };
             total(totals, kind, material, c.panels.len(), None, None);
         }
+        let press_fit =
+            crate::cutsheet::report::MoldReport::new(&c.mold, t.mold_stock.tolerance_mm).press_fit;
         for (p, members) in c.panels.iter().enumerate() {
             clamp_panels.push(PanelRow {
                 index: c.first_panel + p,
                 stacking_order: c.stack.clone(),
                 mold_films_mm: c.mold.films_mm.clone(),
+                press_fit: press_fit.clone(),
                 actuators: members
                     .iter()
                     .map(|(j, a)| ActuatorRef {
@@ -279,13 +280,12 @@ fn build_book(batch: &Batch, built: &Build, linkages: &[NestLinkageRow]) -> Buil
         &batch
             .items
             .iter()
-            .map(|item| DesignFacts {
+            .enumerate()
+            .map(|(job, item)| DesignFacts {
                 name: item.design.name.clone(),
                 base_tab_mm: item.design.planform.base_tab * 1e3,
                 ground_tab_added: item.ground_tab_mm.is_some(),
-                capacitance_nf: Prediction::of(&item.design, ModelKind::Original)
-                    .ok()
-                    .map(|p| p.capacitance_nF),
+                expected: crate::book::Expected::of(&item.design, built.drawn_bond_mg(job)),
             })
             .collect::<Vec<_>>(),
     );

@@ -305,9 +305,10 @@ impl NestReport {
                 .map(|a| format!("{} #{}", md(&a.design), a.actuator))
                 .collect();
             let films: Vec<String> = p.mold_films_mm.iter().map(|t| t.to_string()).collect();
+            let fits: Vec<String> = p.press_fit.iter().map(|f| f.text()).collect();
             let _ = writeln!(
                 s,
-                "- panel {} ({} layers: {}; mold films bottom to top {} mm): {}",
+                "- panel {} ({} layers: {}; mold films bottom to top {} mm; press fit: {}): {}",
                 p.index,
                 p.stacking_order.len(),
                 p.stacking_order
@@ -316,6 +317,7 @@ impl NestReport {
                     .collect::<Vec<_>>()
                     .join(" → "),
                 films.join(" + "),
+                fits.join("; "),
                 who.join(", ")
             );
         }

@@ -3,9 +3,15 @@
 //! their stock, the order the plates snap in, what goes into the mold after which sheet, the cure, the
 //! clean-up, the electrical checks and the wiring. `cut-sheet` and `nest` write the same book.
 
+mod function;
+mod laser;
+mod press;
+
+pub use function::Expected;
+
 use crate::markdown;
 use crate::pipeline::{Build, ClampBuild, MoldBand, PanelRun};
-use crate::process::template::{CureStep, Template};
+use crate::process::template::{BondSpec, CureStep, Template};
 use serde::Serialize;
 
 /// One section of the book: a stage of the process, its steps in order.
@@ -27,8 +33,8 @@ pub struct DesignFacts {
     pub base_tab_mm: f64,
     /// The base tab is the process's ground tab, added because the design has none.
     pub ground_tab_added: bool,
-    /// Predicted capacitance of one PZT plate, nF, when the model gives one.
-    pub capacitance_nf: Option<f64>,
+    /// What the functional check compares the actuators with, when the model gives a prediction.
+    pub expected: Option<Expected>,
 }
 
 /// The build book of a build, stage by stage.
@@ -53,12 +59,16 @@ fn duration(min: f64) -> String {
     }
 }
 
-fn cure_text(c: &CureStep) -> String {
+/// A cure as the book and the linkage steps say it: time, temperature, how it is pressed, and the
+/// pressure when the template gives it as a number.
+pub(crate) fn cure_text(c: &CureStep) -> String {
     format!(
-        "{} at {}, {}",
+        "{} at {}, {}{}",
         duration(c.time_min),
         temperature(c.temperature_c),
-        markdown::text(&c.pressure)
+        markdown::text(&c.pressure),
+        c.pressure_kpa
+            .map_or(String::new(), |p| format!(" ({p} kPa on the parts)"))
     )
 }
 
@@ -91,18 +101,29 @@ fn listed_runs(files: &[String], runs: &[PanelRun]) -> String {
 impl BuildBook {
     /// The book of `built`, made by `template`'s process, for `designs` (in job order).
     pub fn new(template: &Template, built: &Build, designs: &[DesignFacts]) -> BuildBook {
-        let method_1 = template.bond.is_some();
         let mut sections = vec![Section {
             title: "Cut".into(),
             steps: cut_steps(template, built),
         }];
         for (k, clamp) in built.clamps.iter().enumerate() {
-            sections.push(stack_section(k, clamp, method_1));
+            let mut section = stack_section(k, clamp, template.bond.as_ref());
+            section.steps[0] = format!(
+                "{} {}",
+                press::dowel_text(template, clamp),
+                section.steps[0]
+            );
+            sections.push(section);
         }
-        sections.push(cure_section(template));
-        sections.push(release_section());
-        sections.push(checks_section(designs));
+        sections.push(cure_section(template, built));
+        let mut release = release_section();
+        release.steps.extend(function::weigh_steps(designs));
+        sections.push(release);
+        sections.push(checks_section(designs, built));
         sections.push(wiring_section(designs));
+        sections.push(Section {
+            title: "Functional check".into(),
+            steps: function::function_steps(designs),
+        });
         BuildBook { sections }
     }
 
@@ -144,6 +165,8 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
          of that name. Red cuts, blue scores, black engraves, green is a second cut pass; keep the \
          grey REFERENCE layer's output off."
     )];
+    cut.push(laser::settings_step(template, built));
+    cut.push(press::measure_step(template, built));
     let passive_cut = if ply_by_ply {
         format!(
             "Cut each prepreg ply on its own sheet, laid with its fibres along the sheet's y axis (up \
@@ -179,10 +202,11 @@ fn cut_steps(template: &Template, built: &Build) -> Vec<String> {
             listed(&bond)
         ));
     }
+    cut.extend(laser::coupon_step(built));
     cut.push(format!(
         "Lay each PZT sheet on the bed with its + face (the supplier's pole mark) up and score it \
-         along the blue lines, several low-power passes to 1/3-1/2 of its thickness: {}. Scored from \
-         the + face, every plate's bevelled score edge marks its + face.",
+         along the blue lines with the setting the coupon passed, to 1/3-1/2 of its thickness: {}. \
+         Scored from the + face, every plate's bevelled score edge marks its + face.",
         listed(&pzt)
     ));
     let guides: Vec<String> = built.snap_guides.iter().map(|(n, _)| n.clone()).collect();
@@ -255,8 +279,9 @@ fn clamp_cut_steps(built: &Build, method_1: bool) -> Vec<String> {
 
 /// The stacking of clamp stack `k`: its sheets bottom to top, and the parts that go into the mold
 /// after each.
-fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
-    let panels = clamp.files.first().map_or(0, Vec::len);
+fn stack_section(k: usize, clamp: &ClampBuild, bond: Option<&BondSpec>) -> Section {
+    // Every panel of the stack: a file of a run of identical panels is cut once per panel.
+    let panels = clamp.panels.len();
     let title = if panels > 1 {
         format!(
             "Stack clamp {} (panels {}-{})",
@@ -297,23 +322,25 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
                  up, checked under a loupe; this plate carries no mark, its + face is bonded)."
                     .into(),
             );
+            steps.extend(bond.map(bond_step));
         }
         if Some(level) == core {
-            steps.push(if method_1 {
-                "Into each cavity: a Pyralux part with a small drop of silver epoxy in its via, \
-                 the cured passive part, then a second Pyralux part with its drop of silver \
-                 epoxy."
-                    .into()
+            steps.push(if bond.is_some() {
+                "Put the cured passive part in each cavity, flat on the Pyralux.".into()
             } else {
                 "Put the uncured passive part in each cavity, pressed flat onto the plate.".into()
             });
         }
         if Some(level) == upper {
-            steps.push(
-                "Put the second PZT plate in each cavity, from the upper tray, dot up: + face up \
-                 like the first, so both plates are poled the same way (parallel drive)."
-                    .into(),
-            );
+            steps.push(format!(
+                "Put the second PZT plate in each cavity, from the upper tray, dot up{}: + face \
+                     up like the first, so both plates are poled the same way (parallel drive).",
+                if bond.is_some() {
+                    ", its Pyralux part down"
+                } else {
+                    ""
+                }
+            ));
         }
     }
     steps.push(
@@ -324,13 +351,41 @@ fn stack_section(k: usize, clamp: &ClampBuild, method_1: bool) -> Section {
     Section { title, steps }
 }
 
+/// Method 1's bond: each Pyralux part tacked onto its plate where it must lie, its via filled with
+/// the epoxy it holds. A bond part lies inside its plate's outline, in the plate's band of the mold.
+fn bond_step(b: &BondSpec) -> String {
+    // The via's volume, π (d/2)² t, mm³: what fills it level with the film.
+    let via_mm3 = std::f64::consts::PI * (b.via_diameter_mm / 2.0).powi(2) * b.thickness_mm;
+    format!(
+        "Onto each lower plate, a Pyralux part, laid with the plate's {} mm margin (the template's \
+         {}) showing evenly all round under a loupe and tacked there with a tacking iron at its tip \
+         end: the cavity is wider than the plate, and a loose part slides over the plate's edge. \
+         Fill its via with silver epoxy level with the film: {via_mm3:.4} mm³, the via's π (d/2)² t \
+         (Ø{} mm through {} mm), a dab from a pin's tip, never a drop standing proud of the film: \
+         the excess spreads along the bond line to the plate's edge, the short of thesis §4.9.3. \
+         Tack the second Pyralux part onto the - face of each upper plate the same way and fill its \
+         via.",
+        b.inset_mm,
+        markdown::code("layers.pyralux.inset_mm"),
+        b.via_diameter_mm,
+        b.thickness_mm
+    )
+}
+
 /// Closing the clamp and the cure.
-fn cure_section(template: &Template) -> Section {
+fn cure_section(template: &Template, built: &Build) -> Section {
     let c = &template.cure.clamp;
+    let close = match press::force_text(template, built) {
+        Some(force) => format!(
+            "Close the clamp to {force}. {}.",
+            markdown::text(&c.pressure)
+        ),
+        None => format!("Close the clamp: {}.", markdown::text(&c.pressure)),
+    };
     Section {
         title: "Cure and clamp".into(),
         steps: vec![
-            format!("Close the clamp: {}.", markdown::text(&c.pressure)),
+            close,
             format!(
                 "Cure in the oven {} at {}.",
                 duration(c.time_min),
@@ -359,18 +414,11 @@ fn release_section() -> Section {
 }
 
 /// The electrical checks of each design's actuators.
-fn checks_section(designs: &[DesignFacts]) -> Section {
+fn checks_section(designs: &[DesignFacts], built: &Build) -> Section {
     let mut checks = Vec::new();
-    for d in designs {
-        let predicted = match d.capacitance_nf {
-            Some(c) => format!("The model predicts {c:.2} nF per plate; well below it"),
-            None => "Well below the other plates' value".to_string(),
-        };
-        checks.push(format!(
-            "{}: measure each PZT layer's capacitance, outer face to the carbon, on an LCR meter \
-             at 1 kHz. {predicted}, the plate is cracked or unbonded (thesis §4.9.1-2).",
-            markdown::text(&d.name)
-        ));
+    for (d, g) in designs.iter().zip(&built.geometry) {
+        let area = cam_geometry::signed_area(&g.pzt_outline()).abs();
+        checks.push(function::capacitance_step(d, area));
     }
     checks.push(
         "Check for shorts: each outer face to the carbon and face to face reads open on a meter's \
