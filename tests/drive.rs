@@ -517,3 +517,35 @@ fn the_readmes_drive_example_is_what_the_tool_prints() {
         );
     }
 }
+
+/// A transmission given by its published ratio T (rad/m) is the slider-crank of crank 1/T: its ratio at
+/// rest is T (eq. 2.5's slope at θ = 0, docs/physics.md §12), and the drive is the same, byte for byte in
+/// its report, as the linkage with those lengths written out.
+#[test]
+fn a_transmission_given_by_its_ratio_is_the_slider_crank_of_that_ratio_at_rest() {
+    let (dir, path) = coercive_copy("drive-hawkmoth.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let form = |linkage: &str| {
+        text.replace("coupler_ratio = 4\n", "")
+            .replace("travel_mm = 0.85\n", "")
+            .replace("solve_for_stroke = true", linkage)
+    };
+    let ratio = dir.path().join("ratio.toml");
+    std::fs::write(&ratio, form("ratio_rad_per_m = 2500\ncoupler_ratio = 4")).unwrap();
+    let lengths = dir.path().join("lengths.toml");
+    std::fs::write(&lengths, form("coupler_mm = 1.6\ncrank_mm = 0.4")).unwrap();
+    let a = drive_analysis(&ratio).report;
+    let b = drive_analysis(&lengths).report;
+    assert_eq!(a.table(), b.table());
+    let want = 2500.0f64.to_degrees() * 1e-3;
+    assert!((a.linkage.ratio_at_rest_deg_per_mm / want - 1.0).abs() < 1e-12);
+    // Two forms at once are refused naming the table.
+    let both = dir.path().join("both.toml");
+    std::fs::write(
+        &both,
+        form("ratio_rad_per_m = 2500\ncoupler_ratio = 4\ncrank_mm = 0.4\ncoupler_mm = 1.6"),
+    )
+    .unwrap();
+    let err = refused_in_one_line(&run(&["drive", both.to_str().unwrap()]));
+    assert!(err.contains("2 linkages given"), "{err}");
+}

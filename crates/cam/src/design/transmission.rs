@@ -5,7 +5,7 @@
 use crate::input::limits::{
     COUPLER_RATIO, END_ANGLE_DEG, FILM_THICKNESS_UM, FLEXURE_LENGTH_UM,
     FLEXURE_STIFFNESS_UNM_PER_RAD, FLEXURE_WIDTH_MM, INERTIA_MG_MM2, LINK_LENGTH_MM,
-    LINK_OFFSET_MM, PART_MASS_MG, TRAVEL_MM,
+    LINK_OFFSET_MM, PART_MASS_MG, TRANSMISSION_RATIO_RAD_PER_M, TRAVEL_MM,
 };
 use crate::input::{short_number, InputError, TableReader};
 
@@ -165,15 +165,28 @@ fn read_flexures(t: &TableReader<'_>) -> Result<Option<FlexureRequest>, InputErr
 }
 
 /// The linkage of `[transmission]`: `coupler_mm` and `crank_mm` (and `offset_mm`), or `end_angles_deg`
-/// with `coupler_ratio` (and `travel_mm`); `solve_for_stroke = true` solves for `±stroke_deg`.
+/// with `coupler_ratio` (and `travel_mm`); `solve_for_stroke = true` solves for `±stroke_deg`;
+/// `ratio_rad_per_m` with `coupler_ratio` is the slider-crank of that ratio at rest (crank `1/T`, docs/drive.md §1).
 fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputError> {
     let given = t.has("crank_mm");
     let angles = t.has("end_angles_deg");
     let symmetric = t.optional_bool("solve_for_stroke")?.unwrap_or(false);
-    let ways = [given, angles, symmetric].iter().filter(|w| **w).count();
-    const WAYS: &str = "give exactly one of: coupler_mm and crank_mm; end_angles_deg and coupler_ratio; solve_for_stroke = true and coupler_ratio";
+    let ratio = t.has("ratio_rad_per_m");
+    let ways = [given, angles, symmetric, ratio]
+        .iter()
+        .filter(|w| **w)
+        .count();
+    const WAYS: &str = "give exactly one of: coupler_mm and crank_mm; end_angles_deg and coupler_ratio; solve_for_stroke = true and coupler_ratio; ratio_rad_per_m and coupler_ratio";
     if ways == 0 {
-        return Err(t.missing_one_of(&["crank_mm", "end_angles_deg", "solve_for_stroke"], WAYS));
+        return Err(t.missing_one_of(
+            &[
+                "crank_mm",
+                "end_angles_deg",
+                "solve_for_stroke",
+                "ratio_rad_per_m",
+            ],
+            WAYS,
+        ));
     }
     if ways != 1 {
         return Err(InputError::invalid(
@@ -182,6 +195,16 @@ fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputEr
             format!("{ways} linkages given"),
             WAYS,
         ));
+    }
+    if ratio {
+        // The slider-crank turns by x / L3 at rest (eq. 2.5's slope at θ = 0), so the crank of a
+        // published ratio T is 1/T; its rise with the stroke is the slider-crank's own.
+        let crank = 1.0 / t.number_in("ratio_rad_per_m", TRANSMISSION_RATIO_RAD_PER_M)?;
+        return Ok(LinkageSpec::Given {
+            coupler: t.number_in("coupler_ratio", COUPLER_RATIO)? * crank,
+            crank,
+            offset: 0.0,
+        });
     }
     if given {
         return Ok(LinkageSpec::Given {

@@ -206,6 +206,9 @@ pub const LINK_LENGTH_MM: Range = Range::positive_up_to(1000.0, "mm");
 pub const LINK_OFFSET_MM: Range = Range::closed(-1000.0, 1000.0, "mm");
 /// Coupler-to-crank ratio L1/L3 of a solved linkage.
 pub const COUPLER_RATIO: Range = Range::closed(0.1, 100.0, "");
+/// A transmission's ratio at rest, dθ/dx: published insect-scale transmissions run at about 2150-3333
+/// rad/m; the range keeps the crank `1/T` within [`LINK_LENGTH_MM`].
+pub const TRANSMISSION_RATIO_RAD_PER_M: Range = Range::closed(1.0, 1e6, "rad/m");
 /// Actuator travel (one-sided) a linkage is solved for.
 pub const TRAVEL_MM: Range = Range::positive_up_to(1000.0, "mm");
 /// Rotational stiffness of the flexures about the wing hinge.
