@@ -2,6 +2,7 @@
 //! from the design files (independent of the planner), determinism, random batches, and bad input.
 
 mod budget;
+mod edge_gap;
 mod sheets;
 
 use crate::common;
@@ -83,6 +84,17 @@ fn check_report(
     designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
     spacing_mm: f64,
 ) {
+    check_report_with_edge(out, designs, spacing_mm, spacing_mm);
+}
+
+/// [`check_report`] with the cut-through sheets' edge gap `edge_gap_mm` (on top of the kerf) apart
+/// from the spacing between their parts.
+fn check_report_with_edge(
+    out: &Path,
+    designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
+    spacing_mm: f64,
+    edge_gap_mm: f64,
+) {
     let report: serde_json::Value = nest_report_json(out);
     let ground_tab = |name: &str| {
         report["items"]
@@ -110,7 +122,7 @@ fn check_report(
             (PZT_EDGE_MARGIN_MM, PZT_KERF_MM, &[0.0, 90.0, 180.0, 270.0])
         } else {
             (
-                PREPREG_KERF_MM + spacing_mm,
+                PREPREG_KERF_MM + edge_gap_mm,
                 PREPREG_KERF_MM + spacing_mm,
                 &[0.0, 180.0],
             )

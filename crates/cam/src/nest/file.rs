@@ -335,6 +335,12 @@ impl Batch {
                     b.sheet.spacing_mm = spacing;
                 }
             }
+            if let Some(edge_gap) = s.optional_number_in("edge_gap_mm", SPACING_MM)? {
+                template.passive.edge_gap_mm = Some(edge_gap);
+                if let Some(b) = &mut template.bond {
+                    b.sheet.edge_gap_mm = Some(edge_gap);
+                }
+            }
             s.finish()?;
         }
         let mut parts = Vec::new();

@@ -4,7 +4,7 @@
 use super::packing::{BaselineRow, NestObserver, NestOptions, SearchRow, WORKERS};
 use super::promise::{verify_cut_layouts, Promise};
 use super::refusal::refusal;
-use super::{items_of, placed_as, PlacedLayer};
+use super::{items_of, onto_sheet, placed_as, room_of, sheet_of, PlacedLayer};
 use crate::pipeline::cut::CutLayer;
 use crate::pipeline::jobs::Names;
 use crate::pipeline::BuildError;
@@ -15,7 +15,7 @@ use cam_nest::{
 use std::time::Instant;
 
 /// The irregular nester on the nominal outlines at each item's rotations (0° / 180° for actuator
-/// parts), kerf + spacing between parts and to the sheet edge; on sheets, or on a roll
+/// parts), kerf + spacing between parts and kerf + edge gap to the sheet edge; on sheets, or on a roll
 /// ([`crate::process::template::SheetSpec::roll`]: one strip of the roll's width, as short as the
 /// nester finds, drawn to its used length rounded up to 0.1 mm). The bounding-box baseline is nested too for the report.
 pub(super) fn irregular(
@@ -50,44 +50,65 @@ pub(super) fn irregular(
     let observe = |p: &NestProgress| observer.progress(p);
     // `bin` is the sheet the layout is verified and drawn on; `room` the one the baseline uses.
     let limit = opts.limit(deadline);
-    let (solution, bin, room, strip_length_mm, reached) = if spec.roll {
-        let (strip, reached) = nest_strip_until(&items, spec.width_mm, &settings, &limit, &observe)
-            .map_err(refused)?;
-        let length = (strip.length_mm * 10.0).ceil() / 10.0;
+    // The nesters keep one gap to everything: they work on the sheet shrunk by the edge shift
+    // (`room_of`), and their layouts are moved back onto the sheet (`onto_sheet`).
+    let shift = spec.edge_shift_mm();
+    let (mut solution, bin, room, strip_length_mm, reached) = if spec.roll {
+        let [width_mm, _] = spec.packing_room();
+        let (strip, reached) =
+            nest_strip_until(&items, width_mm, &settings, &limit, &observe).map_err(refused)?;
+        let length = ((strip.length_mm + 2.0 * shift) * 10.0).ceil() / 10.0;
         let bin = NestBin {
             width_mm: spec.width_mm,
             height_mm: length,
             stock: 1,
         };
+        // The strip the nester probed, in the sheet's frame as `bin` is.
         let room = NestBin {
+            width_mm: spec.width_mm,
+            height_mm: strip.bin.height_mm + 2.0 * shift,
             stock: copies.max(1),
-            ..strip.bin
         };
         (strip.solution, bin, room, Some(length), reached)
     } else {
-        let bin = NestBin {
-            width_mm: spec.width_mm,
-            height_mm: spec.height_mm,
-            stock: spec.stock.unwrap_or(copies.max(1)),
-        };
-        let (solution, reached) =
-            nest_until(&items, &bin, &settings, &limit, &observe).map_err(refused)?;
+        let bin = sheet_of(spec, spec.stock.unwrap_or(copies.max(1)));
+        let (solution, reached) = nest_until(
+            &items,
+            &room_of(spec, bin.stock),
+            &settings,
+            &limit,
+            &observe,
+        )
+        .map_err(refused)?;
         let room = NestBin {
             stock: copies.max(1),
             ..bin
         };
         (solution, bin, room, None, reached)
     };
+    onto_sheet(spec, &mut solution.bins, bin.width_mm * bin.height_mm);
     let layouts = cut_layouts(layer, &solution);
     let mut promise = Promise {
         sheet: bin,
         packed: items,
         clearance_mm: settings.separation_mm,
+        edge_mm: settings.separation_mm + shift,
     };
     verify_cut_layouts(layer, &layouts, &promise)
         .map_err(|v| fail(format!("nest verifier: {v}")))?;
-    let boxes: NestSolution = nest_bounding_boxes(&promise.packed, &room, &settings)
-        .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
+    let [room_width_mm, room_height_mm] =
+        [room.width_mm - 2.0 * shift, room.height_mm - 2.0 * shift];
+    let mut boxes: NestSolution = nest_bounding_boxes(
+        &promise.packed,
+        &NestBin {
+            width_mm: room_width_mm,
+            height_mm: room_height_mm,
+            ..room
+        },
+        &settings,
+    )
+    .map_err(|e| fail(format!("bounding-box baseline: {e}")))?;
+    onto_sheet(spec, &mut boxes.bins, room.width_mm * room.height_mm);
     promise.sheet = room;
     verify_cut_layouts(layer, &cut_layouts(layer, &boxes), &promise)
         .map_err(|v| fail(format!("baseline verifier: {v}")))?;

@@ -59,6 +59,38 @@ fn sheet_of(spec: &SheetSpec, stock: usize) -> NestBin {
     }
 }
 
+/// The sheet the packers work on for `spec`, with `stock` sheets of it: the sheet shrunk by the
+/// difference of its edge gap and its spacing ([`SheetSpec::packing_room`]), so that a packer that
+/// keeps one gap to everything keeps the edge gap to the sheet's edge once its layout is moved back
+/// ([`onto_sheet`]). A roll's room has the width only; its length is the packer's.
+fn room_of(spec: &SheetSpec, stock: usize) -> NestBin {
+    let [width_mm, height_mm] = spec.packing_room();
+    NestBin {
+        width_mm,
+        height_mm,
+        stock,
+    }
+}
+
+/// Sheets packed on [`room_of`]`(spec)` moved onto the sheet itself: every part moved by the edge
+/// shift along both axes, fills against the sheet's area. Unchanged when the edge gap is the
+/// spacing.
+fn onto_sheet(spec: &SheetSpec, sheets: &mut [NestedBin], sheet_area_mm2: f64) {
+    let d = spec.edge_shift_mm();
+    if d == 0.0 {
+        return;
+    }
+    for sheet in sheets {
+        for part in &mut sheet.parts {
+            part.translation = [part.translation[0] + d, part.translation[1] + d];
+            for q in &mut part.outline {
+                *q = [q[0] + d, q[1] + d];
+            }
+        }
+        sheet.utilization = sheet.part_area_mm2() / sheet_area_mm2;
+    }
+}
+
 /// Rounding the verifier absorbs, mm: a part may come this much closer than promised and still pass.
 const ROUNDING_MM: f64 = 1e-9;
 
