@@ -74,6 +74,10 @@ const LEAST_EFFORT: Effort = Effort {
     last_placed: true,
 };
 
+/// Steps of the grid of starts across a shaped sheet when no sampled start finds room
+/// ([`Model::find_spot`]): a start in every 1/24 of the sheet each way.
+const SHAPED_GRID: usize = 24;
+
 impl Effort {
     /// This effort for a fill of `copies` parts (`FULL_EFFORT_COPIES`, `LEAST_EFFORT`).
     fn for_fill(self, copies: usize) -> Effort {
@@ -446,7 +450,8 @@ impl Model<'_> {
                     .filter(|h| h.part == part && h.rot == rot && h.t.1 <= y_max)
                     .map(|h| h.t),
             );
-            if placed > 0 {
+            // A shaped sheet's corner may be kept out: random starts on an empty one too.
+            if placed > 0 || !self.job.shape.is_whole() {
                 starts.extend(self.anchor_starts(&anchored, shape, y_max, effort.anchors, rng));
                 starts.extend((0..effort.random).map(|_| {
                     (
@@ -485,6 +490,31 @@ impl Model<'_> {
                         return None;
                     }
                     coarse(rot, start, &mut shape.plain.clone())
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        if best.is_none() && !self.job.shape.is_whole() {
+            // Random starts can miss the room a remnant or keep-outs leave; a grid over the
+            // sheet finds it wherever a part's reference point can lie in a grid cell's span.
+            best = self.shapes[part]
+                .iter()
+                .enumerate()
+                .filter(|(_, shape)| shape.fits())
+                .flat_map(|(rot, shape)| {
+                    let b = shape.plain.bbox();
+                    let y_max = ceiling.map_or(shape.y.1, |c| shape.y.1.min(c - b.y_max));
+                    (0..=SHAPED_GRID)
+                        .flat_map(move |i| (0..=SHAPED_GRID).map(move |j| (rot, i, j)))
+                        .map(move |(rot, i, j)| {
+                            let at = |lo: f32, hi: f32, k: usize| {
+                                lo + (hi - lo) * k as f32 / SHAPED_GRID as f32
+                            };
+                            (rot, (at(shape.x.0, shape.x.1, i), at(shape.y.0, y_max, j)))
+                        })
+                        .filter(move |_| y_max >= shape.y.0)
+                })
+                .filter_map(|(rot, start)| {
+                    coarse(rot, start, &mut self.shapes[part][rot].plain.clone())
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
         }
