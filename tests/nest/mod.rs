@@ -4,6 +4,7 @@
 mod budget;
 mod edge_gap;
 mod sheets;
+mod stock;
 
 use crate::common;
 use common::*;
@@ -118,14 +119,13 @@ fn check_report_with_edge(
         let stem = sheet["file_stem"].as_str().unwrap();
         assert!(out.join(format!("{stem}.svg")).exists(), "{stem}.svg");
         assert!(out.join(format!("{stem}.dxf")).exists(), "{stem}.dxf");
-        let (edge, gap, rotations): (f64, f64, &[f64]) = if layer == "pzt" {
-            (PZT_EDGE_MARGIN_MM, PZT_KERF_MM, &[0.0, 90.0, 180.0, 270.0])
-        } else {
-            (
+        let (edge, gap, rotations): (f64, f64, &[f64]) = match layer {
+            "pzt" => (PZT_EDGE_MARGIN_MM, PZT_KERF_MM, &[0.0, 90.0, 180.0, 270.0]),
+            _ => (
                 PREPREG_KERF_MM + edge_gap_mm,
                 PREPREG_KERF_MM + spacing_mm,
                 &[0.0, 180.0],
-            )
+            ),
         };
         let mut placed = Vec::new();
         let mut part_area = 0.0;

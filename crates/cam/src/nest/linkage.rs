@@ -89,6 +89,7 @@ fn own_sheet(
             stock: None,
             price_per_sheet: None,
             roll: false,
+            drawn: Vec::new(),
             ..passive.clone()
         },
         prepreg: layer == "linkage-carbon",

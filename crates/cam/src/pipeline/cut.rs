@@ -6,7 +6,7 @@ use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetReco
 use super::label::Label;
 use super::sheet_label::part_box;
 use super::BuildError;
-use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, FibreAxis, Operation, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
 use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};
@@ -382,10 +382,17 @@ fn check_via(
 /// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is
 /// the item's cut path placed, its `copy` counts over the item's copies. Holes first, then labels, then
 /// the outer contours (cut order), each with the operation the layer's feature map gives it.
-pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, drawn: &mut Drawn) {
+pub fn draw_cut_sheets(
+    layer: &CutLayer,
+    layouts: &[NestedBin],
+    from_drawn: &[usize],
+    names: &Names,
+    drawn: &mut Drawn,
+) {
     let spec = &layer.spec;
     let op = |feature| layer.features.op(feature);
-    for layout in layouts {
+    for (k, layout) in layouts.iter().enumerate() {
+        let stock_sheet = from_drawn.get(k).map(|&d| &spec.drawn[d]);
         let n = drawn.next_number(&layer.layer);
         let mut d = Drawing::on_stock(
             &format!("{} {}, sheet {n}", names.title, layer.layer),
@@ -432,7 +439,18 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
                 }
             }
         }
-        let parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
+        let mut parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
+        if let Some(sheet) = stock_sheet {
+            // The stock's outline and keep-outs, to lay the drawn sheet on; the label keeps off them.
+            let shape = &sheet.shape;
+            for ring in std::iter::once(&shape.outline)
+                .filter(|o| !o.is_empty())
+                .chain(&shape.keep_outs)
+            {
+                d.add(Operation::Reference, Shape::Polygon(ring.clone()));
+            }
+            parts.extend(shape.keep_outs.iter().map(|k| part_box(k)));
+        }
         let name = format!("{}-{n}", layer.layer);
         drawn.label_sheet(
             &mut d,
@@ -449,6 +467,14 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             width_mm: spec.width_mm,
             height_mm: spec.height_mm,
             parts: Vec::new(),
+            stock_file: stock_sheet.map(|s| s.file.clone()),
+            remnant: (!spec.roll).then(|| {
+                let mut shape = stock_sheet.map(|s| s.shape.clone()).unwrap_or_default();
+                shape
+                    .keep_outs
+                    .extend(layout.parts.iter().map(|p| p.outline.clone()));
+                shape
+            }),
         };
         for p in &layout.parts {
             d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
@@ -467,7 +493,8 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             });
         }
         drawn.sheets.push(record);
-        drawn.push(format!("{}-{n}", layer.layer), &layer.layer, d);
+        let copies = usize::from(stock_sheet.is_none());
+        drawn.push_copies(format!("{}-{n}", layer.layer), &layer.layer, d, copies);
     }
 }
 

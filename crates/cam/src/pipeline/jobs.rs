@@ -110,6 +110,12 @@ pub struct SheetRecord {
     pub height_mm: f64,
     /// Parts on it.
     pub parts: Vec<PartRecord>,
+    /// The drawing of the stock it is cut from, when it is a drawn sheet (a remnant, a sheet with a
+    /// flaw) rather than a whole one.
+    pub stock_file: Option<String>,
+    /// What is left of a cut-through sheet once its parts are cut: its outline and, as keep-outs,
+    /// its earlier keep-outs and the parts' cut outlines. `None` for PZT and roll stock.
+    pub remnant: Option<cam_nest::SheetShape>,
 }
 
 impl SheetRecord {
@@ -239,7 +245,8 @@ impl<'s> Drawn<'s> {
     /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
     /// the files hold the drawing once.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
-        if let Some(s) = &drawing.stock {
+        // A drawn sheet (copies 0) is stock the lab has, not stock to buy.
+        if let Some(s) = drawing.stock.as_ref().filter(|_| copies > 0) {
             let same = |c: &&mut StockCount| {
                 c.material == s.material
                     && c.thickness_mm == s.thickness_mm

@@ -2,10 +2,12 @@
 //! materials, sheets, kerfs and spacings, the clamp panel, the cure recipe, and which laser operation each
 //! drawn feature gets. Read once through the input layer; the layout pipeline and the reports use it.
 
+pub mod drawn;
 mod features;
 pub mod linkage;
 mod read;
 pub mod template;
 
+pub use drawn::DrawnSheet;
 pub use features::{Feature, FeatureMap};
 pub use template::Template;

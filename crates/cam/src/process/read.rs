@@ -281,6 +281,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         min_snap_strip_thicknesses: 0.0,
         score_overrun_mm: 0.0,
         origin: SheetOrigin::of(t, "sheet_width_mm", "sheet_height_mm"),
+        drawn: Vec::new(),
     })
 }
 

@@ -43,6 +43,9 @@ pub struct SheetSpec {
     pub roll: bool,
     /// Where the sheet's size was written.
     pub origin: SheetOrigin,
+    /// Sheets of this stock given as drawings (remnants, sheets with flaws; a batch's `[[stock]]`),
+    /// nested on before whole sheets; none in a template.
+    pub drawn: Vec<super::DrawnSheet>,
 }
 
 impl SheetSpec {

@@ -1,6 +1,7 @@
 //! The irregular nester's layout of a cut layer ([`super::Packing::Irregular`]) on sheets or a
 //! roll, verified and compared with the bounding-box baseline on the same parts.
 
+use super::drawn::{fill_drawn, verify_drawn};
 use super::packing::{BaselineRow, NestObserver, NestOptions, SearchRow, WORKERS};
 use super::promise::{verify_cut_layouts, Promise};
 use super::refusal::refusal;
@@ -9,8 +10,8 @@ use crate::pipeline::cut::CutLayer;
 use crate::pipeline::jobs::Names;
 use crate::pipeline::BuildError;
 use cam_nest::{
-    nest_bounding_boxes, nest_strip_until, nest_until, NestBin, NestError, NestProgress,
-    NestSettings, NestSolution, NestedBin, SearchEnd,
+    nest_bounding_boxes, nest_strip_until, nest_until, NestBin, NestError, NestItem, NestProgress,
+    NestSettings, NestSolution, NestedBin, Reached, SearchEnd, SearchLimit,
 };
 use std::time::Instant;
 
@@ -53,6 +54,7 @@ pub(super) fn irregular(
     // The nesters keep one gap to everything: they work on the sheet shrunk by the edge shift
     // (`room_of`), and their layouts are moved back onto the sheet (`onto_sheet`).
     let shift = spec.edge_shift_mm();
+    let mut drawn = Vec::new();
     let (mut solution, bin, room, strip_length_mm, reached) = if spec.roll {
         let [width_mm, _] = spec.packing_room();
         let (strip, reached) =
@@ -71,15 +73,13 @@ pub(super) fn irregular(
         };
         (strip.solution, bin, room, Some(length), reached)
     } else {
-        let bin = sheet_of(spec, spec.stock.unwrap_or(copies.max(1)));
-        let (solution, reached) = nest_until(
-            &items,
-            &room_of(spec, bin.stock),
-            &settings,
-            &limit,
-            &observe,
-        )
-        .map_err(refused)?;
+        let (solution, used, stock, reached) =
+            on_sheets(layer, &items, &settings, &limit, &observe).map_err(|e| match e {
+                Stage::Drawn(e) => fail(format!("drawn sheets: {e}")),
+                Stage::Whole(e) => refused(e),
+            })?;
+        drawn = used;
+        let bin = sheet_of(spec, drawn.len() + stock);
         let room = NestBin {
             stock: copies.max(1),
             ..bin
@@ -95,6 +95,7 @@ pub(super) fn irregular(
         edge_mm: settings.separation_mm + shift,
     };
     verify_cut_layouts(layer, &layouts, &promise)
+        .and_then(|()| verify_drawn(layer, &solution.bins, &drawn, settings.separation_mm))
         .map_err(|v| fail(format!("nest verifier: {v}")))?;
     let [room_width_mm, room_height_mm] =
         [room.width_mm - 2.0 * shift, room.height_mm - 2.0 * shift];
@@ -127,7 +128,59 @@ pub(super) fn irregular(
         layouts,
         baseline: Some(baseline),
         strip_length_mm,
+        drawn,
     })
+}
+
+/// Which nest of a layer on sheets failed: on its drawn sheets, or on its whole ones.
+enum Stage {
+    Drawn(NestError),
+    Whole(NestError),
+}
+
+/// The layer's items on its sheets in the packers' room ([`room_of`]): its drawn sheets
+/// (remnants, sheets with flaws) first, then whole sheets for the rest, copies numbered on from
+/// the drawn sheets'. Also the drawn sheet each of the first sheets is, the whole sheets in stock,
+/// and how far the whole sheets' search got.
+fn on_sheets(
+    layer: &CutLayer,
+    items: &[NestItem],
+    settings: &NestSettings,
+    limit: &SearchLimit<'_>,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<(NestSolution, Vec<usize>, usize, Reached), Stage> {
+    let spec = &layer.spec;
+    let copies: usize = items.iter().map(|i| i.demand).sum();
+    let on_drawn = fill_drawn(
+        layer,
+        items,
+        &room_of(spec, copies.max(1)),
+        spec.edge_shift_mm(),
+        settings,
+        limit,
+        observe,
+    )
+    .map_err(Stage::Drawn)?;
+    let rest: Vec<NestItem> = items
+        .iter()
+        .zip(&on_drawn.left)
+        .map(|(i, &n)| NestItem {
+            demand: n,
+            ..i.clone()
+        })
+        .collect();
+    let stock = spec.stock.unwrap_or(copies.max(1));
+    let (mut whole, reached) =
+        nest_until(&rest, &room_of(spec, stock), settings, limit, observe).map_err(Stage::Whole)?;
+    let mut bins = on_drawn.sheets;
+    for mut b in whole.bins.drain(..) {
+        for p in &mut b.parts {
+            p.copy += items[p.item].demand - on_drawn.left[p.item];
+        }
+        b.index = bins.len();
+        bins.push(b);
+    }
+    Ok((NestSolution { bins }, on_drawn.drawn, stock, reached))
 }
 
 /// The report row of `layer`'s nest (`solution` on the sheet `bin` it is drawn on) against the

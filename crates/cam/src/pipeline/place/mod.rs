@@ -19,6 +19,7 @@
 //! | `promise.rs` | what a packer promised, and the verifier's check of it |
 //! | `refusal.rs` | the refusal of a part that fits no sheet |
 
+mod drawn;
 mod irregular;
 mod layers;
 mod packing;
@@ -48,6 +49,9 @@ pub(crate) struct PlacedLayer {
     pub baseline: Option<BaselineRow>,
     /// On roll stock: the used length, mm (the one sheet is drawn this long).
     pub strip_length_mm: Option<f64>,
+    /// The drawn sheet ([`crate::process::template::SheetSpec::drawn`]) each of the first
+    /// `drawn.len()` layouts is cut from; the others are whole sheets.
+    pub drawn: Vec<usize>,
 }
 
 /// The template's sheet with `stock` sheets of it.
