@@ -2,6 +2,7 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
+use super::cut_order::in_cutouts;
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::sheet_label::part_box;
@@ -10,12 +11,12 @@ use crate::drawing::model::{file_stem, Drawing, FibreAxis, Operation, Shape, Sto
 use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
 use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};
-use crate::process::{Feature, FeatureMap};
+use crate::process::{DrawnSheet, Feature, FeatureMap};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
 use cam_geometry::{place_point, place_ring};
-use cam_nest::NestedBin;
+use cam_nest::{NestedBin, PlacedPart, SheetShape};
 
 /// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
 pub const REGISTRATION_HOLE_MM: f64 = 0.5;
@@ -404,7 +405,14 @@ pub fn draw_cut_sheets(
                 fibre_axis: layer.prepreg.then_some(FibreAxis::Y),
             },
         );
-        for p in &layout.parts {
+        // A part in another's cut-out is cut, cut-outs and outline, before the part around it,
+        // whose cut-out would free it.
+        let inner = in_cutouts(&layout.parts);
+        let guests_first = (0..inner.len())
+            .filter(|&i| inner[i])
+            .chain((0..inner.len()).filter(|&i| !inner[i]));
+        for i in guests_first {
+            let p = &layout.parts[i];
             let item = &layer.items[p.item];
             for path in &item.cutout_paths {
                 d.add(
@@ -420,6 +428,9 @@ pub fn draw_cut_sheets(
                         radius: radius - spec.kerf_mm / 2.0,
                     },
                 );
+            }
+            if inner[i] {
+                d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
             }
         }
         for p in &layout.parts {
@@ -441,15 +452,9 @@ pub fn draw_cut_sheets(
         }
         let mut parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
         if let Some(sheet) = stock_sheet {
-            // The stock's outline and keep-outs, to lay the drawn sheet on; the label keeps off them.
-            let shape = &sheet.shape;
-            for ring in std::iter::once(&shape.outline)
-                .filter(|o| !o.is_empty())
-                .chain(&shape.keep_outs)
-            {
-                d.add(Operation::Reference, Shape::Polygon(ring.clone()));
-            }
-            parts.extend(shape.keep_outs.iter().map(|k| part_box(k)));
+            // To lay the drawn sheet on; the label keeps off its keep-outs.
+            draw_stock_shape(&mut d, &sheet.shape);
+            parts.extend(sheet.shape.keep_outs.iter().map(|k| part_box(k)));
         }
         let name = format!("{}-{n}", layer.layer);
         drawn.label_sheet(
@@ -468,16 +473,12 @@ pub fn draw_cut_sheets(
             height_mm: spec.height_mm,
             parts: Vec::new(),
             stock_file: stock_sheet.map(|s| s.file.clone()),
-            remnant: (!spec.roll).then(|| {
-                let mut shape = stock_sheet.map(|s| s.shape.clone()).unwrap_or_default();
-                shape
-                    .keep_outs
-                    .extend(layout.parts.iter().map(|p| p.outline.clone()));
-                shape
-            }),
+            remnant: (!spec.roll).then(|| remnant(stock_sheet, &layout.parts, &inner)),
         };
-        for p in &layout.parts {
-            d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
+        for (p, inner) in layout.parts.iter().zip(&inner) {
+            if !inner {
+                d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
+            }
             let item = &layer.items[p.item];
             record.parts.push(PartRecord {
                 job: item.job,
@@ -496,6 +497,28 @@ pub fn draw_cut_sheets(
         let copies = usize::from(stock_sheet.is_none());
         drawn.push_copies(format!("{}-{n}", layer.layer), &layer.layer, d, copies);
     }
+}
+
+/// A drawn sheet's outline and keep-outs as reference lines.
+fn draw_stock_shape(d: &mut Drawing, shape: &SheetShape) {
+    for ring in std::iter::once(&shape.outline)
+        .filter(|o| !o.is_empty())
+        .chain(&shape.keep_outs)
+    {
+        d.add(Operation::Reference, Shape::Polygon(ring.clone()));
+    }
+}
+
+/// What is left of a sheet (drawn, or whole when `stock_sheet` is `None`) once `parts` are cut:
+/// its outline and keep-outs, and the cut outline of each part not `inner` (a part in another's
+/// cut-out is in that part's keep-out already).
+fn remnant(stock_sheet: Option<&DrawnSheet>, parts: &[PlacedPart], inner: &[bool]) -> SheetShape {
+    let mut shape = stock_sheet.map(|s| s.shape.clone()).unwrap_or_default();
+    let outer = parts.iter().zip(inner).filter(|(_, i)| !**i);
+    shape
+        .keep_outs
+        .extend(outer.map(|(p, _)| p.outline.clone()));
+    shape
 }
 
 /// An extra part from a drawing as an item of a cut layer: outline and cut-outs with their cut

@@ -16,6 +16,7 @@
 mod build;
 mod clamp;
 mod cut;
+mod cut_order;
 mod jobs;
 mod label;
 mod mold;

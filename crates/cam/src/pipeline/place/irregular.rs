@@ -2,6 +2,7 @@
 //! roll, verified and compared with the bounding-box baseline on the same parts.
 
 use super::drawn::{fill_drawn, verify_drawn};
+use super::holes::{carry, fill_holes, verify_hosted, Hosted};
 use super::packing::{BaselineRow, NestObserver, NestOptions, SearchRow, WORKERS};
 use super::promise::{verify_cut_layouts, Promise};
 use super::refusal::refusal;
@@ -10,8 +11,9 @@ use crate::pipeline::cut::CutLayer;
 use crate::pipeline::jobs::Names;
 use crate::pipeline::BuildError;
 use cam_nest::{
-    nest_bounding_boxes, nest_strip_until, nest_until, NestBin, NestError, NestItem, NestProgress,
-    NestSettings, NestSolution, NestedBin, Reached, SearchEnd, SearchLimit,
+    nest_bounding_boxes, nest_strip_until, nest_until, verify_copies, NestBin, NestError, NestItem,
+    NestProgress, NestSettings, NestSolution, NestViolation, NestedBin, Reached, SearchEnd,
+    SearchLimit,
 };
 use std::time::Instant;
 
@@ -51,10 +53,9 @@ pub(super) fn irregular(
     let observe = |p: &NestProgress| observer.progress(p);
     // `bin` is the sheet the layout is verified and drawn on; `room` the one the baseline uses.
     let limit = opts.limit(deadline);
-    // The nesters keep one gap to everything: they work on the sheet shrunk by the edge shift
-    // (`room_of`), and their layouts are moved back onto the sheet (`onto_sheet`).
+    // The nesters keep one gap to everything: see `room_of` and `onto_sheet`.
     let shift = spec.edge_shift_mm();
-    let mut drawn = Vec::new();
+    let (mut drawn, mut hosted, mut held) = (Vec::new(), Vec::new(), vec![0; items.len()]);
     let (mut solution, bin, room, strip_length_mm, reached) = if spec.roll {
         let [width_mm, _] = spec.packing_room();
         let (strip, reached) =
@@ -73,12 +74,12 @@ pub(super) fn irregular(
         };
         (strip.solution, bin, room, Some(length), reached)
     } else {
-        let (solution, used, stock, reached) =
-            on_sheets(layer, &items, &settings, &limit, &observe).map_err(|e| match e {
-                Stage::Drawn(e) => fail(format!("drawn sheets: {e}")),
-                Stage::Whole(e) => refused(e),
-            })?;
-        drawn = used;
+        let on = on_sheets(layer, &items, &settings, &limit, &observe).map_err(|e| match e {
+            Stage::Drawn(e) => fail(format!("drawn sheets or holes: {e}")),
+            Stage::Whole(e) => refused(e),
+        })?;
+        (drawn, hosted, held) = (on.drawn, on.hosted, on.held);
+        let (solution, stock, reached) = (on.solution, on.stock, on.reached);
         let bin = sheet_of(spec, drawn.len() + stock);
         let room = NestBin {
             stock: copies.max(1),
@@ -94,9 +95,14 @@ pub(super) fn irregular(
         clearance_mm: settings.separation_mm,
         edge_mm: settings.separation_mm + shift,
     };
-    verify_cut_layouts(layer, &layouts, &promise)
-        .and_then(|()| verify_drawn(layer, &solution.bins, &drawn, settings.separation_mm))
-        .map_err(|v| fail(format!("nest verifier: {v}")))?;
+    verify_layer(
+        layer,
+        (&layouts, &solution),
+        &promise,
+        (&drawn, &hosted, &held),
+        settings.separation_mm,
+    )
+    .map_err(|v| fail(format!("nest verifier: {v}")))?;
     let [room_width_mm, room_height_mm] =
         [room.width_mm - 2.0 * shift, room.height_mm - 2.0 * shift];
     let mut boxes: NestSolution = nest_bounding_boxes(
@@ -116,9 +122,13 @@ pub(super) fn irregular(
     // Only where a limit could end the search: a plain iteration budget's report stays as it is.
     let search =
         (deadline.is_some() || reached.ended != SearchEnd::Budget).then(|| SearchRow::of(&reached));
+    // Measured on the outlines as the baseline's boxes are: a part in a hole is in its host's area.
+    let outlines = NestSolution {
+        bins: without_hosted(&solution.bins, &hosted),
+    };
     let baseline = baseline_row(
         layer,
-        (&solution, &bin),
+        (&outlines, &bin),
         (&boxes, &room),
         settings.separation_mm,
         strip_length_mm,
@@ -138,49 +148,76 @@ enum Stage {
     Whole(NestError),
 }
 
-/// The layer's items on its sheets in the packers' room ([`room_of`]): its drawn sheets
-/// (remnants, sheets with flaws) first, then whole sheets for the rest, copies numbered on from
-/// the drawn sheets'. Also the drawn sheet each of the first sheets is, the whole sheets in stock,
-/// and how far the whole sheets' search got.
+/// A layer nested on its sheets ([`on_sheets`]).
+struct OnSheets {
+    solution: NestSolution,
+    /// The drawn sheet each of the first sheets is.
+    drawn: Vec<usize>,
+    /// Whole sheets in stock.
+    stock: usize,
+    /// How far the whole sheets' search got.
+    reached: Reached,
+    /// The parts in holes of each sheet.
+    hosted: Vec<Vec<Hosted>>,
+    /// Copies of each item placed in holes (numbered after the others).
+    held: Vec<usize>,
+}
+
+/// The layer's items on its sheets in the packers' room ([`room_of`]): parts in the cut-outs of
+/// larger parts first ([`fill_holes`]), then its drawn sheets (remnants, sheets with flaws), then
+/// whole sheets for the rest, copies numbered on from the drawn sheets', the parts in holes
+/// carried onto the sheets with the copies that hold them.
 fn on_sheets(
     layer: &CutLayer,
     items: &[NestItem],
     settings: &NestSettings,
     limit: &SearchLimit<'_>,
     observe: &dyn Fn(&NestProgress),
-) -> Result<(NestSolution, Vec<usize>, usize, Reached), Stage> {
+) -> Result<OnSheets, Stage> {
     let spec = &layer.spec;
     let copies: usize = items.iter().map(|i| i.demand).sum();
-    let on_drawn = fill_drawn(
-        layer,
-        items,
-        &room_of(spec, copies.max(1)),
-        spec.edge_shift_mm(),
-        settings,
-        limit,
-        observe,
-    )
-    .map_err(Stage::Drawn)?;
-    let rest: Vec<NestItem> = items
-        .iter()
-        .zip(&on_drawn.left)
-        .map(|(i, &n)| NestItem {
-            demand: n,
-            ..i.clone()
-        })
-        .collect();
+    let kits = fill_holes(layer, items, settings, limit, observe).map_err(Stage::Drawn)?;
+    let with = |left: &[usize]| -> Vec<NestItem> {
+        items
+            .iter()
+            .zip(left)
+            .map(|(i, &n)| NestItem {
+                demand: n,
+                ..i.clone()
+            })
+            .collect()
+    };
+    let outside = with(&kits.left);
+    let room = room_of(spec, copies.max(1));
+    let shift = spec.edge_shift_mm();
+    let on_drawn = fill_drawn(layer, &outside, &room, shift, settings, limit, observe)
+        .map_err(Stage::Drawn)?;
+    let rest = with(&on_drawn.left);
     let stock = spec.stock.unwrap_or(copies.max(1));
     let (mut whole, reached) =
         nest_until(&rest, &room_of(spec, stock), settings, limit, observe).map_err(Stage::Whole)?;
     let mut bins = on_drawn.sheets;
     for mut b in whole.bins.drain(..) {
         for p in &mut b.parts {
-            p.copy += items[p.item].demand - on_drawn.left[p.item];
+            p.copy += kits.left[p.item] - on_drawn.left[p.item];
         }
         b.index = bins.len();
         bins.push(b);
     }
-    Ok((NestSolution { bins }, on_drawn.drawn, stock, reached))
+    let hosted = carry(&kits, items, &mut bins);
+    let held = items
+        .iter()
+        .zip(&kits.left)
+        .map(|(i, l)| i.demand - l)
+        .collect();
+    Ok(OnSheets {
+        solution: NestSolution { bins },
+        drawn: on_drawn.drawn,
+        stock,
+        reached,
+        hosted,
+        held,
+    })
 }
 
 /// The report row of `layer`'s nest (`solution` on the sheet `bin` it is drawn on) against the
@@ -246,6 +283,67 @@ pub fn sheets_instead_of_roll(
     };
     let placed = irregular(&on_sheets, &opts, None, observer, names)?;
     Ok(placed.layouts.len())
+}
+
+/// The verifier's check of a layer's nest: `layouts` (cut paths) and `solution` (the nominal
+/// outlines) against what the packer promised; the parts in holes (`held` copies of each item,
+/// `hosted` on each sheet) against their holes; the drawn sheets against their outlines and
+/// keep-outs.
+fn verify_layer(
+    layer: &CutLayer,
+    (layouts, solution): (&[NestedBin], &NestSolution),
+    promise: &Promise,
+    (drawn, hosted, held): (&[usize], &[Vec<Hosted>], &[usize]),
+    separation_mm: f64,
+) -> Result<(), NestViolation> {
+    verify_copies(&promise.packed, layouts)?;
+    // The parts in holes lie inside other parts' outlines: checked against their holes, the
+    // others as the packer promised.
+    let outside = Promise {
+        packed: promise
+            .packed
+            .iter()
+            .zip(held)
+            .map(|(i, h)| NestItem {
+                demand: i.demand - h,
+                ..i.clone()
+            })
+            .collect(),
+        ..promise.clone()
+    };
+    verify_cut_layouts(layer, &without_hosted(layouts, hosted), &outside)?;
+    verify_drawn(layer, &solution.bins, drawn, separation_mm)?;
+    let items = &promise.packed;
+    verify_hosted(
+        layer,
+        items,
+        &promise.sheet,
+        &solution.bins,
+        hosted,
+        separation_mm,
+    )
+}
+
+/// `layouts` without the parts in holes.
+fn without_hosted(layouts: &[NestedBin], hosted: &[Vec<Hosted>]) -> Vec<NestedBin> {
+    layouts
+        .iter()
+        .enumerate()
+        .map(|(s, b)| NestedBin {
+            parts: b
+                .parts
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| {
+                    hosted
+                        .get(s)
+                        .is_none_or(|h| h.iter().all(|h| h.guest != *k))
+                })
+                .map(|(_, p)| p.clone())
+                .collect(),
+            ..b.clone()
+        })
+        .collect()
 }
 
 /// The sheets of a nest as layouts of the layer's cut paths, each turned and moved as its part was.

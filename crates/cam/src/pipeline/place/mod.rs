@@ -16,10 +16,13 @@
 //! | `plates.rs` | the PZT plates' snappable layout, verified |
 //! | `layers.rs` | every cut layer placed, several nested at once |
 //! | `shelf.rs`, `irregular.rs` | the two packers of a cut layer, each verified |
+//! | `drawn.rs` | a layer's drawn sheets (remnants, sheets with flaws) filled first, verified |
+//! | `holes.rs` | parts nested in other parts' cut-outs, carried with them, verified |
 //! | `promise.rs` | what a packer promised, and the verifier's check of it |
 //! | `refusal.rs` | the refusal of a part that fits no sheet |
 
 mod drawn;
+mod holes;
 mod irregular;
 mod layers;
 mod packing;

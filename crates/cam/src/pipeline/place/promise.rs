@@ -9,6 +9,7 @@ use cam_nest::{
 };
 
 /// What a packing promised for one cut layer, for the verifier.
+#[derive(Clone)]
 pub(super) struct Promise {
     /// The sheet, with the stock the packer had to keep to.
     pub sheet: NestBin,
