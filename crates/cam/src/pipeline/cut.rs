@@ -2,7 +2,7 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
-use super::cut_order::in_cutouts;
+use super::cut_order::{cut_order, in_cutouts};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::sheet_label::part_box;
@@ -405,13 +405,10 @@ pub fn draw_cut_sheets(
                 fibre_axis: layer.prepreg.then_some(FibreAxis::Y),
             },
         );
-        // A part in another's cut-out is cut, cut-outs and outline, before the part around it,
-        // whose cut-out would free it.
+        // Parts in cut-outs first, each group along a short path ([`cut_order`]).
         let inner = in_cutouts(&layout.parts);
-        let guests_first = (0..inner.len())
-            .filter(|&i| inner[i])
-            .chain((0..inner.len()).filter(|&i| !inner[i]));
-        for i in guests_first {
+        let order = cut_order(&layout.parts, &inner);
+        for &i in &order {
             let p = &layout.parts[i];
             let item = &layer.items[p.item];
             for path in &item.cutout_paths {
@@ -475,10 +472,11 @@ pub fn draw_cut_sheets(
             stock_file: stock_sheet.map(|s| s.file.clone()),
             remnant: (!spec.roll).then(|| remnant(stock_sheet, &layout.parts, &inner)),
         };
-        for (p, inner) in layout.parts.iter().zip(&inner) {
-            if !inner {
-                d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
-            }
+        for &i in order.iter().filter(|&&i| !inner[i]) {
+            let outline = layout.parts[i].outline.clone();
+            d.add(op(Feature::PartOutline), Shape::Polygon(outline));
+        }
+        for p in &layout.parts {
             let item = &layer.items[p.item];
             record.parts.push(PartRecord {
                 job: item.job,
