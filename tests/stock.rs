@@ -215,7 +215,8 @@ fn check_folder(out: &Path, report: &str) {
                         >= 2
             });
             // The PZT test coupon is scored on an offcut of the stock: the stock list buys no sheet for it.
-            if coupon || name.starts_with("pzt-coupon-") {
+            // A remnant drawing (`remnant-passive-1_…`) is what is left of a sheet counted here.
+            if coupon || name.starts_with("pzt-coupon-") || name.starts_with("remnant-") {
                 continue;
             }
             // A clamp file of a run of identical panels (`mold-1-1to6_…`) is cut once per panel.

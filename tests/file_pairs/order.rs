@@ -119,3 +119,56 @@ fn the_order_check_finds_an_outline_cut_before_its_hole() {
     );
     assert!(cut_after_their_outline(&[label, hole, outline]).is_empty());
 }
+
+#[test]
+fn every_file_states_its_cut_order_and_part_sheets_follow_a_short_path() {
+    let (mut stated, mut toured) = (0, 0);
+    for p in pairs() {
+        let n = &p.name;
+        // Both files state the order they are cut in.
+        if let Some(desc) = &p.desc {
+            assert!(desc.contains("Cut order: the file's order"), "{n}.svg: {desc:?}");
+            assert!(
+                p.dxf_comments.iter().any(|c| c.starts_with("Cut order: the file's order")),
+                "{n}.dxf: {:?}",
+                p.dxf_comments
+            );
+            stated += 1;
+        }
+        let stem = n.rsplit('/').next().unwrap_or(n);
+        if !(stem.starts_with("passive") || stem.starts_with("pyralux")) {
+            continue;
+        }
+        // The parts' outlines (the cut contours inside no other) in file order, each the nearest
+        // of those left to the one before, from the sheet's corner: box centre to box centre.
+        for (format, shapes) in [("svg", &p.svg_shapes), ("dxf", &p.dxf_shapes)] {
+            let contours: Vec<Polygon<f64>> = shapes.iter().filter_map(through_cut).collect();
+            let outer: Vec<P> = contours
+                .iter()
+                .enumerate()
+                .filter(|(k, c)| {
+                    let q = c.exterior().0[0];
+                    !contours.iter().enumerate().any(|(j, o)| j != *k && o.contains(&q))
+                })
+                .map(|(_, c)| {
+                    let ring: Vec<P> = c.exterior().0.iter().map(|q| [q.x, q.y]).collect();
+                    let (lo, hi) = bounds(&ring);
+                    [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0]
+                })
+                .collect();
+            let mut at = [0.0, 0.0];
+            for k in 0..outer.len() {
+                let d = |c: &P| (c[0] - at[0]).hypot(c[1] - at[1]);
+                let nearest = outer[k..].iter().map(d).fold(f64::INFINITY, f64::min);
+                assert!(
+                    d(&outer[k]) <= nearest + TOL_MM,
+                    "{n}.{format}: part {k} is {} mm on, the nearest left {nearest} mm",
+                    d(&outer[k])
+                );
+                at = outer[k];
+            }
+            toured += 1;
+        }
+    }
+    assert!(stated > 300 && toured > 20, "{stated} files state, {toured} toured");
+}

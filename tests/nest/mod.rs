@@ -2,7 +2,9 @@
 //! from the design files (independent of the planner), determinism, random batches, and bad input.
 
 mod budget;
+mod edge_gap;
 mod sheets;
+mod stock;
 
 use crate::common;
 use common::*;
@@ -83,6 +85,17 @@ fn check_report(
     designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
     spacing_mm: f64,
 ) {
+    check_report_with_edge(out, designs, spacing_mm, spacing_mm);
+}
+
+/// [`check_report`] with the cut-through sheets' edge gap `edge_gap_mm` (on top of the kerf) apart
+/// from the spacing between their parts.
+fn check_report_with_edge(
+    out: &Path,
+    designs: &BTreeMap<String, (std::path::PathBuf, usize)>,
+    spacing_mm: f64,
+    edge_gap_mm: f64,
+) {
     let report: serde_json::Value = nest_report_json(out);
     let ground_tab = |name: &str| {
         report["items"]
@@ -106,14 +119,13 @@ fn check_report(
         let stem = sheet["file_stem"].as_str().unwrap();
         assert!(out.join(format!("{stem}.svg")).exists(), "{stem}.svg");
         assert!(out.join(format!("{stem}.dxf")).exists(), "{stem}.dxf");
-        let (edge, gap, rotations): (f64, f64, &[f64]) = if layer == "pzt" {
-            (PZT_EDGE_MARGIN_MM, PZT_KERF_MM, &[0.0, 90.0, 180.0, 270.0])
-        } else {
-            (
-                PREPREG_KERF_MM + spacing_mm,
+        let (edge, gap, rotations): (f64, f64, &[f64]) = match layer {
+            "pzt" => (PZT_EDGE_MARGIN_MM, PZT_KERF_MM, &[0.0, 90.0, 180.0, 270.0]),
+            _ => (
+                PREPREG_KERF_MM + edge_gap_mm,
                 PREPREG_KERF_MM + spacing_mm,
                 &[0.0, 180.0],
-            )
+            ),
         };
         let mut placed = Vec::new();
         let mut part_area = 0.0;

@@ -4,6 +4,7 @@
 //! entity.
 
 mod drawings;
+mod holes;
 mod nesting;
 mod progress;
 mod refusals;
@@ -23,6 +24,16 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 // ---- The example drawings, generated here so that they are reproducible ----------------------
+
+/// The passive sheets of a nest report.
+fn passive_sheets(r: &serde_json::Value) -> Vec<&serde_json::Value> {
+    r["sheets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["layer"] == "passive")
+        .collect()
+}
 
 /// One DXF entity's group codes.
 fn codes(pairs: &[(i32, String)]) -> String {

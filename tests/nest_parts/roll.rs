@@ -9,12 +9,7 @@ fn a_roll_nests_one_strip_and_reports_its_used_length() {
     let out = dir.path().join("out");
     let o = nest_ok(&batch, &out, "60");
     let r = nest_report_json(&out);
-    let passive: Vec<&serde_json::Value> = r["sheets"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|s| s["layer"] == "passive")
-        .collect();
+    let passive = passive_sheets(&r);
     // One strip per layup, each the roll's width, as long as it was used.
     assert_eq!(passive.len(), 2);
     for (s, b) in passive.iter().zip(r["baseline"].as_array().unwrap()) {

@@ -4,7 +4,7 @@
 use cam_geometry::{area, place_ring, Bounds, Point};
 
 use crate::problem::{
-    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
+    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart, SheetShape,
 };
 
 /// Copies from which a job gets the whole iteration budget (the bench's 60-actuator batches).
@@ -45,6 +45,8 @@ pub(crate) struct Job {
     pub parts: Vec<Part>,
     pub bin: NestBin,
     pub settings: NestSettings,
+    /// The sheet's outline and keep-outs, if it is not the whole rectangle of `bin`.
+    pub shape: SheetShape,
     /// Largest coordinate a placement can reach, mm: the sheet's longer side, or for an endless
     /// sheet (the strip's probe) the parts laid end to end.
     extent_mm: f64,
@@ -92,10 +94,28 @@ impl Job {
             parts,
             bin: *bin,
             settings: *settings,
+            shape: SheetShape::default(),
             extent_mm: bin.width_mm.max(bin.height_mm.min(end_to_end)),
         };
         job.check_sizes()?;
         Ok(job)
+    }
+
+    /// The job on a sheet of `shape` ([`SheetShape`]): each ring of at least three finite points.
+    pub fn with_shape(mut self, shape: &SheetShape) -> Result<Self, NestError> {
+        let rings = std::iter::once(&shape.outline)
+            .filter(|o| !o.is_empty())
+            .chain(&shape.keep_outs);
+        for ring in rings {
+            let ring = clean_ring(ring);
+            if ring.len() < 3 || ring.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(NestError::BadSettings(
+                    "a sheet outline or keep-out needs at least three finite points".into(),
+                ));
+            }
+        }
+        self.shape = shape.clone();
+        Ok(self)
     }
 
     /// Gap the jagua-rs model keeps: the requested separation plus a margin that covers its f32

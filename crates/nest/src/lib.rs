@@ -78,15 +78,15 @@ mod test_support;
 pub use baseline::nest_bounding_boxes;
 pub use cam_geometry::Point;
 pub use clearance::{clearance, Clearance, ClearanceViolation};
-pub use irregular::{nest, nest_observed, nest_until};
+pub use irregular::{nest, nest_observed, nest_shaped_until, nest_until};
 pub use job::{clean_ring, fits_empty_sheet, EmptySheetFit};
 pub use limit::{Reached, SearchEnd, SearchLimit};
 pub use problem::{
-    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart,
+    NestBin, NestError, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart, SheetShape,
 };
 pub use progress::NestProgress;
 pub use shelf::nest_shelves;
 pub use strip::{nest_strip, nest_strip_until, StripLayout};
 pub use verify::{
-    verify, verify_copies, verify_outlines, verify_sheet, verify_stock, NestViolation,
+    verify, verify_copies, verify_outlines, verify_shape, verify_sheet, verify_stock, NestViolation,
 };

@@ -43,6 +43,26 @@ pub struct NestBin {
     pub stock: usize,
 }
 
+/// Stock that is not a whole rectangle: a remnant of a sheet cut before, or a sheet with a flaw.
+/// The sheet is its [`NestBin`]'s `[0, width_mm] x [0, height_mm]` cut down to `outline` (when
+/// given), less the `keep_outs` (flaws, earlier cuts); parts keep the separation from both, as
+/// from a sheet edge. Rings as an item's outline: counterclockwise, no closing repeat.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct SheetShape {
+    /// The stock's outline, within the bin's rectangle; empty for the whole rectangle.
+    pub outline: Vec<Point>,
+    /// Regions inside the outline no part may touch.
+    pub keep_outs: Vec<Vec<Point>>,
+}
+
+impl SheetShape {
+    /// The whole rectangle of the bin, nothing kept out.
+    #[must_use]
+    pub fn is_whole(&self) -> bool {
+        self.outline.is_empty() && self.keep_outs.is_empty()
+    }
+}
+
 /// Knobs of a nesting run. The same settings and input give the same layout on any machine.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NestSettings {

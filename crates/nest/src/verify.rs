@@ -8,7 +8,10 @@ use thiserror::Error;
 
 use crate::clearance::{clearance as check_clearance, Clearance, ClearanceViolation};
 use crate::job::clean_ring;
-use crate::problem::{NestBin, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart};
+use crate::problem::{
+    NestBin, NestItem, NestSettings, NestSolution, NestedBin, PlacedPart, SheetShape,
+};
+use geo::{Contains, Distance, Euclidean, Intersects, LineString, Polygon};
 
 /// A placement that breaks a rule, found by [`verify`].
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -58,6 +61,82 @@ pub enum NestViolation {
     UnknownCopy { item: usize, copy: usize },
     #[error("{used} sheets used but only {stock} in stock")]
     StockExceeded { used: usize, stock: usize },
+    #[error("sheet {bin}: part {part} comes {distance_mm:.4} mm from keep-out {keep_out} (needs {required_mm} mm)")]
+    NearKeepOut {
+        bin: usize,
+        part: usize,
+        keep_out: usize,
+        distance_mm: f64,
+        required_mm: f64,
+    },
+    #[error("sheet {bin}: part {part} comes {distance_mm:.4} mm from the stock's outline or leaves it (needs {required_mm} mm)")]
+    OutsideOutline {
+        bin: usize,
+        part: usize,
+        distance_mm: f64,
+        required_mm: f64,
+    },
+}
+
+/// Checks the parts of one sheet (number `sheet_index` in the violations) against the stock's
+/// `shape` ([`SheetShape`]): every part inside its outline and at least `to_edge_mm` from it, and
+/// at least `to_edge_mm` from every keep-out (so none touches one), in plain `geo` geometry.
+/// The rectangle of the sheet is [`verify_sheet`]'s to check.
+pub fn verify_shape(
+    shape: &SheetShape,
+    to_edge_mm: f64,
+    sheet_index: usize,
+    parts: &[PlacedPart],
+    tolerance_mm: f64,
+) -> Result<(), NestViolation> {
+    let polygon = |ring: &[Point]| {
+        Polygon::new(
+            LineString::from(ring.iter().map(|q| (q[0], q[1])).collect::<Vec<_>>()),
+            Vec::new(),
+        )
+    };
+    let outline = (!shape.outline.is_empty()).then(|| polygon(&clean_ring(&shape.outline)));
+    let keep_outs: Vec<Polygon<f64>> = shape
+        .keep_outs
+        .iter()
+        .map(|k| polygon(&clean_ring(k)))
+        .collect();
+    let required_mm = to_edge_mm;
+    for (part, placed) in parts.iter().enumerate() {
+        let p = polygon(&placed.outline);
+        if let Some(o) = &outline {
+            let distance_mm = if o.contains(&p) {
+                Euclidean.distance(p.exterior(), o.exterior())
+            } else {
+                0.0
+            };
+            if distance_mm < required_mm - tolerance_mm {
+                return Err(NestViolation::OutsideOutline {
+                    bin: sheet_index,
+                    part,
+                    distance_mm,
+                    required_mm,
+                });
+            }
+        }
+        for (keep_out, k) in keep_outs.iter().enumerate() {
+            let distance_mm = if p.intersects(k) {
+                0.0
+            } else {
+                Euclidean.distance(&p, k)
+            };
+            if distance_mm < required_mm - tolerance_mm {
+                return Err(NestViolation::NearKeepOut {
+                    bin: sheet_index,
+                    part,
+                    keep_out,
+                    distance_mm,
+                    required_mm,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks a solution against the rules without trusting the nester (plain `geo` geometry, no

@@ -338,6 +338,7 @@ pub fn to_dxf_with(drawing: &Drawing, palette: &Palette) -> Result<Vec<u8>, DxfE
         w.text(999, &format!("actuator-cam: {}", drawing.title_line()));
         w.text(999, &format!("stock: {stock}"));
         w.text(999, &origin_comment(drawing));
+        w.text(999, super::svg::CUT_ORDER);
     }
     let mut table = first_table_handle;
     for piece in head() {

@@ -93,6 +93,12 @@ pub fn page_margin_mm(drawing: &Drawing) -> f64 {
     }
 }
 
+/// The order a laser file is cut in, as its `<desc>` and its DXF comment state it.
+pub const CUT_ORDER: &str = "Cut order: the file's order, layer by layer in processing order \
+     (REFERENCE, ENGRAVE, SCORE, SECONDARY, CUT), each layer's paths in turn; whatever lies inside a \
+     closed through-cut contour comes before that contour; on a sheet of cut parts the parts \
+     follow one another along a short path from its lower-left corner.";
+
 /// The origin convention of a laser file in words, for its `<desc>` (and, in DXF terms, its comment):
 /// where the sheet lies and how far shapes run past its edge.
 pub fn origin_statement(drawing: &Drawing) -> String {
@@ -110,7 +116,8 @@ pub fn origin_statement(drawing: &Drawing) -> String {
     format!(
         "Origin: the page is the {w} x {h} mm sheet. Its lower-left corner is the sheet's lower-left \
          corner and the (0, 0) of the DXF of the same name (x to the right, y up); SVG user units run \
-         from its upper-left corner, also a sheet corner. Lay the sheet's corner on the file's. {past}"
+         from its upper-left corner, also a sheet corner. Lay the sheet's corner on the file's. {past} \
+         {CUT_ORDER}"
     )
 }
 
@@ -425,7 +432,7 @@ mod tests {
         );
         // A drawing on its sheet (the sample's score line ends on both edges) says so.
         assert!(to_svg(&sample(), &SvgOptions::default())
-            .contains("Every shape lies on the sheet.</desc>"));
+            .contains("Every shape lies on the sheet. Cut order: the file's order"));
     }
 
     #[test]

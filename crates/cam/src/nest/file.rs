@@ -14,6 +14,7 @@ use crate::process::template::SheetSpec;
 use std::path::{Path, PathBuf};
 
 mod parts;
+mod stock;
 use parts::part_orders;
 
 /// A sheet override from `[sheets]`: size, and optionally stock and price; or, with
@@ -241,6 +242,54 @@ fn existing_file(
     }
 }
 
+/// The batch's `[sheets]` overrides applied to `template`; the prices of the prepreg and Pyralux
+/// rolls, if they come on priced rolls.
+fn sheets_overrides(
+    root: &TableReader<'_>,
+    path: &Path,
+    template: &mut Template,
+) -> Result<(Option<RollPrice>, Option<RollPrice>), InputError> {
+    let (mut prepreg_roll, mut pyralux_roll) = (None, None);
+    if let Some(s) = root.optional_table("sheets")? {
+        if let Some(t) = s.optional_table("pzt")? {
+            let o = sheet_override(&t, false, &template.pzt)?;
+            template.pzt = overridden(&t, &o, &template.pzt);
+        }
+        if let Some(t) = s.optional_table("prepreg")? {
+            let o = sheet_override(&t, true, &template.passive)?;
+            template.passive = overridden(&t, &o, &template.passive);
+            prepreg_roll = o.roll_price;
+        }
+        if let Some(t) = s.optional_table("pyralux")? {
+            let Some(b) = &mut template.bond else {
+                return Err(InputError::invalid(
+                    path,
+                    &t.path("width_mm").replace(".width_mm", ""),
+                    "(table)",
+                    format!("process {:?} has no Pyralux layer", template.name),
+                ));
+            };
+            let o = sheet_override(&t, true, &b.sheet)?;
+            pyralux_roll = o.roll_price;
+            b.sheet = overridden(&t, &o, &b.sheet);
+        }
+        if let Some(spacing) = s.optional_number_in("spacing_mm", SPACING_MM)? {
+            template.passive.spacing_mm = spacing;
+            if let Some(b) = &mut template.bond {
+                b.sheet.spacing_mm = spacing;
+            }
+        }
+        if let Some(edge_gap) = s.optional_number_in("edge_gap_mm", SPACING_MM)? {
+            template.passive.edge_gap_mm = Some(edge_gap);
+            if let Some(b) = &mut template.bond {
+                b.sheet.edge_gap_mm = Some(edge_gap);
+            }
+        }
+        s.finish()?;
+    }
+    Ok((prepreg_roll, pyralux_roll))
+}
+
 impl Batch {
     /// The price of the roll a cut layer (`passive…` or `pyralux`) is nested on, if it is priced.
     pub fn roll_price(&self, layer: &str) -> Option<RollPrice> {
@@ -305,37 +354,11 @@ impl Batch {
             });
         }
         let (mut template, _, _) = template.expect("tables() returns at least one item");
-        let (mut prepreg_roll, mut pyralux_roll) = (None, None);
-        if let Some(s) = root.optional_table("sheets")? {
-            if let Some(t) = s.optional_table("pzt")? {
-                let o = sheet_override(&t, false, &template.pzt)?;
-                template.pzt = overridden(&t, &o, &template.pzt);
+        let (prepreg_roll, pyralux_roll) = sheets_overrides(&root, path, &mut template)?;
+        if root.has("stock") {
+            for t in root.tables("stock")? {
+                stock::stock_sheet(&t, base, &items, &mut template)?;
             }
-            if let Some(t) = s.optional_table("prepreg")? {
-                let o = sheet_override(&t, true, &template.passive)?;
-                template.passive = overridden(&t, &o, &template.passive);
-                prepreg_roll = o.roll_price;
-            }
-            if let Some(t) = s.optional_table("pyralux")? {
-                let Some(b) = &mut template.bond else {
-                    return Err(InputError::invalid(
-                        path,
-                        &t.path("width_mm").replace(".width_mm", ""),
-                        "(table)",
-                        format!("process {:?} has no Pyralux layer", template.name),
-                    ));
-                };
-                let o = sheet_override(&t, true, &b.sheet)?;
-                pyralux_roll = o.roll_price;
-                b.sheet = overridden(&t, &o, &b.sheet);
-            }
-            if let Some(spacing) = s.optional_number_in("spacing_mm", SPACING_MM)? {
-                template.passive.spacing_mm = spacing;
-                if let Some(b) = &mut template.bond {
-                    b.sheet.spacing_mm = spacing;
-                }
-            }
-            s.finish()?;
         }
         let mut parts = Vec::new();
         if root.has("part") {

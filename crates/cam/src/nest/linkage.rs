@@ -89,6 +89,7 @@ fn own_sheet(
             stock: None,
             price_per_sheet: None,
             roll: false,
+            drawn: Vec::new(),
             ..passive.clone()
         },
         prepreg: layer == "linkage-carbon",
@@ -146,13 +147,13 @@ pub fn item_linkage(
         let fit = spec.empty_sheet_fit(&part.part.outer, rotations);
         if !fit.fits {
             return Err(refuse(format!(
-                "a linkage coupon that fits its sheet: the {:.3} x {:.3} mm coupon of layer(s) {:?} does not fit the {} x {} mm sheet with {} mm (kerf + spacing) to every edge",
+                "a linkage coupon that fits its sheet: the {:.3} x {:.3} mm coupon of layer(s) {:?} does not fit the {} x {} mm sheet with {} mm (kerf + edge gap) to every edge",
                 fit.size_mm[0],
                 fit.size_mm[1],
                 part.layers,
                 spec.width_mm,
                 spec.height_mm,
-                spec.kerf_mm + spec.spacing_mm
+                spec.kerf_mm + spec.edge_gap()
             )));
         }
         sheets.push((part.layers.clone(), label));

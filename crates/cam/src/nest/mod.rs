@@ -4,6 +4,7 @@
 pub mod file;
 pub mod linkage;
 pub mod plan;
+pub mod remnant;
 pub mod report;
 
 pub use crate::pipeline::{NestOptions, TimeBudget};

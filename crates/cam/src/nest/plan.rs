@@ -5,6 +5,7 @@
 use super::file::Batch;
 use super::file::RollPrice;
 use super::linkage::coupon_drawings;
+use super::remnant::remnant_drawings;
 use super::report::NestReport;
 use crate::pipeline::{
     build, sheets_instead_of_roll, BuildError, Names, NestObserver, NestOptions, Packing,
@@ -94,7 +95,9 @@ pub fn plan_observed(
     let coupons = coupon_drawings(&batch.linkages, &designs, &batch.template)?;
     let prefixes: Vec<String> = coupons.iter().map(|(p, _)| p.clone()).collect();
     let report = NestReport::new(batch, opts, &built, &on_sheets, &prefixes);
+    let remnants = remnant_drawings(&batch.name, &built.sheets, &built.drawings);
     let mut drawings = built.drawings;
+    drawings.extend(remnants);
     drawings.extend(coupons.into_iter().flat_map(|(_, d)| d));
     Ok(Planned {
         drawings,

@@ -84,6 +84,13 @@ pub struct SheetRow {
     /// A strip of roll stock: `height_mm` is the used length.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub roll: bool,
+    /// The drawing of the stock it is cut from, when it is a drawn sheet (a batch's `[[stock]]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stock: Option<String>,
+    /// What is left of it to cut from later: a drawing a later batch names in `[[stock]]`
+    /// (cut-through sheets; not PZT or roll stock).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub remnant: Option<super::remnant::RemnantRow>,
     pub parts: Vec<PartRow>,
 }
 

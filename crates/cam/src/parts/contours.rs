@@ -255,7 +255,7 @@ pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>
                 return Err(entity_error(
                     file,
                     &contours[i].entity,
-                    "lies inside a cut-out of another part: the nester does not place parts inside holes; draw it beside the other part",
+                    "lies inside a cut-out of another part: draw it beside the other part (the nester puts parts into cut-outs itself)",
                 ))
             }
         }

@@ -7,7 +7,7 @@
 //! through their `transform`s ([`svg`]). Arcs and curves are flattened into chords within
 //! [`flatten::TOLERANCE_MM`] (10 µm). Each contour that lies inside no other is a part; contours
 //! directly inside it are its cut-outs (a flexure's slot), cut before the outline. The nester
-//! places the outline and never puts another part into a cut-out.
+//! places the outline, and puts other parts into a cut-out itself (`crate::pipeline`, parts in holes).
 //!
 //! Refused, in one line naming the file and the entity (DXF handle, SVG element id or index):
 //! open contours, self-intersecting or zero-area contours, contours that cross, a part inside a

@@ -143,7 +143,7 @@ pub fn build_into<'s>(
             // Roll stock: the drawing and the sheet record show the strip as used.
             layer.spec.height_mm = length;
         }
-        draw_cut_sheets(&layer, &placed.layouts, names, &mut drawn);
+        draw_cut_sheets(&layer, &placed.layouts, &placed.drawn, names, &mut drawn);
         drawn.check_sink()?;
         cut_layers.push(CutLayerSheets {
             sheets: placed.layouts.len(),
@@ -256,6 +256,11 @@ fn passive_and_pyralux_layers(
     }) {
         let layup = group[0].1.design.layup_text();
         for mut layer in passive_layers(&group, template, &template.passive)? {
+            // A drawn prepreg sheet is of the layup of the design it names.
+            layer
+                .spec
+                .drawn
+                .retain(|d| d.like.is_some_and(|l| group.iter().any(|(i, _)| *i == l)));
             if names.name_designs {
                 layer.material = format!("{}, layup {layup}", layer.material);
             }

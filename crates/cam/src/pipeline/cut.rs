@@ -2,20 +2,21 @@
 //! layer, and the drawing of finished sheet layouts (holes, labels, then outer contours, in cut order).
 //! Where the parts go is up to the caller (shelf layout for one design, the irregular nester for batches).
 
+use super::cut_order::{cut_order, in_cutouts};
 use super::jobs::{design_error, kerfed, Drawn, Job, Names, PartRecord, SheetRecord};
 use super::label::Label;
 use super::sheet_label::part_box;
 use super::BuildError;
-use crate::drawing::model::{file_stem, Drawing, FibreAxis, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, FibreAxis, Operation, Shape, Stock};
 use crate::input::{short_number, InputError};
 use crate::parts::PartOrder;
 use crate::process::template::{BondSpec, PassiveCut, SheetSpec, Template};
-use crate::process::{Feature, FeatureMap};
+use crate::process::{DrawnSheet, Feature, FeatureMap};
 use cam_geometry::offset::offset_ring;
 use cam_geometry::signed_area;
 use cam_geometry::Point;
 use cam_geometry::{place_point, place_ring};
-use cam_nest::NestedBin;
+use cam_nest::{NestedBin, PlacedPart, SheetShape};
 
 /// Diameter of the ply registration holes (ply-by-ply cutting), mm: a 0.5 mm pin.
 pub const REGISTRATION_HOLE_MM: f64 = 0.5;
@@ -382,10 +383,17 @@ fn check_via(
 /// Draw finished layouts of a cut layer. Each placement's `item` indexes `layer.items`, its outline is
 /// the item's cut path placed, its `copy` counts over the item's copies. Holes first, then labels, then
 /// the outer contours (cut order), each with the operation the layer's feature map gives it.
-pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, drawn: &mut Drawn) {
+pub fn draw_cut_sheets(
+    layer: &CutLayer,
+    layouts: &[NestedBin],
+    from_drawn: &[usize],
+    names: &Names,
+    drawn: &mut Drawn,
+) {
     let spec = &layer.spec;
     let op = |feature| layer.features.op(feature);
-    for layout in layouts {
+    for (k, layout) in layouts.iter().enumerate() {
+        let stock_sheet = from_drawn.get(k).map(|&d| &spec.drawn[d]);
         let n = drawn.next_number(&layer.layer);
         let mut d = Drawing::on_stock(
             &format!("{} {}, sheet {n}", names.title, layer.layer),
@@ -397,7 +405,11 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
                 fibre_axis: layer.prepreg.then_some(FibreAxis::Y),
             },
         );
-        for p in &layout.parts {
+        // Parts in cut-outs first, each group along a short path ([`cut_order`]).
+        let inner = in_cutouts(&layout.parts);
+        let order = cut_order(&layout.parts, &inner);
+        for &i in &order {
+            let p = &layout.parts[i];
             let item = &layer.items[p.item];
             for path in &item.cutout_paths {
                 d.add(
@@ -413,6 +425,9 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
                         radius: radius - spec.kerf_mm / 2.0,
                     },
                 );
+            }
+            if inner[i] {
+                d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
             }
         }
         for p in &layout.parts {
@@ -432,7 +447,12 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
                 }
             }
         }
-        let parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
+        let mut parts: Vec<_> = layout.parts.iter().map(|p| part_box(&p.outline)).collect();
+        if let Some(sheet) = stock_sheet {
+            // To lay the drawn sheet on; the label keeps off its keep-outs.
+            draw_stock_shape(&mut d, &sheet.shape);
+            parts.extend(sheet.shape.keep_outs.iter().map(|k| part_box(k)));
+        }
         let name = format!("{}-{n}", layer.layer);
         drawn.label_sheet(
             &mut d,
@@ -449,9 +469,14 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             width_mm: spec.width_mm,
             height_mm: spec.height_mm,
             parts: Vec::new(),
+            stock_file: stock_sheet.map(|s| s.file.clone()),
+            remnant: (!spec.roll).then(|| remnant(stock_sheet, &layout.parts, &inner)),
         };
+        for &i in order.iter().filter(|&&i| !inner[i]) {
+            let outline = layout.parts[i].outline.clone();
+            d.add(op(Feature::PartOutline), Shape::Polygon(outline));
+        }
         for p in &layout.parts {
-            d.add(op(Feature::PartOutline), Shape::Polygon(p.outline.clone()));
             let item = &layer.items[p.item];
             record.parts.push(PartRecord {
                 job: item.job,
@@ -467,8 +492,31 @@ pub fn draw_cut_sheets(layer: &CutLayer, layouts: &[NestedBin], names: &Names, d
             });
         }
         drawn.sheets.push(record);
-        drawn.push(format!("{}-{n}", layer.layer), &layer.layer, d);
+        let copies = usize::from(stock_sheet.is_none());
+        drawn.push_copies(format!("{}-{n}", layer.layer), &layer.layer, d, copies);
     }
+}
+
+/// A drawn sheet's outline and keep-outs as reference lines.
+fn draw_stock_shape(d: &mut Drawing, shape: &SheetShape) {
+    for ring in std::iter::once(&shape.outline)
+        .filter(|o| !o.is_empty())
+        .chain(&shape.keep_outs)
+    {
+        d.add(Operation::Reference, Shape::Polygon(ring.clone()));
+    }
+}
+
+/// What is left of a sheet (drawn, or whole when `stock_sheet` is `None`) once `parts` are cut:
+/// its outline and keep-outs, and the cut outline of each part not `inner` (a part in another's
+/// cut-out is in that part's keep-out already).
+fn remnant(stock_sheet: Option<&DrawnSheet>, parts: &[PlacedPart], inner: &[bool]) -> SheetShape {
+    let mut shape = stock_sheet.map(|s| s.shape.clone()).unwrap_or_default();
+    let outer = parts.iter().zip(inner).filter(|(_, i)| !**i);
+    shape
+        .keep_outs
+        .extend(outer.map(|(p, _)| p.outline.clone()));
+    shape
 }
 
 /// An extra part from a drawing as an item of a cut layer: outline and cut-outs with their cut

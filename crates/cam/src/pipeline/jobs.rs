@@ -110,6 +110,12 @@ pub struct SheetRecord {
     pub height_mm: f64,
     /// Parts on it.
     pub parts: Vec<PartRecord>,
+    /// The drawing of the stock it is cut from, when it is a drawn sheet (a remnant, a sheet with a
+    /// flaw) rather than a whole one.
+    pub stock_file: Option<String>,
+    /// What is left of a cut-through sheet once its parts are cut: its outline and, as keep-outs,
+    /// its earlier keep-outs and the parts' cut outlines. `None` for PZT and roll stock.
+    pub remnant: Option<cam_nest::SheetShape>,
 }
 
 impl SheetRecord {
@@ -263,6 +269,7 @@ impl<'s> Drawn<'s> {
     /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
     /// the files hold the drawing once. A drawing of 0 copies is cut from an offcut and adds no line.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
+        // A drawn sheet (copies 0) is stock the lab has, not stock to buy.
         if copies > 0 {
             StockCount::count(&mut self.stock, &drawing, copies);
         }

@@ -17,6 +17,7 @@ mod build;
 mod clamp;
 mod coupon;
 mod cut;
+mod cut_order;
 mod jobs;
 mod label;
 mod mold;
@@ -29,7 +30,7 @@ pub mod snap_guide;
 
 pub use build::{build, build_into, Build};
 pub use clamp::{ClampBuild, PanelRun};
-pub use jobs::{unlabelled_note, DrawingSink, Names, SinkError, StockCount};
+pub use jobs::{unlabelled_note, DrawingSink, Names, SheetRecord, SinkError, StockCount};
 pub use label::Label;
 pub use mold::{MoldBand, MoldChoice};
 pub use panel::{border_label, grid, grid_slots, panel_outline, pin_centres};

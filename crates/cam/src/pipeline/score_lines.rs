@@ -77,6 +77,8 @@ pub(crate) fn draw_pzt_sheets(
             width_mm: sheet.width_mm,
             height_mm: sheet.height_mm,
             parts: Vec::new(),
+            stock_file: None,
+            remnant: None,
         };
         for p in &layout.parts {
             let job = &jobs[p.item];

@@ -3,11 +3,13 @@
 //! drawn feature gets. Read once through the input layer; the layout pipeline and the reports use it.
 
 mod cure;
+pub mod drawn;
 mod features;
 pub mod laser;
 pub mod linkage;
 mod read;
 pub mod template;
 
+pub use drawn::DrawnSheet;
 pub use features::{Feature, FeatureMap};
 pub use template::Template;

@@ -160,7 +160,8 @@ fn read_pzt(layers: &TableReader<'_>) -> Result<(SheetSpec, f64), InputError> {
 /// `[layers.passive]`: the prepreg sheet and the ground tab added to a design without a base tab.
 fn read_passive(layers: &TableReader<'_>) -> Result<(SheetSpec, f64), InputError> {
     let t = layers.table("passive")?;
-    let s = read_sheet(&t)?;
+    let mut s = read_sheet(&t)?;
+    s.edge_gap_mm = t.optional_number_in("edge_gap_mm", GAP_MM)?;
     let tab = t
         .optional_number_in("ground_tab_mm", GROUND_TAB_MM)?
         .unwrap_or(DEFAULT_GROUND_TAB_MM);
@@ -173,8 +174,10 @@ fn read_bond(layers: &TableReader<'_>) -> Result<Option<BondSpec>, InputError> {
     let Some(t) = layers.optional_table("pyralux")? else {
         return Ok(None);
     };
+    let mut sheet = read_sheet(&t)?;
+    sheet.edge_gap_mm = t.optional_number_in("edge_gap_mm", GAP_MM)?;
     let b = BondSpec {
-        sheet: read_sheet(&t)?,
+        sheet,
         bond_material: t
             .string("bond_material", "a material name from the library")?
             .to_string(),
@@ -252,6 +255,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         height_mm: t.number_in("sheet_height_mm", SHEET_MM)?,
         kerf_mm: t.number_in("kerf_mm", KERF_MM)?,
         spacing_mm: t.optional_number_in("spacing_mm", GAP_MM)?.unwrap_or(0.0),
+        edge_gap_mm: None,
         edge_margin_mm: t
             .optional_number_in("edge_margin_mm", GAP_MM)?
             .unwrap_or(0.0),
@@ -261,6 +265,7 @@ fn read_sheet(t: &TableReader<'_>) -> Result<SheetSpec, InputError> {
         min_snap_strip_thicknesses: 0.0,
         score_overrun_mm: 0.0,
         origin: SheetOrigin::of(t, "sheet_width_mm", "sheet_height_mm"),
+        drawn: Vec::new(),
     })
 }
 

@@ -19,8 +19,12 @@ pub struct SheetSpec {
     pub height_mm: f64,
     /// Laser kerf on this material, mm.
     pub kerf_mm: f64,
-    /// Gap between parts and to the sheet edge on top of the kerf, mm.
+    /// Gap between parts on top of the kerf, mm; also to the sheet edge unless `edge_gap_mm` is given.
     pub spacing_mm: f64,
+    /// Gap from the parts to the sheet edge on top of the kerf, mm, when it differs from `spacing_mm`
+    /// (the edge gap depends on the fixture, the part gap on the kerf and heat-affected zone); `None`
+    /// keeps `spacing_mm`. Cut-through layers only: the PZT plates keep `edge_margin_mm`.
+    pub edge_gap_mm: Option<f64>,
     /// Unusable border of the sheet (chipped PZT edges), mm.
     pub edge_margin_mm: f64,
     /// Narrowest strip a score line may leave to be snapped off, in sheet thicknesses (PZT sheets:
@@ -39,11 +43,37 @@ pub struct SheetSpec {
     pub roll: bool,
     /// Where the sheet's size was written.
     pub origin: SheetOrigin,
+    /// Sheets of this stock given as drawings (remnants, sheets with flaws; a batch's `[[stock]]`),
+    /// nested on before whole sheets; none in a template.
+    pub drawn: Vec<super::DrawnSheet>,
 }
 
 impl SheetSpec {
+    /// Gap from the parts to the sheet edge on top of the kerf, mm ([`SheetSpec::edge_gap_mm`]).
+    pub fn edge_gap(&self) -> f64 {
+        self.edge_gap_mm.unwrap_or(self.spacing_mm)
+    }
+
+    /// How much farther from the sheet edge than from each other the parts stay, mm (negative:
+    /// nearer). The packers keep one gap to everything; they pack on the sheet shrunk by this on
+    /// every side ([`SheetSpec::packing_room`]) and the layout is moved back by it.
+    pub fn edge_shift_mm(&self) -> f64 {
+        self.edge_gap() - self.spacing_mm
+    }
+
+    /// The sheet the packers work on, width and height, mm: this one shrunk by
+    /// [`SheetSpec::edge_shift_mm`] on every side (a roll only across its width).
+    pub fn packing_room(&self) -> [f64; 2] {
+        let d = 2.0 * self.edge_shift_mm();
+        if self.roll {
+            [self.width_mm - d, f64::INFINITY]
+        } else {
+            [self.width_mm - d, self.height_mm - d]
+        }
+    }
+
     /// Whether `outline` fits an empty sheet of this stock at one of `rotations_deg` as the nester
-    /// places a cut part: kerf + spacing to every edge, a roll unbounded in length. The readers of
+    /// places a cut part: kerf + edge gap to every edge, a roll unbounded in length. The readers of
     /// extra parts refuse on it before any nesting, naming the drawing, so that what passes them also
     /// passes the nester; on a roll, all but a part within hundredths of a millimetre of its width,
     /// which the nester refuses with the width it needs ([`cam_nest::fits_empty_sheet`]).
@@ -52,17 +82,18 @@ impl SheetSpec {
         outline: &[[f64; 2]],
         rotations_deg: &[f64],
     ) -> cam_nest::EmptySheetFit {
-        cam_nest::fits_empty_sheet(
+        let [width_mm, height_mm] = self.packing_room();
+        let fit = cam_nest::fits_empty_sheet(
             outline,
             rotations_deg,
-            self.width_mm,
-            if self.roll {
-                f64::INFINITY
-            } else {
-                self.height_mm
-            },
+            width_mm,
+            height_mm,
             self.kerf_mm + self.spacing_mm,
-        )
+        );
+        cam_nest::EmptySheetFit {
+            edge_gap_mm: fit.edge_gap_mm + self.edge_shift_mm(),
+            ..fit
+        }
     }
 }
 
@@ -347,5 +378,38 @@ mod tests {
             err,
             "my-process.toml: layers.pzt.kerf_mm = 3: outside the allowed range [0, 2] mm"
         );
+    }
+
+    #[test]
+    fn the_edge_gap_defaults_to_the_spacing_and_is_refused_on_pzt() {
+        let path = Path::new("my-process.toml");
+        let read = |text: &str| Template::from_table(path, &parse_toml(path, text).unwrap());
+        let m2 = read(METHOD_2).unwrap();
+        assert_eq!(m2.passive.edge_gap(), m2.passive.spacing_mm);
+        assert_eq!(m2.passive.edge_shift_mm(), 0.0);
+        let wide = METHOD_2.replacen(
+            "# gap between parts (spacing_mm, the default): edge_gap_mm",
+            "edge_gap_mm",
+            1,
+        );
+        assert_ne!(wide, METHOD_2);
+        let passive = read(&wide).unwrap().passive;
+        assert_eq!((passive.edge_gap(), passive.spacing_mm), (2.0, 0.5));
+        // The packers work on the sheet shrunk by 1.5 mm on every side.
+        assert_eq!(passive.packing_room(), [147.0, 147.0]);
+        let negative = wide.replacen("edge_gap_mm = 2.0", "edge_gap_mm = -2", 1);
+        assert_eq!(
+            read(&negative).unwrap_err().to_string(),
+            "my-process.toml: layers.passive.edge_gap_mm = -2: outside the allowed range [0, 50] mm"
+        );
+        let on_pzt = METHOD_2.replacen(
+            "edge_margin_mm = 0.3",
+            "edge_margin_mm = 0.3\nedge_gap_mm = 1",
+            1,
+        );
+        assert!(read(&on_pzt)
+            .unwrap_err()
+            .to_string()
+            .contains("layers.pzt.edge_gap_mm"));
     }
 }

@@ -74,6 +74,14 @@ const LEAST_EFFORT: Effort = Effort {
     last_placed: true,
 };
 
+/// A start tried at a rotation: clear, slid down and left by the coarse steps, with its cost
+/// ([`Model::find_spot`]).
+type CoarseStart<'a> = dyn Fn(usize, (f32, f32), &mut SPolygon) -> Option<(f32, Placement)> + 'a;
+
+/// Steps of the grid of starts across a shaped sheet when no sampled start finds room
+/// ([`Model::find_spot`]): a start in every 1/24 of the sheet each way.
+const SHAPED_GRID: usize = 24;
+
 impl Effort {
     /// This effort for a fill of `copies` parts (`FULL_EFFORT_COPIES`, `LEAST_EFFORT`).
     fn for_fill(self, copies: usize) -> Effort {
@@ -446,7 +454,8 @@ impl Model<'_> {
                     .filter(|h| h.part == part && h.rot == rot && h.t.1 <= y_max)
                     .map(|h| h.t),
             );
-            if placed > 0 {
+            // A shaped sheet's corner may be kept out: random starts on an empty one too.
+            if placed > 0 || !self.job.shape.is_whole() {
                 starts.extend(self.anchor_starts(&anchored, shape, y_max, effort.anchors, rng));
                 starts.extend((0..effort.random).map(|_| {
                     (
@@ -488,6 +497,9 @@ impl Model<'_> {
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
         }
+        if best.is_none() && !self.job.shape.is_whole() {
+            best = self.grid_spot(part, ceiling, &coarse);
+        }
         // Candidates are ranked after the coarse steps; the winner takes the fine ones.
         best.map(|(_, spot)| {
             let shape = &self.shapes[part][spot.rot];
@@ -497,5 +509,37 @@ impl Model<'_> {
                 ..spot
             }
         })
+    }
+
+    /// The best of a grid of starts across a shaped sheet, for when random starts miss the room a
+    /// remnant or keep-outs leave: a start in every 1/`SHAPED_GRID` of the sheet each way, under
+    /// `ceiling`, each tried by `coarse`.
+    fn grid_spot(
+        &self,
+        part: usize,
+        ceiling: Option<f32>,
+        coarse: &CoarseStart<'_>,
+    ) -> Option<(f32, Placement)> {
+        let at = |lo: f32, hi: f32, k: usize| lo + (hi - lo) * k as f32 / SHAPED_GRID as f32;
+        let mut best: Option<(f32, Placement)> = None;
+        for (rot, shape) in self.shapes[part].iter().enumerate() {
+            let b = shape.plain.bbox();
+            let y_max = ceiling.map_or(shape.y.1, |c| shape.y.1.min(c - b.y_max));
+            if !shape.fits() || y_max < shape.y.0 {
+                continue;
+            }
+            let mut buffer = shape.plain.clone();
+            for i in 0..=SHAPED_GRID {
+                for j in 0..=SHAPED_GRID {
+                    let start = (at(shape.x.0, shape.x.1, i), at(shape.y.0, y_max, j));
+                    if let Some(found) = coarse(rot, start, &mut buffer) {
+                        if best.as_ref().is_none_or(|(c, _)| found.0 < *c) {
+                            best = Some(found);
+                        }
+                    }
+                }
+            }
+        }
+        best
     }
 }

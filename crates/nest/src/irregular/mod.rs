@@ -114,7 +114,7 @@ mod threads;
 
 use crate::job::Job;
 use crate::limit::{Reached, SearchEnd, SearchLimit};
-use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution};
+use crate::problem::{NestBin, NestError, NestItem, NestSettings, NestSolution, SheetShape};
 use crate::progress::{ignore, NestProgress};
 use anytime::{BASE_ITERATIONS, ROUND_ITERATIONS};
 use model::Model;
@@ -154,12 +154,25 @@ pub fn nest_until(
     limit: &SearchLimit,
     observe: &dyn Fn(&NestProgress),
 ) -> Result<(NestSolution, Reached), NestError> {
+    nest_shaped_until(items, bin, &SheetShape::default(), settings, limit, observe)
+}
+
+/// [`nest_until`] on sheets of `shape` (a remnant, a sheet with flaws): every sheet of `bin` cut
+/// down to the shape's outline, less its keep-outs, which the parts keep the separation from.
+pub fn nest_shaped_until(
+    items: &[NestItem],
+    bin: &NestBin,
+    shape: &SheetShape,
+    settings: &NestSettings,
+    limit: &SearchLimit,
+    observe: &dyn Fn(&NestProgress),
+) -> Result<(NestSolution, Reached), NestError> {
     let base = NestSettings {
         iterations: settings.iterations.min(BASE_ITERATIONS),
         ..*settings
     };
     let rounds = (settings.iterations - base.iterations) / ROUND_ITERATIONS;
-    let job = Job::new(items, bin, &base)?;
+    let job = Job::new(items, bin, &base)?.with_shape(shape)?;
     let started = Instant::now();
     let mut reached = Reached {
         iterations: base.iterations,
@@ -198,4 +211,118 @@ pub fn nest_until(
         reached.over_budget = Some(started.elapsed());
     }
     Ok((job.solution(model.export(&best))?, reached))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_support::{square, squares_job};
+    use crate::verify::{verify, verify_shape};
+    use crate::NestViolation;
+
+    fn settings() -> NestSettings {
+        NestSettings {
+            separation_mm: 0.5,
+            seed: 3,
+            iterations: 100,
+            workers: 2,
+        }
+    }
+
+    /// Nests `demand` 10 mm squares on 100 mm sheets of `shape` and checks the layout with the
+    /// verifiers, the shape's among them; the layout.
+    fn nested_on(shape: &SheetShape, demand: usize) -> NestSolution {
+        let (items, bin) = squares_job(demand, 5);
+        let (layout, _) = nest_shaped_until(
+            &items,
+            &bin,
+            shape,
+            &settings(),
+            &SearchLimit::default(),
+            &ignore,
+        )
+        .unwrap();
+        verify(&items, &bin, &settings(), &layout, 1e-9).unwrap();
+        for (b, sheet) in layout.bins.iter().enumerate() {
+            verify_shape(shape, 0.5, b, &sheet.parts, 1e-9).unwrap();
+        }
+        layout
+    }
+
+    #[test]
+    fn parts_keep_clear_of_a_flaw_over_the_corner_the_fill_starts_from() {
+        // A 60 mm square flaw over the corner: 6,400 mm² left in an L 40 mm wide, room for 20
+        // squares of 10.5 mm pitch (3 across each arm's width).
+        let flaw = SheetShape {
+            outline: Vec::new(),
+            keep_outs: vec![square(60.0)],
+        };
+        let layout = nested_on(&flaw, 20);
+        assert_eq!(layout.bins_used(), 1);
+        assert_eq!(layout.parts_placed(), 20);
+    }
+
+    #[test]
+    fn a_remnant_outline_takes_parts_only_inside_it() {
+        // The L of a sheet whose 60 x 60 mm top right was cut before; keep-outs inside it too.
+        let remnant = SheetShape {
+            outline: vec![
+                [0.0, 0.0],
+                [100.0, 0.0],
+                [100.0, 40.0],
+                [40.0, 40.0],
+                [40.0, 100.0],
+                [0.0, 100.0],
+            ],
+            keep_outs: vec![place_ring_at(&square(5.0), [10.0, 10.0])],
+        };
+        // At 10.5 mm pitch the L holds 9 x 3 squares along its foot and 3 x 6 up its leg, 45 at
+        // most: 60 squares take two sheets of it, where one whole sheet takes 81.
+        let layout = nested_on(&remnant, 60);
+        assert_eq!(layout.bins_used(), 2);
+    }
+
+    fn place_ring_at(ring: &[[f64; 2]], at: [f64; 2]) -> Vec<[f64; 2]> {
+        ring.iter().map(|q| [q[0] + at[0], q[1] + at[1]]).collect()
+    }
+
+    #[test]
+    fn the_shape_check_finds_a_part_on_a_keep_out_or_outside_the_outline() {
+        let part = |x: f64, y: f64| crate::PlacedPart {
+            item: 0,
+            copy: 0,
+            rotation_deg: 0.0,
+            translation: [x, y],
+            outline: place_ring_at(&square(10.0), [x, y]),
+        };
+        let flaw = SheetShape {
+            outline: Vec::new(),
+            keep_outs: vec![place_ring_at(&square(5.0), [50.0, 50.0])],
+        };
+        assert_eq!(
+            verify_shape(&flaw, 0.5, 0, &[part(20.0, 20.0)], 1e-9),
+            Ok(())
+        );
+        // 0.4 mm short of the flaw, and over it.
+        assert!(matches!(
+            verify_shape(&flaw, 0.5, 0, &[part(39.6, 50.0)], 1e-9),
+            Err(NestViolation::NearKeepOut { keep_out: 0, .. })
+        ));
+        assert!(matches!(
+            verify_shape(&flaw, 0.5, 0, &[part(48.0, 48.0)], 1e-9),
+            Err(NestViolation::NearKeepOut { distance_mm, .. }) if distance_mm == 0.0
+        ));
+        let remnant = SheetShape {
+            outline: vec![[0.0, 0.0], [40.0, 0.0], [40.0, 40.0], [0.0, 40.0]],
+            keep_outs: Vec::new(),
+        };
+        assert_eq!(
+            verify_shape(&remnant, 0.5, 0, &[part(29.5, 1.0)], 1e-9),
+            Ok(())
+        );
+        assert!(matches!(
+            verify_shape(&remnant, 0.5, 0, &[part(35.0, 1.0)], 1e-9),
+            Err(NestViolation::OutsideOutline { .. })
+        ));
+    }
 }

@@ -13,7 +13,7 @@ use jagua_rs::geometry::geo_traits::{Transformable, TransformableFrom};
 use jagua_rs::geometry::primitives::{Rect, SPolygon};
 use jagua_rs::geometry::{DTransformation, Transformation};
 use jagua_rs::io::ext_repr::{
-    ExtContainer, ExtItem, ExtOrientation, ExtRotation, ExtSPolygon, ExtShape,
+    ExtContainer, ExtItem, ExtOrientation, ExtPolygon, ExtRotation, ExtSPolygon, ExtShape,
 };
 use jagua_rs::io::import::Importer;
 use jagua_rs::probs::bpp::entities::{
@@ -22,10 +22,11 @@ use jagua_rs::probs::bpp::entities::{
 use rayon::prelude::*;
 
 use crate::compress::{Footprint, Footprints};
-use crate::job::{Job, Placed};
+use crate::job::{clean_ring, Job, Placed};
 use crate::overlap::Pieces;
 use crate::placement::{Placement, Sheets};
 use crate::problem::NestError;
+use cam_geometry::Point;
 
 /// First and last step of the bottom-left slide.
 const SLIDE_FIRST_STEP_MM: f32 = 16.0;
@@ -150,11 +151,18 @@ impl<'a> Model<'a> {
             {
                 return false;
             }
-            if let Some(k) = key {
-                let cde = problem.layouts()[k].cde();
-                if !collision_free(cde, shape, &mut shape.plain.clone(), spot.t) {
-                    return false;
+            // The first part of a whole rectangle is inside it when its box is; on a shaped
+            // sheet it is checked against the outline and keep-outs too.
+            let cde = match key {
+                Some(k) => Some(problem.layouts()[k].cde()),
+                None if !self.job.shape.is_whole() => {
+                    Some(self.instance.bins[0].container.base_cde().as_ref())
                 }
+                None => None,
+            };
+            if cde.is_some_and(|cde| !collision_free(cde, shape, &mut shape.plain.clone(), spot.t))
+            {
+                return false;
             }
             let layout_id = key.map_or(BPLayoutType::Closed { bin_id: 0 }, BPLayoutType::Open);
             key = Some(problem.place_item(self.bp_placement(layout_id, spot)).0);
@@ -297,13 +305,36 @@ fn build_instance(job: &Job) -> Result<BPInstance, NestError> {
             Ok((item, part.demand))
         })
         .collect::<Result<Vec<_>, NestError>>()?;
+    let rectangle = ExtShape::Rectangle {
+        x_min: 0.0,
+        y_min: 0.0,
+        width: job.bin.width_mm as f32,
+        height: job.bin.height_mm as f32,
+    };
+    let ring = |r: &[Point]| ExtSPolygon(r.iter().map(|q| (q[0] as f32, q[1] as f32)).collect());
+    let shape = &job.shape;
+    // A shaped sheet: its outline (or the rectangle) with the keep-outs as holes, which jagua-rs
+    // inflates by half the separation as it deflates the outline.
     let sheet = ExtContainer {
         id: 0,
-        shape: ExtShape::Rectangle {
-            x_min: 0.0,
-            y_min: 0.0,
-            width: job.bin.width_mm as f32,
-            height: job.bin.height_mm as f32,
+        shape: if shape.is_whole() {
+            rectangle
+        } else {
+            let w = job.bin.width_mm;
+            let h = job.bin.height_mm;
+            let outer = if shape.outline.is_empty() {
+                ring(&[[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]])
+            } else {
+                ring(&clean_ring(&shape.outline))
+            };
+            ExtShape::Polygon(ExtPolygon {
+                outer,
+                inner: shape
+                    .keep_outs
+                    .iter()
+                    .map(|k| ring(&clean_ring(k)))
+                    .collect(),
+            })
         },
         zones: Vec::new(),
     };

@@ -231,7 +231,7 @@ impl PartFit<'_> {
                 self.drawing,
                 &part.entity,
                 format!(
-                    "part too large: {:.3} x {:.3} mm at its best allowed rotation{} does not fit {sheet} with {} mm (kerf + spacing) to every edge ({:.3} mm with the nester's working margin)",
+                    "part too large: {:.3} x {:.3} mm at its best allowed rotation{} does not fit {sheet} with {} mm (kerf + edge gap) to every edge ({:.3} mm with the nester's working margin)",
                     size[0],
                     size[1],
                     if self.by_ply {
@@ -239,7 +239,7 @@ impl PartFit<'_> {
                     } else {
                         String::new()
                     },
-                    spec.kerf_mm + spec.spacing_mm,
+                    spec.kerf_mm + spec.edge_gap(),
                     fit.edge_gap_mm
                 ),
             ));

@@ -114,6 +114,8 @@ fn sheet_rows(batch: &Batch, built: &Build) -> Vec<SheetRow> {
             height_mm: s.height_mm,
             utilization: s.utilization(),
             roll: is_roll(batch, &s.layer),
+            stock: s.stock_file.clone(),
+            remnant: crate::nest::remnant::remnant_row(s),
             parts: s
                 .parts
                 .iter()

@@ -184,6 +184,29 @@ impl NestReport {
                 sh.utilization * 100.0
             );
         }
+        for sh in &self.sheets {
+            if let Some(file) = &sh.stock {
+                let _ = writeln!(
+                    s,
+                    "\n{} is cut from the drawn sheet {}.",
+                    code(&sh.file_stem),
+                    code(file)
+                );
+            }
+        }
+        let remnants: Vec<String> = self
+            .sheets
+            .iter()
+            .filter_map(|sh| sh.remnant.as_ref())
+            .map(|r| format!("{} ({:.0} mm² free)", code(&r.file_stem), r.free_area_mm2))
+            .collect();
+        if !remnants.is_empty() {
+            let _ = writeln!(
+                s,
+                "\nRemnants, each a drawing a later batch can nest on first (`[[stock]]`): {}.",
+                remnants.join(", ")
+            );
+        }
         for sh in self.sheets.iter().filter(|sh| sh.roll) {
             let _ = writeln!(
                 s,

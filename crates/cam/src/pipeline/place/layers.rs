@@ -23,6 +23,7 @@ fn place_cut_layer(
             layouts: shelf(layer, names)?,
             baseline: None,
             strip_length_mm: None,
+            drawn: Vec::new(),
         }),
         Packing::Irregular(opts, observer) => {
             let deadline = opts.time.map(|t| t.share(1, 1));

@@ -16,9 +16,13 @@
 //! | `plates.rs` | the PZT plates' snappable layout, verified |
 //! | `layers.rs` | every cut layer placed, several nested at once |
 //! | `shelf.rs`, `irregular.rs` | the two packers of a cut layer, each verified |
+//! | `drawn.rs` | a layer's drawn sheets (remnants, sheets with flaws) filled first, verified |
+//! | `holes.rs` | parts nested in other parts' cut-outs, carried with them, verified |
 //! | `promise.rs` | what a packer promised, and the verifier's check of it |
 //! | `refusal.rs` | the refusal of a part that fits no sheet |
 
+mod drawn;
+mod holes;
 mod irregular;
 mod layers;
 mod packing;
@@ -48,6 +52,9 @@ pub(crate) struct PlacedLayer {
     pub baseline: Option<BaselineRow>,
     /// On roll stock: the used length, mm (the one sheet is drawn this long).
     pub strip_length_mm: Option<f64>,
+    /// The drawn sheet ([`crate::process::template::SheetSpec::drawn`]) each of the first
+    /// `drawn.len()` layouts is cut from; the others are whole sheets.
+    pub drawn: Vec<usize>,
 }
 
 /// The template's sheet with `stock` sheets of it.
@@ -56,6 +63,38 @@ fn sheet_of(spec: &SheetSpec, stock: usize) -> NestBin {
         width_mm: spec.width_mm,
         height_mm: spec.height_mm,
         stock,
+    }
+}
+
+/// The sheet the packers work on for `spec`, with `stock` sheets of it: the sheet shrunk by the
+/// difference of its edge gap and its spacing ([`SheetSpec::packing_room`]), so that a packer that
+/// keeps one gap to everything keeps the edge gap to the sheet's edge once its layout is moved back
+/// ([`onto_sheet`]). A roll's room has the width only; its length is the packer's.
+fn room_of(spec: &SheetSpec, stock: usize) -> NestBin {
+    let [width_mm, height_mm] = spec.packing_room();
+    NestBin {
+        width_mm,
+        height_mm,
+        stock,
+    }
+}
+
+/// Sheets packed on [`room_of`]`(spec)` moved onto the sheet itself: every part moved by the edge
+/// shift along both axes, fills against the sheet's area. Unchanged when the edge gap is the
+/// spacing.
+fn onto_sheet(spec: &SheetSpec, sheets: &mut [NestedBin], sheet_area_mm2: f64) {
+    let d = spec.edge_shift_mm();
+    if d == 0.0 {
+        return;
+    }
+    for sheet in sheets {
+        for part in &mut sheet.parts {
+            part.translation = [part.translation[0] + d, part.translation[1] + d];
+            for q in &mut part.outline {
+                *q = [q[0] + d, q[1] + d];
+            }
+        }
+        sheet.utilization = sheet.part_area_mm2() / sheet_area_mm2;
     }
 }
 

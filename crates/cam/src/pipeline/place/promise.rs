@@ -9,19 +9,22 @@ use cam_nest::{
 };
 
 /// What a packing promised for one cut layer, for the verifier.
+#[derive(Clone)]
 pub(super) struct Promise {
     /// The sheet, with the stock the packer had to keep to.
     pub sheet: NestBin,
     /// The items as packed: the ring of each part the packer kept apart (cut path or nominal
     /// outline), its copies and rotations.
     pub packed: Vec<NestItem>,
-    /// Clearance between those rings and to the sheet edge, mm.
+    /// Clearance between those rings, mm.
     pub clearance_mm: f64,
+    /// Clearance from those rings to the sheet edge, mm.
+    pub edge_mm: f64,
 }
 
 /// Verify layouts of cut paths against what the packing promised: every copy once within the stock,
 /// every outline its item's cut path turned and moved as stated, and the packed rings (placed the
-/// same way) inside the sheet, the clearance apart, in allowed rotations.
+/// same way) inside the sheet, the clearances apart and from its edge, in allowed rotations.
 pub(super) fn verify_cut_layouts(
     layer: &CutLayer,
     layouts: &[NestedBin],
@@ -30,7 +33,10 @@ pub(super) fn verify_cut_layouts(
     verify_stock(layouts, promise.sheet.stock)?;
     verify_copies(&promise.packed, layouts)?;
     let cut = items_of(layer, |i| &i.cut);
-    let clearance = Clearance::uniform(promised(promise.clearance_mm));
+    let clearance = Clearance {
+        between_parts_mm: promised(promise.clearance_mm),
+        to_edge_mm: promised(promise.edge_mm),
+    };
     for layout in layouts {
         verify_outlines(&cut, layout.index, &layout.parts, ROUNDING_MM)?;
         let packed: Vec<PlacedPart> = layout

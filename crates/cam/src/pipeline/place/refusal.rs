@@ -109,17 +109,22 @@ pub(super) fn refusal(
             separation_mm,
             edge_gap_mm,
             ..
-        } => sheet_too_small(
-            &layer.spec,
-            &format!(
-                "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {separation_mm} mm of kerf and spacing to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
-                layer.layer, layer.items[item].owner
-            ),
-            [part_width_mm, part_height_mm],
-            [2.0 * edge_gap_mm; 2],
-            false,
-            None,
-        ),
+        } => {
+            // The packer worked on the sheet shrunk by the edge shift (`super::room_of`).
+            let shift = layer.spec.edge_shift_mm();
+            let (to_edge_mm, edge_gap_mm) = (separation_mm + shift, edge_gap_mm + shift);
+            sheet_too_small(
+                &layer.spec,
+                &format!(
+                    "the {} part of {} ({part_width_mm:.3} x {part_height_mm:.3} mm at its best allowed rotation, with {} mm of kerf and edge gap to each edge, {edge_gap_mm:.3} mm with the nester's working margin)",
+                    layer.layer, layer.items[item].owner, short_number(to_edge_mm)
+                ),
+                [part_width_mm, part_height_mm],
+                [2.0 * edge_gap_mm; 2],
+                false,
+                None,
+            )
+        }
         NestError::StockTooSmall { needed, stock } => fail(format!(
             "stock too small: the batch needs {needed} sheets but the stock is {stock}"
         )),
