@@ -127,9 +127,14 @@ fn every_file_states_its_cut_order_and_part_sheets_follow_a_short_path() {
         let n = &p.name;
         // Both files state the order they are cut in.
         if let Some(desc) = &p.desc {
-            assert!(desc.contains("Cut order: the file's order"), "{n}.svg: {desc:?}");
             assert!(
-                p.dxf_comments.iter().any(|c| c.starts_with("Cut order: the file's order")),
+                desc.contains("Cut order: the file's order"),
+                "{n}.svg: {desc:?}"
+            );
+            assert!(
+                p.dxf_comments
+                    .iter()
+                    .any(|c| c.starts_with("Cut order: the file's order")),
                 "{n}.dxf: {:?}",
                 p.dxf_comments
             );
@@ -148,7 +153,10 @@ fn every_file_states_its_cut_order_and_part_sheets_follow_a_short_path() {
                 .enumerate()
                 .filter(|(k, c)| {
                     let q = c.exterior().0[0];
-                    !contours.iter().enumerate().any(|(j, o)| j != *k && o.contains(&q))
+                    !contours
+                        .iter()
+                        .enumerate()
+                        .any(|(j, o)| j != *k && o.contains(&q))
                 })
                 .map(|(_, c)| {
                     let ring: Vec<P> = c.exterior().0.iter().map(|q| [q.x, q.y]).collect();
@@ -170,5 +178,8 @@ fn every_file_states_its_cut_order_and_part_sheets_follow_a_short_path() {
             toured += 1;
         }
     }
-    assert!(stated > 300 && toured > 20, "{stated} files state, {toured} toured");
+    assert!(
+        stated > 300 && toured > 20,
+        "{stated} files state, {toured} toured"
+    );
 }
