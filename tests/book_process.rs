@@ -309,7 +309,7 @@ fn the_linkage_cures_on_the_templates_cycle() {
     // two adhesive, one film per panel); the release cut runs through the laminate, no stock of its own.
     let files: Vec<String> = files(&out).into_keys().collect();
     for (stock, layers) in [
-        ("CF-thesis (2 plies)", 2),
+        ("CF-thesis (3 plies)", 2),
         ("Pyralux LF", 2),
         ("Kapton HN", 1),
     ] {

@@ -8,7 +8,7 @@ use crate::input::limits::{
     GAP_MM, HOLE_DIAMETER_MM, KERF_MM, LAYER_THICKNESS_MM, PLY_ANGLE_DEG,
 };
 use crate::input::{InputError, TableReader};
-use actuator_model::Material;
+use actuator_model::{Laminate, Layer, LayerRole, Material};
 
 /// One sheet material of the laminate as the mass and the drawings need it.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,6 +74,30 @@ pub struct LinkageProcess {
     pub cure: Option<CureStep>,
 }
 
+/// The stretching-bending coupling of one cured carbon layer of `layup` (deg) in `ply`: `Some((B11,
+/// max |B_ij|))`, N, when the coupling matrix `B = ½ Σ Q̄_k (z_k² − z_{k−1}²)` (classical laminate theory,
+/// Jones, *Mechanics of Composite Materials*, eq. 4.28) is not zero, i.e. above 1e-9 of `A_max · h`,
+/// the round-off of a layup symmetric about its mid-plane; `None` for a flat-curing layup.
+pub fn coupling(ply: &Material, layup: &[f64]) -> Option<(f64, f64)> {
+    let thickness = ply.ply_thickness.unwrap_or(0.0);
+    let layers = layup
+        .iter()
+        .map(|&angle_deg| Layer {
+            material: ply.clone(),
+            thickness,
+            angle_deg,
+            role: LayerRole::Passive,
+        })
+        .collect();
+    let laminate = Laminate::new(layers).ok()?;
+    let abd = laminate.abd();
+    let b = abd.fixed_view::<3, 3>(0, 3);
+    let a = abd.fixed_view::<3, 3>(0, 0);
+    let largest = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())) * laminate.thickness();
+    (largest > 1e-9 * scale).then_some((b[(0, 0)], largest))
+}
+
 impl LinkageProcess {
     /// Read `[linkage]`; the caller finishes the template.
     pub fn read(t: &TableReader<'_>) -> Result<LinkageProcess, InputError> {
@@ -89,6 +113,17 @@ impl LinkageProcess {
                 )
             })?;
         let layup = t.numbers_in("carbon_layup_deg", PLY_ANGLE_DEG, 1, 12)?;
+        if let Some((b11, largest)) = coupling(&ply, &layup) {
+            let angles: Vec<String> = layup.iter().map(|a| a.to_string()).collect();
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path("carbon_layup_deg"),
+                format!("[{}]", angles.join(", ")),
+                format!(
+                    "a layup symmetric about its mid-plane, e.g. [0, 90, 0]: this one couples stretching and bending (CLT B11 = {b11:.0} N, largest |B| {largest:.0} N), so the cured layer warps as it cools, and the keyed pins lay both carbon layers the same way up"
+                ),
+            ));
+        }
         let ply_mm = ply.ply_thickness.unwrap_or(0.0) * 1e3;
         let carbon = Sheet {
             material: format!("{} ({} plies)", ply.name, layup.len()),
@@ -139,5 +174,54 @@ impl LinkageProcess {
             ));
         }
         Ok(process)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::process::template::{Template, METHOD_1, METHOD_2};
+    use std::path::Path;
+
+    #[test]
+    fn every_shipped_carbon_layup_cures_flat_and_a_0_90_pair_is_refused() {
+        // Classical laminate theory (Jones, Mechanics of Composite Materials, eq. 4.28): two plies of
+        // thickness h at 0° (z from -h to 0) and 90° (0 to h) give B11 = ½ h² (Q22 - Q11), with
+        // Q11 = E1 / (1 - ν12 ν21), Q22 = E2 / (1 - ν12 ν21), ν21 = ν12 E2 / E1; `actuator-cam laminate
+        // --layup 0/90` prints -792.17 N for CF-thesis.
+        let ply = Material::builtin("CF-thesis").unwrap();
+        let h = ply.ply_thickness.unwrap();
+        let nu21 = ply.nu12 * ply.e2 / ply.e1;
+        let d = 1.0 - ply.nu12 * nu21;
+        let closed = 0.5 * h * h * (ply.e2 - ply.e1) / d;
+        let (b11, _) = coupling(&ply, &[0.0, 90.0]).unwrap();
+        assert!(
+            (b11 - closed).abs() < 1e-9 * closed.abs(),
+            "{b11} vs {closed}"
+        );
+        assert!((b11 + 792.17).abs() < 0.01, "{b11}");
+        // Every cured layup a shipped template names is symmetric: no coupling.
+        for (name, text) in [("method-1", METHOD_1), ("method-2", METHOD_2)] {
+            let t = Template::resolve(name, Path::new("d.toml")).unwrap();
+            let l = t.linkage.unwrap();
+            assert_eq!(coupling(&ply, &l.carbon_layup_deg), None, "{name}");
+            // The same template with a 0/90 pair is refused in one line naming the field and B11.
+            let pair = text.replacen(
+                "carbon_layup_deg = [0, 90, 0]",
+                "carbon_layup_deg = [0, 90]",
+                1,
+            );
+            assert_ne!(pair, text);
+            let path = Path::new("my-process.toml");
+            let table = crate::input::parse_toml(path, &pair).unwrap();
+            let err = Template::from_table(path, &table).unwrap_err().to_string();
+            assert!(
+                err.starts_with(
+                    "my-process.toml: linkage.carbon_layup_deg = [0, 90]: a layup symmetric"
+                ) && err.contains("B11 = -792 N")
+                    && !err.contains('\n'),
+                "{err}"
+            );
+        }
     }
 }
