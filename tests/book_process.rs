@@ -343,4 +343,29 @@ fn the_linkage_cures_on_the_templates_cycle() {
     assert!(!r["stock_list"]
         .to_string()
         .contains("laminated linkage stack"));
+    // The pin holes as cut (the drawn radius and half the kerf) take the template's Ø1.5 mm dowels
+    // with the clearance the stacking step states: a clearance fit, never an interference.
+    let carbon = files
+        .iter()
+        .find(|f| f.starts_with("linkage-1-carbon-1") && f.ends_with(".svg"))
+        .unwrap();
+    let svg = std::fs::read_to_string(out.join(carbon)).unwrap();
+    let kerf = r["linkage"]["kerf_mm"].as_f64().unwrap();
+    let radii: Vec<f64> = svg
+        .lines()
+        .filter_map(|l| l.split(" A").nth(1))
+        .map(|arc| arc.split(' ').next().unwrap().parse::<f64>().unwrap())
+        .collect();
+    assert_eq!(radii.len(), 4, "{svg}");
+    let dowel = 1.5;
+    for r in radii {
+        let hole = 2.0 * (r + kerf / 2.0);
+        assert!(hole > dowel, "Ø{hole} mm hole on a Ø{dowel} mm dowel");
+        let stack = steps.iter().find(|s| s.starts_with("Stack on")).unwrap();
+        let fit = format!(
+            "dowels of Ø1.5 mm (the template's `clamp.dowel_diameter_mm`) in the Ø{hole:.2} mm pin holes, {:.0} µm of clearance",
+            (hole - dowel) * 1e3
+        );
+        assert!(stack.contains(&fit), "{fit}\n{stack}");
+    }
 }

@@ -3,8 +3,9 @@
 
 use super::LinkageReport;
 
-/// The steps, in order, for `panels` linkage panels whose files are `linkage-*`.
-pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
+/// The steps, in order, for `panels` linkage panels whose files are `linkage-*`; `pin_fit` says the
+/// dowels in the pin holes ([`crate::book::pin_fit_text`]).
+pub fn linkage_steps(l: &LinkageReport, panels: usize, pin_fit: &str) -> Vec<String> {
     let stack: Vec<String> = l
         .layers
         .iter()
@@ -16,7 +17,7 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
             l.layers[2].thickness_mm * 1e3
         ),
         format!(
-            "Stack on the clamp's pins, bottom to top: {}; peel each adhesive liner as its layer goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "Stack on the clamp's pins, {pin_fit}; bottom to top: {}; peel each adhesive liner as its layer goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
         cure_step(l, "the stack", "on the same pins"),
@@ -29,12 +30,13 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
 
 /// The steps for `quantity` linkages nested as coupons (docs/cam.md §7, "Nested with the actuators"):
 /// `sheets` says where each layer's coupons are (stack positions, sheet), `prefix` names the coupon's
-/// files.
+/// files; `pin_fit` says the dowels in the pin holes.
 pub fn coupon_steps(
     l: &LinkageReport,
     quantity: usize,
     sheets: &[(Vec<usize>, String)],
     prefix: &str,
+    pin_fit: &str,
 ) -> Vec<String> {
     let whereabouts: Vec<String> = sheets
         .iter()
@@ -55,7 +57,7 @@ pub fn coupon_steps(
             whereabouts.join("; ")
         ),
         format!(
-            "For each linkage stack its coupons on four pins through their pin holes, the chamfered corner matching, bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "For each linkage stack its coupons on four pins through their pin holes, {pin_fit}, the chamfered corner matching; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
         cure_step(l, "the coupons", "on their pins"),
