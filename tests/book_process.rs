@@ -343,6 +343,23 @@ fn the_linkage_cures_on_the_templates_cycle() {
     assert!(!r["stock_list"]
         .to_string()
         .contains("laminated linkage stack"));
+    // Folding joint B 90° at assembly: ε = t φ / (2 L) over B's unbonded film (docs/physics.md §16.2,
+    // §16.6; B is as wide as the strip, so L is the gap and both cut-backs), stated with the limit.
+    let b = &r["linkage"]["flexures"][1];
+    let fold = b["film_um"].as_f64().unwrap() * std::f64::consts::FRAC_PI_2
+        / (2.0 * b["unbonded_um"].as_f64().unwrap());
+    assert!(fold < 0.03, "{fold}");
+    let step = steps
+        .iter()
+        .find(|s| s.starts_with("Fold the crank"))
+        .unwrap();
+    assert!(
+        step.contains(&format!(
+            "Folding joint B 90° strains its film {:.2} %, within its 3.00 %",
+            fold * 100.0
+        )),
+        "{step}"
+    );
     // The pin holes as cut (the drawn radius and half the kerf) take the template's Ø1.5 mm dowels
     // with the clearance the stacking step states: a clearance fit, never an interference.
     let carbon = files
