@@ -309,7 +309,7 @@ fn the_linkage_cures_on_the_templates_cycle() {
     // two adhesive, one film per panel); the release cut runs through the laminate, no stock of its own.
     let files: Vec<String> = files(&out).into_keys().collect();
     for (stock, layers) in [
-        ("CF-thesis (2 plies)", 2),
+        ("CF-thesis (3 plies)", 2),
         ("Pyralux LF", 2),
         ("Kapton HN", 1),
     ] {
@@ -343,4 +343,46 @@ fn the_linkage_cures_on_the_templates_cycle() {
     assert!(!r["stock_list"]
         .to_string()
         .contains("laminated linkage stack"));
+    // Folding joint B 90° at assembly: ε = t φ / (2 L) over B's unbonded film (docs/physics.md §16.2,
+    // §16.6; B is as wide as the strip, so L is the gap and both cut-backs), stated with the limit.
+    let b = &r["linkage"]["flexures"][1];
+    let fold = b["film_um"].as_f64().unwrap() * std::f64::consts::FRAC_PI_2
+        / (2.0 * b["unbonded_um"].as_f64().unwrap());
+    assert!(fold < 0.03, "{fold}");
+    let step = steps
+        .iter()
+        .find(|s| s.starts_with("Fold the crank"))
+        .unwrap();
+    assert!(
+        step.contains(&format!(
+            "Folding joint B 90° strains its film {:.2} %, within its 3.00 %",
+            fold * 100.0
+        )),
+        "{step}"
+    );
+    // The pin holes as cut (the drawn radius and half the kerf) take the template's Ø1.5 mm dowels
+    // with the clearance the stacking step states: a clearance fit, never an interference.
+    let carbon = files
+        .iter()
+        .find(|f| f.starts_with("linkage-1-carbon-1") && f.ends_with(".svg"))
+        .unwrap();
+    let svg = std::fs::read_to_string(out.join(carbon)).unwrap();
+    let kerf = r["linkage"]["kerf_mm"].as_f64().unwrap();
+    let radii: Vec<f64> = svg
+        .lines()
+        .filter_map(|l| l.split(" A").nth(1))
+        .map(|arc| arc.split(' ').next().unwrap().parse::<f64>().unwrap())
+        .collect();
+    assert_eq!(radii.len(), 4, "{svg}");
+    let dowel = 1.5;
+    for r in radii {
+        let hole = 2.0 * (r + kerf / 2.0);
+        assert!(hole > dowel, "Ø{hole} mm hole on a Ø{dowel} mm dowel");
+        let stack = steps.iter().find(|s| s.starts_with("Stack on")).unwrap();
+        let fit = format!(
+            "dowels of Ø1.5 mm (the template's `clamp.dowel_diameter_mm`) in the Ø{hole:.2} mm pin holes, {:.0} µm of clearance",
+            (hole - dowel) * 1e3
+        );
+        assert!(stack.contains(&fit), "{fit}\n{stack}");
+    }
 }

@@ -104,15 +104,18 @@ fn the_resonance_at_the_operating_stroke_is_where_that_stroke_lags_the_drive_by_
 fn a_linkage_its_film_cannot_bend_is_not_reached_and_says_which_flexure() {
     // The insect-scale example reaches its stroke within the field limit through a linkage given by
     // its stiffness, but the flexure rules cut-sheet draws it with (docs/cam.md §7) cannot make its wing
-    // hinge: ±56° on a 12.7 µm film needs 208 µm of gap, and a 0.208 mm crank holds at most 0.3 of
-    // itself. drive says so, as cut-sheet refuses the same linkage.
+    // hinge: ±56° on a 12.7 µm film needs 208 µm of unbonded film (8 µm of gap between the 0.1 mm
+    // adhesive cut-backs), a gap bends rather than shears from 5 film thicknesses (63.5 µm), and a
+    // 0.208 mm crank holds at most 0.3 of itself (62.3 µm). drive says so, as cut-sheet refuses the
+    // same linkage.
     let (dir, path) = coercive_copy("drive-robobee.toml");
     let r = drive_analysis(&path).report;
     assert!(r.unreachable.is_none() && !r.reached, "{}", r.table());
     let why = r.unbuildable_linkage.as_deref().unwrap();
     assert!(
-        why.starts_with("flexure O (crank on airframe, the wing hinge): 208.0 to 62.3 µm")
-            && why.contains("a longer crank"),
+        why.starts_with(
+            "flexure O (crank on airframe, the wing hinge): 63.5 to 62.3 µm: at least 8.0 µm"
+        ) && why.contains("a longer crank"),
         "{why}"
     );
     let err = refused_in_one_line(&run(&["drive", path.to_str().unwrap()]));

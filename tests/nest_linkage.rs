@@ -158,7 +158,7 @@ fn shared_prepreg(dir: &Path, passive_cut: &str) -> std::path::PathBuf {
     let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
     let template = read("templates/method-2.toml")
         .replace(
-            "carbon_layup_deg = [0, 90]",
+            "carbon_layup_deg = [0, 90, 0]",
             "carbon_layup_deg = [0, 0, 90, 0, 0]",
         )
         .replace(

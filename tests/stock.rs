@@ -164,6 +164,48 @@ fn check_title_and_dxf_stock(name: &str, text: &str, path: &Path, material: &str
     );
 }
 
+/// The sheet size (as the stock list writes it) of the stock line of the file `name` (SVG `text`, its
+/// stock `(material, t, w, h)` with `w × h` the page) among `rows`: the line of its material and
+/// thickness that holds its page and the outermost through-cut path (cut and second pass) with its
+/// kerf. A path that runs past the page (an outline cut outside its panel) takes a sheet larger than
+/// the path's span by the kerf, at most the templates' largest, 0.1 mm; else the sheet is the page.
+fn stock_line_for(
+    name: &str,
+    text: &str,
+    rows: &[(String, f64, f64, f64)],
+    (material, t, w, h): (&str, f64, f64, f64),
+) -> (String, String) {
+    let points: Vec<[f64; 2]> = ["layer-cut", "layer-secondary"]
+        .iter()
+        .flat_map(|id| layer_paths(text, id))
+        .flat_map(|(pts, _)| pts)
+        .collect();
+    let span = |i: usize, page: f64| {
+        let lo = points.iter().map(|p| p[i]).fold(0.0f64, f64::min);
+        let hi = points.iter().map(|p| p[i]).fold(page, f64::max);
+        hi - lo
+    };
+    let holds = |sheet: f64, page: f64, i: usize| {
+        let s = span(i, page);
+        if s > page + 1e-9 {
+            sheet > s + 1e-9 && sheet - s <= 0.1 + 1e-9
+        } else {
+            sheet == page
+        }
+    };
+    let row = rows
+        .iter()
+        .find(|r| r.0 == material && r.1 == t && holds(r.2, w, 0) && holds(r.3, h, 1))
+        .unwrap_or_else(|| {
+            panic!(
+                "{name}: no stock line of {material} {t} mm holds its cuts ({} x {} mm of path on a {w} x {h} mm page): {rows:?}",
+                span(0, w),
+                span(1, h)
+            )
+        });
+    (row.2.to_string(), row.3.to_string())
+}
+
 /// Every cut file of `out` with the stock it states, and the stock list of its report; every part
 /// sheet with its stock label clear of its parts, but as many as the report says had no room.
 fn check_folder(out: &Path, report: &str) {
@@ -173,6 +215,20 @@ fn check_folder(out: &Path, report: &str) {
         serde_json::from_str::<serde_json::Value>(&text).unwrap()
     };
     let mut counted: BTreeMap<(String, String, String, String), usize> = BTreeMap::new();
+    let rows: Vec<(String, f64, f64, f64)> = json["stock_list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            let n = |k: &str| r[k].as_f64().unwrap();
+            (
+                r["material"].as_str().unwrap().to_string(),
+                n("thickness_mm"),
+                n("width_mm"),
+                n("height_mm"),
+            )
+        })
+        .collect();
     for entry in std::fs::read_dir(out).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
@@ -227,8 +283,9 @@ fn check_folder(out: &Path, report: &str) {
                 .map_or(1, |(a, b)| {
                     b.parse::<usize>().unwrap() - a.parse::<usize>().unwrap() + 1
                 });
+            let (sheet_w, sheet_h) = stock_line_for(&name, &text, &rows, (&material, t, w, h));
             *counted
-                .entry((material, t.to_string(), w.to_string(), h.to_string()))
+                .entry((material, t.to_string(), sheet_w, sheet_h))
                 .or_default() += copies;
             // A part sheet is named by its layer and one number (`pzt-3`, `linkage-carbon-1`); a
             // clamp or linkage panel's name has a number inside it (`mold-1-1`, `linkage-1-carbon-1`).

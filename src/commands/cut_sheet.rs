@@ -73,7 +73,7 @@ pub fn run(args: &CutSheetArgs) -> anyhow::Result<()> {
             folder.add(&name, &bytes)?;
             layer_files.push(name);
         }
-        sheet.report.linkage = Some(LinkageSection::new(l));
+        sheet.report.linkage = Some(LinkageSection::new(l, &template));
         l.count_stock(&mut sheet.report.stock_list);
     }
     for (name, bytes) in render_report(&sheet, &layer_files, args.stroke.stroke_mm)? {

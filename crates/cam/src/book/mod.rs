@@ -8,6 +8,7 @@ mod laser;
 mod press;
 
 pub use function::Expected;
+pub use press::pin_fit_text;
 
 use crate::markdown;
 use crate::pipeline::{Build, ClampBuild, MoldBand, PanelRun};

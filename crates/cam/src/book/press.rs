@@ -4,7 +4,7 @@
 
 use crate::markdown;
 use crate::pipeline::{Build, ClampBuild};
-use crate::process::template::Template;
+use crate::process::template::{ClampSpec, Template};
 use cam_geometry::signed_area;
 
 /// Thickness of each level of `clamp`'s stack, bottom to top, mm: mold films from the mold choice,
@@ -43,11 +43,12 @@ fn mm(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// The first stacking step's dowel sentence for `clamp`.
-pub(super) fn dowel_text(template: &Template, clamp: &ClampBuild) -> String {
-    let c = &template.clamp;
-    let hole = 2.0 * c.pin_radius_mm;
-    let dowel = match c.dowel_diameter_mm {
+/// The dowels in the pin holes of `clamp`: the template's dowel diameter, the holes' and the clearance
+/// between them (half of it each way is how far a sheet may sit off its place); without a dowel
+/// diameter, the largest dowel the holes take.
+pub fn pin_fit_text(clamp: &ClampSpec) -> String {
+    let hole = 2.0 * clamp.pin_radius_mm;
+    match clamp.dowel_diameter_mm {
         Some(d) => format!(
             "dowels of Ø{} mm (the template's {}) in the Ø{} mm pin holes, {:.0} µm of clearance: \
              each sheet sits within {:.0} µm of its place",
@@ -62,7 +63,12 @@ pub(super) fn dowel_text(template: &Template, clamp: &ClampBuild) -> String {
             mm(hole),
             markdown::code("clamp.dowel_diameter_mm")
         ),
-    };
+    }
+}
+
+/// The first stacking step's dowel sentence for `clamp`.
+pub(super) fn dowel_text(template: &Template, clamp: &ClampBuild) -> String {
+    let dowel = pin_fit_text(&template.clamp);
     let (reach, below, stack) = dowel_window_mm(template, clamp);
     let top = clamp.stack.last().map_or("", String::as_str);
     let length = if reach < below {

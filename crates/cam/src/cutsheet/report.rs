@@ -203,13 +203,17 @@ pub struct LinkageSection {
 }
 
 impl LinkageSection {
-    /// The section of a cut linkage.
-    pub fn new(cut: &super::linkage::LinkageCut) -> LinkageSection {
+    /// The section of a cut linkage on the pins of `template`'s clamp.
+    pub fn new(cut: &super::linkage::LinkageCut, template: &Template) -> LinkageSection {
         let laminate = cut.laminate.report();
         LinkageSection {
             drive_file: cut.source.display().to_string(),
             panels: cut.panels,
-            build_steps: crate::linkage::checklist::linkage_steps(&laminate, cut.panels),
+            build_steps: crate::linkage::checklist::linkage_steps(
+                &laminate,
+                cut.panels,
+                &crate::book::pin_fit_text(&template.clamp),
+            ),
             laminate,
             note: cut.note.clone(),
         }

@@ -507,6 +507,7 @@ mod tests {
         d.stock = Some(crate::drawing::model::Stock {
             material: "PZT-5H".into(),
             thickness_mm: 0.127,
+            kerf_mm: 0.0,
             fibre_axis: None,
         });
         let text = String::from_utf8(to_dxf(&d).unwrap()).unwrap();

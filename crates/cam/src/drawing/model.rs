@@ -154,6 +154,9 @@ pub struct Stock {
     pub material: String,
     /// Thickness of the sheet, mm.
     pub thickness_mm: f64,
+    /// Kerf of the cuts on it, mm: a cut path removes half of it either side, so the sheet bought must
+    /// reach that far past the outermost path.
+    pub kerf_mm: f64,
     /// Prepreg: the sheet has a fibre direction, and every part on it is placed for its 0° fibres to
     /// run along this axis of the sheet. The stock line says so, for the technician who lays the sheet
     /// on the bed. `None` for a material without fibres.
@@ -420,6 +423,7 @@ mod tests {
         let stock = |material: &str, t: f64| Stock {
             material: material.into(),
             thickness_mm: t,
+            kerf_mm: 0.0,
             fibre_axis: None,
         };
         assert_eq!(

@@ -3,8 +3,9 @@
 
 use super::LinkageReport;
 
-/// The steps, in order, for `panels` linkage panels whose files are `linkage-*`.
-pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
+/// The steps, in order, for `panels` linkage panels whose files are `linkage-*`; `pin_fit` says the
+/// dowels in the pin holes ([`crate::book::pin_fit_text`]).
+pub fn linkage_steps(l: &LinkageReport, panels: usize, pin_fit: &str) -> Vec<String> {
     let stack: Vec<String> = l
         .layers
         .iter()
@@ -16,7 +17,7 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
             l.layers[2].thickness_mm * 1e3
         ),
         format!(
-            "Stack on the clamp's pins, bottom to top: {}; peel each adhesive liner as its layer goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "Stack on the clamp's pins, {pin_fit}; bottom to top: {}; peel each adhesive liner as its layer goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
         cure_step(l, "the stack", "on the same pins"),
@@ -29,12 +30,13 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize) -> Vec<String> {
 
 /// The steps for `quantity` linkages nested as coupons (docs/cam.md §7, "Nested with the actuators"):
 /// `sheets` says where each layer's coupons are (stack positions, sheet), `prefix` names the coupon's
-/// files.
+/// files; `pin_fit` says the dowels in the pin holes.
 pub fn coupon_steps(
     l: &LinkageReport,
     quantity: usize,
     sheets: &[(Vec<usize>, String)],
     prefix: &str,
+    pin_fit: &str,
 ) -> Vec<String> {
     let whereabouts: Vec<String> = sheets
         .iter()
@@ -55,7 +57,7 @@ pub fn coupon_steps(
             whereabouts.join("; ")
         ),
         format!(
-            "For each linkage stack its coupons on four pins through their pin holes, the chamfered corner matching, bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "For each linkage stack its coupons on four pins through their pin holes, {pin_fit}, the chamfered corner matching; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
         cure_step(l, "the coupons", "on their pins"),
@@ -81,13 +83,71 @@ fn cure_step(l: &LinkageReport, what: &str, pins: &str) -> String {
     }
 }
 
+/// The film's surface strain when joint B is folded 90° at assembly, `ε = t φ / (2 L_e)` (docs/physics.md
+/// §16.2, §16.6) at `φ = π/2`, from the model's strain per turn at B; and the film's limit.
+pub fn fold_strain(l: &LinkageReport) -> Option<(f64, f64)> {
+    let b = l.flexures.get(1)?;
+    let turn = b.peak_rotation_deg.to_radians();
+    (turn > 0.0).then(|| {
+        (
+            b.peak_strain / turn * std::f64::consts::FRAC_PI_2,
+            b.strain_limit,
+        )
+    })
+}
+
 /// Assembling a released linkage to its actuator and checking it.
 fn assembly(l: &LinkageReport) -> Vec<String> {
+    let fold = match fold_strain(l) {
+        Some((e, limit)) if e <= limit => format!(
+            " Folding joint B 90° strains its film {:.2} %, within its {:.2} % (t φ / (2 L) over the unbonded film).",
+            e * 100.0,
+            limit * 100.0
+        ),
+        Some((e, limit)) => format!(
+            " Folding joint B 90° strains its film {:.2} %, over its {:.2} % (t φ / (2 L) over the unbonded film): the film yields at the fold; lengthen flexure B (flexure_length_um) before building.",
+            e * 100.0,
+            limit * 100.0
+        ),
+        None => String::new(),
+    };
     vec![
         format!(
-            "Fold the crank up against the coupler at joint B and fix the airframe tab through its {:.2} mm hole; bond the tip tab (beyond joint A) onto the actuator's extension end with the coupler along the actuator's travel.",
+            "Fold the crank up against the coupler at joint B and fix the airframe tab through its {:.2} mm hole; bond the tip tab (beyond joint A) onto the actuator's extension end with the coupler along the actuator's travel.{fold}",
             l.hole_diameter_mm
         ),
         "Move the actuator tip by hand: the wing crank must turn about joint O with no adhesive stiffening a hinge and no film torn at a gap edge.".to_string(),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linkage::tests::hawkmoth;
+
+    #[test]
+    fn the_fold_at_b_states_its_strain_and_a_yielding_fold_says_so() {
+        // ε = t φ / (2 L_e) at φ = π/2 (docs/physics.md §16.2): strain is linear in the turn, so it is the
+        // model's strain at B's peak turn scaled to 90°.
+        let (l, _) = hawkmoth();
+        let mut r = l.report();
+        let b = &r.flexures[1];
+        let expected = b.peak_strain * 90.0 / b.peak_rotation_deg;
+        let (e, limit) = fold_strain(&r).unwrap();
+        assert!((e - expected).abs() < 1e-12 * expected, "{e} vs {expected}");
+        let fold = |r: &LinkageReport| assembly(r)[0].clone();
+        // The hawk moth's B, the shortest the flight allows (12.7 µm film), yields at the fold: 3.79 %.
+        assert!(
+            fold(&r).contains("strains its film 3.79 %, over its 3.00 %"),
+            "{}",
+            fold(&r)
+        );
+        // A film that strains half the limit at the fold is within it.
+        r.flexures[1].peak_strain *= 0.5 * limit / e;
+        assert!(
+            fold(&r).contains("strains its film 1.50 %, within its 3.00 %"),
+            "{}",
+            fold(&r)
+        );
+    }
 }

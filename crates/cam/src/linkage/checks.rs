@@ -5,6 +5,8 @@
 //! - the flexure gaps (carbon slots) line up across the carbon layers;
 //! - the film covers each gap by its margin;
 //! - no adhesive lies over a gap;
+//! - the film left unbonded at each joint (the adhesive window over its gap) is the length the model's
+//!   flexure has (docs/physics.md §16.6);
 //! - every cut-out, every web between two cut-outs, every edge of the release outline and every hole
 //!   is at least two kerfs;
 //! - the drawn areas times each layer's mass per area give the reported mass (1e-6 relative);
@@ -24,6 +26,8 @@ pub struct Expected {
     pub kerf_mm: f64,
     /// Film margin, mm.
     pub film_margin_mm: f64,
+    /// The model's unbonded film at O, B, A, mm.
+    pub unbonded_mm: [f64; 3],
     /// Mass per area of each stack layer, bottom to top, mg/mm².
     pub areal_densities: Vec<f64>,
     /// Reported mass of one linkage, mg.
@@ -36,6 +40,7 @@ impl Expected {
         Expected {
             kerf_mm: report.kerf_mm,
             film_margin_mm: report.film_margin_mm,
+            unbonded_mm: unbonded_of(report),
             areal_densities: report
                 .layers
                 .iter()
@@ -44,6 +49,11 @@ impl Expected {
             mass_mg: report.mass_mg,
         }
     }
+}
+
+/// The unbonded film lengths at O, B, A a report's flexures are modelled with, mm.
+fn unbonded_of(report: &super::LinkageReport) -> [f64; 3] {
+    [0, 1, 2].map(|i| report.flexures.get(i).map_or(0.0, |f| f.unbonded_um * 1e-3))
 }
 
 /// A cut-out read back: `[x0, x1] × [y0, y1]` after the kerf.
@@ -159,7 +169,7 @@ pub fn check_linkage_drawings(drawings: &[SheetDrawing], expected: &Expected) ->
         [layer(c0), layer(c1)],
         layer(film),
         [layer(a0), layer(a1)],
-        expected.film_margin_mm,
+        expected,
         &mut problems,
     );
     for l in 0..stack.len() {
@@ -230,14 +240,16 @@ fn read_cut_outs(
 }
 
 /// The flexure gaps: the two carbon layers' slots line up, the film covers each gap by
-/// `film_margin_mm`, and no adhesive lies over one.
+/// `film_margin_mm`, no adhesive lies over one, and the adhesive window over the gap leaves the film
+/// unbonded over the model's length for its joint (gaps in order along each row: O, B, A).
 fn check_gaps(
     [c0, c1]: [Layer<'_>; 2],
     film: Layer<'_>,
     adhesive: [Layer<'_>; 2],
-    film_margin_mm: f64,
+    expected: &Expected,
     problems: &mut Vec<String>,
 ) {
+    let film_margin_mm = expected.film_margin_mm;
     let gaps = c0.cut_outs;
     let same = gaps.len() == c1.cut_outs.len()
         && gaps
@@ -250,7 +262,9 @@ fn check_gaps(
             c0.stem, c1.stem
         ));
     }
-    for g in gaps {
+    let mut in_rows = gaps.to_vec();
+    in_rows.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
+    for (j, g) in in_rows.iter().enumerate() {
         // Film over each gap and its margins: no film window reaches into it.
         let covered = [g[0] - film_margin_mm, g[1] + film_margin_mm];
         if film.cut_outs.iter().any(|w| {
@@ -263,15 +277,26 @@ fn check_gaps(
         }
         // No adhesive over the gap: an adhesive window holds it whole.
         for a in &adhesive {
-            if !a.cut_outs.iter().any(|w| {
+            let window = a.cut_outs.iter().find(|w| {
                 w[0] <= g[0] + 1e-9
                     && w[1] >= g[1] - 1e-9
                     && w[2] <= g[2] + 1e-9
                     && w[3] >= g[3] - 1e-9
-            }) {
+            });
+            let Some(w) = window else {
                 problems.push(format!(
                     "{}: adhesive over the flexure gap at x = {:.4} mm",
                     a.stem, g[0]
+                ));
+                continue;
+            };
+            let model = expected.unbonded_mm[j % 3];
+            if (w[1] - w[0] - model).abs() > 1e-6 {
+                problems.push(format!(
+                    "{}: the film is unbonded over {:.4} mm at x = {:.4} mm, the model's flexure {model:.4} mm",
+                    a.stem,
+                    w[1] - w[0],
+                    g[0]
                 ));
             }
         }
@@ -431,6 +456,7 @@ mod tests {
         Expected {
             kerf_mm: r.kerf_mm,
             film_margin_mm: r.film_margin_mm,
+            unbonded_mm: unbonded_of(&r),
             areal_densities: r
                 .layers
                 .iter()
@@ -538,6 +564,50 @@ mod tests {
         assert!(check_linkage_drawings(&d, &wide)
             .iter()
             .any(|m| m.contains("under two kerfs")));
+    }
+
+    #[test]
+    fn the_model_flexure_is_the_unbonded_film_drawn() {
+        // The hawk-moth linkage (method 2: adhesive cut back 0.1 mm, flexures 2 mm wide on a strip as
+        // wide): each adhesive window read back from the drawn file is the report's unbonded length, gap +
+        // 2 × 0.1 mm, and k = E w t³ / (12 (L + 2c w/W)) (docs/physics.md §16.6).
+        let (l, _) = hawkmoth();
+        let r = l.report();
+        let d = drawn(&l, 2);
+        let adhesive = read(&d[1]);
+        let mut polys = adhesive.polygons;
+        polys.sort_by(|a, b| area(b).total_cmp(&area(a)));
+        let mut windows: Vec<Band> = polys.iter().skip(1).filter_map(|p| rect_of(p)).collect();
+        windows.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
+        assert_eq!(windows.len(), 6);
+        let k = r.kerf_mm;
+        for (j, w) in windows.iter().enumerate() {
+            let f = &r.flexures[j % 3];
+            let drawn_um = (w[1] - w[0] + k) * 1e3;
+            assert!(
+                (drawn_um - f.unbonded_um).abs() < 1e-6,
+                "{j}: {drawn_um} vs {}",
+                f.unbonded_um
+            );
+            assert!((f.unbonded_um - f.length_um - 200.0).abs() < 1e-9);
+            let strip = r.strip_width_mm;
+            let le = f.length_um * 1e-6 + 2.0 * 0.1e-3 * f.width_mm / strip;
+            let closed = 2.5e9 * f.width_mm * 1e-3 * (f.film_um * 1e-6).powi(3) / (12.0 * le);
+            assert!((f.stiffness_uNm_per_rad - closed * 1e6).abs() < 1e-9 * closed * 1e6);
+        }
+        // A model whose flexure is the carbon gap alone is caught by the check on every drawing.
+        let gap_only = Expected {
+            unbonded_mm: [0, 1, 2].map(|i| r.flexures[i].length_um * 1e-3),
+            ..expected(&l)
+        };
+        let p = check_linkage_drawings(&d, &gap_only);
+        assert_eq!(
+            p.iter()
+                .filter(|m| m.contains("the film is unbonded over"))
+                .count(),
+            12,
+            "{p:?}"
+        );
     }
 
     #[test]

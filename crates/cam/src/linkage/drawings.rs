@@ -214,6 +214,7 @@ impl PanelDrawer<'_> {
             Stock {
                 material: sheet.material.clone(),
                 thickness_mm: sheet.thickness_mm,
+                kerf_mm: process.kerf_mm,
                 // The carbon's 0° fibres along the links, which run along x on the panel: the
                 // stiff direction of the links, as on the coupons the nester turns onto y.
                 fibre_axis: (ply == Ply::Carbon).then_some(FibreAxis::X),
@@ -265,6 +266,7 @@ impl PanelDrawer<'_> {
             Stock {
                 material: "the laminated linkage stack".to_string(),
                 thickness_mm: self.laminate.stack_thickness_mm(),
+                kerf_mm: self.laminate.process.kerf_mm,
                 fibre_axis: None,
             },
         );

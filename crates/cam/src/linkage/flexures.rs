@@ -9,6 +9,11 @@
 //! | cutting | `L`, `w` at least two kerfs | refused |
 //!
 //! A lengthened flexure is rounded up to 0.1 µm, so the strain it reports is within the bound.
+//!
+//! The film bends wherever it is unbonded: over the carbon gap `L` and the adhesive's cut-back `c` either
+//! side of it, where the film lies loose under the carbon at the strip's width `W`. The model's flexure is
+//! that drawn unbonded length, `L + 2 c`, its two widths in series (docs/physics.md §16.6): the strain and
+//! fatigue bounds hold on it, the bending and pivot bounds on the gap.
 
 use super::pattern::{FlexureSize, JOINTS};
 use crate::process::linkage::LinkageProcess;
@@ -27,6 +32,9 @@ pub struct FlexureRow {
     pub joint: String,
     /// Gap length as drawn, µm.
     pub length_um: f64,
+    /// Film left unbonded, the gap and the adhesive's cut-back either side, as drawn: the length the
+    /// stiffness and strain are of, µm.
+    pub unbonded_um: f64,
     /// Width, mm.
     pub width_mm: f64,
     /// Film thickness, µm.
@@ -57,6 +65,19 @@ pub struct Refusal {
     pub allowed: String,
 }
 
+/// The unbonded film of one joint as a flexure of the gap's width `w` (mm): the gap `gap` and the
+/// cut-backs' `loose` length (mm, at the gap's width) in series, `1/k = 12 (L/w + 2c/W) / (E t³)`, so
+/// `k = E w t³ / (12 (L + 2c w/W))`; the strain `t φ / (2 (L + 2c w/W))` is the narrower gap's, which carries
+/// the larger curvature (docs/physics.md §16.6).
+fn unbonded(gap: f64, loose: f64, w: f64, t: f64, modulus: f64) -> Flexure {
+    Flexure {
+        length: (gap + loose) * 1e-3,
+        width: w * 1e-3,
+        thickness: t * 1e-3,
+        modulus,
+    }
+}
+
 /// Largest turn of each joint over the stroke between the end angles, rad.
 pub fn peak_rotations(linkage: &Linkage, end_angles: (f64, f64)) -> [f64; 3] {
     let mut peak = [0.0f64; 3];
@@ -85,6 +106,8 @@ pub fn check_flexures(
     let neighbour = [crank, crank.min(coupler), coupler];
     let kerf = process.kerf_mm;
     let t = film_thickness_mm;
+    let cutback = process.adhesive_cutback_mm;
+    let strip = asked.iter().map(|f| f.width_mm).fold(0.0, f64::max);
     let mut sizes = asked;
     let mut rows = Vec::with_capacity(3);
     for i in 0..3 {
@@ -97,13 +120,11 @@ pub fn check_flexures(
                 allowed: format!("at least two kerfs, {} mm", 2.0 * kerf),
             });
         }
-        let film = Flexure {
-            length: f.length_mm * 1e-3,
-            width: f.width_mm * 1e-3,
-            thickness: t * 1e-3,
-            modulus: process.film_modulus,
-        };
-        let by_strain = film.shortest_length_for(peaks[i], process.film_fatigue_strain) * 1e3;
+        // The cut-backs' film at the strip's width, as gap length of the flexure's width.
+        let loose = 2.0 * cutback * f.width_mm / strip;
+        let film = unbonded(f.length_mm, loose, f.width_mm, t, process.film_modulus);
+        let by_strain =
+            film.shortest_length_for(peaks[i], process.film_fatigue_strain) * 1e3 - loose;
         let by_bending = process.min_length_thicknesses * t;
         let shortest = by_strain.max(by_bending).max(2.0 * kerf);
         let longest = process.max_length_fraction * neighbour[i];
@@ -149,11 +170,12 @@ pub fn check_flexures(
                 what: "length",
                 value: f.length_mm * 1e3,
                 allowed: format!(
-                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain at {:.1}° ({:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
+                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain at {:.1}° (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
                     shortest * 1e3,
                     longest * 1e3,
                     by_strain * 1e3,
                     peaks[i].to_degrees(),
+                    cutback,
                     process.film_fatigue_strain * 100.0,
                     t * 1e3,
                     process.min_length_thicknesses,
@@ -163,15 +185,13 @@ pub fn check_flexures(
             });
         }
         sizes[i].length_mm = length;
-        let drawn = Flexure {
-            length: length * 1e-3,
-            ..film
-        };
+        let drawn = unbonded(length, loose, f.width_mm, t, process.film_modulus);
         rows.push(FlexureRow {
             joint: JOINTS[i].to_string(),
             // To a nanometre, as the drawing's decimals go: a length given as 50 µm is not reported
             // as 49.99999999999999 after its trip through metres.
             length_um: (length * 1e6).round() / 1e3,
+            unbonded_um: ((length + 2.0 * cutback) * 1e6).round() / 1e3,
             width_mm: f.width_mm,
             film_um: t * 1e3,
             stiffness_uNm_per_rad: drawn.stiffness() * 1e6,

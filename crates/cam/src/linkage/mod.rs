@@ -93,14 +93,15 @@ impl LinkageReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "  joint                                  length um  width mm  k uN m/rad  peak turn deg  strain %  limit %"
+            "  joint                                     gap um  unbonded um  width mm  k uN m/rad  peak turn deg  strain %  limit %"
         );
         for f in &self.flexures {
             let _ = writeln!(
                 out,
-                "  {:<38} {:>9.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.2}  {:>7.2}",
+                "  {:<38} {:>9.1}  {:>11.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.2}  {:>7.2}",
                 f.joint,
                 f.length_um,
+                f.unbonded_um,
                 f.width_mm,
                 f.stiffness_uNm_per_rad,
                 f.peak_rotation_deg,
@@ -355,27 +356,43 @@ pub(crate) mod tests {
 
     #[test]
     fn flexures_are_lengthened_to_the_film_strain_and_report_why() {
-        // The MFI-like linkage: coupler 6 mm, crank 1 mm, 7.6 µm film, 50 µm asked at every joint.
+        // The MFI-like linkage: coupler 6 mm, crank 1 mm, 7.6 µm film, 50 µm asked at every joint, all
+        // 2 mm wide, the adhesive cut back 20 µm: each joint's film is unbonded over its gap + 40 µm.
         let request = FlexureRequest {
             lengths: Some(vec![50e-6]),
-            widths: Some(vec![2e-3, 3e-3, 2e-3]),
+            widths: Some(vec![2e-3]),
             film_thickness: Some(7.6e-6),
         };
-        let l = design(Linkage::new(6e-3, 1e-3, 0.0).unwrap(), &request).unwrap();
+        let process = LinkageProcess {
+            adhesive_cutback_mm: 0.02,
+            ..process()
+        };
+        let l = LinkageLaminate::design(
+            Linkage::new(6e-3, 1e-3, 0.0).unwrap(),
+            (-PI / 3.0, PI / 3.0),
+            &request,
+            &process,
+            Path::new("drive.toml"),
+            Path::new("method-2.toml"),
+        )
+        .unwrap();
         let limit = l.process.film_fatigue_strain;
         for (i, f) in l.flexures.iter().enumerate() {
             assert!(f.peak_strain <= limit + 1e-12, "{i}: {}", f.peak_strain);
-            // Hinge O turns by the whole ±60°: t φ / (2 ε) = 7.6 · (π/3) / 0.06 = 132.6 µm, rounded up.
+            assert!((f.unbonded_um - f.length_um - 40.0).abs() < 1e-9);
+            // Equal widths: the flexure is the unbonded film (docs/physics.md §16.6).
             let closed = Flexure {
-                length: f.length_um * 1e-6,
+                length: f.unbonded_um * 1e-6,
                 width: f.width_mm * 1e-3,
                 thickness: 7.6e-6,
                 modulus: 2.5e9,
             };
-            assert!((f.stiffness_uNm_per_rad - closed.stiffness() * 1e6).abs() < 1e-12);
+            assert!((f.stiffness_uNm_per_rad - closed.stiffness() * 1e6).abs() < 1e-9);
         }
+        // Hinge O turns by the whole ±60°: t φ / (2 ε) = 7.6 · (π/3) / 0.06 = 132.65 µm unbonded, a gap of
+        // 92.65 µm, rounded up.
         assert!(
-            (l.flexures[0].length_um - 132.7).abs() < 1e-9,
+            (l.flexures[0].length_um - 92.7).abs() < 1e-9,
             "{}",
             l.flexures[0].length_um
         );

@@ -202,6 +202,7 @@ fn build_pzt(
         let stock = Stock {
             material: format!("{} ({})", d.pzt.name, template.pzt.material),
             thickness_mm: d.pzt_thickness * 1e3,
+            kerf_mm: template.pzt.kerf_mm,
             fibre_axis: None,
         };
         let mut spec = template.pzt.clone();

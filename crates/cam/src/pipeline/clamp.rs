@@ -466,6 +466,7 @@ impl ClampDrawer<'_, '_> {
                 } else {
                     spec.thickness_mm
                 },
+                kerf_mm: kerf,
                 fibre_axis: None,
             },
         );

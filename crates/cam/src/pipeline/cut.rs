@@ -402,6 +402,7 @@ pub fn draw_cut_sheets(
             Stock {
                 material: layer.material.clone(),
                 thickness_mm: layer.thickness_mm,
+                kerf_mm: spec.kerf_mm,
                 fibre_axis: layer.prepreg.then_some(FibreAxis::Y),
             },
         );

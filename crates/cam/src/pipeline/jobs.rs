@@ -125,6 +125,25 @@ impl SheetRecord {
     }
 }
 
+/// The sheet, mm, that holds `drawing`'s page and every through cut (cut and second pass) with half of
+/// `kerf_mm` past its path, rounded up to the micrometre (less a nanometre: the drawing's coordinates are written to the
+/// micrometre and carry round-off below it).
+pub fn sheet_holding_cuts_mm(drawing: &Drawing, kerf_mm: f64) -> [f64; 2] {
+    use crate::drawing::model::Operation;
+    let half = kerf_mm / 2.0;
+    let (mut lo, mut hi) = ([0.0f64, 0.0], [drawing.width_mm, drawing.height_mm]);
+    for (op, shape) in drawing.items() {
+        if matches!(op, Operation::Cut | Operation::Secondary) {
+            let (min, max) = shape.bounds();
+            for i in 0..2 {
+                lo[i] = lo[i].min(min[i] - half);
+                hi[i] = hi[i].max(max[i] + half);
+            }
+        }
+    }
+    [0, 1].map(|i| ((hi[i] - lo[i]) * 1e3 - 1e-3).ceil() / 1e3)
+}
+
 /// How many sheets of one stock a build cuts: a line of the stock list a technician shops from.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StockCount {
@@ -142,22 +161,26 @@ pub struct StockCount {
 
 impl StockCount {
     /// Count `copies` sheets of `drawing`'s stock into `rows`: onto its line if the list has one (same
-    /// material, thickness and sheet size), else a line of its own at the end.
+    /// material, thickness and sheet size), else a line of its own at the end. The sheet is the one
+    /// that holds every cut as it is run: the drawing's page, grown to the outermost through-cut path
+    /// and half the kerf past it (a panel outline cut outside a 100 mm panel with a 0.1 mm kerf needs
+    /// 100.2 mm), to the micrometre above.
     pub fn count(rows: &mut Vec<StockCount>, drawing: &Drawing, copies: usize) {
         let Some(s) = &drawing.stock else { return };
+        let [width_mm, height_mm] = sheet_holding_cuts_mm(drawing, s.kerf_mm);
         let same = |c: &&mut StockCount| {
             c.material == s.material
                 && c.thickness_mm == s.thickness_mm
-                && c.width_mm == drawing.width_mm
-                && c.height_mm == drawing.height_mm
+                && c.width_mm == width_mm
+                && c.height_mm == height_mm
         };
         match rows.iter_mut().find(same) {
             Some(c) => c.sheets += copies,
             None => rows.push(StockCount {
                 material: s.material.clone(),
                 thickness_mm: s.thickness_mm,
-                width_mm: drawing.width_mm,
-                height_mm: drawing.height_mm,
+                width_mm,
+                height_mm,
                 sheets: copies,
             }),
         }
@@ -177,6 +200,10 @@ impl StockCount {
                 r.sheets
             ));
         }
+        s.push_str(
+            "\nEach sheet holds the cuts run on it: the file's page, grown where a through cut runs past it \
+             (a panel outline cut outside its panel) to the cut's path and half its kerf beyond.\n",
+        );
         s
     }
 }
@@ -355,4 +382,47 @@ pub fn format_violations<V: std::fmt::Display>(v: &[V]) -> String {
         .map(|x| x.to_string())
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::model::{Operation, Shape, Stock};
+
+    #[test]
+    fn a_stock_line_holds_the_outline_cut_outside_its_panel_with_its_kerf() {
+        // A 100 mm felt panel, 0.1 mm kerf: its outline's path runs kerf/2 outside the panel, from -0.05
+        // to 100.05 mm, and the kerf takes 0.05 mm more on each side: a 100.2 mm sheet.
+        let stock = Stock {
+            material: "felt pad".into(),
+            thickness_mm: 1.0,
+            kerf_mm: 0.1,
+            fibre_axis: None,
+        };
+        let mut d = Drawing::on_stock("panel", 100.0, 100.0, stock);
+        // A score line past the page and a hole inside it take no larger sheet.
+        d.add(
+            Operation::Score,
+            Shape::Polyline(vec![[-2.0, 50.0], [103.0, 50.0]]),
+        );
+        d.add(
+            Operation::Cut,
+            Shape::Circle {
+                center: [3.0, 3.0],
+                radius: 0.74,
+            },
+        );
+        let mut rows = Vec::new();
+        StockCount::count(&mut rows, &d, 2);
+        assert_eq!((rows[0].width_mm, rows[0].height_mm), (100.0, 100.0));
+        let (a, b) = (-0.05, 100.05);
+        d.add(
+            Operation::Cut,
+            Shape::Polygon(vec![[a, a], [b, a], [b, b], [a, b]]),
+        );
+        StockCount::count(&mut rows, &d, 3);
+        assert_eq!(rows.len(), 2);
+        assert_eq!((rows[1].width_mm, rows[1].height_mm), (100.2, 100.2));
+        assert_eq!(rows[1].sheets, 3);
+    }
 }

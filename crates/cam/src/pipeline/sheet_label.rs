@@ -125,6 +125,7 @@ mod tests {
         Stock {
             material: "PZT-5H (PZT sheet (Piezo Systems))".into(),
             thickness_mm: 0.267,
+            kerf_mm: 0.0,
             fibre_axis: None,
         }
     }

@@ -8,7 +8,7 @@ use crate::input::limits::{
     GAP_MM, HOLE_DIAMETER_MM, KERF_MM, LAYER_THICKNESS_MM, PLY_ANGLE_DEG,
 };
 use crate::input::{InputError, TableReader};
-use actuator_model::Material;
+use actuator_model::{Laminate, Layer, LayerRole, Material};
 
 /// One sheet material of the laminate as the mass and the drawings need it.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,6 +74,30 @@ pub struct LinkageProcess {
     pub cure: Option<CureStep>,
 }
 
+/// The stretching-bending coupling of one cured carbon layer of `layup` (deg) in `ply`: `Some((B11,
+/// max |B_ij|))`, N, when the coupling matrix `B = ½ Σ Q̄_k (z_k² − z_{k−1}²)` (classical laminate theory,
+/// Jones, *Mechanics of Composite Materials*, eq. 4.28) is not zero, i.e. above 1e-9 of `A_max · h`,
+/// the round-off of a layup symmetric about its mid-plane; `None` for a flat-curing layup.
+pub fn coupling(ply: &Material, layup: &[f64]) -> Option<(f64, f64)> {
+    let thickness = ply.ply_thickness.unwrap_or(0.0);
+    let layers = layup
+        .iter()
+        .map(|&angle_deg| Layer {
+            material: ply.clone(),
+            thickness,
+            angle_deg,
+            role: LayerRole::Passive,
+        })
+        .collect();
+    let laminate = Laminate::new(layers).ok()?;
+    let abd = laminate.abd();
+    let b = abd.fixed_view::<3, 3>(0, 3);
+    let a = abd.fixed_view::<3, 3>(0, 0);
+    let largest = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs())) * laminate.thickness();
+    (largest > 1e-9 * scale).then_some((b[(0, 0)], largest))
+}
+
 impl LinkageProcess {
     /// Read `[linkage]`; the caller finishes the template.
     pub fn read(t: &TableReader<'_>) -> Result<LinkageProcess, InputError> {
@@ -89,6 +113,17 @@ impl LinkageProcess {
                 )
             })?;
         let layup = t.numbers_in("carbon_layup_deg", PLY_ANGLE_DEG, 1, 12)?;
+        if let Some((b11, largest)) = coupling(&ply, &layup) {
+            let angles: Vec<String> = layup.iter().map(|a| a.to_string()).collect();
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path("carbon_layup_deg"),
+                format!("[{}]", angles.join(", ")),
+                format!(
+                    "a layup symmetric about its mid-plane, e.g. [0, 90, 0]: this one couples stretching and bending (CLT B11 = {b11:.0} N, largest |B| {largest:.0} N), so the cured layer warps as it cools, and the keyed pins lay both carbon layers the same way up"
+                ),
+            ));
+        }
         let ply_mm = ply.ply_thickness.unwrap_or(0.0) * 1e3;
         let carbon = Sheet {
             material: format!("{} ({} plies)", ply.name, layup.len()),

@@ -328,6 +328,52 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_shipped_carbon_layup_cures_flat_and_a_0_90_pair_is_refused() {
+        // Classical laminate theory (Jones, Mechanics of Composite Materials, eq. 4.28): two plies of
+        // thickness h at 0° (z from -h to 0) and 90° (0 to h) give B11 = ½ h² (Q22 - Q11), with
+        // Q11 = E1 / (1 - ν12 ν21), Q22 = E2 / (1 - ν12 ν21), ν21 = ν12 E2 / E1; `actuator-cam laminate
+        // --layup 0/90` prints -792.17 N for CF-thesis.
+        let ply = actuator_model::Material::builtin("CF-thesis").unwrap();
+        let h = ply.ply_thickness.unwrap();
+        let nu21 = ply.nu12 * ply.e2 / ply.e1;
+        let d = 1.0 - ply.nu12 * nu21;
+        let closed = 0.5 * h * h * (ply.e2 - ply.e1) / d;
+        let (b11, _) = crate::process::linkage::coupling(&ply, &[0.0, 90.0]).unwrap();
+        assert!(
+            (b11 - closed).abs() < 1e-9 * closed.abs(),
+            "{b11} vs {closed}"
+        );
+        assert!((b11 + 792.17).abs() < 0.01, "{b11}");
+        // Every cured layup a shipped template names is symmetric: no coupling.
+        for (name, text) in [("method-1", METHOD_1), ("method-2", METHOD_2)] {
+            let t = Template::resolve(name, Path::new("d.toml")).unwrap();
+            let l = t.linkage.unwrap();
+            assert_eq!(
+                crate::process::linkage::coupling(&ply, &l.carbon_layup_deg),
+                None,
+                "{name}"
+            );
+            // The same template with a 0/90 pair is refused in one line naming the field and B11.
+            let pair = text.replacen(
+                "carbon_layup_deg = [0, 90, 0]",
+                "carbon_layup_deg = [0, 90]",
+                1,
+            );
+            assert_ne!(pair, text);
+            let path = Path::new("my-process.toml");
+            let table = crate::input::parse_toml(path, &pair).unwrap();
+            let err = Template::from_table(path, &table).unwrap_err().to_string();
+            assert!(
+                err.starts_with(
+                    "my-process.toml: linkage.carbon_layup_deg = [0, 90]: a layup symmetric"
+                ) && err.contains("B11 = -792 N")
+                    && !err.contains('\n'),
+                "{err}"
+            );
+        }
+    }
+
+    #[test]
     fn built_in_templates_load() {
         let m1 = Template::resolve("method-1", Path::new("d.toml")).unwrap();
         let m2 = Template::resolve("method-2", Path::new("d.toml")).unwrap();

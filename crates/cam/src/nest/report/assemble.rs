@@ -267,7 +267,13 @@ fn linkage_rows(batch: &Batch, linkage_prefixes: &[String]) -> Vec<NestLinkageRo
                         format!("layer {} on {sheet}", n.join(" and "))
                     })
                     .collect(),
-                build_steps: coupon_steps(&laminate, l.quantity, &l.sheets, prefix),
+                build_steps: coupon_steps(
+                    &laminate,
+                    l.quantity,
+                    &l.sheets,
+                    prefix,
+                    &crate::book::pin_fit_text(&l.coupon.clamp),
+                ),
                 laminate,
             }
         })
