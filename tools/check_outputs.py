@@ -426,14 +426,17 @@ def check_press_fit(folder, report):
     The laminate is the lower PZT plate, the core (passive plies, plus a Pyralux bond layer on each side
     in method 1) and the upper plate. The films holding the lower plate, the core and the upper plate
     ("holds") stack up to three band tops. Over the PZT zone the laminate stands proud of the whole mold
-    by laminate - mold; over the extension (core only) there is a void of t_p - lower top under it and it
-    stands t_p + core - core top proud. Each must be within the tolerance, or the report must warn."""
+    by laminate - mold. Over the extension only the passive plies run on, lying on the lower plate's bond
+    layer (method 1's Pyralux is cut to the plate, so it ends with it): their underside is at t_p + bond,
+    with a void of t_p + bond - lower top under them, and they stand t_p + bond + passive - core top proud.
+    Each must be within the tolerance, or the report must warn."""
     mold = report["mold"]
     thickness = {row["layer"]: row["thickness_mm"] for row in report["layers"]}
     t_p = thickness["pzt"]
     # The passive core: one stack row, or one row per ply when the plies are cut one by one.
     passive = sum(t for layer, t in thickness.items() if layer.startswith("passive"))
-    core = passive + 2.0 * thickness.get("pyralux", 0.0)
+    bond = thickness.get("pyralux", 0.0)
+    core = passive + 2.0 * bond
     tops, height = {}, 0.0
     for film, holds in zip(mold["films_mm"], mold["holds"]):
         height += film
@@ -442,7 +445,7 @@ def check_press_fit(folder, report):
     core_top = tops.get("core", lower)
     regions = {
         "laminate": (0.0, 2.0 * t_p + core - height),
-        "extension": (t_p - lower, t_p + core - core_top),
+        "extension": (t_p + bond - lower, t_p + bond + passive - core_top),
     }
     tolerance = mold["tolerance_um"] * 1e-3
     problems = []
