@@ -494,7 +494,7 @@ fn the_biased_drive_bends_as_parallel_and_keeps_the_plates_along_their_poling() 
         (
             "mode = \"biased\"\nvoltage_V = 120\nbias_V = 200",
             "drive.voltage_V",
-            "at most half the bias (100)",
+            "at most half the bias (100 V)",
         ),
         (
             "mode = \"parallel\"\nvoltage_V = 80\nbias_V = 200",
@@ -509,4 +509,43 @@ fn the_biased_drive_bends_as_parallel_and_keeps_the_plates_along_their_poling() 
             "{drive}: {err}"
         );
     }
+}
+
+/// A user PZT's depolarization field is a material property (docs/physics.md §2.1): it sets the margin
+/// `predict` reports against the poling, and a value outside (0, 3000] V/mm is refused naming the key.
+#[test]
+fn a_user_pzts_depolarization_field_sets_the_margin_and_is_range_checked() {
+    let text = std::fs::read_to_string(example_path("thesis-C.toml"))
+        .unwrap()
+        .replace("pzt = \"PZT-5H\"", "pzt = \"hard\"");
+    let with = |field: &str| {
+        format!(
+            "{text}\n[materials.hard]\ne1_GPa = 62\nnu12 = 0.31\ndensity_kg_per_m3 = 7800\n\
+             d31_pm_per_V = -320\nrelative_permittivity = 3800\n{field}"
+        )
+    };
+    let (_d, path) = write_temp("hard.toml", &with("depolarization_field_V_per_mm = 900"));
+    let p = predict_json(path.to_str().unwrap(), &[]);
+    let parallel = &p["modes"].as_array().unwrap()[0];
+    // Parallel at 800 V/mm: 900 - 800 against the poling, and the failure fit binds (832.5 < 900).
+    assert_eq!(
+        parallel["depolarization_margin_V_per_mm"].as_f64().unwrap(),
+        100.0
+    );
+    assert_eq!(parallel["binds"], "failure");
+    // Without the key a piezoelectric material takes PZT-5H's 300 V/mm.
+    let (_d, path) = write_temp("default.toml", &with(""));
+    let p = predict_json(path.to_str().unwrap(), &[]);
+    assert_eq!(
+        p["modes"][0]["depolarization_margin_V_per_mm"]
+            .as_f64()
+            .unwrap(),
+        -500.0
+    );
+    let (_d, path) = write_temp("bad.toml", &with("depolarization_field_V_per_mm = 0"));
+    let err = refused_in_one_line(&run(&["predict", path.to_str().unwrap()]));
+    assert!(
+        err.contains("materials.hard.depolarization_field_V_per_mm = 0"),
+        "{err}"
+    );
 }

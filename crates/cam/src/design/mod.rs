@@ -10,14 +10,14 @@ pub use geometry::check_planform;
 pub use materials::{material_from_table, resolve_material};
 
 use crate::design::transmission::TransmissionSpec;
-use crate::input::library::{read_drive_bias, read_drive_mode};
+use crate::input::library::{read_drive_bias, read_drive_mode, BiasedSignal};
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, EXTENSION_RATIO, FIELD_V_PER_MM, LENGTH_MM, MAX_PLIES,
     MAX_QUANTITY, PLY_ANGLE_DEG, PLY_THICKNESS_MM, PZT_THICKNESS_MM, STROKE_DEG, VOLTAGE_V,
     WIDTH_RATIO,
 };
 use crate::input::{read_toml, short_number, InputError, TableReader};
-use actuator_model::{Drive, DriveMode, Laminate, Material, ModelError, Planform};
+use actuator_model::{Drive, Laminate, Material, ModelError, Planform};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -253,21 +253,21 @@ fn read_drive(
         ));
     }
     let bias = read_drive_bias(&d, mode, Some(pzt_thickness))?;
-    if mode == DriveMode::Biased && field > 0.5 * bias * (1.0 + 1e-12) {
-        let (key, value, scale) = match voltage {
-            Some(v) => ("voltage_V", v, pzt_thickness),
-            None => ("field_V_per_mm", field * 1e-3, 1e-3),
-        };
-        return Err(InputError::invalid(
-            path,
-            &d.path(key),
-            short_number(value),
-            format!(
-                "the biased signal's amplitude is at most half the bias ({}), so that the signal stays between 0 and the bias",
-                short_number(0.5 * bias * scale)
-            ),
-        ));
-    }
+    let signal = match voltage {
+        Some(v) => BiasedSignal {
+            key: "voltage_V",
+            value: v,
+            per_field: pzt_thickness,
+            unit: "V",
+        },
+        None => BiasedSignal {
+            key: "field_V_per_mm",
+            value: field * 1e-3,
+            per_field: 1e-3,
+            unit: "V/mm",
+        },
+    };
+    signal.check(&d, mode, field, bias)?;
     d.finish()?;
     Ok(Drive { mode, field, bias })
 }

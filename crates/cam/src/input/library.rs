@@ -174,6 +174,41 @@ pub fn read_drive_bias(
     Ok(bias)
 }
 
+/// A biased drive's signal as the file wrote it: its key, its value, the factor from a field (V/m) to
+/// that value's unit, and the unit.
+pub struct BiasedSignal<'a> {
+    pub key: &'a str,
+    pub value: f64,
+    pub per_field: f64,
+    pub unit: &'a str,
+}
+
+impl BiasedSignal<'_> {
+    /// Refuse a biased signal field above half the bias field (V/m), which would take it outside 0 to
+    /// the bias (docs/physics.md §2.1), naming the key as written; other modes pass.
+    pub fn check(
+        &self,
+        t: &TableReader<'_>,
+        mode: DriveMode,
+        field: f64,
+        bias: f64,
+    ) -> Result<(), InputError> {
+        if mode != DriveMode::Biased || field <= 0.5 * bias * (1.0 + 1e-12) {
+            return Ok(());
+        }
+        Err(InputError::invalid(
+            t.file(),
+            &t.path(self.key),
+            super::short_number(self.value),
+            format!(
+                "the biased signal's amplitude is at most half the bias ({} {}), so that the signal stays between 0 and the bias",
+                super::short_number(0.5 * bias * self.per_field),
+                self.unit
+            ),
+        ))
+    }
+}
+
 /// The drive field of a `[drive]` table, V/m: `field_V_per_mm`, or the level a `survival` share
 /// withstands in the mode's Weibull fit (thesis eq. 3.2, Table 4.12; for the biased mode the signal
 /// that takes the plates to it over the bias `bias`, V/m, and at most half the bias). Exactly one of
@@ -196,18 +231,16 @@ pub fn read_drive_field(
             &["field_V_per_mm", "survival"],
             &format!("exactly one of field_V_per_mm ({FIELD_V_PER_MM}) and survival ({SURVIVAL})"),
         )),
-        (Some(e), None) if mode == DriveMode::Biased && e * 1e3 > 0.5 * bias * (1.0 + 1e-12) => {
-            Err(InputError::invalid(
-                t.file(),
-                &t.path("field_V_per_mm"),
-                e,
-                format!(
-                    "the biased signal's amplitude is at most half the bias ({} V/mm), so that the signal stays between 0 and the bias",
-                    super::short_number(0.5 * bias * 1e-3)
-                ),
-            ))
+        (Some(e), None) => {
+            let signal = BiasedSignal {
+                key: "field_V_per_mm",
+                value: e,
+                per_field: 1e-3,
+                unit: "V/mm",
+            };
+            signal.check(t, mode, e * 1e3, bias)?;
+            Ok((e * 1e3, FieldSource::Given))
         }
-        (Some(e), None) => Ok((e * 1e3, FieldSource::Given)),
         (None, Some(s)) => {
             let open = actuator_model::Drive {
                 mode,
