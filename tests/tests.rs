@@ -33,4 +33,5 @@ mod refusals;
 mod scoring;
 mod stock;
 mod sweep;
+mod validation;
 mod weibull;
