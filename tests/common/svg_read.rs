@@ -104,3 +104,46 @@ pub fn read_svg_polygons(svg_text: &str) -> Result<Vec<(Operation, Vec<Point>)>,
     }
     Ok(polygons)
 }
+
+/// The four numbers of an SVG's `viewBox`: x, y, width, height (mm).
+pub fn view_box(svg: &str) -> Vec<f64> {
+    svg.split("viewBox=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// Paths of one Inkscape layer of an SVG, as point lists, plus whether each is closed. A tiny reader
+/// independent of the writer: it understands the M/L/Z subset the writer uses for polygons and lines.
+pub fn svg_paths(svg: &str, layer: &str) -> Vec<(Vec<[f64; 2]>, bool)> {
+    let height = view_box(svg)[3];
+    let Some(group) = svg.split(&format!("inkscape:label=\"{layer}\"")).nth(1) else {
+        return vec![];
+    };
+    let group = group.split("</g>").next().unwrap();
+    group
+        .split(" d=\"")
+        .skip(1)
+        .filter_map(|rest| {
+            let d = rest.split('"').next().unwrap();
+            if d.contains('A') {
+                return None; // circles (holes) are not part outlines
+            }
+            let closed = d.trim_end().ends_with('Z');
+            let nums: Vec<f64> = d
+                .replace(['M', 'L', 'Z', ','], " ")
+                .split_whitespace()
+                .map(|t| t.parse().unwrap())
+                .collect();
+            Some((
+                nums.chunks(2).map(|c| [c[0], height - c[1]]).collect(),
+                closed,
+            ))
+        })
+        .collect()
+}

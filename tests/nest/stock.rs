@@ -4,7 +4,7 @@
 
 use super::*;
 use actuator_cam::Operation;
-use common::svg_read::read_svg_polygons;
+use common::svg_read::{read_svg_polygons, svg_paths};
 use geo::Intersects;
 
 /// Template values of method 2's passive sheet (templates/method-2.toml) with the batch's spacing.
@@ -171,10 +171,34 @@ fn a_sheet_drawn_with_a_flaw_is_cut_round_the_flaw() {
 fn bad_stock_is_refused_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
     sheet_svg(&dir.path().join("large.svg"), [200, 100], "");
+    sheet_svg(&dir.path().join("small.svg"), [40, 30], "");
+    sheet_svg(
+        &dir.path().join("flawed.svg"),
+        [40, 30],
+        "<path id=\"crack\" d=\"M 1 1 L 5 1 L 5 5 Z\"/>",
+    );
+    std::fs::write(
+        dir.path().join("wedge.svg"),
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"40mm\" height=\"30mm\" viewBox=\"0 0 40 30\">\n\
+         <path id=\"sheet\" d=\"M 0 0 L 40 0 L 40 30 L 10 30 Z\"/>\n</svg>\n",
+    )
+    .unwrap();
     for (stock, expect) in [
         (
-            "file = \"large.svg\"\nsheet = \"pzt\"",
-            "stock[1].sheet = \"pzt\"",
+            "file = \"large.svg\"\nsheet = \"pzt\"\npzt_thickness_mm = 0.267",
+            "larger than the pzt sheet (72.4 x 72.4 mm)",
+        ),
+        (
+            "file = \"small.svg\"\nsheet = \"pzt\"\npzt_thickness_mm = 0.127",
+            "stock[1].pzt_thickness_mm = 0.127: no design of the batch has these PZT plates",
+        ),
+        (
+            "file = \"flawed.svg\"\nsheet = \"pzt\"\npzt_thickness_mm = 0.267",
+            "a PZT sheet has no keep-outs",
+        ),
+        (
+            "file = \"wedge.svg\"\nsheet = \"pzt\"\npzt_thickness_mm = 0.267",
+            "a PZT sheet is a rectangle",
         ),
         (
             "file = \"large.svg\"\nlayup_deg = [0, 90, 0]",
@@ -190,4 +214,125 @@ fn bad_stock_is_refused_in_one_line() {
         let err = refused_in_one_line(&o);
         assert!(err.contains(expect), "{expect:?} not in {err}");
     }
+}
+
+/// The score lines of a PZT sheet file, as drawn (ends on an edge run past it by the overrun).
+fn score_lines(file: &Path) -> Vec<[[f64; 2]; 2]> {
+    let svg = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{file:?}: {e}"));
+    svg_paths(&svg, "SCORE")
+        .into_iter()
+        .map(|(p, _)| [p[0], p[1]])
+        .collect()
+}
+
+#[test]
+fn a_batch_lays_its_plates_out_first_on_the_pzt_remnant_an_earlier_run_wrote() {
+    const SHEET: f64 = 72.4; // method 2's PZT sheet (templates/method-2.toml)
+    const OVERRUN: f64 = 0.5;
+    let dir = tempfile::tempdir().unwrap();
+    let first = dir.path().join("first");
+    let batch = dir.path().join("first.toml");
+    std::fs::write(
+        &batch,
+        format!(
+            "name = \"first\"\niterations = 200\n[[item]]\ndesign = {:?}\nquantity = 3\n",
+            example_path("thesis-C.toml")
+        ),
+    )
+    .unwrap();
+    let o = nest(&batch, &first, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = nest_report_json(&first);
+    let pzt = report["sheets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["layer"] == "pzt")
+        .unwrap();
+    let remnant = pzt["remnant"]["file_stem"].as_str().unwrap().to_string();
+    // The remnant is one rectangle, the whole width (or height) of the sheet on one side of a score
+    // line of the first sheet that runs from edge to edge: snapping that line first frees it.
+    let drawn = rings(&first.join(format!("{remnant}.svg")), Operation::Reference);
+    assert_eq!(drawn.len(), 1, "{drawn:?}");
+    let (lo, hi) = bounds(&drawn[0]);
+    assert!((area(&drawn[0]) - (hi[0] - lo[0]) * (hi[1] - lo[1])).abs() < 1e-6);
+    let stem = pzt["file_stem"].as_str().unwrap();
+    let lines = score_lines(&first.join(format!("{stem}.svg")));
+    let across = |k: usize, c: f64| {
+        lines.iter().any(|[a, b]| {
+            (a[k] - c).abs() < 1e-6
+                && (b[k] - c).abs() < 1e-6
+                && a[1 - k].min(b[1 - k]) <= -OVERRUN + 1e-6
+                && a[1 - k].max(b[1 - k]) >= SHEET + OVERRUN - 1e-6
+        })
+    };
+    let inner: Vec<(usize, f64)> = (0..2)
+        .flat_map(|k| [(k, lo[k]), (k, hi[k])])
+        .filter(|&(_, c)| c > 1e-6 && c < SHEET - 1e-6)
+        .collect();
+    assert_eq!(inner.len(), 1, "one snapped side: {lo:?} {hi:?}");
+    assert!(
+        across(inner[0].0, inner[0].1),
+        "{inner:?} not on a line across: {lines:?}"
+    );
+
+    // The next batch names it: its plates go there, and no PZT sheet is on its stock list.
+    let stock =
+        format!("file = \"first/{remnant}.svg\"\nsheet = \"pzt\"\npzt_thickness_mm = 0.267");
+    let batch = batch_on_stock(dir.path(), 2, &stock);
+    let second = dir.path().join("second");
+    let o = nest(&batch, &second, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = nest_report_json(&second);
+    let pzt: Vec<_> = report["sheets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["layer"] == "pzt")
+        .collect();
+    assert_eq!(pzt.len(), 1);
+    assert_eq!(pzt[0]["stock"], format!("first/{remnant}.svg"));
+    assert_eq!(pzt[0]["parts"].as_array().unwrap().len(), 4);
+    let stock_list = report["stock_list"].to_string();
+    assert!(!stock_list.contains("PZT"), "{stock_list}");
+    // Every score line lies on the remnant, and each end on its edge runs past that edge, not the
+    // sheet's: the plates are laid out from the remnant's own straight edges.
+    let stem = pzt[0]["file_stem"].as_str().unwrap();
+    let lines = score_lines(&second.join(format!("{stem}.svg")));
+    assert!(lines.len() >= 4, "{lines:?}");
+    for [a, b] in &lines {
+        for p in [a, b] {
+            for k in 0..2 {
+                assert!(
+                    p[k] >= lo[k] - OVERRUN - 1e-6 && p[k] <= hi[k] + OVERRUN + 1e-6,
+                    "{p:?} off the remnant {lo:?}-{hi:?}"
+                );
+            }
+        }
+    }
+    // The layout starts from the snapped edge as from a sheet edge: its first line along that edge is
+    // the trim, one narrowest snappable strip (5 plate thicknesses, 1.335 mm) off it.
+    let (k, c) = inner[0];
+    let nearest = lines
+        .iter()
+        .filter(|[a, b]| (a[k] - b[k]).abs() < 1e-9)
+        .map(|[a, _]| (a[k] - c).abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (nearest - 5.0 * 0.267).abs() < 1e-6,
+        "{nearest} from the snapped edge"
+    );
+}
+
+/// The corners of a ring's bounding box.
+fn bounds(ring: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for q in ring {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    (lo, hi)
 }

@@ -1,6 +1,7 @@
 //! Scored PZT layouts and their snap checks: what only a sheet of snapped ceramic needs.
 //!
 //! - [`plates`]: snappable (guillotine) layouts of PZT trapezoid plates, with score lines in snap order.
+//! - [`pzt_remnant`]: the rectangle of a scored sheet that one edge-to-edge line frees, to keep.
 //! - [`verify`]: the snap checks (score lines that can be snapped in order, free every plate and leave no
 //!   offcut too narrow to snap), replayed on the sheet with `geo`, independent of the planner.
 //!
@@ -14,8 +15,10 @@
 
 mod error;
 pub mod plates;
+mod remnant;
 pub mod verify;
 
 pub use error::LayoutError;
-pub use plates::{layout_plates, PlateSpec};
+pub use plates::{layout_plates, layout_plates_on_remnant, PlateSpec};
+pub use remnant::pzt_remnant;
 pub use verify::{verify_break_order, verify_offcuts, verify_snappable, Violation};

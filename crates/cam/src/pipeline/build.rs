@@ -214,6 +214,9 @@ fn build_pzt(
                 spec.material
             );
         }
+        // A drawn PZT sheet (a remnant) is of the plates of the design it names.
+        spec.drawn
+            .retain(|d| d.like.is_some_and(|l| group.iter().any(|(i, _)| *i == l)));
         let members: Vec<Job<'_>> = group.iter().map(|(_, j)| *j).collect();
         let layouts = place_plates(&members, &spec, spec.stock, names)
             .map_err(|e| names.in_group(e, &format!("PZT sheets of {}", spec.material)))?;
@@ -233,7 +236,7 @@ fn build_pzt(
                 part.job = group[part.job].0;
             }
         }
-        pzt_sheets += layouts.len();
+        pzt_sheets += layouts.bins.len();
         drawn.check_sink()?;
     }
     Ok(pzt_sheets)

@@ -47,11 +47,6 @@ pub(crate) fn draw_coupon(
 ) {
     let n = drawn.next_number("pzt-coupon");
     let (w, h, lines) = coupon_lines(spec, stock.thickness_mm);
-    let piece = SheetSpec {
-        width_mm: w,
-        height_mm: h,
-        ..spec.clone()
-    };
     let mut d = Drawing::on_stock(
         &format!("{title} PZT test-score coupon {n}: an offcut of this stock, scored before any production sheet"),
         w,
@@ -61,7 +56,7 @@ pub(crate) fn draw_coupon(
     for line in &lines {
         d.add(
             features.op(Feature::PztScoreLine),
-            Shape::Polyline(overrun(*line, &piece).to_vec()),
+            Shape::Polyline(overrun(*line, [[0.0, 0.0], [w, h]], spec.score_overrun_mm).to_vec()),
         );
     }
     d.add(

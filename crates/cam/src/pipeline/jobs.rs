@@ -288,12 +288,8 @@ impl<'s> Drawn<'s> {
         *n
     }
 
-    /// Add a drawing: to the sink if there is one (nothing more after it failed), else to `drawings`.
-    pub fn push(&mut self, stem: String, layer: &str, drawing: Drawing) {
-        self.push_copies(stem, layer, drawing, 1);
-    }
-
-    /// Add a drawing that is cut from `copies` sheets of its stock: the stock list counts every sheet,
+    /// Add a drawing that is cut from `copies` sheets of its stock: to the sink if there is one (nothing
+    /// more after it failed), else to `drawings`. The stock list counts every sheet,
     /// the files hold the drawing once. A drawing of 0 copies is cut from an offcut and adds no line.
     pub fn push_copies(&mut self, stem: String, layer: &str, drawing: Drawing, copies: usize) {
         // A drawn sheet (copies 0) is stock the lab has, not stock to buy.

@@ -71,28 +71,9 @@ pub fn layout_plates(
     margin_mm: f64,
     min_strip_mm: f64,
 ) -> Result<NestSolution, LayoutError> {
-    check_sheet(sheet)?;
-    check_length("kerf_mm", kerf_mm)?;
-    check_length("margin_mm", margin_mm)?;
-    check_length("min_strip_mm", min_strip_mm)?;
-    let shapes = items
-        .iter()
-        .enumerate()
-        .map(|(i, spec)| Shape::new(i, spec, kerf_mm))
-        .collect::<Result<Vec<_>, _>>()?;
-    let planner = Planner {
-        shapes: &shapes,
-        half_kerf: kerf_mm / 2.0,
-        margin: margin_mm,
-        min_strip: min_strip_mm,
-        budget: std::cell::Cell::new(0),
-    };
-    let whole = Region {
-        lo: [0.0, 0.0],
-        hi: [sheet.width_mm, sheet.height_mm],
-        lo_side: [Side::Edge; 2],
-        hi_side: [Side::Edge; 2],
-    };
+    let shapes = shapes_of(items, sheet, kerf_mm, margin_mm, min_strip_mm)?;
+    let planner = planner(&shapes, kerf_mm, margin_mm, min_strip_mm);
+    let whole = whole_sheet(sheet);
     for (i, spec) in items.iter().enumerate() {
         if spec.count > 0 && !(planner.fits(&whole, i, 0) || planner.fits(&whole, i, 1)) {
             let usable = |axis: usize| {
@@ -115,33 +96,16 @@ pub fn layout_plates(
     let mut next_copy = vec![0usize; items.len()];
     let mut sheets = Vec::new();
     while remaining.iter().any(|&n| n > 0) {
-        planner.budget.set(SEARCH_BUDGET);
-        let mut plan = planner.fill(&whole, &mut remaining, 0);
-        plan.lines.sort_by_key(|&(depth, _)| depth);
+        let bin = plan_sheet(
+            &planner,
+            &whole,
+            &mut remaining,
+            &mut next_copy,
+            sheets.len(),
+        );
         // Every remaining item fits an empty sheet, so a sheet always takes at least one plate.
-        assert!(!plan.plates.is_empty(), "empty sheet plan");
-        let parts: Vec<PlacedPart> = plan
-            .plates
-            .iter()
-            .map(|p| {
-                let copy = next_copy[p.item];
-                next_copy[p.item] += 1;
-                PlacedPart::at(
-                    p.item,
-                    copy,
-                    &shapes[p.item].nominal,
-                    p.rotation_deg,
-                    p.bbox_min,
-                )
-            })
-            .collect();
-        let part_area: f64 = parts.iter().map(|p| area(&p.outline)).sum();
-        sheets.push(NestedBin {
-            index: sheets.len(),
-            parts,
-            utilization: part_area / (sheet.width_mm * sheet.height_mm),
-            score_lines: plan.lines.into_iter().map(|(_, l)| l).collect(),
-        });
+        assert!(!bin.parts.is_empty(), "empty sheet plan");
+        sheets.push(bin);
     }
     if sheets.len() > sheet.stock {
         return Err(LayoutError::TooManySheets {
@@ -150,4 +114,111 @@ pub fn layout_plates(
         });
     }
     Ok(NestSolution { bins: sheets })
+}
+
+/// The plates' shapes, once the sheet and the lengths are checked.
+fn shapes_of(
+    items: &[PlateSpec],
+    sheet: &NestBin,
+    kerf_mm: f64,
+    margin_mm: f64,
+    min_strip_mm: f64,
+) -> Result<Vec<Shape>, LayoutError> {
+    check_sheet(sheet)?;
+    check_length("kerf_mm", kerf_mm)?;
+    check_length("margin_mm", margin_mm)?;
+    check_length("min_strip_mm", min_strip_mm)?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| Shape::new(i, spec, kerf_mm))
+        .collect()
+}
+
+fn planner(shapes: &[Shape], kerf_mm: f64, margin_mm: f64, min_strip_mm: f64) -> Planner<'_> {
+    Planner {
+        shapes,
+        half_kerf: kerf_mm / 2.0,
+        margin: margin_mm,
+        min_strip: min_strip_mm,
+        budget: std::cell::Cell::new(0),
+    }
+}
+
+/// The whole sheet as the guillotine tree's root: every side the sheet's (chipped) edge.
+fn whole_sheet(sheet: &NestBin) -> Region {
+    Region {
+        lo: [0.0, 0.0],
+        hi: [sheet.width_mm, sheet.height_mm],
+        lo_side: [Side::Edge; 2],
+        hi_side: [Side::Edge; 2],
+    }
+}
+
+/// One sheet planned from what is `remaining` (taken from it): its plates numbered on from
+/// `next_copy`, its score lines in break order.
+fn plan_sheet(
+    planner: &Planner<'_>,
+    whole: &Region,
+    remaining: &mut [usize],
+    next_copy: &mut [usize],
+    index: usize,
+) -> NestedBin {
+    planner.budget.set(SEARCH_BUDGET);
+    let mut plan = planner.fill(whole, remaining, 0);
+    plan.lines.sort_by_key(|&(depth, _)| depth);
+    let parts: Vec<PlacedPart> = plan
+        .plates
+        .iter()
+        .map(|p| {
+            let copy = next_copy[p.item];
+            next_copy[p.item] += 1;
+            PlacedPart::at(
+                p.item,
+                copy,
+                &planner.shapes[p.item].nominal,
+                p.rotation_deg,
+                p.bbox_min,
+            )
+        })
+        .collect();
+    let part_area: f64 = parts.iter().map(|p| area(&p.outline)).sum();
+    let sheet_area = (whole.hi[0] - whole.lo[0]) * (whole.hi[1] - whole.lo[1]);
+    NestedBin {
+        index,
+        parts,
+        utilization: part_area / sheet_area,
+        score_lines: plan.lines.into_iter().map(|(_, l)| l).collect(),
+    }
+}
+
+/// One snappable layout on a remnant `sheet` (a rectangle of PZT with straight edges, in its own
+/// frame): as many of the plates as fit, planned from its edges as from a whole sheet's; the
+/// plates no sheet of this size can take wait for the next. `None` when none fits. Copies are
+/// numbered from 0 per item; the caller numbers them among its other sheets.
+pub fn layout_plates_on_remnant(
+    items: &[PlateSpec],
+    sheet: &NestBin,
+    kerf_mm: f64,
+    margin_mm: f64,
+    min_strip_mm: f64,
+) -> Result<Option<NestedBin>, LayoutError> {
+    let shapes = shapes_of(items, sheet, kerf_mm, margin_mm, min_strip_mm)?;
+    let planner = planner(&shapes, kerf_mm, margin_mm, min_strip_mm);
+    let whole = whole_sheet(sheet);
+    let mut remaining: Vec<usize> = items
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let fits = planner.fits(&whole, i, 0) || planner.fits(&whole, i, 1);
+            if fits {
+                s.count
+            } else {
+                0
+            }
+        })
+        .collect();
+    let mut next_copy = vec![0usize; items.len()];
+    let bin = plan_sheet(&planner, &whole, &mut remaining, &mut next_copy, 0);
+    Ok((!bin.parts.is_empty()).then_some(bin))
 }

@@ -1,9 +1,10 @@
 //! A batch's `[[stock]]` tables: sheets given as drawings (a remnant an earlier run wrote, a sheet
 //! with a flaw drawn round), read with the extra parts' drawing import: the one outline is the
-//! stock, the contours inside it are keep-outs.
+//! stock, the contours inside it are keep-outs. A PZT sheet is a rectangle with no keep-out: plates
+//! are laid out by score lines that run from edge to edge of straight edges (docs/cam.md §4).
 
 use super::{existing_file, BatchItem};
-use crate::input::limits::{MAX_PLIES, PLY_ANGLE_DEG};
+use crate::input::limits::{MAX_PLIES, PLY_ANGLE_DEG, PZT_THICKNESS_MM};
 use crate::input::{InputError, TableReader};
 use crate::parts::import;
 use crate::process::template::PassiveCut;
@@ -35,8 +36,50 @@ fn layup_item(t: &TableReader<'_>, items: &[BatchItem]) -> Result<usize, InputEr
         })
 }
 
-/// One `[[stock]]`: `file` (DXF or SVG), `sheet` (`"prepreg"`, the default, with `layup_deg`; or
-/// `"pyralux"`), added to the template's sheet of that material. A drawing whose extent lies on the
+/// The item of the batch whose PZT plates the stock's `pzt_thickness_mm` (and `pzt`, the material,
+/// where two share a thickness) names.
+fn pzt_item(t: &TableReader<'_>, items: &[BatchItem]) -> Result<usize, InputError> {
+    let thickness_mm = t.number_in("pzt_thickness_mm", PZT_THICKNESS_MM)?;
+    let material = t.optional_string("pzt", "the PZT material's name, as the designs give it")?;
+    let same = |i: &&BatchItem| {
+        (i.design.pzt_thickness * 1e3 - thickness_mm).abs() < 1e-9
+            && material.is_none_or(|m| i.design.pzt.name == m)
+    };
+    let matching: Vec<&BatchItem> = items.iter().filter(same).collect();
+    let stocks: Vec<String> = items
+        .iter()
+        .map(|i| format!("{} {} mm", i.design.pzt.name, i.design.pzt_thickness * 1e3))
+        .collect();
+    match matching.first() {
+        None => Err(InputError::invalid(
+            t.file(),
+            &t.path("pzt_thickness_mm"),
+            thickness_mm,
+            format!(
+                "no design of the batch has these PZT plates; the batch's: {}",
+                stocks.join(", ")
+            ),
+        )),
+        Some(first) if matching.iter().any(|i| i.design.pzt.name != first.design.pzt.name) => {
+            Err(InputError::invalid(
+                t.file(),
+                &t.path("pzt_thickness_mm"),
+                thickness_mm,
+                format!(
+                    "designs of two PZT materials have plates this thick: name one with pzt = \"…\" ({})",
+                    stocks.join(", ")
+                ),
+            ))
+        }
+        Some(first) => Ok(items
+            .iter()
+            .position(|i| std::ptr::eq(i, *first))
+            .expect("found among the items")),
+    }
+}
+
+/// One `[[stock]]`: `file` (DXF or SVG), `sheet` (`"prepreg"`, the default, with `layup_deg`;
+/// `"pyralux"`; or `"pzt"`, with `pzt_thickness_mm`), added to the template's sheet of that material. A drawing whose extent lies on the
 /// sheet `[0, width] x [0, height]` (as a remnant's does) keeps its coordinates; any other is moved
 /// so that its extent starts at the sheet's corner.
 pub(super) fn stock_sheet(
@@ -50,9 +93,10 @@ pub(super) fn stock_sheet(
         "a DXF or SVG drawing of the sheet, relative to the batch file",
     )?;
     let sheet_name = t
-        .optional_string("sheet", "\"prepreg\" or \"pyralux\"")?
+        .optional_string("sheet", "\"prepreg\", \"pyralux\" or \"pzt\"")?
         .unwrap_or("prepreg");
-    let like = match sheet_name {
+    let (like, pzt) = match sheet_name {
+        "pzt" => (Some(pzt_item(t, items)?), true),
         "prepreg" => {
             if template.passive_cut == PassiveCut::PlyByPly {
                 return Err(InputError::invalid(
@@ -65,10 +109,9 @@ pub(super) fn stock_sheet(
                     ),
                 ));
             }
-            let like = layup_item(t, items)?;
-            Some(like)
+            (Some(layup_item(t, items)?), false)
         }
-        "pyralux" if template.bond.is_some() => None,
+        "pyralux" if template.bond.is_some() => (None, false),
         "pyralux" => {
             return Err(InputError::invalid(
                 t.file(),
@@ -82,14 +125,15 @@ pub(super) fn stock_sheet(
                 t.file(),
                 &t.path("sheet"),
                 format!("{other:?}"),
-                "expected \"prepreg\" or \"pyralux\" (PZT plates are laid out from a whole sheet's straight edges)",
+                "expected \"prepreg\", \"pyralux\" or \"pzt\"",
             ))
         }
     };
     t.finish()?;
-    let spec = match like {
-        Some(_) => &mut template.passive,
-        None => &mut template.bond.as_mut().expect("checked above").sheet,
+    let spec = match (like, pzt) {
+        (_, true) => &mut template.pzt,
+        (Some(_), false) => &mut template.passive,
+        (None, false) => &mut template.bond.as_mut().expect("checked above").sheet,
     };
     if spec.roll {
         return Err(InputError::invalid(
@@ -111,6 +155,19 @@ pub(super) fn stock_sheet(
     }
     let part = parts.remove(0);
     let b = Bounds::of(&part.outer);
+    if pzt {
+        if !part.holes.is_empty() {
+            return Err(refuse(format!(
+                "a PZT sheet has no keep-outs ({} drawn): score lines run from edge to edge, so snap the flawed part off and draw the rectangle left",
+                part.holes.len()
+            )));
+        }
+        if !is_rectangle(&part.outer, &b) {
+            return Err(refuse(
+                "a PZT sheet is a rectangle with straight, axis-aligned edges (the snapped remnant nest writes): the plates' score lines run from edge to edge of it".to_string(),
+            ));
+        }
+    }
     let (w, h) = (spec.width_mm, spec.height_mm);
     let on_sheet = b.min[0] >= -EXTENT_ROUNDING_MM
         && b.min[1] >= -EXTENT_ROUNDING_MM
@@ -138,4 +195,17 @@ pub(super) fn stock_sheet(
         },
     });
     Ok(())
+}
+
+/// Whether `ring` is the rectangle `b` bounds: every vertex on a corner or along a side, and its
+/// area the rectangle's (collinear points along a side allowed).
+fn is_rectangle(ring: &[cam_geometry::Point], b: &Bounds) -> bool {
+    let near = |x: f64, y: f64| (x - y).abs() <= EXTENT_ROUNDING_MM;
+    let on_side = |q: &cam_geometry::Point| {
+        near(q[0], b.min[0]) || near(q[0], b.max[0]) || near(q[1], b.min[1]) || near(q[1], b.max[1])
+    };
+    // An outline along the sides only, within the rounding of each side: its area is the box's.
+    let area = cam_geometry::area(ring).abs();
+    let slack = EXTENT_ROUNDING_MM * 2.0 * (b.width() + b.height());
+    ring.iter().all(on_side) && (area - b.width() * b.height()).abs() <= slack
 }

@@ -36,7 +36,7 @@ pub(crate) use layers::place_cut_layers;
 pub use packing::{
     BaselineRow, NestObserver, NestOptions, Packing, SearchRow, TimeBudget, Unobserved, WORKERS,
 };
-pub(crate) use plates::place_plates;
+pub(crate) use plates::{place_plates, PlacedPlates};
 
 use super::cut::{CutItem, CutLayer};
 use crate::process::template::SheetSpec;
