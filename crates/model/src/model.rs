@@ -1,6 +1,7 @@
-//! Choice of model for a prediction: original lamination theory, the thesis' adjusted fits, or the
-//! Euler-Bernoulli beam.
+//! Choice of model for a prediction: original lamination theory, the thesis' adjusted fits, the
+//! nonlinear ceramic, or the Euler-Bernoulli beam.
 
+use crate::ceramic::Ceramic;
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
 use crate::effects::{Actuator, Effects, StackBasis, StackSection};
@@ -8,6 +9,7 @@ use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
 use crate::laminate::Laminate;
+use crate::nonlinear;
 use crate::performance::{evaluate, MassBreakdown, Performance};
 use crate::planform::Planform;
 use crate::primitives::{self, Applied, Link};
@@ -24,6 +26,9 @@ pub enum ModelKind {
     ThesisAdjusted,
     /// Euler-Bernoulli beam, eqs. 2.11-2.15; rectangular designs only.
     EulerBernoulli,
+    /// Lamination theory with the PZT's field-dependent stress coefficient and bimodular modulus of
+    /// Jafferis, Smith & Wood 2015 ([`crate::nonlinear`], docs/physics.md §16).
+    Nonlinear,
 }
 
 impl ModelKind {
@@ -33,6 +38,7 @@ impl ModelKind {
             ModelKind::Original => "original",
             ModelKind::ThesisAdjusted => "thesis-adjusted",
             ModelKind::EulerBernoulli => "euler-bernoulli",
+            ModelKind::Nonlinear => "nonlinear",
         }
     }
 }
@@ -48,6 +54,9 @@ pub fn predict(
     let original = evaluate(&section, planform);
     match kind {
         ModelKind::Original => Ok(original),
+        ModelKind::Nonlinear => {
+            nonlinear::predict(laminate, planform, drive, Ceramic::JAFFERIS_2015)
+        }
         ModelKind::ThesisAdjusted => Ok(empirical::adjust(
             &original,
             planform,
