@@ -549,3 +549,32 @@ fn a_user_pzts_depolarization_field_sets_the_margin_and_is_range_checked() {
         "{err}"
     );
 }
+
+#[test]
+fn the_nonlinear_model_predicts_thesis_c_from_the_papers_constants() {
+    // Source: docs/physics.md §18.6, the nonlinear ceramic of Jafferis, Smith & Wood 2015 at its
+    // published constants (the model's own output, pinned to 0.1 %), against the original model.
+    let original = predict_json(&example("thesis-C.toml"), &[]);
+    let nl = predict_json(&example("thesis-C.toml"), &["--model", "nonlinear"]);
+    assert_eq!(nl["model"], "nonlinear");
+    let get = |j: &serde_json::Value, key: &str| j[key].as_f64().unwrap();
+    for (key, want) in [
+        ("free_deflection_mm", 1.2234),
+        ("blocked_force_N", 0.24724),
+        ("energy_mJ", 0.1512),
+        ("stiffness_N_per_m", 202.1),
+    ] {
+        let got = get(&nl, key);
+        assert!((got / want - 1.0).abs() < 1e-3, "{key}: {got} vs {want}");
+    }
+    // The mass is the laminate's, whatever the ceramic's law.
+    assert_eq!(get(&nl, "mass_mg"), get(&original, "mass_mg"));
+    // The blocked force grows by the coefficient's ratio at 800 V/mm, f31 = 27.4 against E |d31| =
+    // 19.84 Pa·m/V (eq. 18.1); the deflection by more, the plate in tension being softer (38.5 GPa).
+    let force = get(&nl, "blocked_force_N") / get(&original, "blocked_force_N");
+    assert!((force - 27.4 / 19.84).abs() < 0.02, "{force}");
+    let deflection = get(&nl, "free_deflection_mm") / get(&original, "free_deflection_mm");
+    assert!(deflection > force + 0.3, "{deflection}");
+    // A softer actuator resonates lower.
+    assert!(get(&nl, "resonance_Hz") < get(&original, "resonance_Hz"));
+}

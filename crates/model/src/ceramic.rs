@@ -1,13 +1,16 @@
 //! The polycrystalline ceramic as Jafferis, Smith & Wood measured it (*Smart Mater. Struct.* 24 (2015)
-//! 065023; docs/physics.md §16): a stress coefficient that rises with the field along a logistic, and a
+//! 065023; docs/physics.md §18): a stress coefficient that rises with the field along a logistic, and a
 //! modulus that is lower in tension than in compression. Both are one-dimensional laws along the
 //! actuator's axis; [`crate::nonlinear`] puts them into the laminate.
+
+use crate::error::ModelError;
+use crate::material::Material;
 
 /// The ceramic's law along the actuator axis: the internal stress per unit field
 /// `f31(ξ, ε) = (1 + b ε) [f_min + (f_max (1 - d |ξ|) - f_min) S(c (|ξ| - ξ0))]` and the elastic stress
 /// `σ_e(ε) = E_t ε - (E_c - E_t)/a [ln(1 + e^{a(ε0 - ε)}) - ln(1 + e^{a ε0})]`, whose tangent is
 /// `E_t + (E_c - E_t) S(a (ε0 - ε))`, with `S` the logistic `1/(1 + e^{-x})` (Jafferis et al. 2015;
-/// docs/physics.md eqs. 16.1-16.3). Compressive strain is negative.
+/// docs/physics.md eqs. 18.1-18.3). Compressive strain is negative.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ceramic {
     /// `f_min`, the stress coefficient at low field, Pa·m/V.
@@ -51,7 +54,7 @@ impl Ceramic {
     /// PZT-5H (Piezo Systems T-series plates, 135 µm) as fitted by Jafferis, Smith & Wood (2015):
     /// `f_min = 14`, `f_max = 29` Pa·m/V, `ξ0 = 0.4` V/µm, `c = 10⁻⁵` m/V (width 0.1 V/µm),
     /// `d = 69` nm/V, `b = -230`; `E_t = 38.5`, `E_c = 81` GPa, `ε0 = -470` µm/m, `a = 8000`.
-    /// Every number is the paper's fit; docs/physics.md §16 states which are read from the lab's
+    /// Every number is the paper's fit; docs/physics.md §18 states which are read from the lab's
     /// published code rather than the paper's text.
     pub const JAFFERIS_2015: Ceramic = Ceramic {
         coefficient_low: 14.0,
@@ -65,6 +68,22 @@ impl Ceramic {
         switching_strain: -4.7e-4,
         strain_steepness: 8000.0,
     };
+
+    /// The ceramic of a laminate's PZT: the paper's fit, which is PZT-5H's, for a PZT with PZT-5H's
+    /// small-signal constants (`E` = 62 GPa, `d31` = -320 pm/V, docs/physics.md §8); any other PZT is
+    /// refused rather than given PZT-5H's law.
+    pub fn of(pzt: &Material) -> Result<Ceramic, ModelError> {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        if close(pzt.e1, 62e9) && close(pzt.d31, -320e-12) {
+            Ok(Self::JAFFERIS_2015)
+        } else {
+            Err(ModelError::NotCovered {
+                name: "nonlinear ceramic",
+                value: "PZT",
+                allowed: "the fit of Jafferis et al. 2015 is PZT-5H's: the PZT must have E = 62 GPa and d31 = -320 pm/V",
+            })
+        }
+    }
 
     /// A linear ceramic: one modulus `E` and one stress coefficient `e = E |d31|` at every field and
     /// strain (the original model's PZT along the axis).
@@ -80,9 +99,9 @@ impl Ceramic {
         }
     }
 
-    /// The stress coefficient at zero strain, `f31(ξ, 0)`, Pa·m/V (docs/physics.md eq. 16.1). The paper
+    /// The stress coefficient at zero strain, `f31(ξ, 0)`, Pa·m/V (docs/physics.md eq. 18.1). The paper
     /// measured it along the poling; a field against the poling takes the coefficient of its magnitude
-    /// (an assumption, §16).
+    /// (an assumption, §18).
     pub fn stress_coefficient(&self, field: f64) -> f64 {
         let xi = field.abs();
         let s = logistic(self.field_steepness * (xi - self.switching_field));
@@ -91,7 +110,7 @@ impl Ceramic {
     }
 
     /// The internal (piezoelectric) stress magnitude `f31(ξ, ε) ξ` and its strain derivative,
-    /// `(1 + b ε) f31(ξ, 0) ξ` and `b f31(ξ, 0) ξ` (docs/physics.md eq. 16.1), Pa. Positive for a field
+    /// `(1 + b ε) f31(ξ, 0) ξ` and `b f31(ξ, 0) ξ` (docs/physics.md eq. 18.1), Pa. Positive for a field
     /// along the poling; the sign of the stress on the plate is the material's (`-sign(d31)`).
     pub fn internal_stress(&self, field: f64, strain: f64) -> (f64, f64) {
         let f = self.stress_coefficient(field) * field;
@@ -101,7 +120,7 @@ impl Ceramic {
         )
     }
 
-    /// The elastic stress `σ_e(ε)` and its tangent modulus (docs/physics.md eqs. 16.2, 16.3), Pa.
+    /// The elastic stress `σ_e(ε)` and its tangent modulus (docs/physics.md eqs. 18.2, 18.3), Pa.
     pub fn elastic_stress(&self, strain: f64) -> (f64, f64) {
         let (lo, hi) = (self.modulus_tension, self.modulus_compression);
         let a = self.strain_steepness;
@@ -168,7 +187,7 @@ mod tests {
             assert!(f > last);
             last = f;
         }
-        // Even in the field (the assumption for fields against the poling, docs/physics.md §16).
+        // Even in the field (the assumption for fields against the poling, docs/physics.md §18).
         assert_eq!(J.stress_coefficient(-0.3e6), J.stress_coefficient(0.3e6));
     }
 
@@ -212,6 +231,9 @@ mod tests {
             assert!((s - 62e9 * eps).abs() < 1e-6 && t == 62e9, "{eps}");
         }
         assert!(c.check().is_ok() && J.check().is_ok());
+        // The paper's fit belongs to PZT-5H; PZT-5A is refused.
+        assert_eq!(Ceramic::of(&Material::builtin("PZT-5H").unwrap()), Ok(J));
+        assert!(Ceramic::of(&Material::builtin("PZT-5A").unwrap()).is_err());
         let bad = Ceramic {
             modulus_tension: -1.0,
             ..J

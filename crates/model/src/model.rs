@@ -27,7 +27,7 @@ pub enum ModelKind {
     /// Euler-Bernoulli beam, eqs. 2.11-2.15; rectangular designs only.
     EulerBernoulli,
     /// Lamination theory with the PZT's field-dependent stress coefficient and bimodular modulus of
-    /// Jafferis, Smith & Wood 2015 ([`crate::nonlinear`], docs/physics.md §16).
+    /// Jafferis, Smith & Wood 2015 ([`crate::nonlinear`], docs/physics.md §18).
     Nonlinear,
 }
 
@@ -55,7 +55,8 @@ pub fn predict(
     match kind {
         ModelKind::Original => Ok(original),
         ModelKind::Nonlinear => {
-            nonlinear::predict(laminate, planform, drive, Ceramic::JAFFERIS_2015)
+            let pzt = &laminate.layers()[laminate.piezo_layer(0)].material;
+            nonlinear::predict(laminate, planform, drive, Ceramic::of(pzt)?)
         }
         ModelKind::ThesisAdjusted => Ok(empirical::adjust(
             &original,
@@ -344,6 +345,12 @@ impl ModelChoice {
             ModelChoice::Kind(k) => k.name(),
             ModelChoice::Calibrated(_) => "calibrated",
         }
+    }
+
+    /// True when the model's stiffness and blocked force per field change with the field (the
+    /// nonlinear ceramic, docs/physics.md §18): a drive then predicts at its operating field.
+    pub fn depends_on_field(&self) -> bool {
+        matches!(self, ModelChoice::Kind(ModelKind::Nonlinear))
     }
 
     /// Predict one actuator from its raw inputs (the calibrated effects change the stack itself, so they

@@ -1,5 +1,5 @@
 //! The tapered bimorph with the nonlinear ceramic of [`crate::ceramic`] (Jafferis, Smith & Wood 2015;
-//! docs/physics.md §16): the section's strain and curvature solved at each station under the plates'
+//! docs/physics.md §18): the section's strain and curvature solved at each station under the plates'
 //! actual fields and the local moment, the tip deflection integrated from the curvature along the beam,
 //! the blocked force as the load that holds the tip at its rest position.
 //!
@@ -38,8 +38,9 @@ const WEIGHTS: [f64; 5] = [
     0.236_926_885_056_189,
 ];
 /// Panels through each PZT layer: the modulus switches over `1/a` = 125 µm/m of strain, a fraction of
-/// the strain across a plate in bending.
-const THICKNESS_PANELS: usize = 8;
+/// the strain across a plate in bending; three panels of five points give thesis design C's outputs
+/// to 1e-12 of eight.
+const THICKNESS_PANELS: usize = 3;
 /// Panels along the active length at least; more where the width shrinks (each panel spans a width
 /// ratio of at most [`WIDTH_STEP`]).
 const LENGTH_PANELS: usize = 8;
@@ -58,12 +59,14 @@ struct Point {
     field: f64,
 }
 
-/// A solved station: axial strain and curvature `[ε0x, κx]` and the correction resultants `[ΔN, ΔM]`.
+/// A solved station: axial strain and curvature `[ε0x, κx]`, the correction resultants `[ΔN, ΔM]`
+/// and the tangent `∂κ/∂m` of the curvature in the external moment per width.
 #[derive(Debug, Clone, Copy)]
 struct State {
     strain: f64,
     curvature: f64,
     correction: [f64; 2],
+    slope: f64,
 }
 
 /// The laminate's section under the nonlinear ceramic at one pair of plate fields.
@@ -120,7 +123,7 @@ impl<'a> NonlinearSection<'a> {
         }
     }
 
-    /// `Δσ` and `∂Δσ/∂ε` at strain `ε` and field `ξ` (module docs; docs/physics.md eq. 16.4), Pa.
+    /// `Δσ` and `∂Δσ/∂ε` at strain `ε` and field `ξ` (module docs; docs/physics.md eq. 18.4), Pa.
     fn excess_stress(&self, strain: f64, field: f64) -> (f64, f64) {
         let (modulus, coefficient) = self.reference;
         let (elastic, tangent) = self.ceramic.elastic_stress(strain);
@@ -132,7 +135,7 @@ impl<'a> NonlinearSection<'a> {
     }
 
     /// The correction resultants `[ΔN, ΔM] = ∫ Δσ [1, z] dz` over the PZT layers and their Jacobian in
-    /// `[ε0, κ]` (docs/physics.md eq. 16.5).
+    /// `[ε0, κ]` (docs/physics.md eq. 18.5).
     fn correction(&self, strain: f64, curvature: f64) -> ([f64; 2], [[f64; 2]; 2]) {
         let (mut r, mut j) = ([0.0; 2], [[0.0; 2]; 2]);
         for p in &self.points {
@@ -149,7 +152,7 @@ impl<'a> NonlinearSection<'a> {
 
     /// Solve the station under an external moment per unit width `m` (N·m/m, positive bending the
     /// beam toward positive curvature) and no axial force: `u = u_free + C ([0, m] - ΔR(u))` by Newton's
-    /// method from `start` (docs/physics.md eq. 16.6).
+    /// method from `start` (docs/physics.md eq. 18.6).
     fn solve(&self, moment: f64, start: Option<State>) -> Result<State, ModelError> {
         let c = self.compliance;
         let mut u = start.map_or(
@@ -168,16 +171,7 @@ impl<'a> NonlinearSection<'a> {
                 u[1] - self.free[3] - (c[1][0] * load[0] + c[1][1] * load[1]),
             ];
             // ∂g/∂u = I + C J.
-            let a = [
-                [
-                    1.0 + c[0][0] * j[0][0] + c[0][1] * j[1][0],
-                    c[0][0] * j[0][1] + c[0][1] * j[1][1],
-                ],
-                [
-                    c[1][0] * j[0][0] + c[1][1] * j[1][0],
-                    1.0 + c[1][0] * j[0][1] + c[1][1] * j[1][1],
-                ],
-            ];
+            let a = tangent(&c, &j);
             let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
             let step = [
                 (a[1][1] * g[0] - a[0][1] * g[1]) / det,
@@ -188,11 +182,15 @@ impl<'a> NonlinearSection<'a> {
             }
             u = [u[0] - step[0], u[1] - step[1]];
             if step[0].abs() + scale * step[1].abs() <= 1e-15 {
-                let (correction, _) = self.correction(u[0], u[1]);
+                let (correction, j) = self.correction(u[0], u[1]);
+                // ∂u/∂m = (I + C J)⁻¹ C [0, 1]ᵀ.
+                let a = tangent(&c, &j);
+                let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
                 return Ok(State {
                     strain: u[0],
                     curvature: u[1],
                     correction,
+                    slope: (a[0][0] * c[1][1] - a[1][0] * c[0][1]) / det,
                 });
             }
         }
@@ -229,7 +227,21 @@ impl<'a> NonlinearSection<'a> {
     }
 }
 
-/// A tapered beam of the nonlinear section (docs/physics.md §16.2).
+/// `I + C J`, the Jacobian of the station's equations in `[ε0, κ]`.
+fn tangent(c: &[[f64; 2]; 2], j: &[[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    [
+        [
+            1.0 + c[0][0] * j[0][0] + c[0][1] * j[1][0],
+            c[0][0] * j[0][1] + c[0][1] * j[1][1],
+        ],
+        [
+            c[1][0] * j[0][0] + c[1][1] * j[1][0],
+            1.0 + c[1][0] * j[0][1] + c[1][1] * j[1][1],
+        ],
+    ]
+}
+
+/// A tapered beam of the nonlinear section (docs/physics.md §18.2).
 #[derive(Debug, Clone)]
 pub struct NonlinearBeam<'a> {
     section: NonlinearSection<'a>,
@@ -251,25 +263,41 @@ impl<'a> NonlinearBeam<'a> {
 
     /// Tip deflection under a tip load `F` (N, positive toward positive deflection), m:
     /// `δ = ∫0..l_p κ(x) (L - x) dx` with each station solved under `M(x)/w(x) = F (L - x)/w(x)`
-    /// (docs/physics.md eq. 16.7). With `peak`, the surfaces' peak stress and strain over the stations
+    /// (docs/physics.md eq. 18.7). With `peak`, the surfaces' peak stress and strain over the stations
     /// and both ends of the active length are folded into it.
-    pub fn deflection(
+    pub fn deflection(&self, force: f64, peak: Option<&mut PlatePeak>) -> Result<f64, ModelError> {
+        Ok(self.integrate(force, peak)?.0)
+    }
+
+    /// [`NonlinearBeam::deflection`] and its tangent compliance
+    /// `dδ/dF = ∫ (∂κ/∂m) (L - x)² / w(x) dx`, m/N.
+    fn integrate(
         &self,
         force: f64,
-        mut peak: Option<&mut PlatePeak>,
-    ) -> Result<f64, ModelError> {
+        peak: Option<&mut PlatePeak>,
+    ) -> Result<(f64, f64), ModelError> {
         let pl = &self.planform;
         let l = pl.length;
         let moment = |x: f64| force * (l - x) / pl.width_at(x);
-        let mut state = None;
-        let mut delta = 0.0;
-        for &(x, w) in &self.stations {
-            let m = moment(x);
-            let s = self.section.solve(m, state)?;
-            delta += w * s.curvature * (l - x);
-            state = Some(s);
+        let (mut delta, mut compliance) = (0.0, 0.0);
+        if force == 0.0 {
+            // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`.
+            let l_p = pl.piezo_length();
+            let s = self.section.solve(0.0, None)?;
+            delta = s.curvature * (l * l_p - 0.5 * l_p * l_p);
+            for &(x, w) in &self.stations {
+                compliance += w * s.slope * (l - x) * (l - x) / pl.width_at(x);
+            }
+        } else {
+            let mut state = None;
+            for &(x, w) in &self.stations {
+                let s = self.section.solve(moment(x), state)?;
+                delta += w * s.curvature * (l - x);
+                compliance += w * s.slope * (l - x) * (l - x) / pl.width_at(x);
+                state = Some(s);
+            }
         }
-        if let Some(peak) = peak.as_deref_mut() {
+        if let Some(peak) = peak {
             let l_p = pl.piezo_length();
             for x in [0.0, l_p] {
                 let m = moment(x);
@@ -284,12 +312,30 @@ impl<'a> NonlinearBeam<'a> {
                 });
             }
         }
-        Ok(delta)
+        Ok((delta, compliance))
     }
 
-    /// The tip load that holds the tip at `target` (m), N: the root of `δ(F) = target`, bracketed from
-    /// the linear laminate's compliance and closed by the Illinois method.
+    /// The tip load that holds the tip at `target` (m), N: the root of `δ(F) = target`.
     pub fn force_at(&self, target: f64) -> Result<f64, ModelError> {
+        // Newton's method on the tangent compliance, which the section's own Jacobian gives.
+        let mut f = 0.0;
+        for _ in 0..NEWTON_STEPS {
+            let (d, slope) = self.integrate(f, None)?;
+            let step = (d - target) / slope;
+            if !step.is_finite() {
+                break;
+            }
+            f -= step;
+            if step.abs() <= 1e-13 * f.abs() {
+                return Ok(f);
+            }
+        }
+        self.bracketed_force_at(target)
+    }
+
+    /// [`NonlinearBeam::force_at`] by bracketing, where Newton's method does not settle: bracketed
+    /// from the linear laminate's compliance and closed by the Illinois method.
+    fn bracketed_force_at(&self, target: f64) -> Result<f64, ModelError> {
         let g = |f: f64| self.deflection(f, None).map(|d| d - target);
         let (mut a, mut ga) = (0.0, g(0.0)?);
         if ga == 0.0 {
@@ -371,6 +417,13 @@ fn stations(planform: &Planform) -> Vec<(f64, f64)> {
     out
 }
 
+/// True when the stack is its own mirror image about the midplane (the same layers in reverse
+/// order), so that its coupling matrix B vanishes and swapping the plates' fields mirrors the response.
+fn symmetric(laminate: &Laminate) -> bool {
+    let layers = laminate.layers();
+    layers.iter().zip(layers.iter().rev()).all(|(a, b)| a == b)
+}
+
 /// One half-cycle of a drive: the plates' fields at a phase of the signal.
 fn half_cycle<'a>(
     laminate: &'a Laminate,
@@ -386,7 +439,7 @@ fn half_cycle<'a>(
 /// The actuator under the nonlinear ceramic at a drive, one-sided amplitudes about the rest position
 /// (the unloaded tip at the signal's zero, phase 0): `δ = |δ(π/2) - δ(-π/2)| / 2` and
 /// `F_b = |F(π/2) - F(-π/2)| / 2` with `F(θ)` the tip load that holds the tip at rest at phase θ
-/// (docs/physics.md eq. 16.8).
+/// (docs/physics.md eq. 18.8).
 #[derive(Debug, Clone)]
 pub struct Response {
     /// One-sided free deflection, m.
@@ -397,7 +450,7 @@ pub struct Response {
     pub peak: PlatePeak,
 }
 
-/// Solve the actuator of `laminate` and `planform` at `drive` under `ceramic` (docs/physics.md §16).
+/// Solve the actuator of `laminate` and `planform` at `drive` under `ceramic` (docs/physics.md §18).
 pub fn response(
     laminate: &Laminate,
     planform: &Planform,
@@ -407,12 +460,22 @@ pub fn response(
     let rest = half_cycle(laminate, ceramic, planform, drive, 0.0).deflection(0.0, None)?;
     let mut peak = PlatePeak::default();
     let mut ends = [(0.0, 0.0); 2];
-    for (i, phase) in [FRAC_PI_2, -FRAC_PI_2].into_iter().enumerate() {
+    // The two half-cycles swap the plates' fields (`plate_fields_at`); on a stack symmetric about its
+    // midplane the second is the first mirrored.
+    let phases: &[f64] = if symmetric(laminate) {
+        &[FRAC_PI_2]
+    } else {
+        &[FRAC_PI_2, -FRAC_PI_2]
+    };
+    for (i, &phase) in phases.iter().enumerate() {
         let beam = half_cycle(laminate, ceramic, planform, drive, phase);
         let free = beam.deflection(0.0, Some(&mut peak))?;
         let force = beam.force_at(rest)?;
         beam.deflection(force, Some(&mut peak))?;
         ends[i] = (free, force);
+    }
+    if phases.len() == 1 {
+        ends[1] = (2.0 * rest - ends[0].0, -ends[0].1);
     }
     Ok(Response {
         free_deflection: 0.5 * (ends[0].0 - ends[1].0).abs(),
@@ -423,7 +486,7 @@ pub fn response(
 
 /// The force-deflection curve of the first half-cycle (the signal's peak, phase π/2): `n + 1` points
 /// `(F, δ)` from free (`F = 0`) to blocked (`δ = 0`), each `δ` from the rest position and `F` the
-/// magnitude of the tip load holding the tip back, N and m (docs/physics.md §16.3).
+/// magnitude of the tip load holding the tip back, N and m (docs/physics.md §18.3).
 pub fn force_deflection(
     laminate: &Laminate,
     planform: &Planform,
@@ -444,7 +507,7 @@ pub fn force_deflection(
 }
 
 /// The prediction of the nonlinear model: the original's mass and capacitance, the nonlinear
-/// free deflection, blocked force, stiffness `F_b/δ`, peak stress and strain (docs/physics.md §16).
+/// free deflection, blocked force, stiffness `F_b/δ`, peak stress and strain (docs/physics.md §18).
 pub fn predict(
     laminate: &Laminate,
     planform: &Planform,
@@ -471,7 +534,6 @@ mod tests {
     use super::*;
     use crate::drive::DriveMode;
     use crate::material::Material;
-    use crate::model::{predict as model_predict, ModelKind};
 
     fn laminate(t_p: f64, layup: &[f64], bond: bool) -> Laminate {
         let pzt = Material::builtin("PZT-5H").unwrap();
@@ -502,7 +564,7 @@ mod tests {
     #[test]
     fn a_linear_ceramic_reduces_to_the_original_model_exactly() {
         // Closed form: with one modulus and a field-independent coefficient equal to the laminate's own,
-        // Δσ = 0 and the integral of the curvature is thesis eqs. 2.26 and 2.35 (docs/physics.md §16.4).
+        // Δσ = 0 and the integral of the curvature is thesis eqs. 2.26 and 2.35 (docs/physics.md §18.4).
         let shapes = [
             Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap(),
             Planform::new(50e-3, 0.0, 10e-3, 1.0, 0.0).unwrap(),
@@ -518,7 +580,7 @@ mod tests {
         ] {
             for drive in drives() {
                 for pl in &shapes {
-                    let want = model_predict(ModelKind::Original, &lam, pl, drive).unwrap();
+                    let want = evaluate(&Section::new(&lam, drive).unwrap(), pl);
                     let got = predict(&lam, pl, drive, linear()).unwrap();
                     for (g, w, what) in [
                         (got.free_deflection, want.free_deflection, "δ"),
@@ -543,7 +605,7 @@ mod tests {
 
     #[test]
     fn the_response_scales_as_the_original_with_length_and_width() {
-        // docs/physics.md §16.2: under F (L - x)/w(x) the station's state depends on F L / w_0 and the
+        // docs/physics.md §18.2: under F (L - x)/w(x) the station's state depends on F L / w_0 and the
         // shape alone, so δ ∝ l_tot² and F_b ∝ w_0 / l_tot at a fixed (l_r, w_r), as in the original.
         let lam = laminate(267e-6, &[0.0, 90.0, 0.0], false);
         let drive = Drive::new(DriveMode::Parallel, 800e3);
@@ -570,7 +632,7 @@ mod tests {
     fn the_force_deflection_curve_runs_from_free_to_blocked_and_is_not_straight() {
         // The curve's ends are the response's δ and F_b; the bimodular modulus stiffens the section as
         // the blocking load puts the driven plate in compression, so the curve bends (docs/physics.md
-        // §16.3). With the linear ceramic the midpoint is on the straight line to rounding.
+        // §18.3). With the linear ceramic the midpoint is on the straight line to rounding.
         let lam = laminate(267e-6, &[0.0, 90.0, 0.0], false);
         let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
         let drive = Drive::new(DriveMode::Parallel, 800e3);
@@ -595,7 +657,7 @@ mod tests {
         let lam = laminate(267e-6, &[0.0, 90.0, 0.0], false);
         let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
         let drive = Drive::new(DriveMode::Parallel, 800e3);
-        let orig = model_predict(ModelKind::Original, &lam, &pl, drive).unwrap();
+        let orig = evaluate(&Section::new(&lam, drive).unwrap(), &pl);
         let nl = predict(&lam, &pl, drive, Ceramic::JAFFERIS_2015).unwrap();
         let ratio = Ceramic::JAFFERIS_2015.stress_coefficient(800e3) / 19.84;
         assert!(nl.free_deflection / orig.free_deflection > ratio, "{nl:?}");

@@ -41,8 +41,8 @@ pub enum SearchModel {
     Original,
     /// The thesis' empirical corrections on top of the original.
     ThesisAdjusted,
-    /// Lamination theory with the nonlinear ceramic of Jafferis et al. 2015 (docs/physics.md §16):
-    /// separable like the original (δ ∝ l_tot², F_b ∝ w_0 / l_tot at a fixed shape, §16.2), its rates
+    /// Lamination theory with the nonlinear ceramic of Jafferis et al. 2015 (docs/physics.md §18):
+    /// separable like the original (δ ∝ l_tot², F_b ∝ w_0 / l_tot at a fixed shape, §18.2), its rates
     /// taken from the model crate at the unit planform.
     Nonlinear,
     /// The original model with the physical effects a calibration found (`--model calibrated-model.toml`),
@@ -70,6 +70,9 @@ pub struct ShapeRates {
     pub mass: f64,
     /// Calibrated models: the stack basis at the unit planform, which [`SearchModel::energy`] scales.
     pub basis: Option<StackBasis>,
+    /// The shape's peak PZT strain over the stroke when the rates' prediction gave it (the nonlinear
+    /// model), else `None` ([`SearchModel::shape_strain`] computes it).
+    pub peak_strain: Option<f64>,
 }
 
 impl SearchModel {
@@ -137,6 +140,7 @@ impl SearchModel {
                     energy,
                     mass,
                     basis: None,
+                    peak_strain: None,
                 }
             }
             SearchModel::ThesisAdjusted => {
@@ -147,6 +151,7 @@ impl SearchModel {
                     energy: original.energy * empirical::deflection_factor(extension_ratio),
                     mass: adjusted.mass,
                     basis: None,
+                    peak_strain: None,
                 }
             }
             SearchModel::Nonlinear => {
@@ -155,6 +160,7 @@ impl SearchModel {
                     energy: p.energy,
                     mass: p.mass,
                     basis: None,
+                    peak_strain: Some(p.peak_pzt_strain),
                 }
             }
             SearchModel::Calibrated(m) => {
@@ -165,6 +171,7 @@ impl SearchModel {
                     energy: 0.5 * delta * force,
                     mass: m.mass(&a)?.total(),
                     basis: Some(basis),
+                    peak_strain: None,
                 }
             }
         })
@@ -331,7 +338,7 @@ mod tests {
                     let r = model.shape_rates(&section, &st, l_r, w_r).unwrap();
                     let energy = model.energy(&section, &r, l, w0);
                     let mass = l * w0 * r.mass;
-                    // The nonlinear model's scaling is exact (docs/physics.md §16.2); its numbers
+                    // The nonlinear model's scaling is exact (docs/physics.md §18.2); its numbers
                     // carry the tolerance of its root finding.
                     let tol = if model == SearchModel::Nonlinear {
                         1e-9
@@ -342,7 +349,7 @@ mod tests {
                     assert!(((mass - want.mass) / want.mass).abs() < 1e-12);
                     let p = model.performance(&section, &st, &pl).unwrap();
                     assert!(((p.energy - want.energy) / want.energy).abs() < 1e-14);
-                    // The strain along the plate is the shape's (docs/physics.md eq. 6.1, §16.2).
+                    // The strain along the plate is the shape's (docs/physics.md eq. 6.1, §18.2).
                     let strain = model.shape_strain(&section, &st, l_r, w_r).unwrap();
                     assert!((strain / want.peak_pzt_strain - 1.0).abs() < tol);
                 }
