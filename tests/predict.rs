@@ -578,3 +578,21 @@ fn the_nonlinear_model_predicts_thesis_c_from_the_papers_constants() {
     // A softer actuator resonates lower.
     assert!(get(&nl, "resonance_Hz") < get(&original, "resonance_Hz"));
 }
+
+#[test]
+fn the_nonlinear_model_refuses_a_pzt_its_fit_does_not_describe() {
+    // docs/physics.md §18.1: the fit of Jafferis et al. 2015 is PZT-5H's; a PZT-5A design is refused in
+    // one line naming the file, not given PZT-5H's law.
+    let text = std::fs::read_to_string(example("thesis-C.toml"))
+        .unwrap()
+        .replacen("pzt = \"PZT-5H\"", "pzt = \"PZT-5A\"", 1);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("c-5a.toml");
+    std::fs::write(&file, text).unwrap();
+    let o = run(&["predict", file.to_str().unwrap(), "--model", "nonlinear"]);
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("c-5a.toml") && err.contains("PZT-5H"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // The original model takes it.
+    assert!(run(&["predict", file.to_str().unwrap()]).status.success());
+}
