@@ -549,3 +549,50 @@ fn a_user_pzts_depolarization_field_sets_the_margin_and_is_range_checked() {
         "{err}"
     );
 }
+
+#[test]
+fn the_nonlinear_model_predicts_thesis_c_from_the_papers_constants() {
+    // Source: docs/physics.md §18.6, the nonlinear ceramic of Jafferis, Smith & Wood 2015 at its
+    // published constants (the model's own output, pinned to 0.1 %), against the original model.
+    let original = predict_json(&example("thesis-C.toml"), &[]);
+    let nl = predict_json(&example("thesis-C.toml"), &["--model", "nonlinear"]);
+    assert_eq!(nl["model"], "nonlinear");
+    let get = |j: &serde_json::Value, key: &str| j[key].as_f64().unwrap();
+    for (key, want) in [
+        ("free_deflection_mm", 1.2234),
+        ("blocked_force_N", 0.24724),
+        ("energy_mJ", 0.1512),
+        ("stiffness_N_per_m", 202.1),
+    ] {
+        let got = get(&nl, key);
+        assert!((got / want - 1.0).abs() < 1e-3, "{key}: {got} vs {want}");
+    }
+    // The mass is the laminate's, whatever the ceramic's law.
+    assert_eq!(get(&nl, "mass_mg"), get(&original, "mass_mg"));
+    // The blocked force grows by the coefficient's ratio at 800 V/mm, f31 = 27.4 against E |d31| =
+    // 19.84 Pa·m/V (eq. 18.1); the deflection by more, the plate in tension being softer (38.5 GPa).
+    let force = get(&nl, "blocked_force_N") / get(&original, "blocked_force_N");
+    assert!((force - 27.4 / 19.84).abs() < 0.02, "{force}");
+    let deflection = get(&nl, "free_deflection_mm") / get(&original, "free_deflection_mm");
+    assert!(deflection > force + 0.3, "{deflection}");
+    // A softer actuator resonates lower.
+    assert!(get(&nl, "resonance_Hz") < get(&original, "resonance_Hz"));
+}
+
+#[test]
+fn the_nonlinear_model_refuses_a_pzt_its_fit_does_not_describe() {
+    // docs/physics.md §18.1: the fit of Jafferis et al. 2015 is PZT-5H's; a PZT-5A design is refused in
+    // one line naming the file, not given PZT-5H's law.
+    let text = std::fs::read_to_string(example("thesis-C.toml"))
+        .unwrap()
+        .replacen("pzt = \"PZT-5H\"", "pzt = \"PZT-5A\"", 1);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("c-5a.toml");
+    std::fs::write(&file, text).unwrap();
+    let o = run(&["predict", file.to_str().unwrap(), "--model", "nonlinear"]);
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("c-5a.toml") && err.contains("PZT-5H"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // The original model takes it.
+    assert!(run(&["predict", file.to_str().unwrap()]).status.success());
+}

@@ -276,3 +276,21 @@ fn a_biased_sweep_needs_its_bias_and_a_signal_within_half_of_it() {
         stdout(&run_ok(&["sweep", path.to_str().unwrap()])).contains("biased drive at 800.0 V/mm")
     );
 }
+
+#[test]
+fn a_sweep_runs_the_nonlinear_model_against_the_original() {
+    // docs/physics.md §18: the nonlinear ceramic at 800 V/mm gives more deflection and force than the
+    // linear PZT over the whole factorial of thesis Table 3.2.
+    let file = example("sweep-table-3-2.toml");
+    let text = ok_stdout(&sweep(&[
+        file.to_str().unwrap(),
+        "--model",
+        "nonlinear",
+        "--compare",
+        "original",
+    ]));
+    assert!(text.contains("X_nonlinear - X_original"), "{text}");
+    let (deflection, _) = comparison_row(&text, "free deflection");
+    let (force, _) = comparison_row(&text, "blocked force");
+    assert!(deflection > 30.0 && force > 20.0, "{deflection} {force}");
+}

@@ -102,7 +102,8 @@ pub struct StrokeFlag {
 /// `--model`: which model predicts.
 #[derive(Debug, Clone, Args)]
 pub struct ModelFlag {
-    /// Model: original, thesis-adjusted, euler-bernoulli, or a calibrated-model.toml written by `calibrate`.
+    /// Model: original, thesis-adjusted, nonlinear (the field-dependent, bimodular ceramic of Jafferis et
+    /// al. 2015), euler-bernoulli, or a calibrated-model.toml written by `calibrate`.
     #[arg(long, value_name = "MODEL", default_value = "original", value_parser = parse_model)]
     pub model: ModelChoice,
 }
@@ -111,8 +112,8 @@ pub struct ModelFlag {
 /// every design from it, which a calibrated model (it changes the stack) cannot share.
 #[derive(Debug, Clone, Args)]
 pub struct BuiltInModelFlag {
-    /// Model: original, thesis-adjusted or euler-bernoulli (a built-in model: a sweep shares one laminate
-    /// solution across designs, which a calibrated model's stack changes).
+    /// Model: original, thesis-adjusted, nonlinear or euler-bernoulli (a built-in model: a sweep shares
+    /// one laminate solution across designs, which a calibrated model's stack changes).
     #[arg(long, value_name = "MODEL", default_value = "original", value_parser = parse_built_in_model)]
     pub model: ModelKind,
 }
@@ -126,13 +127,14 @@ pub struct JsonFlag {
 }
 
 /// The built-in names, for help and errors.
-pub const BUILT_IN: &str = "original, thesis-adjusted, euler-bernoulli";
+pub const BUILT_IN: &str = "original, thesis-adjusted, nonlinear, euler-bernoulli";
 
 /// A built-in model's name.
 fn built_in(text: &str) -> Option<ModelKind> {
     match text {
         "original" => Some(ModelKind::Original),
         "thesis-adjusted" => Some(ModelKind::ThesisAdjusted),
+        "nonlinear" => Some(ModelKind::Nonlinear),
         "euler-bernoulli" => Some(ModelKind::EulerBernoulli),
         _ => None,
     }
@@ -300,7 +302,12 @@ mod tests {
 
     #[test]
     fn built_in_model_names_round_trip_and_others_are_refused() {
-        for name in ["original", "thesis-adjusted", "euler-bernoulli"] {
+        for name in [
+            "original",
+            "thesis-adjusted",
+            "nonlinear",
+            "euler-bernoulli",
+        ] {
             assert_eq!(parse_model(name).unwrap().name(), name);
             assert_eq!(parse_built_in_model(name).unwrap().name(), name);
         }

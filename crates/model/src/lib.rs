@@ -3,9 +3,11 @@
 //!
 //! SI units throughout; no file or terminal I/O. The usual path:
 //! [`Laminate::bimorph`] → [`Section::new`] at a [`Drive`] → [`performance::evaluate`] for a [`Planform`],
-//! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
+//! or [`model::predict`] to choose between the original, thesis-adjusted, nonlinear-ceramic and
+//! Euler-Bernoulli models.
 
 pub mod capacitance;
+pub mod ceramic;
 pub mod drive;
 pub mod drive_energy;
 pub mod dynamics;
@@ -20,6 +22,7 @@ pub mod laminate;
 pub mod large_deflection;
 pub mod material;
 pub mod model;
+pub mod nonlinear;
 pub mod performance;
 pub mod planform;
 pub mod plate;

@@ -1,6 +1,7 @@
-//! Choice of model for a prediction: original lamination theory, the thesis' adjusted fits, or the
-//! Euler-Bernoulli beam.
+//! Choice of model for a prediction: original lamination theory, the thesis' adjusted fits, the
+//! nonlinear ceramic, or the Euler-Bernoulli beam.
 
+use crate::ceramic::Ceramic;
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
 use crate::effects::{Actuator, Effects, StackBasis, StackSection};
@@ -8,6 +9,7 @@ use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
 use crate::laminate::Laminate;
+use crate::nonlinear;
 use crate::performance::{evaluate, MassBreakdown, Performance};
 use crate::planform::Planform;
 use crate::primitives::{self, Applied, Link};
@@ -24,6 +26,9 @@ pub enum ModelKind {
     ThesisAdjusted,
     /// Euler-Bernoulli beam, eqs. 2.11-2.15; rectangular designs only.
     EulerBernoulli,
+    /// Lamination theory with the PZT's field-dependent stress coefficient and bimodular modulus of
+    /// Jafferis, Smith & Wood 2015 ([`crate::nonlinear`], docs/physics.md §18).
+    Nonlinear,
 }
 
 impl ModelKind {
@@ -33,6 +38,7 @@ impl ModelKind {
             ModelKind::Original => "original",
             ModelKind::ThesisAdjusted => "thesis-adjusted",
             ModelKind::EulerBernoulli => "euler-bernoulli",
+            ModelKind::Nonlinear => "nonlinear",
         }
     }
 }
@@ -48,6 +54,10 @@ pub fn predict(
     let original = evaluate(&section, planform);
     match kind {
         ModelKind::Original => Ok(original),
+        ModelKind::Nonlinear => {
+            let pzt = &laminate.layers()[laminate.piezo_layer(0)].material;
+            nonlinear::predict(laminate, planform, drive, Ceramic::of(pzt)?)
+        }
         ModelKind::ThesisAdjusted => Ok(empirical::adjust(
             &original,
             planform,
@@ -335,6 +345,12 @@ impl ModelChoice {
             ModelChoice::Kind(k) => k.name(),
             ModelChoice::Calibrated(_) => "calibrated",
         }
+    }
+
+    /// True when the model's stiffness and blocked force per field change with the field (the
+    /// nonlinear ceramic, docs/physics.md §18): a drive then predicts at its operating field.
+    pub fn depends_on_field(&self) -> bool {
+        matches!(self, ModelChoice::Kind(ModelKind::Nonlinear))
     }
 
     /// Predict one actuator from its raw inputs (the calibrated effects change the stack itself, so they

@@ -144,9 +144,46 @@ fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -
     ))
 }
 
+/// Rounds of the search for the operating field of a field-dependent model.
+const FIELD_ROUNDS: usize = 16;
+
 /// Analyse a drive file's design (already built for its process) under a model. With flexures in the
-/// file, the transmission's stiffness, inertia and mass are the drawn linkage's.
+/// file, the transmission's stiffness, inertia and mass are the drawn linkage's. A model whose
+/// stiffness and blocked force per field depend on the field (the nonlinear ceramic) is predicted at
+/// the field its operating point needs: the design is predicted again at that field until the field
+/// settles (docs/physics.md §18.5).
 pub fn analyse(
+    spec: &DriveSpec,
+    design: &Design,
+    model: &ModelChoice,
+) -> Result<Analysis, DriveError> {
+    let mut analysis = analyse_at(spec, design, model)?;
+    if !model.depends_on_field() {
+        return Ok(analysis);
+    }
+    // The linkage stays the one sized from the design's free deflection at its own field.
+    let mut spec = spec.clone();
+    if let LinkageSpec::Solve { travel, .. } = &mut spec.transmission.linkage {
+        travel.get_or_insert(analysis.report.actuator.free_deflection_mm * 1e-3);
+    }
+    let mut at = design.clone();
+    for _ in 0..FIELD_ROUNDS {
+        let field = analysis
+            .report
+            .operating
+            .as_ref()
+            .map_or(0.0, |o| o.field_V_per_mm * 1e3);
+        if field <= 0.0 || (field - at.drive.field).abs() <= 1e-4 * field {
+            break;
+        }
+        at.drive.field = field;
+        analysis = analyse_at(&spec, &at, model)?;
+    }
+    Ok(analysis)
+}
+
+/// [`analyse`] with the model predicted at the design's own field.
+fn analyse_at(
     spec: &DriveSpec,
     design: &Design,
     model: &ModelChoice,

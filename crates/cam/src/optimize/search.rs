@@ -196,7 +196,11 @@ impl Problem {
             extension_ratio,
             width_ratio,
         )?;
-        if self.strains_past_limit(candidate, extension_ratio, width_ratio)? {
+        let past = match (self.max_strain, rates.peak_strain) {
+            (Some(limit), Some(strain)) => strain > limit * (1.0 + STRAIN_SLACK),
+            _ => self.strains_past_limit(candidate, extension_ratio, width_ratio)?,
+        };
+        if past {
             return Ok(None);
         }
         Ok(Some(rates))
@@ -236,6 +240,7 @@ impl Problem {
                 energy: 0.0,
                 mass: f64::INFINITY,
                 basis: None,
+                peak_strain: None,
             })
     }
 
