@@ -313,7 +313,7 @@ fn the_mfi_thorax_worked_example_is_what_the_tool_prints() {
         );
         lines += 1;
     }
-    assert_eq!(lines, 7);
+    assert_eq!(lines, 8);
     // The published flexures (O, B, A) and their turns at ±60° of wing (the prose's 60°, 64.8°, 4.8°).
     let e = 2.5e9;
     let t = 7.6e-6;
