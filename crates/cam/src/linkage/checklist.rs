@@ -30,14 +30,17 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize, pin_fit: &str) -> Vec<Str
 
 /// The steps for `quantity` linkages nested as coupons (docs/cam.md §7, "Nested with the actuators"):
 /// `sheets` says where each layer's coupons are (stack positions, sheet), `prefix` names the coupon's
-/// files; `pin_fit` says the dowels in the pin holes.
+/// files; `pin_fit` says the dowels in the pin holes; `jig` is the jig's step and file stem
+/// ([`super::jig::jig_step`]).
 pub fn coupon_steps(
     l: &LinkageReport,
     quantity: usize,
     sheets: &[(Vec<usize>, String)],
     prefix: &str,
     pin_fit: &str,
+    jig: (&str, &str),
 ) -> Vec<String> {
+    let (jig_step, jig) = jig;
     let whereabouts: Vec<String> = sheets
         .iter()
         .map(|(layers, sheet)| {
@@ -56,13 +59,14 @@ pub fn coupon_steps(
             "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pins: {}. Keep each adhesive coupon on its release liner. `{prefix}*-1` are one coupon of each layer as nested, before its turn on the sheet.",
             whereabouts.join("; ")
         ),
+        jig_step.to_string(),
         format!(
-            "For each linkage stack its coupons on four pins through their pin holes, {pin_fit}, the chamfered corner matching; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "For each linkage stack its coupons on the jig's four dowels (`{jig}`) through their pin holes, {pin_fit}, the chamfered corner on the jig's outline; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
-        cure_step(l, "the coupons", "on their pins"),
+        cure_step(l, "the coupons", "on the jig's dowels"),
         format!(
-            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
+            "Lay the jig on the laser bed with each laminated coupon on its dowels and run the release cut `{prefix}{release}-release-1` over each coupon: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
         ),
     ]
     .into_iter()

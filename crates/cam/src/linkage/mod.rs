@@ -10,6 +10,7 @@
 //! | `mass.rs` | mass and inertia from the drawn areas |
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
 //! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
+//! | `jig.rs` | the jig plate the nested coupons stack, cure and release on |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
@@ -18,6 +19,7 @@ pub mod checks;
 pub mod coupon;
 pub mod drawings;
 pub mod flexures;
+pub mod jig;
 pub mod mass;
 pub mod pattern;
 

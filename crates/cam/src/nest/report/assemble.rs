@@ -22,6 +22,7 @@ impl NestReport {
         built: &Build,
         on_sheets: &[Option<usize>],
         linkage_prefixes: &[String],
+        jig: Option<&str>,
     ) -> NestReport {
         let sheets = sheet_rows(batch, built);
         let mut totals = Vec::new();
@@ -31,7 +32,7 @@ impl NestReport {
         price_totals(&mut totals);
         let priced: Vec<&TotalRow> = totals.iter().filter(|r| r.cost.is_some()).collect();
         let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
-        let linkages = linkage_rows(batch, linkage_prefixes);
+        let linkages = linkage_rows(batch, linkage_prefixes, jig.unwrap_or_default());
         let build_book = build_book(batch, built, &linkages);
         NestReport {
             name: batch.name.clone(),
@@ -244,13 +245,22 @@ fn price_totals(totals: &mut [TotalRow]) {
 }
 
 /// Each item's linkage: its laminate, coupon, sheets and build steps.
-fn linkage_rows(batch: &Batch, linkage_prefixes: &[String]) -> Vec<NestLinkageRow> {
+/// `jig` names the jig file the coupons stack on.
+fn linkage_rows(batch: &Batch, linkage_prefixes: &[String], jig: &str) -> Vec<NestLinkageRow> {
     batch
         .linkages
         .iter()
         .zip(linkage_prefixes)
         .map(|(l, prefix)| {
             let laminate = l.laminate.report();
+            let design = &batch.items[l.item].design.name;
+            let jig_step = crate::linkage::jig::jig_step(
+                jig,
+                (design, l.quantity),
+                &l.coupon.clamp,
+                &l.laminate.process,
+                l.laminate.stack_thickness_mm(),
+            );
             NestLinkageRow {
                 design: batch.items[l.item].design.name.clone(),
                 drive_file: l.drive.display().to_string(),
@@ -273,6 +283,7 @@ fn linkage_rows(batch: &Batch, linkage_prefixes: &[String]) -> Vec<NestLinkageRo
                     &l.sheets,
                     prefix,
                     &crate::book::pin_fit_text(&l.coupon.clamp),
+                    (&jig_step, jig),
                 ),
                 laminate,
             }
