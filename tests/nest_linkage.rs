@@ -367,4 +367,79 @@ fn the_coupons_jig_holds_each_linkages_pin_pattern_at_the_dowel_size() {
     assert_eq!(total, 7);
     let stock = report["stock_list"].to_string();
     assert!(stock.contains("glass-polyimide laminate"), "{stock}");
+    the_nest_book_names_the_linkage_files_and_marks_the_reference_ones(&report, &out, &names);
+}
+
+/// The nest's linkage steps name every nested linkage sheet file and lay up the carbon's own prepreg;
+/// each per-coupon stack-layer file says in its SVG title and DXF comment that it is reference only,
+/// and the book says so too; the release file engraves nothing over layer 5's label; every nested
+/// linkage sheet engraves its coupons (where, off the bonded zones, the file-pair tests check).
+fn the_nest_book_names_the_linkage_files_and_marks_the_reference_ones(
+    report: &serde_json::Value,
+    out: &Path,
+    names: &[String],
+) {
+    let sheets: Vec<&String> = names
+        .iter()
+        .filter(|n| {
+            ["carbon", "adhesive", "film"]
+                .iter()
+                .any(|p| n.starts_with(&format!("linkage-{p}-1_")))
+                && n.ends_with(".svg")
+        })
+        .collect();
+    assert_eq!(sheets.len(), 3, "{names:?}");
+    for l in report["linkages"].as_array().unwrap() {
+        let steps: Vec<&str> = l["build_steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap())
+            .collect();
+        for sheet in &sheets {
+            let stem = sheet.trim_end_matches(".svg");
+            assert!(
+                steps[0].contains(&format!("`{stem}`")),
+                "{stem}: {}",
+                steps[0]
+            );
+            let svg = std::fs::read_to_string(out.join(sheet)).unwrap();
+            let engrave = &svg[svg.find("id=\"layer-engrave\"").unwrap()..];
+            let strokes = engrave
+                .split("</g>")
+                .next()
+                .unwrap()
+                .matches("<path")
+                .count();
+            assert!(strokes > 20, "{sheet}: {strokes} engraved strokes");
+        }
+        assert!(
+            steps[1]
+                .starts_with("Lay up the linkage carbon's prepreg: 3 plies of CF-thesis at 0/90/0"),
+            "{}",
+            steps[1]
+        );
+        let prefix = l["prefix"].as_str().unwrap();
+        assert!(
+            steps[0].contains("reference only, never to be cut"),
+            "{}",
+            steps[0]
+        );
+        for n in names.iter().filter(|n| n.starts_with(prefix)) {
+            let text = std::fs::read_to_string(out.join(n)).unwrap();
+            let reference = text.contains("REFERENCE ONLY, not to be cut");
+            assert_eq!(reference, !n.contains("-release-"), "{n}");
+            if n.contains("-release-") && n.ends_with(".svg") {
+                let engrave = text.find("id=\"layer-engrave\"");
+                assert!(
+                    engrave.is_none_or(|at| !text[at..]
+                        .split("</g>")
+                        .next()
+                        .unwrap()
+                        .contains("<path")),
+                    "{n} engraves over layer 5's label"
+                );
+            }
+        }
+    }
 }

@@ -56,8 +56,9 @@ pub fn coupon_steps(
     let release = l.layers.len() + 1;
     vec![
         format!(
-            "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pins: {}. Keep each adhesive coupon on its release liner. `{prefix}*-1` are one coupon of each layer as nested, before its turn on the sheet.",
-            whereabouts.join("; ")
+            "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pin radius: {}. Keep each adhesive coupon on its release liner. `{prefix}1-…` to `{prefix}{}-…` are reference only, never to be cut (each file's title says so): one coupon of each layer as nested, before its turn on the sheet.",
+            whereabouts.join("; "),
+            l.layers.len()
         ),
         jig_step.to_string(),
         format!(
