@@ -67,7 +67,7 @@ pub fn coupon_steps(
         ),
         cure_step(l, "the coupons", "on the jig's dowels"),
         format!(
-            "Lay the jig on the laser bed with each laminated coupon on its dowels and run the release cut `{prefix}{release}-release-1` over each coupon: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
+            "Lay the jig on the laser bed with each laminated coupon on its dowels and run the release cut `{prefix}{release}-release-1` over each coupon, the file's origin on the lower-left corner of the coupon's outline engraved on the jig: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
         ),
     ]
     .into_iter()

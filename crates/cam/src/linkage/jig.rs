@@ -7,11 +7,11 @@
 //!
 //! The holes are cut to the dowel's diameter (drawn kerf/2 inside it), a line-to-line fit the dowel is
 //! pressed into, where the coupons' holes are the clamp panel's, with the clearance the stacking step
-//! states ([`crate::book::pin_fit_text`]). Each coupon's outline is drawn on the REFERENCE layer (where
-//! it lies, the chamfered corner matching), its name and pin pattern engraved under it.
+//! states ([`crate::book::pin_fit_text`]). Each coupon's outline is engraved (where it lies, the chamfered
+//! corner matching, and where the release file's origin goes), its name engraved under it.
 
 use crate::drawing::label::{label_strokes, label_width};
-use crate::drawing::model::{file_stem, Drawing, Operation, Shape, Stock};
+use crate::drawing::model::{file_stem, Drawing, Shape, Stock};
 use crate::pipeline::{panel_outline, pin_centres, SheetDrawing};
 use crate::process::linkage::LinkageProcess;
 use crate::process::template::ClampSpec;
@@ -88,7 +88,7 @@ pub fn jig_drawing(
         let at = [x, gap + LABEL_MM + gap];
         let moved = |q: Point| [q[0] + at[0], q[1] + at[1]];
         d.add(
-            Operation::Reference,
+            features.op(Feature::PanelLabel),
             Shape::Polygon(panel_outline(c).into_iter().map(moved).collect()),
         );
         for centre in pin_centres(c) {
