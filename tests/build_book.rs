@@ -333,6 +333,36 @@ fn the_books_in_the_docs_are_what_the_tool_writes() {
         doc.contains(&book_section(&md, "\n## Parts on each sheet")),
         "docs/build-book.md does not hold the batch's book"
     );
+    // The linkage's steps: on the clamp panel (cut-sheet --drive) and nested as coupons on their jig.
+    let between = |md: &str, start: &str, end: &str| {
+        let a = md.find(start).unwrap_or_else(|| panic!("no {start:?}"));
+        md[a..a + md[a..].find(end).unwrap()]
+            .trim_matches('\n')
+            .to_string()
+    };
+    let out = dir.path().join("linkage");
+    let o = cut_sheet(
+        "examples/robobee-class.toml",
+        &out,
+        &["--drive", "examples/drive-robobee-linkage.toml"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let steps = between(&md, "### Linkage build checklist", "\nKerf values");
+    assert!(steps.contains("Joint B folds"), "{steps}");
+    assert!(
+        doc.contains(&steps),
+        "docs/build-book.md does not hold the linkage's steps"
+    );
+    let out = dir.path().join("nest-linkage");
+    nest_ok("examples/batch-linkage.toml", &out, "100");
+    let md = std::fs::read_to_string(out.join("nest-report.md")).unwrap();
+    let steps = between(&md, "### Linkages of thesis-7", "\n## Parts on each sheet");
+    assert!(steps.contains("The jig `jig-1-linkage-coupons_"), "{steps}");
+    assert!(
+        doc.contains(&steps),
+        "docs/build-book.md does not hold the nested linkages' steps"
+    );
 }
 
 #[test]

@@ -103,24 +103,25 @@ fn the_resonance_at_the_operating_stroke_is_where_that_stroke_lags_the_drive_by_
 #[test]
 fn a_linkage_its_film_cannot_bend_is_not_reached_and_says_which_flexure() {
     // The insect-scale example reaches its stroke within the field limit through a linkage given by
-    // its stiffness, but the flexure rules cut-sheet draws it with (docs/cam.md §7) cannot make its wing
-    // hinge: ±56° on a 12.7 µm film needs 208 µm of unbonded film (8 µm of gap between the 0.1 mm
-    // adhesive cut-backs), a gap bends rather than shears from 5 film thicknesses (63.5 µm), and a
-    // 0.208 mm crank holds at most 0.3 of itself (62.3 µm). drive says so, as cut-sheet refuses the
-    // same linkage.
+    // its stiffness, but the flexure rules cut-sheet draws it with (docs/cam.md §7) cannot make its
+    // crank-coupler joint: folded 91.3° at assembly and turning on the fold, B's film bends up to 138.9°
+    // (docs/physics.md §16.7), which 7.6 µm film at 3 % takes over 7.6 · 2.424 / 0.06 = 307 µm of
+    // unbonded film, a gap of 107 µm between the 0.1 mm adhesive cut-backs, and a 0.208 mm crank holds
+    // at most 0.3 of itself (62.3 µm). drive says so, as cut-sheet refuses the same linkage.
     let (dir, path) = coercive_copy("drive-robobee.toml");
     let r = drive_analysis(&path).report;
     assert!(r.unreachable.is_none() && !r.reached, "{}", r.table());
     let why = r.unbuildable_linkage.as_deref().unwrap();
     assert!(
         why.starts_with(
-            "flexure O (crank on airframe, the wing hinge): 63.5 to 62.3 µm: at least 8.0 µm"
-        ) && why.contains("a longer crank"),
+            "flexure B (crank on coupler): 107.0 to 62.3 µm: at least 107.0 µm for the strain bent 138.9°, folded 91.3° at assembly"
+        ) && why.contains("3.00 % fatigue strain of 7.6 µm film")
+            && why.contains("a longer crank"),
         "{why}"
     );
     let err = refused_in_one_line(&run(&["drive", path.to_str().unwrap()]));
     assert!(
-        err.contains("drive-robobee.toml: transmission: the linkage cannot be built: flexure O"),
+        err.contains("drive-robobee.toml: transmission: the linkage cannot be built: flexure B"),
         "{err}"
     );
     let out = tempfile::tempdir().unwrap();

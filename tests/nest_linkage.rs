@@ -288,3 +288,158 @@ fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
     assert!(err.contains("bee.toml: transmission = (given)"), "{err}");
     assert!(!out.exists());
 }
+
+/// The CUT-layer circles of a DXF: centre and radius, mm.
+fn cut_circles(path: &Path) -> Vec<([f64; 2], f64)> {
+    use dxf::entities::EntityType as E;
+    let doc = dxf::Drawing::load_file(path).unwrap();
+    doc.entities()
+        .filter(|e| e.common.layer == "CUT")
+        .filter_map(|e| match &e.specific {
+            E::Circle(c) => Some(([c.center.x, c.center.y], c.radius)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The jig the coupons stack, cure and release on (docs/cam.md §7): read back from its DXF, each
+/// linkage's coupons have their pin pattern on it, as many times as the linkage's quantity, read back
+/// from the coupon's own carbon file; each jig hole is cut to the template's Ø1.5 mm dowel
+/// (`clamp.dowel_diameter_mm`: the drawn radius and half the linkage kerf), where the coupons' holes
+/// clear it; the jig is on the stock list and every linkage's stacking step names it.
+#[test]
+fn the_coupons_jig_holds_each_linkages_pin_pattern_at_the_dowel_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let batch = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/batch-linkage.toml");
+    let report = nest_ok(batch.to_str().unwrap(), &out, "100");
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    let jig = names
+        .iter()
+        .find(|n| n.starts_with("jig-1-linkage-coupons_") && n.ends_with(".dxf"))
+        .expect("a jig file");
+    let stem = jig.trim_end_matches(".dxf");
+    let holes = cut_circles(&out.join(jig));
+    let half = LINKAGE_KERF_MM / 2.0;
+    for (_, r) in &holes {
+        assert!((2.0 * (r + half) - 1.5).abs() < 1e-6, "jig hole radius {r}");
+    }
+    // The pattern of four holes relative to the first, as a file draws them.
+    let pattern = |four: &[([f64; 2], f64)]| -> Vec<[f64; 2]> {
+        four.iter()
+            .map(|(q, _)| [q[0] - four[0].0[0], q[1] - four[0].0[1]])
+            .collect()
+    };
+    let mut groups = holes.chunks(4);
+    let mut total = 0;
+    for l in report["linkages"].as_array().unwrap() {
+        let prefix = l["prefix"].as_str().unwrap();
+        let carbon = names
+            .iter()
+            .find(|n| n.starts_with(&format!("{prefix}1-carbon-1_")) && n.ends_with(".dxf"))
+            .unwrap();
+        let pins = cut_circles(&out.join(carbon));
+        assert_eq!(pins.len(), 4);
+        for (_, r) in &pins {
+            assert!(2.0 * (r + half) > 1.5 + 0.05, "coupon hole radius {r}");
+        }
+        let want = pattern(&pins);
+        for _ in 0..l["quantity"].as_u64().unwrap() {
+            let got = pattern(groups.next().expect("a group of jig holes per coupon"));
+            for (g, w) in got.iter().zip(&want) {
+                assert!(
+                    (g[0] - w[0]).abs() < 1e-6 && (g[1] - w[1]).abs() < 1e-6,
+                    "{prefix}: {got:?} vs {want:?}"
+                );
+            }
+            total += 1;
+        }
+        let steps = l["build_steps"].to_string();
+        assert!(
+            steps.contains(&format!("on the jig's four dowels (`{stem}`)")),
+            "{steps}"
+        );
+    }
+    assert_eq!(holes.len(), 4 * total);
+    assert_eq!(total, 7);
+    let stock = report["stock_list"].to_string();
+    assert!(stock.contains("glass-polyimide laminate"), "{stock}");
+    the_nest_book_names_the_linkage_files_and_marks_the_reference_ones(&report, &out, &names);
+}
+
+/// The nest's linkage steps name every nested linkage sheet file and lay up the carbon's own prepreg;
+/// each per-coupon stack-layer file says in its SVG title and DXF comment that it is reference only,
+/// and the book says so too; the release file engraves nothing over layer 5's label; every nested
+/// linkage sheet engraves its coupons (where, off the bonded zones, the file-pair tests check).
+fn the_nest_book_names_the_linkage_files_and_marks_the_reference_ones(
+    report: &serde_json::Value,
+    out: &Path,
+    names: &[String],
+) {
+    let sheets: Vec<&String> = names
+        .iter()
+        .filter(|n| {
+            ["carbon", "adhesive", "film"]
+                .iter()
+                .any(|p| n.starts_with(&format!("linkage-{p}-1_")))
+                && n.ends_with(".svg")
+        })
+        .collect();
+    assert_eq!(sheets.len(), 3, "{names:?}");
+    for l in report["linkages"].as_array().unwrap() {
+        let steps: Vec<&str> = l["build_steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap())
+            .collect();
+        for sheet in &sheets {
+            let stem = sheet.trim_end_matches(".svg");
+            assert!(
+                steps[0].contains(&format!("`{stem}`")),
+                "{stem}: {}",
+                steps[0]
+            );
+            let svg = std::fs::read_to_string(out.join(sheet)).unwrap();
+            let engrave = &svg[svg.find("id=\"layer-engrave\"").unwrap()..];
+            let strokes = engrave
+                .split("</g>")
+                .next()
+                .unwrap()
+                .matches("<path")
+                .count();
+            assert!(strokes > 20, "{sheet}: {strokes} engraved strokes");
+        }
+        assert!(
+            steps[1]
+                .starts_with("Lay up the linkage carbon's prepreg: 3 plies of CF-thesis at 0/90/0"),
+            "{}",
+            steps[1]
+        );
+        let prefix = l["prefix"].as_str().unwrap();
+        assert!(
+            steps[0].contains("reference only, never to be cut"),
+            "{}",
+            steps[0]
+        );
+        for n in names.iter().filter(|n| n.starts_with(prefix)) {
+            let text = std::fs::read_to_string(out.join(n)).unwrap();
+            let reference = text.contains("REFERENCE ONLY, not to be cut");
+            assert_eq!(reference, !n.contains("-release-"), "{n}");
+            if n.contains("-release-") && n.ends_with(".svg") {
+                let engrave = text.find("id=\"layer-engrave\"");
+                assert!(
+                    engrave.is_none_or(|at| !text[at..]
+                        .split("</g>")
+                        .next()
+                        .unwrap()
+                        .contains("<path")),
+                    "{n} engraves over layer 5's label"
+                );
+            }
+        }
+    }
+}

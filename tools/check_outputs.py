@@ -35,7 +35,8 @@ Cross-layer checks (issue 16):
          (piezo_length_mm less pzt_edge_margin_mm), so a zone is the plate the design says.
   report.json with a "linkage" (cut-sheet --drive)  every panel of linkage-*.dxf files beside it:
          the carbon layers' flexure gap slots are the same; the film covers each gap by the reported
-         margin (no film window reaches into it); an adhesive window holds each gap whole; every cut-out,
+         margin (no film window reaches into it); an adhesive window holds each gap whole, as long as the
+         report's unbonded length of that joint (the model's flexure); every cut-out,
          every web between cut-outs in a row, every release-outline edge and every hole is at least two
          kerfs; the pin holes are the same on every layer; the drawn areas (kerf taken off) times each
          layer's mass per area give the reported linkage mass to 1e-6.
@@ -576,10 +577,21 @@ def check_linkage(report_path, linkage, prefix="linkage-"):
             lo, hi = g[0] - margin, g[1] + margin
             if any(w[2] < g[3] and w[3] > g[2] and w[0] < hi - 1e-9 and w[1] > lo + 1e-9 for w in cut_outs[film]):
                 problems.append(f"{tag}: the film does not cover the gap at x = {g[0]:.4f} by {margin} mm")
+            # The model's flexure is the film left unbonded (docs/physics.md §16.6): the adhesive window
+            # over the gap, as long as the report's unbonded length of the joint with this gap.
+            unbonded = [f["unbonded_um"] / 1e3 for f in linkage["flexures"]
+                        if abs(f["length_um"] / 1e3 - (g[1] - g[0])) < 1e-6]
+            if not unbonded:
+                problems.append(f"{tag}: the gap at x = {g[0]:.4f} is no flexure of the report")
             for a in adhesive:
-                if not any(w[0] <= g[0] + 1e-9 and w[1] >= g[1] - 1e-9 and w[2] <= g[2] + 1e-9 and w[3] >= g[3] - 1e-9
-                           for w in cut_outs[a]):
+                held = [w for w in cut_outs[a]
+                        if w[0] <= g[0] + 1e-9 and w[1] >= g[1] - 1e-9 and w[2] <= g[2] + 1e-9 and w[3] >= g[3] - 1e-9]
+                if not held:
                     problems.append(f"{tag}: adhesive over the gap at x = {g[0]:.4f} in {names[a]}")
+                elif not any(abs(held[0][1] - held[0][0] - u) < 1e-6 for u in unbonded):
+                    problems.append(
+                        f"{tag}: the film is unbonded over {held[0][1] - held[0][0]:.4f} mm at x = {g[0]:.4f}"
+                        f" in {names[a]}, the model's flexure {unbonded} mm")
         for n, bands in zip(names, cut_outs):
             for b in bands:
                 if b[1] - b[0] < two or b[3] - b[2] < two:

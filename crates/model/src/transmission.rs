@@ -146,6 +146,17 @@ impl Linkage {
         Some([angle - rest, (angle - psi) - (rest - psi0), psi - psi0])
     }
 
+    /// Bend of joint B's film from the flat laminate when the wing is at `θ`, rad: the links are cut in
+    /// a row, O-B-A, so B's film is flat when the crank lies along the coupler; assembled, the angle
+    /// between `BO = -B` (direction `θ - π/2`) and `BA` (direction `ψ`) is `π/2 + ψ - θ`, and the film is
+    /// bent by its supplement, `β(θ) = π/2 + θ - ψ(θ)` (docs/physics.md §16.7). `β(θ0)` is the fold set
+    /// at assembly, and `β(θ) - β(θ0)` is B's turn of [`Self::joint_rotations`]. `None` beyond the
+    /// coupler's reach.
+    pub fn bend_at_b(&self, angle: f64) -> Option<f64> {
+        self.coupler_angle(angle)
+            .map(|psi| std::f64::consts::FRAC_PI_2 + angle - psi)
+    }
+
     /// `dφ_i/dθ` of the three joints at the rest position: `[1, 1 - ψ'(θ0), ψ'(θ0)]`. A flexure of
     /// stiffness `k_i` at joint `i` holds the wing with `Σ k_i (dφ_i/dθ)²` about the hinge, linearised at
     /// rest (docs/physics.md §16.4).
@@ -273,6 +284,23 @@ mod tests {
                 "{x}: {joints:?} {psi}"
             );
             assert!((joints[1] - (joints[0] - joints[2])).abs() < 1e-15);
+        }
+        // B's film bend from the flat row O-B-A: π less the angle between BO and BA of the construction.
+        for x in [-0.75e-3, 0.0, 0.75e-3] {
+            let theta = constructed(l1, l3, link.offset + x);
+            let (b, a) = (
+                [-l3 * theta.sin(), l3 * theta.cos()],
+                [l1 - link.offset - x, l3],
+            );
+            let (bo, ba) = ([-b[0], -b[1]], [a[0] - b[0], a[1] - b[1]]);
+            let between = (bo[0] * ba[1] - bo[1] * ba[0])
+                .abs()
+                .atan2(bo[0] * ba[0] + bo[1] * ba[1]);
+            let bend = link.bend_at_b(theta).unwrap();
+            assert!((bend - (PI - between)).abs() < 1e-12, "{x}: {bend}");
+            let rest = link.stroke_angle(0.0).unwrap();
+            let turn = link.joint_rotations(theta).unwrap()[1];
+            assert!((bend - link.bend_at_b(rest).unwrap() - turn).abs() < 1e-12);
         }
         // The rates against central differences.
         let rest = link.stroke_angle(0.0).unwrap();

@@ -30,14 +30,17 @@ pub fn linkage_steps(l: &LinkageReport, panels: usize, pin_fit: &str) -> Vec<Str
 
 /// The steps for `quantity` linkages nested as coupons (docs/cam.md §7, "Nested with the actuators"):
 /// `sheets` says where each layer's coupons are (stack positions, sheet), `prefix` names the coupon's
-/// files; `pin_fit` says the dowels in the pin holes.
+/// files; `pin_fit` says the dowels in the pin holes; `jig` is the jig's step and file stem
+/// ([`super::jig::jig_step`]).
 pub fn coupon_steps(
     l: &LinkageReport,
     quantity: usize,
     sheets: &[(Vec<usize>, String)],
     prefix: &str,
     pin_fit: &str,
+    jig: (&str, &str),
 ) -> Vec<String> {
+    let (jig_step, jig) = jig;
     let whereabouts: Vec<String> = sheets
         .iter()
         .map(|(layers, sheet)| {
@@ -53,16 +56,18 @@ pub fn coupon_steps(
     let release = l.layers.len() + 1;
     vec![
         format!(
-            "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pins: {}. Keep each adhesive coupon on its release liner. `{prefix}*-1` are one coupon of each layer as nested, before its turn on the sheet.",
-            whereabouts.join("; ")
+            "The {quantity} linkage(s) are nested as coupons, one per layer and linkage, each with four pin holes of the clamp panel's pin radius: {}. Keep each adhesive coupon on its release liner. `{prefix}1-…` to `{prefix}{}-…` are reference only, never to be cut (each file's title says so): one coupon of each layer as nested, before its turn on the sheet.",
+            whereabouts.join("; "),
+            l.layers.len()
         ),
+        jig_step.to_string(),
         format!(
-            "For each linkage stack its coupons on four pins through their pin holes, {pin_fit}, the chamfered corner matching; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
+            "For each linkage stack its coupons on the jig's four dowels (`{jig}`) through their pin holes, {pin_fit}, the chamfered corner on the jig's outline; bottom to top: {}; peel each adhesive liner as its coupon goes on. Check that every carbon slot lies under film and that no adhesive shows in a slot.",
             stack.join(" → ")
         ),
-        cure_step(l, "the coupons", "on their pins"),
+        cure_step(l, "the coupons", "on the jig's dowels"),
         format!(
-            "Put each laminated coupon on the laser's pins through its pin holes and run the release cut `{prefix}{release}-release-1`: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
+            "Lay the jig on the laser bed with each laminated coupon on its dowels and run the release cut `{prefix}{release}-release-1` over each coupon, the file's origin on the lower-left corner of the coupon's outline engraved on the jig: it cuts the outline and the mounting hole through the stack, and the film alone across each gap; the pin holes are drawn grey, a guide the laser never runs, since the coupon sits on the steel dowels through them."
         ),
     ]
     .into_iter()
@@ -83,34 +88,20 @@ fn cure_step(l: &LinkageReport, what: &str, pins: &str) -> String {
     }
 }
 
-/// The film's surface strain when joint B is folded 90° at assembly, `ε = t φ / (2 L_e)` (docs/physics.md
-/// §16.2, §16.6) at `φ = π/2`, from the model's strain per turn at B; and the film's limit.
-pub fn fold_strain(l: &LinkageReport) -> Option<(f64, f64)> {
-    let b = l.flexures.get(1)?;
-    let turn = b.peak_rotation_deg.to_radians();
-    (turn > 0.0).then(|| {
-        (
-            b.peak_strain / turn * std::f64::consts::FRAC_PI_2,
-            b.strain_limit,
-        )
-    })
-}
-
-/// Assembling a released linkage to its actuator and checking it.
+/// Assembling a released linkage to its actuator and checking it. Joint B's fold and the strain of
+/// the fold with the flight's turn on top, `ε = t β / (2 L_e)` (docs/physics.md §16.7), are the report's:
+/// the flexure check chose B's length for them, so they are within the film's limit.
 fn assembly(l: &LinkageReport) -> Vec<String> {
-    let fold = match fold_strain(l) {
-        Some((e, limit)) if e <= limit => format!(
-            " Folding joint B 90° strains its film {:.2} %, within its {:.2} % (t φ / (2 L) over the unbonded film).",
-            e * 100.0,
-            limit * 100.0
-        ),
-        Some((e, limit)) => format!(
-            " Folding joint B 90° strains its film {:.2} %, over its {:.2} % (t φ / (2 L) over the unbonded film): the film yields at the fold; lengthen flexure B (flexure_length_um) before building.",
-            e * 100.0,
-            limit * 100.0
-        ),
-        None => String::new(),
-    };
+    let fold = l.flexures.get(1).map_or(String::new(), |b| {
+        format!(
+            " Joint B folds {:.1}° here and turns on that fold in flight: its film bends up to {:.1}° from flat, {:.2} % strain over its {:.1} µm of unbonded film (t β / (2 L)), within the film's {:.2} %.",
+            b.assembly_fold_deg,
+            b.peak_bend_deg,
+            b.peak_strain * 100.0,
+            b.unbonded_um,
+            b.strain_limit * 100.0
+        )
+    });
     vec![
         format!(
             "Fold the crank up against the coupler at joint B and fix the airframe tab through its {:.2} mm hole; bond the tip tab (beyond joint A) onto the actuator's extension end with the coupler along the actuator's travel.{fold}",
@@ -118,36 +109,4 @@ fn assembly(l: &LinkageReport) -> Vec<String> {
         ),
         "Move the actuator tip by hand: the wing crank must turn about joint O with no adhesive stiffening a hinge and no film torn at a gap edge.".to_string(),
     ]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::linkage::tests::hawkmoth;
-
-    #[test]
-    fn the_fold_at_b_states_its_strain_and_a_yielding_fold_says_so() {
-        // ε = t φ / (2 L_e) at φ = π/2 (docs/physics.md §16.2): strain is linear in the turn, so it is the
-        // model's strain at B's peak turn scaled to 90°.
-        let (l, _) = hawkmoth();
-        let mut r = l.report();
-        let b = &r.flexures[1];
-        let expected = b.peak_strain * 90.0 / b.peak_rotation_deg;
-        let (e, limit) = fold_strain(&r).unwrap();
-        assert!((e - expected).abs() < 1e-12 * expected, "{e} vs {expected}");
-        let fold = |r: &LinkageReport| assembly(r)[0].clone();
-        // The hawk moth's B, the shortest the flight allows (12.7 µm film), yields at the fold: 3.79 %.
-        assert!(
-            fold(&r).contains("strains its film 3.79 %, over its 3.00 %"),
-            "{}",
-            fold(&r)
-        );
-        // A film that strains half the limit at the fold is within it.
-        r.flexures[1].peak_strain *= 0.5 * limit / e;
-        assert!(
-            fold(&r).contains("strains its film 1.50 %, within its 3.00 %"),
-            "{}",
-            fold(&r)
-        );
-    }
 }

@@ -13,6 +13,7 @@
 use super::drawings::draw_panels;
 use super::pattern::{Ply, STACK};
 use super::LinkageLaminate;
+use crate::drawing::label::{label_strokes, label_width};
 use crate::parts::ImportedPart;
 use crate::pipeline::{panel_outline, pin_centres, SheetDrawing};
 use crate::process::template::{ClampSpec, Template};
@@ -40,7 +41,16 @@ pub struct CouponPart {
     pub part: ImportedPart,
     /// Pin holes: centre and radius, mm.
     pub pins: Vec<(Point, f64)>,
+    /// The linkage's release outline, where the layer is bonded to its neighbours, turned as the part.
+    pub zone: Vec<Point>,
 }
+
+/// Room kept between an engraving and the coupon's edges, pins and cut-outs, mm: the engraved line's
+/// own width and the frayed edge.
+const LABEL_MARGIN_MM: f64 = 0.2;
+
+/// Height of a coupon's engraving at most, mm.
+const LABEL_HEIGHT_MM: f64 = 1.0;
 
 impl Coupon {
     /// The coupon of `laminate` with the pins of `template`'s clamp panel: each pin hole a radius and
@@ -84,13 +94,55 @@ impl Coupon {
         )
     }
 
+    /// A quarter turn counter-clockwise about the coupon's centre: the links (+x) along +y, as the
+    /// nested parts lie.
+    fn turn(&self, q: Point) -> Point {
+        let c = &self.clamp;
+        let centre = [c.panel_width_mm / 2.0, c.panel_height_mm / 2.0];
+        [-(q[1] - centre[1]), q[0] - centre[0]]
+    }
+
+    /// The engraving of `copies` nested coupons of `name` (`thesis-7 carbon 3`, else shorter), turned
+    /// as the parts: in the border below the linkage, between the bottom pins, clear of the slots'
+    /// overrun, the pins and the edge by [`LABEL_MARGIN_MM`]; off the bonded release outline, as a
+    /// panel's label is. A copy whose text has no room carries none.
+    pub fn labels(&self, name: &str, layer: &str, copies: usize) -> Vec<Vec<Vec<Point>>> {
+        let c = &self.clamp;
+        let m = LABEL_MARGIN_MM;
+        let x0 = c.pin_inset_mm + c.pin_radius_mm + m;
+        let room = c.panel_width_mm - 2.0 * x0;
+        // The slots and windows start `overrun` below the linkage, at the border's top.
+        let height = (c.border_mm - 2.0 * m).min(LABEL_HEIGHT_MM);
+        (1..=copies)
+            .map(|k| {
+                [
+                    format!("{name} {layer} {k}"),
+                    format!("{name} {k}"),
+                    k.to_string(),
+                ]
+                .iter()
+                .find(|t| height > 0.0 && label_width(t, height) <= room)
+                .map_or_else(Vec::new, |t| {
+                    label_strokes(t, [x0, (c.border_mm - height) / 2.0], height)
+                        .into_iter()
+                        .map(|s| s.into_iter().map(|q| self.turn(q)).collect())
+                        .collect()
+                })
+            })
+            .collect()
+    }
+
     /// The parts to nest: one per distinct layer (carbon, adhesive, film), in stack order of first use.
     /// `file` is the drive file the parts are reported with.
     pub fn parts(&self, laminate: &LinkageLaminate, file: &Path) -> Vec<CouponPart> {
         let c = &self.clamp;
-        let centre = [c.panel_width_mm / 2.0, c.panel_height_mm / 2.0];
-        // A quarter turn counter-clockwise about the coupon's centre: the links (+x) along +y.
-        let turn = |q: Point| [-(q[1] - centre[1]), q[0] - centre[0]];
+        let turn = |q: Point| self.turn(q);
+        let zone: Vec<Point> = laminate
+            .pattern
+            .outline()
+            .iter()
+            .map(|q| turn([q[0] + self.origin[0], q[1] + self.origin[1]]))
+            .collect();
         let ring = |r: Vec<Point>| r.into_iter().map(turn).collect::<Vec<Point>>();
         let mut out: Vec<CouponPart> = Vec::new();
         for (k, (ply, name)) in STACK.iter().enumerate() {
@@ -117,6 +169,7 @@ impl Coupon {
                     .into_iter()
                     .map(|q| (turn(q), c.pin_radius_mm))
                     .collect(),
+                zone: zone.clone(),
             });
         }
         out
@@ -157,6 +210,27 @@ mod tests {
                 }
             }
             assert_eq!(p.pins.len(), 4);
+        }
+        // Each copy's engraving lies in the coupon, off the bonded release outline and clear of the
+        // pin holes by the margin.
+        let labels = coupon.labels("thesis-7", "carbon", 6);
+        assert_eq!(labels.len(), 6);
+        let zone = &parts[0].zone;
+        let (zx, zy) = (
+            zone.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min),
+            zone.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max),
+        );
+        for strokes in &labels {
+            assert!(!strokes.is_empty());
+            for q in strokes.iter().flatten() {
+                assert!(q[0].abs() < h / 2.0 && q[1].abs() < w / 2.0, "{q:?}");
+                // The links run along y, so the zone spans x from zx to zy across them.
+                assert!(q[0] < zx || q[0] > zy, "{q:?} in the zone {zx}..{zy}");
+                for (centre, r) in &parts[0].pins {
+                    let d = ((q[0] - centre[0]).powi(2) + (q[1] - centre[1]).powi(2)).sqrt();
+                    assert!(d >= r + LABEL_MARGIN_MM - 1e-9, "{q:?} {d}");
+                }
+            }
         }
         // The files of the coupon: five layers and the release, each with the four pins.
         let drawings = coupon.drawings(&l, &template, "t", "linkage-x-").unwrap();

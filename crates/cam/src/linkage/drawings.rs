@@ -273,7 +273,8 @@ impl PanelDrawer<'_> {
         // The stack sits on the steel dowels through its pin holes while the release cut runs: the
         // holes are drawn as a guide the laser never runs, or the beam would land on the dowels.
         self.pins(&mut d, Operation::Reference);
-        self.label(&mut d, panel, &format!("{prefix}{levels}-release"), None);
+        // No label: the release runs on the laminated stack, whose top layer carries its own label
+        // where this one would go, and an engraving there would burn over it.
         for origin in origins {
             d.add(
                 features.op(Feature::LinkageHole),

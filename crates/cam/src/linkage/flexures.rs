@@ -3,12 +3,16 @@
 //!
 //! | bound | rule | when broken |
 //! |---|---|---|
-//! | fatigue | `ε = t φ / (2 L)` at the joint's largest turn over the stroke ≤ the film's fatigue strain | lengthened to `L = t φ / (2 ε)` |
+//! | fatigue | `ε = t β / (2 L)` at the film's largest bend `β` over the stroke ≤ the film's fatigue strain | lengthened to `L = t β / (2 ε)` |
 //! | bending | `L ≥ n t` (the template's `min_length_thicknesses`): a shorter gap shears more than it bends | lengthened to `n t` |
 //! | pivot | `L ≤ f ×` the shorter link beside it (`max_length_fraction`): a longer gap is no pivot | refused |
 //! | cutting | `L`, `w` at least two kerfs | refused |
 //!
 //! A lengthened flexure is rounded up to 0.1 µm, so the strain it reports is within the bound.
+//!
+//! The film's bend is measured from the flat laminate. O and A are flat at rest (their tabs are fixed at the
+//! links' rest angles), so their bend is the turn over the stroke; B is folded about 90° at assembly and
+//! turns on top of that fold, so its bend is the fold and the turn together (docs/physics.md §16.7).
 //!
 //! The film bends wherever it is unbonded: over the carbon gap `L` and the adhesive's cut-back `c` either
 //! side of it, where the film lies loose under the carbon at the strip's width `W`. The model's flexure is
@@ -41,9 +45,13 @@ pub struct FlexureRow {
     pub film_um: f64,
     /// `k = E w t³ / (12 L)`, µN·m/rad.
     pub stiffness_uNm_per_rad: f64,
-    /// Largest turn over the stroke, deg.
+    /// Largest turn over the stroke from rest, deg.
     pub peak_rotation_deg: f64,
-    /// `ε = t φ / (2 L)` at that turn.
+    /// Bend of the film at rest from the flat laminate, set at assembly (joint B's fold), deg.
+    pub assembly_fold_deg: f64,
+    /// Largest bend of the film from the flat laminate over the stroke, the fold and the turn together, deg.
+    pub peak_bend_deg: f64,
+    /// `ε = t β / (2 L)` at that bend.
     pub peak_strain: f64,
     /// The film's fatigue strain.
     pub strain_limit: f64,
@@ -92,6 +100,71 @@ pub fn peak_rotations(linkage: &Linkage, end_angles: (f64, f64)) -> [f64; 3] {
     peak
 }
 
+/// Each joint's film bend from the flat laminate, rad: at rest (the fold set at assembly) and the largest
+/// over the stroke. O and A are laid flat at rest, so their bend is their turn; B's is
+/// `β(θ) = π/2 + θ - ψ(θ)` (docs/physics.md §16.7).
+pub fn film_bends(linkage: &Linkage, end_angles: (f64, f64)) -> ([f64; 3], [f64; 3]) {
+    let mut bends = peak_rotations(linkage, end_angles);
+    let rest = linkage.stroke_angle(0.0).unwrap_or(0.0);
+    let fold = linkage.bend_at_b(rest).unwrap_or(0.0);
+    bends[1] = fold.abs();
+    for i in 0..=STROKE_SAMPLES {
+        let angle = end_angles.0 + (end_angles.1 - end_angles.0) * i as f64 / STROKE_SAMPLES as f64;
+        if let Some(b) = linkage.bend_at_b(angle) {
+            bends[1] = bends[1].max(b.abs());
+        }
+    }
+    ([0.0, fold, 0.0], bends)
+}
+
+/// Why a flexure was lengthened from `asked` (mm) to the shortest allowed: the bound that set it.
+fn resize_reason(
+    asked: f64,
+    bound: (f64, f64, f64),
+    bend: (f64, f64),
+    strain: f64,
+    process: &LinkageProcess,
+) -> String {
+    let (by_strain, by_bending, kerfs) = bound;
+    let (fold, bend) = bend;
+    let folded = if fold != 0.0 {
+        format!("{:.1}° of it folded at assembly", fold.to_degrees())
+    } else {
+        String::new()
+    };
+    let at = match folded.is_empty() {
+        true => format!("{:.1}°", bend.to_degrees()),
+        false => format!("{:.1}° ({folded})", bend.to_degrees()),
+    };
+    if asked == 0.0 {
+        let folded = match folded.is_empty() {
+            true => folded,
+            false => format!("{folded}; "),
+        };
+        format!(
+            "none given, the shortest the film allows bent {:.1}° ({folded}{:.2} % fatigue strain, {} film thicknesses)",
+            bend.to_degrees(),
+            process.film_fatigue_strain * 100.0,
+            process.min_length_thicknesses
+        )
+    } else if by_strain >= by_bending && by_strain >= kerfs {
+        format!(
+            "{:.1} µm strains the film {:.2} % bent {at}, over its fatigue strain {:.2} %",
+            asked * 1e3,
+            strain * 100.0,
+            process.film_fatigue_strain * 100.0
+        )
+    } else if by_bending >= kerfs {
+        format!(
+            "{:.1} µm is under {} film thicknesses (a shorter gap shears more than it bends)",
+            asked * 1e3,
+            process.min_length_thicknesses
+        )
+    } else {
+        format!("{:.1} µm is under two kerfs ({kerfs} mm)", asked * 1e3)
+    }
+}
+
 /// Check each flexure asked for (lengths 0 mean "the shortest allowed") against the film and the
 /// links; lengthen those the film strains too much or that are too short to bend.
 pub fn check_flexures(
@@ -102,6 +175,7 @@ pub fn check_flexures(
     process: &LinkageProcess,
 ) -> Result<([FlexureSize; 3], [FlexureRow; 3]), Refusal> {
     let peaks = peak_rotations(linkage, end_angles);
+    let (folds, bends) = film_bends(linkage, end_angles);
     let (crank, coupler) = (linkage.crank * 1e3, linkage.coupler * 1e3);
     let neighbour = [crank, crank.min(coupler), coupler];
     let kerf = process.kerf_mm;
@@ -124,7 +198,7 @@ pub fn check_flexures(
         let loose = 2.0 * cutback * f.width_mm / strip;
         let film = unbonded(f.length_mm, loose, f.width_mm, t, process.film_modulus);
         let by_strain =
-            film.shortest_length_for(peaks[i], process.film_fatigue_strain) * 1e3 - loose;
+            film.shortest_length_for(bends[i], process.film_fatigue_strain) * 1e3 - loose;
         let by_bending = process.min_length_thicknesses * t;
         let shortest = by_strain.max(by_bending).max(2.0 * kerf);
         let longest = process.max_length_fraction * neighbour[i];
@@ -133,48 +207,32 @@ pub fn check_flexures(
         if length < shortest {
             // Up to the next 0.1 µm, so the drawn length keeps the strain within the bound.
             let up = (shortest * 1e4).ceil() / 1e4;
-            let reason = if f.length_mm == 0.0 {
-                format!(
-                    "none given, the shortest the film allows at {:.1}° ({:.2} % fatigue strain, {} film thicknesses)",
-                    peaks[i].to_degrees(),
-                    process.film_fatigue_strain * 100.0,
-                    process.min_length_thicknesses
-                )
-            } else if by_strain >= by_bending && by_strain >= 2.0 * kerf {
-                format!(
-                    "{:.1} µm strains the film {:.2} % at {:.1}°, over its fatigue strain {:.2} %",
-                    f.length_mm * 1e3,
-                    film.strain(peaks[i]) * 100.0,
-                    peaks[i].to_degrees(),
-                    process.film_fatigue_strain * 100.0
-                )
-            } else if by_bending >= 2.0 * kerf {
-                format!(
-                    "{:.1} µm is under {} film thicknesses (a shorter gap shears more than it bends)",
-                    f.length_mm * 1e3,
-                    process.min_length_thicknesses
-                )
-            } else {
-                format!(
-                    "{:.1} µm is under two kerfs ({} mm)",
-                    f.length_mm * 1e3,
-                    2.0 * kerf
-                )
-            };
+            let reason = resize_reason(
+                f.length_mm,
+                (by_strain, by_bending, 2.0 * kerf),
+                (folds[i], bends[i]),
+                film.strain(bends[i]),
+                process,
+            );
             resized = Some(format!("{:.1} µm: {reason}", up * 1e3));
             length = up;
         }
         if length > longest {
+            let fold = if folds[i] != 0.0 {
+                format!(", folded {:.1}° at assembly", folds[i].to_degrees())
+            } else {
+                String::new()
+            };
             return Err(Refusal {
                 joint: i,
                 what: "length",
                 value: f.length_mm * 1e3,
                 allowed: format!(
-                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain at {:.1}° (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
+                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain bent {:.1}°{fold} (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
                     shortest * 1e3,
                     longest * 1e3,
                     by_strain * 1e3,
-                    peaks[i].to_degrees(),
+                    bends[i].to_degrees(),
                     cutback,
                     process.film_fatigue_strain * 100.0,
                     t * 1e3,
@@ -196,7 +254,9 @@ pub fn check_flexures(
             film_um: t * 1e3,
             stiffness_uNm_per_rad: drawn.stiffness() * 1e6,
             peak_rotation_deg: peaks[i].to_degrees(),
-            peak_strain: drawn.strain(peaks[i]),
+            assembly_fold_deg: folds[i].to_degrees(),
+            peak_bend_deg: bends[i].to_degrees(),
+            peak_strain: drawn.strain(bends[i]),
             strain_limit: process.film_fatigue_strain,
             resized,
         });

@@ -10,6 +10,7 @@
 //! | `mass.rs` | mass and inertia from the drawn areas |
 //! | `drawings.rs` | the layer files on the clamp panel, with the panel's pins |
 //! | `coupon.rs` | one linkage's layers as coupons, the parts `nest` places on shared sheets |
+//! | `jig.rs` | the jig plate the nested coupons stack, cure and release on |
 //! | `checks.rs` | the cross-layer checks run on every linkage drawn, and the geometry read back |
 //! | `checklist.rs` | the build steps of the laminate, for the cut sheet's checklist |
 
@@ -18,6 +19,7 @@ pub mod checks;
 pub mod coupon;
 pub mod drawings;
 pub mod flexures;
+pub mod jig;
 pub mod mass;
 pub mod pattern;
 
@@ -93,18 +95,20 @@ impl LinkageReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "  joint                                     gap um  unbonded um  width mm  k uN m/rad  peak turn deg  strain %  limit %"
+            "  joint                                     gap um  unbonded um  width mm  k uN m/rad  peak turn deg  fold deg  peak bend deg  strain %  limit %"
         );
         for f in &self.flexures {
             let _ = writeln!(
                 out,
-                "  {:<38} {:>9.1}  {:>11.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.2}  {:>7.2}",
+                "  {:<38} {:>9.1}  {:>11.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.1}  {:>13.1}  {:>8.2}  {:>7.2}",
                 f.joint,
                 f.length_um,
                 f.unbonded_um,
                 f.width_mm,
                 f.stiffness_uNm_per_rad,
                 f.peak_rotation_deg,
+                f.assembly_fold_deg,
+                f.peak_bend_deg,
                 f.peak_strain * 100.0,
                 f.strain_limit * 100.0
             );
@@ -410,6 +414,61 @@ pub(crate) mod tests {
             .map(|f| f.stiffness_uNm_per_rad)
             .sum();
         assert!((l.flexure_stiffness() * 1e6 - k).abs() < 1e-12 * k);
+    }
+
+    #[test]
+    fn joint_b_is_sized_for_its_assembly_fold_and_the_flight_turn() {
+        // docs/physics.md §16.7: B's film is bent β(θ) = π/2 + θ - ψ(θ) from the flat row O-B-A, the fold
+        // set at assembly and the turn on it. For the hawk moth (±60°, coupler 4 cranks) the largest is at
+        // θ+ = 60°, where ψ = asin(L3 (1 - cos 60°) / 4 L3) = asin(1/8): β = 150° - 7.18° = 142.82°.
+        let (l, _) = hawkmoth();
+        let b = &l.flexures[1];
+        let beta = 5.0 * PI / 6.0 - (0.125f64).asin();
+        assert!((b.peak_bend_deg - beta.to_degrees()).abs() < 1e-9, "{b:?}");
+        let rest = l.linkage.stroke_angle(0.0).unwrap();
+        let fold = PI / 2.0 + rest - l.linkage.coupler_angle(rest).unwrap();
+        assert!((b.assembly_fold_deg - fold.to_degrees()).abs() < 1e-9);
+        // ε = t β / (2 L_e) in closed form, B as wide as the strip: L_e the gap and both cut-backs.
+        let t = l.film_thickness_mm;
+        let strain = t * beta / (2.0 * b.unbonded_um * 1e-3);
+        assert!((b.peak_strain - strain).abs() < 1e-12, "{}", b.peak_strain);
+        assert!(b.peak_strain <= 0.03, "{}", b.peak_strain);
+        // The shortest gap for it, up to 0.1 µm: t β / (2 · 3 %) less 2 · 100 µm of cut-back.
+        let gap = ((t * beta / 0.06 - 0.2) * 1e4).ceil() / 10.0;
+        assert!((b.length_um - gap).abs() < 1e-9, "{} vs {gap}", b.length_um);
+        assert!(b.resized.as_ref().unwrap().contains("folded"), "{b:?}");
+        // The stiffness is of that unbonded length (§16.1, §16.6).
+        let k = 2.5e9 * 2e-3 * (t * 1e-3).powi(3) / (12.0 * b.unbonded_um * 1e-6);
+        assert!((b.stiffness_uNm_per_rad - k * 1e6).abs() < 1e-9 * k * 1e6);
+        // The flight alone turns B less than the fold and the turn bend it.
+        assert!(b.peak_rotation_deg < b.peak_bend_deg - 60.0);
+    }
+
+    #[test]
+    fn a_fold_the_film_cannot_take_within_the_pivot_bound_is_refused() {
+        // 12.7 µm film on the hawk moth's 0.866 mm crank: 12.7 · 2.4927 / 0.06 = 527.6 µm of unbonded
+        // film at B, a gap of 327.6 µm, over 0.3 of the crank (259.8 µm).
+        let request = FlexureRequest {
+            film_thickness: Some(12.7e-6),
+            ..FlexureRequest::default()
+        };
+        let err = design(
+            Linkage::solve(0.75e-3, -PI / 3.0, PI / 3.0, 4.0).unwrap(),
+            &request,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.starts_with("drive.toml: transmission.flexure_length_um = 0: flexure B"),
+            "{err}"
+        );
+        assert!(err.contains("327.6 to 259.8 µm"), "{err}");
+        assert!(
+            err.contains("bent 142.8°, folded 91.8° at assembly")
+                && err.contains("3.00 % fatigue strain of 12.7 µm film"),
+            "{err}"
+        );
+        assert!(!err.contains('\n'));
     }
 
     #[test]

@@ -169,8 +169,10 @@ pub fn item_linkage(
             sheet,
             pin_holes: part.pins,
             part: part.part,
-            // The coupon's layers are laminated face to face.
-            bonded: true,
+            // The coupon's layers are laminated face to face over the linkage; the border, which
+            // the release cut leaves as scrap, carries the engraving.
+            bonded_zone: Some(part.zone),
+            labels: coupon.labels(name, layer_name, quantity * part.layers.len()),
         });
     }
     Ok(Some((
@@ -279,12 +281,20 @@ pub fn coupon_drawings(
         }
         let tpl = linkage_template(template, carbon_like(items, template).is_some())
             .unwrap_or_else(|| template.clone());
-        let drawings = l.coupon.drawings(
+        let mut drawings = l.coupon.drawings(
             &l.laminate,
             &tpl,
             &format!("{name} linkage coupon"),
             &prefix,
         )?;
+        // The stack layers are cut on the nested sheets; these files show one coupon of each, and
+        // say so where the laser software shows a file's name. The release cut is run as it is.
+        for d in drawings.iter_mut().filter(|d| d.layer != "linkage-release") {
+            d.drawing.title = format!(
+                "{}: REFERENCE ONLY, not to be cut: the nested linkage sheets cut this coupon",
+                d.drawing.title
+            );
+        }
         let problems = check_linkage_drawings(&drawings, &Expected::of(&l.laminate.report()));
         if !problems.is_empty() {
             return Err(BuildError::Geometry {

@@ -7,9 +7,10 @@ use super::file::RollPrice;
 use super::linkage::coupon_drawings;
 use super::remnant::remnant_drawings;
 use super::report::NestReport;
+use crate::linkage::jig::jig_drawing;
 use crate::pipeline::{
     build, sheets_instead_of_roll, BuildError, Names, NestObserver, NestOptions, Packing,
-    SheetDrawing, Unobserved,
+    SheetDrawing, StockCount, Unobserved,
 };
 
 /// Everything a batch run produces, in memory, before anything is written.
@@ -94,14 +95,45 @@ pub fn plan_observed(
     }
     let coupons = coupon_drawings(&batch.linkages, &designs, &batch.template)?;
     let prefixes: Vec<String> = coupons.iter().map(|(p, _)| p.clone()).collect();
-    let report = NestReport::new(batch, opts, &built, &on_sheets, &prefixes);
+    let jig = jig_of(batch, &designs);
+    let mut report = NestReport::new(
+        batch,
+        opts,
+        &built,
+        &on_sheets,
+        &prefixes,
+        jig.as_ref().map(|j| j.stem.as_str()),
+    );
+    if let Some(j) = &jig {
+        StockCount::count(&mut report.stock_list, &j.drawing, 1);
+    }
     let remnants = remnant_drawings(&batch.name, &built.sheets, &built.drawings);
     let mut drawings = built.drawings;
     drawings.extend(remnants);
     drawings.extend(coupons.into_iter().flat_map(|(_, d)| d));
+    drawings.extend(jig);
     Ok(Planned {
         drawings,
         report,
         snap_guides: built.snap_guides,
     })
+}
+
+/// The jig of the batch's linkage coupons, each named by its item's design; `None` without linkages.
+fn jig_of(batch: &Batch, designs: &[(&crate::design::Design, usize)]) -> Option<SheetDrawing> {
+    let first = batch.linkages.first()?;
+    let coupons: Vec<_> = batch
+        .linkages
+        .iter()
+        .map(|l| {
+            let name = designs[l.item].0.name.clone();
+            (name, l.coupon.clamp.clone(), l.quantity)
+        })
+        .collect();
+    jig_drawing(
+        &coupons,
+        &first.laminate.process,
+        &batch.template.features,
+        &batch.name,
+    )
 }

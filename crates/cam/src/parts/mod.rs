@@ -167,9 +167,13 @@ pub struct PartOrder {
     /// Round holes (centre, radius; mm, part coordinates) cut as registration holes: a linkage
     /// coupon's pins. A drawing's circles are cut-outs instead (circumscribed polygons).
     pub pin_holes: Vec<(Point, f64)>,
-    /// The part is bonded all over in its stack (a linkage coupon): its sheet marks it so, and
-    /// nothing is engraved on it. A drawing's parts are not known to be.
-    pub bonded: bool,
+    /// Where a face of the part is bonded in its stack (part coordinates; a linkage coupon's release
+    /// outline): its sheet marks it so, and nothing is engraved there. A drawing's parts are not
+    /// known to be bonded anywhere.
+    pub bonded_zone: Option<Vec<Point>>,
+    /// The engraving of each copy, strokes in part coordinates, off the bonded zone (a linkage
+    /// coupon's name and number in its border); empty for none.
+    pub labels: Vec<Vec<Vec<Point>>>,
 }
 
 /// One line naming the file and the entity: the refusal of every drawing reader.

@@ -580,13 +580,13 @@ pub fn extra_item(
         job,
         part: "part".into(),
         cut: offset(&outer, spec.kerf_mm / 2.0, "outline")?,
-        bonded_zone: order.bonded.then(|| outer.clone()),
+        bonded_zone: order.bonded_zone.clone(),
         nominal: outer,
         holes: pins,
         hole: Feature::RegistrationHole,
         per_actuator: 1,
         count: order.quantity,
-        label: Label::None,
+        label: Label::per_copy(&order.labels),
         cutout_paths: cutouts
             .iter()
             .map(|h| offset(h, -spec.kerf_mm / 2.0, "cut-out"))

@@ -25,12 +25,22 @@ pub enum Label {
         /// Room to keep to the part edge and to the bonded zone, mm.
         margin_mm: f64,
     },
+    /// Each copy's strokes, placed by the part's maker (a linkage coupon's border).
+    PerCopy(Vec<Vec<Vec<Point>>>),
 }
 
 /// A rectangle of the part where nothing is bonded, in part coordinates: `[x0, y0, x1, y1]`.
 type Site = [f64; 4];
 
 impl Label {
+    /// Each copy's strokes as given, or no label when none are.
+    pub fn per_copy(strokes: &[Vec<Vec<Point>>]) -> Label {
+        match strokes.is_empty() {
+            true => Label::None,
+            false => Label::PerCopy(strokes.to_vec()),
+        }
+    }
+
     /// The label of a design's passive part: the template's text height, and the passive kerf (at
     /// least 0.2 mm, the engraved line's own width and the frayed edge) to every edge. Plies cut one
     /// by one carry none.
@@ -51,6 +61,7 @@ impl Label {
     pub fn strokes(&self, copy: usize) -> Option<Vec<Vec<Point>>> {
         match self {
             Label::None => None,
+            Label::PerCopy(each) => each.get(copy).cloned(),
             Label::OffBonded {
                 geometry,
                 name,

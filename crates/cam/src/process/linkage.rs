@@ -72,6 +72,18 @@ pub struct LinkageProcess {
     pub max_length_fraction: f64,
     /// The laminate's cure on the clamp's pins (`[linkage.cure]`), if the template gives it.
     pub cure: Option<CureStep>,
+    /// The plate of the jig the nested coupons stack, cure and release on (`jig_material`,
+    /// `jig_thickness_mm`): the dowels stand in it at each coupon's pin pattern.
+    pub jig: JigPlate,
+}
+
+/// The jig plate as bought.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JigPlate {
+    /// Material as bought.
+    pub material: String,
+    /// Thickness, mm.
+    pub thickness_mm: f64,
 }
 
 /// The stretching-bending coupling of one cured carbon layer of `layup` (deg) in `ply`: `Some((B11,
@@ -160,6 +172,12 @@ impl LinkageProcess {
             min_length_thicknesses: t.number_in("min_length_thicknesses", FLEXURE_THICKNESSES)?,
             max_length_fraction: t.number_in("max_length_fraction", FLEXURE_FRACTION)?,
             cure: CureStep::optional(t, "cure")?,
+            jig: JigPlate {
+                material: t
+                    .string("jig_material", "a material description")?
+                    .to_string(),
+                thickness_mm: t.number_in("jig_thickness_mm", LAYER_THICKNESS_MM)?,
+            },
         };
         // The film must be bonded beyond the adhesive's cut-back, or the flexure is loose film.
         if process.film_margin_mm < process.adhesive_cutback_mm + 2.0 * process.kerf_mm {

@@ -104,7 +104,8 @@ pub(super) fn part_orders(
                 rotations_deg: rotations_deg.clone(),
                 sheet: sheet.clone(),
                 pin_holes: Vec::new(),
-                bonded: false,
+                bonded_zone: None,
+                labels: Vec::new(),
             })
         })
         .collect()

@@ -22,6 +22,7 @@ impl NestReport {
         built: &Build,
         on_sheets: &[Option<usize>],
         linkage_prefixes: &[String],
+        jig: Option<&str>,
     ) -> NestReport {
         let sheets = sheet_rows(batch, built);
         let mut totals = Vec::new();
@@ -31,7 +32,7 @@ impl NestReport {
         price_totals(&mut totals);
         let priced: Vec<&TotalRow> = totals.iter().filter(|r| r.cost.is_some()).collect();
         let total_cost = (!priced.is_empty()).then(|| priced.iter().filter_map(|r| r.cost).sum());
-        let linkages = linkage_rows(batch, linkage_prefixes);
+        let linkages = linkage_rows(batch, built, linkage_prefixes, jig.unwrap_or_default());
         let build_book = build_book(batch, built, &linkages);
         NestReport {
             name: batch.name.clone(),
@@ -244,13 +245,80 @@ fn price_totals(totals: &mut [TotalRow]) {
 }
 
 /// Each item's linkage: its laminate, coupon, sheets and build steps.
-fn linkage_rows(batch: &Batch, linkage_prefixes: &[String]) -> Vec<NestLinkageRow> {
+/// The nested sheet files of layer `layer` (`linkage-film`) whose stock is `thickness_mm` thick.
+fn sheet_files(built: &Build, layer: &str, thickness_mm: f64) -> Vec<String> {
+    built
+        .drawings
+        .iter()
+        .filter(|d| d.layer == layer)
+        .filter(|d| {
+            d.drawing
+                .stock
+                .as_ref()
+                .is_some_and(|s| (s.thickness_mm - thickness_mm).abs() < 1e-9)
+        })
+        .map(|d| format!("`{}`", d.stem))
+        .collect()
+}
+
+/// Where a linkage's coupons are cut, each sheet with its files (`layer 3 on linkage-film:
+/// `linkage-film-1_…``); and, when its carbon is on sheets of its own, the step that lays that
+/// prepreg up.
+fn coupon_sheets(
+    built: &Build,
+    l: &crate::nest::linkage::BatchLinkage,
+    laminate: &crate::linkage::LinkageReport,
+) -> (Vec<(Vec<usize>, String)>, Option<String>) {
+    let mut layup = None;
+    let sheets = l
+        .sheets
+        .iter()
+        .map(|(layers, label)| {
+            let layer = label.split(' ').next().unwrap_or_default();
+            let thickness = laminate.layers[layers[0] - 1].thickness_mm;
+            let files = sheet_files(built, layer, thickness);
+            if files.is_empty() {
+                return (layers.clone(), label.clone());
+            }
+            if layer == "linkage-carbon" {
+                let p = &l.laminate.process;
+                let angles: Vec<String> = p.carbon_layup_deg.iter().map(|a| a.to_string()).collect();
+                layup = Some(format!(
+                    "Lay up the linkage carbon's prepreg: {} plies of {} at {} from the stack's 0° direction (the links' direction), laid with that direction along the sheet's y axis (up the page), as each file says, and cut {} from it last, just before stacking: the prepreg must still be tacky.",
+                    angles.len(),
+                    p.carbon_ply.0,
+                    angles.join("/"),
+                    files.join(", ")
+                ));
+            }
+            (layers.clone(), format!("{label} ({})", files.join(", ")))
+        })
+        .collect();
+    (sheets, layup)
+}
+
+/// `jig` names the jig file the coupons stack on.
+fn linkage_rows(
+    batch: &Batch,
+    built: &Build,
+    linkage_prefixes: &[String],
+    jig: &str,
+) -> Vec<NestLinkageRow> {
     batch
         .linkages
         .iter()
         .zip(linkage_prefixes)
         .map(|(l, prefix)| {
             let laminate = l.laminate.report();
+            let (sheets, layup) = coupon_sheets(built, l, &laminate);
+            let design = &batch.items[l.item].design.name;
+            let jig_step = crate::linkage::jig::jig_step(
+                jig,
+                (design, l.quantity),
+                &l.coupon.clamp,
+                &l.laminate.process,
+                l.laminate.stack_thickness_mm(),
+            );
             NestLinkageRow {
                 design: batch.items[l.item].design.name.clone(),
                 drive_file: l.drive.display().to_string(),
@@ -267,13 +335,18 @@ fn linkage_rows(batch: &Batch, linkage_prefixes: &[String]) -> Vec<NestLinkageRo
                         format!("layer {} on {sheet}", n.join(" and "))
                     })
                     .collect(),
-                build_steps: coupon_steps(
-                    &laminate,
-                    l.quantity,
-                    &l.sheets,
-                    prefix,
-                    &crate::book::pin_fit_text(&l.coupon.clamp),
-                ),
+                build_steps: {
+                    let mut steps = coupon_steps(
+                        &laminate,
+                        l.quantity,
+                        &sheets,
+                        prefix,
+                        &crate::book::pin_fit_text(&l.coupon.clamp),
+                        (&jig_step, jig),
+                    );
+                    steps.splice(1..1, layup);
+                    steps
+                },
                 laminate,
             }
         })
