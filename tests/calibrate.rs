@@ -320,6 +320,6 @@ fn cut_sheet_takes_the_calibrated_model() {
     assert!(
         !bad.status.success()
             && String::from_utf8_lossy(&bad.stderr)
-                .contains("original, thesis-adjusted, euler-bernoulli")
+                .contains("original, thesis-adjusted, nonlinear, euler-bernoulli")
     );
 }
