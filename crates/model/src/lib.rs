@@ -5,6 +5,7 @@
 //! [`Laminate::bimorph`] → [`Section::new`] at a [`Drive`] → [`performance::evaluate`] for a [`Planform`],
 //! or [`model::predict`] to choose between the original, thesis-adjusted and Euler-Bernoulli models.
 
+mod banded;
 pub mod capacitance;
 pub mod drive;
 pub mod drive_energy;
@@ -20,6 +21,7 @@ pub mod laminate;
 pub mod large_deflection;
 pub mod material;
 pub mod model;
+pub mod nearby_modes;
 pub mod performance;
 pub mod planform;
 pub mod plate;
