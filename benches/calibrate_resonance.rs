@@ -40,25 +40,10 @@ fn example() -> (String, String) {
         effects: hidden(),
         primitives: Vec::new(),
     };
-    let mut with = String::new();
-    for (i, line) in csv.lines().enumerate() {
-        with.push_str(line);
-        if i == 0 {
-            with.push_str(",resonance_Hz\n");
-            continue;
-        }
-        let id: usize = line[1..line.find(',').unwrap()].parse().unwrap();
-        if line.split(',').nth(8).is_some_and(|m| !m.is_empty()) {
-            let f = with_actuator(&designs[id], 100.0, |a| {
-                let basis = physics.basis(a).unwrap();
-                let mass = physics.mass(a).unwrap();
-                physics.modes(&basis, &mass).unwrap().frequency
-            });
-            with.push_str(&format!(",{:.4}\n", f * (0.01 * normal(&mut rng)).exp()));
-        } else {
-            with.push_str(",\n");
-        }
-    }
+    let with = with_first_row_columns(&csv, ",resonance_Hz", |id| {
+        let f = resonance_of(&physics, &designs[id]);
+        format!(",{:.4}", f * (0.01 * normal(&mut rng)).exp())
+    });
     (csv, with)
 }
 
