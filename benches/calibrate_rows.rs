@@ -15,6 +15,8 @@
 //! `ACTUATOR_CAM_PEER=/path/to/other/actuator-cam` set, that binary calibrates the same file just before
 //! ours, so both are measured side by side at the same load.
 
+#[path = "common/calibrate_child.rs"]
+mod calibrate_child;
 #[path = "common/child.rs"]
 mod child;
 #[path = "../tests/common/fixtures.rs"]
@@ -23,8 +25,6 @@ mod fixtures;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write as _;
-use std::path::Path;
-use std::process::Command;
 
 /// An example actuator: its geometry columns as written, its highest voltage with the deflection and
 /// force there, and its mass.
@@ -101,23 +101,6 @@ fn generated(rows: usize, voltages: usize) -> String {
     csv
 }
 
-/// Calibrate `csv` with `binary` into a fresh folder: its usage and verdict.
-fn run(binary: &str, csv: &Path) -> (child::Usage, String) {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let out = dir.path().join("out");
-    let mut command = Command::new(binary);
-    command.arg("calibrate").arg(csv).arg("-o").arg(&out);
-    let usage = child::measure(command);
-    let model = std::fs::read_to_string(out.join("calibrated-model.toml")).unwrap_or_default();
-    let verdict = model
-        .lines()
-        .find_map(|l| l.strip_prefix("verdict = "))
-        .unwrap_or("?")
-        .trim_matches('"')
-        .to_string();
-    (usage, verdict)
-}
-
 fn main() {
     let list = |name: &str, default: &str| -> Vec<usize> {
         std::env::var(name)
@@ -146,7 +129,7 @@ fn main() {
             .map(|p| ("peer", p.as_str()))
             .chain([("ours", ours.as_str())])
         {
-            let (u, verdict) = run(binary, &csv);
+            let (u, verdict) = calibrate_child::calibrate(binary, &csv, &[]);
             println!(
                 "  {rows:>8} {:>10}  {label:<6} {:>10.2} {:>10.2} {:>10.2} {:>13.1}  {verdict}",
                 rows / voltages,

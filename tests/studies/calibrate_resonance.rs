@@ -54,14 +54,6 @@ fn physics(truth: Truth) -> EffectModel {
     }
 }
 
-/// The bare clamped actuator's first resonance of design `d` under the physics `m`, Hz.
-fn resonance_of(m: &EffectModel, d: &Design) -> f64 {
-    synthetic::with_actuator(d, 100.0, |a| {
-        let basis = m.basis(a).unwrap();
-        m.modes(&basis, &m.mass(a).unwrap()).unwrap().frequency
-    })
-}
-
 /// The first resonance of design `d` under a hidden truth, Hz.
 fn resonance(truth: Truth, d: &Design) -> f64 {
     resonance_of(&physics(truth), d)
@@ -88,24 +80,11 @@ fn same_plates(rng: &mut ChaCha8Rng) -> Vec<Design> {
 /// actuator's first row.
 fn with_resonance(truth: Truth, designs: &[Design], rng: &mut ChaCha8Rng) -> String {
     let csv = synthetic_csv(truth, designs, rng);
-    let mut out = String::new();
-    for (i, line) in csv.lines().enumerate() {
-        out.push_str(line);
-        if i == 0 {
-            out.push_str(",resonance_Hz,quality_factor\n");
-            continue;
-        }
-        let id: usize = line[1..line.find(',').unwrap()].parse().unwrap();
-        let first = !line.split(',').nth(8).unwrap().is_empty();
-        if first {
-            let f = resonance(truth, &designs[id]) * (0.01 * normal(rng)).exp();
-            let q = (1.0 / ETA) * (0.1 * normal(rng)).exp();
-            out.push_str(&format!(",{f:.4},{q:.3}\n"));
-        } else {
-            out.push_str(",,\n");
-        }
-    }
-    out
+    with_first_row_columns(&csv, ",resonance_Hz,quality_factor", |id| {
+        let f = resonance(truth, &designs[id]) * (0.01 * normal(rng)).exp();
+        let q = (1.0 / ETA) * (0.1 * normal(rng)).exp();
+        format!(",{f:.4},{q:.3}")
+    })
 }
 
 /// The same CSV without the resonance and quality factor columns.

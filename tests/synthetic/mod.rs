@@ -4,7 +4,7 @@
 
 use actuator_model::effects::{drive_at_voltage, Actuator};
 use actuator_model::primitives::{compose, Applied, Primitive};
-use actuator_model::{DriveMode, Effects, Material, Planform};
+use actuator_model::{DriveMode, EffectModel, Effects, Material, Planform};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -471,3 +471,34 @@ fn chance_allows(n: usize, p: f64) -> usize {
 /// test's own approximation of a dead layer (`Truth::InactiveSurface`, a factor `1 - t_s/t_p` that is not
 /// the CLT layer's shape), either is the thickness trend seen; on the model crate's layer, the layer.
 pub const THICKNESS_FORMS: [&str; 2] = ["inactive-surface-layer", "d31-thickness-power"];
+
+/// The bare clamped actuator's first resonance of design `d` under the physics `m`, Hz.
+pub fn resonance_of(m: &EffectModel, d: &Design) -> f64 {
+    with_actuator(d, 100.0, |a| {
+        let basis = m.basis(a).unwrap();
+        m.modes(&basis, &m.mass(a).unwrap()).unwrap().frequency
+    })
+}
+
+/// `csv` (of [`synthetic_csv`]) with the columns `header` (",name,name") added: filled on each actuator's
+/// first row, the one with its mass, by `first(design index)` (",value,value"), empty on its other rows.
+pub fn with_first_row_columns(
+    csv: &str,
+    header: &str,
+    mut first: impl FnMut(usize) -> String,
+) -> String {
+    let empty = ",".repeat(header.matches(',').count());
+    let mut out = String::new();
+    for (i, line) in csv.lines().enumerate() {
+        out.push_str(line);
+        if i == 0 {
+            out.push_str(header);
+        } else {
+            let id: usize = line[1..line.find(',').unwrap()].parse().unwrap();
+            let has_mass = line.split(',').nth(8).is_some_and(|m| !m.is_empty());
+            out.push_str(&if has_mass { first(id) } else { empty.clone() });
+        }
+        out.push('\n');
+    }
+    out
+}

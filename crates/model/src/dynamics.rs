@@ -12,6 +12,7 @@
 //! mass the consistent cubic-Hermite mass. The lumped model `k = F_b / δ`, `m = k / ω1²` reproduces both
 //! the static stiffness and the first resonance.
 
+use crate::banded::{dot, Band};
 use crate::effects::{Effects, StackBasis};
 use crate::error::ModelError;
 use crate::performance::MassBreakdown;
@@ -99,6 +100,17 @@ impl Modal {
             rayleigh_mass: self.rayleigh_mass,
         }
     }
+}
+
+/// A solved beam's mode and static shapes on the held system's degrees of freedom (the clamped
+/// root's dropped, or the clamp's turn `ψ` first), for the Rayleigh quotients of `nearby_modes.rs`.
+#[derive(Debug, Clone)]
+pub(crate) struct Shapes {
+    pub(crate) modal: Modal,
+    /// The first mode, unit length.
+    pub(crate) mode: Vec<f64>,
+    /// The static deflection under the unit tip load.
+    pub(crate) static_shape: Vec<f64>,
 }
 
 /// The actuator as the drive sees it at its tip: a force source behind a spring and a mass (SI).
@@ -213,6 +225,15 @@ impl ActuatorBeam {
     /// First mode and static stiffness with `active` elements over the free active length and
     /// `extension` over a compliant extension.
     pub fn solve_with(&self, active: usize, extension: usize) -> Result<Modal, ModelError> {
+        self.solve_shapes(active, extension).map(|s| s.modal)
+    }
+
+    /// [`ActuatorBeam::solve_with`] with the held system's mode and static shapes.
+    pub(crate) fn solve_shapes(
+        &self,
+        active: usize,
+        extension: usize,
+    ) -> Result<Shapes, ModelError> {
         self.check()?;
         let active = active.max(1);
         let (elements, compliant) = self.mesh(active, extension);
@@ -226,7 +247,7 @@ impl ActuatorBeam {
 
     /// The beam's elements: `active` over the free active length `[h, l_p]`, then `extension` over a
     /// compliant extension; and whether the extension is compliant (else it is rigid, or absent).
-    fn mesh(&self, active: usize, extension: usize) -> (Vec<Element>, bool) {
+    pub(crate) fn mesh(&self, active: usize, extension: usize) -> (Vec<Element>, bool) {
         let pl = &self.planform;
         let l_p = pl.piezo_length();
         let l_ext = pl.extension_length();
@@ -330,7 +351,7 @@ impl ActuatorBeam {
         (kr, mr, fr)
     }
 
-    fn check(&self) -> Result<(), ModelError> {
+    pub(crate) fn check(&self) -> Result<(), ModelError> {
         let positive = |name: &'static str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
@@ -394,48 +415,70 @@ fn assemble(elements: &[Element]) -> (DMatrix<f64>, DMatrix<f64>) {
 }
 
 /// The static tip compliance under the load `fr`, the Rayleigh mass of the static shape, and the
-/// first mode of the held system (stiffness `kr`, mass `mr`).
+/// first mode of the held system (stiffness `kr`, mass `mr`), on their band (`banded.rs`: a Hermite
+/// beam couples each degree of freedom to the three either side).
 fn first_mode(
     kr: &DMatrix<f64>,
     mr: &DMatrix<f64>,
     fr: &DVector<f64>,
-) -> Result<Modal, ModelError> {
-    let chol = kr.clone().cholesky().ok_or_else(|| {
-        ModelError::Laminate("the actuator's beam stiffness is not positive definite".into())
-    })?;
-    let static_shape = chol.solve(fr);
-    let compliance = fr.dot(&static_shape);
-    let rayleigh_mass = static_shape.dot(&(mr * &static_shape)) / (compliance * compliance);
+) -> Result<Shapes, ModelError> {
+    let not_definite =
+        || ModelError::Laminate("the actuator's beam stiffness is not positive definite".into());
+    let (Some(k), Some(m)) = (Band::from_dense(kr), Band::from_dense(mr)) else {
+        return Err(ModelError::Laminate(
+            "the actuator's beam matrices are not banded".into(),
+        ));
+    };
+    let chol = k.cholesky().ok_or_else(not_definite)?;
+    let n = fr.len();
+    let mut static_shape: Vec<f64> = fr.iter().copied().collect();
+    chol.solve_in_place(&mut static_shape);
+    let compliance = dot(fr.as_slice(), &static_shape);
+    let mut x = static_shape.clone();
+    let mut mx = vec![0.0; n];
+    m.mul(&x, &mut mx);
+    let rayleigh_mass = dot(&x, &mx) / (compliance * compliance);
     // Inverse iteration from the static shape: the first mode dominates it, and the ratio of the
     // first two eigenvalues (about 1/40 for a cantilever) makes each step gain more than a digit.
-    let mut x = static_shape;
+    // `y = K⁻¹ M x`; the quotient `xᵀMx / xᵀMy` takes `xᵀMy = yᵀMx` (M symmetric), so each step
+    // costs one product with M and one solve.
     let mut eigenvalue = 1.0 / (compliance * rayleigh_mass);
+    let mut y = vec![0.0; n];
     for _ in 0..200 {
-        let y = chol.solve(&(mr * &x));
-        let next = x.dot(&(mr * &x)) / x.dot(&(mr * &y));
-        let norm = y.norm();
-        x = y / norm;
+        y.copy_from_slice(&mx);
+        chol.solve_in_place(&mut y);
+        let next = dot(&x, &mx) / dot(&y, &mx);
+        let norm = dot(&y, &y).sqrt();
+        for (xi, yi) in x.iter_mut().zip(&y) {
+            *xi = yi / norm;
+        }
+        m.mul(&x, &mut mx);
         let done = ((next - eigenvalue) / next).abs() < 1e-15;
         eigenvalue = next;
         if done {
             break;
         }
     }
-    // The Rayleigh quotient of the converged vector.
-    let eigenvalue = x.dot(&(kr * &x)) / x.dot(&(mr * &x));
-    Ok(Modal {
-        frequency: eigenvalue.sqrt() / (2.0 * std::f64::consts::PI),
-        static_stiffness: 1.0 / compliance,
-        rayleigh_mass,
+    // The last quotient, `xᵀMx / xᵀMK⁻¹Mx`: stationary in `x` as the Rayleigh quotient `xᵀKx / xᵀMx`
+    // is, and without its rounding (the product with K cancels most where the mesh is fine).
+    Ok(Shapes {
+        modal: Modal {
+            frequency: eigenvalue.sqrt() / (2.0 * std::f64::consts::PI),
+            static_stiffness: 1.0 / compliance,
+            rayleigh_mass,
+        },
+        mode: x,
+        static_shape,
     })
 }
 
 /// One beam element on `[a, b]` with bending stiffness `EI` and line mass `μ` linear between the ends.
-struct Element {
-    a: f64,
-    b: f64,
-    stiffness: [f64; 2],
-    line_mass: [f64; 2],
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Element {
+    pub(crate) a: f64,
+    pub(crate) b: f64,
+    pub(crate) stiffness: [f64; 2],
+    pub(crate) line_mass: [f64; 2],
 }
 
 /// Gauss-Legendre abscissae and weights on [-1, 1], 4 points (exact to degree 7).
@@ -463,6 +506,18 @@ impl Element {
     /// §11.1): `F = ∫ [(L-s)², (L-s); (L-s), 1] / EI(s) ds`, `K = Bᵀ F⁻¹ B` with `B` the end-`b`
     /// deformation relative to the rigid motion of end `a`.
     fn stiffness_matrix(&self) -> Matrix4<f64> {
+        let len = self.b - self.a;
+        #[rustfmt::skip]
+        let b = nalgebra::Matrix2x4::new(
+            -1.0, -len, 1.0, 0.0,
+            0.0, -1.0, 0.0, 1.0,
+        );
+        b.transpose() * self.end_stiffness() * b
+    }
+
+    /// The stiffness of end `b` relative to the rigid motion of end `a`, `F⁻¹` of
+    /// [`Element::stiffness_matrix`].
+    pub(crate) fn end_stiffness(&self) -> Matrix2<f64> {
         let len = self.b - self.a;
         let [e0, e1] = self.stiffness;
         let ei = |s: f64| e0 + (e1 - e0) * s / len;
@@ -492,17 +547,11 @@ impl Element {
             }
         }
         f[(1, 0)] = f[(0, 1)];
-        let k_end = f.try_inverse().expect("a positive-definite flexibility");
-        #[rustfmt::skip]
-        let b = nalgebra::Matrix2x4::new(
-            -1.0, -len, 1.0, 0.0,
-            0.0, -1.0, 0.0, 1.0,
-        );
-        b.transpose() * k_end * b
+        f.try_inverse().expect("a positive-definite flexibility")
     }
 
     /// Consistent mass of the cubic Hermite shape functions with `μ` linear (4-point Gauss, exact).
-    fn mass_matrix(&self) -> Matrix4<f64> {
+    pub(crate) fn mass_matrix(&self) -> Matrix4<f64> {
         let len = self.b - self.a;
         let [m0, m1] = self.line_mass;
         let mut m = Matrix4::<f64>::zeros();

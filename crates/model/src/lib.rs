@@ -6,6 +6,7 @@
 //! or [`model::predict`] to choose between the original, thesis-adjusted, nonlinear-ceramic and
 //! Euler-Bernoulli models.
 
+mod banded;
 pub mod capacitance;
 pub mod ceramic;
 pub mod drive;
@@ -22,6 +23,7 @@ pub mod laminate;
 pub mod large_deflection;
 pub mod material;
 pub mod model;
+pub mod nearby_modes;
 pub mod nonlinear;
 pub mod performance;
 pub mod planform;

@@ -58,7 +58,8 @@ pub struct Adequacy {
     pub correlations: Vec<CorrelationTest>,
     /// Both tests pass at the family level.
     pub passed: bool,
-    /// Variable the residual follows most (smallest p).
+    /// Variable the residual follows most (smallest p); when only the lack of fit fails, that test
+    /// (the residual then follows no single variable), so a verdict names the test that failed.
     pub worst_variable: Option<String>,
 }
 
@@ -160,18 +161,37 @@ pub(super) fn adequacy_of_fit(
     for (t, adj) in tests.iter_mut().zip(stats::holm(&raw)) {
         t.p_holm = adj;
     }
-    let worst = tests
-        .iter()
-        .min_by(|a, b| a.p.total_cmp(&b.p))
-        .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r));
     let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
     let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
     Adequacy {
+        worst_variable: failed_test(
+            &tests,
+            lack_of_fit.filter(|_| correlations_pass && !lof_pass),
+        ),
         lack_of_fit,
         correlations: tests,
         passed: correlations_pass && lof_pass,
-        worst_variable: worst,
     }
+}
+
+/// What the residual follows: the correlation of smallest p, or, when `failed_lack_of_fit` is the only
+/// test that failed, that test (a correlation whose corrected p passes is not what failed).
+fn failed_test(tests: &[CorrelationTest], failed_lack_of_fit: Option<LackOfFit>) -> Option<String> {
+    if let Some(l) = failed_lack_of_fit {
+        let p = if l.p >= 1e-3 {
+            format!("p = {:.3}", l.p)
+        } else {
+            "p < 0.001".into()
+        };
+        return Some(format!(
+            "no single design variable (lack of fit F = {:.2} on {} and {} df, {p})",
+            l.f, l.df1, l.df2
+        ));
+    }
+    tests
+        .iter()
+        .min_by(|a, b| a.p.total_cmp(&b.p))
+        .map(|t| format!("{} ({} residual, r = {:.2})", t.variable, t.residual, t.r))
 }
 
 /// One observation's log residuals: deflection, force (None where not measured).
@@ -345,5 +365,48 @@ fn push_variable_tests<'a>(
                 p_holm: 1.0,
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The issue's case (issue 59, item 3): a mass correlation of raw p 0.02 whose Holm-corrected p is
+    /// 1.0, and a lack of fit at p = 0.005 on an actuator measured at two voltages.
+    fn mass_correlation() -> CorrelationTest {
+        CorrelationTest {
+            residual: "mass",
+            variable: "t_p",
+            r: 0.45,
+            n: 24,
+            p: 0.02,
+            p_holm: 1.0,
+        }
+    }
+
+    fn failing_lack_of_fit() -> LackOfFit {
+        LackOfFit {
+            f: 2.61,
+            df1: 40.0,
+            df2: 48.0,
+            p: 0.005,
+            sigma_pure: 0.05,
+        }
+    }
+
+    #[test]
+    fn a_verdict_names_the_lack_of_fit_when_it_is_the_test_that_failed() {
+        let tests = [mass_correlation()];
+        assert_eq!(
+            failed_test(&tests, Some(failing_lack_of_fit())).unwrap(),
+            "no single design variable (lack of fit F = 2.61 on 40 and 48 df, p = 0.005)"
+        );
+        // The verdict (`verdict::decide`) names `worst_variable` when the adequacy fails.
+        // Without a failing lack of fit the correlation of smallest p is named.
+        assert_eq!(
+            failed_test(&tests, None).as_deref(),
+            Some("t_p (mass residual, r = 0.45)")
+        );
     }
 }

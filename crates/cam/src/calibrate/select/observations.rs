@@ -7,8 +7,8 @@ use super::drive_groups::{DriveGroups, Form, GroupBasis, Solve};
 use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
-use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::StackBasis;
+use actuator_model::nearby_modes::NearbyModes;
 use actuator_model::EffectModel;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -179,10 +179,10 @@ pub(crate) struct ResonanceObs {
     pub(crate) ln_frequency: f64,
 }
 
-/// The measured resonances with the last beams each was solved for: a fit moves one parameter at a
-/// time, and most (d31, field, dead length, edge margin) leave the beam as it was, so its mode is
-/// reused (`ActuatorBeam` compares every input of the mode). A few are kept, for the models fitted in
-/// parallel on the same data.
+/// The measured resonances with the beams each was solved for: a fit moves its parameters a little at
+/// a time, and the mode of a beam near a solved one follows from the solved one's shapes
+/// ([`NearbyModes`], docs/physics.md §11.6), whatever order the models fitted in parallel on the same
+/// data ask in.
 #[derive(Debug)]
 pub(crate) struct Resonances {
     pub(crate) obs: Vec<ResonanceObs>,
@@ -190,11 +190,8 @@ pub(crate) struct Resonances {
     /// as one more deflection or force reading), σ_actuation / σ_f1 while the chosen model is estimated
     /// (`resonance_weight.rs`). Set between fits, on the data the fitter already holds.
     weight: AtomicU64,
-    last: Vec<Mutex<Vec<(ActuatorBeam, Modal)>>>,
+    solved: Vec<Mutex<NearbyModes>>,
 }
-
-/// Beams kept per resonance.
-const KEPT_BEAMS: usize = 4;
 
 impl Default for Resonances {
     fn default() -> Self {
@@ -212,11 +209,11 @@ impl Clone for Resonances {
 
 impl Resonances {
     pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
-        let last = obs.iter().map(|_| Mutex::new(Vec::new())).collect();
+        let solved = obs.iter().map(|_| Mutex::default()).collect();
         Resonances {
             obs,
             weight: AtomicU64::new(1.0f64.to_bits()),
-            last,
+            solved,
         }
     }
 
@@ -253,8 +250,8 @@ impl Resonances {
 
     /// Log residual of resonance `k` under `effects` on `basis`, times [`Resonances::weight`]: measured
     /// over the model's `f1` as [`EffectModel::modes`] computes it, on the coarse mesh
-    /// (`ActuatorBeam::solve_coarse`, within 1e-4 of `predict`'s, a hundredth of a 1 % reading); NaN
-    /// where the model cannot evaluate it.
+    /// (`ActuatorBeam::solve_coarse`, within 1e-4 of `predict`'s, a hundredth of a 1 % reading) to
+    /// [`actuator_model::nearby_modes::TOLERANCE`]; NaN where the model cannot evaluate it.
     pub(crate) fn residual(
         &self,
         data: &Dataset,
@@ -267,26 +264,14 @@ impl Resonances {
             return f64::NAN;
         };
         let beam = effects.beam(basis, &mass);
-        let cached = self.last[k]
-            .lock()
-            .ok()
-            .and_then(|c| c.iter().find(|(b, _)| *b == beam).map(|(_, m)| *m));
-        let modal = match cached {
-            Some(m) => m,
-            None => match beam.solve_coarse() {
-                Ok(m) => {
-                    if let Ok(mut c) = self.last[k].lock() {
-                        if c.len() >= KEPT_BEAMS {
-                            c.remove(0);
-                        }
-                        c.push((beam, m));
-                    }
-                    m
-                }
-                Err(_) => return f64::NAN,
-            },
+        let mode = match self.solved[k].lock() {
+            Ok(mut solved) => solved.modal(&beam),
+            Err(poisoned) => poisoned.into_inner().modal(&beam),
         };
-        let model = modal.with_stiffness(effects.tip_stiffness(basis)).frequency;
+        let Ok(mode) = mode else {
+            return f64::NAN;
+        };
+        let model = mode.frequency_at(effects.tip_stiffness(basis));
         (o.ln_frequency - model.ln()) * self.weight()
     }
 }

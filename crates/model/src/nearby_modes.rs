@@ -1,0 +1,502 @@
+//! The first mode of many nearby beams from few solves (docs/physics.md §11.6): a fit moves the
+//! beam's stiffness and mass a little at a time, and the frequency and static stiffness of a beam
+//! close to a solved one follow from the solved beam's mode and static shapes by Rayleigh quotients,
+//! whose error is second order in the change of shape.
+//!
+//! On a fixed mesh the held system's stiffness and mass are sums of fixed parts, each times one of the
+//! beam's scalars: `K = a_w K_w + a_e K_e + a_c e₀e₀ᵀ` (active region per `s_k / C44`, compliant
+//! extension per `w_tip / C_ext`, clamp spring per `1/c_θ`) and `M = b_a M_a + b_l M_l + b_e M_e + b_t
+//! e_t e_tᵀ` (areal mass, edge line mass, extension areal mass, tip point mass). A uniform factor on
+//! every `a` (or every `b`) leaves the shapes as they are, so the shapes depend on the ratios
+//! `a_e/a_w, a_c/a_w, b_l/b_a, b_e/b_a, b_t/b_a` alone. Each ratio falls in a cell 0.1 % to 0.2 % wide
+//! (its leading binary digits); the beam at the middle of its cells (the cell's beam) is solved once,
+//! and every beam in its cell gets
+//!
+//! `ω² = (Σ a_i φᵀK_iφ) / (Σ b_j φᵀM_jφ)` and `1/k = (fᵀu)² / Σ a_i uᵀK_iu`,
+//!
+//! `φ` the cell beam's mode and `u` its static shape under the tip load `f`: exact at the cell's
+//! ratios (and any uniform scaling of them), and within [`TOLERANCE`] across the cell (test
+//! `nearby_modes_are_within_the_tolerance_of_a_solve`). The value is a function of the beam alone,
+//! whatever was asked before, so results do not depend on the order of evaluation.
+
+use crate::dynamics::{ActuatorBeam, Element, COARSE_ELEMENTS};
+use crate::error::ModelError;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::Mutex;
+
+/// Mantissa bits of a ratio that name its cell: cells `2⁻⁹` of the ratio wide (from 0.1 % to 0.2 %),
+/// read off the floating-point bits without a logarithm.
+const RATIO_BITS: u32 = 9;
+const SHIFT: u32 = f64::MANTISSA_DIGITS - 1 - RATIO_BITS;
+
+/// Largest relative difference of the frequency and the static stiffness from those of
+/// [`ActuatorBeam::solve_coarse`] of the same beam: a hundredth of the coarse mesh's own error (1e-4).
+pub const TOLERANCE: f64 = 1e-6;
+
+/// Parts of the stiffness: active region, compliant extension, clamp spring.
+type StiffnessParts = [f64; 3];
+/// Parts of the mass: active areal, edge line, extension areal, tip point.
+type MassParts = [f64; 4];
+
+/// A cell: the beam's outline and held root (bits), and its ratios' leading bits (0 for a part the
+/// beam lacks).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct Cell {
+    frame: [u64; 5],
+    ratios: [u64; 5],
+}
+
+/// The quadratic forms of a cell beam's shapes with each part, per unit scalar.
+#[derive(Debug, Clone, Copy)]
+struct Forms {
+    mode_stiffness: StiffnessParts,
+    mode_mass: MassParts,
+    static_stiffness: StiffnessParts,
+    /// `fᵀu`, the cell beam's static tip deflection per unit load at unit `a_w`.
+    load_work: f64,
+}
+
+/// A beam's first frequency and static tip stiffness, SI (the two of [`crate::dynamics::Modal`] the Rayleigh quotients
+/// give to second order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstMode {
+    /// `f1`, Hz.
+    pub frequency: f64,
+    /// `F / δ` at the tip, N/m.
+    pub static_stiffness: f64,
+}
+
+impl FirstMode {
+    /// `f1` with the static stiffness replaced by `stiffness` ([`crate::dynamics::Modal::with_stiffness`]).
+    pub fn frequency_at(&self, stiffness: f64) -> f64 {
+        self.frequency * (stiffness / self.static_stiffness).sqrt()
+    }
+}
+
+/// The cells asked for by one user (the fits of one actuator's resonance), latest first, in front
+/// of the cells solved in the process ([`SOLVED`]).
+#[derive(Debug, Default)]
+pub struct NearbyModes {
+    recent: Vec<(Cell, Forms)>,
+    /// Cells asked for that were not among the recent ones.
+    looked_up: usize,
+}
+
+/// Every cell solved in the process: a cell's forms are a function of the cell alone (its beam has
+/// fixed scalars), so every user, on any data, shares them. Emptied past [`MOST_CELLS`] (about
+/// 20 MB); a cell emptied is solved again to the same bits.
+static SOLVED: Mutex<Option<HashMap<Cell, Forms, BuildHasherDefault<WordHasher>>>> =
+    Mutex::new(None);
+
+/// Most cells kept in [`SOLVED`].
+const MOST_CELLS: usize = 100_000;
+
+/// The forms of `cell` (whose ratios `beam` has), solved if no user has yet.
+fn solved(cell: &Cell, beam: &ActuatorBeam) -> Result<Forms, ModelError> {
+    let lock = || {
+        SOLVED
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    };
+    if let Some(f) = lock().as_ref().and_then(|cells| cells.get(cell)) {
+        return Ok(*f);
+    }
+    // Solved outside the lock: two users may solve one cell at once, to the same forms.
+    let forms = Forms::of(&cell.beam(beam))?;
+    let mut cells = lock();
+    let cells = cells.get_or_insert_with(HashMap::default);
+    if cells.len() >= MOST_CELLS {
+        cells.clear();
+    }
+    cells.insert(*cell, forms);
+    Ok(forms)
+}
+
+/// Cells compared before the map is looked in.
+const RECENT: usize = 4;
+
+/// A multiplicative hash of whole words (the cells' keys are bits, evenly spread in their low bits).
+#[derive(Debug, Default)]
+struct WordHasher(u64);
+
+impl Hasher for WordHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+impl ActuatorBeam {
+    /// The scalars the held system is linear in: stiffness `[s_k / C44, w_tip / C_ext, 1 / c_θ]` and
+    /// mass `[areal, edge line, extension areal, tip point]` (0 for a part the beam lacks).
+    fn parts(&self) -> (StiffnessParts, MassParts) {
+        let w_tip = self.planform.tip_width();
+        let extension = match self.extension_bending_compliance {
+            Some(c) if self.planform.extension_length() > 0.0 => w_tip / c,
+            _ => 0.0,
+        };
+        let clamp = if self.clamp_compliance > 0.0 {
+            1.0 / self.clamp_compliance
+        } else {
+            0.0
+        };
+        (
+            [
+                self.stiffness_scale / self.bending_compliance,
+                extension,
+                clamp,
+            ],
+            [
+                self.areal_mass,
+                self.edge_line_mass,
+                self.extension_areal_mass,
+                self.tip_point_mass,
+            ],
+        )
+    }
+}
+
+/// The cell of the ratio `part / whole` (both finite, `whole > 0`): its leading bits, 0 for an absent
+/// part.
+fn rounded(part: f64, whole: f64) -> u64 {
+    if part > 0.0 {
+        (part / whole).to_bits() >> SHIFT
+    } else {
+        0
+    }
+}
+
+/// The ratio in the middle of a cell, 0 for an absent part.
+fn unrounded(cell: u64) -> f64 {
+    if cell == 0 {
+        0.0
+    } else {
+        f64::from_bits((cell << SHIFT) | (1 << (SHIFT - 1)))
+    }
+}
+
+impl Cell {
+    fn of(beam: &ActuatorBeam) -> Cell {
+        let (a, b) = beam.parts();
+        let p = &beam.planform;
+        Cell {
+            frame: [
+                p.length.to_bits(),
+                p.extension_ratio.to_bits(),
+                p.base_width.to_bits(),
+                p.width_ratio.to_bits(),
+                beam.rigid_root.to_bits(),
+            ],
+            ratios: [
+                rounded(a[1], a[0]),
+                rounded(a[2], a[0]),
+                rounded(b[1], b[0]),
+                rounded(b[2], b[0]),
+                rounded(b[3], b[0]),
+            ],
+        }
+    }
+
+    /// The cell's beam: `beam`'s outline and held root at the cell's ratios, with `a_w = b_a = 1`.
+    fn beam(&self, beam: &ActuatorBeam) -> ActuatorBeam {
+        let [extension, clamp, edge, extension_mass, tip] = self.ratios.map(unrounded);
+        ActuatorBeam {
+            bending_compliance: 1.0,
+            stiffness_scale: 1.0,
+            extension_bending_compliance: (extension > 0.0)
+                .then(|| beam.planform.tip_width() / extension),
+            clamp_compliance: if clamp > 0.0 { 1.0 / clamp } else { 0.0 },
+            areal_mass: 1.0,
+            edge_line_mass: edge,
+            extension_areal_mass: extension_mass,
+            tip_point_mass: tip,
+            ..*beam
+        }
+    }
+}
+
+impl NearbyModes {
+    /// The first frequency and the static stiffness of `beam` on the coarse mesh
+    /// ([`ActuatorBeam::solve_coarse`]), each within [`TOLERANCE`]; the Rayleigh mass of the static
+    /// shape, which is not stationary in the shape, is not given.
+    pub fn modal(&mut self, beam: &ActuatorBeam) -> Result<FirstMode, ModelError> {
+        beam.check()?;
+        let cell = Cell::of(beam);
+        let forms = match self.recent.iter().position(|(c, _)| *c == cell) {
+            Some(0) => self.recent[0].1,
+            Some(at) => {
+                self.recent[..=at].rotate_right(1);
+                self.recent[0].1
+            }
+            None => {
+                self.looked_up += 1;
+                let forms = solved(&cell, beam)?;
+                self.recent.truncate(RECENT - 1);
+                self.recent.insert(0, (cell, forms));
+                forms
+            }
+        };
+        let (a, b) = beam.parts();
+        let sum = |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).map(|(x, y)| x * y).sum() };
+        let omega2 = sum(&a, &forms.mode_stiffness) / sum(&b, &forms.mode_mass);
+        let compliance = forms.load_work.powi(2) / sum(&a, &forms.static_stiffness);
+        Ok(FirstMode {
+            frequency: omega2.sqrt() / (2.0 * std::f64::consts::PI),
+            static_stiffness: 1.0 / compliance,
+        })
+    }
+
+    /// How many times a beam fell outside the recent cells.
+    pub fn looked_up(&self) -> usize {
+        self.looked_up
+    }
+}
+
+impl Forms {
+    fn of(beam: &ActuatorBeam) -> Result<Forms, ModelError> {
+        let (active, extension) = COARSE_ELEMENTS;
+        let shapes = beam.solve_shapes(active, extension)?;
+        let (mode_stiffness, mode_mass) = part_forms(beam, &shapes.mode);
+        let (static_stiffness, _) = part_forms(beam, &shapes.static_shape);
+        Ok(Forms {
+            mode_stiffness,
+            mode_mass,
+            static_stiffness,
+            load_work: 1.0 / shapes.modal.static_stiffness,
+        })
+    }
+}
+
+/// `xᵀK_i x` and `xᵀM_j x` of each part at unit scalar, `x` on the held system's degrees of freedom
+/// of `beam` on the coarse mesh ([`ActuatorBeam::solve_shapes`]).
+fn part_forms(beam: &ActuatorBeam, x: &[f64]) -> (StiffnessParts, MassParts) {
+    let (active, extension) = COARSE_ELEMENTS;
+    let h = beam.rigid_root;
+    // The full degrees of freedom: the clamped root's are 0; a turning root's (v, θ) are (h ψ, ψ).
+    let spring = beam.clamp_compliance > 0.0;
+    let psi = if spring { x[0] } else { 0.0 };
+    let mut full = vec![h * psi, psi];
+    full.extend_from_slice(&x[spring as usize..]);
+    // The elements at unit stiffness per width and unit areal (and extension) mass; the edge line
+    // mass's elements at unit line mass.
+    let unit = ActuatorBeam {
+        bending_compliance: 1.0,
+        stiffness_scale: 1.0,
+        extension_bending_compliance: beam
+            .extension_bending_compliance
+            .map(|_| beam.planform.tip_width()),
+        areal_mass: 1.0,
+        edge_line_mass: 0.0,
+        extension_areal_mass: 1.0,
+        ..*beam
+    };
+    let (elements, compliant) = unit.mesh(active, extension);
+    let (mut k, mut m) = ([0.0; 3], [0.0; 4]);
+    let quadratic = |e: usize, mat: &nalgebra::Matrix4<f64>| -> f64 {
+        let v = nalgebra::Vector4::from_column_slice(&full[2 * e..2 * e + 4]);
+        v.dot(&(mat * v))
+    };
+    for (e, el) in elements.iter().enumerate() {
+        let part = (e >= active) as usize;
+        // The strain energy from the element's deformation, end `b` against the rigid motion of end
+        // `a`: the nodal form `vᵀKv` would cancel most of itself on a stiff extension.
+        let [va, ta, vb, tb] = [0, 1, 2, 3].map(|i| full[2 * e + i]);
+        let d = nalgebra::Vector2::new(vb - va - (el.b - el.a) * ta, tb - ta);
+        k[part] += d.dot(&(el.end_stiffness() * d));
+        m[2 * part] += quadratic(e, &el.mass_matrix());
+        if part == 0 {
+            let edge = Element {
+                line_mass: [1.0, 1.0],
+                ..*el
+            };
+            m[1] += quadratic(e, &edge.mass_matrix());
+        }
+    }
+    k[2] = psi * psi;
+    // The held root `[0, h]` turning with the clamp: ∫ μ x² dx of each part (Simpson, exact for the
+    // linear width); the tip point mass at the end of the active region; a rigid extension's mass
+    // moving as `v + θ s`.
+    let pl = &beam.planform;
+    m[0] += psi * psi * h / 6.0 * (pl.width_at(h / 2.0) * h * h + pl.width_at(h) * h * h);
+    m[1] += psi * psi * h * h * h / 3.0;
+    let (v, theta) = (full[2 * active], full[2 * active + 1]);
+    m[3] = v * v;
+    let l_ext = pl.extension_length();
+    if !compliant && l_ext > 0.0 {
+        let m_ext = pl.tip_width() * l_ext;
+        m[2] += m_ext * (v * v + v * theta * l_ext + theta * theta * l_ext * l_ext / 3.0);
+    }
+    (k, m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planform::Planform;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A tapered thesis-like actuator with an extension (the example data's first actuator: C44 and
+    /// areal masses of a 0/90/0 CF stack on 267 µm PZT-5H), with every part present: a soft clamp, a
+    /// held root, a compliant extension, edge fillets and a tip mass.
+    fn full() -> ActuatorBeam {
+        ActuatorBeam {
+            planform: Planform::new(29.7e-3, 0.072, 6.1e-3, 1.3, 0.0).unwrap(),
+            bending_compliance: 0.40,
+            areal_mass: 4.47,
+            extension_areal_mass: 0.30,
+            // Plies a third as stiff per width as the active stack: a soft extension (φ = 1).
+            extension_bending_compliance: Some(1.2),
+            clamp_compliance: 0.4,
+            rigid_root: 1.5e-3,
+            stiffness_scale: 1.0,
+            edge_line_mass: 2e-3,
+            tip_point_mass: 2e-6,
+        }
+    }
+
+    /// The same actuator clamped, with a rigid extension and no added mass: the common beam.
+    fn plain() -> ActuatorBeam {
+        ActuatorBeam {
+            extension_bending_compliance: None,
+            clamp_compliance: 0.0,
+            rigid_root: 0.0,
+            edge_line_mass: 0.0,
+            tip_point_mass: 0.0,
+            ..full()
+        }
+    }
+
+    /// `beam` with every scalar times `exp(spread z)`, z uniform on [-1, 1].
+    fn moved(beam: &ActuatorBeam, spread: f64, rng: &mut ChaCha8Rng) -> ActuatorBeam {
+        let mut f = || (spread * rng.gen_range(-1.0..1.0)).exp();
+        ActuatorBeam {
+            bending_compliance: beam.bending_compliance * f(),
+            areal_mass: beam.areal_mass * f(),
+            extension_areal_mass: beam.extension_areal_mass * f(),
+            extension_bending_compliance: beam.extension_bending_compliance.map(|c| c * f()),
+            clamp_compliance: beam.clamp_compliance * f(),
+            stiffness_scale: beam.stiffness_scale * f(),
+            edge_line_mass: beam.edge_line_mass * f(),
+            tip_point_mass: beam.tip_point_mass * f(),
+            ..*beam
+        }
+    }
+
+    #[test]
+    fn nearby_modes_are_within_the_tolerance_of_a_solve() {
+        // Every part, then the common beams: clamped and rigid extension, then a soft clamp alone.
+        let bases = [
+            full(),
+            plain(),
+            ActuatorBeam {
+                extension_bending_compliance: None,
+                rigid_root: 0.0,
+                clamp_compliance: 2.0,
+                ..full()
+            },
+        ];
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut worst: f64 = 0.0;
+        for base in bases {
+            let mut modes = NearbyModes::default();
+            // Wide moves land anywhere in a cell, on many cells.
+            for _ in 0..300 {
+                let beam = moved(&base, 0.3, &mut rng);
+                let want = beam.solve_coarse().unwrap();
+                let got = modes.modal(&beam).unwrap();
+                for (g, w) in [
+                    (got.frequency, want.frequency),
+                    (got.static_stiffness, want.static_stiffness),
+                ] {
+                    worst = worst.max((g / w - 1.0).abs());
+                }
+            }
+        }
+        assert!(worst < TOLERANCE, "worst relative difference {worst:e}");
+        // Off the cell's ratios the quotients are close, not exact.
+        assert!(
+            worst > 1e-12,
+            "the quotients should not be exact off the cell's ratios"
+        );
+    }
+
+    #[test]
+    fn a_fit_s_small_steps_share_a_cell_and_a_uniform_scale_is_exact() {
+        let base = full();
+        let mut modes = NearbyModes::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        for _ in 0..100 {
+            modes.modal(&moved(&base, 1e-5, &mut rng)).unwrap();
+        }
+        assert!(modes.looked_up() <= 8, "{} cells", modes.looked_up());
+        // Every stiffness and every mass doubled: the same shapes, the same cell; f1 as it was, k doubled.
+        let scaled = ActuatorBeam {
+            stiffness_scale: 2.0,
+            extension_bending_compliance: base.extension_bending_compliance.map(|c| c / 2.0),
+            clamp_compliance: base.clamp_compliance / 2.0,
+            areal_mass: 2.0 * base.areal_mass,
+            extension_areal_mass: 2.0 * base.extension_areal_mass,
+            edge_line_mass: 2.0 * base.edge_line_mass,
+            tip_point_mass: 2.0 * base.tip_point_mass,
+            ..base
+        };
+        let want = modes.modal(&base).unwrap();
+        let cells = modes.looked_up();
+        let got = modes.modal(&scaled).unwrap();
+        assert_eq!(modes.looked_up(), cells);
+        assert!((got.frequency / want.frequency - 1.0).abs() < 1e-12);
+        assert!((got.static_stiffness / (2.0 * want.static_stiffness) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_beam_out_of_range_is_refused_as_the_solve_refuses_it() {
+        let bad = ActuatorBeam {
+            areal_mass: f64::NAN,
+            ..full()
+        };
+        assert!(bad.solve_coarse().is_err());
+        assert!(NearbyModes::default().modal(&bad).is_err());
+    }
+
+    #[test]
+    fn near_a_rigid_extension_the_quotients_hold_where_the_solve_rounds() {
+        // An extension φ times as compliant as plies a third as stiff as the stack: f1 and k tend to
+        // the rigid extension's as φ → 0, the compliance `1/k` as `(1 + c φ) / k_rigid` (the
+        // cantilever is statically determinate: the extension's bending adds to the tip deflection,
+        // in proportion to its compliance; c taken at φ = 1). The solve's rounding
+        // grows with the extension's stiffness (about 1e-5 at φ = 1e-5); the quotients, which take
+        // the solved shapes only to second order, stay on the line.
+        let base = plain();
+        let rigid = base.solve_coarse().unwrap();
+        let at = |phi: f64| {
+            NearbyModes::default()
+                .modal(&ActuatorBeam {
+                    extension_bending_compliance: Some(1.2 * phi),
+                    ..base
+                })
+                .unwrap()
+        };
+        let c = rigid.static_stiffness / at(1.0).static_stiffness - 1.0;
+        for phi in [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7] {
+            let m = at(phi);
+            assert!(
+                (m.frequency / rigid.frequency - 1.0).abs() < 1e-8,
+                "φ {phi}"
+            );
+            let compliance = rigid.static_stiffness / m.static_stiffness;
+            assert!(
+                (compliance - (1.0 + c * phi)).abs() < 1e-3 * c * phi + 1e-9,
+                "φ {phi}: {compliance}"
+            );
+        }
+    }
+}
