@@ -259,7 +259,7 @@ fn a_declared_bond_is_cut_or_refused_and_the_drawn_mass_is_the_predicted_mass() 
 
 /// Every shipped design example (an `examples/*.toml` with `[geometry]`), cut by method 1 and by
 /// method 2 alike (its `process` line set to each): the mass drawn from the geometry is the model's to
-/// 1e-6 on every one, method 1's drawn Pyralux bond parts included (issue 58, what must show).
+/// 1e-6 on every one, method 1's drawn Pyralux bond parts included.
 #[test]
 fn every_shipped_design_draws_its_model_mass_by_both_methods() {
     let dir = tempfile::tempdir().unwrap();

@@ -372,7 +372,7 @@ fn push_variable_tests<'a>(
 mod tests {
     use super::*;
 
-    /// The issue's case (issue 59, item 3): a mass correlation of raw p 0.02 whose Holm-corrected p is
+    /// A heavy-tailed data set's case: a mass correlation of raw p 0.02 whose Holm-corrected p is
     /// 1.0, and a lack of fit at p = 0.005 on an actuator measured at two voltages.
     fn mass_correlation() -> CorrelationTest {
         CorrelationTest {
