@@ -295,6 +295,12 @@ fn a_batch_lays_its_plates_out_first_on_the_pzt_remnant_an_earlier_run_wrote() {
     assert_eq!(pzt[0]["parts"].as_array().unwrap().len(), 4);
     let stock_list = report["stock_list"].to_string();
     assert!(!stock_list.contains("PZT"), "{stock_list}");
+    // The book tells where the piece goes: on its outline, where it lay on its sheet.
+    let md = std::fs::read_to_string(second.join("nest-report.md")).unwrap();
+    assert!(
+        md.contains(&format!("is cut from the drawn sheet `first/{remnant}.svg`: lay that piece on the outline the file draws")),
+        "{md}"
+    );
     // Every score line lies on the remnant, and each end on its edge runs past that edge, not the
     // sheet's: the plates are laid out from the remnant's own straight edges.
     let stem = pzt[0]["file_stem"].as_str().unwrap();

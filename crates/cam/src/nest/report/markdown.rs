@@ -188,7 +188,7 @@ impl NestReport {
             if let Some(file) = &sh.stock {
                 let _ = writeln!(
                     s,
-                    "\n{} is cut from the drawn sheet {}.",
+                    "\n{} is cut from the drawn sheet {}: lay that piece on the outline the file draws, where it lay on its sheet, with the sheet's corner at the file's origin.",
                     code(&sh.file_stem),
                     code(file)
                 );
