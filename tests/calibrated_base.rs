@@ -145,3 +145,29 @@ fn a_bond_layer_on_the_nonlinear_base_is_solved_into_its_laminate() {
     let force = get(&bonded, "blocked_force_N") / get(&bare, "blocked_force_N");
     assert!((force - 1.0).abs() > 0.01, "{force}");
 }
+
+#[test]
+fn the_optimizer_refuses_a_nonlinear_base_with_effects_in_one_line() {
+    // Its nonlinear search takes the bare laminate; a bond layer would be dropped, so it is refused.
+    let dir = tempfile::tempdir().unwrap();
+    let file = model_file(
+        dir.path(),
+        "bond.toml",
+        "base = \"nonlinear\"",
+        "bond_thickness_m = 2e-5\n",
+    );
+    let out = dir.path().join("out");
+    let err = refused_in_one_line(&run(&[
+        "optimize",
+        &example("optimize-thesis.toml"),
+        "--model",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains("base = \"nonlinear\" with fitted effects"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
