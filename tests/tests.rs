@@ -11,6 +11,7 @@ mod architecture;
 mod book_process;
 mod build_book;
 mod calibrate;
+mod calibrated_base;
 mod cam_writers;
 mod cut_sheet;
 mod drive;

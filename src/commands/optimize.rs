@@ -9,7 +9,7 @@ use actuator_cam::{
     Output, Problem, Progress, SearchModel, SearchPoint, Silent, TransmissionSpec, PARETO_LEVELS,
 };
 use actuator_model::primitives::Primitive;
-use actuator_model::ModelChoice;
+use actuator_model::{Base, Effects, ModelChoice};
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -66,6 +66,16 @@ impl From<ObjectiveArg> for Objective {
 /// The search model for `--model`: a built-in name or a `calibrated-model.toml`.
 fn search_model(choice: &ModelChoice) -> anyhow::Result<SearchModel> {
     match choice {
+        // The search's nonlinear rates are the bare laminate's; the nonlinear base's ply and bond
+        // effects change the laminate, which the search does not carry.
+        ModelChoice::Calibrated(m) if m.base == Base::Nonlinear => {
+            if m.effects != Effects::default() {
+                bail!(
+                    "--model: a calibrated model on base = \"nonlinear\" with fitted effects is not searched by the optimizer (its nonlinear search takes the bare laminate); use predict --model to evaluate designs with it, or optimize --model nonlinear"
+                );
+            }
+            Ok(SearchModel::Nonlinear)
+        }
         ModelChoice::Calibrated(m) => {
             let model = m.effect_model()?;
             // The search scales the mass as l_tot w_0 per shape; a mass per actuator or per outline

@@ -289,6 +289,7 @@ fn optimize_with_a_declared_effect_agrees_with_predict_on_its_design() {
     let dir = tempfile::tempdir().unwrap();
     let model = actuator_model::CalibratedModel {
         model: "calibrated".into(),
+        base: actuator_model::Base::Original,
         verdict: "explained".into(),
         selected_effects: vec!["d31-scale".into(), "wide-clamp".into()],
         effects: Effects {

@@ -8,7 +8,7 @@ use actuator_model::dynamics::{ActuatorBeam, Modal};
 use actuator_model::effects::Actuator;
 use actuator_model::model::{predict, ModelChoice, ModelKind};
 use actuator_model::performance::evaluate;
-use actuator_model::{Drive, DriveMode, ModelError, Performance, Section, Weibull};
+use actuator_model::{Base, Drive, DriveMode, Laminate, ModelError, Performance, Section, Weibull};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -88,24 +88,22 @@ pub fn actuator(design: &Design) -> Actuator<'_> {
 
 /// The first mode of a design's bare clamped actuator under a model, with its static stiffness set to
 /// the prediction's `F_b / δ` (docs/physics.md §11.3). The built-in models use the section's beam, its
-/// masses scaled to the prediction's mass (the thesis-adjusted model changes the ply mass); a calibrated
-/// model uses its effects' beam (clamp, rigid root, compliant extension, stiffness scale).
+/// masses scaled to the prediction's mass (the thesis-adjusted model changes the ply mass), and so does a
+/// calibrated model on the nonlinear base, on its effects' laminate; a calibrated model on the original
+/// base uses its effects' beam (clamp, rigid root, compliant extension, stiffness scale).
 pub fn actuator_modes(
     design: &Design,
     model: &ModelChoice,
     performance: &Performance,
 ) -> Result<Modal, ModelError> {
     let beam = match model {
-        ModelChoice::Kind(_) => {
-            let section = Section::new(&design.laminate()?, design.drive)?;
-            let beam = ActuatorBeam::from_section(&section, &design.planform);
-            let scale = performance.mass / evaluate(&section, &design.planform).mass;
-            ActuatorBeam {
-                areal_mass: beam.areal_mass * scale,
-                extension_areal_mass: beam.extension_areal_mass * scale,
-                ..beam
-            }
-        }
+        ModelChoice::Kind(_) => section_beam(&design.laminate()?, design, performance)?,
+        // The nonlinear base's effects are in its laminate (ply thickness, bond layer).
+        ModelChoice::Calibrated(calibrated) if calibrated.base == Base::Nonlinear => section_beam(
+            &calibrated.nonlinear_laminate(&actuator(design))?,
+            design,
+            performance,
+        )?,
         ModelChoice::Calibrated(calibrated) => {
             let physics = calibrated.effect_model()?;
             let a = actuator(design);
@@ -114,6 +112,23 @@ pub fn actuator_modes(
     };
     // A uniform stiffness factor moves k and ω1² together (§11.3).
     Ok(beam.solve()?.with_stiffness(performance.stiffness))
+}
+
+/// The beam of a laminate's section at the design's planform, its masses scaled to the prediction's
+/// mass.
+fn section_beam(
+    laminate: &Laminate,
+    design: &Design,
+    performance: &Performance,
+) -> Result<ActuatorBeam, ModelError> {
+    let section = Section::new(laminate, design.drive)?;
+    let beam = ActuatorBeam::from_section(&section, &design.planform);
+    let scale = performance.mass / evaluate(&section, &design.planform).mass;
+    Ok(ActuatorBeam {
+        areal_mass: beam.areal_mass * scale,
+        extension_areal_mass: beam.extension_areal_mass * scale,
+        ..beam
+    })
 }
 
 /// Blocked force per unit peak plate field of a design in a drive mode, N/(V/m) (the model is linear

@@ -7,6 +7,7 @@
 //! Euler-Bernoulli models.
 
 mod banded;
+pub mod calibrated_base;
 pub mod capacitance;
 pub mod ceramic;
 pub mod drive;
@@ -35,6 +36,7 @@ pub mod transmission;
 pub mod weibull;
 pub mod wing;
 
+pub use calibrated_base::Base;
 pub use drive::{Drive, DriveMode};
 pub use effects::{Actuator, Effects};
 pub use error::ModelError;

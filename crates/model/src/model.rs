@@ -1,6 +1,7 @@
 //! Choice of model for a prediction: original lamination theory, the thesis' adjusted fits, the
 //! nonlinear ceramic, or the Euler-Bernoulli beam.
 
+use crate::calibrated_base::{self, Base};
 use crate::ceramic::Ceramic;
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
@@ -259,6 +260,9 @@ impl DeclaredEffect {
 pub struct CalibratedModel {
     /// Always "calibrated"; lets a reader reject other files.
     pub model: String,
+    /// The model the effects sit on ([`calibrated_base`]); a file without `base` is on the original.
+    #[serde(default, skip_serializing_if = "Base::is_original")]
+    pub base: Base,
     /// The calibration verdict (`no-effect`, `explained`, `ambiguous`, `not-explained`).
     pub verdict: String,
     /// Names of the effects the calibration selected.
@@ -299,9 +303,12 @@ impl CalibratedModel {
         })
     }
 
-    /// Check every value is physical.
+    /// Check every value is physical, and that the base takes the effects.
     pub fn validate(&self) -> Result<(), ModelError> {
         self.effects.validate()?;
+        if self.base == Base::Nonlinear {
+            calibrated_base::check_nonlinear(&self.effects, !self.declared.is_empty())?;
+        }
         if let Some(loss) = &self.loss {
             let [lo, hi] = loss.interval;
             let inside = |v: f64| v.is_finite() && v > 0.0 && v <= 1.0;
@@ -316,9 +323,23 @@ impl CalibratedModel {
         self.effect_model().map(|_| ())
     }
 
-    /// Predict one actuator.
+    /// The laminate the nonlinear base solves: the actuator's stack with the ply-thickness and
+    /// bond-layer effects applied ([`calibrated_base::check_nonlinear`] refuses the others).
+    pub fn nonlinear_laminate(&self, a: &Actuator) -> Result<Laminate, ModelError> {
+        calibrated_base::check_nonlinear(&self.effects, !self.declared.is_empty())?;
+        self.effects.laminate(a)
+    }
+
+    /// Predict one actuator: the effects' physics on the original base, the nonlinear model of the
+    /// effects' laminate on the nonlinear base ([`CalibratedModel::nonlinear_laminate`]).
     pub fn predict(&self, a: &Actuator) -> Result<Performance, ModelError> {
-        self.effect_model()?.predict(a)
+        match self.base {
+            Base::Original => self.effect_model()?.predict(a),
+            Base::Nonlinear => {
+                let lam = self.nonlinear_laminate(a)?;
+                nonlinear::predict(&lam, &a.planform, a.drive, Ceramic::of(a.pzt)?)
+            }
+        }
     }
 }
 
@@ -350,7 +371,10 @@ impl ModelChoice {
     /// True when the model's stiffness and blocked force per field change with the field (the
     /// nonlinear ceramic, docs/physics.md §18): a drive then predicts at its operating field.
     pub fn depends_on_field(&self) -> bool {
-        matches!(self, ModelChoice::Kind(ModelKind::Nonlinear))
+        match self {
+            ModelChoice::Kind(kind) => *kind == ModelKind::Nonlinear,
+            ModelChoice::Calibrated(model) => model.base == Base::Nonlinear,
+        }
     }
 
     /// Predict one actuator from its raw inputs (the calibrated effects change the stack itself, so they
@@ -429,6 +453,7 @@ mod tests {
             };
             let model = CalibratedModel {
                 model: "calibrated".into(),
+                base: Base::Original,
                 verdict: "explained".into(),
                 selected_effects: vec![],
                 effects: Effects {
@@ -525,6 +550,7 @@ mod tests {
         for bad in [0.0, -0.5, f64::NAN] {
             let model = CalibratedModel {
                 model: "calibrated".into(),
+                base: Base::Original,
                 verdict: "explained".into(),
                 selected_effects: vec![],
                 effects: Effects::default(),

@@ -203,6 +203,7 @@ pub fn measured_loss(data: &Dataset) -> Option<MeasuredLoss> {
 fn calibrated_model(selection: &Selection, loss: Option<MeasuredLoss>) -> CalibratedModel {
     CalibratedModel {
         model: "calibrated".into(),
+        base: actuator_model::Base::Original,
         verdict: selection.verdict.name().into(),
         // A declared effect with several parameters is one name.
         selected_effects: effect_names(&selection.selected)

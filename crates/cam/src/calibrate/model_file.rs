@@ -9,8 +9,9 @@
 
 use crate::calibrate::library::EffectId;
 use crate::input::limits::LOSS_FACTOR;
-use crate::input::{parse_toml, toml_error_line, InputError, Range, TableReader};
-use actuator_model::{CalibratedModel, EffectModel, Effects};
+use crate::input::{parse_toml, short_number, toml_error_line, InputError, Range, TableReader};
+use actuator_model::calibrated_base::{linear_only_effect, BASE_NAMES, NONLINEAR_BASE_EFFECTS};
+use actuator_model::{Base, CalibratedModel, EffectModel, Effects};
 use std::path::Path;
 
 /// Name of the file `calibrate` writes.
@@ -28,8 +29,9 @@ pub enum ModelFileError {
 pub fn to_toml(model: &CalibratedModel) -> Result<String, ModelFileError> {
     let body = toml::to_string(model).map_err(ModelFileError::Serialise)?;
     Ok(format!(
-        "# actuator-cam calibrated model: the original model plus the physical effects below (SI units,\n\
-         # null values = effect off). Use with predict/optimize/cut-sheet --model FILE.\n{body}"
+        "# actuator-cam calibrated model: the {} model plus the physical effects below (SI units,\n\
+         # null values = effect off). Use with predict/optimize/cut-sheet --model FILE.\n{body}",
+        model.base.name()
     ))
 }
 
@@ -133,6 +135,7 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
             "expected \"calibrated\"",
         ));
     }
+    let base = read_base(path, &root)?;
     if let Some(effects) = root.optional_table("effects")? {
         for field in &LIBRARY_FIELDS {
             field.check(&effects)?;
@@ -151,10 +154,53 @@ fn parse(path: &Path, text: &str) -> Result<CalibratedModel, InputError> {
             format!("not a calibrated model: {}", e.message()),
         )
     })?;
+    if base == Base::Nonlinear {
+        refuse_linear_effects(path, &model)?;
+    }
     model
         .validate()
         .map_err(|e| InputError::whole_file(path, e.to_string()))?;
     Ok(model)
+}
+
+/// The file's `base`, the original when it has none.
+fn read_base(path: &Path, root: &TableReader<'_>) -> Result<Base, InputError> {
+    let Some(text) = root.optional_string("base", BASE_NAMES)? else {
+        return Ok(Base::Original);
+    };
+    Base::parse(text).ok_or_else(|| {
+        InputError::invalid(
+            path,
+            "base",
+            format!("{text:?}"),
+            format!("expected {BASE_NAMES}"),
+        )
+    })
+}
+
+/// Refuse, naming the field, an effect the nonlinear base cannot take (it acts on the linear section;
+/// [`actuator_model::calibrated_base`]).
+fn refuse_linear_effects(path: &Path, model: &CalibratedModel) -> Result<(), InputError> {
+    let expected = format!(
+        "base = \"nonlinear\" takes the effects {NONLINEAR_BASE_EFFECTS} only (this one acts on the linear section)"
+    );
+    if let Some((key, value)) = linear_only_effect(&model.effects) {
+        return Err(InputError::invalid(
+            path,
+            &format!("effects.{key}"),
+            short_number(value),
+            expected,
+        ));
+    }
+    if let Some(d) = model.declared.first() {
+        return Err(InputError::invalid(
+            path,
+            "declared",
+            format!("{:?}", d.name),
+            "base = \"nonlinear\" takes no declared effect (their primitives compose on the linear section)",
+        ));
+    }
+    Ok(())
 }
 
 /// Read a calibrated model from a file (`--model FILE`).
@@ -172,6 +218,7 @@ mod tests {
     fn model(effects: Effects) -> CalibratedModel {
         CalibratedModel {
             model: "calibrated".into(),
+            base: actuator_model::Base::Original,
             verdict: "explained".into(),
             selected_effects: vec!["dead-length".into()],
             effects,
@@ -189,6 +236,60 @@ mod tests {
         });
         let back = from_toml(&to_toml(&model).unwrap()).unwrap();
         assert_eq!(back, model);
+    }
+
+    #[test]
+    fn the_base_round_trips_and_the_original_is_left_out() {
+        // A file on the original base reads as every file written without `base`.
+        let original = model(Effects::default());
+        let text = to_toml(&original).unwrap();
+        assert!(!text.contains("base ="), "{text}");
+        assert!(text.contains("the original model plus"), "{text}");
+        let nonlinear = CalibratedModel {
+            base: Base::Nonlinear,
+            ..model(Effects {
+                ply_thickness_scale: 1.2,
+                bond_thickness: 15e-6,
+                ..Effects::default()
+            })
+        };
+        let text = to_toml(&nonlinear).unwrap();
+        assert!(text.contains("base = \"nonlinear\""), "{text}");
+        assert!(text.contains("the nonlinear model plus"), "{text}");
+        assert_eq!(from_toml(&text).unwrap(), nonlinear);
+    }
+
+    #[test]
+    fn a_base_the_file_cannot_have_is_refused_naming_the_key() {
+        let refused = |base: &str, effects: &str| {
+            from_toml(&format!("base = {base}\n{HEAD}[effects]\n{effects}"))
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            refused("\"Nonlinear\"", ""),
+            "calibrated-model.toml: base = \"Nonlinear\": expected \"original\" or \"nonlinear\""
+        );
+        assert_eq!(
+            refused("2", ""),
+            "calibrated-model.toml: base = 2: expected \"original\" or \"nonlinear\""
+        );
+        // Each library effect on the linear section, by its key.
+        for (line, key) in [
+            ("d31_scale = 0.9", "d31_scale"),
+            ("stiffness_scale = 0.8", "stiffness_scale"),
+            (
+                "clamp_compliance_rad_per_N_m = 0.1",
+                "clamp_compliance_rad_per_N_m",
+            ),
+        ] {
+            let e = refused("\"nonlinear\"", &format!("{line}\n"));
+            assert!(
+                e.starts_with(&format!("calibrated-model.toml: effects.{key} = ")),
+                "{e}"
+            );
+            assert!(e.contains("takes the effects ply_thickness_scale and bond_thickness_m only"));
+        }
     }
 
     #[test]
@@ -237,6 +338,7 @@ mod tests {
         };
         let model = |property| CalibratedModel {
             model: "calibrated".into(),
+            base: actuator_model::Base::Original,
             verdict: "explained".into(),
             selected_effects: vec!["stiff-glue".into()],
             effects: Effects {
@@ -276,6 +378,7 @@ mod tests {
         };
         let model = CalibratedModel {
             model: "calibrated".into(),
+            base: actuator_model::Base::Original,
             verdict: "explained".into(),
             selected_effects: vec![
                 "held".into(),
