@@ -198,10 +198,16 @@ fn conclude(
         settings,
     );
     let outliers = outliers(data, &act_data, chosen);
+    let reported = acceptance::reported_intervals(
+        &selected,
+        final_mass_index.map(|i| &mass.candidates[i]),
+        chosen,
+    );
     let verdict = decide(Grounds::Fitted {
         adequacy: &adequacy,
         selected: &selected,
         contenders,
+        holding_null: acceptance::holding_null(&reported),
     });
     // The designs that would tell the selected model from its closest rival, when the data cannot.
     let rival = matches!(verdict, Verdict::Ambiguous { .. })
