@@ -22,3 +22,4 @@ mod calibrate_resonance;
 mod calibrate_selection;
 mod calibrate_synthetic;
 mod calibrate_thickness;
+mod calibrate_touches;

@@ -4,6 +4,7 @@
 use super::candidate::Candidate;
 use super::observations::{ActuationData, MassData, StageData};
 use super::settings::Settings;
+use super::touches;
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
 use crate::calibrate::stats;
@@ -163,11 +164,19 @@ pub(super) fn adequacy_of_fit(
     }
     let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
     let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
+    let quantities = touches::quantities(act, model, mass);
+    let touched = (!correlations_pass)
+        .then(|| touches::only_one(data, &quantities, settings.alpha))
+        .flatten();
+    let worst = failed_test(
+        &tests,
+        lack_of_fit.filter(|_| correlations_pass && !lof_pass),
+    );
     Adequacy {
-        worst_variable: failed_test(
-            &tests,
-            lack_of_fit.filter(|_| correlations_pass && !lof_pass),
-        ),
+        worst_variable: match (worst, touched) {
+            (Some(w), Some(t)) => Some(format!("{w}; {t}")),
+            (w, _) => w,
+        },
         lack_of_fit,
         correlations: tests,
         passed: correlations_pass && lof_pass,
@@ -339,7 +348,8 @@ fn within_sweep_tests(
     }
 }
 
-fn push_variable_tests<'a>(
+/// The correlation of the per-actuator residuals `pts` of one quantity (`kind`) with each design variable.
+pub(super) fn push_variable_tests<'a>(
     tests: &mut Vec<CorrelationTest>,
     kind: &'static str,
     pts: &[(usize, f64)],

@@ -22,6 +22,7 @@ pub mod separating;
 pub mod settings;
 pub(crate) mod stacks;
 pub mod thickness;
+mod touches;
 pub mod verdict;
 
 pub use adequacy::Adequacy;
@@ -203,11 +204,20 @@ fn conclude(
         final_mass_index.map(|i| &mass.candidates[i]),
         chosen,
     );
+    let contradicts = contradiction(
+        data,
+        &act_data,
+        (&candidates, chosen),
+        mass_model.as_ref().map(|m| (m, &mass.data)),
+        &selected,
+        settings,
+    );
     let verdict = decide(Grounds::Fitted {
         adequacy: &adequacy,
         selected: &selected,
         contenders,
         holding_null: acceptance::holding_null(&reported),
+        contradicts,
     });
     // The designs that would tell the selected model from its closest rival, when the data cannot.
     let rival = matches!(verdict, Verdict::Ambiguous { .. })
@@ -234,6 +244,28 @@ fn conclude(
         separating_designs,
         notes,
     })
+}
+
+/// Why the `chosen` model is refused, if it makes a measured quantity follow a design variable that the
+/// original model among `candidates` fits (docs/calibration.md §3, "Verdicts").
+fn contradiction(
+    data: &Dataset,
+    act: &ActuationData,
+    (candidates, chosen): (&[Candidate], &Candidate),
+    mass: Option<(&EffectModel, &observations::MassData)>,
+    selected: &[EffectId],
+    settings: &Settings,
+) -> Option<String> {
+    let original = candidates.iter().find(|c| c.role == Role::Original)?;
+    let before = touches::quantities(act, &original.model, mass);
+    let after = touches::quantities(act, &chosen.model, mass);
+    touches::refusal(
+        data,
+        &before,
+        &after,
+        &effect_names(selected),
+        settings.alpha,
+    )
 }
 
 /// The declared effects fitted on one stage's data, each as the list of its parameters on that stage

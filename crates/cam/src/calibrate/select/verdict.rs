@@ -55,6 +55,8 @@ pub(crate) enum Grounds<'a> {
         contenders: Vec<Vec<String>>,
         /// The selected parameters whose final interval holds their null value, described.
         holding_null: Vec<String>,
+        /// Why the fitted model is refused for contradicting a measured quantity (`touches.rs`).
+        contradicts: Option<String>,
     },
     /// The actuators left after excluding `excluded` broken ones could not be fitted.
     UnfittableWithoutBroken {
@@ -66,13 +68,19 @@ pub(crate) enum Grounds<'a> {
 }
 
 /// The verdict on its grounds. A final model that fails its adequacy tests is not explained, whatever
-/// else holds: a residual that follows a variable is not one any contender explains. A selected effect
+/// else holds: a residual that follows a variable is not one any contender explains; a model that makes a
+/// measured quantity follow a variable though the original model fits it is refused first, named by
+/// what the original model's residual touches. A selected effect
 /// whose final interval holds its null value is not one the data support (the acceptance rule,
 /// docs/calibration.md §3), so the model with it explains nothing either. An adequate model
 /// with rivals the data cannot tell apart is ambiguous, naming the selected set first; otherwise it is
 /// explained, or no effect when nothing was selected.
 pub(crate) fn decide(grounds: Grounds) -> Verdict {
     match grounds {
+        Grounds::Fitted {
+            contradicts: Some(why),
+            ..
+        } => Verdict::NotExplained { variable: why },
         Grounds::Fitted { adequacy, .. } if !adequacy.passed => Verdict::NotExplained {
             variable: adequacy
                 .worst_variable
@@ -131,6 +139,7 @@ mod tests {
             selected: &selected,
             contenders: Vec::new(),
             holding_null,
+            contradicts: None,
         };
         assert_eq!(decide(grounds(Vec::new())), Verdict::Explained);
         let Verdict::NotExplained { variable } = decide(grounds(vec![
