@@ -4,7 +4,6 @@
 use super::candidate::Candidate;
 use super::observations::{ActuationData, MassData, StageData};
 use super::settings::Settings;
-use super::touches;
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
 use crate::calibrate::stats;
@@ -164,19 +163,11 @@ pub(super) fn adequacy_of_fit(
     }
     let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
     let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
-    let quantities = touches::quantities(act, model, mass);
-    let touched = (!correlations_pass)
-        .then(|| touches::only_one(data, &quantities, settings.alpha))
-        .flatten();
-    let worst = failed_test(
-        &tests,
-        lack_of_fit.filter(|_| correlations_pass && !lof_pass),
-    );
     Adequacy {
-        worst_variable: match (worst, touched) {
-            (Some(w), Some(t)) => Some(format!("{w}; {t}")),
-            (w, _) => w,
-        },
+        worst_variable: failed_test(
+            &tests,
+            lack_of_fit.filter(|_| correlations_pass && !lof_pass),
+        ),
         lack_of_fit,
         correlations: tests,
         passed: correlations_pass && lof_pass,

@@ -190,7 +190,7 @@ fn conclude(
         act_data = actuation_data(data, &m)?;
         Some(m)
     };
-    let adequacy = adequacy(
+    let mut adequacy = adequacy(
         data,
         &act_data,
         chosen,
@@ -198,6 +198,9 @@ fn conclude(
         &mass.data,
         settings,
     );
+    let mass_pair = mass_model.as_ref().map(|m| (m, &mass.data));
+    let after = touches::quantities(&act_data, &chosen.model, mass_pair);
+    touches::name_in(&mut adequacy, data, &after, settings.alpha);
     let outliers = outliers(data, &act_data, chosen);
     let reported = acceptance::reported_intervals(
         &selected,
@@ -206,9 +209,9 @@ fn conclude(
     );
     let contradicts = contradiction(
         data,
-        &act_data,
-        (&candidates, chosen),
-        mass_model.as_ref().map(|m| (m, &mass.data)),
+        (&act_data, mass_pair),
+        &candidates,
+        &after,
         &selected,
         settings,
     );
@@ -246,23 +249,26 @@ fn conclude(
     })
 }
 
-/// Why the `chosen` model is refused, if it makes a measured quantity follow a design variable that the
-/// original model among `candidates` fits (docs/calibration.md §3, "Verdicts").
+/// Why the chosen model, whose quantities' residuals are `after`, is refused, if it makes a measured
+/// quantity follow a design variable that the original model among `candidates` fits
+/// (docs/calibration.md §3, "Verdicts").
 fn contradiction(
     data: &Dataset,
-    act: &ActuationData,
-    (candidates, chosen): (&[Candidate], &Candidate),
-    mass: Option<(&EffectModel, &observations::MassData)>,
+    (act, mass): (
+        &ActuationData,
+        Option<(&EffectModel, &observations::MassData)>,
+    ),
+    candidates: &[Candidate],
+    after: &[(&'static str, touches::Points)],
     selected: &[EffectId],
     settings: &Settings,
 ) -> Option<String> {
     let original = candidates.iter().find(|c| c.role == Role::Original)?;
     let before = touches::quantities(act, &original.model, mass);
-    let after = touches::quantities(act, &chosen.model, mass);
     touches::refusal(
         data,
         &before,
-        &after,
+        after,
         &effect_names(selected),
         settings.alpha,
     )

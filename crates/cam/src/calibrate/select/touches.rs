@@ -3,7 +3,7 @@
 //! so a not-explained verdict can say "force-only" when the deflections, masses and resonances fit and
 //! only the blocked forces follow a variable (a compliant load cell, not an effect of the actuator).
 
-use super::adequacy::{push_variable_tests, CorrelationTest};
+use super::adequacy::{push_variable_tests, Adequacy, CorrelationTest};
 use super::observations::{ActuationData, MassData, StageData};
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::stats;
@@ -144,6 +144,27 @@ fn failing(
         }
     }
     [failed, measured]
+}
+
+/// Add to a failed `adequacy`'s named residual what it touches, when its correlations failed and one
+/// quantity of `quantities` (the final model's) alone follows a design variable.
+pub(super) fn name_in(
+    adequacy: &mut Adequacy,
+    data: &Dataset,
+    quantities: &[(&'static str, Points)],
+    alpha: f64,
+) {
+    let correlations_failed = adequacy.correlations.iter().any(|t| t.p_holm < alpha);
+    if adequacy.passed || !correlations_failed {
+        return;
+    }
+    if let (Some(w), Some(t)) = (
+        adequacy.worst_variable.as_mut(),
+        only_one(data, quantities, alpha),
+    ) {
+        w.push_str("; ");
+        w.push_str(&t);
+    }
 }
 
 /// "a force-only residual: the deflections and masses fit" when exactly one of the measured quantities
