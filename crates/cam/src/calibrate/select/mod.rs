@@ -202,8 +202,16 @@ fn conclude(
     let after = touches::quantities(&act_data, &chosen.model, mass_pair);
     touches::name_in(&mut adequacy, data, &after, settings.alpha);
     let outliers = outliers(data, &act_data, chosen);
+    // The actuation effects: a mass effect's interval is judged on the masses by the mass stage, and the
+    // joint refit's interval beside the actuation model is not its acceptance (the loop study's added mass
+    // per area leaves a bond layer's joint interval over its null).
+    let actuation: Vec<EffectId> = selected
+        .iter()
+        .filter(|e| e.stage() != Stage::Mass)
+        .cloned()
+        .collect();
     let reported = acceptance::reported_intervals(
-        &selected,
+        &actuation,
         final_mass_index.map(|i| &mass.candidates[i]),
         chosen,
     );
