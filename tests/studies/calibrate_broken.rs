@@ -155,3 +155,22 @@ fn the_report_names_the_broken_actuators_and_the_exclusion() {
     assert!(md.contains("cracked plate or failed bond: deflection and force"));
     assert!(md.contains("2 of 30 actuators excluded as broken (A4, A17)"));
 }
+
+/// A cracked actuator among data with a width-dependent loss no library effect expresses (the selection
+/// study's "outside: width loss" case): the rest is not explained, and the cracked actuator stays out
+/// rather than being put back to change the verdict; the verdict names it and its likely cause.
+#[test]
+fn a_broken_actuator_stays_out_when_the_rest_is_not_explained() {
+    let csv = break_actuators(&random_csv(Truth::WidthLoss(0.6), 306), &[11], 0.55);
+    let cal = run(&csv);
+    let ids: Vec<&str> = cal.broken.iter().map(|b| b.id.as_str()).collect();
+    assert_eq!(ids, ["A11"]);
+    assert!(cal.broken[0].excluded, "{:?}", cal.broken);
+    assert_eq!(cal.model.verdict, "not-explained");
+    let variable = format!("{:?}", cal.selection.verdict);
+    assert!(
+        variable.contains("setting aside as broken A11: cracked plate or failed bond"),
+        "{variable}"
+    );
+    assert_eq!(cal.after.free_deflection.unwrap().n, 4 * 29);
+}

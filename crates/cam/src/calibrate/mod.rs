@@ -315,14 +315,11 @@ fn screen_broken(
     let Some(mut sel) = current else {
         return Ok((first, flagged, None));
     };
-    if matches!(sel.verdict, Verdict::NotExplained { .. }) {
-        // Leaving them out did not leave a model that fits the rest: they may carry a shared effect.
-        return Ok(keep_all(
-            first,
-            flagged,
-            Some("the actuators flagged as broken were kept in the fit: without them the rest is still not explained, so their offsets may belong to an effect the model lacks"
-                .into()),
-        ));
+    // An actuator set aside stays out whatever the rest shows: putting it back to change the verdict
+    // would let one device fault decide what the others mean. A not-explained verdict on the rest says
+    // which actuators were set aside and why, so a reader can judge whether they carry the effect.
+    if let Verdict::NotExplained { variable } = &mut sel.verdict {
+        variable.push_str(&set_aside(&flagged));
     }
     let names: Vec<&str> = flagged.iter().map(|b| b.id.as_str()).collect();
     sel.notes.push(format!(
@@ -333,6 +330,18 @@ fn screen_broken(
         groups - flagged.len()
     ));
     Ok((sel, flagged, Some(keep)))
+}
+
+/// What a not-explained verdict on the rest adds: each actuator set aside with its likely cause.
+fn set_aside(flagged: &[BrokenActuator]) -> String {
+    let each: Vec<String> = flagged
+        .iter()
+        .map(|b| format!("{}: {}", b.id, b.likely_cause))
+        .collect();
+    format!(
+        "; on the actuators left after setting aside as broken {}",
+        each.join("; ")
+    )
 }
 
 /// Report flagged actuators without excluding them.

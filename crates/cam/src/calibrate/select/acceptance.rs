@@ -65,6 +65,53 @@ pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Se
     }
 }
 
+/// Each selected effect's parameter with the 95 % interval the report gives it: a mass effect refitted
+/// beside the actuation model its joint interval, else that of the final mass or actuation fit.
+pub(super) fn reported_intervals(
+    selected: &[EffectId],
+    mass: Option<&Candidate>,
+    chosen: &Candidate,
+) -> Vec<(EffectId, (f64, f64))> {
+    selected
+        .iter()
+        .filter_map(|id| {
+            let interval = chosen
+                .carried
+                .iter()
+                .find(|c| c.id == *id)
+                .map(|c| c.interval)
+                .or_else(|| {
+                    [mass, Some(chosen)].into_iter().flatten().find_map(|c| {
+                        let k = c.effects.iter().position(|e| e == id)?;
+                        Some(c.intervals[k])
+                    })
+                })?;
+            Some((id.clone(), interval))
+        })
+        .collect()
+}
+
+/// The selected parameters whose interval holds their null value, named with the interval
+/// (docs/calibration.md §3, step 4: an effect is accepted only when its interval excludes the null; the
+/// final fit, refitted with the resonances or the masses beside it, must still show it).
+pub(super) fn holding_null(reported: &[(EffectId, (f64, f64))]) -> Vec<String> {
+    reported
+        .iter()
+        .filter_map(|(id, (lo, hi))| {
+            let p = id.param();
+            let excludes = lo.is_finite() && hi.is_finite() && (*lo > p.null || *hi < p.null);
+            (!excludes).then(|| {
+                format!(
+                    "{} ({} [{lo:.4}, {hi:.4}]) holds its null {}",
+                    id.name(),
+                    p.name,
+                    p.null
+                )
+            })
+        })
+        .collect()
+}
+
 /// Indices of the best accepted model and its rivals (within ΔAICc 2, not nested in it).
 pub(super) fn best_and_rivals_indices(candidates: &[Candidate], settings: &Settings) -> Vec<usize> {
     let _ = settings;
@@ -117,4 +164,27 @@ pub(super) fn best_and_rivals(
         })
         .collect();
     (idx.first().copied(), rivals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_selected_interval_that_holds_its_null_is_named() {
+        // docs/calibration.md §3, step 4: each selected parameter's 95 % interval must exclude its null.
+        let reported = [
+            (EffectId::D31Scale, (0.70, 0.80)),
+            (EffectId::DeadLength, (-0.2, 1.4)),
+            (EffectId::ClampCompliance, (0.0, 0.9)),
+            (EffectId::PlyThickness, (1.02, 1.1)),
+        ];
+        let named = holding_null(&reported);
+        assert_eq!(named.len(), 2, "{named:?}");
+        assert!(named[0].starts_with("dead-length (") && named[0].contains("holds its null 0"));
+        assert!(named[1].starts_with("clamp-compliance ("));
+        assert!(holding_null(&[(EffectId::D31Scale, (0.9, 1.01))])[0].contains("holds its null 1"));
+        assert!(holding_null(&[(EffectId::DeadLength, (f64::NAN, 2.0))]).len() == 1);
+        assert!(holding_null(&reported[3..]).is_empty());
+    }
 }

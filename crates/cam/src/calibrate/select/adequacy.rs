@@ -339,7 +339,8 @@ fn within_sweep_tests(
     }
 }
 
-fn push_variable_tests<'a>(
+/// The correlation of the per-actuator residuals `pts` of one quantity (`kind`) with each design variable.
+pub(super) fn push_variable_tests<'a>(
     tests: &mut Vec<CorrelationTest>,
     kind: &'static str,
     pts: &[(usize, f64)],

@@ -22,6 +22,7 @@ pub mod separating;
 pub mod settings;
 pub(crate) mod stacks;
 pub mod thickness;
+mod touches;
 pub mod verdict;
 
 pub use adequacy::Adequacy;
@@ -189,7 +190,7 @@ fn conclude(
         act_data = actuation_data(data, &m)?;
         Some(m)
     };
-    let adequacy = adequacy(
+    let mut adequacy = adequacy(
         data,
         &act_data,
         chosen,
@@ -197,11 +198,37 @@ fn conclude(
         &mass.data,
         settings,
     );
+    let mass_pair = mass_model.as_ref().map(|m| (m, &mass.data));
+    let after = touches::quantities(&act_data, &chosen.model, mass_pair);
+    touches::name_in(&mut adequacy, data, &after, settings.alpha);
     let outliers = outliers(data, &act_data, chosen);
+    // The actuation effects: a mass effect's interval is judged on the masses by the mass stage, and the
+    // joint refit's interval beside the actuation model is not its acceptance (the loop study's added mass
+    // per area leaves a bond layer's joint interval over its null).
+    let actuation: Vec<EffectId> = selected
+        .iter()
+        .filter(|e| e.stage() != Stage::Mass)
+        .cloned()
+        .collect();
+    let reported = acceptance::reported_intervals(
+        &actuation,
+        final_mass_index.map(|i| &mass.candidates[i]),
+        chosen,
+    );
+    let contradicts = contradiction(
+        data,
+        (&act_data, mass_pair),
+        &candidates,
+        &after,
+        &selected,
+        settings,
+    );
     let verdict = decide(Grounds::Fitted {
         adequacy: &adequacy,
         selected: &selected,
         contenders,
+        holding_null: acceptance::holding_null(&reported),
+        contradicts,
     });
     // The designs that would tell the selected model from its closest rival, when the data cannot.
     let rival = matches!(verdict, Verdict::Ambiguous { .. })
@@ -228,6 +255,31 @@ fn conclude(
         separating_designs,
         notes,
     })
+}
+
+/// Why the chosen model, whose quantities' residuals are `after`, is refused, if it makes a measured
+/// quantity follow a design variable that the original model among `candidates` fits
+/// (docs/calibration.md §3, "Verdicts").
+fn contradiction(
+    data: &Dataset,
+    (act, mass): (
+        &ActuationData,
+        Option<(&EffectModel, &observations::MassData)>,
+    ),
+    candidates: &[Candidate],
+    after: &[(&'static str, touches::Points)],
+    selected: &[EffectId],
+    settings: &Settings,
+) -> Option<String> {
+    let original = candidates.iter().find(|c| c.role == Role::Original)?;
+    let before = touches::quantities(act, &original.model, mass);
+    touches::refusal(
+        data,
+        &before,
+        after,
+        &effect_names(selected),
+        settings.alpha,
+    )
 }
 
 /// The declared effects fitted on one stage's data, each as the list of its parameters on that stage
