@@ -130,8 +130,8 @@ mod tests {
 
     #[test]
     fn an_adequate_fit_whose_effect_holds_its_null_is_not_explained() {
-        // The acceptance rule (docs/calibration.md §3, step 4) on the final fit: issue 59's null data set
-        // "explained" by two effects whose intervals both held their null.
+        // The acceptance rule (docs/calibration.md §3, step 4) on the final fit: a null data set that two
+        // effects would "explain" while both their intervals hold their null.
         let adequacy = adequate();
         let selected = [EffectId::DeadLength, EffectId::ClampCompliance];
         let grounds = |holding_null: Vec<String>| Grounds::Fitted {
