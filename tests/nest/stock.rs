@@ -342,3 +342,41 @@ fn bounds(ring: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
     }
     (lo, hi)
 }
+
+#[test]
+fn a_pzt_stock_two_materials_share_must_name_its_material() {
+    // thesis-C beside a PZT-5A copy of it: 0.267 mm plates of two materials.
+    let dir = tempfile::tempdir().unwrap();
+    let c = std::fs::read_to_string(example_path("thesis-C.toml")).unwrap();
+    let five_a = dir.path().join("c-5a.toml");
+    std::fs::write(
+        &five_a,
+        c.replace("pzt = \"PZT-5H\"", "pzt = \"PZT-5A\"")
+            .replace("name = \"thesis-C\"", "name = \"thesis-C-5A\""),
+    )
+    .unwrap();
+    sheet_svg(&dir.path().join("small.svg"), [40, 30], "");
+    let batch = |stock: &str| {
+        let path = dir.path().join("two.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "name = \"two\"\niterations = 50\n[[item]]\ndesign = {:?}\nquantity = 1\n[[item]]\n\
+                 design = {five_a:?}\nquantity = 1\n[[stock]]\nfile = \"small.svg\"\nsheet = \"pzt\"\n\
+                 pzt_thickness_mm = 0.267\n{stock}",
+                example_path("thesis-C.toml")
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let o = nest(&batch(""), &dir.path().join("out"), &[]);
+    let err = refused_in_one_line(&o);
+    assert!(
+        err.contains("designs of two PZT materials have plates this thick: name one with pzt"),
+        "{err}"
+    );
+    // Named, the remnant takes that material's plates.
+    let o = nest(&batch("pzt = \"PZT-5A\"\n"), &dir.path().join("out"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -41,41 +41,37 @@ fn layup_item(t: &TableReader<'_>, items: &[BatchItem]) -> Result<usize, InputEr
 fn pzt_item(t: &TableReader<'_>, items: &[BatchItem]) -> Result<usize, InputError> {
     let thickness_mm = t.number_in("pzt_thickness_mm", PZT_THICKNESS_MM)?;
     let material = t.optional_string("pzt", "the PZT material's name, as the designs give it")?;
-    let same = |i: &&BatchItem| {
+    let same = |i: &BatchItem| {
         (i.design.pzt_thickness * 1e3 - thickness_mm).abs() < 1e-9
             && material.is_none_or(|m| i.design.pzt.name == m)
     };
-    let matching: Vec<&BatchItem> = items.iter().filter(same).collect();
     let stocks: Vec<String> = items
         .iter()
         .map(|i| format!("{} {} mm", i.design.pzt.name, i.design.pzt_thickness * 1e3))
         .collect();
-    match matching.first() {
-        None => Err(InputError::invalid(
+    let refuse = |why: &str| {
+        InputError::invalid(
             t.file(),
             &t.path("pzt_thickness_mm"),
             thickness_mm,
-            format!(
-                "no design of the batch has these PZT plates; the batch's: {}",
-                stocks.join(", ")
-            ),
-        )),
-        Some(first) if matching.iter().any(|i| i.design.pzt.name != first.design.pzt.name) => {
-            Err(InputError::invalid(
-                t.file(),
-                &t.path("pzt_thickness_mm"),
-                thickness_mm,
-                format!(
-                    "designs of two PZT materials have plates this thick: name one with pzt = \"…\" ({})",
-                    stocks.join(", ")
-                ),
-            ))
-        }
-        Some(first) => Ok(items
-            .iter()
-            .position(|i| std::ptr::eq(i, *first))
-            .expect("found among the items")),
+            format!("{why} ({})", stocks.join(", ")),
+        )
+    };
+    let first = items
+        .iter()
+        .position(same)
+        .ok_or_else(|| refuse("no design of the batch has these PZT plates; the batch's are"))?;
+    let name = &items[first].design.pzt.name;
+    if items
+        .iter()
+        .filter(|i| same(i))
+        .any(|i| &i.design.pzt.name != name)
+    {
+        return Err(refuse(
+            "designs of two PZT materials have plates this thick: name one with pzt = \"…\"",
+        ));
     }
+    Ok(first)
 }
 
 /// One `[[stock]]`: `file` (DXF or SVG), `sheet` (`"prepreg"`, the default, with `layup_deg`;
