@@ -66,6 +66,9 @@ pub struct ActuatorBeam {
     pub edge_line_mass: f64,
     /// Point mass at the end of the active region `x = l_p` (the fillets on the plates' tip edges), kg.
     pub tip_point_mass: f64,
+    /// Point mass at the actuator's tip, the end of the extension (`x = l_p` without one): a mass fitted
+    /// there after weighing (the `tip-mass` primitive), kg.
+    pub end_mass: f64,
 }
 
 /// The first mode and the static tip stiffness of an [`ActuatorBeam`], SI.
@@ -158,6 +161,7 @@ impl ActuatorBeam {
             stiffness_scale: 1.0,
             edge_line_mass: 0.0,
             tip_point_mass: 0.0,
+            end_mass: 0.0,
         }
     }
 
@@ -198,6 +202,7 @@ impl ActuatorBeam {
             stiffness_scale: effects.stiffness_scale,
             edge_line_mass: 4.0 * effects.added_mass_per_length * l_p.hypot(half_taper) / l_p,
             tip_point_mass: 2.0 * effects.added_mass_per_length * pl.tip_width(),
+            end_mass: 0.0,
         }
     }
 
@@ -208,6 +213,7 @@ impl ActuatorBeam {
             + self.extension_areal_mass * pl.extension_area()
             + self.edge_line_mass * pl.piezo_length()
             + self.tip_point_mass
+            + self.end_mass
     }
 
     /// First mode and static stiffness with the default mesh ([`ACTIVE_ELEMENTS`],
@@ -286,7 +292,7 @@ impl ActuatorBeam {
     }
 
     /// The unit tip load on the last node; a rigid extension (not `compliant`) adds its mass to
-    /// the last node in `m` and moves the load to its end.
+    /// the last node in `m` and moves the load to its end. The end mass sits where the load acts.
     fn tip_load(&self, m: &mut DMatrix<f64>, compliant: bool) -> DVector<f64> {
         let full = m.nrows();
         let l_ext = self.planform.extension_length();
@@ -294,7 +300,13 @@ impl ActuatorBeam {
         let last = full - 2;
         let mut load = DVector::<f64>::zeros(full);
         load[last] = 1.0;
+        m[(last, last)] += self.end_mass;
         if !compliant && l_ext > 0.0 {
+            // The end mass at `s = l_ext` moves as `v + θ l_ext`.
+            let me = self.end_mass;
+            m[(last, last + 1)] += me * l_ext;
+            m[(last + 1, last)] += me * l_ext;
+            m[(last + 1, last + 1)] += me * l_ext * l_ext;
             // The rigid extension: a line mass moving as `v + θ s`, `s` in [0, l_ext]; the tip load acts
             // at `s = l_ext`.
             let m_ext = self.extension_areal_mass * w_tip * l_ext;
@@ -385,6 +397,7 @@ impl ActuatorBeam {
         nonneg("rigid_root", self.rigid_root)?;
         nonneg("edge_line_mass", self.edge_line_mass)?;
         nonneg("tip_point_mass", self.tip_point_mass)?;
+        nonneg("end_mass", self.end_mass)?;
         if self.rigid_root >= self.planform.piezo_length() {
             return Err(ModelError::OutOfRange {
                 name: "rigid_root",
@@ -615,6 +628,7 @@ mod tests {
             stiffness_scale: 1.0,
             edge_line_mass: 0.0,
             tip_point_mass: 0.0,
+            end_mass: 0.0,
         }
     }
 
@@ -698,6 +712,53 @@ mod tests {
         };
         let ratio = edged.solve().unwrap().frequency / bare.solve().unwrap().frequency;
         assert!((ratio - (1.0f64 / 1.25).sqrt()).abs() < 1e-9, "{ratio}");
+    }
+
+    #[test]
+    fn an_end_mass_sits_at_the_tip_of_the_extension() {
+        // Without an extension the end is x = l_p: the classical tip-mass equation (Blevins, Table 8-1
+        // case 8, as above) holds for it as for the fillets' point mass.
+        let bare = uniform(30e-3, 0.0);
+        let m = 0.5 * 4.0 * 5e-3 * 30e-3;
+        let at_end = ActuatorBeam {
+            end_mass: m,
+            ..bare
+        };
+        let at_edge = ActuatorBeam {
+            tip_point_mass: m,
+            ..bare
+        };
+        let (f_end, f_edge) = (
+            at_end.solve().unwrap().frequency,
+            at_edge.solve().unwrap().frequency,
+        );
+        assert!((f_end / f_edge - 1.0).abs() < 1e-12, "{f_end} vs {f_edge}");
+        // With an extension, a rigid one carries the mass at its end as a rigid body (`v + θ l_ext`),
+        // a compliant one on its last node: as the compliant extension stiffens the two agree (their
+        // difference falls as its compliance, 1.5e-6 at 1e-4 of the stack's; the solve rounds below
+        // that), and the mass further out lowers f1 more than the same mass at x = l_p.
+        let rigid = ActuatorBeam {
+            end_mass: m,
+            ..uniform(30e-3, 0.5)
+        };
+        let stiff = ActuatorBeam {
+            extension_bending_compliance: Some(1e-4 * rigid.bending_compliance),
+            ..rigid
+        };
+        let (f_rigid, f_stiff) = (
+            rigid.solve().unwrap().frequency,
+            stiff.solve().unwrap().frequency,
+        );
+        assert!((f_stiff / f_rigid - 1.0).abs() < 1e-5, "{f_stiff} vs {f_rigid}");
+        let inboard = ActuatorBeam {
+            end_mass: 0.0,
+            tip_point_mass: m,
+            ..rigid
+        };
+        assert!(f_rigid < inboard.solve().unwrap().frequency);
+        // The moving mass counts it once.
+        let moving = rigid.moving_mass() - uniform(30e-3, 0.5).moving_mass();
+        assert!((moving / m - 1.0).abs() < 1e-12);
     }
 
     #[test]

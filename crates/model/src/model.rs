@@ -175,19 +175,24 @@ impl EffectModel {
 
     /// The actuator's beam under these effects (docs/physics.md §11.4): the stack from `basis`
     /// ([`EffectModel::basis`]), the boundary effects and the masses with the declared primitives
-    /// applied, the added masses where their primitives put them.
+    /// applied, the added masses where their primitives put them (a tip mass at the tip).
     pub fn beam(&self, basis: &StackBasis, mass: &MassBreakdown) -> ActuatorBeam {
         let mut effects = self.boundary_effects(&basis.planform);
+        let mut end_mass = 0.0;
         for x in &self.primitives {
             match x.primitive {
                 primitives::Primitive::AddedMassPerLength => {
                     effects.added_mass_per_length += x.value
                 }
                 primitives::Primitive::AddedMassPerArea => effects.added_mass_per_area += x.value,
+                primitives::Primitive::TipMass => end_mass += x.value,
                 _ => {}
             }
         }
-        ActuatorBeam::from_effects(&effects, basis, mass)
+        ActuatorBeam {
+            end_mass,
+            ..ActuatorBeam::from_effects(&effects, basis, mass)
+        }
     }
 
     /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and

@@ -6,9 +6,9 @@
 //! On a fixed mesh the held system's stiffness and mass are sums of fixed parts, each times one of the
 //! beam's scalars: `K = a_w K_w + a_e K_e + a_c e₀e₀ᵀ` (active region per `s_k / C44`, compliant
 //! extension per `w_tip / C_ext`, clamp spring per `1/c_θ`) and `M = b_a M_a + b_l M_l + b_e M_e + b_t
-//! e_t e_tᵀ` (areal mass, edge line mass, extension areal mass, tip point mass). A uniform factor on
+//! e_t e_tᵀ + b_n e_n e_nᵀ` (areal mass, edge line mass, extension areal mass, tip point mass, end mass). A uniform factor on
 //! every `a` (or every `b`) leaves the shapes as they are, so the shapes depend on the ratios
-//! `a_e/a_w, a_c/a_w, b_l/b_a, b_e/b_a, b_t/b_a` alone. Each ratio falls in a cell 0.1 % to 0.2 % wide
+//! `a_e/a_w, a_c/a_w, b_l/b_a, b_e/b_a, b_t/b_a, b_n/b_a` alone. Each ratio falls in a cell 0.1 % to 0.2 % wide
 //! (its leading binary digits); the beam at the middle of its cells (the cell's beam) is solved once,
 //! and every beam in its cell gets
 //!
@@ -36,15 +36,15 @@ pub const TOLERANCE: f64 = 1e-6;
 
 /// Parts of the stiffness: active region, compliant extension, clamp spring.
 type StiffnessParts = [f64; 3];
-/// Parts of the mass: active areal, edge line, extension areal, tip point.
-type MassParts = [f64; 4];
+/// Parts of the mass: active areal, edge line, extension areal, tip point, end point.
+type MassParts = [f64; 5];
 
 /// A cell: the beam's outline and held root (bits), and its ratios' leading bits (0 for a part the
 /// beam lacks).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Cell {
     frame: [u64; 5],
-    ratios: [u64; 5],
+    ratios: [u64; 6],
 }
 
 /// The quadratic forms of a cell beam's shapes with each part, per unit scalar.
@@ -136,7 +136,7 @@ impl Hasher for WordHasher {
 
 impl ActuatorBeam {
     /// The scalars the held system is linear in: stiffness `[s_k / C44, w_tip / C_ext, 1 / c_θ]` and
-    /// mass `[areal, edge line, extension areal, tip point]` (0 for a part the beam lacks).
+    /// mass `[areal, edge line, extension areal, tip point, end point]` (0 for a part the beam lacks).
     fn parts(&self) -> (StiffnessParts, MassParts) {
         let w_tip = self.planform.tip_width();
         let extension = match self.extension_bending_compliance {
@@ -159,6 +159,7 @@ impl ActuatorBeam {
                 self.edge_line_mass,
                 self.extension_areal_mass,
                 self.tip_point_mass,
+                self.end_mass,
             ],
         )
     }
@@ -201,13 +202,14 @@ impl Cell {
                 rounded(b[1], b[0]),
                 rounded(b[2], b[0]),
                 rounded(b[3], b[0]),
+                rounded(b[4], b[0]),
             ],
         }
     }
 
     /// The cell's beam: `beam`'s outline and held root at the cell's ratios, with `a_w = b_a = 1`.
     fn beam(&self, beam: &ActuatorBeam) -> ActuatorBeam {
-        let [extension, clamp, edge, extension_mass, tip] = self.ratios.map(unrounded);
+        let [extension, clamp, edge, extension_mass, tip, end] = self.ratios.map(unrounded);
         ActuatorBeam {
             bending_compliance: 1.0,
             stiffness_scale: 1.0,
@@ -218,6 +220,7 @@ impl Cell {
             edge_line_mass: edge,
             extension_areal_mass: extension_mass,
             tip_point_mass: tip,
+            end_mass: end,
             ..*beam
         }
     }
@@ -299,7 +302,7 @@ fn part_forms(beam: &ActuatorBeam, x: &[f64]) -> (StiffnessParts, MassParts) {
         ..*beam
     };
     let (elements, compliant) = unit.mesh(active, extension);
-    let (mut k, mut m) = ([0.0; 3], [0.0; 4]);
+    let (mut k, mut m) = ([0.0; 3], [0.0; 5]);
     let quadratic = |e: usize, mat: &nalgebra::Matrix4<f64>| -> f64 {
         let v = nalgebra::Vector4::from_column_slice(&full[2 * e..2 * e + 4]);
         v.dot(&(mat * v))
@@ -330,9 +333,13 @@ fn part_forms(beam: &ActuatorBeam, x: &[f64]) -> (StiffnessParts, MassParts) {
     let (v, theta) = (full[2 * active], full[2 * active + 1]);
     m[3] = v * v;
     let l_ext = pl.extension_length();
+    // The end mass where the tip load acts: the last node, or the end of a rigid extension.
+    let (ve, te) = (full[full.len() - 2], full[full.len() - 1]);
+    m[4] = ve * ve;
     if !compliant && l_ext > 0.0 {
         let m_ext = pl.tip_width() * l_ext;
         m[2] += m_ext * (v * v + v * theta * l_ext + theta * theta * l_ext * l_ext / 3.0);
+        m[4] = (ve + te * l_ext).powi(2);
     }
     (k, m)
 }
@@ -360,6 +367,7 @@ mod tests {
             stiffness_scale: 1.0,
             edge_line_mass: 2e-3,
             tip_point_mass: 2e-6,
+            end_mass: 1e-6,
         }
     }
 
@@ -371,6 +379,7 @@ mod tests {
             rigid_root: 0.0,
             edge_line_mass: 0.0,
             tip_point_mass: 0.0,
+            end_mass: 0.0,
             ..full()
         }
     }
@@ -387,6 +396,7 @@ mod tests {
             stiffness_scale: beam.stiffness_scale * f(),
             edge_line_mass: beam.edge_line_mass * f(),
             tip_point_mass: beam.tip_point_mass * f(),
+            end_mass: beam.end_mass * f(),
             ..*beam
         }
     }
@@ -447,6 +457,7 @@ mod tests {
             extension_areal_mass: 2.0 * base.extension_areal_mass,
             edge_line_mass: 2.0 * base.edge_line_mass,
             tip_point_mass: 2.0 * base.tip_point_mass,
+            end_mass: 2.0 * base.end_mass,
             ..base
         };
         let want = modes.modal(&base).unwrap();

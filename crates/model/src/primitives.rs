@@ -117,6 +117,10 @@ pub enum Primitive {
     /// A mass per unit bonded area (adhesive under each PZT with no stiffness in the stack), kg/m²
     /// (null 0): the mass only, `2 μ A_pzt` over both PZT-to-ply faces.
     AddedMassPerArea,
+    /// A point mass at the actuator's tip (a glue blob, a wing hinge) fitted after the actuator was
+    /// weighed, kg (null 0): it moves with the tip in the first mode and nothing else, so δ, F_b, the
+    /// stack and the weighed mass are untouched and only `f1` falls (docs/physics.md §11.4).
+    TipMass,
 }
 
 impl Primitive {
@@ -404,7 +408,8 @@ pub fn boundary<'x>(
             | Primitive::D31ThicknessPower
             | Primitive::AddedMass
             | Primitive::AddedMassPerLength
-            | Primitive::AddedMassPerArea => {}
+            | Primitive::AddedMassPerArea
+            | Primitive::TipMass => {}
         }
     }
     e
@@ -900,6 +905,7 @@ pub(crate) mod tests {
                 Primitive::AddedMass => 5e-6,
                 Primitive::AddedMassPerLength => 1e-4,
                 Primitive::AddedMassPerArea => 1e-3,
+                Primitive::TipMass => 2e-6,
             },
         };
         let properties = [
@@ -931,6 +937,7 @@ pub(crate) mod tests {
             Primitive::AddedMass,
             Primitive::AddedMassPerLength,
             Primitive::AddedMassPerArea,
+            Primitive::TipMass,
         ]);
         all.into_iter().map(sample).collect()
     }
