@@ -23,4 +23,5 @@ mod calibrate_resonance;
 mod calibrate_selection;
 mod calibrate_synthetic;
 mod calibrate_thickness;
+mod calibrate_tip_mass;
 mod calibrate_touches;

@@ -455,7 +455,7 @@ pub fn allowed_false_alarms(n: usize) -> usize {
 }
 
 /// The smallest `m` with P(more than `m` of `n` independent events of probability `p`) at most 1 %.
-fn chance_allows(n: usize, p: f64) -> usize {
+pub fn chance_allows(n: usize, p: f64) -> usize {
     let mut term = (1.0 - p).powi(n as i32); // P(0 misses)
     let mut cdf = term;
     let mut m = 0;

@@ -749,7 +749,10 @@ mod tests {
             rigid.solve().unwrap().frequency,
             stiff.solve().unwrap().frequency,
         );
-        assert!((f_stiff / f_rigid - 1.0).abs() < 1e-5, "{f_stiff} vs {f_rigid}");
+        assert!(
+            (f_stiff / f_rigid - 1.0).abs() < 1e-5,
+            "{f_stiff} vs {f_rigid}"
+        );
         let inboard = ActuatorBeam {
             end_mass: 0.0,
             tip_point_mass: m,

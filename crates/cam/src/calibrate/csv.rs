@@ -14,7 +14,7 @@ use crate::input::library::{drive_mode, library_ply, library_pzt};
 use crate::input::limits::{
     BASE_TAB_MM, BASE_WIDTH_MM, BLOCKED_FORCE_N, EXTENSION_RATIO, FREE_DEFLECTION_MM, LENGTH_MM,
     MASS_MG, MAX_PLIES, MEASURED_VOLTAGE_V, PLY_ANGLE_DEG, PZT_THICKNESS_MM, QUALITY_FACTOR,
-    RESONANCE_HZ, WIDTH_RATIO,
+    RESONANCE_HZ, RESONANCE_SD_HZ, WIDTH_RATIO,
 };
 use crate::input::{nearest, InputError, Range};
 use actuator_model::effects::{drive_at_voltage, Actuator};
@@ -38,14 +38,15 @@ pub const REQUIRED_COLUMNS: [&str; 11] = [
 ];
 
 /// The columns a file may add: `drive`, `pzt`, `ply`, `base_tab_mm`, `resonance_Hz`,
-/// `quality_factor` (in this order).
-pub const OPTIONAL_COLUMNS: [&str; 6] = [
+/// `quality_factor`, `resonance_sd_Hz` (in this order).
+pub const OPTIONAL_COLUMNS: [&str; 7] = [
     "drive",
     "pzt",
     "ply",
     "base_tab_mm",
     "resonance_Hz",
     "quality_factor",
+    "resonance_sd_Hz",
 ];
 
 /// One measured actuator at one drive level, validated and in SI units.
@@ -85,6 +86,9 @@ pub struct Measurement {
     pub resonance: Option<f64>,
     /// Measured quality factor of that resonance (shared by all rows of the id).
     pub quality_factor: Option<f64>,
+    /// Standard deviation of that resonance's reading, Hz (shared by all rows of the id): the
+    /// precision its residual is tested against (docs/calibration.md §3, "The resonance").
+    pub resonance_sd: Option<f64>,
 }
 
 impl Measurement {
@@ -134,7 +138,7 @@ impl Dataset {
         for g in &groups {
             let first = &rows[g[0]];
             let mut mass: Option<(f64, u64)> = None;
-            let (mut resonance, mut quality) = (None, None);
+            let (mut resonance, mut quality, mut sd) = (None, None, None);
             for &i in g {
                 let r = &rows[i];
                 let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
@@ -191,6 +195,7 @@ impl Dataset {
                 for (column, v, shared) in [
                     ("resonance_Hz", r.resonance, &mut resonance),
                     ("quality_factor", r.quality_factor, &mut quality),
+                    ("resonance_sd_Hz", r.resonance_sd, &mut sd),
                 ] {
                     match (v, *shared) {
                         (Some(v), Some(v0)) if !same(v, v0) => {
@@ -205,6 +210,7 @@ impl Dataset {
                 rows[i].mass = mass.map(|(m, _)| m).or(rows[i].mass);
                 rows[i].resonance = resonance;
                 rows[i].quality_factor = quality;
+                rows[i].resonance_sd = sd;
             }
         }
         Ok(Dataset {
@@ -376,7 +382,7 @@ pub fn parse_file(file: &Path, text: &str) -> Result<Dataset, InputError> {
 /// [`OPTIONAL_COLUMNS`] order where present.
 struct Columns {
     required: [usize; 11],
-    optional: [Option<usize>; 6],
+    optional: [Option<usize>; 7],
 }
 
 impl Columns {
@@ -426,7 +432,7 @@ impl Columns {
 /// One row validated into a measurement in SI units.
 fn measurement(row: &Row, columns: &Columns) -> Result<Measurement, InputError> {
     let file = row.file;
-    let [c_drive, c_pzt, c_ply, c_tab, c_f1, c_q] = columns.optional;
+    let [c_drive, c_pzt, c_ply, c_tab, c_f1, c_q, c_sd] = columns.optional;
     let [c_id, c_l, c_lr, c_w0, c_wr, c_tp, c_layup, c_v, c_m, c_d, c_f] = columns.required;
     let id = row.cell(c_id).to_string();
     if id.is_empty() {
@@ -457,6 +463,21 @@ fn measurement(row: &Row, columns: &Columns) -> Result<Measurement, InputError> 
         Some(c) => row.number(c, QUALITY_FACTOR)?,
         None => None,
     };
+    let resonance_sd = match c_sd {
+        Some(c) => row.number(c, RESONANCE_SD_HZ)?,
+        None => None,
+    };
+    if let (Some(sd), Some(f), Some(c)) = (resonance_sd, resonance, c_sd) {
+        if sd >= 0.5 * f {
+            return Err(row.error(
+                c,
+                sd,
+                format!(
+                    "must be below half of resonance_Hz ({f}): a reading that does not tell f1"
+                ),
+            ));
+        }
+    }
     let layup_text = row.cell(c_layup).to_string();
     let layup_deg = parse_layup(&layup_text).map_err(|_| {
         row.error(
@@ -498,6 +519,7 @@ fn measurement(row: &Row, columns: &Columns) -> Result<Measurement, InputError> 
         blocked_force: force,
         resonance,
         quality_factor,
+        resonance_sd,
     })
 }
 
@@ -618,6 +640,36 @@ mod tests {
         .to_string();
         assert!(
             e.contains("resonance_Hz = 210") && e.contains("must agree"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_resonances_precision_is_shared_per_actuator_and_held_below_half_of_it() {
+        let head = format!("{HEADER},resonance_Hz,resonance_sd_Hz");
+        let d = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,212.5,2.1\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,,\n"
+        ))
+        .unwrap();
+        assert_eq!(d.rows[1].resonance_sd, Some(2.1));
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,150\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("m.csv: line 2, column resonance_sd_Hz = 150: must be below half of resonance_Hz (200)")
+                && !e.contains('\n'),
+            "{e}"
+        );
+        let e = parse(&format!(
+            "{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,2\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,,3\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("resonance_sd_Hz = 3") && e.contains("must agree"),
             "{e}"
         );
     }

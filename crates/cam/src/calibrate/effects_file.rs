@@ -37,7 +37,7 @@ use std::path::Path;
 const FINITE: Range = Range::open(f64::NEG_INFINITY, f64::INFINITY, "");
 
 /// Primitive kinds as the file spells them (the parameter's unit is in docs/calibration.md).
-const KINDS: [(&str, Option<Primitive>); 14] = [
+const KINDS: [(&str, Option<Primitive>); 15] = [
     ("scale", None),
     ("inserted-layer", Some(Primitive::InsertedLayer)),
     ("field-dependent-d31", Some(Primitive::FieldDependentD31)),
@@ -58,6 +58,7 @@ const KINDS: [(&str, Option<Primitive>); 14] = [
     ("added-mass", Some(Primitive::AddedMass)),
     ("added-mass-per-length", Some(Primitive::AddedMassPerLength)),
     ("added-mass-per-area", Some(Primitive::AddedMassPerArea)),
+    ("tip-mass", Some(Primitive::TipMass)),
 ];
 
 const TARGETS: [(&str, Target); 3] = [

@@ -85,6 +85,9 @@ pub const BLOCKED_FORCE_N: Range = Range::closed(1e-6, 1000.0, "N");
 pub const RESONANCE_HZ: Range = Range::closed(0.1, 1e6, "Hz");
 /// Measured quality factor of that resonance: a resonance (above 1) up to a hard PZT's `Q_m`.
 pub const QUALITY_FACTOR: Range = Range::closed(1.0, 10_000.0, "");
+/// Standard deviation of a measured resonance's reading: positive, at most the resonance range's top
+/// (each is also held below half its own `f1`).
+pub const RESONANCE_SD_HZ: Range = Range::closed(1e-6, 1e6, "Hz");
 /// A failure value of the Weibull fit (field, strain or stress, any unit): within 12 decades of 1.
 pub const FAILURE_VALUE: Range = Range::closed(1e-12, 1e12, "");
 /// Largest ratio of the highest to the lowest failure value of one fit.

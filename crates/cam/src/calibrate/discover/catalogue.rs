@@ -73,8 +73,8 @@ const PROPERTIES: [Property; 8] = [
 ];
 
 /// Range and starts of a primitive's parameter, or None when it cannot move δ or F_b (density acts on
-/// the mass only, the permittivity on nothing this model predicts). An exhaustive match: a primitive
-/// added to the model crate must be given its range here.
+/// the mass only, a tip mass on `f1` only, the permittivity on nothing this model predicts). An
+/// exhaustive match: a primitive added to the model crate must be given its range here.
 fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
     Some(match p {
         Primitive::Scale {
@@ -83,7 +83,8 @@ fn range(p: Primitive) -> Option<(f64, f64, &'static [f64])> {
         }
         | Primitive::AddedMass
         | Primitive::AddedMassPerLength
-        | Primitive::AddedMassPerArea => return None,
+        | Primitive::AddedMassPerArea
+        | Primitive::TipMass => return None,
         Primitive::Scale { .. } => (0.2, 3.0, &[0.7, 1.4]),
         Primitive::InsertedLayer => (0.0, 200e-6, &[5e-6, 40e-6]),
         Primitive::FieldDependentD31 => (-0.4e-6, 3e-6, &[0.0, 1e-6]),
@@ -222,6 +223,7 @@ pub fn name(p: Primitive) -> String {
         Primitive::AddedMass => "added-mass".into(),
         Primitive::AddedMassPerLength => "added-mass-per-length".into(),
         Primitive::AddedMassPerArea => "added-mass-per-area".into(),
+        Primitive::TipMass => "tip-mass".into(),
     }
 }
 
@@ -242,6 +244,7 @@ pub fn parameter(p: Primitive) -> &'static str {
         Primitive::AddedMass => "added_mass_kg",
         Primitive::AddedMassPerLength => "mass_per_length_kg_per_m",
         Primitive::AddedMassPerArea => "mass_per_area_kg_per_m2",
+        Primitive::TipMass => "tip_mass_kg",
     }
 }
 

@@ -273,6 +273,7 @@ pub(super) mod tests {
         ],
         passed: true,
         worst_variable: Some("w_r (stiffness residual, r = -0.60)".into()),
+        resonance: None,
     });
     static OUTLIERS: LazyLock<Vec<Outlier>> = LazyLock::new(|| {
         vec![Outlier {

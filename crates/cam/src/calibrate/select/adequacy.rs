@@ -3,6 +3,7 @@
 
 use super::candidate::Candidate;
 use super::observations::{ActuationData, MassData, StageData};
+use super::resonance_tests::{self, ResonanceTests};
 use super::settings::Settings;
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
@@ -56,6 +57,10 @@ pub struct Adequacy {
     pub lack_of_fit: Option<LackOfFit>,
     /// Holm-corrected correlations of the remaining residual.
     pub correlations: Vec<CorrelationTest>,
+    /// The resonance residuals' mean offset and size against their precision (None without 4
+    /// measured resonances).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resonance: Option<ResonanceTests>,
     /// Both tests pass at the family level.
     pub passed: bool,
     /// Variable the residual follows most (smallest p); when only the lack of fit fails, that test
@@ -163,15 +168,56 @@ pub(super) fn adequacy_of_fit(
     }
     let correlations_pass = tests.iter().all(|t| t.p_holm >= settings.alpha);
     let lof_pass = lack_of_fit.is_none_or(|l| l.p >= settings.alpha);
+    let resonance = resonance_check(data, act, &frequency_res, &r, settings.alpha);
+    let mut worst_variable = failed_test(
+        &tests,
+        lack_of_fit.filter(|_| correlations_pass && !lof_pass),
+    );
+    // A resonance test that fails while the correlations pass is what failed; with the lack of fit
+    // passing too, the deflections, forces and masses fit and the residual is the resonances' alone.
+    if let Some(words) = resonance
+        .and_then(|t| t.failure())
+        .filter(|_| correlations_pass)
+    {
+        worst_variable = Some(match worst_variable.filter(|_| !lof_pass) {
+            Some(lof) => format!("{lof}; and the resonances: {words}"),
+            None => format!("a resonance-only residual: {words}"),
+        });
+    }
     Adequacy {
-        worst_variable: failed_test(
-            &tests,
-            lack_of_fit.filter(|_| correlations_pass && !lof_pass),
-        ),
+        worst_variable,
         lack_of_fit,
         correlations: tests,
-        passed: correlations_pass && lof_pass,
+        passed: correlations_pass && lof_pass && resonance.is_none_or(|t| t.passed),
+        resonance,
     }
+}
+
+/// The resonance residuals' tests (`resonance_tests.rs`): `frequency_res` as read (without the weight
+/// the chosen model's estimate gave them), each against its actuator's `resonance_sd_Hz` over its
+/// `f1`, or the pure error of the sweeps of the deflection and force residuals `r`.
+fn resonance_check(
+    data: &Dataset,
+    act: &ActuationData,
+    frequency_res: &[f64],
+    r: &[f64],
+    alpha: f64,
+) -> Option<ResonanceTests> {
+    let w = act.resonances.weight();
+    let res: Vec<f64> = frequency_res.iter().map(|x| x / w).collect();
+    let stated: Vec<Option<f64>> = act
+        .resonances
+        .obs
+        .iter()
+        .map(|o| {
+            let row = &data.rows[o.row];
+            row.resonance_sd.zip(row.resonance).map(|(sd, f)| sd / f)
+        })
+        .collect();
+    let (rss_full, q, sweeps) = sweep_lines(act, r);
+    let df = r.len() as f64 - q as f64;
+    let pure = (sweeps >= 3 && df >= 5.0 && rss_full > 0.0).then(|| (rss_full / df).sqrt());
+    resonance_tests::test(&res, &stated, pure, alpha)
 }
 
 /// What the residual follows: the correlation of smallest p, or, when `failed_lack_of_fit` is the only

@@ -17,6 +17,7 @@ mod mass_stage;
 pub(crate) mod observations;
 pub mod outliers;
 mod pooled;
+pub mod resonance_tests;
 mod resonance_weight;
 pub mod separating;
 pub mod settings;

@@ -125,6 +125,7 @@ mod tests {
             correlations: Vec::new(),
             passed: true,
             worst_variable: None,
+            resonance: None,
         }
     }
 
