@@ -3,8 +3,9 @@
 //! primitive) leaves δ, F_b and the mass as they were and lowers every `f1`, most on the light
 //! actuators, so no design variable follows the resonance residual. Its mean offset does not escape the
 //! resonance tests: the loop (calibrate; declare `suggested-effects.toml` when there is one; calibrate
-//! again) must end `not-explained` naming a resonance-only residual, or `explained` with the tip mass.
-//! A lab that declares the tip mass itself must get it explained, the hidden mass inside its interval.
+//! again) must end `not-explained` naming a resonance-only residual, or `explained` with the tip mass
+//! discovery offers. A lab that declares a tip mass of 2 mg or more itself must get it explained, the
+//! hidden mass inside its interval.
 //!
 //! Data: 30 random actuators x 4 voltages, 5 % noise on δ and F_b, 1 % on the mass and on `f1`, whose
 //! precision the file states (`resonance_sd_Hz`, 1 % of each `f1`). The null rows hide nothing, with the
@@ -100,7 +101,7 @@ fn said(cal: &Calibration) -> String {
 
 /// Whether a loop's last word is right: the tip mass explained, or a resonance-only residual named.
 fn right(last: &str) -> bool {
-    last.starts_with("not-explained: a resonance-only residual")
+    (last.starts_with("not-explained: ") && last.contains("a resonance-only residual"))
         || (last.starts_with("explained") && last.contains("tip"))
 }
 
@@ -148,7 +149,7 @@ fn a_tip_mass_seen_only_in_the_resonance_ends_the_loop_right() {
             (turn(&csv), said(&by_hand), declared_fit(&by_hand))
         })
         .collect();
-    let (mut wrong, mut covered, mut fitted) = (Vec::new(), 0, 0);
+    let (mut wrong, mut explained, mut covered, mut fitted, mut heavy) = (Vec::new(), 0, 0, 0, 0);
     for ((k, seed), ((first, declared, last), by_hand, fit)) in seeds.iter().zip(&rows) {
         let m = tip_mass(*k);
         println!(
@@ -159,6 +160,13 @@ fn a_tip_mass_seen_only_in_the_resonance_ends_the_loop_right() {
         if !right(last) {
             wrong.push(*seed);
         }
+        explained += usize::from(last.starts_with("explained"));
+        // Declared by hand, from 2 mg: a 1 mg mass moves f1 by about 1 %, which the comparison of
+        // models, counting a resonance as one deflection reading, does not select.
+        if m < 1.5e-6 {
+            continue;
+        }
+        heavy += 1;
         if let Some((_, (lo, hi))) = fit.filter(|_| by_hand.starts_with("explained")) {
             fitted += 1;
             covered += usize::from(lo <= m && m <= hi);
@@ -166,13 +174,14 @@ fn a_tip_mass_seen_only_in_the_resonance_ends_the_loop_right() {
     }
     let n = seeds.len();
     println!(
-        "right {} of {n}; tip mass declared by hand explained {fitted} of {n}, interval holds it {covered}",
+        "right {} of {n} (explained with the tip mass {explained}); tip mass of 2-5 mg declared by hand \
+         explained {fitted} of {heavy}, interval holds it {covered}",
         n - wrong.len()
     );
     assert!(wrong.len() <= n - of_20(18, n), "wrong on {wrong:?} of {n}");
     assert!(
-        fitted >= of_20(18, n),
-        "declared tip mass explained on {fitted} of {n}"
+        fitted >= of_20(18, heavy),
+        "declared tip mass explained on {fitted} of {heavy}"
     );
     assert!(
         fitted - covered <= allowed_misses(fitted),

@@ -21,6 +21,7 @@ pub mod mass_fit;
 pub mod pattern;
 pub mod power_law;
 pub mod primitive_fit;
+pub mod resonance_forms;
 pub mod suggest;
 
 use crate::calibrate::csv::Dataset;
@@ -59,6 +60,10 @@ pub struct Discovery {
     /// selection's mass models and each mass-only form ([`mass_fit`]), by AICc on the log masses.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub mass_forms: Vec<MassForm>,
+    /// The forms only the resonance separates, best gain first, when the resonance residuals fail
+    /// their tests ([`resonance_forms`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub resonance_forms: Vec<resonance_forms::ResonanceForm>,
 }
 
 /// One explanation: `{η, X}` with X a library effect, a declared effect or a primitive, or a combination
@@ -199,6 +204,11 @@ pub fn discover(
         c.delta_aicc = c.aicc - best;
     }
     let designs = discriminate(data, &predictors(&ranked, &base), 3);
+    let resonance_forms = if selection.adequacy.resonance.is_some_and(|t| !t.passed) {
+        resonance_forms::rank(&act, &selection.model)
+    } else {
+        Vec::new()
+    };
     Ok(Discovery {
         power_laws,
         trends,
@@ -207,6 +217,7 @@ pub fn discover(
         ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
         designs,
         mass_forms: mass_fit::rank(data, selection),
+        resonance_forms,
     })
 }
 

@@ -20,7 +20,7 @@ pub const LISTED: usize = 3;
 pub struct Suggestion {
     /// Its rank in its own table (1 = leading).
     pub rank: usize,
-    /// Which ranking: `deflection and force` or `mass`.
+    /// Which ranking: `deflection and force`, `mass` or `resonance`.
     pub residual: &'static str,
     /// The effect name (the primitive's report name).
     pub name: String,
@@ -99,16 +99,50 @@ pub fn suggestions(d: &Discovery, mass_first: bool, min_delta_aicc: f64) -> Vec<
         }
     }
     let mass_declared = mass.first().is_some_and(|s| s.declared);
-    // The deflection and force leader is declared unless the mass explains the verdict alone: a mass
-    // residual named first, a mass form declared, and no real gain on δ and F_b.
+    let resonance = resonance_suggestions(d, min_delta_aicc);
+    let resonance_declared = resonance.iter().any(|s| s.declared);
+    // The deflection and force leader is declared unless the mass or the resonance explains the
+    // verdict alone: a mass residual named first and a mass form declared, or a resonance form
+    // declared, and no real gain on δ and F_b.
     if let Some(first) = actuation.first_mut() {
-        first.declared = !(mass_first && mass_declared) || first.gain > min_delta_aicc;
+        first.declared =
+            !(mass_first && mass_declared || resonance_declared) || first.gain > min_delta_aicc;
     }
+    let mut all = resonance;
     if mass_first {
-        mass.extend(actuation);
-        mass
+        all.extend(mass);
+        all.extend(actuation);
     } else {
-        actuation.extend(mass);
-        actuation
+        all.extend(actuation);
+        all.extend(mass);
     }
+    all
+}
+
+/// The forms only the resonance separates (`resonance_forms.rs`), in their order: the leading one
+/// declared when the deflections and forces allow it, it gains the selection's margin on the resonance
+/// residuals and its interval excludes its null.
+fn resonance_suggestions(d: &Discovery, min_delta_aicc: f64) -> Vec<Suggestion> {
+    let lead = d
+        .resonance_forms
+        .iter()
+        .position(|f| f.allowed && f.gain > min_delta_aicc && f.interval.0 > 0.0);
+    d.resonance_forms
+        .iter()
+        .enumerate()
+        .map(|(k, f)| Suggestion {
+            rank: k + 1,
+            residual: "resonance",
+            name: f.name.to_string(),
+            partner: None,
+            primitive: f.primitive,
+            parameter: f.parameter,
+            null: f.primitive.null(),
+            bounds: f.bounds,
+            estimate: f.estimate,
+            interval: f.interval,
+            gain: f.gain,
+            declared: lead == Some(k),
+        })
+        .collect()
 }

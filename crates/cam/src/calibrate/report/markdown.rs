@@ -311,6 +311,23 @@ pub fn markdown(r: &Report) -> String {
     } else {
         md.push_str("No voltage sweeps of 3+ levels: no lack-of-fit test.\n\n");
     }
+    if let Some(t) = r.adequacy.resonance {
+        let _ = writeln!(
+            md,
+            "Resonances of {} actuators against a precision σ(log) = {:.4} ({}): mean offset {:+.2} %, t = {:.2} on {} df, p = {:.3}; size χ² = {:.1} on {} df, p = {:.3} (each test at {}).\n",
+            t.n,
+            t.sigma,
+            t.precision,
+            100.0 * t.mean.exp_m1(),
+            t.t,
+            t.t_df,
+            t.p_mean,
+            t.chi_square,
+            t.n,
+            t.p_size,
+            0.5 * t.alpha
+        );
+    }
     md.push_str("| residual | variable | r | p (Holm) |\n|---|---|---|---|\n");
     let mut tests: Vec<_> = r.adequacy.correlations.iter().collect();
     tests.sort_by(|a, b| a.p.total_cmp(&b.p));

@@ -64,10 +64,10 @@ fn entry(x: &Suggestion) -> String {
         x.interval.0,
         x.interval.1,
         x.gain,
-        if x.residual == "mass" {
-            "the chosen mass model"
-        } else {
-            "{eta}"
+        match x.residual {
+            "mass" => "the chosen mass model",
+            "resonance" => "the chosen model on the resonances",
+            _ => "{eta}",
         }
     );
     let body = format!(
