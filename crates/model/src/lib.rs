@@ -31,6 +31,7 @@ pub mod planform;
 pub mod plate;
 pub mod poling;
 pub mod primitives;
+pub mod rayleigh_tip_mass;
 pub mod section;
 pub mod transmission;
 pub mod weibull;

@@ -311,22 +311,8 @@ pub fn markdown(r: &Report) -> String {
     } else {
         md.push_str("No voltage sweeps of 3+ levels: no lack-of-fit test.\n\n");
     }
-    if let Some(t) = r.adequacy.resonance {
-        let _ = writeln!(
-            md,
-            "Resonances of {} actuators against a precision σ(log) = {:.4} ({}): mean offset {:+.2} %, t = {:.2} on {} df, p = {:.3}; size χ² = {:.1} on {} df, p = {:.3} (each test at {}).\n",
-            t.n,
-            t.sigma,
-            t.precision,
-            100.0 * t.mean.exp_m1(),
-            t.t,
-            t.t_df,
-            t.p_mean,
-            t.chi_square,
-            t.n,
-            t.p_size,
-            0.5 * t.alpha
-        );
+    if let Some(t) = &r.adequacy.resonance {
+        resonance_line(&mut md, t);
     }
     md.push_str("| residual | variable | r | p (Holm) |\n|---|---|---|---|\n");
     let mut tests: Vec<_> = r.adequacy.correlations.iter().collect();
@@ -384,6 +370,25 @@ pub fn markdown(r: &Report) -> String {
     }
     md.push_str("\n## Plots\n\n![parity before](parity-before.svg) ![parity after](parity-after.svg)\n\n![residuals before](residuals-before.svg) ![residuals after](residuals-after.svg)\n");
     md
+}
+
+/// The resonance tests' line of the adequacy section (docs/calibration.md §3, "The resonance").
+fn resonance_line(md: &mut String, t: &crate::calibrate::select::resonance_tests::ResonanceTests) {
+    let _ = writeln!(
+        md,
+        "Resonances of {} actuators against a precision σ(log) = {:.4} ({}): mean offset {:+.2} %, t = {:.2} on {} df, p = {:.3}; size χ² = {:.1} on {} df, p = {:.3} (each test at {}).\n",
+        t.n,
+        t.sigma,
+        t.precision,
+        100.0 * t.mean.exp_m1(),
+        t.t,
+        t.t_df,
+        t.p_mean,
+        t.chi_square,
+        t.n,
+        t.p_size,
+        0.5 * t.alpha
+    );
 }
 
 #[cfg(test)]
