@@ -7,8 +7,10 @@
 //!   together and in each variable or ratio alone, with intervals ([`power_law`]).
 //! - [`catalogue`] and [`primitive_fit`]: each primitive of the model crate that is not a library effect,
 //!   fitted as a one-parameter effect `{η, P}`, and again beside the best library effect A, `{η, A, P}`
-//!   (data where a library effect and one outside it are both present). Ranked by AICc, on the same
-//!   residuals, with the selection's own fits: the library's and the declared effects `{η, A}` and the
+//!   (data where a library effect and one outside it are both present). A primitive that changes the
+//!   mass is fitted on the masses too, and again in place of the chosen mass model. Ranked by the joint
+//!   criterion of [`joint`] (masses, deflections and forces, each kind by its own noise) with the
+//!   selection's own fits: the library's and the declared effects `{η, A}` and the
 //!   library pairs `{η, A, B}` (the cross-validated error would cost ten refits each). A combination is
 //!   listed only when it gains at least the selection's margin (ΔAICc 4) over each of its parts, the rule
 //!   the selection applies to an added effect: a part that only fits noise does not push the single
@@ -213,24 +215,12 @@ pub fn discover(
         .par_iter()
         .filter_map(|&(t, x)| primitive_fit::fit(&act, &base, t, x, masses_of(t)))
         .collect();
-    // The primitives that change the mass, fitted again in place of the mass model the masses chose
-    // (on the original model, masses and stack together): a mass deficit the chosen model put into
-    // another layer is not one discovery must then undo.
-    let in_place = scoring.masses.as_ref().zip(scoring.replaced.as_ref());
-    if let Some((masses, _)) = in_place {
-        let original = EffectModel::default();
-        let act0 = actuation_data(data, &original)?;
-        let tried0: Vec<catalogue::Tried> =
-            catalogue::catalogue(catalogue::Stack::of(data, &original, true))
-                .into_iter()
-                .filter(|t| catalogue::mass_counts(t.primitive))
-                .collect();
-        fits.extend(
-            tried0
-                .par_iter()
-                .filter_map(|t| primitive_fit::fit(&act0, &original, t, None, Some(masses)))
-                .collect::<Vec<_>>(),
-        );
+    if let Some(masses) = scoring
+        .masses
+        .as_ref()
+        .filter(|_| scoring.replaced.is_some())
+    {
+        fits.extend(in_place(data, masses)?);
     }
     ranked.extend(
         fits.into_iter()
@@ -254,6 +244,23 @@ pub fn discover(
         designs,
         mass_forms,
     })
+}
+
+/// The primitives that change the mass fitted again in place of the mass model the masses chose, on the
+/// original model, on the masses and the stack together: a mass deficit the chosen model put into
+/// another layer is then not one discovery must undo.
+fn in_place(data: &Dataset, masses: &Masses) -> Result<Vec<PrimitiveFit>, ModelError> {
+    let original = EffectModel::default();
+    let act = actuation_data(data, &original)?;
+    let tried: Vec<catalogue::Tried> =
+        catalogue::catalogue(catalogue::Stack::of(data, &original, true))
+            .into_iter()
+            .filter(|t| catalogue::mass_counts(t.primitive))
+            .collect();
+    Ok(tried
+        .par_iter()
+        .filter_map(|t| primitive_fit::fit(&act, &original, t, None, Some(masses)))
+        .collect())
 }
 
 /// What the joint criterion ([`joint`]) needs beside each fit: the weighed masses, the mass term and

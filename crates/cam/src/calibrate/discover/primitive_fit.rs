@@ -191,12 +191,7 @@ pub(crate) fn fit(
     let cov = fit.covariance();
     let (_, iv) = intervals(&fit, &cov);
     let k = fit.theta.len();
-    // The deflections and forces first, then the weighted masses.
-    let n_mass = masses.map_or(0, |m| m.weighed.len());
-    let n = fit.residuals.len() - n_mass;
-    let rss: f64 = fit.residuals[..n].iter().map(|r| r * r).sum();
-    let rss_mass = masses
-        .map(|m| fit.residuals[n..].iter().map(|r| r * r).sum::<f64>() / (m.weight * m.weight));
+    let (n, rss, rss_mass) = split(&fit.residuals, masses);
     Some(PrimitiveFit {
         primitive: tried.primitive,
         partner: partner_id.cloned(),
@@ -208,6 +203,15 @@ pub(crate) fn fit(
         base: base.clone(),
         theta: fit.theta,
     })
+}
+
+/// The count and sum of squares of the deflection and force residuals, which come first, and the sum of
+/// squares of the log mass residuals after them (their weight taken out).
+fn split(residuals: &[f64], masses: Option<&Masses>) -> (usize, f64, Option<f64>) {
+    let n = residuals.len() - masses.map_or(0, |m| m.weighed.len());
+    let squares = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    let rss_mass = masses.map(|m| squares(&residuals[n..]) / (m.weight * m.weight));
+    (n, squares(&residuals[..n]), rss_mass)
 }
 
 impl PrimitiveFit {
