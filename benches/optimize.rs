@@ -1,6 +1,6 @@
 //! `cargo bench --bench optimize`: the optimizer's exhaustive stage on `examples/optimize-thesis.toml`,
 //! and optimize for a wing on `examples/optimize-hawkmoth-wing.toml` (the thesis grid with the drive
-//! objective) (docs/benchmarks.md). Prints the fastest wall-clock time of several runs, designs per second,
+//! objective), and the first with the nonlinear ceramic (docs/benchmarks.md). Prints the fastest wall-clock time of several runs, designs per second,
 //! the process CPU time per run and the load average: on a shared machine the wall clock measures the
 //! other jobs too, while designs per CPU-second times the number of idle cores is what the code does.
 
@@ -57,6 +57,32 @@ fn main() {
         whole
     );
     wing(&load);
+    nonlinear(&spec, &load);
+}
+
+/// The whole optimisation with the nonlinear ceramic (docs/physics.md §18.3): one nonlinear solve per
+/// shape and laminate of the grid, where the original model has a closed form. One run: it takes tens of
+/// seconds.
+fn nonlinear(spec: &Spec, load: &str) {
+    let cpu_before = process_cpu_seconds();
+    let t = Instant::now();
+    let problem = Problem::from_spec(
+        spec,
+        SearchModel::from_kind(ModelKind::Nonlinear).expect("a search model"),
+        Objective::MinMass,
+    )
+    .expect("the laminates solve");
+    let outcome = optimize(problem, &Silent).expect("the example is feasible");
+    let wall = t.elapsed().as_secs_f64();
+    std::hint::black_box(&outcome);
+    let cpu = match (cpu_before, process_cpu_seconds()) {
+        (Some(a), Some(b)) if b > a => format!("; CPU time {:.1} s", b - a),
+        _ => String::new(),
+    };
+    println!(
+        "optimize --model nonlinear (examples/optimize-thesis.toml): whole optimisation {wall:.1} s on {} threads{cpu}{load}",
+        rayon::current_num_threads()
+    );
 }
 
 /// Optimize for a wing, the whole search (modes, requirement table, screen, exact stage), fastest of

@@ -281,12 +281,7 @@ fn the_linkage_cures_on_the_templates_cycle() {
     // datasheet's 2070 kPa, in the steps and in the report.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let o = cut_sheet(
-        "examples/robobee-class.toml",
-        &out,
-        &["--drive", "examples/drive-robobee-linkage.toml"],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    cut_linkage_example(&out);
     let r = report_json(&out);
     let steps: Vec<&str> = r["linkage"]["build_steps"]
         .as_array()

@@ -341,12 +341,7 @@ fn the_books_in_the_docs_are_what_the_tool_writes() {
             .to_string()
     };
     let out = dir.path().join("linkage");
-    let o = cut_sheet(
-        "examples/robobee-class.toml",
-        &out,
-        &["--drive", "examples/drive-robobee-linkage.toml"],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    cut_linkage_example(&out);
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     let steps = between(&md, "### Linkage build checklist", "\nKerf values");
     assert!(steps.contains("Joint B folds"), "{steps}");

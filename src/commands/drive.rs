@@ -78,6 +78,9 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
             short_number(report.required_stroke_deg)
         );
     }
+    if let Some(why) = &report.unsettled_field {
+        anyhow::bail!("{}: --model {}: {why}", args.drive.display(), report.model);
+    }
     if let Some(u) = &report.unreachable {
         anyhow::bail!(
             "{}: stroke_deg = {}: not reached at {} Hz: the best stroke is ±{:.1}°; binding: {}",

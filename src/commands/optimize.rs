@@ -298,6 +298,7 @@ fn run_flap(
         .unbuildable_linkage
         .clone()
         .or_else(|| r.past_small_deflection.clone())
+        .or_else(|| r.unsettled_field.clone())
         .or_else(|| r.unreachable.as_ref().map(|u| u.binding.clone()))
         .or(strained);
     if let Some(why) = failed {

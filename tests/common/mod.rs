@@ -54,6 +54,17 @@ pub fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> Output {
     run(&args)
 }
 
+/// The shipped linkage example cut into `out` (`robobee-class.toml` with the drive that sizes its
+/// flexure linkage), which must succeed.
+pub fn cut_linkage_example(out: &Path) {
+    let o = cut_sheet(
+        "examples/robobee-class.toml",
+        out,
+        &["--drive", "examples/drive-robobee-linkage.toml"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 /// `actuator-cam nest BATCH -o OUT --iterations N` (from the crate root), which must succeed; its
 /// `nest-report.json`.
 pub fn nest_ok(batch: &str, out: &Path, iterations: &str) -> serde_json::Value {

@@ -68,7 +68,7 @@ fn cases() -> Vec<(&'static str, Primitive, f64)> {
 }
 
 /// The file calibrate writes as the next step, if any.
-fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
+pub(super) fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
     render_calibration(cal, data, "measured.csv")
         .unwrap()
         .into_iter()
@@ -77,11 +77,11 @@ fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> 
 }
 
 /// A fitted value and its 95 % interval.
-type Fit = (f64, (f64, f64));
+pub(super) type Fit = (f64, (f64, f64));
 
 /// The value and interval of the declared effect `name` in the final model, if it was selected, in SI
 /// (the primitive's own unit: the selection's thickness form is fitted in µm).
-fn declared_fit(cal: &Calibration, name: &str) -> Option<Fit> {
+pub(super) fn declared_fit(cal: &Calibration, name: &str) -> Option<Fit> {
     let s = &cal.selection;
     let mass = s.final_mass_index.map(|i| &s.mass_candidates[i]);
     mass.into_iter()

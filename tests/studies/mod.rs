@@ -18,6 +18,7 @@ mod calibrate_false_alarm;
 mod calibrate_identifiable;
 mod calibrate_loop;
 mod calibrate_null_alarm;
+mod calibrate_plate_thickness;
 mod calibrate_power;
 mod calibrate_resonance;
 mod calibrate_selection;

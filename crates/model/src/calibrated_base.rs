@@ -24,12 +24,6 @@ pub enum Base {
     Nonlinear,
 }
 
-/// The values `base` takes, as a file writes them.
-pub const BASE_NAMES: &str = "\"original\" or \"nonlinear\"";
-
-/// The library effects the nonlinear base takes, as the file names them.
-pub const NONLINEAR_BASE_EFFECTS: &str = "ply_thickness_scale and bond_thickness_m";
-
 impl Base {
     /// The name in the file.
     pub fn name(self) -> &'static str {
@@ -52,48 +46,26 @@ impl Base {
     }
 }
 
-/// The first library effect of `effects` that is on but acts on the linear section, as
-/// `(file key, value)`: what the nonlinear base cannot take.
-pub fn linear_only_effect(effects: &Effects) -> Option<(&'static str, f64)> {
-    let null = Effects::default();
-    [
-        ("d31_scale", effects.d31_scale, null.d31_scale),
-        (
-            "d31_field_coefficient_m_per_V",
-            effects.d31_field_coefficient,
-            null.d31_field_coefficient,
-        ),
-        ("dead_length_m", effects.dead_length, null.dead_length),
-        (
-            "extension_flexibility",
-            effects.extension_flexibility,
-            null.extension_flexibility,
-        ),
-        (
-            "clamp_compliance_rad_per_N_m",
-            effects.clamp_compliance,
-            null.clamp_compliance,
-        ),
-        (
-            "stiffness_scale",
-            effects.stiffness_scale,
-            null.stiffness_scale,
-        ),
-    ]
-    .into_iter()
-    .find(|&(_, value, off)| value != off)
-    .map(|(key, value, _)| (key, value))
+/// True when `effects` turns on a library effect that acts on the linear section: anything but the
+/// ply-thickness scale and the bond layer, which change the laminate the nonlinear solver takes.
+pub fn acts_on_linear_section(effects: &Effects) -> bool {
+    let stack_only = Effects {
+        ply_thickness_scale: effects.ply_thickness_scale,
+        bond_thickness: effects.bond_thickness,
+        ..Effects::default()
+    };
+    *effects != stack_only
 }
 
 /// Refuse effects the nonlinear base cannot take: a library effect on the linear section
-/// ([`linear_only_effect`]) or any declared effect (`declared`, their primitives compose on the linear
-/// basis).
+/// ([`acts_on_linear_section`]) or any declared effect (`declared`, their primitives compose on the
+/// linear basis).
 pub fn check_nonlinear(effects: &Effects, declared: bool) -> Result<(), ModelError> {
-    if linear_only_effect(effects).is_some() || declared {
+    if acts_on_linear_section(effects) || declared {
         return Err(ModelError::NotCovered {
             name: "base",
             value: "nonlinear",
-            allowed: "the nonlinear base takes the effects ply_thickness_scale and bond_thickness_m only, no declared effect (the others act on the linear section)",
+            allowed: "the nonlinear base takes the ply-thickness and bond-layer effects only, no declared effect (the others act on the linear section)",
         });
     }
     Ok(())
@@ -116,52 +88,35 @@ mod tests {
             false
         ));
         assert!(!on(Effects::default(), true), "a declared effect");
-        for (effects, key) in [
-            (
-                Effects {
-                    d31_scale: 0.9,
-                    ..Effects::default()
-                },
-                "d31_scale",
-            ),
-            (
-                Effects {
-                    d31_field_coefficient: 1e-7,
-                    ..Effects::default()
-                },
-                "d31_field_coefficient_m_per_V",
-            ),
-            (
-                Effects {
-                    dead_length: 1e-3,
-                    ..Effects::default()
-                },
-                "dead_length_m",
-            ),
-            (
-                Effects {
-                    extension_flexibility: 0.5,
-                    ..Effects::default()
-                },
-                "extension_flexibility",
-            ),
-            (
-                Effects {
-                    clamp_compliance: 0.1,
-                    ..Effects::default()
-                },
-                "clamp_compliance_rad_per_N_m",
-            ),
-            (
-                Effects {
-                    stiffness_scale: 0.8,
-                    ..Effects::default()
-                },
-                "stiffness_scale",
-            ),
-        ] {
-            assert_eq!(linear_only_effect(&effects).map(|(k, _)| k), Some(key));
-            assert!(!on(effects, false), "{key}");
+        let linear = [
+            Effects {
+                d31_scale: 0.9,
+                ..Effects::default()
+            },
+            Effects {
+                d31_field_coefficient: 1e-7,
+                ..Effects::default()
+            },
+            Effects {
+                dead_length: 1e-3,
+                ..Effects::default()
+            },
+            Effects {
+                extension_flexibility: 0.5,
+                ..Effects::default()
+            },
+            Effects {
+                clamp_compliance: 0.1,
+                ..Effects::default()
+            },
+            Effects {
+                stiffness_scale: 0.8,
+                ..Effects::default()
+            },
+        ];
+        for effects in linear {
+            assert!(acts_on_linear_section(&effects), "{effects:?}");
+            assert!(!on(effects, false), "{effects:?}");
         }
     }
 

@@ -10,9 +10,15 @@
 use crate::calibrate::library::EffectId;
 use crate::input::limits::LOSS_FACTOR;
 use crate::input::{parse_toml, short_number, toml_error_line, InputError, Range, TableReader};
-use actuator_model::calibrated_base::{linear_only_effect, BASE_NAMES, NONLINEAR_BASE_EFFECTS};
 use actuator_model::{Base, CalibratedModel, EffectModel, Effects};
 use std::path::Path;
+
+/// The values `base` takes, as the file writes them.
+const BASE_NAMES: &str = "\"original\" or \"nonlinear\"";
+
+/// The library effects the nonlinear base takes: those that change the laminate its solver takes
+/// ([`actuator_model::calibrated_base`]).
+const NONLINEAR_BASE_EFFECTS: [EffectId; 2] = [EffectId::PlyThickness, EffectId::BondLayer];
 
 /// Name of the file `calibrate` writes.
 pub const FILE_NAME: &str = "calibrated-model.toml";
@@ -181,15 +187,24 @@ fn read_base(path: &Path, root: &TableReader<'_>) -> Result<Base, InputError> {
 /// Refuse, naming the field, an effect the nonlinear base cannot take (it acts on the linear section;
 /// [`actuator_model::calibrated_base`]).
 fn refuse_linear_effects(path: &Path, model: &CalibratedModel) -> Result<(), InputError> {
-    let expected = format!(
-        "base = \"nonlinear\" takes the effects {NONLINEAR_BASE_EFFECTS} only (this one acts on the linear section)"
-    );
-    if let Some((key, value)) = linear_only_effect(&model.effects) {
+    let null = Effects::default();
+    let linear = LIBRARY_FIELDS.iter().find(|f| {
+        !NONLINEAR_BASE_EFFECTS.contains(&f.effect) && (f.get)(&model.effects) != (f.get)(&null)
+    });
+    if let Some(field) = linear {
+        let takes: Vec<&str> = NONLINEAR_BASE_EFFECTS
+            .iter()
+            .filter_map(|e| LIBRARY_FIELDS.iter().find(|f| f.effect == *e))
+            .map(|f| f.key)
+            .collect();
         return Err(InputError::invalid(
             path,
-            &format!("effects.{key}"),
-            short_number(value),
-            expected,
+            &format!("effects.{}", field.key),
+            short_number((field.get)(&model.effects)),
+            format!(
+                "base = \"nonlinear\" takes the effects {} only (this one acts on the linear section)",
+                takes.join(" and ")
+            ),
         ));
     }
     if let Some(d) = model.declared.first() {
@@ -289,6 +304,23 @@ mod tests {
                 "{e}"
             );
             assert!(e.contains("takes the effects ply_thickness_scale and bond_thickness_m only"));
+        }
+    }
+
+    #[test]
+    fn the_reader_refuses_on_the_nonlinear_base_exactly_what_the_model_refuses() {
+        // The file's keys live here and the rule in the model crate: each library effect turned on
+        // alone is refused by both or by neither.
+        for field in &LIBRARY_FIELDS {
+            let mut effects = EffectModel::default();
+            field.effect.apply(&mut effects, field.effect.param().hi);
+            let model = CalibratedModel {
+                base: Base::Nonlinear,
+                ..model(effects.effects)
+            };
+            let reader = refuse_linear_effects(Path::new("m.toml"), &model).is_err();
+            let physics = actuator_model::calibrated_base::check_nonlinear(&model.effects, false);
+            assert_eq!(reader, physics.is_err(), "{}", field.key);
         }
     }
 

@@ -7,6 +7,7 @@
 //! blocked-force amplitude that holds the required stroke. The piezoelectric model is linear in the
 //! field, so that force is a field in each drive mode.
 
+pub mod operating_field;
 pub mod report;
 pub mod spec;
 
@@ -27,6 +28,7 @@ use actuator_model::plate::{self, PlatePeak};
 use actuator_model::poling::{Binding, FieldCheck};
 use actuator_model::transmission::Linkage;
 use actuator_model::{ModelError, Performance, Section, Weibull};
+use operating_field::{FieldSearch, FIELD_ROUNDS};
 use report::{
     ActuatorRow, DriveReport, LinkageRow, MassRow, OperatingRow, SweepPoint, Unreachable, WingRow,
 };
@@ -61,6 +63,8 @@ pub struct Analysis {
     pub state: Option<SteadyState>,
     /// Everything printed and written.
     pub report: DriveReport,
+    /// The signal field the steady state asks for (V/m; `None` without a steady state).
+    pub operating_field: Option<f64>,
 }
 
 /// The linkage of the spec; a solved one from the actuator's free deflection unless a travel is given.
@@ -144,20 +148,17 @@ fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -
     ))
 }
 
-/// Rounds of the search for the operating field of a field-dependent model.
-const FIELD_ROUNDS: usize = 16;
-
 /// Analyse a drive file's design (already built for its process) under a model. With flexures in the
 /// file, the transmission's stiffness, inertia and mass are the drawn linkage's. A model whose
 /// stiffness and blocked force per field depend on the field (the nonlinear ceramic) is predicted at
 /// the field its operating point needs: the design is predicted again at that field until the field
-/// settles (docs/physics.md §18.5).
+/// settles (docs/physics.md §18.5), and a field that does not settle is reported, not drawn on.
 pub fn analyse(
     spec: &DriveSpec,
     design: &Design,
     model: &ModelChoice,
 ) -> Result<Analysis, DriveError> {
-    let mut analysis = analyse_at(spec, design, model)?;
+    let analysis = analyse_at(spec, design, model)?;
     if !model.depends_on_field() {
         return Ok(analysis);
     }
@@ -166,18 +167,23 @@ pub fn analyse(
     if let LinkageSpec::Solve { travel, .. } = &mut spec.transmission.linkage {
         travel.get_or_insert(analysis.report.actuator.free_deflection_mm * 1e-3);
     }
-    let mut at = design.clone();
-    for _ in 0..FIELD_ROUNDS {
-        let field = analysis
-            .report
-            .operating
-            .as_ref()
-            .map_or(0.0, |o| o.field_V_per_mm * 1e3);
-        if field <= 0.0 || (field - at.drive.field).abs() <= 1e-4 * field {
-            break;
-        }
-        at.drive.field = field;
-        analysis = analyse_at(&spec, &at, model)?;
+    let (mut analysis, search) = operating_field::settle(
+        design.drive.field,
+        analysis,
+        |a: &Analysis| a.operating_field,
+        |field| {
+            let mut at = design.clone();
+            at.drive.field = field;
+            analyse_at(&spec, &at, model)
+        },
+    )?;
+    if let FieldSearch::Unsettled { previous, last } = search {
+        analysis.report.reached = false;
+        analysis.report.unsettled_field = Some(format!(
+            "the operating field does not settle: after {FIELD_ROUNDS} rounds the predictions at {} and {} V/mm each ask for the other's field (docs/physics.md §18.5)",
+            fixed(previous * 1e-3, 1),
+            fixed(last * 1e-3, 1)
+        ));
     }
     Ok(analysis)
 }
@@ -252,6 +258,7 @@ fn analyse_at(
         reached: unreachable.is_none() && unbuildable.is_none() && past_small_deflection.is_none(),
         unbuildable_linkage: unbuildable,
         past_small_deflection,
+        unsettled_field: None,
         resonance_Hz: system.linear_resonance(),
         resonance_at_stroke_Hz: system.resonance_at_stroke(spec.transmission.stroke, f).ok(),
         actuator: ActuatorRow {
@@ -297,6 +304,7 @@ fn analyse_at(
     report.ensure_finite()?;
     Ok(Analysis {
         system,
+        operating_field: state.map(|s| s.force / per_field),
         state,
         report,
     })

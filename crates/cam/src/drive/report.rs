@@ -118,6 +118,10 @@ pub struct DriveReport {
     /// Why the tip amplitude is past the small-deflection range of the model (docs/physics.md §3.1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub past_small_deflection: Option<String>,
+    /// Why no operating point is reported: a field-dependent model's operating field that does not
+    /// settle (docs/physics.md §18.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsettled_field: Option<String>,
     /// Small-stroke resonance of actuator + transmission + wing.
     pub resonance_Hz: f64,
     /// Resonance at the required stroke: the frequency where the steady stroke of that amplitude is
@@ -247,6 +251,9 @@ impl DriveReport {
         }
         if let Some(why) = &self.past_small_deflection {
             let _ = writeln!(out, "\nPAST THE MODEL: {why}");
+        }
+        if let Some(why) = &self.unsettled_field {
+            let _ = writeln!(out, "\nNOT SETTLED: {why}");
         }
         if let Some(u) = &self.unreachable {
             let _ = writeln!(

@@ -189,6 +189,20 @@ pub fn catalogue(stack: Stack) -> Vec<Tried> {
         .collect()
 }
 
+/// Whether discovery fits the primitive on the masses as well as on δ and F_b ([`super::joint`]): a
+/// thickness scale of the PZT or of the plies changes the mass with the stack, and an inserted layer
+/// carries its own mass. The bond's thickness scale is tried with its mass held: its meaning here is a
+/// bond thicker or thinner in the stack than its mass says (module comment).
+pub fn mass_counts(p: Primitive) -> bool {
+    matches!(
+        p,
+        Primitive::Scale {
+            target: Target::Pzt | Target::Passive,
+            property: Property::Thickness,
+        } | Primitive::InsertedLayer
+    )
+}
+
 /// Report name of a primitive, e.g. `passive-E1-scale`, `clamp-compliance-per-width`.
 pub fn name(p: Primitive) -> String {
     match p {

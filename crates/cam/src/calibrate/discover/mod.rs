@@ -7,8 +7,10 @@
 //!   together and in each variable or ratio alone, with intervals ([`power_law`]).
 //! - [`catalogue`] and [`primitive_fit`]: each primitive of the model crate that is not a library effect,
 //!   fitted as a one-parameter effect `{η, P}`, and again beside the best library effect A, `{η, A, P}`
-//!   (data where a library effect and one outside it are both present). Ranked by AICc, on the same
-//!   residuals, with the selection's own fits: the library's and the declared effects `{η, A}` and the
+//!   (data where a library effect and one outside it are both present). A primitive that changes the
+//!   mass is fitted on the masses too, and again in place of the chosen mass model. Ranked by the joint
+//!   criterion of [`joint`] (masses, deflections and forces, each kind by its own noise) with the
+//!   selection's own fits: the library's and the declared effects `{η, A}` and the
 //!   library pairs `{η, A, B}` (the cross-validated error would cost ten refits each). A combination is
 //!   listed only when it gains at least the selection's margin (ΔAICc 4) over each of its parts, the rule
 //!   the selection applies to an added effect: a part that only fits noise does not push the single
@@ -17,6 +19,7 @@
 
 pub mod catalogue;
 pub mod designs;
+pub mod joint;
 pub mod mass_fit;
 pub mod pattern;
 pub mod power_law;
@@ -27,10 +30,12 @@ pub mod suggest;
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::library::{effect_names, EffectId};
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
-use crate::calibrate::select::{actuation_data, thickness, Role, Selection, Settings};
-use actuator_model::EffectModel;
+use crate::calibrate::select::observations::ActuationData;
+use crate::calibrate::select::{actuation_data, adequacy, thickness, Role, Selection, Settings};
 use actuator_model::ModelError;
+use actuator_model::{EffectModel, Effects};
 use designs::{discriminate, DiscriminatingDesign, Predictor};
+use joint::Masses;
 use mass_fit::MassForm;
 use pattern::Trend;
 use power_law::PowerLaw;
@@ -40,6 +45,10 @@ use serde::Serialize;
 
 /// How many leading candidates the designs separate.
 const LEADING: usize = 3;
+
+/// How far above the best mass form's mass term a fit's own may be and still explain the masses: the
+/// selection's acceptance margin.
+const MASS_MARGIN: f64 = 4.0;
 
 /// What discovery found.
 #[derive(Debug, Clone, Serialize)]
@@ -86,13 +95,19 @@ pub struct RankedCandidate {
     /// The d31 scale fitted with it.
     #[serde(serialize_with = "six_digits")]
     pub eta: f64,
-    /// AICc.
+    /// AICc of the deflections and forces.
     #[serde(serialize_with = "six_digits")]
     pub aicc: f64,
-    /// AICc above the best candidate.
+    /// The joint criterion ranked by ([`joint`]): the AICc with the masses' log-likelihood.
+    #[serde(serialize_with = "six_digits")]
+    pub joint: f64,
+    /// Fitted on the masses too, and fitting them as well as the best mass form (within
+    /// [`MASS_MARGIN`] of its mass term).
+    pub explains_masses: bool,
+    /// Joint criterion above the best candidate.
     #[serde(serialize_with = "six_digits")]
     pub delta_aicc: f64,
-    /// AICc below the {η} null (more than 4: a real improvement).
+    /// Joint criterion below the {η} null on the chosen mass model (more than 4: a real improvement).
     #[serde(serialize_with = "six_digits")]
     pub gain_over_eta: f64,
     /// RMSE of the log residuals of δ and F_b.
@@ -174,12 +189,15 @@ pub fn discover(
         .first()
         .map(|t| format!("{} ({} residual)", t.exponent.variable, t.residual));
 
+    let mass_forms = mass_fit::rank(data, selection);
     let eta_aicc = selection
         .candidates
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| c.aicc);
-    let mut ranked = selection_candidates(selection, settings, eta_aicc);
+    let scoring = Scoring::of(data, &act, &base, selection, &mass_forms);
+    let eta_joint = eta_aicc + scoring.base_term;
+    let mut ranked = selection_candidates(data, selection, settings, &scoring);
     let partners = partners(data, selection);
     let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
     let tried = catalogue::catalogue(stack);
@@ -192,18 +210,34 @@ pub fn discover(
                 .flat_map(|x| tried.iter().map(move |t| (t, Some(x)))),
         )
         .collect();
-    let fits: Vec<PrimitiveFit> = jobs
+    let masses_of = |t: &catalogue::Tried| {
+        scoring
+            .masses
+            .as_ref()
+            .filter(|_| catalogue::mass_counts(t.primitive))
+    };
+    let mut fits: Vec<PrimitiveFit> = jobs
         .par_iter()
-        .filter_map(|&(t, x)| primitive_fit::fit(&act, &base, t, x))
+        .filter_map(|&(t, x)| primitive_fit::fit(&act, &base, t, x, masses_of(t)))
         .collect();
-    ranked.extend(fits.into_iter().map(|f| primitive_candidate(f, eta_aicc)));
-    keep_gaining(&mut ranked, settings.min_delta_aicc);
-    ranked.sort_by(|a, b| a.aicc.total_cmp(&b.aicc).then(a.name.cmp(&b.name)));
-    let best = ranked.first().map_or(0.0, |c| c.aicc);
-    for c in &mut ranked {
-        c.delta_aicc = c.aicc - best;
+    if let Some(masses) = scoring
+        .masses
+        .as_ref()
+        .filter(|_| scoring.replaced.is_some())
+    {
+        fits.extend(in_place(data, masses)?);
     }
-    let designs = discriminate(data, &predictors(&ranked, &base), 3);
+    ranked.extend(
+        fits.into_iter()
+            .map(|f| primitive_candidate(f, eta_joint, &scoring)),
+    );
+    keep_gaining(&mut ranked, settings.min_delta_aicc);
+    ranked.sort_by(|a, b| a.joint.total_cmp(&b.joint).then(a.name.cmp(&b.name)));
+    let best = ranked.first().map_or(0.0, |c| c.joint);
+    for c in &mut ranked {
+        c.delta_aicc = c.joint - best;
+    }
+    let designs = discriminate(data, &predictors(&ranked), 3);
     let resonance_forms = if selection.adequacy.resonance.is_some_and(|t| !t.passed) {
         resonance_forms::rank(&act, &selection.model)
     } else {
@@ -214,21 +248,118 @@ pub fn discover(
         trends,
         leading_variable,
         candidates: ranked,
-        ranked_by: "AICc of {eta, X} and of combinations {eta, A, X} that gain 4 over each part (same residuals)",
+        ranked_by:
+            "the joint AICc of deflections, forces and masses, each kind with its own variance, of \
+                    {eta, X} and of combinations {eta, A, X} that gain 4 over each part",
         designs,
-        mass_forms: mass_fit::rank(data, selection),
+        mass_forms,
         resonance_forms,
     })
+}
+
+/// The primitives that change the mass fitted again in place of the mass model the masses chose, on the
+/// original model, on the masses and the stack together: a mass deficit the chosen model put into
+/// another layer is then not one discovery must undo.
+fn in_place(data: &Dataset, masses: &Masses) -> Result<Vec<PrimitiveFit>, ModelError> {
+    let original = EffectModel::default();
+    let act = actuation_data(data, &original)?;
+    let tried: Vec<catalogue::Tried> =
+        catalogue::catalogue(catalogue::Stack::of(data, &original, true))
+            .into_iter()
+            .filter(|t| catalogue::mass_counts(t.primitive))
+            .collect();
+    Ok(tried
+        .par_iter()
+        .filter_map(|t| primitive_fit::fit(&act, &original, t, None, Some(masses)))
+        .collect())
+}
+
+/// What the joint criterion ([`joint`]) needs beside each fit: the weighed masses, the mass term and
+/// parameter count of the chosen mass model, and that model's label when it has effects (the primitives
+/// that change the mass are then also fitted in its place).
+struct Scoring {
+    masses: Option<Masses>,
+    /// `n_m ln(RSS_m / n_m)` of the chosen mass model, plus 2 per mass parameter (0 without masses).
+    base_term: f64,
+    /// 2 per parameter of the chosen mass model.
+    base_penalty: f64,
+    replaced: Option<String>,
+    /// The mass term of the best mass form: a fit whose own is within the margin explains the masses.
+    best_mass_term: f64,
+}
+
+impl Scoring {
+    fn of(
+        data: &Dataset,
+        act: &ActuationData,
+        base: &EffectModel,
+        selection: &Selection,
+        mass_forms: &[MassForm],
+    ) -> Scoring {
+        let chosen = selection
+            .final_mass_index
+            .map(|i| &selection.mass_candidates[i])
+            .filter(|c| !c.effects.is_empty());
+        let base_penalty = 2.0 * chosen.map_or(0, |c| c.values.len()) as f64;
+        // The deflections' and forces' noise from the sweeps' pure error, else their spread under {η};
+        // the masses' from the best mass form (what the masses show at best).
+        let sigma_a2 = adequacy::pure_error_variance(act, base).unwrap_or_else(|| {
+            selection
+                .candidates
+                .iter()
+                .find(|c| c.role == Role::Null && c.effects.len() == 1)
+                .map_or(1.0, |c| c.rss / c.n.max(1) as f64)
+        });
+        let sigma_m2 = mass_forms
+            .iter()
+            .map(|f| f.rmse_log * f.rmse_log)
+            .fold(f64::INFINITY, f64::min);
+        let masses = (!selection.mass_candidates.is_empty())
+            .then(|| Masses::of(data, sigma_a2, sigma_m2))
+            .flatten();
+        let (base_term, best_mass_term) = masses.as_ref().map_or((0.0, 0.0), |m| {
+            let n = m.weighed.len() as f64;
+            (
+                m.term(m.rss(data, base)) + base_penalty,
+                m.term(sigma_m2 * n),
+            )
+        });
+        Scoring {
+            replaced: chosen.map(|c| c.label()),
+            masses,
+            base_term,
+            base_penalty,
+            best_mass_term,
+        }
+    }
+
+    /// The mass part of a fit's criterion: its own mass term when the masses were fitted with it
+    /// (`rss_mass`), else the chosen mass model's; with the mass model's parameters on `base_of`
+    /// (false: fitted in its place).
+    fn mass_part(&self, rss_mass: Option<f64>, on_chosen: bool) -> f64 {
+        let penalty = if on_chosen { self.base_penalty } else { 0.0 };
+        match (&self.masses, rss_mass) {
+            (Some(m), Some(rss)) => m.term(rss) + penalty,
+            _ => self.base_term,
+        }
+    }
 }
 
 /// The selection's own fits `{η, X}` and `{η, A, B}` as explanations (library and declared effects),
 /// but its thickness form, which the catalogue's inactive surface layer is, fitted with the primitives.
 fn selection_candidates(
+    data: &Dataset,
     selection: &Selection,
     settings: &Settings,
-    eta_aicc: f64,
+    scoring: &Scoring,
 ) -> Vec<RankedCandidate> {
     let eta_id = EffectId::D31Scale;
+    let eta_joint = selection
+        .candidates
+        .iter()
+        .find(|c| c.role == Role::Null && c.effects.len() == 1)
+        .map_or(f64::INFINITY, |c| c.aicc)
+        + scoring.base_term;
     selection
         .candidates
         .iter()
@@ -252,6 +383,12 @@ fn selection_candidates(
                     interval: c.intervals[j],
                 })
                 .collect();
+            // The carried mass parameters refitted beside it: the mass term at its own values.
+            let joint = c.aicc
+                + match (&scoring.masses, c.carried.is_empty()) {
+                    (Some(m), false) => m.term(m.rss(data, &c.model)) + scoring.base_penalty,
+                    _ => scoring.base_term,
+                };
             RankedCandidate {
                 name: names.join(" + "),
                 // A declared effect ranks with the library's, and says it is declared.
@@ -261,8 +398,10 @@ fn selection_candidates(
                 interval: c.intervals[k],
                 eta: c.values[0],
                 aicc: c.aicc,
+                joint,
+                explains_masses: false,
                 delta_aicc: 0.0,
-                gain_over_eta: eta_aicc - c.aicc,
+                gain_over_eta: eta_joint - joint,
                 rmse_log: (c.rss / c.n.max(1) as f64).sqrt(),
                 also,
                 source: Source::Library(c.model.clone()),
@@ -321,8 +460,20 @@ fn partners(data: &Dataset, selection: &Selection) -> Vec<Partner> {
 
 /// A primitive outside the library as an explanation, alone `{η, P}` or beside a library effect
 /// `{η, A, P}` (named `A + P`).
-fn primitive_candidate(f: PrimitiveFit, eta_aicc: f64) -> RankedCandidate {
+fn primitive_candidate(f: PrimitiveFit, eta_joint: f64, scoring: &Scoring) -> RankedCandidate {
     let single = catalogue::name(f.primitive);
+    // Fitted in place of the chosen mass model: on the original model.
+    let in_place = f.base.primitives.is_empty() && f.base.effects == Effects::default();
+    let on_chosen = !in_place || scoring.replaced.is_none();
+    let joint = f.aicc + scoring.mass_part(f.rss_mass, on_chosen);
+    let explains_masses = match (&scoring.masses, f.rss_mass) {
+        (Some(m), Some(rss)) => m.term(rss) < scoring.best_mass_term + MASS_MARGIN,
+        _ => false,
+    };
+    let single = match (&scoring.replaced, on_chosen) {
+        (Some(label), false) => format!("{single} in place of {label}"),
+        _ => single,
+    };
     let (name, parts, also) = match &f.partner {
         Some(id) => (
             format!("{} + {single}", id.name()),
@@ -343,8 +494,10 @@ fn primitive_candidate(f: PrimitiveFit, eta_aicc: f64) -> RankedCandidate {
         interval: f.intervals[1],
         eta: f.theta[0],
         aicc: f.aicc,
+        joint,
+        explains_masses,
         delta_aicc: 0.0,
-        gain_over_eta: eta_aicc - f.aicc,
+        gain_over_eta: eta_joint - joint,
         rmse_log: (f.rss / f.n.max(1) as f64).sqrt(),
         also,
         source: Source::Primitive(f),
@@ -359,14 +512,14 @@ fn keep_gaining(ranked: &mut Vec<RankedCandidate>, min_delta_aicc: f64) {
         ranked
             .iter()
             .find(|c| c.parts.is_empty() && c.name == name)
-            .map_or(f64::INFINITY, |c| c.aicc)
+            .map_or(f64::INFINITY, |c| c.joint)
     };
     let keep: Vec<bool> = ranked
         .iter()
         .map(|c| {
             c.parts
                 .iter()
-                .all(|p| c.aicc <= single_aicc(p) - min_delta_aicc)
+                .all(|p| c.joint <= single_aicc(p) - min_delta_aicc)
         })
         .collect();
     let mut keep = keep.into_iter();
@@ -374,7 +527,7 @@ fn keep_gaining(ranked: &mut Vec<RankedCandidate>, min_delta_aicc: f64) {
 }
 
 /// The predictions of the leading candidates, for the designs that separate them.
-fn predictors<'a>(ranked: &[RankedCandidate], base: &'a EffectModel) -> Vec<Predictor<'a>> {
+fn predictors(ranked: &[RankedCandidate]) -> Vec<Predictor<'static>> {
     ranked
         .iter()
         .take(LEADING)
@@ -386,7 +539,7 @@ fn predictors<'a>(ranked: &[RankedCandidate], base: &'a EffectModel) -> Vec<Pred
                 }
                 Source::Primitive(p) => {
                     let p = p.clone();
-                    (c.name.clone(), Box::new(move |a| p.predict(base, a)))
+                    (c.name.clone(), Box::new(move |a| p.predict(a)))
                 }
             };
             f

@@ -12,6 +12,7 @@
 //! Jacobian column of η or the partner solves none.
 
 use super::catalogue::Tried;
+use super::joint::Masses;
 use crate::calibrate::fit::{least_squares_grouped, FitResult, ParameterRange};
 use crate::calibrate::library::EffectId;
 use crate::calibrate::select::drive_groups::{Form, GroupBasis};
@@ -47,12 +48,17 @@ pub struct PrimitiveFit {
     pub theta: Vec<f64>,
     /// 95% intervals, in the order of `theta`.
     pub intervals: Vec<(f64, f64)>,
-    /// Residual sum of squares.
+    /// Residual sum of squares of the deflections and forces.
     pub rss: f64,
-    /// Residuals.
+    /// Deflection and force residuals.
     pub n: usize,
-    /// AICc (2 or 3 parameters).
+    /// AICc of the deflections and forces (2 or 3 parameters).
     pub aicc: f64,
+    /// The sum of squares of the log mass residuals, when the masses were fitted with it (a primitive
+    /// that changes the mass, [`super::joint`]).
+    pub rss_mass: Option<f64>,
+    /// The model it sits on (the mass model it was fitted on top of).
+    pub base: EffectModel,
 }
 
 /// The model at the primitive's value `p` and the partner's value `a`, on top of `base` (η apart).
@@ -78,12 +84,15 @@ fn model_at(
 /// Stacks solved at the last few values of a stack primitive.
 const KEPT_STACKS: usize = 4;
 
-/// Fit `{η, P}`, or `{η, P, A}` with a partner, on top of `base` (the frozen mass-stage effects).
+/// Fit `{η, P}`, or `{η, P, A}` with a partner, on top of `base` (a mass model), on the deflections and
+/// forces and, with `masses`, on the weighed masses too, each log mass residual weighted by
+/// [`Masses::weight`] (a primitive that changes the mass is fitted on both).
 pub(crate) fn fit(
     act: &ActuationData,
     base: &EffectModel,
     tried: &Tried,
     partner: Option<&Partner>,
+    masses: Option<&Masses>,
 ) -> Option<PrimitiveFit> {
     let partner_id = partner.map(|x| &x.id);
     let groups = &act.drive_groups;
@@ -130,6 +139,9 @@ pub(crate) fn fit(
         } else {
             groups.evaluate(&act.obs, &model, None, None, form, out)
         };
+        if let Some(m) = masses {
+            m.push_residuals(act.data, &model, m.weight, out);
+        }
         for r in out.iter_mut().filter(|r| !r.is_finite()) {
             *r = 1e3;
         }
@@ -179,27 +191,38 @@ pub(crate) fn fit(
     let cov = fit.covariance();
     let (_, iv) = intervals(&fit, &cov);
     let k = fit.theta.len();
+    let (n, rss, rss_mass) = split(&fit.residuals, masses);
     Some(PrimitiveFit {
         primitive: tried.primitive,
         partner: partner_id.cloned(),
         intervals: iv,
-        rss: fit.rss,
-        n: fit.n,
-        aicc: stats::aicc(fit.n, k, fit.rss),
+        rss,
+        n,
+        aicc: stats::aicc(n, k, rss),
+        rss_mass,
+        base: base.clone(),
         theta: fit.theta,
     })
 }
 
+/// The count and sum of squares of the deflection and force residuals, which come first, and the sum of
+/// squares of the log mass residuals after them (their weight taken out).
+fn split(residuals: &[f64], masses: Option<&Masses>) -> (usize, f64, Option<f64>) {
+    let n = residuals.len() - masses.map_or(0, |m| m.weighed.len());
+    let squares = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    let rss_mass = masses.map(|m| squares(&residuals[n..]) / (m.weight * m.weight));
+    (n, squares(&residuals[..n]), rss_mass)
+}
+
 impl PrimitiveFit {
     /// The fitted model's prediction of an actuator: the primitive (and partner) at its value on top of
-    /// `base` with η.
+    /// its base with η.
     pub fn predict(
         &self,
-        base: &EffectModel,
         a: &actuator_model::effects::Actuator,
     ) -> Result<actuator_model::Performance, actuator_model::ModelError> {
         let mut m = model_at(
-            base,
+            &self.base,
             self.primitive,
             self.partner.as_ref(),
             self.theta[1],

@@ -6,7 +6,8 @@
 //!
 //! The leading candidate of the deflection and force ranking is declared, and the leading mass form
 //! when it gains the selection's margin over the mass model the selection chose with an interval that
-//! excludes its null (a mass the masses show); the runners-up are listed for the reader.
+//! excludes its null (a mass the masses show), unless the leading candidate was fitted on the masses
+//! too and fits them as well; the runners-up are listed for the reader.
 
 use super::catalogue;
 use super::Discovery;
@@ -74,6 +75,13 @@ pub fn suggestions(d: &Discovery, mass_first: bool, min_delta_aicc: f64) -> Vec<
             break;
         }
     }
+    // A leader fitted on the masses too that fits them as well as the best mass form explains them: a
+    // mass form declared beside it would say the same mass twice.
+    let leader_explains_masses = d
+        .candidates
+        .iter()
+        .find(|c| c.primitive().is_some())
+        .is_some_and(|c| c.explains_masses);
     let mut mass = Vec::new();
     for f in &d.mass_forms {
         let Some(t) = f.primitive else { continue };
@@ -92,7 +100,10 @@ pub fn suggestions(d: &Discovery, mass_first: bool, min_delta_aicc: f64) -> Vec<
             estimate: f.estimate,
             interval: f.interval,
             gain: f.gain_over_chosen,
-            declared: mass.is_empty() && f.gain_over_chosen > min_delta_aicc && f.excludes_null(),
+            declared: mass.is_empty()
+                && !leader_explains_masses
+                && f.gain_over_chosen > min_delta_aicc
+                && f.excludes_null(),
         });
         if mass.len() == LISTED {
             break;

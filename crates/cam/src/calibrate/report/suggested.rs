@@ -56,13 +56,20 @@ fn entry(x: &Suggestion) -> String {
         .unwrap_or_default();
     let _ = writeln!(
         t,
-        "# rank {} of the {} candidates{beside}: {} = {:.4e} [{:.4e}, {:.4e}], AICc gain {:.1} over {}",
+        "# rank {} of the {} candidates{beside}: {} = {:.4e} [{:.4e}, {:.4e}], {}AICc gain {:.1} over {}",
         x.rank,
         x.residual,
         x.parameter,
         x.estimate,
         x.interval.0,
         x.interval.1,
+        // The deflection and force ranking's is the joint criterion (docs/calibration.md §3, "Joint
+        // ranking").
+        if x.residual == "deflection and force" {
+            "joint "
+        } else {
+            ""
+        },
         x.gain,
         match x.residual {
             "mass" => "the chosen mass model",

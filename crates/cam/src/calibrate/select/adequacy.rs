@@ -128,7 +128,7 @@ fn sweep_lines(act: &ActuationData, r: &[f64]) -> (f64, usize, usize) {
 /// The variance of a log deflection or force measurement from the sweeps' pure error under `model`
 /// (None without enough repeated levels): a line in the field per actuator and output absorbs every
 /// library effect, so what is left is the noise.
-pub(super) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
+pub(crate) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
     let mut r = Vec::new();
     act.residuals(model, None, &mut r);
     // The deflections and forces only: a resonance has no sweep.
