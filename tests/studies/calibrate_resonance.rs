@@ -332,8 +332,8 @@ fn a_mass_on_the_plates_is_told_from_a_mass_at_the_clamp_by_the_resonance_alone(
     let (mut misses, mut false_alarms) = (0, 0);
     for (seed, (designs, with, without)) in seeds.iter().zip(&rows) {
         println!(
-            "seed {seed}: with f1 {} {:?} glue {:?}; without f1 {} {:?}",
-            with.selection.verdict.name(),
+            "seed {seed}: with f1 {:?} {:?} glue {:?}; without f1 {} {:?}",
+            with.selection.verdict,
             with.model.selected_effects,
             fitted(with, "glue"),
             without.selection.verdict.name(),
