@@ -172,7 +172,7 @@ pub const TWO_STAGE_JOINTS: [&str; 6] = [
     "A (coupler on actuator tip)",
     "C (crank on four-bar coupler)",
     "D (four-bar coupler on wing rocker)",
-    "W (wing rocker on airframe, the wing hinge)",
+    "W (rocker on airframe, the wing hinge)",
 ];
 
 impl TwoStage {

@@ -321,11 +321,12 @@ fn read_ratio(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputErro
     Ok(LinkageSpec::Ratio(law))
 }
 
-/// The smallest transmission angle a four-bar may reach over the stroke, and 180° less it the largest:
-/// past 40° from a right angle the coupler pushes the rocker more along its length than across it, and
-/// a small error of the links' lengths moves the wing much (the designer's rule of Norton, *Design of
-/// Machinery*, §4.10; Alt 1932).
-pub const MIN_TRANSMISSION_ANGLE_DEG: f64 = 40.0;
+/// The smallest transmission angle a four-bar may reach over the stroke, and 180° less it the largest.
+/// An assumption: machine design holds it to about 40° (Norton, *Design of Machinery*, §4.10), but a
+/// flapping four-bar's rocker strokes ±55-60° about its rest at 90°, which keeps it near 90° ± the stroke
+/// whatever the lengths; at 30° the coupler still pushes across the rocker with half its force, and the
+/// toggles (0° and 180°) stay a third of a right angle away.
+pub const MIN_TRANSMISSION_ANGLE_DEG: f64 = 30.0;
 
 /// `[transmission.four_bar]`: the second stage's `input_mm`, `coupler_mm` and `output_mm`, held to a
 /// transmission angle within [`MIN_TRANSMISSION_ANGLE_DEG`] of toggling over the stroke.

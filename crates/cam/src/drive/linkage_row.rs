@@ -29,34 +29,32 @@ pub struct LinkageRow {
 }
 
 impl LinkageRow {
-    /// The summary's transmission line: its name, value and unit.
-    pub fn summary(&self) -> (&'static str, String, &'static str) {
-        if let Some([t0, deg, t1]) = self.ratio_law {
-            let change = match t1 == t0 {
-                true => "constant".to_string(),
-                false => format!("{} at ±{}°", fixed(t1, 0), fixed(deg, 1)),
-            };
-            let text = format!("{} at rest, {change}; no linkage drawn", fixed(t0, 0));
-            return ("transmission ratio law", text, "rad/m");
+    /// The summary's transmission lines: name, value and unit.
+    pub fn summary(&self) -> Vec<(&'static str, String, &'static str)> {
+        if let Some([t0, deg, t]) = self.ratio_law {
+            let text = format!(
+                "{} at rest, {} at ±{}°; no linkage drawn",
+                fixed(t0, 0),
+                fixed(t, 0),
+                fixed(deg, 1)
+            );
+            return vec![("transmission ratio law", text, "rad/m")];
         }
         let lengths = format!(
             "{} / {}",
             fixed(self.coupler_mm, 3),
             fixed(self.crank_mm, 3)
         );
-        match self.four_bar_mm {
-            Some([a, b, c]) => (
-                "linkage coupler / crank, four-bar input / coupler / output",
-                format!(
-                    "{lengths}, {} / {} / {}",
-                    fixed(a, 3),
-                    fixed(b, 3),
-                    fixed(c, 3)
-                ),
-                "mm",
-            ),
-            None => ("linkage coupler / crank", lengths, "mm"),
-        }
+        let Some([a, b, c]) = self.four_bar_mm else {
+            return vec![("linkage coupler / crank", lengths, "mm")];
+        };
+        let four_bar = format!("{} / {} / {}", fixed(a, 3), fixed(b, 3), fixed(c, 3));
+        let ratio = self.ratio_at_rest_deg_per_mm.to_radians() * 1e3;
+        vec![
+            ("linkage coupler / crank", lengths, "mm"),
+            ("  four-bar input / coupler / output", four_bar, "mm"),
+            ("  ratio at rest, both stages", fixed(ratio, 0), "rad/m"),
+        ]
     }
 
     /// The two-stage linkage's flexures as a table, if it has them.

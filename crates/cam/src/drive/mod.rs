@@ -115,12 +115,12 @@ fn no_drawing(spec: &TransmissionSpec, source: &std::path::Path) -> Option<Input
         (LinkageSpec::Ratio(law), _) => (
             "transmission.ratio_rad_per_m",
             fixed(law.ratio, 0),
-            "a linkage to draw: no linkage drawing can be made from a ratio alone (give coupler_ratio for the slider-crank of that ratio, or the link lengths)",
+            "link lengths to draw: no linkage drawing can be made from a ratio alone (give coupler_ratio for the slider-crank of that ratio)",
         ),
         (_, Some(_)) => (
             "transmission.four_bar",
             "(given)".to_string(),
-            "a one-stage slider-crank to draw: the two-stage linkage's flexures are checked by drive, its layer files are not drawn",
+            "a one-stage slider-crank to draw: drive checks the two-stage linkage's flexures, but no layer files are drawn of it",
         ),
         _ => return None,
     };

@@ -289,8 +289,9 @@ impl DriveReport {
             ),
             "",
         );
-        let (name, value, unit) = self.linkage.summary();
-        rows.row(name, value, unit);
+        for (name, value, unit) in self.linkage.summary() {
+            rows.row(name, value, unit);
+        }
         rows.row(
             "wing inertia",
             fixed(self.wing.inertia_mg_mm2, 1),
