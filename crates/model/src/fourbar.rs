@@ -4,10 +4,10 @@
 //! docs/physics.md §16.8).
 //!
 //! The four-bar is planar. Its input link `a` is the slider-crank's crank, extended: both turn about the
-//! wing-side hinge `O` by the first stage's angle `θ1`. At rest the input stands upright, `A = (0, a)`, the
-//! four-bar's coupler `b` lies horizontal, `B = (b, a)`, and the output rocker `c` stands upright on its
-//! pivot `O' = (b, a - c)`: both links are perpendicular to the coupler, so each turn of the input moves
-//! `A` and `B` alike along the coupler and the output turns `a/c` times as far. The wing is on the output
+//! wing-side hinge `O` by the first stage's angle `θ1`. At rest the input stands upright, `C = (0, a)`, the
+//! four-bar's coupler `b` lies horizontal, `D = (b, a)`, and the output rocker `c` stands upright on its
+//! pivot `W = (b, a - c)`: both links are perpendicular to the coupler, so each turn of the input moves
+//! `C` and `D` alike along the coupler and the output turns `a/c` times as far. The wing is on the output
 //! rocker; its stroke angle `θ` is the rocker's turn from upright, counter-clockwise like `θ1`.
 
 use crate::transmission::Linkage;
@@ -21,7 +21,7 @@ pub struct FourBar {
     pub input: f64,
     /// Coupler `b`, m.
     pub coupler: f64,
-    /// Output rocker `c` (the wing's, about `O'`), m.
+    /// Output rocker `c` (the wing's, about `W`), m.
     pub output: f64,
 }
 
@@ -29,11 +29,11 @@ pub struct FourBar {
 /// output `θ4`; upright is `π/2`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
-    /// Input link `O → A`.
+    /// Input link `O → C`.
     pub input: f64,
-    /// Coupler `A → B`.
+    /// Coupler `C → D`.
     pub coupler: f64,
-    /// Output rocker `O' → B`.
+    /// Output rocker `W → D`.
     pub output: f64,
 }
 
@@ -63,12 +63,12 @@ fn wrap(x: f64) -> f64 {
 }
 
 impl FourBar {
-    /// The output rocker's pivot `O' = (b, a - c)`, m.
+    /// The output rocker's pivot `W = (b, a - c)`, m.
     pub fn pivot(&self) -> [f64; 2] {
         [self.coupler, self.input - self.output]
     }
 
-    /// The ground link `d = |O O'| = √(b² + (a - c)²)`, m.
+    /// The ground link `d = |O W| = √(b² + (a - c)²)`, m.
     pub fn ground(&self) -> f64 {
         self.coupler.hypot(self.input - self.output)
     }
@@ -81,8 +81,8 @@ impl FourBar {
         l[0] + l[3] <= l[1] + l[2]
     }
 
-    /// The pose with the input turned `θ1` from upright: `A = a (-sin θ1, cos θ1)`, `B` on the circles
-    /// `|AB| = b`, `|O'B| = c`, on the branch of the rest pose (`B` left of `A → O'`). `None` past a
+    /// The pose with the input turned `θ1` from upright: `C = a (-sin θ1, cos θ1)`, `D` on the circles
+    /// `|CD| = b`, `|WD| = c`, on the branch of the rest pose (`D` left of `C → W`). `None` past a
     /// toggle, where the circles part.
     pub fn pose(&self, input_turn: f64) -> Option<Pose> {
         let input = FRAC_PI_2 + input_turn;
@@ -101,8 +101,8 @@ impl FourBar {
         self.pose(input_turn).map(|p| wrap(p.output - FRAC_PI_2))
     }
 
-    /// The input's turn `θ1` that puts the wing at `θ`: `B = O' + c (-sin θ, cos θ)`, `A` on the circles
-    /// `|OA| = a`, `|AB| = b`, left of `O → B` as at rest. `None` past a toggle.
+    /// The input's turn `θ1` that puts the wing at `θ`: `D = W + c (-sin θ, cos θ)`, `C` on the circles
+    /// `|OC| = a`, `|CD| = b`, left of `O → D` as at rest. `None` past a toggle.
     pub fn input_angle(&self, angle: f64) -> Option<f64> {
         let o2 = self.pivot();
         let b = [
@@ -114,7 +114,7 @@ impl FourBar {
     }
 
     /// The gain `g = dθ/dθ1 = a sin(θ3 - θ2) / (c sin(θ3 - θ4))` and its rate `dg/dθ1` at a pose
-    /// (the loop `a e^{iθ2} + b e^{iθ3} = O' + c e^{iθ4}` differentiated, and its coupler rate
+    /// (the loop `a e^{iθ2} + b e^{iθ3} = W + c e^{iθ4}` differentiated, and its coupler rate
     /// `θ3' = a sin(θ4 - θ2) / (b sin(θ3 - θ4))`; Norton §6.7; docs/physics.md §16.8). `a/c` at rest.
     pub fn gain(&self, p: &Pose) -> (f64, f64) {
         let (a, b, c) = (self.input, self.coupler, self.output);
@@ -147,7 +147,7 @@ impl FourBar {
     }
 
     /// The film bends of the four-bar's two moving joints from the flat laminate at a pose, rad: links cut
-    /// in a row `O-A-B-O'` are flat when the coupler continues the input (`θ3 = θ2`) and the rocker
+    /// in a row `O-C-D-W` are flat when the coupler continues the input (`θ3 = θ2`) and the rocker
     /// continues the coupler (`θ4 = θ3`, the rocker pointing back at it), so `C` (input on coupler) is bent
     /// `θ3 - θ2` and `D` (coupler on rocker) `θ4 + π - θ3`, wrapped; both `∓90°` at rest
     /// (docs/physics.md §16.8).
@@ -268,7 +268,7 @@ mod tests {
 
     #[test]
     fn the_output_is_the_constructed_one_and_the_input_its_inverse() {
-        // Each pose against the loop closure |AB| = b, |O'B| = c; θ1(θ(θ1)) = θ1; the gain and its rate
+        // Each pose against the loop closure |CD| = b, |WD| = c; θ1(θ(θ1)) = θ1; the gain and its rate
         // against central differences.
         let f = bar();
         for i in -10..=10 {
@@ -311,8 +311,8 @@ mod tests {
             ..bar()
         }
         .is_grashof());
-        // The transmission angle with the input along the ground line O O' is the law of cosines in the
-        // triangle A B O' with |AO'| = d - a: cos μ = (b² + c² - (d - a)²) / (2 b c) (Norton §4.10).
+        // The transmission angle with the input along the ground line O W is the law of cosines in the
+        // triangle C D W with |CW| = d - a: cos μ = (b² + c² - (d - a)²) / (2 b c) (Norton §4.10).
         let f = FourBar {
             input: 1.0e-3,
             coupler: 2.0e-3,
@@ -327,9 +327,9 @@ mod tests {
             (FourBar::transmission_angle(&p) - closed).abs() < 1e-9,
             "{p:?}"
         );
-        // The input rocks between the toggles |AO'| = b ± c, where the coupler and the rocker lie in line
-        // (μ = 180° and 0): cos ∠(OO', OA) = (a² + d² - (b ± c)²) / (2 a d), the input that far
-        // counter-clockwise of O O', the upper toggle at b + c (22.2°), the lower at b - c (-25.4°). No pose
+        // The input rocks between the toggles |CW| = b ± c, where the coupler and the rocker lie in line
+        // (μ = 180° and 0): cos ∠(OW, OC) = (a² + d² - (b ± c)²) / (2 a d), the input that far
+        // counter-clockwise of O W, the upper toggle at b + c (22.2°), the lower at b - c (-25.4°). No pose
         // lies past them.
         let t = bar();
         let (a, b, c, d) = (t.input, t.coupler, t.output, t.ground());
@@ -381,9 +381,10 @@ mod tests {
     #[test]
     fn the_bend_at_each_joint_is_the_hand_computed_one() {
         // A 0.5 mm crank, coupler 2 mm, δ0 = 0 (θ1 = 0 at rest), and the four-bar a = 1, b = 2, c = 0.4 mm,
-        // at the first stage's θ1 = 10°. By hand: A = (-0.17365, 0.98481) mm; O' = (2, 0.6) mm;
-        // |AO'| = √(2.17365² + 0.38481²) = 2.20745 mm. B on |AB| = 2, |O'B| = 0.4 left of A → O':
-        // along = (4 - 0.16 + |AO'|²)/(2 |AO'|) = 1.97351 mm from A toward O', h = √(4 - along²) across.
+        // at the first stage's θ1 = 10°. By hand: C = (-0.17365, 0.98481) mm; W = (2, 0.6) mm;
+        // |CW| = √(2.17365² + 0.38481²) = 2.20745 mm. D on |CD| = 2, |WD| = 0.4 left of C → W:
+        // along = (4 - 0.16 + |CW|²)/(2 |CW|) = 1.97351 mm from C toward W, and
+        // h = √(4 - along²) = 0.32446 mm across.
         let s = TwoStage {
             first: Linkage::new(2e-3, 0.5e-3, 0.0).unwrap(),
             second: bar(),
