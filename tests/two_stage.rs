@@ -49,6 +49,15 @@ fn the_two_stage_linkage_reaches_the_published_ratio_that_one_stage_cannot_build
     }
     // The wing hinge turns by the stroke itself.
     assert!((rows[5].peak_rotation_deg - 55.0).abs() < 1e-9);
+    // The published ratio with the four-bar is the whole transmission's: the slider-crank before it is
+    // the one of crank (a/c)/T, 0.6 mm, the example's.
+    let (_dir, path) = with_transmission(&format!(
+        "[transmission]\nratio_rad_per_m = {}\ncoupler_ratio = 4\n{GIVEN}\n[transmission.four_bar]\ninput_mm = 1.0\ncoupler_mm = 2.0\noutput_mm = 0.5\n",
+        1.0 / 0.6e-3 * 2.0
+    ));
+    let by_ratio = drive_analysis(&path).report;
+    assert!((by_ratio.linkage.crank_mm - 0.6).abs() < 1e-12);
+    assert!((by_ratio.linkage.coupler_mm - 2.4).abs() < 1e-12);
     // The one-stage slider-crank of the same ratio has a 0.3 mm crank, and joint B's folded film needs
     // more than 0.3 of it whatever the coupler.
     for rho in [2, 4, 8] {

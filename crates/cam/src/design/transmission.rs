@@ -92,9 +92,17 @@ pub struct TransmissionSpec {
 impl TransmissionSpec {
     /// Read `[transmission]` for a stroke of `±stroke` (rad); the caller finishes the table.
     pub fn read(t: &TableReader<'_>, stroke: f64) -> Result<TransmissionSpec, InputError> {
-        let linkage = read_linkage(t, stroke)?;
+        let mut linkage = read_linkage(t, stroke)?;
         let flexures = read_flexures(t)?;
         let four_bar = read_four_bar(t, &linkage, stroke)?;
+        // A published ratio is the whole transmission's: before a four-bar of gain a/c the slider-crank's
+        // crank is (a/c)/T, so that the stages' product at rest is T (docs/physics.md §16.8).
+        if let (Some(f), LinkageSpec::Given { coupler, crank, .. }) = (four_bar, &mut linkage) {
+            if t.has("ratio_rad_per_m") {
+                *coupler *= f.input / f.output;
+                *crank *= f.input / f.output;
+            }
+        }
         if let (Some(_), true) = (
             &flexures,
             four_bar.is_some() || matches!(linkage, LinkageSpec::Ratio(_)),
