@@ -102,43 +102,41 @@ fn a_ratio_law_drives_as_its_closed_form_and_no_drawing_is_made() {
         s.stroke_amplitude
     );
     // No linkage drawing can be made from a ratio alone: cut-sheet says so in one line and writes nothing.
-    let out = dir.path().join("out");
-    let err = refused_in_one_line(&run(&[
-        "cut-sheet",
-        dir.path().join("robobee-class.toml").to_str().unwrap(),
-        "--drive",
-        path.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]));
+    let err = cut_sheet_refusal(&dir.path().join("robobee-class.toml"), &path);
     assert!(
         err.contains("drive.toml: transmission.ratio_rad_per_m = 3000")
             && err.contains("no linkage drawing can be made from a ratio alone"),
         "{err}"
     );
-    assert!(!out.exists());
 }
 
-#[test]
-fn cut_sheet_refuses_a_two_stage_drive_in_one_line() {
+/// `cut-sheet design --drive drive -o OUT`'s one-line refusal, having written nothing.
+fn cut_sheet_refusal(design: &Path, drive: &Path) -> String {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let err = refused_in_one_line(&run(&[
         "cut-sheet",
-        example_path("robobee-class.toml").to_str().unwrap(),
+        design.to_str().unwrap(),
         "--drive",
-        example_path("drive-robobee-two-stage.toml")
-            .to_str()
-            .unwrap(),
+        drive.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
     ]));
+    assert!(!out.exists(), "{err}");
+    err
+}
+
+#[test]
+fn cut_sheet_refuses_a_two_stage_drive_in_one_line() {
+    let err = cut_sheet_refusal(
+        &example_path("robobee-class.toml"),
+        &example_path("drive-robobee-two-stage.toml"),
+    );
     assert!(
         err.contains("drive-robobee-two-stage.toml: transmission.four_bar")
             && err.contains("no layer files are drawn"),
         "{err}"
     );
-    assert!(!out.exists());
 }
 
 /// The example's `[transmission]` with `from` replaced by `to`, refused in one line naming `field`.
