@@ -23,7 +23,6 @@ use crate::process::template::Template;
 use actuator_model::drive::{Drive, DriveMode};
 use actuator_model::dynamics::LumpedActuator;
 use actuator_model::flapping::{FlappingSystem, SteadyState};
-use actuator_model::kinematics::Kinematics;
 use actuator_model::large_deflection::{small_angle_error_at, SMALL_ANGLE_BOUND};
 use actuator_model::model::ModelChoice;
 use actuator_model::plate::{self, PlatePeak};
@@ -131,6 +130,10 @@ fn no_drawing(spec: &TransmissionSpec, source: &std::path::Path) -> Option<Input
 /// (the flexure rules cut-sheet applies: the film's fatigue strain, the gap against the links beside it,
 /// the carbon left bonded), or `None` when it can, or when the process has no `[linkage]` to build it with.
 fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -> Option<String> {
+    // A ratio alone or a two-stage linkage is not drawn; the two-stage's flexures are checked apart.
+    no_drawing(&spec.transmission, &spec.source)
+        .is_none()
+        .then_some(())?;
     let template = Template::resolve(&design.process, &design.source).ok()?;
     template.linkage.as_ref()?;
     let refusal =
@@ -203,12 +206,9 @@ fn analyse_at(
     let template = Template::resolve(&design.process, &design.source).ok();
     let two_stage = stages::two_stage_flexures(&linkage, &spec.transmission, template.as_ref());
     let unbuildable = match (&laminate, &two_stage) {
-        (_, Some(Err(why))) => Some(why.clone()),
-        (Some(_), _) | (_, Some(Ok(_))) => None,
-        _ if matches!(linkage, Kinematics::SliderCrank(_)) => {
-            unbuildable_linkage(spec, design, model)
-        }
-        _ => None,
+        (_, Some(checked)) => checked.clone().err(),
+        (Some(_), None) => None,
+        (None, None) => unbuildable_linkage(spec, design, model),
     };
     let (flexure_stiffness, link_inertia, transmission_mass) = match &laminate {
         Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
