@@ -107,7 +107,11 @@ pub fn joint_bends<const N: usize>(
     rest: f64,
     end_angles: (f64, f64),
 ) -> [JointBend; N] {
-    let folds = at(rest).map_or([0.0; N], |(_, bends)| bends.map(f64::abs));
+    // A film laid flat at rest reads a bend of rounding there (the two-stage's rest is found through the
+    // four-bar and back): under a nanoradian it is no fold.
+    let folds = at(rest).map_or([0.0; N], |(_, bends)| {
+        bends.map(|b| if b.abs() < 1e-9 { 0.0 } else { b.abs() })
+    });
     let mut out = folds.map(|fold| JointBend {
         turn: 0.0,
         fold,
