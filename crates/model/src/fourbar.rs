@@ -148,8 +148,8 @@ impl FourBar {
 
     /// The film bends of the four-bar's two moving joints from the flat laminate at a pose, rad: links cut
     /// in a row `O-C-D-W` are flat when the coupler continues the input (`θ3 = θ2`) and the rocker
-    /// continues the coupler (`θ4 = θ3`, the rocker pointing back at it), so `C` (input on coupler) is bent
-    /// `θ3 - θ2` and `D` (coupler on rocker) `θ4 + π - θ3`, wrapped; both `∓90°` at rest
+    /// continues the coupler (`θ4 = θ3 - π`: from D the rocker runs on to W), so `C` (input on coupler) is bent
+    /// `θ3 - θ2` and `D` (coupler on rocker) `θ4 + π - θ3`, wrapped; both -90° at rest
     /// (docs/physics.md §16.8).
     pub fn bends(p: &Pose) -> [f64; 2] {
         [wrap(p.coupler - p.input), wrap(p.output + PI - p.coupler)]
@@ -347,7 +347,7 @@ mod tests {
             let mu = FourBar::transmission_angle(&inside);
             assert!(mu < 0.01 || mu > PI - 0.01, "{}", mu.to_degrees());
         }
-        // Over a stroke the range of μ; 90° at rest, and past 40° of it toward a toggle the stroke is refused.
+        // Over a stroke the range of μ; 90° at rest; the drive file refuses a stroke that takes it past 30-150°.
         let (lo, hi) = t.transmission_angle_range(-0.3, 0.3).unwrap();
         assert!(lo < FRAC_PI_2 && hi > FRAC_PI_2 && lo > 0.0 && hi < PI);
     }
