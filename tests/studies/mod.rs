@@ -20,6 +20,7 @@ mod calibrate_loop;
 mod calibrate_null_alarm;
 mod calibrate_power;
 mod calibrate_resonance;
+mod calibrate_robust;
 mod calibrate_selection;
 mod calibrate_synthetic;
 mod calibrate_thickness;
