@@ -18,6 +18,7 @@ pub(crate) mod observations;
 pub mod outliers;
 mod pooled;
 mod resonance_weight;
+mod robust;
 pub mod separating;
 pub mod settings;
 pub(crate) mod stacks;
