@@ -34,5 +34,6 @@ mod refusals;
 mod scoring;
 mod stock;
 mod sweep;
+mod two_stage;
 mod validation;
 mod weibull;

@@ -60,9 +60,11 @@ struct Pair {
 }
 
 /// An example that writes no layer file, and why.
-const NO_LAYER_FILES: [(&str, &str); 1] = [
+const NO_LAYER_FILES: [(&str, &str); 2] = [
     // Its flexures are a lumped stiffness the tool does not draw: `cut-sheet --drive` refuses it.
     ("drive-robobee.toml", "a lumped transmission"),
+    // `drive` checks a two-stage linkage's flexures, but `cut-sheet --drive` draws no layer of it.
+    ("drive-robobee-two-stage.toml", "a two-stage linkage"),
 ];
 
 /// The names of the files of `dir` that end in `ending`, sorted.

@@ -68,12 +68,26 @@ fn cases() -> Vec<(&'static str, Primitive, f64)> {
 }
 
 /// The file calibrate writes as the next step, if any.
-pub(super) fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
+pub(crate) fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
     render_calibration(cal, data, "measured.csv")
         .unwrap()
         .into_iter()
         .find(|(name, _)| name == "suggested-effects.toml")
         .map(|(_, text)| text)
+}
+
+/// The settings that declare the effects of a `suggested-effects.toml` (`text`).
+pub(crate) fn declaring(text: &str) -> Settings {
+    let table: toml::Table = text.parse().unwrap();
+    let declared: Vec<_> = parse_effects(Path::new("suggested-effects.toml"), &table)
+        .unwrap()
+        .into_iter()
+        .flat_map(Declared::all)
+        .collect();
+    Settings {
+        declared,
+        ..Settings::default()
+    }
 }
 
 /// A fitted value and its 95 % interval.
@@ -118,17 +132,7 @@ fn turn(primitive: Primitive, value: f64, k: u64) -> Turn {
             selected,
         );
     };
-    let table: toml::Table = text.parse().unwrap();
-    let declared: Vec<_> = parse_effects(Path::new("suggested-effects.toml"), &table)
-        .unwrap()
-        .into_iter()
-        .flat_map(Declared::all)
-        .collect();
-    let settings = Settings {
-        declared,
-        ..Settings::default()
-    };
-    let second = calibrate(&data, &settings).unwrap();
+    let second = calibrate(&data, &declaring(&text)).unwrap();
     let fit = declared_fit(&second, &name);
     let selected = second.model.selected_effects.join(", ");
     (

@@ -1,8 +1,9 @@
-//! The verdict's false-alarm rate on null data (docs/calibration.md §3, "Verdicts"): the studies' data
-//! sets (`random_csv`: 30 random actuators x 4 voltages, 5 % log-normal noise on δ and F_b, 1 % on the
-//! mass) with no hidden effect, on seeds 62 000-62 019, which no threshold was chosen on. Any verdict
-//! but `no-effect` is a false alarm; at most the count that chance allows at the adequacy test's level
-//! (`allowed_false_alarms`).
+//! The verdict's false-alarm rate on null data (docs/calibration.md §3, "False alarms on null data"): the
+//! studies' data sets (`random_csv`: 30 random actuators x 4 voltages, 5 % log-normal noise on δ and F_b,
+//! 1 % on the mass) with no hidden effect, on seeds 62 000-62 019. Any verdict but `no-effect` is a false
+//! alarm; at most the count that chance allows at the stated level, the adequacy test's two tests and the
+//! selection's multiplicity test (`allowed_null_alarms`). The multiplicity test was chosen on these
+//! seeds among others; `calibrate_robust.rs` measures the rate on seeds it was not.
 
 use crate::synthetic;
 
@@ -32,5 +33,5 @@ fn null_data_gives_no_effect_but_by_chance() {
         .filter(|(_, v)| !v.starts_with("no-effect"))
         .collect();
     eprintln!("{} false alarms in 20: {alarms:?}", alarms.len());
-    assert!(alarms.len() <= allowed_false_alarms(20), "{alarms:?}");
+    assert!(alarms.len() <= allowed_null_alarms(20), "{alarms:?}");
 }

@@ -10,7 +10,7 @@ use actuator_model::Effects;
 use synthetic::*;
 
 /// The CSV with every blocked force measured through a load cell of stiffness `k_s_n_per_mm`.
-fn through_compliant_load_cell(csv: &str, k_s_n_per_mm: f64) -> String {
+pub(crate) fn through_compliant_load_cell(csv: &str, k_s_n_per_mm: f64) -> String {
     csv.lines()
         .enumerate()
         .map(|(i, line)| {

@@ -21,6 +21,7 @@ mod calibrate_null_alarm;
 mod calibrate_plate_thickness;
 mod calibrate_power;
 mod calibrate_resonance;
+mod calibrate_robust;
 mod calibrate_selection;
 mod calibrate_synthetic;
 mod calibrate_thickness;

@@ -311,6 +311,44 @@ pub fn synthetic_csv_each(
     fields_of: &dyn Fn(&Design) -> Vec<f64>,
     rng: &mut ChaCha8Rng,
 ) -> String {
+    synthetic_csv_noise(truth, designs, fields_of, Noise::Gaussian, rng)
+}
+
+/// The noise on the log of a measured deflection or force.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Noise {
+    /// Normal, standard deviation 5 %.
+    Gaussian,
+    /// Student t with 3 degrees of freedom, scaled to the same standard deviation, 5 % (its variance is
+    /// 3, so the draw is divided by √3): a narrower core and heavy tails, as a glitching reading gives.
+    StudentT3,
+}
+
+impl Noise {
+    /// One draw of the log noise.
+    pub fn draw(self, rng: &mut ChaCha8Rng) -> f64 {
+        match self {
+            Noise::Gaussian => 0.05 * normal(rng),
+            Noise::StudentT3 => 0.05 * student_t3(rng) / 3f64.sqrt(),
+        }
+    }
+}
+
+/// A Student t draw with 3 degrees of freedom: `Z / sqrt(χ²₃ / 3)`, the χ²₃ a sum of three squared normals.
+pub fn student_t3(rng: &mut ChaCha8Rng) -> f64 {
+    let z = normal(rng);
+    let chi2: f64 = (0..3).map(|_| normal(rng).powi(2)).sum();
+    z / (chi2 / 3.0).sqrt()
+}
+
+/// [`synthetic_csv_each`] with the given noise on δ and F_b (the mass keeps its 1 % normal noise).
+pub fn synthetic_csv_noise(
+    truth: Truth,
+    designs: &[Design],
+    fields_of: &dyn Fn(&Design) -> Vec<f64>,
+    noise: Noise,
+    rng: &mut ChaCha8Rng,
+) -> String {
     let mut s = String::from(
         "id,l_tot_mm,l_r,w0_mm,w_r,t_p_mm,layup,voltage_V,mass_mg,free_deflection_mm,blocked_force_N\n",
     );
@@ -332,8 +370,8 @@ pub fn synthetic_csv_each(
                 LAYUPS[d.layup],
                 field * d.t_p_mm,
                 mass_cell,
-                delta * 1e3 * (0.05 * normal(rng)).exp(),
-                force * (0.05 * normal(rng)).exp(),
+                delta * 1e3 * noise.draw(rng).exp(),
+                force * noise.draw(rng).exp(),
             ));
         }
     }
@@ -452,6 +490,13 @@ pub fn allowed_misses(n: usize) -> usize {
 /// = 0.01), so at most 2 % of the time.
 pub fn allowed_false_alarms(n: usize) -> usize {
     chance_allows(n, 0.02)
+}
+
+/// Verdicts other than `no-effect` allowed among `n` null data sets: the two adequacy tests at
+/// `Settings::alpha` = 0.01 each and the selection's multiplicity test at the same level, so at most
+/// 3 % of the time (docs/calibration.md §3, "False alarms on null data").
+pub fn allowed_null_alarms(n: usize) -> usize {
+    chance_allows(n, 0.03)
 }
 
 /// The smallest `m` with P(more than `m` of `n` independent events of probability `p`) at most 1 %.

@@ -86,7 +86,7 @@ impl WingLoad {
                 mass: stiffness / (omega1 * omega1),
                 loss_factor: self.loss_factor,
             },
-            linkage: *reference,
+            linkage: (*reference).into(),
             flexure_stiffness: self.flexure_stiffness,
             inertia: self.inertia,
             damping: self.damping,
@@ -320,7 +320,9 @@ mod tests {
                         mass,
                         loss_factor: load.loss_factor,
                     },
-                    linkage: Linkage::solve(travel, -PI / 3.0, PI / 3.0, 4.0).unwrap(),
+                    linkage: Linkage::solve(travel, -PI / 3.0, PI / 3.0, 4.0)
+                        .unwrap()
+                        .into(),
                     flexure_stiffness: load.flexure_stiffness,
                     inertia: load.inertia,
                     damping: load.damping,

@@ -16,7 +16,7 @@
 
 use crate::dynamics::LumpedActuator;
 use crate::error::ModelError;
-use crate::transmission::Linkage;
+use crate::kinematics::Kinematics;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
 
@@ -42,8 +42,8 @@ const SAMPLES: usize = 64;
 pub struct FlappingSystem {
     /// The actuator at its tip.
     pub actuator: LumpedActuator,
-    /// The transmission's geometry.
-    pub linkage: Linkage,
+    /// The transmission's kinematics.
+    pub linkage: Kinematics,
     /// Flexure stiffness about the hinge, N·m/rad.
     pub flexure_stiffness: f64,
     /// Wing and link inertia about the hinge, kg·m².
@@ -197,7 +197,10 @@ impl FlappingSystem {
 
     /// Small-stroke resonance at rest: `√((k + k_t T0²) / (m + I T0²)) / 2π`, Hz.
     pub fn linear_resonance(&self) -> f64 {
-        let t0 = self.linkage.ratio(0.0).unwrap_or(1.0 / self.linkage.crank);
+        let t0 = self
+            .linkage
+            .ratio(0.0)
+            .unwrap_or(1.0 / self.linkage.lever());
         let a = &self.actuator;
         ((a.stiffness + self.flexure_stiffness * t0 * t0) / (a.mass + self.inertia * t0 * t0))
             .sqrt()
@@ -236,7 +239,7 @@ impl FlappingSystem {
     }
 
     fn torque_scale(&self) -> f64 {
-        self.actuator.stiffness * self.linkage.crank * self.linkage.crank
+        self.actuator.stiffness * self.linkage.lever() * self.linkage.lever()
     }
 
     /// The steady state at a blocked-force amplitude (N) and frequency (Hz): harmonic balance in the
@@ -313,13 +316,13 @@ impl FlappingSystem {
                 let mut u = [0.0; AT_STROKE];
                 u[0] = self.rest_angle();
                 u[1] = 0.5 * PI;
-                u[2] = self.actuator.stiffness * stroke * self.linkage.crank;
+                u[2] = self.actuator.stiffness * stroke * self.linkage.lever();
                 u[3] = stroke;
                 u
             }
         };
         let mut steps = [1e-7; AT_STROKE];
-        steps[2] = 1e-7 * scale / self.linkage.crank;
+        steps[2] = 1e-7 * scale / self.linkage.lever();
         let u = newton(guess, steps, scale, |u| {
             let c = coefficients(u);
             let r = self.residual(&c, u[2], omega)?;
@@ -553,6 +556,7 @@ pub struct Unreached {
 mod tests {
     use super::*;
     use crate::dynamics::DEFAULT_LOSS_FACTOR;
+    use crate::transmission::Linkage;
 
     /// A hawk-moth-sized system (the numbers of examples/drive-hawkmoth.toml, rounded).
     fn system() -> FlappingSystem {
@@ -562,7 +566,9 @@ mod tests {
                 mass: 40e-6,
                 loss_factor: DEFAULT_LOSS_FACTOR,
             },
-            linkage: Linkage::solve(0.4e-3, -PI / 3.0, PI / 3.0, 3.0).unwrap(),
+            linkage: Linkage::solve(0.4e-3, -PI / 3.0, PI / 3.0, 3.0)
+                .unwrap()
+                .into(),
             flexure_stiffness: 2e-5,
             inertia: 1.0e-9,
             damping: 3e-10,

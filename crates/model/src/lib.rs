@@ -19,6 +19,8 @@ pub mod error;
 pub mod euler_bernoulli;
 pub mod flapping;
 pub mod flexure;
+pub mod fourbar;
+pub mod kinematics;
 pub mod lamina;
 pub mod laminate;
 pub mod large_deflection;

@@ -5,9 +5,11 @@
 use crate::input::limits::{
     COUPLER_RATIO, END_ANGLE_DEG, FILM_THICKNESS_UM, FLEXURE_LENGTH_UM,
     FLEXURE_STIFFNESS_UNM_PER_RAD, FLEXURE_WIDTH_MM, INERTIA_MG_MM2, LINK_LENGTH_MM,
-    LINK_OFFSET_MM, PART_MASS_MG, TRANSMISSION_RATIO_RAD_PER_M, TRAVEL_MM,
+    LINK_OFFSET_MM, PART_MASS_MG, RATIO_STROKE_DEG, TRANSMISSION_RATIO_RAD_PER_M, TRAVEL_MM,
 };
 use crate::input::{short_number, InputError, TableReader};
+use actuator_model::fourbar::FourBar;
+use actuator_model::kinematics::RatioLaw;
 
 /// The flexures a drive file asks for (SI); lists of one value hold for all three joints.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -63,6 +65,8 @@ pub enum LinkageSpec {
         /// One-sided actuator travel, m.
         travel: Option<f64>,
     },
+    /// A published ratio and its nonlinearity, without a linkage (`ratio_rad_per_m` alone).
+    Ratio(RatioLaw),
 }
 
 /// A validated `[transmission]`, SI inside.
@@ -81,13 +85,39 @@ pub struct TransmissionSpec {
     pub transmission_mass: f64,
     /// The flexures of a drawn linkage, if given.
     pub flexures: Option<FlexureRequest>,
+    /// The second stage, an amplifying four-bar after the slider-crank (`[transmission.four_bar]`).
+    pub four_bar: Option<FourBar>,
 }
 
 impl TransmissionSpec {
     /// Read `[transmission]` for a stroke of `±stroke` (rad); the caller finishes the table.
     pub fn read(t: &TableReader<'_>, stroke: f64) -> Result<TransmissionSpec, InputError> {
-        let linkage = read_linkage(t, stroke)?;
+        let mut linkage = read_linkage(t, stroke)?;
         let flexures = read_flexures(t)?;
+        let four_bar = read_four_bar(t, &linkage, stroke)?;
+        // A published ratio is the whole transmission's: before a four-bar of gain a/c the slider-crank's
+        // crank is (a/c)/T, so that the stages' product at rest is T (docs/physics.md §16.8).
+        if let (Some(f), LinkageSpec::Given { coupler, crank, .. }) = (four_bar, &mut linkage) {
+            if t.has("ratio_rad_per_m") {
+                *coupler *= f.input / f.output;
+                *crank *= f.input / f.output;
+            }
+        }
+        if let (Some(_), true) = (
+            &flexures,
+            four_bar.is_some() || matches!(linkage, LinkageSpec::Ratio(_)),
+        ) {
+            let key = ["flexure_length_um", "flexure_width_mm", "film_thickness_um"]
+                .into_iter()
+                .find(|k| t.has(k))
+                .unwrap_or("flexure_length_um");
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path(key),
+                "(given)",
+                "left out of a two-stage linkage or a ratio: no linkage drawing is made of either; give flexure_stiffness_uNm_per_rad, link_inertia_mg_mm2 and mass_mg",
+            ));
+        }
         let (flexure_stiffness, link_inertia, transmission_mass) = if flexures.is_some() {
             // Computed from the drawn linkage when the drive is analysed.
             (0.0, 0.0, 0.0)
@@ -108,6 +138,7 @@ impl TransmissionSpec {
             link_inertia,
             transmission_mass,
             flexures,
+            four_bar,
         })
     }
 
@@ -119,7 +150,7 @@ impl TransmissionSpec {
                 angle_plus,
                 ..
             } => (angle_minus, angle_plus),
-            LinkageSpec::Given { .. } => (-self.stroke, self.stroke),
+            LinkageSpec::Given { .. } | LinkageSpec::Ratio(_) => (-self.stroke, self.stroke),
         }
     }
 }
@@ -166,7 +197,8 @@ fn read_flexures(t: &TableReader<'_>) -> Result<Option<FlexureRequest>, InputErr
 
 /// The linkage of `[transmission]`: `coupler_mm` and `crank_mm` (and `offset_mm`), or `end_angles_deg`
 /// with `coupler_ratio` (and `travel_mm`); `solve_for_stroke = true` solves for `±stroke_deg`;
-/// `ratio_rad_per_m` with `coupler_ratio` is the slider-crank of that ratio at rest (crank `1/T`, docs/drive.md §1).
+/// `ratio_rad_per_m` with `coupler_ratio` is the slider-crank of that ratio at rest (crank `1/T`, docs/drive.md §1),
+/// and alone the ratio law of docs/physics.md §12.4.
 fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputError> {
     let given = t.has("crank_mm");
     let angles = t.has("end_angles_deg");
@@ -197,14 +229,7 @@ fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputEr
         ));
     }
     if ratio {
-        // The slider-crank turns by x / L3 at rest (eq. 2.5's slope at θ = 0), so the crank of a
-        // published ratio T is 1/T; its rise with the stroke is the slider-crank's own.
-        let crank = 1.0 / t.number_in("ratio_rad_per_m", TRANSMISSION_RATIO_RAD_PER_M)?;
-        return Ok(LinkageSpec::Given {
-            coupler: t.number_in("coupler_ratio", COUPLER_RATIO)? * crank,
-            crank,
-            offset: 0.0,
-        });
+        return read_ratio(t, stroke);
     }
     if given {
         return Ok(LinkageSpec::Given {
@@ -238,4 +263,133 @@ fn read_linkage(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputEr
             .optional_number_in("travel_mm", TRAVEL_MM)?
             .map(|x| x * 1e-3),
     })
+}
+
+/// `ratio_rad_per_m`: with `coupler_ratio`, the slider-crank whose slope at rest is `T` (eq. 2.5's is
+/// `1/L3`, so the crank is `1/T`) and whose ratio rises with the stroke as eq. 2.5's does; alone, the
+/// ratio law through `T` at rest and, if given, `ratio_at_stroke_rad_per_m` at `ratio_at_stroke_deg`
+/// (docs/physics.md §12.4), which must not reach its dead point within the stroke.
+fn read_ratio(t: &TableReader<'_>, stroke: f64) -> Result<LinkageSpec, InputError> {
+    let ratio = t.number_in("ratio_rad_per_m", TRANSMISSION_RATIO_RAD_PER_M)?;
+    let at_deg = t.optional_number_in("ratio_at_stroke_deg", RATIO_STROKE_DEG)?;
+    let at_ratio =
+        t.optional_number_in("ratio_at_stroke_rad_per_m", TRANSMISSION_RATIO_RAD_PER_M)?;
+    if t.has("coupler_ratio") {
+        if let Some(key) = ["ratio_at_stroke_deg", "ratio_at_stroke_rad_per_m"]
+            .into_iter()
+            .find(|k| t.has(k))
+        {
+            return Err(InputError::invalid(
+                t.file(),
+                &t.path(key),
+                "(given)",
+                "left out with coupler_ratio: the slider-crank's ratio changes with the stroke as eq. 2.5's does",
+            ));
+        }
+        let crank = 1.0 / ratio;
+        return Ok(LinkageSpec::Given {
+            coupler: t.number_in("coupler_ratio", COUPLER_RATIO)? * crank,
+            crank,
+            offset: 0.0,
+        });
+    }
+    let law = match (at_deg, at_ratio) {
+        (None, None) => RatioLaw::through(ratio, 1.0, ratio),
+        (Some(deg), Some(t1)) => RatioLaw::through(ratio, deg.to_radians(), t1),
+        (given, _) => {
+            let (has, lacks) = match given {
+                Some(_) => ("ratio_at_stroke_deg", "ratio_at_stroke_rad_per_m"),
+                None => ("ratio_at_stroke_rad_per_m", "ratio_at_stroke_deg"),
+            };
+            return Err(t.missing_one_of(
+                &[lacks],
+                &format!("{lacks} with {has}: the ratio at that stroke angle"),
+            ));
+        }
+    };
+    if law.reach() <= stroke {
+        // T0/T1 - 1 > -θ1²/θ² keeps the dead point past the stroke θ.
+        let (deg, t1) = (at_deg.unwrap_or(0.0), at_ratio.unwrap_or(ratio));
+        let below = ratio / (1.0 - (deg / stroke.to_degrees()).powi(2));
+        return Err(InputError::invalid(
+            t.file(),
+            &t.path("ratio_at_stroke_rad_per_m"),
+            short_number(t1),
+            format!(
+                "below {} rad/m: a ratio rising from {} rad/m at rest to {} at {}° turns the wing no further past ±{:.1}°, inside the ±{}° stroke",
+                short_number(below),
+                short_number(ratio),
+                short_number(t1),
+                short_number(deg),
+                law.reach().to_degrees(),
+                short_number(stroke.to_degrees())
+            ),
+        ));
+    }
+    Ok(LinkageSpec::Ratio(law))
+}
+
+/// The smallest transmission angle a four-bar may reach over the stroke, and 180° less it the largest.
+/// An assumption: machine design holds it to about 40° (Norton, *Design of Machinery*, §4.10), but a
+/// flapping four-bar's rocker strokes ±55-60° about its rest at 90°, which keeps it near 90° ± the stroke
+/// whatever the lengths; at 30° the coupler still pushes across the rocker with half its force, and the
+/// toggles (0° and 180°) stay a third of a right angle away.
+pub const MIN_TRANSMISSION_ANGLE_DEG: f64 = 30.0;
+
+/// `[transmission.four_bar]`: the second stage's `input_mm`, `coupler_mm` and `output_mm`, held to a
+/// transmission angle within [`MIN_TRANSMISSION_ANGLE_DEG`] of toggling over the stroke.
+fn read_four_bar(
+    t: &TableReader<'_>,
+    linkage: &LinkageSpec,
+    stroke: f64,
+) -> Result<Option<FourBar>, InputError> {
+    let Some(f) = t.optional_table("four_bar")? else {
+        return Ok(None);
+    };
+    if let LinkageSpec::Ratio(_) = linkage {
+        return Err(InputError::invalid(
+            t.file(),
+            &f.prefix_or("four_bar"),
+            "(given)",
+            "left out with ratio_rad_per_m alone: the ratio is the whole transmission's (give coupler_ratio for a slider-crank of that ratio before the four-bar)",
+        ));
+    }
+    let bar = FourBar {
+        input: f.number_in("input_mm", LINK_LENGTH_MM)? * 1e-3,
+        coupler: f.number_in("coupler_mm", LINK_LENGTH_MM)? * 1e-3,
+        output: f.number_in("output_mm", LINK_LENGTH_MM)? * 1e-3,
+    };
+    f.finish()?;
+    let (lo, hi) = match *linkage {
+        LinkageSpec::Solve {
+            angle_minus,
+            angle_plus,
+            ..
+        } => (angle_minus, angle_plus),
+        _ => (-stroke, stroke),
+    };
+    let limit = MIN_TRANSMISSION_ANGLE_DEG.to_radians();
+    let range = bar.transmission_angle_range(lo, hi);
+    if range.is_none_or(|(min, max)| min < limit || max > std::f64::consts::PI - limit) {
+        let reached = range.map_or("past a toggle".to_string(), |(min, max)| {
+            format!("from {:.1}° to {:.1}°", min.to_degrees(), max.to_degrees())
+        });
+        return Err(InputError::invalid(
+            t.file(),
+            &f.prefix_or("four_bar"),
+            format!(
+                "input {} mm, coupler {} mm, output {} mm",
+                short_number(bar.input * 1e3),
+                short_number(bar.coupler * 1e3),
+                short_number(bar.output * 1e3)
+            ),
+            format!(
+                "a four-bar whose transmission angle stays within {MIN_TRANSMISSION_ANGLE_DEG}° to {}° over the stroke from {:.1}° to {:.1}° (this one's runs {reached}): a longer coupler, a smaller gain input_mm/output_mm, or a smaller stroke",
+                180.0 - MIN_TRANSMISSION_ANGLE_DEG,
+                lo.to_degrees(),
+                hi.to_degrees()
+            ),
+        ));
+    }
+    Ok(Some(bar))
 }

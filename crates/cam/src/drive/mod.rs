@@ -1,15 +1,14 @@
 //! `drive`: will this actuator flap this wing to the required stroke at the flapping frequency, at
 //! what voltage, with what margin to the field limit, through which linkage and at what mass
-//! (docs/physics.md §15).
-//!
-//! The design is predicted as `predict` predicts it; its lumped tip model (§11.3), the transmission of
-//! eq. 2.5 (§12) and the wing (§13) make the flapping system of §14, whose harmonic balance gives the
-//! blocked-force amplitude that holds the required stroke. The piezoelectric model is linear in the
-//! field, so that force is a field in each drive mode.
+//! (docs/physics.md §15). The design's lumped tip model (§11.3), the transmission (§12) and the wing
+//! (§13) make the flapping system of §14, whose harmonic balance gives the blocked-force amplitude,
+//! and so the field, that holds the required stroke.
 
+pub mod linkage_row;
 pub mod operating_field;
 pub mod report;
 pub mod spec;
+pub mod stages;
 
 use crate::design::transmission::TransmissionSpec;
 use crate::design::Design;
@@ -26,13 +25,11 @@ use actuator_model::large_deflection::{small_angle_error_at, SMALL_ANGLE_BOUND};
 use actuator_model::model::ModelChoice;
 use actuator_model::plate::{self, PlatePeak};
 use actuator_model::poling::{Binding, FieldCheck};
-use actuator_model::transmission::Linkage;
 use actuator_model::{ModelError, Performance, Section, Weibull};
-use operating_field::{FieldSearch, FIELD_ROUNDS};
-use report::{
-    ActuatorRow, DriveReport, LinkageRow, MassRow, OperatingRow, SweepPoint, Unreachable, WingRow,
-};
+use operating_field::FieldSearch;
+use report::{ActuatorRow, DriveReport, MassRow, OperatingRow, SweepPoint, Unreachable, WingRow};
 use spec::{DriveSpec, LinkageSpec};
+use stages::{kinematics, linkage};
 use std::f64::consts::PI;
 
 /// Why a drive cannot be analysed.
@@ -67,28 +64,6 @@ pub struct Analysis {
     pub operating_field: Option<f64>,
 }
 
-/// The linkage of the spec; a solved one from the actuator's free deflection unless a travel is given.
-fn linkage(spec: &LinkageSpec, performance: &Performance) -> Result<Linkage, ModelError> {
-    match *spec {
-        LinkageSpec::Given {
-            coupler,
-            crank,
-            offset,
-        } => Linkage::new(coupler, crank, offset),
-        LinkageSpec::Solve {
-            angle_minus,
-            angle_plus,
-            coupler_ratio,
-            travel,
-        } => Linkage::solve(
-            travel.unwrap_or(performance.free_deflection),
-            angle_minus,
-            angle_plus,
-            coupler_ratio,
-        ),
-    }
-}
-
 /// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
 /// file gives, or the shortest the film allows at the template's width when it gives none.
 pub fn linkage_laminate(
@@ -110,6 +85,9 @@ pub fn linkage_laminate_in(
     model: &ModelChoice,
     template: &Template,
 ) -> Result<LinkageLaminate, DriveError> {
+    if let Some(refusal) = no_drawing(spec, source) {
+        return Err(refusal.into());
+    }
     let perf = performance(design, model)?;
     let Some(process) = template.linkage.as_ref() else {
         return Err(InputError::invalid(
@@ -130,10 +108,33 @@ pub fn linkage_laminate_in(
     )?)
 }
 
+/// Why no linkage drawing is made of a transmission: a ratio alone has no lengths, and the two-stage
+/// linkage's flexures are checked by `drive` but its layer files are not drawn.
+fn no_drawing(spec: &TransmissionSpec, source: &std::path::Path) -> Option<InputError> {
+    let (field, value, why) = match (spec.linkage, spec.four_bar) {
+        (LinkageSpec::Ratio(law), _) => (
+            "transmission.ratio_rad_per_m",
+            fixed(law.ratio, 0),
+            "link lengths to draw: no linkage drawing can be made from a ratio alone (give coupler_ratio for the slider-crank of that ratio)",
+        ),
+        (_, Some(_)) => (
+            "transmission.four_bar",
+            "(given)".to_string(),
+            "a one-stage slider-crank to draw: drive checks the two-stage linkage's flexures, but no layer files are drawn of it",
+        ),
+        _ => return None,
+    };
+    Some(InputError::invalid(source, field, value, why))
+}
+
 /// Why the linkage of a drive file that gives no flexures cannot be built with its design's process
 /// (the flexure rules cut-sheet applies: the film's fatigue strain, the gap against the links beside it,
 /// the carbon left bonded), or `None` when it can, or when the process has no `[linkage]` to build it with.
 fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -> Option<String> {
+    // A ratio alone or a two-stage linkage is not drawn; the two-stage's flexures are checked apart.
+    no_drawing(&spec.transmission, &spec.source)
+        .is_none()
+        .then_some(())?;
     let template = Template::resolve(&design.process, &design.source).ok()?;
     template.linkage.as_ref()?;
     let refusal =
@@ -177,14 +178,8 @@ pub fn analyse(
             analyse_at(&spec, &at, model)
         },
     )?;
-    if let FieldSearch::Unsettled { previous, last } = search {
-        analysis.report.reached = false;
-        analysis.report.unsettled_field = Some(format!(
-            "the operating field does not settle: after {FIELD_ROUNDS} rounds the predictions at {} and {} V/mm each ask for the other's field (docs/physics.md §18.5)",
-            fixed(previous * 1e-3, 1),
-            fixed(last * 1e-3, 1)
-        ));
-    }
+    analysis.report.unsettled_field = search.why();
+    analysis.report.reached &= search == FieldSearch::Settled;
     Ok(analysis)
 }
 
@@ -198,16 +193,19 @@ fn analyse_at(
     let modal = actuator_modes(design, model, &perf)?;
     let actuator = LumpedActuator::new(perf.stiffness, &modal, spec.loss_factor(model));
     let wing = spec.wing.wing();
-    let linkage = linkage(&spec.transmission.linkage, &perf)?;
+    let linkage = kinematics(&spec.transmission, &perf)?;
     let laminate = match spec.transmission.flexures {
         Some(_) => Some(linkage_laminate(spec, design, model)?),
         None => None,
     };
     // A linkage given by its stiffness alone is still drawn, as cut-sheet would draw it, to check that
     // its flexures can be built at all.
-    let unbuildable = match &laminate {
-        Some(_) => None,
-        None => unbuildable_linkage(spec, design, model),
+    let template = Template::resolve(&design.process, &design.source).ok();
+    let two_stage = stages::two_stage_flexures(&linkage, &spec.transmission, template.as_ref());
+    let unbuildable = match (&laminate, &two_stage) {
+        (_, Some(checked)) => checked.clone().err(),
+        (Some(_), None) => None,
+        (None, None) => unbuildable_linkage(spec, design, model),
     };
     let (flexure_stiffness, link_inertia, transmission_mass) = match &laminate {
         Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
@@ -247,7 +245,6 @@ fn analyse_at(
     let sweep = sweep(&system, sweep_force, f);
     let actuator_mass = perf.mass;
     let total = actuator_mass + transmission_mass;
-    let t0 = linkage.ratio(0.0).unwrap_or(1.0 / linkage.crank);
     let report = DriveReport {
         drive_file: spec.source.display().to_string(),
         design: design.name.clone(),
@@ -269,14 +266,12 @@ fn analyse_at(
             free_deflection_mm: perf.free_deflection * 1e3,
             loss_factor: actuator.loss_factor,
         },
-        linkage: LinkageRow {
-            coupler_mm: linkage.coupler * 1e3,
-            crank_mm: linkage.crank * 1e3,
-            offset_mm: linkage.offset * 1e3,
-            ratio_at_rest_deg_per_mm: t0.to_degrees() * 1e-3,
-            flexure_stiffness_uNm_per_rad: flexure_stiffness * 1e6,
-            link_inertia_mg_mm2: link_inertia * 1e12,
-        },
+        linkage: stages::linkage_row(
+            &linkage,
+            &spec.transmission,
+            two_stage.and_then(Result::ok),
+            (flexure_stiffness, link_inertia),
+        ),
         wing: WingRow {
             inertia_mg_mm2: wing.inertia * 1e12,
             added_inertia_mg_mm2: wing.added_inertia * 1e12,
@@ -455,22 +450,21 @@ fn no_steady_state(
     } else if reach == [true, true] {
         (
             format!(
-                "no steady stroke of ±{:.1}° through this linkage (coupler {:.3} mm, crank {:.3} mm): the stroke's mean angle drifts toward the linkage's dead point",
+                "no steady stroke of ±{:.1}° through this linkage ({}): the stroke's mean angle drifts toward the linkage's dead point",
                 spec.transmission.stroke.to_degrees(),
-                linkage.coupler * 1e3,
-                linkage.crank * 1e3
+                stages::describe(&linkage)
             ),
             "stiffer flexures (flexure_stiffness_uNm_per_rad) to centre the stroke, a longer coupler, or a smaller stroke".to_string(),
         )
     } else {
         (
             format!(
-                "the linkage's reach: the coupler ({:.3} mm) cannot turn the crank ({:.3} mm) to ±{:.1}°",
-                linkage.coupler * 1e3,
-                linkage.crank * 1e3,
+                "the linkage's reach: {} cannot turn the wing to ±{:.1}°",
+                stages::describe(&linkage),
                 spec.transmission.stroke.to_degrees()
             ),
-            "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)".to_string(),
+            "a longer coupler, or a linkage solved for the stroke (solve_for_stroke = true)"
+                .to_string(),
         )
     };
     (

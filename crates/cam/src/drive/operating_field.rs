@@ -19,6 +19,20 @@ pub enum FieldSearch {
     Unsettled { previous: f64, last: f64 },
 }
 
+impl FieldSearch {
+    /// Why no operating point is reported, for a search that did not settle.
+    pub fn why(&self) -> Option<String> {
+        match *self {
+            FieldSearch::Settled => None,
+            FieldSearch::Unsettled { previous, last } => Some(format!(
+                "the operating field does not settle: after {FIELD_ROUNDS} rounds the predictions at {} and {} V/mm each ask for the other's field (docs/physics.md §18.5)",
+                crate::input::fixed(previous * 1e-3, 1),
+                crate::input::fixed(last * 1e-3, 1)
+            )),
+        }
+    }
+}
+
 /// Iterate `predict_at(field)` from the result `first`, predicted at `start`, until the field each
 /// result asks for (`asks`, V/m; `None` or non-positive for no operating point) is the one it was
 /// predicted at. Returns the last result and how the search ended.
@@ -78,6 +92,11 @@ mod tests {
         let mut pair = [previous, last];
         pair.sort_by(f64::total_cmp);
         assert_eq!(pair, [3.0e5, 5.0e5]);
+        let why = search.why().unwrap();
+        assert!(
+            why.contains("300.0 and 500.0 V/mm") || why.contains("500.0 and 300.0 V/mm"),
+            "{why}"
+        );
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The drive report in lab units: the table `drive` prints, report.md, report.json and the
 //! frequency-response plot.
 
+pub use super::linkage_row::LinkageRow;
 use crate::drawing::svg::xml_escape;
 pub use crate::field_limits::{ModeRow, PolingRow};
 use crate::input::fixed;
@@ -19,18 +20,6 @@ pub struct ActuatorRow {
     pub blocked_force_per_field_mN_per_V_per_mm: f64,
     pub free_deflection_mm: f64,
     pub loss_factor: f64,
-}
-
-/// The linkage and the transmission's inputs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[allow(non_snake_case)]
-pub struct LinkageRow {
-    pub coupler_mm: f64,
-    pub crank_mm: f64,
-    pub offset_mm: f64,
-    pub ratio_at_rest_deg_per_mm: f64,
-    pub flexure_stiffness_uNm_per_rad: f64,
-    pub link_inertia_mg_mm2: f64,
 }
 
 /// The wing.
@@ -246,6 +235,9 @@ impl DriveReport {
         if let Some(l) = &self.linkage_laminate {
             let _ = write!(out, "\nthe drawn linkage (docs/cam.md §7):\n{}", l.table());
         }
+        if let Some(table) = self.linkage.flexure_table() {
+            out.push_str(&table);
+        }
         if let Some(why) = &self.unbuildable_linkage {
             let _ = writeln!(out, "\nNOT BUILDABLE: {why}");
         }
@@ -304,15 +296,9 @@ impl DriveReport {
             ),
             "",
         );
-        rows.row(
-            "linkage coupler / crank",
-            format!(
-                "{} / {}",
-                fixed(self.linkage.coupler_mm, 3),
-                fixed(self.linkage.crank_mm, 3)
-            ),
-            "mm",
-        );
+        for (name, value, unit) in self.linkage.summary() {
+            rows.row(name, value, unit);
+        }
         rows.row(
             "wing inertia",
             fixed(self.wing.inertia_mg_mm2, 1),

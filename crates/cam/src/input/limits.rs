@@ -212,6 +212,8 @@ pub const COUPLER_RATIO: Range = Range::closed(0.1, 100.0, "");
 /// A transmission's ratio at rest, dθ/dx: published insect-scale transmissions run at about 2150-3333
 /// rad/m; the range keeps the crank `1/T` within [`LINK_LENGTH_MM`].
 pub const TRANSMISSION_RATIO_RAD_PER_M: Range = Range::closed(1.0, 1e6, "rad/m");
+/// The stroke angle at which a ratio law's second published ratio holds.
+pub const RATIO_STROKE_DEG: Range = Range::open(0.0, 90.0, "deg");
 /// Actuator travel (one-sided) a linkage is solved for.
 pub const TRAVEL_MM: Range = Range::positive_up_to(1000.0, "mm");
 /// Rotational stiffness of the flexures about the wing hinge.

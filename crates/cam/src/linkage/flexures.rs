@@ -22,6 +22,7 @@
 use super::pattern::{FlexureSize, JOINTS};
 use crate::process::linkage::LinkageProcess;
 use actuator_model::flexure::Flexure;
+use actuator_model::fourbar::{TwoStage, TWO_STAGE_JOINTS};
 use actuator_model::transmission::Linkage;
 use serde::Serialize;
 
@@ -86,35 +87,73 @@ fn unbonded(gap: f64, loose: f64, w: f64, t: f64, modulus: f64) -> Flexure {
     }
 }
 
-/// Largest turn of each joint over the stroke between the end angles, rad.
-pub fn peak_rotations(linkage: &Linkage, end_angles: (f64, f64)) -> [f64; 3] {
-    let mut peak = [0.0f64; 3];
+/// One joint's film over the stroke, rad: its largest turn from rest, the fold set at assembly (its bend at
+/// rest) and its largest bend from the flat laminate, the fold and the turn together.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointBend {
+    /// Largest `|turn|` from rest.
+    pub turn: f64,
+    /// `|bend|` at rest.
+    pub fold: f64,
+    /// Largest `|bend|`, at least the fold.
+    pub bend: f64,
+}
+
+/// Each joint's [`JointBend`] over the stroke between the end angles, from `at(θ)`: the joints' turns
+/// from rest and their bends from the flat laminate with the wing at `θ` (`None` past the linkage's
+/// reach, skipped), sampled at [`STROKE_SAMPLES`] + 1 angles; `fold` is the bend at the `rest` angle.
+pub fn joint_bends<const N: usize>(
+    at: impl Fn(f64) -> Option<([f64; N], [f64; N])>,
+    rest: f64,
+    end_angles: (f64, f64),
+) -> [JointBend; N] {
+    // A film laid flat at rest reads a bend of rounding there (the two-stage's rest is found through the
+    // four-bar and back): under a nanoradian it is no fold.
+    let folds = at(rest).map_or([0.0; N], |(_, bends)| {
+        bends.map(|b| if b.abs() < 1e-9 { 0.0 } else { b.abs() })
+    });
+    let mut out = folds.map(|fold| JointBend {
+        turn: 0.0,
+        fold,
+        bend: fold,
+    });
     for i in 0..=STROKE_SAMPLES {
         let angle = end_angles.0 + (end_angles.1 - end_angles.0) * i as f64 / STROKE_SAMPLES as f64;
-        if let Some(turns) = linkage.joint_rotations(angle) {
-            for (p, t) in peak.iter_mut().zip(turns) {
-                *p = p.max(t.abs());
+        if let Some((turns, bends)) = at(angle) {
+            for (j, o) in out.iter_mut().enumerate() {
+                o.turn = o.turn.max(turns[j].abs());
+                o.bend = o.bend.max(bends[j].abs());
             }
         }
     }
-    peak
+    out
 }
 
-/// Each joint's film bend from the flat laminate, rad: at rest (the fold set at assembly) and the largest
-/// over the stroke. O and A are laid flat at rest, so their bend is their turn; B's is
-/// `β(θ) = π/2 + θ - ψ(θ)` (docs/physics.md §16.7).
-pub fn film_bends(linkage: &Linkage, end_angles: (f64, f64)) -> ([f64; 3], [f64; 3]) {
-    let mut bends = peak_rotations(linkage, end_angles);
+/// The slider-crank's joints over the stroke: O and A are laid flat at rest, so their bend is their
+/// turn; B's is `β(θ) = π/2 + θ - ψ(θ)` (docs/physics.md §16.7).
+pub fn film_bends(linkage: &Linkage, end_angles: (f64, f64)) -> [JointBend; 3] {
     let rest = linkage.stroke_angle(0.0).unwrap_or(0.0);
-    let fold = linkage.bend_at_b(rest).unwrap_or(0.0);
-    bends[1] = fold.abs();
-    for i in 0..=STROKE_SAMPLES {
-        let angle = end_angles.0 + (end_angles.1 - end_angles.0) * i as f64 / STROKE_SAMPLES as f64;
-        if let Some(b) = linkage.bend_at_b(angle) {
-            bends[1] = bends[1].max(b.abs());
-        }
-    }
-    ([0.0, fold, 0.0], bends)
+    let at = |angle: f64| {
+        let turns = linkage.joint_rotations(angle)?;
+        Some((turns, [turns[0], linkage.bend_at_b(angle)?, turns[2]]))
+    };
+    joint_bends(at, rest, end_angles)
+}
+
+/// The two-stage linkage's six joints over the stroke (docs/physics.md §16.8): each turn is the bend less
+/// its bend at rest.
+pub fn two_stage_bends(stage: &TwoStage, end_angles: (f64, f64)) -> [JointBend; 6] {
+    let rest = stage
+        .first
+        .stroke_angle(0.0)
+        .and_then(|t| stage.second.output_angle(t))
+        .unwrap_or(0.0);
+    let folds = stage.bends(rest);
+    let at = |angle: f64| {
+        let (bends, folds) = (stage.bends(angle)?, folds?);
+        Some((std::array::from_fn(|i| bends[i] - folds[i]), bends))
+    };
+    joint_bends(at, rest, end_angles)
 }
 
 /// Why a flexure was lengthened from `asked` (mm) to the shortest allowed: the bound that set it.
@@ -174,93 +213,165 @@ pub fn check_flexures(
     film_thickness_mm: f64,
     process: &LinkageProcess,
 ) -> Result<([FlexureSize; 3], [FlexureRow; 3]), Refusal> {
-    let peaks = peak_rotations(linkage, end_angles);
-    let (folds, bends) = film_bends(linkage, end_angles);
+    let bends = film_bends(linkage, end_angles);
     let (crank, coupler) = (linkage.crank * 1e3, linkage.coupler * 1e3);
     let neighbour = [crank, crank.min(coupler), coupler];
-    let kerf = process.kerf_mm;
-    let t = film_thickness_mm;
-    let cutback = process.adhesive_cutback_mm;
     let strip = asked.iter().map(|f| f.width_mm).fold(0.0, f64::max);
     let mut sizes = asked;
     let mut rows = Vec::with_capacity(3);
     for i in 0..3 {
-        let f = asked[i];
-        if f.width_mm < 2.0 * kerf {
-            return Err(Refusal {
-                joint: i,
-                what: "width",
-                value: f.width_mm,
-                allowed: format!("at least two kerfs, {} mm", 2.0 * kerf),
-            });
-        }
-        // The cut-backs' film at the strip's width, as gap length of the flexure's width.
-        let loose = 2.0 * cutback * f.width_mm / strip;
-        let film = unbonded(f.length_mm, loose, f.width_mm, t, process.film_modulus);
-        let by_strain =
-            film.shortest_length_for(bends[i], process.film_fatigue_strain) * 1e3 - loose;
-        let by_bending = process.min_length_thicknesses * t;
-        let shortest = by_strain.max(by_bending).max(2.0 * kerf);
-        let longest = process.max_length_fraction * neighbour[i];
-        let mut length = f.length_mm;
-        let mut resized = None;
-        if length < shortest {
-            // Up to the next 0.1 µm, so the drawn length keeps the strain within the bound.
-            let up = (shortest * 1e4).ceil() / 1e4;
-            let reason = resize_reason(
-                f.length_mm,
-                (by_strain, by_bending, 2.0 * kerf),
-                (folds[i], bends[i]),
-                film.strain(bends[i]),
-                process,
-            );
-            resized = Some(format!("{:.1} µm: {reason}", up * 1e3));
-            length = up;
-        }
-        if length > longest {
-            let fold = if folds[i] != 0.0 {
-                format!(", folded {:.1}° at assembly", folds[i].to_degrees())
-            } else {
-                String::new()
-            };
-            return Err(Refusal {
-                joint: i,
-                what: "length",
-                value: f.length_mm * 1e3,
-                allowed: format!(
-                    "{:.1} to {:.1} µm: at least {:.1} µm for the strain bent {:.1}°{fold} (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
-                    shortest * 1e3,
-                    longest * 1e3,
-                    by_strain * 1e3,
-                    bends[i].to_degrees(),
-                    cutback,
-                    process.film_fatigue_strain * 100.0,
-                    t * 1e3,
-                    process.min_length_thicknesses,
-                    process.max_length_fraction,
-                    neighbour[i]
-                ),
-            });
-        }
-        sizes[i].length_mm = length;
-        let drawn = unbonded(length, loose, f.width_mm, t, process.film_modulus);
-        rows.push(FlexureRow {
-            joint: JOINTS[i].to_string(),
-            // To a nanometre, as the drawing's decimals go: a length given as 50 µm is not reported
-            // as 49.99999999999999 after its trip through metres.
-            length_um: (length * 1e6).round() / 1e3,
-            unbonded_um: ((length + 2.0 * cutback) * 1e6).round() / 1e3,
-            width_mm: f.width_mm,
-            film_um: t * 1e3,
-            stiffness_uNm_per_rad: drawn.stiffness() * 1e6,
-            peak_rotation_deg: peaks[i].to_degrees(),
-            assembly_fold_deg: folds[i].to_degrees(),
-            peak_bend_deg: bends[i].to_degrees(),
-            peak_strain: drawn.strain(bends[i]),
-            strain_limit: process.film_fatigue_strain,
-            resized,
-        });
+        let film = Film {
+            thickness_mm: film_thickness_mm,
+            strip_mm: strip,
+            process,
+        };
+        let (size, row) = check_joint(i, JOINTS[i], asked[i], &bends[i], neighbour[i], &film)?;
+        sizes[i] = size;
+        rows.push(row);
     }
     let rows: [FlexureRow; 3] = rows.try_into().expect("three joints");
     Ok((sizes, rows))
+}
+
+/// The two-stage linkage's six flexures, each the shortest the film allows at `width_mm`, checked as the
+/// slider-crank's are ([`check_joint`]); the link beside each is the shorter of the two it joins, the
+/// crank and the four-bar's input for O (one link).
+pub fn check_two_stage(
+    stage: &TwoStage,
+    end_angles: (f64, f64),
+    width_mm: f64,
+    film_thickness_mm: f64,
+    process: &LinkageProcess,
+) -> Result<Vec<FlexureRow>, Refusal> {
+    let bends = two_stage_bends(stage, end_angles);
+    let (l3, l1) = (stage.first.crank * 1e3, stage.first.coupler * 1e3);
+    let f = stage.second;
+    let (a, b, c) = (f.input * 1e3, f.coupler * 1e3, f.output * 1e3);
+    let neighbour = [l3.min(a), l3.min(l1), l1, a.min(b), b.min(c), c];
+    let film = Film {
+        thickness_mm: film_thickness_mm,
+        strip_mm: width_mm,
+        process,
+    };
+    let asked = FlexureSize {
+        length_mm: 0.0,
+        width_mm,
+    };
+    (0..6)
+        .map(|i| {
+            check_joint(
+                i,
+                TWO_STAGE_JOINTS[i],
+                asked,
+                &bends[i],
+                neighbour[i],
+                &film,
+            )
+            .map(|r| r.1)
+        })
+        .collect()
+}
+
+/// The film the flexures are of: its thickness and the strip's width (mm), and the process's rules.
+struct Film<'a> {
+    thickness_mm: f64,
+    strip_mm: f64,
+    process: &'a LinkageProcess,
+}
+
+/// One flexure: joint `i`, named `name`, asked at `f`, bent as `bend` beside a link of `neighbour` mm;
+/// lengthened to the shortest the film's fatigue strain, its bending and the kerf allow, or refused
+/// past the pivot bound.
+fn check_joint(
+    i: usize,
+    name: &str,
+    f: FlexureSize,
+    bend: &JointBend,
+    neighbour: f64,
+    film_of: &Film<'_>,
+) -> Result<(FlexureSize, FlexureRow), Refusal> {
+    let process = film_of.process;
+    let kerf = process.kerf_mm;
+    let t = film_of.thickness_mm;
+    let cutback = process.adhesive_cutback_mm;
+    let strip = film_of.strip_mm;
+    if f.width_mm < 2.0 * kerf {
+        return Err(Refusal {
+            joint: i,
+            what: "width",
+            value: f.width_mm,
+            allowed: format!("at least two kerfs, {} mm", 2.0 * kerf),
+        });
+    }
+    // The cut-backs' film at the strip's width, as gap length of the flexure's width.
+    let loose = 2.0 * cutback * f.width_mm / strip;
+    let film = unbonded(f.length_mm, loose, f.width_mm, t, process.film_modulus);
+    let by_strain = film.shortest_length_for(bend.bend, process.film_fatigue_strain) * 1e3 - loose;
+    let by_bending = process.min_length_thicknesses * t;
+    let shortest = by_strain.max(by_bending).max(2.0 * kerf);
+    let longest = process.max_length_fraction * neighbour;
+    let mut length = f.length_mm;
+    let mut resized = None;
+    if length < shortest {
+        // Up to the next 0.1 µm, so the drawn length keeps the strain within the bound.
+        let up = (shortest * 1e4).ceil() / 1e4;
+        let reason = resize_reason(
+            f.length_mm,
+            (by_strain, by_bending, 2.0 * kerf),
+            (bend.fold, bend.bend),
+            film.strain(bend.bend),
+            process,
+        );
+        resized = Some(format!("{:.1} µm: {reason}", up * 1e3));
+        length = up;
+    }
+    if length > longest {
+        let fold = if bend.fold != 0.0 {
+            format!(", folded {:.1}° at assembly", bend.fold.to_degrees())
+        } else {
+            String::new()
+        };
+        return Err(Refusal {
+            joint: i,
+            what: "length",
+            value: f.length_mm * 1e3,
+            allowed: format!(
+                "{:.1} to {:.1} µm: at least {:.1} µm for the strain bent {:.1}°{fold} (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
+                shortest * 1e3,
+                longest * 1e3,
+                by_strain * 1e3,
+                bend.bend.to_degrees(),
+                cutback,
+                process.film_fatigue_strain * 100.0,
+                t * 1e3,
+                process.min_length_thicknesses,
+                process.max_length_fraction,
+                neighbour
+            ),
+        });
+    }
+    let drawn = unbonded(length, loose, f.width_mm, t, process.film_modulus);
+    let row = FlexureRow {
+        joint: name.to_string(),
+        // To a nanometre, as the drawing's decimals go: a length given as 50 µm is not reported
+        // as 49.99999999999999 after its trip through metres.
+        length_um: (length * 1e6).round() / 1e3,
+        unbonded_um: ((length + 2.0 * cutback) * 1e6).round() / 1e3,
+        width_mm: f.width_mm,
+        film_um: t * 1e3,
+        stiffness_uNm_per_rad: drawn.stiffness() * 1e6,
+        peak_rotation_deg: bend.turn.to_degrees(),
+        assembly_fold_deg: bend.fold.to_degrees(),
+        peak_bend_deg: bend.bend.to_degrees(),
+        peak_strain: drawn.strain(bend.bend),
+        strain_limit: process.film_fatigue_strain,
+        resized,
+    };
+    Ok((
+        FlexureSize {
+            length_mm: length,
+            width_mm: f.width_mm,
+        },
+        row,
+    ))
 }

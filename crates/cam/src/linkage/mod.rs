@@ -77,6 +77,36 @@ pub struct LinkageReport {
     pub cure: Option<String>,
 }
 
+/// Flexures as checked, a text table: a line each, and why one was re-sized below it.
+pub fn flexure_rows_table(rows: &[FlexureRow]) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "  joint                                     gap um  unbonded um  width mm  k uN m/rad  peak turn deg  fold deg  peak bend deg  strain %  limit %"
+    );
+    for f in rows {
+        let _ = writeln!(
+            out,
+            "  {:<38} {:>9.1}  {:>11.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.1}  {:>13.1}  {:>8.2}  {:>7.2}",
+            f.joint,
+            f.length_um,
+            f.unbonded_um,
+            f.width_mm,
+            f.stiffness_uNm_per_rad,
+            f.peak_rotation_deg,
+            f.assembly_fold_deg,
+            f.peak_bend_deg,
+            f.peak_strain * 100.0,
+            f.strain_limit * 100.0
+        );
+        if let Some(why) = &f.resized {
+            let _ = writeln!(out, "    re-sized: {why}");
+        }
+    }
+    out
+}
+
 /// One layer's share of the linkage's mass.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LayerMass {
@@ -92,30 +122,7 @@ impl LinkageReport {
     /// The flexures and what the drive takes from them, as a text table.
     pub fn table(&self) -> String {
         use std::fmt::Write as _;
-        let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "  joint                                     gap um  unbonded um  width mm  k uN m/rad  peak turn deg  fold deg  peak bend deg  strain %  limit %"
-        );
-        for f in &self.flexures {
-            let _ = writeln!(
-                out,
-                "  {:<38} {:>9.1}  {:>11.1}  {:>8.2}  {:>10.3}  {:>13.1}  {:>8.1}  {:>13.1}  {:>8.2}  {:>7.2}",
-                f.joint,
-                f.length_um,
-                f.unbonded_um,
-                f.width_mm,
-                f.stiffness_uNm_per_rad,
-                f.peak_rotation_deg,
-                f.assembly_fold_deg,
-                f.peak_bend_deg,
-                f.peak_strain * 100.0,
-                f.strain_limit * 100.0
-            );
-            if let Some(why) = &f.resized {
-                let _ = writeln!(out, "    re-sized: {why}");
-            }
-        }
+        let mut out = flexure_rows_table(&self.flexures);
         let _ = writeln!(
             out,
             "  about the wing hinge: flexures {:.3} uN m/rad, links {:.3} mg mm^2; mass {:.3} mg ({:.3} mm long, {:.3} mm wide)",

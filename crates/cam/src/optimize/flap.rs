@@ -57,13 +57,25 @@ pub fn wing_load(drive: &DriveSpec, model: &ModelChoice) -> Result<WingLoad, Inp
         ..
     } = drive.transmission.linkage
     else {
+        let given = match drive.transmission.linkage {
+            LinkageSpec::Ratio(_) => "ratio_rad_per_m",
+            _ => "coupler_mm and crank_mm",
+        };
         return Err(InputError::invalid(
             &drive.source,
             "transmission",
-            "coupler_mm and crank_mm",
+            given,
             "optimize chooses the linkage's size: give solve_for_stroke = true or end_angles_deg, with coupler_ratio",
         ));
     };
+    if drive.transmission.four_bar.is_some() {
+        return Err(InputError::invalid(
+            &drive.source,
+            "transmission.four_bar",
+            "(given)",
+            "left out: optimize sizes a one-stage slider-crank (drive checks a two-stage linkage)",
+        ));
+    }
     let wing = drive.wing.wing();
     Ok(WingLoad {
         end_angles: (angle_minus, angle_plus),

@@ -3,6 +3,55 @@
 use super::candidate::{Candidate, Role};
 use super::settings::Settings;
 use crate::calibrate::library::{effect_names, EffectId};
+use crate::calibrate::stats;
+
+/// The stages whose candidates share the selection's level (the mass stage and the actuation stage):
+/// each is held to `alpha / STAGES`, so together they make one false selection in `1 / alpha`.
+const STAGES: f64 = 2.0;
+
+/// The p-value of `c`'s gain over the nested null `base`: the F test of nested least squares
+/// (Seber & Wild, Nonlinear Regression, 1989, ch. 5: `F = ((RSS₀ - RSS)/(p - p₀)) / (RSS/(n - p))` on
+/// `(p - p₀, n - p)` degrees of freedom, asymptotically valid for any noise of finite variance).
+fn gain_p(c: &Candidate, base: &Candidate) -> f64 {
+    let (p, p0) = (c.effects.len() as f64, base.effects.len() as f64);
+    let dof = c.n as f64 - p;
+    if p <= p0 || dof < 1.0 || c.rss <= 0.0 {
+        return 0.0;
+    }
+    let f = ((base.rss - c.rss).max(0.0) / (p - p0)) / (c.rss / dof);
+    stats::f_upper_p(f, p - p0, dof)
+}
+
+/// Why `c` is not accepted for its gain over the first null `base` among `m` candidates: the selection
+/// tries every candidate against the same null, so under no effect one of `m` passes ΔAICc > 4 (a
+/// likelihood ratio above 6, p ≈ 0.014 for one parameter) about `m` times as often as one does. The gain
+/// must be significant at the selection's share of the level, Bonferroni-divided over the `m`
+/// (docs/calibration.md §3, step 4).
+fn multiplicity(c: &Candidate, base: &Candidate, m: usize, settings: &Settings) -> Option<String> {
+    let level = settings.alpha / STAGES / m.max(1) as f64;
+    let p = gain_p(c, base);
+    (p >= level).then(|| {
+        format!(
+            "gain over {} not significant among {m} candidates (p = {p:.2e}, needs < {level:.1e})",
+            base.label()
+        )
+    })
+}
+
+/// Whether candidate `i` of `candidates` gains significantly over the null `candidates[null]` among
+/// all their candidates (the multiplicity test of [`judge`]).
+pub(super) fn gains_among(
+    candidates: &[Candidate],
+    i: usize,
+    null: usize,
+    settings: &Settings,
+) -> bool {
+    let m = candidates
+        .iter()
+        .filter(|c| c.role == Role::Candidate)
+        .count();
+    multiplicity(&candidates[i], &candidates[null], m, settings).is_none()
+}
 
 /// Mark which candidates pass: ΔAICc over every parent (the nulls for singles, both singles for a pair),
 /// better cross-validation than every parent, and intervals that exclude the null value.
@@ -15,6 +64,11 @@ pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Se
         .map(|(c, e)| (effect_names(e), c.aicc, c.cv_rmse))
         .collect();
     let labels: Vec<String> = candidates.iter().map(Candidate::label).collect();
+    let m = candidates
+        .iter()
+        .filter(|c| c.role == Role::Candidate)
+        .count();
+    let base = nulls.first().map(|&i| candidates[i].clone());
     for (c, own) in candidates.iter_mut().zip(&effects) {
         if c.role != Role::Candidate {
             continue;
@@ -49,6 +103,7 @@ pub(super) fn judge(candidates: &mut [Candidate], nulls: &[usize], settings: &Se
                 why.push(format!("CV no better than {label}"));
             }
         }
+        why.extend(base.as_ref().and_then(|b| multiplicity(c, b, m, settings)));
         for (id, reason) in &c.not_identifiable {
             why.push(format!("{} not identifiable: {reason}", id.name()));
         }

@@ -4,6 +4,7 @@
 use super::candidate::Candidate;
 use super::observations::{ActuationData, MassData, StageData};
 use super::resonance_tests::{self, ResonanceTests};
+use super::robust;
 use super::settings::Settings;
 use crate::calibrate::csv::{Dataset, Measurement};
 use crate::calibrate::rounded::six_digits;
@@ -153,6 +154,8 @@ pub(super) fn adequacy_of_fit(
     // The resonances' residuals follow the deflections' and forces': they enter the correlation tests
     // below, and the lack-of-fit test is that of the sweeps.
     let frequency_res = r.split_off(labels.len().min(r.len()));
+    // Heavy tails: the tests below see each sweep's Huber pseudo-observations (`robust.rs`).
+    let r = robust::pseudo_observations(act, &r);
     let lack_of_fit = lack_of_fit(act, &r, params);
     let mut row_res: Vec<RowResiduals> = vec![[None, None]; act.obs.len()];
     for (&(i, output), &res) in labels.iter().zip(&r) {
@@ -247,26 +250,18 @@ type RowResiduals = [Option<f64>; 2];
 /// both were measured), in the order the actuators first appear in `act`.
 type GroupResiduals = Vec<(usize, [Vec<f64>; 2])>;
 
-/// The lack-of-fit F test of the deflection and force residuals `r` of a model with `params` fitted
-/// parameters against the pure error of the voltage sweeps (None without 3 sweeps of 3 levels or more
-/// and the degrees of freedom to test).
-fn lack_of_fit(act: &ActuationData, r: &[f64], params: usize) -> Option<LackOfFit> {
-    let rss: f64 = r.iter().map(|x| x * x).sum();
-    // Pure error: a line in the field per actuator and output.
-    let (rss_full, q, sweeps) = sweep_lines(act, r);
-    let n = r.len();
-    let df2 = n as f64 - q as f64;
-    let df1 = q as f64 - params as f64;
-    if !(sweeps >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0) {
-        return None;
-    }
-    let f = ((rss - rss_full).max(0.0) / df1) / (rss_full / df2);
+/// The lack-of-fit F test of the deflection and force residuals `r` (pseudo-observations) of a model with
+/// `params` fitted parameters against the pure error of the voltage sweeps of 3 rows or more
+/// ([`robust::lack_of_fit_sums`]).
+pub(super) fn lack_of_fit(act: &ActuationData, r: &[f64], params: usize) -> Option<LackOfFit> {
+    let s = robust::lack_of_fit_sums(act, r, params)?;
+    let f = ((s.rss - s.rss_full).max(0.0) / s.df1) / (s.rss_full / s.df2);
     Some(LackOfFit {
         f,
-        df1,
-        df2,
-        p: stats::f_upper_p(f, df1, df2),
-        sigma_pure: (rss_full / df2).sqrt(),
+        df1: s.df1,
+        df2: s.df2,
+        p: stats::f_upper_p(f, s.df1, s.df2),
+        sigma_pure: (s.rss_full / s.df2).sqrt(),
     })
 }
 

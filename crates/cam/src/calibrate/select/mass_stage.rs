@@ -1,7 +1,7 @@
 //! Stage 1 of the selection (docs/calibration.md §3): the mass effects fitted on the measured masses,
 //! and the mass models carried into the actuation stage.
 
-use super::acceptance::{best_and_rivals_indices, judge};
+use super::acceptance::{best_and_rivals_indices, gains_among, judge};
 use super::candidate::{Candidate, Role};
 use super::observations::MassData;
 use super::{declared_in, note_not_identifiable, FitSetup, Settings};
@@ -62,7 +62,10 @@ pub(super) fn mass_stage<'a>(
     stage.bases = vec![Some(chosen)];
     for (i, c) in candidates.iter().enumerate() {
         if i != chosen && c.role == Role::Candidate && c.not_identifiable.is_empty() {
-            let significant = (0..c.effects.len()).all(|k| c.excludes_null(k));
+            // Significant on the masses, after the multiplicity of the mass stage's candidates: a
+            // rival carried by chance would be one more way to select an effect on null data.
+            let significant = (0..c.effects.len()).all(|k| c.excludes_null(k))
+                && gains_among(&candidates, i, 0, settings);
             if significant {
                 stage.bases.push(Some(i));
             }
