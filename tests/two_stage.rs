@@ -217,3 +217,33 @@ fn bad_ratio_and_four_bar_keys_are_refused_in_one_line() {
         "output_mm",
     );
 }
+
+#[test]
+fn through_the_two_stage_the_assumed_actuator_is_what_falls_short_of_the_published_stroke() {
+    // docs/validation.md §4: the assumed robobee-class actuator through the example's 3333 rad/m
+    // two-stage reaches ±15.0° of ±55° at 120 Hz (original) and ±26.1° (nonlinear), both bound by
+    // parallel drive's depolarization limit, with every flexure buildable: the gap is the actuator's.
+    use actuator_model::model::{ModelChoice, ModelKind};
+    let path = example_path("drive-robobee-two-stage.toml");
+    let spec = actuator_cam::DriveSpec::load(&path).unwrap();
+    let design = actuator_cam::Design::load(&spec.design).unwrap();
+    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
+    let design = actuator_cam::design_for_process(&design, &template).unwrap();
+    for (kind, stroke) in [(ModelKind::Original, 15.0), (ModelKind::Nonlinear, 26.1)] {
+        let r = actuator_cam::analyse_drive(&spec, &design, &ModelChoice::Kind(kind))
+            .unwrap()
+            .report;
+        assert!(r.unbuildable_linkage.is_none(), "{kind:?}");
+        let u = r.unreachable.as_ref().unwrap();
+        assert!(
+            (u.best_stroke_deg - stroke).abs() < 0.05,
+            "{kind:?}: {}",
+            u.best_stroke_deg
+        );
+        assert!(
+            u.binding.starts_with("the depolarization limit"),
+            "{}",
+            u.binding
+        );
+    }
+}
