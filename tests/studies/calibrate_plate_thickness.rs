@@ -19,15 +19,14 @@
 //! `ACTUATOR_CAM_FULL_STUDY=1 cargo test --release --test tests calibrate_plate_thickness -- --ignored
 //! --nocapture` runs all 20 and prints the table in docs/calibration.md.
 
-use super::calibrate_loop::{declared_fit, suggested};
+use super::calibrate_loop::{declared_fit, declaring, suggested};
 use crate::synthetic;
 
-use actuator_cam::{calibrate, parse_effects, parse_measured as parse, Declared, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Settings};
 use actuator_model::effects::drive_at_voltage;
 use actuator_model::primitives::{compose, Applied, Primitive, Property, Target};
 use actuator_model::Effects;
 use rayon::prelude::*;
-use std::path::Path;
 use synthetic::*;
 
 const NAME: &str = "pzt-thickness-scale";
@@ -113,22 +112,14 @@ fn run(csv: &str) -> Ended {
     let Some(text) = suggested(&first, &data) else {
         return ended;
     };
-    let table: toml::Table = text.parse().unwrap();
-    let declared: Vec<Declared> = parse_effects(Path::new("suggested-effects.toml"), &table)
-        .unwrap()
-        .into_iter()
-        .flat_map(Declared::all)
+    let settings = declaring(&text);
+    ended.declared = settings
+        .declared
+        .iter()
+        .map(|d| d.spec().name.clone())
         .collect();
-    ended.declared = declared.iter().map(|d| d.spec().name.clone()).collect();
     ended.declared.dedup();
-    let second = calibrate(
-        &data,
-        &Settings {
-            declared,
-            ..Settings::default()
-        },
-    )
-    .unwrap();
+    let second = calibrate(&data, &settings).unwrap();
     ended.verdict = second.selection.verdict.name().into();
     ended.selected = second.model.selected_effects.join(", ");
     ended.estimate = declared_fit(&second, NAME).map(|f| f.0);

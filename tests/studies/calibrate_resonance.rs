@@ -14,8 +14,7 @@
 
 use crate::synthetic;
 
-use actuator_cam::Declared;
-use actuator_cam::{calibrate, parse_effects, parse_measured as parse, Calibration, Settings};
+use actuator_cam::{calibrate, parse_measured as parse, Calibration, Settings};
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::{EffectModel, Effects, ModelChoice, ModelKind};
 use rand::{Rng, SeedableRng};
@@ -108,15 +107,7 @@ primitives = [{ kind = "added-mass", parameter = "m_a_kg", null = 0.0, bounds = 
 name = "glue"
 primitives = [{ kind = "added-mass-per-area", parameter = "mu_kg_per_m2", null = 0.0, bounds = [0.0, 1.0] }]
 "#;
-    let table: toml::Table = text.parse().unwrap();
-    Settings {
-        declared: parse_effects(Path::new("effects.toml"), &table)
-            .unwrap()
-            .into_iter()
-            .flat_map(Declared::all)
-            .collect(),
-        ..Settings::default()
-    }
+    super::calibrate_loop::declaring(text)
 }
 
 /// Value and 95 % interval of effect `name` in the final model (mass stage, then actuation).

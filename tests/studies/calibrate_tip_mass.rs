@@ -15,18 +15,15 @@
 //! 59 201-59 220 (null), the first `synthetic::CI_SAMPLE` of each in CI and 20 with
 //! `ACTUATOR_CAM_FULL_STUDY=1`.
 
+use super::calibrate_loop::{declaring, suggested};
 use crate::synthetic;
 
-use actuator_cam::Declared;
-use actuator_cam::{
-    calibrate, parse_effects, parse_measured as parse, render_calibration, Calibration, Settings,
-};
+use actuator_cam::{calibrate, parse_measured as parse, Calibration, Settings};
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::{EffectModel, Effects};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
-use std::path::Path;
 use synthetic::*;
 
 /// The tip mass of measuring seed `k` (0-based), kg: 1, 2, 3, 4 and 5 mg in turn.
@@ -61,28 +58,6 @@ fn data_set(m: f64, seed: u64, stated: bool) -> String {
             format!(",{f:.4}")
         }
     })
-}
-
-/// The settings with `text` (an effects file) declared.
-fn declaring(text: &str) -> Settings {
-    let table: toml::Table = text.parse().unwrap();
-    Settings {
-        declared: parse_effects(Path::new("effects.toml"), &table)
-            .unwrap()
-            .into_iter()
-            .flat_map(Declared::all)
-            .collect(),
-        ..Settings::default()
-    }
-}
-
-/// The next step calibrate writes, if any.
-fn suggested(cal: &Calibration, data: &actuator_cam::Dataset) -> Option<String> {
-    render_calibration(cal, data, "measured.csv")
-        .unwrap()
-        .into_iter()
-        .find(|(name, _)| name == "suggested-effects.toml")
-        .map(|(_, text)| text)
 }
 
 /// The verdict with what it names: `not-explained: <words>` or the verdict's name with the selected
