@@ -206,6 +206,16 @@ impl Dataset {
                     }
                 }
             }
+            if let Some(why) = unreadable_precision(sd, resonance) {
+                // Named on the row that states the precision.
+                let r = g
+                    .iter()
+                    .map(|&i| &rows[i])
+                    .find(|r| r.resonance_sd.is_some());
+                if let (Some(r), Some(sd)) = (r, sd) {
+                    return Err(InputError::cell(file, r.line, "resonance_sd_Hz", sd, why));
+                }
+            }
             for &i in g {
                 rows[i].mass = mass.map(|(m, _)| m).or(rows[i].mass);
                 rows[i].resonance = resonance;
@@ -270,6 +280,20 @@ fn inconsistent(
             row.id
         ),
     )
+}
+
+/// Why an actuator's stated f1 precision cannot stand: it has no f1 to qualify, or one too coarse to
+/// tell f1 (half of it or more).
+fn unreadable_precision(sd: Option<f64>, resonance: Option<f64>) -> Option<String> {
+    match (sd, resonance) {
+        (Some(_), None) => Some(
+            "a precision of a resonance the actuator's rows do not give (no resonance_Hz)".into(),
+        ),
+        (Some(sd), Some(f)) if sd >= 0.5 * f => Some(format!(
+            "must be below half of resonance_Hz ({f}): a reading that does not tell f1"
+        )),
+        _ => None,
+    }
 }
 
 /// Read and validate a measured-data file.
@@ -467,17 +491,6 @@ fn measurement(row: &Row, columns: &Columns) -> Result<Measurement, InputError> 
         Some(c) => row.number(c, RESONANCE_SD_HZ)?,
         None => None,
     };
-    if let (Some(sd), Some(f), Some(c)) = (resonance_sd, resonance, c_sd) {
-        if sd >= 0.5 * f {
-            return Err(row.error(
-                c,
-                sd,
-                format!(
-                    "must be below half of resonance_Hz ({f}): a reading that does not tell f1"
-                ),
-            ));
-        }
-    }
     let layup_text = row.cell(c_layup).to_string();
     let layup_deg = parse_layup(&layup_text).map_err(|_| {
         row.error(
@@ -670,6 +683,29 @@ mod tests {
         .to_string();
         assert!(
             e.contains("resonance_sd_Hz = 3") && e.contains("must agree"),
+            "{e}"
+        );
+        // Held per actuator: f1 on one row, its precision on another.
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,200,\nA,40,0.5,8,1.2,0.191,0/90/0,100,,0.2,,,120\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("m.csv: line 3, column resonance_sd_Hz = 120: must be below half of resonance_Hz (200)"),
+            "{e}"
+        );
+        // A precision without a resonance is refused, not ignored.
+        let e = parse_file(
+            Path::new("m.csv"),
+            &format!("{head}\nA,40,0.5,8,1.2,0.191,0/90/0,50,500,0.1,0.05,,2\n"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("m.csv: line 2, column resonance_sd_Hz = 2: a precision of a resonance")
+                && !e.contains('\n'),
             "{e}"
         );
     }
