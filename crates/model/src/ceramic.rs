@@ -74,7 +74,9 @@ impl Ceramic {
     /// refused rather than given PZT-5H's law.
     pub fn of(pzt: &Material) -> Result<Ceramic, ModelError> {
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
-        if close(pzt.e1, 62e9) && close(pzt.d31, -320e-12) {
+        let fitted =
+            Material::builtin("PZT-5H").filter(|h| close(pzt.e1, h.e1) && close(pzt.d31, h.d31));
+        if fitted.is_some() {
             Ok(Self::JAFFERIS_2015)
         } else {
             Err(ModelError::NotCovered {
@@ -234,6 +236,15 @@ mod tests {
         // The paper's fit belongs to PZT-5H; PZT-5A is refused.
         assert_eq!(Ceramic::of(&Material::builtin("PZT-5H").unwrap()), Ok(J));
         assert!(Ceramic::of(&Material::builtin("PZT-5A").unwrap()).is_err());
+        // docs/physics.md §18.1: a user PZT that differs from PZT-5H in its depolarization field alone
+        // takes the fit.
+        assert_eq!(
+            Ceramic::of(&Material {
+                depolarization_field: 500e3,
+                ..Material::builtin("PZT-5H").unwrap()
+            }),
+            Ok(J)
+        );
         let bad = Ceramic {
             modulus_tension: -1.0,
             ..J

@@ -19,6 +19,7 @@
 //! `nearby_modes_are_within_the_tolerance_of_a_solve`). The value is a function of the beam alone,
 //! whatever was asked before, so results do not depend on the order of evaluation.
 
+use crate::banded::dot;
 use crate::dynamics::{ActuatorBeam, Element, COARSE_ELEMENTS};
 use crate::error::ModelError;
 use std::collections::HashMap;
@@ -248,9 +249,8 @@ impl NearbyModes {
             }
         };
         let (a, b) = beam.parts();
-        let sum = |x: &[f64], y: &[f64]| -> f64 { x.iter().zip(y).map(|(x, y)| x * y).sum() };
-        let omega2 = sum(&a, &forms.mode_stiffness) / sum(&b, &forms.mode_mass);
-        let compliance = forms.load_work.powi(2) / sum(&a, &forms.static_stiffness);
+        let omega2 = dot(&a, &forms.mode_stiffness) / dot(&b, &forms.mode_mass);
+        let compliance = forms.load_work.powi(2) / dot(&a, &forms.static_stiffness);
         Ok(FirstMode {
             frequency: omega2.sqrt() / (2.0 * std::f64::consts::PI),
             static_stiffness: 1.0 / compliance,

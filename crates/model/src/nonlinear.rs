@@ -264,8 +264,9 @@ impl<'a> NonlinearBeam<'a> {
 
     /// Tip deflection under a tip load `F` (N, positive toward positive deflection), m:
     /// `δ = ∫0..l_p κ(x) (L - x) dx` with each station solved under `M(x)/w(x) = F (L - x)/w(x)`
-    /// (docs/physics.md eq. 18.7). With `peak`, the surfaces' peak stress and strain over the stations
-    /// and both ends of the active length are folded into it.
+    /// (docs/physics.md eq. 18.7). With `peak`, the surfaces' peak stress and strain at both ends of the
+    /// active length are folded into it: `M(x)/w(x)` is monotone along a taper (eq. 6.3), so the peak of
+    /// a station's state lies at an end, as `plate::peak` takes it.
     pub fn deflection(&self, force: f64, peak: Option<&mut PlatePeak>) -> Result<f64, ModelError> {
         Ok(self.integrate(force, peak)?.0)
     }
@@ -279,7 +280,7 @@ impl<'a> NonlinearBeam<'a> {
     ) -> Result<(f64, f64), ModelError> {
         let pl = &self.planform;
         let l = pl.length;
-        let moment = |x: f64| force * (l - x) / pl.width_at(x);
+        let moment = |x: f64| crate::plate::moment_per_width(pl, force, x);
         let (mut delta, mut compliance) = (0.0, 0.0);
         if force == 0.0 {
             // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`.
