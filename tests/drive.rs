@@ -7,8 +7,8 @@ use crate::common;
 
 use actuator_cam::{DriveSpec, WingSpec};
 use common::{
-    coercive_copy, drive_analysis, example_path, files, refused_in_one_line, run, run_ok, stdout,
-    write_temp,
+    coercive_copy, drive_analysis, drive_design, example_path, files, refused_in_one_line, run,
+    run_ok, stdout, write_temp,
 };
 
 #[test]
@@ -561,9 +561,7 @@ fn the_nonlinear_drive_predicts_the_actuator_at_its_operating_field() {
     use actuator_model::model::{ModelChoice, ModelKind};
     let (_dir, path) = coercive_copy("drive-robobee.toml");
     let spec = DriveSpec::load(&path).unwrap();
-    let design = actuator_cam::Design::load(&spec.design).unwrap();
-    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
-    let design = actuator_cam::design_for_process(&design, &template).unwrap();
+    let design = drive_design(&spec);
     let model = ModelChoice::Kind(ModelKind::Nonlinear);
     let a = actuator_cam::analyse_drive(&spec, &design, &model).unwrap();
     let r = &a.report;
@@ -582,4 +580,12 @@ fn the_nonlinear_drive_predicts_the_actuator_at_its_operating_field() {
     // At the design's own field the actuator is another one: the settling is not vacuous.
     let own = at(design.drive.field);
     assert!((own.stiffness_N_per_m / settled.stiffness_N_per_m - 1.0).abs() > 0.01);
+    // A field that does not settle leaves no operating point in the report or its JSON.
+    let mut unsettled = a.clone();
+    unsettled.refuse_operating_point("does not settle".into());
+    let r = &unsettled.report;
+    assert!(r.operating.is_none() && unsettled.state.is_none() && !r.reached);
+    let json = serde_json::to_value(r).unwrap();
+    assert!(json.get("operating").is_none_or(|o| o.is_null()), "{json}");
+    assert_eq!(json["unsettled_field"], "does not settle");
 }

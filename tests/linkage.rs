@@ -6,8 +6,8 @@
 use crate::common;
 
 use common::{
-    cut_sheet, example, example_path, files, refused_in_one_line, report_json, run, sheet_files,
-    sheet_name, stderr,
+    cut_linkage_example, cut_sheet, example, example_path, files, refused_in_one_line, report_json,
+    run, sheet_files, sheet_name, stderr,
 };
 
 /// Every linkage sheet of `out` engraves its label; the carbon layers say which way their fibres lie,
@@ -233,12 +233,7 @@ fn a_transmission_in_the_design_file_cuts_the_same_linkage_as_the_drive_file() {
     let o = cut_sheet(&design, &own, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let by_drive = dir.path().join("by-drive");
-    let o = cut_sheet(
-        &example("robobee-class.toml"),
-        &by_drive,
-        &["--drive", &example("drive-robobee-linkage.toml")],
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
+    cut_linkage_example(&by_drive);
     // Every linkage layer file the same, byte for byte; the reports name their own source.
     let linkage = |m: std::collections::BTreeMap<String, Vec<u8>>| {
         m.into_iter()

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::{drive_analysis, example_path, refused_in_one_line, run, write_temp};
+use common::{drive_analysis, drive_design, example_path, refused_in_one_line, run, write_temp};
 use std::path::{Path, PathBuf};
 
 /// drive-robobee-two-stage.toml with its `[transmission]` (and what follows) replaced by `transmission`,
@@ -226,9 +226,7 @@ fn through_the_two_stage_the_assumed_actuator_is_what_falls_short_of_the_publish
     use actuator_model::model::{ModelChoice, ModelKind};
     let path = example_path("drive-robobee-two-stage.toml");
     let spec = actuator_cam::DriveSpec::load(&path).unwrap();
-    let design = actuator_cam::Design::load(&spec.design).unwrap();
-    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
-    let design = actuator_cam::design_for_process(&design, &template).unwrap();
+    let design = drive_design(&spec);
     for (kind, stroke) in [(ModelKind::Original, 15.0), (ModelKind::Nonlinear, 26.1)] {
         let r = actuator_cam::analyse_drive(&spec, &design, &ModelChoice::Kind(kind))
             .unwrap()

@@ -214,13 +214,17 @@ pub fn layer_file(out: &Path, name: &str) -> PathBuf {
 /// `drive`'s analysis of a drive file in memory, its design built for its process, under the original
 /// model (as `actuator-cam drive` runs it by default).
 pub fn drive_analysis(path: &Path) -> actuator_cam::Analysis {
-    let spec = actuator_cam::DriveSpec::load(path).unwrap();
-    let design = actuator_cam::Design::load(&spec.design).unwrap();
-    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
-    let design = actuator_cam::design_for_process(&design, &template).unwrap();
     let model =
         actuator_model::model::ModelChoice::Kind(actuator_model::model::ModelKind::Original);
-    actuator_cam::analyse_drive(&spec, &design, &model).unwrap()
+    let spec = actuator_cam::DriveSpec::load(path).unwrap();
+    actuator_cam::analyse_drive(&spec, &drive_design(&spec), &model).unwrap()
+}
+
+/// The design a drive file names, built for its process, as `drive` builds it.
+pub fn drive_design(spec: &actuator_cam::DriveSpec) -> actuator_cam::Design {
+    let design = actuator_cam::Design::load(&spec.design).unwrap();
+    let template = actuator_cam::Template::resolve(&design.process, &design.source).unwrap();
+    actuator_cam::design_for_process(&design, &template).unwrap()
 }
 
 /// A folder with the example drive file `name` and its design, the design's PZT-5H replaced by a user

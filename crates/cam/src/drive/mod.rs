@@ -26,7 +26,6 @@ use actuator_model::model::ModelChoice;
 use actuator_model::plate::{self, PlatePeak};
 use actuator_model::poling::{Binding, FieldCheck};
 use actuator_model::{ModelError, Performance, Section, Weibull};
-use operating_field::FieldSearch;
 use report::{ActuatorRow, DriveReport, MassRow, OperatingRow, SweepPoint, Unreachable, WingRow};
 use spec::{DriveSpec, LinkageSpec};
 use stages::{kinematics, linkage};
@@ -178,8 +177,9 @@ pub fn analyse(
             analyse_at(&spec, &at, model)
         },
     )?;
-    analysis.report.unsettled_field = search.why();
-    analysis.report.reached &= search == FieldSearch::Settled;
+    if let Some(why) = search.why() {
+        analysis.refuse_operating_point(why);
+    }
     Ok(analysis)
 }
 

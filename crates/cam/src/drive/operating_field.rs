@@ -19,6 +19,16 @@ pub enum FieldSearch {
     Unsettled { previous: f64, last: f64 },
 }
 
+impl super::Analysis {
+    /// Report no operating point, and why: the last round's point is at a field the drive does not
+    /// settle on.
+    pub fn refuse_operating_point(&mut self, why: String) {
+        self.report.unsettled_field = Some(why);
+        self.report.reached = false;
+        (self.report.operating, self.state, self.operating_field) = (None, None, None);
+    }
+}
+
 impl FieldSearch {
     /// Why no operating point is reported, for a search that did not settle.
     pub fn why(&self) -> Option<String> {

@@ -244,7 +244,6 @@ fn price_totals(totals: &mut [TotalRow]) {
     }
 }
 
-/// Each item's linkage: its laminate, coupon, sheets and build steps.
 /// The nested sheet files of layer `layer` (`linkage-film`) whose stock is `thickness_mm` thick.
 fn sheet_files(built: &Build, layer: &str, thickness_mm: f64) -> Vec<String> {
     built
@@ -297,7 +296,8 @@ fn coupon_sheets(
     (sheets, layup)
 }
 
-/// `jig` names the jig file the coupons stack on.
+/// Each item's linkage: its laminate, coupon, sheets and build steps. `jig` names the jig file the
+/// coupons stack on.
 fn linkage_rows(
     batch: &Batch,
     built: &Build,
