@@ -494,7 +494,8 @@ pub fn allowed_false_alarms(n: usize) -> usize {
 
 /// Verdicts other than `no-effect` allowed among `n` null data sets: the two adequacy tests at
 /// `Settings::alpha` = 0.01 each and the selection's multiplicity test at the same level, so at most
-/// 3 % of the time (docs/calibration.md §3, "False alarms on null data").
+/// 3 % of the time (docs/calibration.md §3, "False alarms on null data"); data with resonance columns
+/// add the resonance tests' 1 %, which the studies of such data allow for themselves.
 pub fn allowed_null_alarms(n: usize) -> usize {
     chance_allows(n, 0.03)
 }

@@ -59,8 +59,9 @@ const FORMS: [(Primitive, &str, &str, f64); 2] = [
     ),
 ];
 
-/// 1 % point of χ² on one degree of freedom.
-const CHI2_1_99: f64 = 6.634_897;
+/// The level at which a form's cost to the deflections and forces (χ² on one degree of freedom)
+/// rules it out.
+const COST_LEVEL: f64 = 0.01;
 
 /// Each form fitted to the resonance residuals of `model` on `act`, best gain first; empty with fewer
 /// than 4 resonances.
@@ -129,7 +130,7 @@ pub(crate) fn rank(act: &ActuationData, model: &EffectModel) -> Vec<ResonanceFor
                 gain: stats::aicc(n, 0, ss_f0) - stats::aicc(n, 1, ss_f1),
                 rms: (ss_f1 / n as f64).sqrt(),
                 actuation_cost,
-                allowed: actuation_cost < CHI2_1_99,
+                allowed: stats::chi_square_upper_p(actuation_cost, 1.0) > COST_LEVEL,
             })
         })
         .collect();
