@@ -127,19 +127,28 @@ pub fn correlation_p(r: f64, n: usize) -> f64 {
 
 /// Pearson correlation; `None` when either variable is constant.
 pub fn pearson(x: &[f64], y: &[f64]) -> Option<f64> {
-    let n = x.len() as f64;
+    weighted_pearson(x, y, &vec![1.0; x.len()])
+}
+
+/// Pearson correlation with weights `w`; `None` when either variable is constant. With `w_i`
+/// proportional to `1 / var(y_i)`, `r_w √((n-2)/(1-r_w²))` is the t statistic of the slope of the
+/// weighted least-squares line of y on x (Draper & Smith, Applied Regression Analysis, 3rd ed. 1998,
+/// §9.2), so [`correlation_p`] of it keeps its level when the y are means of different numbers of
+/// readings; unweighted, the few noisier means pull the correlation as far as the precise ones.
+pub fn weighted_pearson(x: &[f64], y: &[f64], w: &[f64]) -> Option<f64> {
     if x.len() < 3 {
         return None;
     }
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
+    let total: f64 = w.iter().sum();
+    let mx = x.iter().zip(w).map(|(a, w)| w * a).sum::<f64>() / total;
+    let my = y.iter().zip(w).map(|(b, w)| w * b).sum::<f64>() / total;
     let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for (a, b) in x.iter().zip(y) {
-        sxy += (a - mx) * (b - my);
-        sxx += (a - mx) * (a - mx);
-        syy += (b - my) * (b - my);
+    for ((a, b), w) in x.iter().zip(y).zip(w) {
+        sxy += w * (a - mx) * (b - my);
+        sxx += w * (a - mx) * (a - mx);
+        syy += w * (b - my) * (b - my);
     }
-    let scale = 1e-12 * (mx.abs() + 1.0).powi(2) * n;
+    let scale = 1e-12 * (mx.abs() + 1.0).powi(2) * total;
     if sxx <= scale || syy <= 1e-30 {
         return None;
     }
@@ -257,5 +266,53 @@ mod tests {
             assert!((chi_square_upper_p(x, 2.0) - (-x / 2.0f64).exp()).abs() < 1e-12);
         }
         assert_eq!(chi_square_upper_p(0.0, 5.0), 1.0);
+    }
+
+    #[test]
+    fn a_weighted_correlation_is_the_weighted_least_squares_slope_test() {
+        let x = [1.0, 2.0, 4.0, 5.0, 7.0, 8.0];
+        let y = [0.3, -0.1, 0.4, 0.2, 0.9, 0.5];
+        // Equal weights are no weights; a zero weight drops its point; a weight of 2 counts its point twice.
+        let plain = pearson(&x, &y).unwrap();
+        assert!((weighted_pearson(&x, &y, &[3.0; 6]).unwrap() - plain).abs() < 1e-14);
+        let w0 = [1.0, 1.0, 1.0, 1.0, 1.0, 0.0];
+        let dropped = pearson(&x[..5], &y[..5]).unwrap();
+        assert!((weighted_pearson(&x, &y, &w0).unwrap() - dropped).abs() < 1e-14);
+        let w2 = [2.0, 1.0, 1.0, 1.0, 1.0, 1.0];
+        let twice = pearson(
+            &[1.0, 1.0, 2.0, 4.0, 5.0, 7.0, 8.0],
+            &[0.3, 0.3, -0.1, 0.4, 0.2, 0.9, 0.5],
+        );
+        assert!((weighted_pearson(&x, &y, &w2).unwrap() - twice.unwrap()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn weighted_correlations_of_means_of_unequal_counts_keep_their_level() {
+        // Thirty actuators' mean residuals under no effect: a third measured at two voltages (their
+        // means twice as noisy) and at the extremes of the design variable. The weighted test rejects
+        // at its 1 % within the binomial scatter of 10,000 draws; the plain one rejects at more than 1.5 %.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(59_310);
+        let mut normal = || {
+            let (u, v): (f64, f64) = (rng.gen::<f64>().max(1e-300), rng.gen());
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        };
+        let n = 30;
+        let x: Vec<f64> = (0..n).map(|k| k as f64).collect();
+        let readings: Vec<f64> = (0..n)
+            .map(|k| if !(5..25).contains(&k) { 2.0 } else { 4.0 })
+            .collect();
+        let (mut weighted, mut plain) = (0, 0);
+        let draws = 10_000;
+        for _ in 0..draws {
+            let y: Vec<f64> = readings.iter().map(|m| normal() / m.sqrt()).collect();
+            let rw = weighted_pearson(&x, &y, &readings).unwrap();
+            let r = pearson(&x, &y).unwrap();
+            weighted += (correlation_p(rw, n) < 0.01) as usize;
+            plain += (correlation_p(r, n) < 0.01) as usize;
+        }
+        // 100 ± 26 (the binomial 99.9 % bounds) of 10,000.
+        assert!((74..=126).contains(&weighted), "{weighted}");
+        assert!(plain > 150, "{plain}");
     }
 }

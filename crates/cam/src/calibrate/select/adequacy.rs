@@ -87,56 +87,14 @@ pub(super) fn adequacy(
     )
 }
 
-/// The pure error of the voltage sweeps: the RSS of per-actuator, per-output lines in the field through
-/// the residuals `r` of `act` (in [`ActuationData::labels`] order), the parameters those lines take,
-/// and how many sweeps have 3 or more levels.
-fn sweep_lines(act: &ActuationData, r: &[f64]) -> (f64, usize, usize) {
-    let mut by: Vec<[Vec<(f64, f64)>; 2]> = vec![[Vec::new(), Vec::new()]; act.groups];
-    for (&(i, output), &res) in act.labels().iter().zip(r) {
-        let o = &act.obs[i];
-        by[o.group][(output == "blocked_force") as usize].push((o.basis.field, res));
-    }
-    let (mut rss_full, mut q) = (0.0, 0usize);
-    let mut sweeps = 0usize;
-    for pair in &by {
-        for pts in pair {
-            if pts.is_empty() {
-                continue;
-            }
-            let m = pts.len() as f64;
-            let mx = pts.iter().map(|p| p.0).sum::<f64>() / m;
-            let my = pts.iter().map(|p| p.1).sum::<f64>() / m;
-            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-            let slope = if sxx > 1e-12 * mx * mx * m {
-                q += 2;
-                pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx
-            } else {
-                q += 1;
-                0.0
-            };
-            if pts.len() >= 3 {
-                sweeps += 1;
-            }
-            rss_full += pts
-                .iter()
-                .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
-                .sum::<f64>();
-        }
-    }
-    (rss_full, q, sweeps)
-}
-
 /// The variance of a log deflection or force measurement from the sweeps' pure error under `model`
-/// (None without enough repeated levels): a line in the field per actuator and output absorbs every
-/// library effect, so what is left is the noise.
+/// (None without enough repeated levels, [`robust::pure_error_variance`]).
 pub(crate) fn pure_error_variance(act: &ActuationData, model: &EffectModel) -> Option<f64> {
     let mut r = Vec::new();
     act.residuals(model, None, &mut r);
     // The deflections and forces only: a resonance has no sweep.
     r.truncate(act.labels().len());
-    let (rss_full, q, sweeps) = sweep_lines(act, &r);
-    let df = r.len() as f64 - q as f64;
-    (sweeps >= 3 && df >= 5.0 && rss_full > 0.0).then(|| rss_full / df)
+    robust::pure_error_variance(act, &r)
 }
 
 /// The same for any model: (effects, fitted parameter count), and the mass model with its data if
@@ -217,9 +175,7 @@ fn resonance_check(
             row.resonance_sd.zip(row.resonance).map(|(sd, f)| sd / f)
         })
         .collect();
-    let (rss_full, q, sweeps) = sweep_lines(act, r);
-    let df = r.len() as f64 - q as f64;
-    let pure = (sweeps >= 3 && df >= 5.0 && rss_full > 0.0).then(|| (rss_full / df).sqrt());
+    let pure = robust::pure_error_variance(act, r).map(f64::sqrt);
     resonance_tests::test(&res, &stated, pure, alpha)
 }
 
@@ -297,7 +253,6 @@ fn design_variable_tests(
     frequency_res: &[f64],
 ) {
     let groups = data.actuators();
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let mut mass_res = vec![None; groups];
     if let Some((mm, mass_data)) = mass {
         let mut out = Vec::new();
@@ -308,23 +263,23 @@ fn design_variable_tests(
     }
     let first_row = |g: usize| &data.rows[data.groups[g][0]];
     for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
-        let pts: Vec<(usize, f64)> = per_group
+        let pts: Vec<Point> = per_group
             .iter()
             .filter(|(_, v)| !v[slot].is_empty())
-            .map(|(g, v)| (*g, mean(&v[slot])))
+            .map(|(g, v)| Point::mean_of(*g, &v[slot]))
             .collect();
         push_variable_tests(tests, kind, &pts, &first_row);
     }
-    let mass_pts: Vec<(usize, f64)> = (0..groups)
-        .filter_map(|g| mass_res[g].map(|v| (g, v)))
+    let mass_pts: Vec<Point> = (0..groups)
+        .filter_map(|g| mass_res[g].map(|v| Point::one(g, v)))
         .collect();
     push_variable_tests(tests, "mass", &mass_pts, &first_row);
-    let frequency_pts: Vec<(usize, f64)> = act
+    let frequency_pts: Vec<Point> = act
         .resonances
         .obs
         .iter()
         .zip(frequency_res)
-        .map(|(o, &v)| (o.group, v))
+        .map(|(o, &v)| Point::one(o.group, v))
         .collect();
     push_variable_tests(tests, "resonance", &frequency_pts, &first_row);
 }
@@ -339,7 +294,7 @@ fn within_sweep_tests(
 ) {
     let obs_of = act.obs_by_actuator();
     for (kind, slot) in [("deflection", 0usize), ("stiffness", 1)] {
-        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        let (mut xs, mut ys, mut sweeps) = (Vec::new(), Vec::new(), 0usize);
         for (g, _) in per_group {
             let pts: Vec<(f64, f64)> = obs_of[*g]
                 .iter()
@@ -359,15 +314,16 @@ fn within_sweep_tests(
             }
             let mx = pts.iter().map(|p| p.0).sum::<f64>() / pts.len() as f64;
             let my = pts.iter().map(|p| p.1).sum::<f64>() / pts.len() as f64;
+            sweeps += 1;
             for (x, y) in pts {
                 xs.push(x - mx);
                 ys.push(y - my);
             }
         }
         if let Some(r) = stats::pearson(&xs, &ys) {
-            let groups_used = per_group.len();
-            // Each actuator's centring removes one degree of freedom.
-            let n_eff = xs.len().saturating_sub(groups_used) + 2;
+            // A common slope within sweeps each centred on its own mean leaves N - sweeps - 1
+            // degrees of freedom (the t test of `correlation_p` takes n - 2).
+            let n_eff = xs.len().saturating_sub(sweeps) + 1;
             tests.push(CorrelationTest {
                 residual: kind,
                 variable: "field_V_per_um (within sweep)",
@@ -380,24 +336,59 @@ fn within_sweep_tests(
     }
 }
 
-/// The correlation of the per-actuator residuals `pts` of one quantity (`kind`) with each design variable.
+/// One actuator's residual of a measured quantity: the mean of `readings` of its readings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Point {
+    /// The actuator.
+    pub(super) actuator: usize,
+    /// Its mean residual.
+    pub(super) value: f64,
+    /// How many readings the mean is of.
+    pub(super) readings: usize,
+}
+
+impl Point {
+    /// A quantity measured once (a mass, a resonance).
+    pub(super) fn one(actuator: usize, value: f64) -> Point {
+        Point {
+            actuator,
+            value,
+            readings: 1,
+        }
+    }
+
+    /// The mean of an actuator's residuals `values` (not empty).
+    pub(super) fn mean_of(actuator: usize, values: &[f64]) -> Point {
+        Point {
+            actuator,
+            value: values.iter().sum::<f64>() / values.len() as f64,
+            readings: values.len(),
+        }
+    }
+}
+
+/// The correlation of the per-actuator residuals `pts` of one quantity (`kind`) with each design
+/// variable, each mean weighted by its readings: an actuator measured at two voltages has a mean twice as
+/// noisy as one measured at four, and the weighted correlation's t test keeps its level where the plain
+/// one, pulled by the noisier means, would not ([`stats::weighted_pearson`]).
 pub(super) fn push_variable_tests<'a>(
     tests: &mut Vec<CorrelationTest>,
     kind: &'static str,
-    pts: &[(usize, f64)],
+    pts: &[Point],
     first_row: &dyn Fn(usize) -> &'a Measurement,
 ) {
     if pts.len() < 4 {
         return;
     }
-    let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let ys: Vec<f64> = pts.iter().map(|p| p.value).collect();
+    let weights: Vec<f64> = pts.iter().map(|p| p.readings as f64).collect();
     let vars: Vec<DesignVariables> = pts
         .iter()
-        .map(|p| design_variables(first_row(p.0)))
+        .map(|p| design_variables(first_row(p.actuator)))
         .collect();
     for k in 0..COUNT {
         let xs: Vec<f64> = vars.iter().map(|v| v[k].1).collect();
-        if let Some(r) = stats::pearson(&xs, &ys) {
+        if let Some(r) = stats::weighted_pearson(&xs, &ys, &weights) {
             tests.push(CorrelationTest {
                 residual: kind,
                 variable: vars[0][k].0,

@@ -74,6 +74,71 @@ pub(super) fn pseudo_observations(act: &ActuationData, r: &[f64]) -> Vec<f64> {
     r.iter().map(|x| x.clamp(-clip, clip)).collect()
 }
 
+/// The residuals `r` against the lines in the field through each sweep of 3 rows or more.
+struct SweepSums {
+    /// The residuals' sum of squares on those rows.
+    rss: f64,
+    /// The lines' (the pure error).
+    rss_full: f64,
+    /// The parameters the lines take.
+    lines_params: usize,
+    /// The rows.
+    rows: usize,
+    /// The sweeps.
+    sweeps: usize,
+}
+
+impl SweepSums {
+    fn of(act: &ActuationData, r: &[f64]) -> SweepSums {
+        let fields: Vec<f64> = act
+            .labels()
+            .iter()
+            .map(|&(i, _)| act.obs[i].basis.field)
+            .collect();
+        let mut sums = SweepSums {
+            rss: 0.0,
+            rss_full: 0.0,
+            lines_params: 0,
+            rows: 0,
+            sweeps: 0,
+        };
+        for s in sweeps(act).iter().filter(|s| s.len() >= MIN_SWEEP) {
+            let xs: Vec<f64> = s.iter().map(|&k| fields[k]).collect();
+            let ys: Vec<f64> = s.iter().map(|&k| r[k]).collect();
+            let (fit, k) = line(&xs, &ys);
+            sums.rss += ys.iter().map(|y| y * y).sum::<f64>();
+            sums.rss_full += ys
+                .iter()
+                .zip(&fit)
+                .map(|(y, f)| (y - f).powi(2))
+                .sum::<f64>();
+            sums.lines_params += k;
+            sums.rows += s.len();
+            sums.sweeps += 1;
+        }
+        sums
+    }
+
+    /// The pure error's degrees of freedom.
+    fn df(&self) -> f64 {
+        self.rows as f64 - self.lines_params as f64
+    }
+
+    /// Enough to estimate the noise: 3 sweeps, 5 degrees of freedom and some scatter.
+    fn estimates_noise(&self) -> bool {
+        self.sweeps >= 3 && self.df() >= 5.0 && self.rss_full > 0.0
+    }
+}
+
+/// The variance of one log deflection or force reading from the pure error of the residuals `r` (in
+/// [`ActuationData::labels`] order) about the lines in the field through the sweeps of 3 rows or
+/// more: a line per actuator and output absorbs every library effect, so what is left is the noise.
+/// None without 3 such sweeps and 5 degrees of freedom.
+pub(super) fn pure_error_variance(act: &ActuationData, r: &[f64]) -> Option<f64> {
+    let s = SweepSums::of(act, r);
+    s.estimates_noise().then(|| s.rss_full / s.df())
+}
+
 /// The sums of squares of the lack-of-fit F test of the residuals `r` (pseudo-observations) of a model
 /// with `params` fitted parameters against the pure error of the sweeps of 3 rows or more: the model's
 /// RSS on those rows, the RSS of their lines in the field, and the two degrees of freedom. A sweep of two
@@ -86,33 +151,14 @@ pub(super) fn lack_of_fit_sums(
     r: &[f64],
     params: usize,
 ) -> Option<LackOfFitSums> {
-    let fields: Vec<f64> = act
-        .labels()
-        .iter()
-        .map(|&(i, _)| act.obs[i].basis.field)
-        .collect();
-    let (mut rss, mut rss_full, mut q, mut rows, mut count) = (0.0, 0.0, 0usize, 0usize, 0usize);
-    for s in sweeps(act).iter().filter(|s| s.len() >= MIN_SWEEP) {
-        let xs: Vec<f64> = s.iter().map(|&k| fields[k]).collect();
-        let ys: Vec<f64> = s.iter().map(|&k| r[k]).collect();
-        let (fit, k) = line(&xs, &ys);
-        rss += ys.iter().map(|y| y * y).sum::<f64>();
-        rss_full += ys
-            .iter()
-            .zip(&fit)
-            .map(|(y, f)| (y - f).powi(2))
-            .sum::<f64>();
-        q += k;
-        rows += s.len();
-        count += 1;
-    }
-    let df2 = rows as f64 - q as f64;
-    let df1 = q as f64 - (params as f64 * rows as f64 / r.len().max(1) as f64).round();
-    (count >= 3 && df2 >= 5.0 && df1 >= 1.0 && rss_full > 0.0).then_some(LackOfFitSums {
-        rss,
-        rss_full,
+    let s = SweepSums::of(act, r);
+    let df1 =
+        s.lines_params as f64 - (params as f64 * s.rows as f64 / r.len().max(1) as f64).round();
+    (s.estimates_noise() && df1 >= 1.0).then_some(LackOfFitSums {
+        rss: s.rss,
+        rss_full: s.rss_full,
         df1,
-        df2,
+        df2: s.df(),
     })
 }
 

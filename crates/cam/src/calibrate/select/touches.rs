@@ -3,14 +3,14 @@
 //! so a not-explained verdict can say "force-only" when the deflections, masses and resonances fit and
 //! only the blocked forces follow a variable (a compliant load cell, not an effect of the actuator).
 
-use super::adequacy::{push_variable_tests, Adequacy, CorrelationTest};
+use super::adequacy::{push_variable_tests, Adequacy, CorrelationTest, Point};
 use super::observations::{ActuationData, MassData, StageData};
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
 
-/// Per-actuator residuals of one measured quantity: (actuator, value).
-pub(super) type Points = Vec<(usize, f64)>;
+/// Per-actuator residuals of one measured quantity.
+pub(super) type Points = Vec<Point>;
 
 /// Each actuator's mean deflection and mean force residual from the rows' residuals `row_res`
 /// (deflection, force; None where not measured), in [`ActuationData::obs`] order.
@@ -28,7 +28,11 @@ pub(super) fn actuation_points(act: &ActuationData, row_res: &[[Option<f64>; 2]]
         sums.iter()
             .enumerate()
             .filter(|(_, s)| s[slot].1 > 0)
-            .map(|(g, s)| (g, s[slot].0 / s[slot].1 as f64))
+            .map(|(g, s)| Point {
+                actuator: g,
+                value: s[slot].0 / s[slot].1 as f64,
+                readings: s[slot].1,
+            })
             .collect()
     })
 }
@@ -48,8 +52,11 @@ pub(super) fn quantities(
         .obs
         .iter()
         .zip(r.get(labels.len()..).unwrap_or(&[]))
-        .map(|(o, &v)| (o.group, v))
+        .map(|(o, &v)| Point::one(o.group, v))
         .collect();
+    // The residuals as measured, not the adequacy tests' Huber pseudo-observations: what a residual
+    // touches is an offset of whole actuators (a load cell's share of every force), which clipping at
+    // the noise's scale would shrink until no quantity follows a variable.
     let mut row_res = vec![[None, None]; act.obs.len()];
     for (&(i, output), &res) in labels.iter().zip(&r) {
         row_res[i][(output == "blocked_force") as usize] = Some(res);
@@ -58,7 +65,12 @@ pub(super) fn quantities(
     if let Some((mm, data)) = mass {
         let mut out = Vec::new();
         data.residuals(mm, None, &mut out);
-        mass_pts = data.obs.iter().zip(out).map(|(o, v)| (o.0, v)).collect();
+        mass_pts = data
+            .obs
+            .iter()
+            .zip(out)
+            .map(|(o, v)| Point::one(o.0, v))
+            .collect();
     }
     let [deflection, force] = actuation_points(act, &row_res);
     [
