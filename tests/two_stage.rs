@@ -147,7 +147,7 @@ fn cut_sheet_refuses_a_two_stage_drive_in_one_line() {
 }
 
 /// `nest` of a batch of one item, the design beside `drive` with `drive` for its linkage: its one-line
-/// refusal, having written nothing (no output folder, nothing new beside the batch).
+/// refusal, having written nothing (no output folder, no file beside the batch).
 fn nest_refusal(drive: &Path) -> String {
     let dir = drive.parent().unwrap();
     let batch = dir.join("batch.toml");

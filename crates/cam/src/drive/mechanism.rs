@@ -1,4 +1,4 @@
-//! What the drive flaps and through what, fixed before the operating field is searched: the wing, and
+//! What the drive flaps and through what, built before the operating field is searched: the wing, and
 //! the transmission's kinematics, its drawn laminate (when the file gives flexures), its flexures
 //! checked, and the stiffness, inertia and mass it adds. A solved linkage is sized from the
 //! actuator's free deflection at the design's own field, so a field-dependent model's search moves the
