@@ -558,7 +558,7 @@ impl Effects {
         // Stresses under the changed blocked force (thesis eq. 3.3, and the CLT stress and strain along
         // the plate; with a rigid root the beam's root is at h, where the moment is F (L - h) over w(h)).
         let pl = &a.planform;
-        p.base_stress = 6.0 * force * pl.length / (pl.base_width * section.thickness.powi(2));
+        p.base_stress = crate::performance::base_stress(force, pl, section.thickness);
         let plate = crate::plate::over_stroke(&section, pl, force, self.held_root(pl));
         p.peak_pzt_strain = plate.strain;
         p.peak_pzt_strain_at = plate.strain_at;

@@ -14,7 +14,7 @@ use crate::ceramic::Ceramic;
 use crate::drive::{plate_fields_at, Drive};
 use crate::error::ModelError;
 use crate::laminate::{Laminate, LayerRole};
-use crate::performance::{evaluate, Performance};
+use crate::performance::{base_stress, beam_tip_compliance, evaluate, Performance};
 use crate::planform::Planform;
 use crate::plate::PlatePeak;
 use crate::section::Section;
@@ -283,13 +283,12 @@ impl<'a> NonlinearBeam<'a> {
         let moment = |x: f64| crate::plate::moment_per_width(pl, force, x);
         let (mut delta, mut compliance) = (0.0, 0.0);
         if force == 0.0 {
-            // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`.
+            // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`, and (18.7)'s
+            // compliance is the linear beam's with the one tangent `∂κ/∂m` as its `C44`.
             let l_p = pl.piezo_length();
             let s = self.section.solve(0.0, None)?;
             delta = s.curvature * (l * l_p - 0.5 * l_p * l_p);
-            for &(x, w) in &self.stations {
-                compliance += w * s.slope * (l - x) * (l - x) / pl.width_at(x);
-            }
+            compliance = beam_tip_compliance(s.slope, pl);
         } else {
             let mut state = None;
             for &(x, w) in &self.stations {
@@ -343,10 +342,7 @@ impl<'a> NonlinearBeam<'a> {
         if ga == 0.0 {
             return Ok(0.0);
         }
-        let pl = &self.planform;
-        let l_p = pl.piezo_length();
-        let compliance = self.section.compliance[1][1] * l_p.powi(3) * pl.shape_factor()
-            / (3.0 * pl.nominal_width());
+        let compliance = beam_tip_compliance(self.section.compliance[1][1], &self.planform);
         let mut step = -ga / compliance;
         let (mut b, mut gb) = (step, g(step)?);
         let mut tries = 0;
@@ -519,13 +515,12 @@ pub fn predict(
     let section = Section::new(laminate, drive)?;
     let original = evaluate(&section, planform);
     let r = response(laminate, planform, &drive, ceramic)?;
-    let t = section.thickness;
     let p = Performance {
         peak_pzt_strain: r.peak.strain,
         peak_pzt_strain_at: r.peak.strain_at,
         peak_pzt_stress: r.peak.stress,
         peak_pzt_stress_at: r.peak.stress_at,
-        base_stress: 6.0 * r.blocked_force * planform.length / (planform.base_width * t * t),
+        base_stress: base_stress(r.blocked_force, planform, section.thickness),
         ..original
     };
     Ok(p.with_outputs(r.free_deflection, r.blocked_force, original.mass_breakdown))
