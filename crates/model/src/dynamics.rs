@@ -179,7 +179,8 @@ impl ActuatorBeam {
     /// fillets along the plates' outlines (`added-mass-per-length` λ) as a line mass `4 λ sec α` per unit
     /// length from the two long edges of both plates (α the half-taper angle) and a point mass `2 λ w_tip`
     /// from their tip edges, the root edges lying on the clamp line; the mass per actuator
-    /// (`added-mass`: leads and solder on the base tab) in the clamp, where it does not move.
+    /// (`added-mass`: leads and solder on the base tab) in the clamp, where it does not move; the tip
+    /// mass (`tip-mass`) at the tip, [`ActuatorBeam::end_mass`].
     pub fn from_effects(effects: &Effects, basis: &StackBasis, mass: &MassBreakdown) -> Self {
         let pl = basis.planform;
         let l_p = pl.piezo_length();
@@ -207,7 +208,7 @@ impl ActuatorBeam {
             stiffness_scale: effects.stiffness_scale,
             edge_line_mass: 4.0 * effects.added_mass_per_length * l_p.hypot(half_taper) / l_p,
             tip_point_mass: 2.0 * effects.added_mass_per_length * pl.tip_width(),
-            end_mass: 0.0,
+            end_mass: effects.tip_mass,
         }
     }
 
