@@ -601,6 +601,52 @@ mod tests {
     }
 
     #[test]
+    fn on_a_mirror_image_stack_the_trough_is_the_peak_mirrored() {
+        // docs/physics.md §18.4: the half-cycles swap the plates' fields, so on a stack that is its own
+        // mirror image the trough (phase -π/2) is the peak (π/2) mirrored about the rest position,
+        // `δ(-π/2) = 2 δ_rest - δ(π/2)` and `F(-π/2) = -F(π/2)`, and `response` need not solve it. Both
+        // solved here under the nonlinear ceramic, in every drive mode.
+        let j = Ceramic::JAFFERIS_2015;
+        let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
+        let ends = |lam: &Laminate, drive: &Drive| {
+            let rest = half_cycle(lam, j, &pl, drive, 0.0)
+                .deflection(0.0, None)
+                .unwrap();
+            let end = |phase: f64| {
+                let beam = half_cycle(lam, j, &pl, drive, phase);
+                let free = beam.deflection(0.0, None).unwrap();
+                (free, beam.force_at(rest).unwrap())
+            };
+            (rest, end(FRAC_PI_2), end(-FRAC_PI_2))
+        };
+        let mirror = laminate(267e-6, &[0.0, 90.0, 0.0], false);
+        assert!(symmetric(&mirror));
+        for drive in drives() {
+            let [bottom, top] = plate_fields_at(&drive, FRAC_PI_2);
+            assert_eq!(plate_fields_at(&drive, -FRAC_PI_2), [top, bottom]);
+            let (rest, peak, trough) = ends(&mirror, &drive);
+            let what = format!("{drive:?}");
+            assert!(
+                (trough.0 - (2.0 * rest - peak.0)).abs() < 1e-9 * peak.0.abs(),
+                "{what}"
+            );
+            assert!((trough.1 + peak.1).abs() < 1e-9 * peak.1.abs(), "{what}");
+            // `response` reports (18.8) of these ends.
+            let r = response(&mirror, &pl, &drive, j).unwrap();
+            let delta = 0.5 * (peak.0 - trough.0).abs();
+            let force = 0.5 * (peak.1 - trough.1).abs();
+            assert!((r.free_deflection / delta - 1.0).abs() < 1e-9, "{what}");
+            assert!((r.blocked_force / force - 1.0).abs() < 1e-9, "{what}");
+        }
+        // Not so on a stack that is not its own mirror image: the shortcut would be wrong there.
+        let lopsided = laminate(267e-6, &[0.0, 0.0, 90.0], false);
+        assert!(!symmetric(&lopsided));
+        let drive = Drive::new(DriveMode::Parallel, 700e3);
+        let (rest, peak, trough) = ends(&lopsided, &drive);
+        assert!((trough.0 - (2.0 * rest - peak.0)).abs() > 1e-3 * peak.0.abs());
+    }
+
+    #[test]
     fn the_response_scales_as_the_original_with_length_and_width() {
         // docs/physics.md §18.2: under F (L - x)/w(x) the station's state depends on F L / w_0 and the
         // shape alone, so δ ∝ l_tot² and F_b ∝ w_0 / l_tot at a fixed (l_r, w_r), as in the original.
