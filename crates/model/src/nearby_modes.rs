@@ -319,9 +319,9 @@ fn stiffness_forms(beam: &ActuatorBeam, x: &[f64]) -> StiffnessParts {
     k
 }
 
-/// `xᵀM_j x` of each mass part at unit scalar (`x` as in [`stiffness_forms`]): the held mass matrix of `beam` with that part's scalar
-/// 1 and the others 0, as the solve places it ([`ActuatorBeam::held_mass`]; the mass is linear in the
-/// scalars).
+/// `xᵀM_j x` of each mass part at unit scalar (`x` as in [`stiffness_forms`]): the held mass matrix
+/// of `beam` with that part's scalar 1 and the others 0, as the solve places it
+/// ([`ActuatorBeam::held_mass`]; the mass is linear in the scalars).
 fn mass_forms(beam: &ActuatorBeam, x: &[f64]) -> MassParts {
     let (active, extension) = COARSE_ELEMENTS;
     let x = nalgebra::DVector::from_column_slice(x);
