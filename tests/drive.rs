@@ -7,8 +7,8 @@ use crate::common;
 
 use actuator_cam::{DriveSpec, WingSpec};
 use common::{
-    coercive_copy, drive_analysis, drive_design, example_path, files, refused_in_one_line, run,
-    run_ok, stdout, write_temp,
+    coercive_copy, drive_analysis, example_path, files, refused_in_one_line, run, run_ok, stdout,
+    write_temp,
 };
 
 #[test]
@@ -552,40 +552,4 @@ fn a_transmission_given_by_its_ratio_is_the_slider_crank_of_that_ratio_at_rest()
     .unwrap();
     let err = refused_in_one_line(&run(&["drive", both.to_str().unwrap()]));
     assert!(err.contains("2 linkages given"), "{err}");
-}
-
-#[test]
-fn the_nonlinear_drive_predicts_the_actuator_at_its_operating_field() {
-    // docs/physics.md §18.5: the nonlinear ceramic's stiffness and force per field change with the
-    // field, so the drive predicts the actuator at the field its operating point needs.
-    use actuator_model::model::{ModelChoice, ModelKind};
-    let (_dir, path) = coercive_copy("drive-robobee.toml");
-    let spec = DriveSpec::load(&path).unwrap();
-    let design = drive_design(&spec);
-    let model = ModelChoice::Kind(ModelKind::Nonlinear);
-    let a = actuator_cam::analyse_drive(&spec, &design, &model).unwrap();
-    let r = &a.report;
-    assert_eq!(r.model, "nonlinear");
-    assert_eq!(r.unsettled_field, None);
-    let field = a.operating_field.unwrap();
-    // The report's field is the search's, in V/mm.
-    assert!((r.operating.as_ref().unwrap().field_V_per_mm * 1e3 / field - 1.0).abs() < 1e-3);
-    let at = |e: f64| {
-        let mut d = design.clone();
-        d.drive.field = e;
-        actuator_cam::Prediction::with_model(&d, &model).unwrap()
-    };
-    let settled = at(field);
-    assert!((r.actuator.stiffness_N_per_m / settled.stiffness_N_per_m - 1.0).abs() < 1e-3);
-    // At the design's own field the actuator is another one: the settling is not vacuous.
-    let own = at(design.drive.field);
-    assert!((own.stiffness_N_per_m / settled.stiffness_N_per_m - 1.0).abs() > 0.01);
-    // A field that does not settle leaves no operating point in the report or its JSON.
-    let mut unsettled = a.clone();
-    unsettled.refuse_operating_point("does not settle".into());
-    let r = &unsettled.report;
-    assert!(r.operating.is_none() && unsettled.state.is_none() && !r.reached);
-    let json = serde_json::to_value(r).unwrap();
-    assert!(json.get("operating").is_none_or(|o| o.is_null()), "{json}");
-    assert_eq!(json["unsettled_field"], "does not settle");
 }

@@ -15,6 +15,7 @@ mod calibrated_base;
 mod cam_writers;
 mod cut_sheet;
 mod drive;
+mod drive_field;
 mod file_pairs;
 mod golden;
 mod linkage;

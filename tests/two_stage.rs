@@ -1,7 +1,8 @@
 //! A transmission given by a published ratio law, and the two-stage linkage (a slider-crank and an
 //! amplifying four-bar, docs/physics.md §12.4, §16.8): the two-stage reaches the published 3333 rad/m with
 //! buildable flexures where a one-stage slider-crank cannot, the ratio law drives as its closed form, no
-//! linkage drawing is made of either, and bad input in their keys is one line.
+//! linkage drawing is made of either (cut-sheet and nest refuse them in one line), and bad input in their
+//! keys is one line.
 
 use crate::common;
 
@@ -84,8 +85,14 @@ fn a_ratio_law_drives_as_its_closed_form_and_no_drawing_is_made() {
     ));
     let a = drive_analysis(&path);
     let law = a.report.linkage.ratio_law.unwrap();
-    assert!((law[0] - 3000.0).abs() < 1e-9 && (law[1] - 55.0).abs() < 1e-9);
-    assert!((law[2] - 2600.0).abs() < 1e-6, "{law:?}");
+    assert!((law.at_rest_rad_per_m - 3000.0).abs() < 1e-9 && (law.stroke_deg - 55.0).abs() < 1e-9);
+    assert!((law.at_stroke_rad_per_m - 2600.0).abs() < 1e-6, "{law:?}");
+    // report.json names each number with its unit.
+    let json = serde_json::to_value(&a.report).unwrap();
+    let row = &json["linkage"]["ratio_law"];
+    assert_eq!(row["at_rest_rad_per_m"], 3000.0, "{row}");
+    assert_eq!(row["stroke_deg"], law.stroke_deg, "{row}");
+    assert_eq!(row["at_stroke_rad_per_m"], law.at_stroke_rad_per_m, "{row}");
     let k = a.system.linkage;
     let c = (3000.0 / 2600.0 - 1.0) / (3.0 * 55f64.to_radians().powi(2));
     for deg in [-40.0f64, 10.0, 30.0] {
@@ -135,6 +142,63 @@ fn cut_sheet_refuses_a_two_stage_drive_in_one_line() {
     assert!(
         err.contains("drive-robobee-two-stage.toml: transmission.four_bar")
             && err.contains("no layer files are drawn"),
+        "{err}"
+    );
+}
+
+/// `nest` of a batch of one item, the design beside `drive` with `drive` for its linkage: its one-line
+/// refusal, having written nothing (no output folder, no file beside the batch).
+fn nest_refusal(drive: &Path) -> String {
+    let dir = drive.parent().unwrap();
+    let batch = dir.join("batch.toml");
+    std::fs::write(
+        &batch,
+        format!(
+            "name = \"b\"\nseed = 1\n\n[[item]]\ndesign = \"robobee-class.toml\"\nquantity = 1\ndrive = {:?}\n\n[sheets]\nprepreg = {{ width_mm = 150, height_mm = 150 }}\nspacing_mm = 0.3\n",
+            drive.file_name().unwrap().to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let listing = || {
+        let mut names: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        names
+    };
+    let before = listing();
+    let out = dir.join("out");
+    let err = refused_in_one_line(&run(&[
+        "nest",
+        batch.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(!out.exists(), "{err}");
+    assert_eq!(listing(), before, "{err}");
+    err
+}
+
+/// docs/drive.md §2: no layer files are drawn of a two-stage linkage or of a ratio alone, so a batch
+/// that asks nest to cut either is refused in one line naming the drive file and its field.
+#[test]
+fn nest_refuses_a_two_stage_or_ratio_only_drive_in_one_line() {
+    let text = std::fs::read_to_string(example_path("drive-robobee-two-stage.toml")).unwrap();
+    let (_dir, two_stage) = with_transmission(&text[text.find("[transmission]").unwrap()..]);
+    let err = nest_refusal(&two_stage);
+    assert!(
+        err.contains("drive.toml: transmission.four_bar = (given)")
+            && err.contains("no layer files are drawn"),
+        "{err}"
+    );
+    let (_dir, ratio) = with_transmission(&format!(
+        "[transmission]\nratio_rad_per_m = 3000\nratio_at_stroke_deg = 55\nratio_at_stroke_rad_per_m = 2600\n{GIVEN}"
+    ));
+    let err = nest_refusal(&ratio);
+    assert!(
+        err.contains("drive.toml: transmission.ratio_rad_per_m = 3000")
+            && err.contains("no linkage drawing can be made from a ratio alone"),
         "{err}"
     );
 }

@@ -136,13 +136,15 @@ fn thesis_series(dir: &Path) -> Vec<Row> {
             .clone()
             .map(|n| thesis_design(dir, &n.to_string(), process, 50.0))
             .collect();
-        let thesis: Vec<_> = files
-            .iter()
-            .map(|f| predict(f, "original").unwrap())
-            .collect();
         let by_model: Vec<Vec<Option<serde_json::Value>>> = MODELS
             .iter()
             .map(|m| files.iter().map(|f| predict(f, m)).collect())
+            .collect();
+        // The thesis' own model is the original, one of MODELS: its predictions are reused.
+        let original = MODELS.iter().position(|&m| m == "original").unwrap();
+        let thesis: Vec<&serde_json::Value> = by_model[original]
+            .iter()
+            .map(|p| p.as_ref().unwrap())
             .collect();
         for (q, (quantity, key)) in quantities.into_iter().enumerate() {
             let ratios = by_model

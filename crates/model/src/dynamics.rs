@@ -13,12 +13,13 @@
 //! the static stiffness and the first resonance.
 
 use crate::banded::{dot, Band};
+use crate::beam_element::Element;
 use crate::effects::{Effects, StackBasis};
 use crate::error::ModelError;
 use crate::performance::MassBreakdown;
 use crate::planform::Planform;
 use crate::section::Section;
-use nalgebra::{DMatrix, DVector, Matrix2, Matrix4};
+use nalgebra::{DMatrix, DVector, Matrix4};
 
 /// Quality factor of a built actuator's first resonance when none is given (docs/physics.md §11.4): an
 /// assumption, 20, inside the Q of 18.6 and 21.8 measured on the two piezoelectric bending actuators of
@@ -105,6 +106,10 @@ impl Modal {
     }
 }
 
+/// The stiffness, the mass and the unit tip load on the held system's degrees of freedom (the clamped
+/// root's dropped, or the clamp's turn `ψ` first).
+type HeldSystem = (DMatrix<f64>, DMatrix<f64>, DVector<f64>);
+
 /// A solved beam's mode and static shapes on the held system's degrees of freedom (the clamped
 /// root's dropped, or the clamp's turn `ψ` first), for the Rayleigh quotients of `nearby_modes.rs`.
 #[derive(Debug, Clone)]
@@ -174,7 +179,8 @@ impl ActuatorBeam {
     /// fillets along the plates' outlines (`added-mass-per-length` λ) as a line mass `4 λ sec α` per unit
     /// length from the two long edges of both plates (α the half-taper angle) and a point mass `2 λ w_tip`
     /// from their tip edges, the root edges lying on the clamp line; the mass per actuator
-    /// (`added-mass`: leads and solder on the base tab) in the clamp, where it does not move.
+    /// (`added-mass`: leads and solder on the base tab) in the clamp, where it does not move; the tip
+    /// mass (`tip-mass`) at the tip, [`ActuatorBeam::end_mass`].
     pub fn from_effects(effects: &Effects, basis: &StackBasis, mass: &MassBreakdown) -> Self {
         let pl = basis.planform;
         let l_p = pl.piezo_length();
@@ -202,7 +208,7 @@ impl ActuatorBeam {
             stiffness_scale: effects.stiffness_scale,
             edge_line_mass: 4.0 * effects.added_mass_per_length * l_p.hypot(half_taper) / l_p,
             tip_point_mass: 2.0 * effects.added_mass_per_length * pl.tip_width(),
-            end_mass: 0.0,
+            end_mass: effects.tip_mass,
         }
     }
 
@@ -241,14 +247,49 @@ impl ActuatorBeam {
         extension: usize,
     ) -> Result<Shapes, ModelError> {
         self.check()?;
+        let (kr, mr, fr) = self.held_system(active, extension);
+        first_mode(&kr, &mr, &fr)
+    }
+
+    /// The held system with `active` (at least 1) and `extension` elements.
+    fn held_system(&self, active: usize, extension: usize) -> HeldSystem {
         let active = active.max(1);
         let (elements, compliant) = self.mesh(active, extension);
-        let (k, mut m) = assemble(&elements);
+        let mut kr = self.held_at_root(&assemble(&elements, Element::stiffness_matrix));
+        if self.clamp_compliance > 0.0 {
+            kr[(0, 0)] += 1.0 / self.clamp_compliance;
+        }
+        let (mr, fr) = self.held_mass(&elements, active, compliant);
+        (kr, mr, fr)
+    }
+
+    /// The held mass matrix and unit tip load on `elements` (this beam's [`ActuatorBeam::mesh`], `active`
+    /// over the active length): where each mass sits on the beam (docs/physics.md §11.4), linear in the
+    /// mass scalars, which `nearby_modes.rs` takes part by part.
+    pub(crate) fn held_mass(
+        &self,
+        elements: &[Element],
+        active: usize,
+        compliant: bool,
+    ) -> (DMatrix<f64>, DVector<f64>) {
+        let mut m = assemble(elements, Element::mass_matrix);
         // The tip edges' fillets at the end of the active region (node `active`).
         m[(2 * active, 2 * active)] += self.tip_point_mass;
         let load = self.tip_load(&mut m, compliant);
-        let (kr, mr, fr) = self.held_at_root(&k, &m, &load);
-        first_mode(&kr, &mr, &fr)
+        let mut mr = self.held_at_root(&m);
+        let full = load.len();
+        let h = self.rigid_root;
+        if self.clamp_compliance <= 0.0 {
+            return (mr, load.rows(2, full - 2).into_owned());
+        }
+        let mut fr = DVector::<f64>::zeros(full - 1);
+        fr[0] = h * load[0] + load[1];
+        fr.rows_mut(1, full - 2).copy_from(&load.rows(2, full - 2));
+        // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
+        let pl = &self.planform;
+        let mu = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
+        mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
+        (mr, fr)
     }
 
     /// The beam's elements: `active` over the free active length `[h, l_p]`, then `extension` over a
@@ -319,48 +360,27 @@ impl ActuatorBeam {
         load
     }
 
-    /// The system held at its root: clamped (drop the first node's two degrees of freedom), or
-    /// turning with the clamp's spring about x = 0, the held root `[0, h]` rigid with it: (v, θ) at
-    /// x = h is (h ψ, ψ).
-    fn held_at_root(
-        &self,
-        k: &DMatrix<f64>,
-        m: &DMatrix<f64>,
-        load: &DVector<f64>,
-    ) -> (DMatrix<f64>, DMatrix<f64>, DVector<f64>) {
-        let full = k.nrows();
+    /// A matrix on the system held at its root: clamped (the first node's two degrees of freedom
+    /// dropped), or turning with the clamp's spring about x = 0 (a non-positive compliance is a clamp),
+    /// the held root `[0, h]` rigid with it: (v, θ) at x = h is (h ψ, ψ), ψ first.
+    fn held_at_root(&self, a: &DMatrix<f64>) -> DMatrix<f64> {
+        let full = a.nrows();
         let h = self.rigid_root;
-        let spring = self.clamp_compliance > 0.0;
-        if !spring {
-            // Clamped: the first node's two degrees of freedom dropped.
-            let keep = |a: &DMatrix<f64>| a.view((2, 2), (full - 2, full - 2)).into_owned();
-            return (keep(k), keep(m), load.rows(2, full - 2).into_owned());
+        if self.clamp_compliance <= 0.0 {
+            return a.view((2, 2), (full - 2, full - 2)).into_owned();
         }
-        // The root turns by ψ: (v, θ) at x = h is (h ψ, ψ), the other degrees of freedom as they are.
-        let reduce = |a: &DMatrix<f64>| {
-            let n = full - 1;
-            let mut r = DMatrix::<f64>::zeros(n, n);
-            let row = |j: usize| h * a[(0, j)] + a[(1, j)];
-            r[(0, 0)] = h * row(0) + row(1);
-            for j in 2..full {
-                let v = row(j);
-                r[(0, j - 1)] = v;
-                r[(j - 1, 0)] = v;
-            }
-            r.view_mut((1, 1), (full - 2, full - 2))
-                .copy_from(&a.view((2, 2), (full - 2, full - 2)));
-            r
-        };
-        let mut fr = DVector::<f64>::zeros(full - 1);
-        fr[0] = h * load[0] + load[1];
-        fr.rows_mut(1, full - 2).copy_from(&load.rows(2, full - 2));
-        let (mut kr, mut mr) = (reduce(k), reduce(m));
-        kr[(0, 0)] += 1.0 / self.clamp_compliance;
-        // ∫0..h μ(x) x² dx, μ linear in x: Simpson is exact for the cubic.
-        let pl = &self.planform;
-        let mu = |x: f64| self.areal_mass * pl.width_at(x) + self.edge_line_mass;
-        mr[(0, 0)] += h / 6.0 * (4.0 * mu(h / 2.0) * h * h / 4.0 + mu(h) * h * h);
-        (kr, mr, fr)
+        let n = full - 1;
+        let mut r = DMatrix::<f64>::zeros(n, n);
+        let row = |j: usize| h * a[(0, j)] + a[(1, j)];
+        r[(0, 0)] = h * row(0) + row(1);
+        for j in 2..full {
+            let v = row(j);
+            r[(0, j - 1)] = v;
+            r[(j - 1, 0)] = v;
+        }
+        r.view_mut((1, 1), (full - 2, full - 2))
+            .copy_from(&a.view((2, 2), (full - 2, full - 2)));
+        r
     }
 
     pub(crate) fn check(&self) -> Result<(), ModelError> {
@@ -409,22 +429,19 @@ impl ActuatorBeam {
     }
 }
 
-/// The global stiffness and mass matrices of the elements, two degrees of freedom (v, θ) a node.
-fn assemble(elements: &[Element]) -> (DMatrix<f64>, DMatrix<f64>) {
+/// The global matrix of each element's `matrix`, two degrees of freedom (v, θ) a node.
+fn assemble(elements: &[Element], matrix: fn(&Element) -> Matrix4<f64>) -> DMatrix<f64> {
     let full = 2 * (elements.len() + 1);
-    let mut k = DMatrix::<f64>::zeros(full, full);
-    let mut m = DMatrix::<f64>::zeros(full, full);
+    let mut a = DMatrix::<f64>::zeros(full, full);
     for (e, el) in elements.iter().enumerate() {
-        let ke = el.stiffness_matrix();
-        let me = el.mass_matrix();
+        let me = matrix(el);
         for r in 0..4 {
             for c in 0..4 {
-                k[(2 * e + r, 2 * e + c)] += ke[(r, c)];
-                m[(2 * e + r, 2 * e + c)] += me[(r, c)];
+                a[(2 * e + r, 2 * e + c)] += me[(r, c)];
             }
         }
     }
-    (k, m)
+    a
 }
 
 /// The static tip compliance under the load `fr`, the Rayleigh mass of the static shape, and the
@@ -483,109 +500,6 @@ fn first_mode(
         mode: x,
         static_shape,
     })
-}
-
-/// One beam element on `[a, b]` with bending stiffness `EI` and line mass `μ` linear between the ends.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Element {
-    pub(crate) a: f64,
-    pub(crate) b: f64,
-    pub(crate) stiffness: [f64; 2],
-    pub(crate) line_mass: [f64; 2],
-}
-
-/// Gauss-Legendre abscissae and weights on [-1, 1], 4 points (exact to degree 7).
-const GAUSS4: [(f64, f64); 4] = [
-    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-    (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-    (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-];
-
-/// Gauss-Legendre abscissae and weights on [-1, 1], 8 points.
-const GAUSS8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-];
-
-impl Element {
-    /// Exact stiffness from the flexibility of the element as a cantilever from `a` (docs/physics.md
-    /// §11.1): `F = ∫ [(L-s)², (L-s); (L-s), 1] / EI(s) ds`, `K = Bᵀ F⁻¹ B` with `B` the end-`b`
-    /// deformation relative to the rigid motion of end `a`.
-    fn stiffness_matrix(&self) -> Matrix4<f64> {
-        let len = self.b - self.a;
-        #[rustfmt::skip]
-        let b = nalgebra::Matrix2x4::new(
-            -1.0, -len, 1.0, 0.0,
-            0.0, -1.0, 0.0, 1.0,
-        );
-        b.transpose() * self.end_stiffness() * b
-    }
-
-    /// The stiffness of end `b` relative to the rigid motion of end `a`, `F⁻¹` of
-    /// [`Element::stiffness_matrix`].
-    pub(crate) fn end_stiffness(&self) -> Matrix2<f64> {
-        let len = self.b - self.a;
-        let [e0, e1] = self.stiffness;
-        let ei = |s: f64| e0 + (e1 - e0) * s / len;
-        // 1/EI varies most where EI is smallest: split the element where EI has grown by 1.2 so that
-        // the 8-point rule integrates each piece to rounding.
-        let ratio = e0.max(e1) / e0.min(e1);
-        let pieces = ((ratio.ln() / 1.2f64.ln()).ceil() as usize).max(1);
-        let at = |k: usize| {
-            if pieces == 1 {
-                len * k as f64
-            } else {
-                let target = e0 * (e1 / e0).powf(k as f64 / pieces as f64);
-                len * (target - e0) / (e1 - e0)
-            }
-        };
-        let mut f = Matrix2::<f64>::zeros();
-        for p in 0..pieces {
-            let (s0, s1) = (at(p), at(p + 1));
-            let half = 0.5 * (s1 - s0);
-            for (xi, w) in GAUSS8 {
-                let s = s0 + half * (xi + 1.0);
-                let arm = len - s;
-                let weight = w * half / ei(s);
-                f[(0, 0)] += weight * arm * arm;
-                f[(0, 1)] += weight * arm;
-                f[(1, 1)] += weight;
-            }
-        }
-        f[(1, 0)] = f[(0, 1)];
-        f.try_inverse().expect("a positive-definite flexibility")
-    }
-
-    /// Consistent mass of the cubic Hermite shape functions with `μ` linear (4-point Gauss, exact).
-    pub(crate) fn mass_matrix(&self) -> Matrix4<f64> {
-        let len = self.b - self.a;
-        let [m0, m1] = self.line_mass;
-        let mut m = Matrix4::<f64>::zeros();
-        for (xi, w) in GAUSS4 {
-            let u = 0.5 * (xi + 1.0);
-            let n = [
-                1.0 - 3.0 * u * u + 2.0 * u.powi(3),
-                len * (u - 2.0 * u * u + u.powi(3)),
-                3.0 * u * u - 2.0 * u.powi(3),
-                len * (u.powi(3) - u * u),
-            ];
-            let mu = m0 + (m1 - m0) * u;
-            let weight = 0.5 * w * len * mu;
-            for r in 0..4 {
-                for c in 0..4 {
-                    m[(r, c)] += weight * n[r] * n[c];
-                }
-            }
-        }
-        m
-    }
 }
 
 #[cfg(test)]
@@ -764,13 +678,20 @@ mod tests {
         }
     }
 
+    /// A tapered beam with a rigid extension (267 µm PZT on [0/90/0]), where the mesh converges.
+    fn converging() -> ActuatorBeam {
+        let s = thesis_section(267e-6, &[0.0, 90.0, 0.0]);
+        ActuatorBeam::from_section(
+            &s,
+            &Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap(),
+        )
+    }
+
     #[test]
     fn first_frequency_converges() {
         // Hermite elements: the error in ω² falls as h⁴ or faster; with a taper and a rigid extension
         // the frequency on the default mesh agrees with a mesh four times finer to 1e-9.
-        let s = thesis_section(267e-6, &[0.0, 90.0, 0.0]);
-        let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
-        let beam = ActuatorBeam::from_section(&s, &pl);
+        let beam = converging();
         let f = |n: usize| beam.solve_with(n, 4).unwrap().frequency;
         let fine = f(4 * ACTIVE_ELEMENTS);
         let errors: Vec<f64> = [2, 4, 8, ACTIVE_ELEMENTS]
@@ -781,6 +702,30 @@ mod tests {
             assert!(pair[1] < pair[0] / 8.0, "{errors:?}");
         }
         assert!(errors[3] < 1e-9, "{errors:?}");
+    }
+
+    #[test]
+    fn the_eigenvalue_quotient_is_as_close_as_docs_say() {
+        // docs/physics.md §11.6: on the beam of `first_frequency_converges`, the inverse iteration's
+        // quotient xᵀMx / xᵀMK⁻¹Mx at 128 elements lies 3.5e-10 from the h⁴ extrapolation of the 8- and
+        // 32-element frequencies, the Rayleigh quotient xᵀKx / xᵀMx of the same mode 1.4e-9 (its
+        // product with K cancels); on the coarse mesh the two agree to 1e-13.
+        let beam = converging();
+        let f = |n: usize| beam.solve_with(n, 4).unwrap().frequency;
+        let product = |n: usize, e: usize| {
+            let (k, m, _) = beam.held_system(n, e);
+            let x = DVector::from_vec(beam.solve_shapes(n, e).unwrap().mode);
+            (x.dot(&(&k * &x)) / x.dot(&(&m * &x))).sqrt() / (2.0 * std::f64::consts::PI)
+        };
+        let (f8, f32) = (f(8), f(32));
+        let extrapolated = f32 + (f32 - f8) / 255.0;
+        let off = |f: f64| (f / extrapolated - 1.0).abs();
+        let (quotient, rayleigh) = (off(f(128)), off(product(128, 4)));
+        assert!(quotient < 3.5e-10, "{quotient:e}");
+        assert!((1.3e-9..1.5e-9).contains(&rayleigh), "{rayleigh:e}");
+        let (active, extension) = COARSE_ELEMENTS;
+        let coarse = product(active, extension) / beam.solve_coarse().unwrap().frequency - 1.0;
+        assert!(coarse.abs() < 1e-13, "{coarse:e}");
     }
 
     #[test]

@@ -115,6 +115,10 @@ pub struct Effects {
     /// primitive: adhesive with no stiffness in the stack). Recorded as a declared primitive.
     #[serde(skip)]
     pub added_mass_per_area: f64,
+    /// Point mass at the actuator's tip fitted after it was weighed, kg (null 0; the `tip-mass`
+    /// primitive): in the beam alone, not in [`Effects::added_mass`]. Recorded as a declared primitive.
+    #[serde(skip)]
+    pub tip_mass: f64,
 }
 
 /// Factors on the bond layer's isotropic material (null 1 each): its modulus E (E1 = E2, with G12 kept
@@ -157,6 +161,7 @@ impl Default for Effects {
             added_mass: 0.0,
             added_mass_per_length: 0.0,
             added_mass_per_area: 0.0,
+            tip_mass: 0.0,
         }
     }
 }
@@ -287,6 +292,12 @@ impl Effects {
             self.added_mass_per_area,
             self.added_mass_per_area >= 0.0,
             "at least 0 kg/m2",
+        )?;
+        check(
+            "tip_mass",
+            self.tip_mass,
+            self.tip_mass >= 0.0,
+            "at least 0 kg",
         )
     }
 
@@ -558,7 +569,7 @@ impl Effects {
         // Stresses under the changed blocked force (thesis eq. 3.3, and the CLT stress and strain along
         // the plate; with a rigid root the beam's root is at h, where the moment is F (L - h) over w(h)).
         let pl = &a.planform;
-        p.base_stress = 6.0 * force * pl.length / (pl.base_width * section.thickness.powi(2));
+        p.base_stress = crate::performance::base_stress(force, pl, section.thickness);
         let plate = crate::plate::over_stroke(&section, pl, force, self.held_root(pl));
         p.peak_pzt_strain = plate.strain;
         p.peak_pzt_strain_at = plate.strain_at;
@@ -621,6 +632,7 @@ mod tests {
             added_mass: 1e-6,
             added_mass_per_length: 5e-6,
             added_mass_per_area: 0.01,
+            tip_mass: 2e-6,
         };
         let p = e.predict(&a).unwrap();
         let (d, f) = e.outputs(&e.basis(&a).unwrap());
@@ -630,6 +642,11 @@ mod tests {
         assert!(((m.total() - p.mass) / p.mass).abs() < 1e-12);
         assert!((m.bond - p.mass_breakdown.bond).abs() < 1e-15);
         assert!((m.added - p.mass_breakdown.added).abs() < 1e-15 && m.added > 1e-6);
+        // The tip mass is fitted after weighing and moves f1 alone (docs/physics.md §11.4): the
+        // statics and the mass are those without it.
+        let no_tip = Effects { tip_mass: 0.0, ..e };
+        assert_eq!(no_tip.predict(&a).unwrap(), p);
+        assert_eq!(no_tip.mass(&a), m);
         // Each of the primitive-only fields moves the outputs (the agreement above is not vacuous).
         for off in [
             Effects {

@@ -402,12 +402,7 @@ impl FlappingSystem {
         // (m + I T²) ẍ + I T T' ẋ² + K T³ ẋ|ẋ| + c_s ẋ + k x + k_t (θ - θ_r) T = F sin ωt, T = dθ/dx.
         let accel = |t: f64, x: f64, v: f64| -> Option<f64> {
             let angle = self.linkage.stroke_angle(x)?;
-            let tr = self.linkage.ratio_at_angle(angle);
-            let h = 1e-6;
-            let slope = (self.linkage.ratio_at_angle(angle + h)
-                - self.linkage.ratio_at_angle(angle - h))
-                / (2.0 * h)
-                * tr;
+            let (tr, slope) = self.linkage.ratio_and_rate(angle)?;
             let rest_of = self.inertia * tr * slope * v * v
                 + self.damping * tr.powi(3) * v * v.abs()
                 + structural * v

@@ -113,6 +113,16 @@ impl Kinematics {
         }
     }
 
+    /// The local ratio `T = dθ/dx = 1/x'` at the wing's `θ` and its rate along the travel
+    /// `dT/dx = (dT/dθ) T = -x''/x'³` (rad/m, rad/m²), from [`Self::travel_derivatives`]: the ratio's
+    /// change the time integration's `I T T' ẋ²` term takes (docs/physics.md §14). `None` beyond the
+    /// transmission's reach.
+    pub fn ratio_and_rate(&self, angle: f64) -> Option<(f64, f64)> {
+        let (_, d1, d2) = self.travel_derivatives(angle)?;
+        let t = 1.0 / d1;
+        Some((t, -d2 * t * t * t))
+    }
+
     /// The local ratio at tip displacement `x`, rad/m.
     pub fn ratio(&self, x: f64) -> Option<f64> {
         self.stroke_angle(x).map(|a| self.ratio_at_angle(a))
@@ -168,6 +178,39 @@ mod tests {
         let rising = RatioLaw::through(2000.0, 1.0, 4000.0);
         assert!((rising.reach() - (2.0f64).sqrt()).abs() < 1e-12);
         assert!(rising.travel_derivatives(1.5).is_none());
+    }
+
+    #[test]
+    fn the_ratio_rate_is_the_central_difference_of_the_ratio_for_every_kinematics() {
+        // dT/dx = (dT/dθ) T against a central difference of `ratio_at_angle` in θ, for the slider-crank
+        // (eq. 2.5), the two-stage linkage (docs/physics.md §16.8) and the ratio law (§12.4).
+        let first = Linkage::solve(0.4e-3, -1.0, 1.0, 3.0).unwrap();
+        let two = TwoStage {
+            first: Linkage::new(2.4e-3, 0.6e-3, 0.0).unwrap(),
+            second: crate::fourbar::FourBar {
+                input: 1e-3,
+                coupler: 2e-3,
+                output: 0.5e-3,
+            },
+        };
+        let law = RatioLaw::through(3000.0, 1.0, 2400.0);
+        for k in [
+            Kinematics::SliderCrank(first),
+            Kinematics::TwoStage(two),
+            Kinematics::Ratio(law),
+        ] {
+            let h = 1e-5;
+            for i in -8..=8 {
+                let a = 0.09 * i as f64;
+                let (t, rate) = k.ratio_and_rate(a).unwrap();
+                assert!((t / k.ratio_at_angle(a) - 1.0).abs() < 1e-12, "{k:?} {a}");
+                let fd = (k.ratio_at_angle(a + h) - k.ratio_at_angle(a - h)) / (2.0 * h) * t;
+                // The difference's rounding is about 2e-16 T / h in dT/dθ, so 2e-11 T² in the rate; its
+                // truncation h² T''' / 6 is below 1e-8 of the rate.
+                let tolerance = 1e-8 * rate.abs() + 1e-10 * t * t;
+                assert!((rate - fd).abs() < tolerance, "{k:?} {a}: {rate} vs {fd}");
+            }
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //! Euler-Bernoulli models.
 
 mod banded;
+mod beam_element;
 pub mod calibrated_base;
 pub mod capacitance;
 pub mod ceramic;

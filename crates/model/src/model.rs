@@ -175,24 +175,11 @@ impl EffectModel {
 
     /// The actuator's beam under these effects (docs/physics.md §11.4): the stack from `basis`
     /// ([`EffectModel::basis`]), the boundary effects and the masses with the declared primitives
-    /// applied, the added masses where their primitives put them (a tip mass at the tip).
+    /// applied ([`primitives::boundary`], [`primitives::masses`]), the added masses where
+    /// [`ActuatorBeam::from_effects`] puts them (a tip mass at the tip).
     pub fn beam(&self, basis: &StackBasis, mass: &MassBreakdown) -> ActuatorBeam {
-        let mut effects = self.boundary_effects(&basis.planform);
-        let mut end_mass = 0.0;
-        for x in &self.primitives {
-            match x.primitive {
-                primitives::Primitive::AddedMassPerLength => {
-                    effects.added_mass_per_length += x.value
-                }
-                primitives::Primitive::AddedMassPerArea => effects.added_mass_per_area += x.value,
-                primitives::Primitive::TipMass => end_mass += x.value,
-                _ => {}
-            }
-        }
-        ActuatorBeam {
-            end_mass,
-            ..ActuatorBeam::from_effects(&effects, basis, mass)
-        }
+        let effects = primitives::masses(&self.primitives, &self.boundary_effects(&basis.planform));
+        ActuatorBeam::from_effects(&effects, basis, mass)
     }
 
     /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and
@@ -543,6 +530,41 @@ mod tests {
                     m.primitives[k]
                 );
             }
+        });
+    }
+
+    #[test]
+    fn the_mass_primitives_reach_the_beam_through_the_effects() {
+        // The beam reads the declared masses from the effects, as the library's own (docs/physics.md
+        // §11.4): the tip mass at the tip, the fillets and the adhesive along the active region.
+        with(|a| {
+            let applied = |primitive, value| Applied { primitive, value };
+            let m = EffectModel {
+                effects: Effects::default(),
+                primitives: vec![
+                    applied(Primitive::TipMass, 2e-6),
+                    applied(Primitive::AddedMassPerLength, 1e-4),
+                    applied(Primitive::AddedMassPerArea, 1e-3),
+                ],
+            };
+            let (basis, mass) = (m.basis(a).unwrap(), m.mass(a).unwrap());
+            let effects = Effects {
+                tip_mass: 2e-6,
+                added_mass_per_length: 1e-4,
+                added_mass_per_area: 1e-3,
+                ..Effects::default()
+            };
+            let beam = m.beam(&basis, &mass);
+            assert_eq!(beam, ActuatorBeam::from_effects(&effects, &basis, &mass));
+            assert_eq!(beam.end_mass, 2e-6);
+            // Only the beam sees the tip mass: f1 falls, the weighed mass does not move.
+            let no_tip = EffectModel {
+                primitives: m.primitives[1..].to_vec(),
+                ..m.clone()
+            };
+            assert_eq!(no_tip.mass(a).unwrap(), mass);
+            let f1 = |m: &EffectModel| m.modes(&basis, &mass).unwrap().frequency;
+            assert!(f1(&m) < 0.99 * f1(&no_tip), "{} vs {}", f1(&m), f1(&no_tip));
         });
     }
 

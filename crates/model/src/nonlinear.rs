@@ -14,7 +14,7 @@ use crate::ceramic::Ceramic;
 use crate::drive::{plate_fields_at, Drive};
 use crate::error::ModelError;
 use crate::laminate::{Laminate, LayerRole};
-use crate::performance::{evaluate, Performance};
+use crate::performance::{base_stress, beam_tip_compliance, evaluate, Performance};
 use crate::planform::Planform;
 use crate::plate::PlatePeak;
 use crate::section::Section;
@@ -283,13 +283,12 @@ impl<'a> NonlinearBeam<'a> {
         let moment = |x: f64| crate::plate::moment_per_width(pl, force, x);
         let (mut delta, mut compliance) = (0.0, 0.0);
         if force == 0.0 {
-            // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`.
+            // No load: every station is in the same state, `δ = κ (L l_p - l_p²/2)`, and (18.7)'s
+            // compliance is the linear beam's with the one tangent `∂κ/∂m` as its `C44`.
             let l_p = pl.piezo_length();
             let s = self.section.solve(0.0, None)?;
             delta = s.curvature * (l * l_p - 0.5 * l_p * l_p);
-            for &(x, w) in &self.stations {
-                compliance += w * s.slope * (l - x) * (l - x) / pl.width_at(x);
-            }
+            compliance = beam_tip_compliance(s.slope, pl);
         } else {
             let mut state = None;
             for &(x, w) in &self.stations {
@@ -343,10 +342,7 @@ impl<'a> NonlinearBeam<'a> {
         if ga == 0.0 {
             return Ok(0.0);
         }
-        let pl = &self.planform;
-        let l_p = pl.piezo_length();
-        let compliance = self.section.compliance[1][1] * l_p.powi(3) * pl.shape_factor()
-            / (3.0 * pl.nominal_width());
+        let compliance = beam_tip_compliance(self.section.compliance[1][1], &self.planform);
         let mut step = -ga / compliance;
         let (mut b, mut gb) = (step, g(step)?);
         let mut tries = 0;
@@ -519,13 +515,12 @@ pub fn predict(
     let section = Section::new(laminate, drive)?;
     let original = evaluate(&section, planform);
     let r = response(laminate, planform, &drive, ceramic)?;
-    let t = section.thickness;
     let p = Performance {
         peak_pzt_strain: r.peak.strain,
         peak_pzt_strain_at: r.peak.strain_at,
         peak_pzt_stress: r.peak.stress,
         peak_pzt_stress_at: r.peak.stress_at,
-        base_stress: 6.0 * r.blocked_force * planform.length / (planform.base_width * t * t),
+        base_stress: base_stress(r.blocked_force, planform, section.thickness),
         ..original
     };
     Ok(p.with_outputs(r.free_deflection, r.blocked_force, original.mass_breakdown))
@@ -603,6 +598,52 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn on_a_mirror_image_stack_the_trough_is_the_peak_mirrored() {
+        // docs/physics.md §18.4: the half-cycles swap the plates' fields, so on a stack that is its own
+        // mirror image the trough (phase -π/2) is the peak (π/2) mirrored about the rest position,
+        // `δ(-π/2) = 2 δ_rest - δ(π/2)` and `F(-π/2) = -F(π/2)`, and `response` need not solve it. Both
+        // solved here under the nonlinear ceramic, in every drive mode.
+        let j = Ceramic::JAFFERIS_2015;
+        let pl = Planform::new(42.2e-3, 0.833, 5e-3, 1.667, 0.0).unwrap();
+        let ends = |lam: &Laminate, drive: &Drive| {
+            let rest = half_cycle(lam, j, &pl, drive, 0.0)
+                .deflection(0.0, None)
+                .unwrap();
+            let end = |phase: f64| {
+                let beam = half_cycle(lam, j, &pl, drive, phase);
+                let free = beam.deflection(0.0, None).unwrap();
+                (free, beam.force_at(rest).unwrap())
+            };
+            (rest, end(FRAC_PI_2), end(-FRAC_PI_2))
+        };
+        let mirror = laminate(267e-6, &[0.0, 90.0, 0.0], false);
+        assert!(symmetric(&mirror));
+        for drive in drives() {
+            let [bottom, top] = plate_fields_at(&drive, FRAC_PI_2);
+            assert_eq!(plate_fields_at(&drive, -FRAC_PI_2), [top, bottom]);
+            let (rest, peak, trough) = ends(&mirror, &drive);
+            let what = format!("{drive:?}");
+            assert!(
+                (trough.0 - (2.0 * rest - peak.0)).abs() < 1e-9 * peak.0.abs(),
+                "{what}"
+            );
+            assert!((trough.1 + peak.1).abs() < 1e-9 * peak.1.abs(), "{what}");
+            // `response` reports (18.8) of these ends.
+            let r = response(&mirror, &pl, &drive, j).unwrap();
+            let delta = 0.5 * (peak.0 - trough.0).abs();
+            let force = 0.5 * (peak.1 - trough.1).abs();
+            assert!((r.free_deflection / delta - 1.0).abs() < 1e-9, "{what}");
+            assert!((r.blocked_force / force - 1.0).abs() < 1e-9, "{what}");
+        }
+        // Not so on a stack that is not its own mirror image: the shortcut would be wrong there.
+        let lopsided = laminate(267e-6, &[0.0, 0.0, 90.0], false);
+        assert!(!symmetric(&lopsided));
+        let drive = Drive::new(DriveMode::Parallel, 700e3);
+        let (rest, peak, trough) = ends(&lopsided, &drive);
+        assert!((trough.0 - (2.0 * rest - peak.0)).abs() > 1e-3 * peak.0.abs());
     }
 
     #[test]

@@ -87,8 +87,16 @@ pub fn free_deflection(section: &Section, planform: &Planform) -> f64 {
 /// Tip compliance of the tapered beam with a rigid extension,
 /// `c = C44 l_p³ G(w_r, l_r) / (3 w_nom)` (thesis eqs. 2.29-2.34, docs/physics.md §3), m/N.
 pub fn tip_compliance(section: &Section, planform: &Planform) -> f64 {
+    beam_tip_compliance(section.bending_compliance, planform)
+}
+
+/// The tip compliance `c = C44 l_p³ G(w_r, l_r) / (3 w_nom)` of a beam whose section bends by `C44`
+/// (1/(N·m)) under a moment per width (thesis eqs. 2.29-2.34, docs/physics.md §3), m/N:
+/// `C44 ∫0..l_p (L - x)² / w(x) dx` in closed form. A section whose `∂κ/∂m` is the same along the beam
+/// (the nonlinear ceramic's unloaded beam, docs/physics.md §18.3) takes it with that tangent as `C44`.
+pub fn beam_tip_compliance(bending_compliance: f64, planform: &Planform) -> f64 {
     let l_p = planform.piezo_length();
-    section.bending_compliance * l_p * l_p * l_p * planform.shape_factor()
+    bending_compliance * l_p * l_p * l_p * planform.shape_factor()
         / (3.0 * planform.nominal_width())
 }
 
@@ -97,6 +105,12 @@ pub fn tip_compliance(section: &Section, planform: &Planform) -> f64 {
 /// docs/physics.md §3).
 pub fn blocked_force(section: &Section, planform: &Planform) -> f64 {
     free_deflection(section, planform) / tip_compliance(section, planform)
+}
+
+/// Base stress under a tip force, `σ = 6 F l_tot / (w_0 t²)` (thesis eq. 3.3, docs/physics.md §6): the
+/// root of a homogeneous beam of the full thickness `t` carrying the moment `F l_tot`, Pa.
+pub fn base_stress(force: f64, planform: &Planform, thickness: f64) -> f64 {
+    6.0 * force * planform.length / (planform.base_width * thickness * thickness)
 }
 
 /// Mass `m = 2 ρ_p t_p A_pzt + Σ ρ_ply t_ply (A_pzt + A_ext + A_tab) + bond` (docs/physics.md §4).
@@ -117,7 +131,6 @@ pub fn evaluate(section: &Section, planform: &Planform) -> Performance {
     let force = blocked_force(section, planform);
     let masses = mass(section, planform);
     let plate = crate::plate::over_stroke(section, planform, force, 0.0);
-    let t = section.thickness;
     let base = Performance {
         free_deflection: 0.0,
         blocked_force: 0.0,
@@ -130,7 +143,7 @@ pub fn evaluate(section: &Section, planform: &Planform) -> Performance {
         peak_pzt_strain_at: plate.strain_at,
         peak_pzt_stress: plate.stress,
         peak_pzt_stress_at: plate.stress_at,
-        base_stress: 6.0 * force * planform.length / (planform.base_width * t * t),
+        base_stress: base_stress(force, planform, section.thickness),
         capacitance: VACUUM_PERMITTIVITY * section.relative_permittivity * planform.piezo_area()
             / section.pzt_thickness,
     };

@@ -374,14 +374,30 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
             Primitive::D31ThicknessPower => {
                 s.pzt.d31 *= (a.pzt_thickness / D31_REFERENCE_THICKNESS).powf(v)
             }
-            // Not the stack, but the mass the stacked effects report.
-            Primitive::AddedMass => s.effects.added_mass += v,
-            Primitive::AddedMassPerLength => s.effects.added_mass_per_length += v,
-            Primitive::AddedMassPerArea => s.effects.added_mass_per_area += v,
             _ => {}
         }
     }
+    // Not the stack, but the mass the stacked effects report.
+    s.effects = masses(applied, &s.effects);
     Ok(s)
+}
+
+/// Add the mass primitives of `applied` (added mass, per length, per area, tip mass) to `effects`:
+/// what the effects' mass ([`Effects::added_mass`]) and the beam ([`crate::dynamics::ActuatorBeam::from_effects`],
+/// docs/physics.md §11.4) read of them. Neither the stack nor the boundary does.
+pub fn masses<'x>(applied: impl IntoIterator<Item = &'x Applied>, effects: &Effects) -> Effects {
+    let mut e = *effects;
+    for x in applied {
+        let v = x.value;
+        match x.primitive {
+            Primitive::AddedMass => e.added_mass += v,
+            Primitive::AddedMassPerLength => e.added_mass_per_length += v,
+            Primitive::AddedMassPerArea => e.added_mass_per_area += v,
+            Primitive::TipMass => e.tip_mass += v,
+            _ => {}
+        }
+    }
+    e
 }
 
 /// Add the boundary and field primitives of `applied` to `effects` for an actuator of this planform

@@ -19,24 +19,33 @@ pub struct LinkageRow {
     /// The four-bar of a two-stage linkage, `[input, coupler, output]`, mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub four_bar_mm: Option<[f64; 3]>,
-    /// A ratio law's ratio at rest and at the required stroke: `[T0, stroke deg, T]`, rad/m.
+    /// A ratio law's ratio at rest and at the required stroke.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub ratio_law: Option<[f64; 3]>,
+    pub ratio_law: Option<RatioLawRow>,
     /// A two-stage linkage's flexures, each the shortest the template's film allows at its width, checked
     /// over the stroke as a drawn linkage's are (docs/physics.md §16.8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flexures: Option<Vec<FlexureRow>>,
 }
 
+/// A ratio law in the report (JSON `linkage.ratio_law`): its ratio at rest and at the required stroke,
+/// where the law's nonlinearity shows (docs/physics.md §12.4).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RatioLawRow {
+    pub at_rest_rad_per_m: f64,
+    pub stroke_deg: f64,
+    pub at_stroke_rad_per_m: f64,
+}
+
 impl LinkageRow {
     /// The summary's transmission lines: name, value and unit.
     pub fn summary(&self) -> Vec<(&'static str, String, &'static str)> {
-        if let Some([t0, deg, t]) = self.ratio_law {
+        if let Some(law) = self.ratio_law {
             let text = format!(
                 "{} at rest, {} at ±{}°; no linkage drawn",
-                fixed(t0, 0),
-                fixed(t, 0),
-                fixed(deg, 1)
+                fixed(law.at_rest_rad_per_m, 0),
+                fixed(law.at_stroke_rad_per_m, 0),
+                fixed(law.stroke_deg, 1)
             );
             return vec![("transmission ratio law", text, "rad/m")];
         }

@@ -2,6 +2,7 @@
 //! slider-crank of eq. 2.5, the two-stage linkage of a slider-crank and an amplifying four-bar, or a
 //! published ratio law (docs/physics.md §12, §16.8).
 
+use super::linkage_row::RatioLawRow;
 use super::report::LinkageRow;
 use crate::design::transmission::{LinkageSpec, TransmissionSpec};
 use crate::linkage::flexures::check_two_stage;
@@ -117,11 +118,11 @@ pub fn linkage_row(
     };
     let t0 = kinematics.ratio(0.0).unwrap_or(1.0 / kinematics.lever());
     let ratio_law = match spec.linkage {
-        LinkageSpec::Ratio(law) => {
-            // The ratio at the required stroke, where the law's nonlinearity shows.
-            let at = kinematics.ratio_at_angle(spec.stroke);
-            Some([law.ratio, spec.stroke.to_degrees(), at])
-        }
+        LinkageSpec::Ratio(law) => Some(RatioLawRow {
+            at_rest_rad_per_m: law.ratio,
+            stroke_deg: spec.stroke.to_degrees(),
+            at_stroke_rad_per_m: kinematics.ratio_at_angle(spec.stroke),
+        }),
         _ => None,
     };
     LinkageRow {

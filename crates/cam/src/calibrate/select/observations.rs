@@ -8,11 +8,11 @@ use super::pooled::{Member, Pools};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::effects::StackBasis;
-use actuator_model::nearby_modes::NearbyModes;
+use actuator_model::nearby_modes::{ModeCache, NearbyModes};
 use actuator_model::EffectModel;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{LazyLock, Mutex};
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
 /// cannot evaluate (a declared primitive driven out of range) gives NaN residuals, which the fit refuses.
@@ -179,6 +179,11 @@ pub(crate) struct ResonanceObs {
     pub(crate) ln_frequency: f64,
 }
 
+/// The cells the resonances' beams are solved in, one for every calibration in the process: a cell's
+/// forms are a function of the cell alone ([`ModeCache`]), so fits, stages and data sets share them
+/// without any value depending on which asked first.
+static CELLS: LazyLock<ModeCache> = LazyLock::new(ModeCache::default);
+
 /// The measured resonances with the beams each was solved for: a fit moves its parameters a little at
 /// a time, and the mode of a beam near a solved one follows from the solved one's shapes
 /// ([`NearbyModes`], docs/physics.md §11.6), whatever order the models fitted in parallel on the same
@@ -265,8 +270,8 @@ impl Resonances {
         };
         let beam = effects.beam(basis, &mass);
         let mode = match self.solved[k].lock() {
-            Ok(mut solved) => solved.modal(&beam),
-            Err(poisoned) => poisoned.into_inner().modal(&beam),
+            Ok(mut solved) => solved.modal(&CELLS, &beam),
+            Err(poisoned) => poisoned.into_inner().modal(&CELLS, &beam),
         };
         let Ok(mode) = mode else {
             return f64::NAN;
