@@ -213,3 +213,59 @@ fn plates_off_their_ordered_thickness_go_round_the_loop_to_their_thickness() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Plates `s` times as thick as ordered (`random_csv`'s data of `seed`), with each actuator's first
+/// resonance (1 % noise) on its first row when `resonances`.
+fn plates_with_resonances(s: f64, seed: u64, resonances: bool) -> String {
+    let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed);
+    let designs: Vec<Design> = (0..30).map(|_| random_design(&mut rng)).collect();
+    let csv = synthetic_csv(plates(s), &designs, &mut rng);
+    if !resonances {
+        return csv;
+    }
+    let physics = actuator_model::EffectModel {
+        effects: Effects {
+            d31_scale: 1.0 / s,
+            ..Effects::default()
+        },
+        primitives: vec![Applied {
+            primitive: PZT_THICKNESS,
+            value: s,
+        }],
+    };
+    with_first_row_columns(&csv, ",resonance_Hz", |id| {
+        let f = resonance_of(&physics, &designs[id]) * (0.01 * normal(&mut rng)).exp();
+        format!(",{f:.4}")
+    })
+}
+
+/// With the resonances measured, the joint criterion reads them too (docs/calibration.md §3, "Joint
+/// ranking"): a passive-thickness scale can mimic thin plates' deflections and forces, but not the
+/// resonance of their stiffness and mass, so it falls further behind the plates' own thickness than on
+/// the same rows without the resonance column; the plates' thickness leads both ways.
+#[test]
+fn the_resonances_put_the_plates_thickness_further_ahead_of_a_passive_scale() {
+    for seed in [5901 * 104_723 + 59, 5902 * 104_723 + 59] {
+        let behind = |resonances: bool| {
+            let data = parse(&plates_with_resonances(0.92, seed, resonances)).unwrap();
+            let cal = calibrate(&data, &Settings::default()).unwrap();
+            let d = cal
+                .discovery
+                .expect("a mass deficit is not explained by the library");
+            assert!(
+                d.candidates[0].name.starts_with(NAME),
+                "{}",
+                d.candidates[0].name
+            );
+            d.candidates
+                .iter()
+                .find(|c| c.name.starts_with("passive-thickness-scale"))
+                .map_or(f64::INFINITY, |c| c.delta_aicc)
+        };
+        let (without, with) = (behind(false), behind(true));
+        eprintln!(
+            "seed {seed}: passive-thickness-scale behind by {without:.1} without, {with:.1} with"
+        );
+        assert!(with > without, "{with} vs {without}");
+    }
+}

@@ -10,11 +10,40 @@
 //! `J = n_a ln(RSS_a / n_a) + n_m ln(RSS_m / n_m) + 2k + 2k(k + 1)/(n_a - k - 1)`,
 //!
 //! `a` the deflections and forces, `m` the masses, `k` every fitted parameter (the mass model's
-//! included; the small-sample term on `n_a`, as the selection's). Without masses it is the AICc the selection ranks by; for explanations on one mass model
-//! that leave the mass alone, the mass term is one constant and the ranking is that AICc's.
+//! included; the small-sample term on `n_a`, as the selection's), and with measured resonances a third
+//! kind, `+ n_f ln(RSS_f / n_f)`, each explanation's `f1` residuals at its fitted values. Without masses
+//! and resonances it is the AICc the selection ranks by; for explanations on one mass model that leave
+//! the mass and the resonance alone, those terms are constants and the ranking is that AICc's.
 
 use crate::calibrate::csv::Dataset;
+use crate::calibrate::select::observations::{ActuationData, StageData};
 use actuator_model::EffectModel;
+
+/// The resonance term of the criterion, `n_f ln(RSS_f / n_f)`, of the log resonance residuals of
+/// `model` on `act` (as measured, without the weight the fits give them): 0 without measured
+/// resonances, infinite where the model cannot give one.
+pub(crate) fn resonance_term(act: &ActuationData, model: &EffectModel) -> f64 {
+    if act.resonances.len() == 0 {
+        return 0.0;
+    }
+    let mut r = Vec::new();
+    act.residuals(model, None, &mut r);
+    let w = act.resonances.weight();
+    let f1 = &r[act.labels().len().min(r.len())..];
+    let rss: f64 = f1.iter().map(|x| (x / w).powi(2)).sum();
+    profiled_term(f1.len(), rss)
+}
+
+/// `n ln(RSS / n)`: twice the negative profiled Gaussian log-likelihood of `n` residuals, up to a
+/// constant; infinite for a sum that is not finite.
+fn profiled_term(n: usize, rss: f64) -> f64 {
+    let n = n as f64;
+    if rss.is_finite() && n > 0.0 {
+        n * (rss.max(1e-300) / n).ln()
+    } else {
+        f64::INFINITY
+    }
+}
 
 /// The weighed actuators, and the weight of a log mass residual beside a log deflection or force
 /// residual in a fit of both (σ_a / σ_m).
@@ -66,12 +95,7 @@ impl Masses {
 
     /// The mass term of the criterion, `n_m ln(RSS_m / n_m)`.
     pub fn term(&self, rss: f64) -> f64 {
-        let n = self.weighed.len() as f64;
-        if rss.is_finite() {
-            n * (rss.max(1e-300) / n).ln()
-        } else {
-            f64::INFINITY
-        }
+        profiled_term(self.weighed.len(), rss)
     }
 }
 

@@ -190,14 +190,15 @@ pub fn discover(
         .map(|t| format!("{} ({} residual)", t.exponent.variable, t.residual));
 
     let mass_forms = mass_fit::rank(data, selection);
-    let eta_aicc = selection
+    let scoring = Scoring::of(data, &act, &base, selection, &mass_forms);
+    let eta_joint = selection
         .candidates
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
-        .map_or(f64::INFINITY, |c| c.aicc);
-    let scoring = Scoring::of(data, &act, &base, selection, &mass_forms);
-    let eta_joint = eta_aicc + scoring.base_term;
-    let mut ranked = selection_candidates(data, selection, settings, &scoring);
+        .map_or(f64::INFINITY, |c| {
+            c.aicc + scoring.base_term + joint::resonance_term(&act, &c.model)
+        });
+    let mut ranked = selection_candidates(data, &act, selection, settings, &scoring, eta_joint);
     let partners = partners(data, selection);
     let stack = catalogue::Stack::of(data, &base, !selection.mass_candidates.is_empty());
     let tried = catalogue::catalogue(stack);
@@ -228,8 +229,9 @@ pub fn discover(
         fits.extend(in_place(data, masses)?);
     }
     ranked.extend(
-        fits.into_iter()
-            .map(|f| primitive_candidate(f, eta_joint, &scoring)),
+        fits.into_par_iter()
+            .map(|f| primitive_candidate(f, &act, eta_joint, &scoring))
+            .collect::<Vec<_>>(),
     );
     keep_gaining(&mut ranked, settings.min_delta_aicc);
     ranked.sort_by(|a, b| a.joint.total_cmp(&b.joint).then(a.name.cmp(&b.name)));
@@ -249,7 +251,7 @@ pub fn discover(
         leading_variable,
         candidates: ranked,
         ranked_by:
-            "the joint AICc of deflections, forces and masses, each kind with its own variance, of \
+            "the joint AICc of deflections, forces, masses and resonances, each kind with its own variance, of \
                     {eta, X} and of combinations {eta, A, X} that gain 4 over each part",
         designs,
         mass_forms,
@@ -349,17 +351,13 @@ impl Scoring {
 /// but its thickness form, which the catalogue's inactive surface layer is, fitted with the primitives.
 fn selection_candidates(
     data: &Dataset,
+    act: &ActuationData,
     selection: &Selection,
     settings: &Settings,
     scoring: &Scoring,
+    eta_joint: f64,
 ) -> Vec<RankedCandidate> {
     let eta_id = EffectId::D31Scale;
-    let eta_joint = selection
-        .candidates
-        .iter()
-        .find(|c| c.role == Role::Null && c.effects.len() == 1)
-        .map_or(f64::INFINITY, |c| c.aicc)
-        + scoring.base_term;
     selection
         .candidates
         .iter()
@@ -388,7 +386,8 @@ fn selection_candidates(
                 + match (&scoring.masses, c.carried.is_empty()) {
                     (Some(m), false) => m.term(m.rss(data, &c.model)) + scoring.base_penalty,
                     _ => scoring.base_term,
-                };
+                }
+                + joint::resonance_term(act, &c.model);
             RankedCandidate {
                 name: names.join(" + "),
                 // A declared effect ranks with the library's, and says it is declared.
@@ -460,12 +459,18 @@ fn partners(data: &Dataset, selection: &Selection) -> Vec<Partner> {
 
 /// A primitive outside the library as an explanation, alone `{η, P}` or beside a library effect
 /// `{η, A, P}` (named `A + P`).
-fn primitive_candidate(f: PrimitiveFit, eta_joint: f64, scoring: &Scoring) -> RankedCandidate {
+fn primitive_candidate(
+    f: PrimitiveFit,
+    act: &ActuationData,
+    eta_joint: f64,
+    scoring: &Scoring,
+) -> RankedCandidate {
     let single = catalogue::name(f.primitive);
     // Fitted in place of the chosen mass model: on the original model.
     let in_place = f.base.primitives.is_empty() && f.base.effects == Effects::default();
     let on_chosen = !in_place || scoring.replaced.is_none();
-    let joint = f.aicc + scoring.mass_part(f.rss_mass, on_chosen);
+    let joint =
+        f.aicc + scoring.mass_part(f.rss_mass, on_chosen) + joint::resonance_term(act, &f.model());
     let explains_masses = match (&scoring.masses, f.rss_mass) {
         (Some(m), Some(rss)) => m.term(rss) < scoring.best_mass_term + MASS_MARGIN,
         _ => false,

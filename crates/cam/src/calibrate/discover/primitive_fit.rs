@@ -221,6 +221,11 @@ impl PrimitiveFit {
         &self,
         a: &actuator_model::effects::Actuator,
     ) -> Result<actuator_model::Performance, actuator_model::ModelError> {
+        self.model().predict(a)
+    }
+
+    /// The fitted model: the primitive (and partner) at its value on top of its base with η.
+    pub fn model(&self) -> EffectModel {
         let mut m = model_at(
             &self.base,
             self.primitive,
@@ -229,7 +234,7 @@ impl PrimitiveFit {
             self.theta.get(2).copied().unwrap_or(0.0),
         );
         m.effects.d31_scale *= self.theta[0];
-        m.predict(a)
+        m
     }
 }
 
