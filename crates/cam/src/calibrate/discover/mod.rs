@@ -9,7 +9,7 @@
 //!   fitted as a one-parameter effect `{η, P}`, and again beside the best library effect A, `{η, A, P}`
 //!   (data where a library effect and one outside it are both present). A primitive that changes the
 //!   mass is fitted on the masses too, and again in place of the chosen mass model. Ranked by the joint
-//!   criterion of [`joint`] (masses, deflections and forces, each kind by its own noise) with the
+//!   criterion of [`joint`] (masses, deflections, forces and resonances, each kind by its own noise) with the
 //!   selection's own fits: the library's and the declared effects `{η, A}` and the
 //!   library pairs `{η, A, B}` (the cross-validated error would cost ten refits each). A combination is
 //!   listed only when it gains at least the selection's margin (ΔAICc 4) over each of its parts, the rule
