@@ -216,7 +216,12 @@ fn command_cases() -> Vec<Case> {
         ],
     ));
     cases.push(case("weibull", &["weibull", "tests/fixtures/failures.csv"]));
-    for wing in ["drive-hawkmoth", "drive-robobee", "drive-robobee-two-stage"] {
+    for wing in [
+        "drive-hawkmoth",
+        "drive-robobee",
+        "drive-robobee-two-stage",
+        "drive-robobee-jafferis2016",
+    ] {
         let file = format!("examples/{wing}.toml");
         cases.push(case(wing, &["drive", &file, "-o", "{out}"]));
         cases.push(case(format!("{wing}-json"), &["drive", &file, "--json"]));

@@ -37,4 +37,5 @@ mod stock;
 mod sweep;
 mod two_stage;
 mod validation;
+mod validation_vehicle;
 mod weibull;

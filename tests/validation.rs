@@ -8,27 +8,27 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The models each row is predicted with, in the table's column order.
-const MODELS: &[&str] = &["original", "thesis-adjusted", "nonlinear"];
+pub(crate) const MODELS: &[&str] = &["original", "thesis-adjusted", "nonlinear"];
 
 const BEGIN: &str = "<!-- validation:begin -->";
 const END: &str = "<!-- validation:end -->";
 
 /// One published measurement and the tool's ratio to it under each model (`None` where a model
 /// does not predict the quantity). A band (the MFI's unknown stack) has a lowest and a highest ratio.
-struct Row {
-    item: String,
-    quantity: &'static str,
-    published: String,
+pub(crate) struct Row {
+    pub(crate) item: String,
+    pub(crate) quantity: &'static str,
+    pub(crate) published: String,
     /// The published scatter of the ratio, where the source gives one: a ratio within `1 ± scatter`
     /// is within it (the thesis' standard deviation `s` of k, the MFI's two actuators' half range).
-    scatter: Option<f64>,
-    source: &'static str,
-    assumption: String,
-    ratios: Vec<Option<(f64, f64)>>,
+    pub(crate) scatter: Option<f64>,
+    pub(crate) source: &'static str,
+    pub(crate) assumption: String,
+    pub(crate) ratios: Vec<Option<(f64, f64)>>,
 }
 
 /// `predict --json --model MODEL FILE`; `None` where the model refuses the design.
-fn predict(file: &Path, model: &str) -> Option<serde_json::Value> {
+pub(crate) fn predict(file: &Path, model: &str) -> Option<serde_json::Value> {
     let out = run(&[
         "predict",
         "--json",
@@ -41,7 +41,7 @@ fn predict(file: &Path, model: &str) -> Option<serde_json::Value> {
         .then(|| serde_json::from_slice(&out.stdout).unwrap())
 }
 
-fn number(j: &serde_json::Value, key: &str) -> f64 {
+pub(crate) fn number(j: &serde_json::Value, key: &str) -> f64 {
     j[key]
         .as_f64()
         .unwrap_or_else(|| panic!("{key} missing in {j}"))
@@ -349,6 +349,7 @@ fn all_rows() -> Vec<Row> {
         ],
     ));
     rows.extend(mfi_band(dir.path()));
+    rows.push(crate::validation_vehicle::operating_point(dir.path()));
     rows
 }
 

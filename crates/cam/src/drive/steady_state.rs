@@ -91,14 +91,23 @@ fn beyond_field_limit(
     let force_limit = per_field * limits.max_signal;
     let best = best_within(spec, system, force_limit);
     let field = s.force / per_field;
+    // A bias past the limit on its own leaves no signal within it, and no stronger actuator helps.
+    let stronger = if force_limit > 0.0 {
+        format!(
+            "it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator)",
+            s.force / force_limit
+        )
+    } else {
+        "the bias alone is past the limit, so no signal is within it (a lower drive.bias_V)"
+            .to_string()
+    };
     let change = format!(
-        "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm ({}): it takes {:.2} times the blocked force per volt at this stiffness (a wider, longer or thinner-plated actuator), {}, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
+        "the stroke needs {:.0} V/mm in {} drive (field survival {}) against the limit of {:.0} V/mm ({}): {stronger}, {}, a smaller stroke, or a flapping frequency nearer the resonance ({:.1} Hz)",
         field * 1e-3,
         design.drive.mode.name(),
         fixed(Drive { field, ..design.drive }.survival(), 4),
         limits.max_signal * 1e-3,
         limits.binds.name(),
-        s.force / force_limit,
         relief(limits),
         nearest_resonance(system, spec.transmission.stroke),
     );
