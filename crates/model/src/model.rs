@@ -195,6 +195,58 @@ impl EffectModel {
         }
     }
 
+    /// True when `self` and `other` give every actuator the same mass, beam and statics' tip stiffness
+    /// on the same [`StackBasis`] ([`EffectModel::mass`], [`EffectModel::beam`],
+    /// [`EffectModel::tip_stiffness`]), to the bit: the same primitives in the same order, and the same
+    /// values but for what acts on the drive alone (d31 and its field dependence, the undriven root and
+    /// edge strips, a dead surface layer; [`primitives::Primitive::changes_beam`]), whose differing
+    /// values are finite, as the mass asks of every primitive value ([`primitives::stack`]).
+    pub fn same_beam(&self, other: &EffectModel) -> bool {
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        // Every field named, so that a field added to the effects is classed here.
+        let Effects {
+            d31_scale: _,
+            d31_field_coefficient: _,
+            dead_length: _,
+            edge_margin: _,
+            inactive_surface: _,
+            bond_thickness,
+            extension_flexibility,
+            clamp_compliance,
+            ply_thickness_scale,
+            stiffness_scale,
+            bond_scale,
+            rigid_root,
+            added_mass,
+            added_mass_per_length,
+            added_mass_per_area,
+        } = self.effects;
+        let o = &other.effects;
+        let effects = [
+            (bond_thickness, o.bond_thickness),
+            (extension_flexibility, o.extension_flexibility),
+            (clamp_compliance, o.clamp_compliance),
+            (ply_thickness_scale, o.ply_thickness_scale),
+            (stiffness_scale, o.stiffness_scale),
+            (bond_scale.modulus, o.bond_scale.modulus),
+            (bond_scale.poisson, o.bond_scale.poisson),
+            (bond_scale.density, o.bond_scale.density),
+            (rigid_root, o.rigid_root),
+            (added_mass, o.added_mass),
+            (added_mass_per_length, o.added_mass_per_length),
+            (added_mass_per_area, o.added_mass_per_area),
+        ];
+        effects.iter().all(|&(a, b)| same(a, b))
+            && self.primitives.len() == other.primitives.len()
+            && self.primitives.iter().zip(&other.primitives).all(|(a, b)| {
+                a.primitive == b.primitive
+                    && (same(a.value, b.value)
+                        || (!a.primitive.changes_beam()
+                            && a.value.is_finite()
+                            && b.value.is_finite()))
+            })
+    }
+
     /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and
     /// `calibrate` fits to a measured one: the beam's mode ([`EffectModel::beam`]) with its stiffness
     /// scaled to the statics' `k = F_b / δ` of `basis` ([`Modal::with_stiffness`]).
