@@ -150,8 +150,14 @@ pub(crate) struct Resonances {
     /// as one more deflection or force reading), σ_actuation / σ_f1 while the chosen model is estimated
     /// (`resonance_weight.rs`). Set between fits, on the data the fitter already holds.
     weight: AtomicU64,
-    solved: Vec<Mutex<Solved>>,
+    solved: Vec<Own<Mutex<Solved>>>,
 }
+
+/// A value on cache lines of its own: the resonances of neighbouring actuators, locked by different
+/// threads, do not share one.
+#[derive(Debug, Default)]
+#[repr(align(128))]
+struct Own<T>(T);
 
 impl Default for Resonances {
     fn default() -> Self {
@@ -169,7 +175,7 @@ impl Clone for Resonances {
 
 impl Resonances {
     pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
-        let solved = obs.iter().map(|_| Mutex::default()).collect();
+        let solved = obs.iter().map(|_| Own::default()).collect();
         Resonances {
             obs,
             weight: AtomicU64::new(1.0f64.to_bits()),
@@ -219,39 +225,30 @@ impl Resonances {
         asked: &BeamModel,
         basis: &StackBasis,
     ) -> f64 {
-        let mut solved = match self.solved[k].lock() {
+        // Locked only to look up and to solve: the models fitted at once on these data ask for the
+        // actuators in the same order, and would wait for each other's beams.
+        let solved = || match self.solved[k].0.lock() {
             Ok(solved) => solved,
             Err(poisoned) => poisoned.into_inner(),
         };
-        let residual = match solved.kept(asked, basis) {
-            Some(r) => r,
-            None => {
-                let r = self.solve(data, k, asked.model, basis, &mut solved.modes);
-                solved.keep(asked, basis, r);
-                r
-            }
-        };
-        residual * self.weight()
-    }
-
-    /// The log residual of resonance `k` before the weight, its mode from `modes`.
-    fn solve(
-        &self,
-        data: &Dataset,
-        k: usize,
-        effects: &EffectModel,
-        basis: &StackBasis,
-        modes: &mut NearbyModes,
-    ) -> f64 {
+        if let Some(r) = solved().kept(asked, basis) {
+            return r * self.weight();
+        }
         let o = &self.obs[k];
-        let Ok(mass) = effects.mass(&data.rows[o.row].actuator()) else {
-            return f64::NAN;
+        let model = asked.model;
+        let beam = model
+            .mass(&data.rows[o.row].actuator())
+            .map(|mass| (model.beam(basis, &mass), model.tip_stiffness(basis)));
+        let mut solved = solved();
+        let residual = match beam {
+            Ok((beam, stiffness)) => match solved.modes.modal(&beam) {
+                Ok(mode) => o.ln_frequency - mode.frequency_at(stiffness).ln(),
+                Err(_) => f64::NAN,
+            },
+            Err(_) => f64::NAN,
         };
-        let Ok(mode) = modes.modal(&effects.beam(basis, &mass)) else {
-            return f64::NAN;
-        };
-        let model = mode.frequency_at(effects.tip_stiffness(basis));
-        o.ln_frequency - model.ln()
+        solved.keep(asked, basis, residual);
+        residual * self.weight()
     }
 }
 
@@ -322,7 +319,7 @@ mod tests {
             }
         }
         for (k, o) in obs.iter().enumerate() {
-            let solved = kept.solved[k].lock().expect("not poisoned");
+            let solved = kept.solved[k].0.lock().expect("not poisoned");
             // The first model's d31 and margin columns share its entry; the clamp step and the refused
             // margin take their own.
             assert_eq!(solved.recent.len(), 3);
