@@ -1085,7 +1085,8 @@ pub(crate) mod tests {
                     assert!(!moved.same_beam(&model) && moved.mass(a).is_err(), "{x:?}");
                 }
             }
-            let effects: [(&str, fn(&mut Effects), bool); 15] = [
+            type Move = fn(&mut Effects);
+            let effects: [(&str, Move, bool); 15] = [
                 ("d31_scale", |e| e.d31_scale = 0.8, true),
                 ("d31_field", |e| e.d31_field_coefficient = 1e-7, true),
                 ("dead_length", |e| e.dead_length = 1e-3, true),

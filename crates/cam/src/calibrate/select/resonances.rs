@@ -1,5 +1,5 @@
 //! The measured first resonances of an actuation stage and their log residuals, each actuator's `f1`
-//! kept for the models a fit asks for again: most of a fit's evaluations move the drive alone (a
+//! kept for the models a fit asks for again: many of a fit's evaluations move the drive alone (a
 //! Jacobian column of d31 or a dead length, a fold's refit of them), and those leave every `f1` as it
 //! was.
 
@@ -71,10 +71,13 @@ impl<'m> BeamModel<'m> {
             e.added_mass_per_length,
             e.added_mass_per_area,
         ];
-        let beam_primitives = model
-            .primitives
-            .iter()
-            .map(|x| x.primitive.changes_beam().then_some(x.value).unwrap_or(0.0));
+        let beam_primitives = model.primitives.iter().map(|x| {
+            if x.primitive.changes_beam() {
+                x.value
+            } else {
+                0.0
+            }
+        });
         let digest = values
             .into_iter()
             .chain(beam_primitives)
