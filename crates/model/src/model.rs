@@ -5,7 +5,7 @@ use crate::calibrated_base::{self, Base};
 use crate::ceramic::Ceramic;
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
-use crate::effects::{Actuator, Effects, StackBasis, StackSection};
+use crate::effects::{Actuator, BondScale, Effects, StackBasis, StackSection};
 use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
@@ -203,7 +203,11 @@ impl EffectModel {
     /// values are finite, as the mass asks of every primitive value ([`primitives::stack`]).
     pub fn same_beam(&self, other: &EffectModel) -> bool {
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
-        // Every field named, so that a field added to the effects is classed here.
+        // Every field named, so that a field added to the model or its effects is classed here.
+        let EffectModel {
+            effects,
+            primitives,
+        } = self;
         let Effects {
             d31_scale: _,
             d31_field_coefficient: _,
@@ -220,25 +224,30 @@ impl EffectModel {
             added_mass,
             added_mass_per_length,
             added_mass_per_area,
-        } = self.effects;
+        } = *effects;
+        let BondScale {
+            modulus,
+            poisson,
+            density,
+        } = bond_scale;
         let o = &other.effects;
-        let effects = [
+        let values = [
             (bond_thickness, o.bond_thickness),
             (extension_flexibility, o.extension_flexibility),
             (clamp_compliance, o.clamp_compliance),
             (ply_thickness_scale, o.ply_thickness_scale),
             (stiffness_scale, o.stiffness_scale),
-            (bond_scale.modulus, o.bond_scale.modulus),
-            (bond_scale.poisson, o.bond_scale.poisson),
-            (bond_scale.density, o.bond_scale.density),
+            (modulus, o.bond_scale.modulus),
+            (poisson, o.bond_scale.poisson),
+            (density, o.bond_scale.density),
             (rigid_root, o.rigid_root),
             (added_mass, o.added_mass),
             (added_mass_per_length, o.added_mass_per_length),
             (added_mass_per_area, o.added_mass_per_area),
         ];
-        effects.iter().all(|&(a, b)| same(a, b))
-            && self.primitives.len() == other.primitives.len()
-            && self.primitives.iter().zip(&other.primitives).all(|(a, b)| {
+        values.iter().all(|&(a, b)| same(a, b))
+            && primitives.len() == other.primitives.len()
+            && primitives.iter().zip(&other.primitives).all(|(a, b)| {
                 a.primitive == b.primitive
                     && (same(a.value, b.value)
                         || (!a.primitive.changes_beam()

@@ -6,7 +6,7 @@
 use crate::calibrate::csv::Dataset;
 use actuator_model::effects::StackBasis;
 use actuator_model::nearby_modes::NearbyModes;
-use actuator_model::EffectModel;
+use actuator_model::{EffectModel, Planform};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
@@ -92,15 +92,30 @@ impl<'m> BeamModel<'m> {
 /// bit ([`EffectModel::beam`] and [`EffectModel::tip_stiffness`] read nothing else of a basis; the
 /// free curvature and the field are the drive's).
 fn same_stiffness(a: &StackBasis, b: &StackBasis) -> bool {
-    let (p, q) = (&a.planform, &b.planform);
+    // Every field named, so that a field added to a basis or a planform is classed here.
+    let StackBasis {
+        free_curvature: _,
+        beam_compliance,
+        extension_compliance,
+        field: _,
+        planform,
+    } = *a;
+    let Planform {
+        length,
+        extension_ratio,
+        base_width,
+        width_ratio,
+        base_tab,
+    } = planform;
+    let q = &b.planform;
     [
-        (a.beam_compliance, b.beam_compliance),
-        (a.extension_compliance, b.extension_compliance),
-        (p.length, q.length),
-        (p.extension_ratio, q.extension_ratio),
-        (p.base_width, q.base_width),
-        (p.width_ratio, q.width_ratio),
-        (p.base_tab, q.base_tab),
+        (beam_compliance, b.beam_compliance),
+        (extension_compliance, b.extension_compliance),
+        (length, q.length),
+        (extension_ratio, q.extension_ratio),
+        (base_width, q.base_width),
+        (width_ratio, q.width_ratio),
+        (base_tab, q.base_tab),
     ]
     .iter()
     .all(|(x, y)| x.to_bits() == y.to_bits())
