@@ -5,7 +5,7 @@ use crate::calibrated_base::{self, Base};
 use crate::ceramic::Ceramic;
 use crate::drive::Drive;
 use crate::dynamics::{ActuatorBeam, Modal};
-use crate::effects::{Actuator, Effects, StackBasis, StackSection};
+use crate::effects::{Actuator, BondScale, Effects, StackBasis, StackSection};
 use crate::empirical;
 use crate::error::ModelError;
 use crate::euler_bernoulli::BeamBimorph;
@@ -180,6 +180,69 @@ impl EffectModel {
     pub fn beam(&self, basis: &StackBasis, mass: &MassBreakdown) -> ActuatorBeam {
         let effects = primitives::masses(&self.primitives, &self.boundary_effects(&basis.planform));
         ActuatorBeam::from_effects(&effects, basis, mass)
+    }
+
+    /// True when `self` and `other` give every actuator the same mass, beam and statics' tip stiffness
+    /// on the same [`StackBasis`] ([`EffectModel::mass`], [`EffectModel::beam`],
+    /// [`EffectModel::tip_stiffness`]), to the bit: the same primitives in the same order, and the same
+    /// values but for what acts on the drive alone (d31 and its field dependence, the undriven root and
+    /// edge strips, a dead surface layer; [`primitives::Primitive::changes_beam`]), whose differing
+    /// values are finite, as the mass asks of every primitive value ([`primitives::stack`]).
+    pub fn same_beam(&self, other: &EffectModel) -> bool {
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        // Every field named, so that a field added to the model or its effects is classed here.
+        let EffectModel {
+            effects,
+            primitives,
+        } = self;
+        let Effects {
+            d31_scale: _,
+            d31_field_coefficient: _,
+            dead_length: _,
+            edge_margin: _,
+            inactive_surface: _,
+            bond_thickness,
+            extension_flexibility,
+            clamp_compliance,
+            ply_thickness_scale,
+            stiffness_scale,
+            bond_scale,
+            rigid_root,
+            added_mass,
+            added_mass_per_length,
+            added_mass_per_area,
+            tip_mass,
+        } = *effects;
+        let BondScale {
+            modulus,
+            poisson,
+            density,
+        } = bond_scale;
+        let o = &other.effects;
+        let values = [
+            (bond_thickness, o.bond_thickness),
+            (extension_flexibility, o.extension_flexibility),
+            (clamp_compliance, o.clamp_compliance),
+            (ply_thickness_scale, o.ply_thickness_scale),
+            (stiffness_scale, o.stiffness_scale),
+            (modulus, o.bond_scale.modulus),
+            (poisson, o.bond_scale.poisson),
+            (density, o.bond_scale.density),
+            (rigid_root, o.rigid_root),
+            (added_mass, o.added_mass),
+            (added_mass_per_length, o.added_mass_per_length),
+            (added_mass_per_area, o.added_mass_per_area),
+            (tip_mass, o.tip_mass),
+        ];
+        values.iter().all(|&(a, b)| same(a, b))
+            && primitives.len() == other.primitives.len()
+            && primitives.iter().zip(&other.primitives).all(|(a, b)| {
+                a.primitive == b.primitive
+                    && (same(a.value, b.value)
+                        || (!a.primitive.changes_beam()
+                            && a.value.is_finite()
+                            && b.value.is_finite()))
+            })
     }
 
     /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and

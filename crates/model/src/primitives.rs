@@ -174,6 +174,25 @@ impl Primitive {
         ) || self.is_added_mass()
     }
 
+    /// True when the primitive can change an actuator's beam, mass or statics' tip stiffness on a given
+    /// stack basis, so its first mode ([`crate::EffectModel::modes`]): everything but what acts on the
+    /// drive alone (d31 and its field or thickness dependence, the permittivity, an undriven root or
+    /// edge strip, a dead surface layer), which moves the free curvature and nothing the mode reads
+    /// (docs/physics.md §11.1).
+    pub fn changes_beam(self) -> bool {
+        !matches!(
+            self,
+            Primitive::Scale {
+                property: Property::D31 | Property::Permittivity,
+                ..
+            } | Primitive::FieldDependentD31
+                | Primitive::ElectrodeMargin
+                | Primitive::EdgeMargin
+                | Primitive::InactiveSurfaceLayer
+                | Primitive::D31ThicknessPower
+        )
+    }
+
     /// True for the primitives that change the mass alone (an added mass per actuator, per outline
     /// length or per bonded area): δ, F_b and the stack are untouched.
     pub fn is_added_mass(self) -> bool {
@@ -331,14 +350,8 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
         ply_thickness: a.ply_thickness,
     };
     for x in applied {
+        stack_effects(&mut s.effects, x)?;
         let v = x.value;
-        if !v.is_finite() {
-            return Err(ModelError::OutOfRange {
-                name: "primitive value",
-                value: v,
-                range: "finite",
-            });
-        }
         match x.primitive {
             Primitive::Scale {
                 target: Target::Pzt,
@@ -348,27 +361,6 @@ pub fn stack(applied: &[Applied], base: &Effects, a: &Actuator) -> Result<Stacke
                 target: Target::Passive,
                 property,
             } => scale(&mut s.ply, &mut s.ply_thickness, property, v),
-            Primitive::Scale {
-                target: Target::Bond,
-                property,
-            } => {
-                if let Err(range) = Target::Bond.scalable(property) {
-                    return Err(ModelError::OutOfRange {
-                        name: "bond scale primitive",
-                        value: v,
-                        range,
-                    });
-                }
-                let k = &mut s.effects.bond_scale;
-                match property {
-                    Property::Thickness => s.effects.bond_thickness *= v,
-                    Property::Density => k.density *= v,
-                    Property::Nu12 => k.poisson *= v,
-                    _ => k.modulus *= v,
-                }
-            }
-            Primitive::InsertedLayer => s.effects.bond_thickness += v,
-            Primitive::InactiveSurfaceLayer => s.effects.inactive_surface += v,
             // The designed plate (`a`), not one a thickness scale in `applied` has changed: the trend is
             // over the plates as bought.
             Primitive::D31ThicknessPower => {
@@ -398,6 +390,44 @@ pub fn masses<'x>(applied: impl IntoIterator<Item = &'x Applied>, effects: &Effe
         }
     }
     e
+}
+
+/// The part of [`stack`] that acts on the effects (a bond scale, an inserted or inactive layer), after
+/// checking that the value is finite; the materials are left to [`stack`].
+fn stack_effects(effects: &mut Effects, x: &Applied) -> Result<(), ModelError> {
+    let v = x.value;
+    if !v.is_finite() {
+        return Err(ModelError::OutOfRange {
+            name: "primitive value",
+            value: v,
+            range: "finite",
+        });
+    }
+    match x.primitive {
+        Primitive::Scale {
+            target: Target::Bond,
+            property,
+        } => {
+            if let Err(range) = Target::Bond.scalable(property) {
+                return Err(ModelError::OutOfRange {
+                    name: "bond scale primitive",
+                    value: v,
+                    range,
+                });
+            }
+            let k = &mut effects.bond_scale;
+            match property {
+                Property::Thickness => effects.bond_thickness *= v,
+                Property::Density => k.density *= v,
+                Property::Nu12 => k.poisson *= v,
+                _ => k.modulus *= v,
+            }
+        }
+        Primitive::InsertedLayer => effects.bond_thickness += v,
+        Primitive::InactiveSurfaceLayer => effects.inactive_surface += v,
+        _ => {}
+    }
+    Ok(())
 }
 
 /// Add the boundary and field primitives of `applied` to `effects` for an actuator of this planform
@@ -461,6 +491,24 @@ pub fn mass(
     // calibration asks for the mass of every actuator at every step of every fit).
     if applied.is_empty() {
         return Ok(base.mass(a));
+    }
+    // The mass reads the plates' and plies' densities and thicknesses alone: where no primitive scales
+    // them, the stacked effects weigh the actuator's own materials, which are not copied.
+    let weighed_as_built = applied.iter().all(|x| {
+        !matches!(
+            x.primitive,
+            Primitive::Scale {
+                target: Target::Pzt | Target::Passive,
+                property: Property::Density | Property::Thickness,
+            }
+        )
+    });
+    if weighed_as_built {
+        let mut effects = *base;
+        for x in applied {
+            stack_effects(&mut effects, x)?;
+        }
+        return Ok(masses(applied, &effects).mass(a));
     }
     let s = stack(applied, base, a)?;
     Ok(s.effects.mass(&s.actuator(a)))
@@ -1015,6 +1063,92 @@ pub(crate) mod tests {
                 }
             });
         }
+    }
+
+    /// A primitive that acts on the drive alone ([`Primitive::changes_beam`] false) leaves an actuator's
+    /// mass, beam and statics' tip stiffness on a given basis as they were, to the bit, and
+    /// [`crate::EffectModel::same_beam`] holds; it tells every other primitive apart, and a drive-alone
+    /// value that is not finite (the mass refuses it). The first mode is a function of these three
+    /// (docs/physics.md §11.1): a calibration keeps each actuator's `f1` on this.
+    #[test]
+    fn what_acts_on_the_drive_alone_leaves_the_beam_to_the_bit() {
+        let base = Effects {
+            bond_thickness: 20e-6,
+            clamp_compliance: 0.2,
+            extension_flexibility: 0.5,
+            ..Effects::default()
+        };
+        with(|a| {
+            let model = crate::EffectModel {
+                effects: base,
+                primitives: every_primitive(),
+            };
+            let basis = model.basis(a).unwrap();
+            let state = |m: &crate::EffectModel| {
+                let mass = m.mass(a).unwrap();
+                let tip = m.tip_stiffness(&basis);
+                format!("{mass:?} {:?} {tip:?}", m.beam(&basis, &mass))
+            };
+            let before = state(&model);
+            for (i, x) in model.primitives.iter().enumerate() {
+                let mut moved = model.clone();
+                moved.primitives[i].value *= 1.5;
+                let drive_alone = !x.primitive.changes_beam();
+                assert_eq!(moved.same_beam(&model), drive_alone, "{x:?}");
+                if drive_alone {
+                    assert_eq!(state(&moved), before, "{x:?}");
+                    moved.primitives[i].value = f64::NAN;
+                    assert!(!moved.same_beam(&model) && moved.mass(a).is_err(), "{x:?}");
+                }
+            }
+            type Move = fn(&mut Effects);
+            let effects: [(&str, Move, bool); 15] = [
+                ("d31_scale", |e| e.d31_scale = 0.8, true),
+                ("d31_field", |e| e.d31_field_coefficient = 1e-7, true),
+                ("dead_length", |e| e.dead_length = 1e-3, true),
+                ("edge_margin", |e| e.edge_margin = 1e-4, true),
+                ("inactive_surface", |e| e.inactive_surface = 5e-6, true),
+                ("bond_thickness", |e| e.bond_thickness = 30e-6, false),
+                ("extension", |e| e.extension_flexibility = 0.7, false),
+                ("clamp", |e| e.clamp_compliance = 0.3, false),
+                ("ply", |e| e.ply_thickness_scale = 1.2, false),
+                ("stiffness", |e| e.stiffness_scale = 0.9, false),
+                ("bond_scale", |e| e.bond_scale.density = 1.1, false),
+                ("rigid_root", |e| e.rigid_root = 1e-3, false),
+                ("added_mass", |e| e.added_mass = 1e-6, false),
+                ("per_length", |e| e.added_mass_per_length = 1e-5, false),
+                ("per_area", |e| e.added_mass_per_area = 1e-4, false),
+            ];
+            for (name, set, drive_alone) in effects {
+                let mut moved = model.clone();
+                set(&mut moved.effects);
+                assert_eq!(moved.same_beam(&model), drive_alone, "{name}");
+                if drive_alone {
+                    assert_eq!(state(&moved), before, "{name}");
+                }
+            }
+        });
+    }
+
+    /// The mass of a stack whose materials keep their densities and thicknesses is weighed without
+    /// copying them: the same bits as the mass of the whole stack, for each primitive alone and for all
+    /// of them.
+    #[test]
+    fn the_mass_of_a_stack_is_that_of_its_materials_to_the_bit() {
+        let base = Effects {
+            ply_thickness_scale: 1.2,
+            bond_thickness: 20e-6,
+            ..Effects::default()
+        };
+        with(|a| {
+            let all = every_primitive();
+            for applied in all.iter().map(std::slice::from_ref).chain([&all[..]]) {
+                let s = stack(applied, &base, a).unwrap();
+                let whole = s.effects.mass(&s.actuator(a));
+                let weighed = mass(applied, &base, a).unwrap();
+                assert_eq!(format!("{weighed:?}"), format!("{whole:?}"), "{applied:?}");
+            }
+        });
     }
 
     /// `boundary_is_uniform` is what a calibration relies on to add the boundary primitives once per

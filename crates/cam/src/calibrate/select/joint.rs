@@ -15,7 +15,7 @@
 
 use super::candidate::Candidate;
 use super::drive_groups::{Form, GroupBasis};
-use super::observations::{ActuationData, ActuationObs, MassData, StageData};
+use super::observations::{ActuationData, ActuationObs, BeamModel, MassData, StageData};
 use super::pooled::{Member, Pools};
 use crate::calibrate::fit::ParameterRange;
 use crate::calibrate::library::EffectId;
@@ -336,6 +336,7 @@ impl<'a> JointData<'a> {
             out,
         );
         let res = &self.act.resonances;
+        let asked = BeamModel::of(effects);
         for (k, (o, stack)) in res.obs.iter().zip(&self.resonance_stack).enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
@@ -344,7 +345,7 @@ impl<'a> JointData<'a> {
                 Some(s) => self.stacks[s].at(&t, o.basis.planform),
                 None => o.basis,
             };
-            out.push(res.residual(self.act.data, k, effects, &basis));
+            out.push(res.residual(self.act.data, k, &asked, &basis));
         }
         left_out
     }

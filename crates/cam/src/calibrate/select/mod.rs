@@ -19,6 +19,7 @@ pub mod outliers;
 mod pooled;
 pub mod resonance_tests;
 mod resonance_weight;
+mod resonances;
 mod robust;
 pub mod separating;
 pub mod settings;

@@ -5,14 +5,12 @@
 pub(crate) use super::drive_groups::ActuationObs;
 use super::drive_groups::{DriveGroups, Form, GroupBasis, Solve};
 use super::pooled::{Member, Pools};
+pub(crate) use super::resonances::{BeamModel, ResonanceObs, Resonances};
 use super::stacks::Stacks;
 use crate::calibrate::csv::Dataset;
 use actuator_model::effects::StackBasis;
-use actuator_model::nearby_modes::{ModeCache, NearbyModes};
 use actuator_model::EffectModel;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{LazyLock, Mutex};
 
 /// Residuals of one stage under given effects, optionally on a subset of actuators. A model the physics
 /// cannot evaluate (a declared primitive driven out of range) gives NaN residuals, which the fit refuses.
@@ -168,119 +166,6 @@ pub(crate) struct ActuationData<'a> {
     pub(crate) drive_groups: DriveGroups,
 }
 
-/// One actuator's measured first resonance.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ResonanceObs {
-    pub(crate) group: usize,
-    /// The actuator's first row.
-    pub(crate) row: usize,
-    /// Its stack basis under the stage's base model (any field: `k = F_b / δ` does not depend on it).
-    pub(crate) basis: StackBasis,
-    pub(crate) ln_frequency: f64,
-}
-
-/// The cells the resonances' beams are solved in, one for every calibration in the process: a cell's
-/// forms are a function of the cell alone ([`ModeCache`]), so fits, stages and data sets share them
-/// without any value depending on which asked first.
-static CELLS: LazyLock<ModeCache> = LazyLock::new(ModeCache::default);
-
-/// The measured resonances with the beams each was solved for: a fit moves its parameters a little at
-/// a time, and the mode of a beam near a solved one follows from the solved one's shapes
-/// ([`NearbyModes`], docs/physics.md §11.6), whatever order the models fitted in parallel on the same
-/// data ask in.
-#[derive(Debug)]
-pub(crate) struct Resonances {
-    pub(crate) obs: Vec<ResonanceObs>,
-    /// Factor on every log residual, as f64 bits: 1 while the models are compared (a resonance counts
-    /// as one more deflection or force reading), σ_actuation / σ_f1 while the chosen model is estimated
-    /// (`resonance_weight.rs`). Set between fits, on the data the fitter already holds.
-    weight: AtomicU64,
-    solved: Vec<Mutex<NearbyModes>>,
-}
-
-impl Default for Resonances {
-    fn default() -> Self {
-        Resonances::new(Vec::new())
-    }
-}
-
-impl Clone for Resonances {
-    fn clone(&self) -> Self {
-        let copy = Resonances::new(self.obs.clone());
-        copy.set_weight(self.weight());
-        copy
-    }
-}
-
-impl Resonances {
-    pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
-        let solved = obs.iter().map(|_| Mutex::default()).collect();
-        Resonances {
-            obs,
-            weight: AtomicU64::new(1.0f64.to_bits()),
-            solved,
-        }
-    }
-
-    /// The factor on every log residual.
-    pub(crate) fn weight(&self) -> f64 {
-        f64::from_bits(self.weight.load(Ordering::Relaxed))
-    }
-
-    /// Sets the factor on every log residual (between fits).
-    pub(crate) fn set_weight(&self, weight: f64) {
-        self.weight.store(weight.to_bits(), Ordering::Relaxed);
-    }
-
-    /// The same resonances with each basis replaced (the joint data's bases at the carried values), given
-    /// each resonance's index and observation.
-    pub(crate) fn with_bases(&self, basis: impl Fn(usize, &ResonanceObs) -> StackBasis) -> Self {
-        let obs = self
-            .obs
-            .iter()
-            .enumerate()
-            .map(|(k, o)| ResonanceObs {
-                basis: basis(k, o),
-                ..*o
-            })
-            .collect();
-        let copy = Resonances::new(obs);
-        copy.set_weight(self.weight());
-        copy
-    }
-
-    pub(crate) fn len(&self) -> usize {
-        self.obs.len()
-    }
-
-    /// Log residual of resonance `k` under `effects` on `basis`, times [`Resonances::weight`]: measured
-    /// over the model's `f1` as [`EffectModel::modes`] computes it, on the coarse mesh
-    /// (`ActuatorBeam::solve_coarse`, within 1e-4 of `predict`'s, a hundredth of a 1 % reading) to
-    /// [`actuator_model::nearby_modes::TOLERANCE`]; NaN where the model cannot evaluate it.
-    pub(crate) fn residual(
-        &self,
-        data: &Dataset,
-        k: usize,
-        effects: &EffectModel,
-        basis: &StackBasis,
-    ) -> f64 {
-        let o = &self.obs[k];
-        let Ok(mass) = effects.mass(&data.rows[o.row].actuator()) else {
-            return f64::NAN;
-        };
-        let beam = effects.beam(basis, &mass);
-        let mode = match self.solved[k].lock() {
-            Ok(mut solved) => solved.modal(&CELLS, &beam),
-            Err(poisoned) => poisoned.into_inner().modal(&CELLS, &beam),
-        };
-        let Ok(mode) = mode else {
-            return f64::NAN;
-        };
-        let model = mode.frequency_at(effects.tip_stiffness(basis));
-        (o.ln_frequency - model.ln()) * self.weight()
-    }
-}
-
 impl StageData for ActuationData<'_> {
     fn residuals(&self, effects: &EffectModel, keep: Option<&[bool]>, out: &mut Vec<f64>) {
         self.evaluate(effects, keep, Form::Rows, out);
@@ -333,6 +218,7 @@ impl ActuationData<'_> {
         } else {
             Vec::new()
         };
+        let asked = BeamModel::of(effects);
         for (k, o) in self.resonances.obs.iter().enumerate() {
             if keep.is_some_and(|k| !k[o.group]) {
                 continue;
@@ -346,7 +232,7 @@ impl ActuationData<'_> {
                 Some(o.basis)
             };
             out.push(basis.map_or(f64::NAN, |b| {
-                self.resonances.residual(self.data, k, effects, &b)
+                self.resonances.residual(self.data, k, &asked, &b)
             }));
         }
         left_out
