@@ -100,7 +100,7 @@ fn a_ratio_law_drives_as_its_closed_form_and_no_drawing_is_made() {
         let want = 3000.0 / (1.0 + 3.0 * c * t * t);
         assert!((k.ratio_at_angle(t) / want - 1.0).abs() < 1e-12, "{deg}");
     }
-    assert!(a.report.table().contains("no linkage drawn"));
+    assert!(a.report.table().contains("none drawn (a ratio law)"));
     let s = a.state.unwrap();
     let integrated = a.system.integrate(s.force, 120.0, 80).unwrap();
     assert!(

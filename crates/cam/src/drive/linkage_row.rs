@@ -41,13 +41,20 @@ impl LinkageRow {
     /// The summary's transmission lines: name, value and unit.
     pub fn summary(&self) -> Vec<(&'static str, String, &'static str)> {
         if let Some(law) = self.ratio_law {
-            let text = format!(
-                "{} at rest, {} at ±{}°; no linkage drawn",
-                fixed(law.at_rest_rad_per_m, 0),
-                fixed(law.at_stroke_rad_per_m, 0),
-                fixed(law.stroke_deg, 1)
-            );
-            return vec![("transmission ratio law", text, "rad/m")];
+            // Each value with its unit after it, as every other line of the summary.
+            return vec![
+                (
+                    "transmission ratio at rest",
+                    fixed(law.at_rest_rad_per_m, 0),
+                    "rad/m",
+                ),
+                (
+                    "  at the required stroke",
+                    fixed(law.at_stroke_rad_per_m, 0),
+                    "rad/m",
+                ),
+                ("  linkage", "none drawn (a ratio law)".into(), ""),
+            ];
         }
         let lengths = format!(
             "{} / {}",
