@@ -17,6 +17,8 @@
 
 use crate::calibrate::csv::Dataset;
 use crate::calibrate::select::observations::{ActuationData, StageData};
+use crate::calibrate::select::Candidate;
+use crate::calibrate::stats;
 use actuator_model::EffectModel;
 
 /// The resonance term of the criterion, `n_f ln(RSS_f / n_f)`, of the log resonance residuals of
@@ -32,6 +34,24 @@ pub(crate) fn resonance_term(act: &ActuationData, model: &EffectModel) -> f64 {
     let f1 = &r[act.labels().len().min(r.len())..];
     let rss: f64 = f1.iter().map(|x| (x / w).powi(2)).sum();
     profiled_term(f1.len(), rss)
+}
+
+/// A selection candidate scored as the primitive fits are, on the deflections and forces alone: its
+/// AICc and the RMS of its log residuals. The selection counts each `f1` beside the rows (one more
+/// reading); the primitive fits read the rows alone, and in `J` the resonances are a kind of their own
+/// ([`resonance_term`]), so with resonances measured the candidate is scored again on the rows.
+pub(crate) fn on_the_rows(act: &ActuationData, c: &Candidate) -> (f64, f64) {
+    if act.resonances.len() == 0 {
+        return (c.aicc, (c.rss / c.n.max(1) as f64).sqrt());
+    }
+    let mut r = Vec::new();
+    act.residuals(&c.model, None, &mut r);
+    r.truncate(act.labels().len());
+    let rss: f64 = r.iter().map(|x| x * x).sum();
+    (
+        stats::aicc(r.len(), c.values.len(), rss),
+        (rss / r.len().max(1) as f64).sqrt(),
+    )
 }
 
 /// `n ln(RSS / n)`: twice the negative profiled Gaussian log-likelihood of `n` residuals, up to a

@@ -196,7 +196,9 @@ pub fn discover(
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| {
-            c.aicc + scoring.base_term + joint::resonance_term(&act, &c.model)
+            joint::on_the_rows(&act, c).0
+                + scoring.base_term
+                + joint::resonance_term(&act, &c.model)
         });
     let mut ranked = selection_candidates(data, &act, selection, settings, &scoring, eta_joint);
     let partners = partners(data, selection);
@@ -382,12 +384,12 @@ fn selection_candidates(
                 })
                 .collect();
             // The carried mass parameters refitted beside it: the mass term at its own values.
-            let joint = c.aicc
-                + match (&scoring.masses, c.carried.is_empty()) {
+            let (aicc, rmse_log) = joint::on_the_rows(act, c);
+            let joint =
+                aicc + match (&scoring.masses, c.carried.is_empty()) {
                     (Some(m), false) => m.term(m.rss(data, &c.model)) + scoring.base_penalty,
                     _ => scoring.base_term,
-                }
-                + joint::resonance_term(act, &c.model);
+                } + joint::resonance_term(act, &c.model);
             RankedCandidate {
                 name: names.join(" + "),
                 // A declared effect ranks with the library's, and says it is declared.
@@ -396,12 +398,12 @@ fn selection_candidates(
                 estimate: c.values[k],
                 interval: c.intervals[k],
                 eta: c.values[0],
-                aicc: c.aicc,
+                aicc,
                 joint,
                 explains_masses: false,
                 delta_aicc: 0.0,
                 gain_over_eta: eta_joint - joint,
-                rmse_log: (c.rss / c.n.max(1) as f64).sqrt(),
+                rmse_log,
                 also,
                 source: Source::Library(c.model.clone()),
                 parts: if names.len() > 1 {
