@@ -722,7 +722,11 @@ mod tests {
         let off = |f: f64| (f / extrapolated - 1.0).abs();
         let (quotient, rayleigh) = (off(f(128)), off(product(128, 4)));
         assert!(quotient < 3.5e-10, "{quotient:e}");
-        assert!((1.3e-9..1.5e-9).contains(&rayleigh), "{rayleigh:e}");
+        // The product's rounding, above the quotient's and below the figure §11.6 states.
+        assert!(
+            rayleigh < 1.5e-9 && rayleigh > quotient,
+            "{rayleigh:e} {quotient:e}"
+        );
         let (active, extension) = COARSE_ELEMENTS;
         let coarse = product(active, extension) / beam.solve_coarse().unwrap().frequency - 1.0;
         assert!(coarse.abs() < 1e-13, "{coarse:e}");

@@ -1102,7 +1102,7 @@ pub(crate) mod tests {
                 }
             }
             type Move = fn(&mut Effects);
-            let effects: [(&str, Move, bool); 15] = [
+            let effects: [(&str, Move, bool); 16] = [
                 ("d31_scale", |e| e.d31_scale = 0.8, true),
                 ("d31_field", |e| e.d31_field_coefficient = 1e-7, true),
                 ("dead_length", |e| e.dead_length = 1e-3, true),
@@ -1118,6 +1118,7 @@ pub(crate) mod tests {
                 ("added_mass", |e| e.added_mass = 1e-6, false),
                 ("per_length", |e| e.added_mass_per_length = 1e-5, false),
                 ("per_area", |e| e.added_mass_per_area = 1e-4, false),
+                ("tip_mass", |e| e.tip_mass = 1e-6, false),
             ];
             for (name, set, drive_alone) in effects {
                 let mut moved = model.clone();

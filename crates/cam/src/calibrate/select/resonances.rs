@@ -75,6 +75,7 @@ impl<'m> BeamModel<'m> {
             e.added_mass,
             e.added_mass_per_length,
             e.added_mass_per_area,
+            e.tip_mass,
         ];
         let beam_primitives = model.primitives.iter().map(|x| {
             if x.primitive.changes_beam() {
