@@ -226,6 +226,17 @@ fn command_cases() -> Vec<Case> {
         cases.push(case(wing, &["drive", &file, "-o", "{out}"]));
         cases.push(case(format!("{wing}-json"), &["drive", &file, "--json"]));
     }
+    // The published vehicle under the ceramic the flying labs use: docs/drive.md §4 and
+    // docs/validation.md §3 quote its stiffness, resonance and signal.
+    cases.push(case(
+        "drive-robobee-jafferis2016-nonlinear",
+        &[
+            "drive",
+            "examples/drive-robobee-jafferis2016.toml",
+            "--model",
+            "nonlinear",
+        ],
+    ));
     cases.push(case(
         "weibull-survival",
         &[
