@@ -216,6 +216,24 @@ fn command_cases() -> Vec<Case> {
         ],
     ));
     cases.push(case("weibull", &["weibull", "tests/fixtures/failures.csv"]));
+    cases.extend(drive_cases());
+    cases.push(case(
+        "weibull-survival",
+        &[
+            "weibull",
+            "tests/fixtures/failures.csv",
+            "--column",
+            "field_V_per_mm",
+            "--survival",
+            "0.99,0.5",
+        ],
+    ));
+    cases
+}
+
+/// drive on its examples, and the published vehicle under the nonlinear ceramic.
+fn drive_cases() -> Vec<Case> {
+    let mut cases = Vec::new();
     for wing in [
         "drive-hawkmoth",
         "drive-robobee",
@@ -235,17 +253,6 @@ fn command_cases() -> Vec<Case> {
             "examples/drive-robobee-jafferis2016.toml",
             "--model",
             "nonlinear",
-        ],
-    ));
-    cases.push(case(
-        "weibull-survival",
-        &[
-            "weibull",
-            "tests/fixtures/failures.csv",
-            "--column",
-            "field_V_per_mm",
-            "--survival",
-            "0.99,0.5",
         ],
     ));
     cases
