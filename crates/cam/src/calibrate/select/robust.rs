@@ -50,24 +50,12 @@ fn line(xs: &[f64], ys: &[f64]) -> (Vec<f64>, usize) {
 /// pseudo-observations, to which a common factor (`1 / E ψ'`) makes no difference. Unchanged without
 /// the pure error to scale them (fewer than 5 degrees of freedom).
 pub(super) fn pseudo_observations(act: &ActuationData, r: &[f64]) -> Vec<f64> {
-    let fields: Vec<f64> = act
-        .labels()
-        .iter()
-        .map(|&(i, _)| act.obs[i].basis.field)
-        .collect();
-    let (mut dev, mut df) = (Vec::new(), 0usize);
-    for s in sweeps(act).iter().filter(|s| s.len() >= MIN_SWEEP) {
-        let xs: Vec<f64> = s.iter().map(|&k| fields[k]).collect();
-        let ys: Vec<f64> = s.iter().map(|&k| r[k]).collect();
-        let (fit, q) = line(&xs, &ys);
-        dev.extend(ys.iter().zip(&fit).map(|(y, f)| (y - f).abs()));
-        df += s.len() - q;
-    }
-    if df < 5 {
+    let mut s = SweepSums::of(act, r);
+    if s.df() < 5.0 {
         return r.to_vec();
     }
-    let rows = dev.len() as f64;
-    let clip = HUBER_C * 1.4826 * median(&mut dev) * (rows / df as f64).sqrt();
+    let rows = s.rows as f64;
+    let clip = HUBER_C * 1.4826 * median(&mut s.deviations) * (rows / s.df()).sqrt();
     if clip <= 0.0 {
         return r.to_vec();
     }
@@ -86,6 +74,8 @@ struct SweepSums {
     rows: usize,
     /// The sweeps.
     sweeps: usize,
+    /// Each row's distance from its sweep's line.
+    deviations: Vec<f64>,
 }
 
 impl SweepSums {
@@ -101,16 +91,19 @@ impl SweepSums {
             lines_params: 0,
             rows: 0,
             sweeps: 0,
+            deviations: Vec::new(),
         };
         for s in sweeps(act).iter().filter(|s| s.len() >= MIN_SWEEP) {
             let xs: Vec<f64> = s.iter().map(|&k| fields[k]).collect();
             let ys: Vec<f64> = s.iter().map(|&k| r[k]).collect();
             let (fit, k) = line(&xs, &ys);
             sums.rss += ys.iter().map(|y| y * y).sum::<f64>();
-            sums.rss_full += ys
+            let first = sums.deviations.len();
+            sums.deviations
+                .extend(ys.iter().zip(&fit).map(|(y, f)| (y - f).abs()));
+            sums.rss_full += sums.deviations[first..]
                 .iter()
-                .zip(&fit)
-                .map(|(y, f)| (y - f).powi(2))
+                .map(|d| d.powi(2))
                 .sum::<f64>();
             sums.lines_params += k;
             sums.rows += s.len();
