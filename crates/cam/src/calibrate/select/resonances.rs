@@ -174,7 +174,12 @@ pub(crate) struct Resonances {
     /// as one more deflection or force reading), σ_actuation / σ_f1 while the chosen model is estimated
     /// (`resonance_weight.rs`). Set between fits, on the data the fitter already holds.
     weight: AtomicU64,
+    /// Each actuator's modes, one set per thread of the pool (`slots` per actuator, actuator-major):
+    /// the fits that run at once ask for the actuators in the same order, and one shared set per
+    /// actuator had both threads passing its lock back and forth on every `f1`. A set's values are
+    /// functions of the beam alone, so which thread's set answers makes no difference to them.
     solved: Vec<Own<Mutex<Solved>>>,
+    slots: usize,
 }
 
 /// A value on cache lines of its own: the resonances of neighbouring actuators, locked by different
@@ -199,11 +204,13 @@ impl Clone for Resonances {
 
 impl Resonances {
     pub(crate) fn new(obs: Vec<ResonanceObs>) -> Self {
-        let solved = obs.iter().map(|_| Own::default()).collect();
+        let slots = rayon::current_num_threads().max(1);
+        let solved = (0..obs.len() * slots).map(|_| Own::default()).collect();
         Resonances {
             obs,
             weight: AtomicU64::new(1.0f64.to_bits()),
             solved,
+            slots,
         }
     }
 
@@ -238,6 +245,13 @@ impl Resonances {
         self.obs.len()
     }
 
+    /// Actuator `k`'s modes as the calling thread keeps them (a thread outside the pool shares the
+    /// first pool thread's).
+    fn own_set(&self, k: usize) -> &Mutex<Solved> {
+        let slot = rayon::current_thread_index().map_or(0, |i| i % self.slots);
+        &self.solved[k * self.slots + slot].0
+    }
+
     /// Log residual of resonance `k` under the model `asked` on `basis`, times [`Resonances::weight`]: measured
     /// over the model's `f1` as [`EffectModel::modes`] computes it, on the coarse mesh
     /// (`ActuatorBeam::solve_coarse`, within 1e-4 of `predict`'s, a hundredth of a 1 % reading) to
@@ -251,7 +265,7 @@ impl Resonances {
     ) -> f64 {
         // Locked only to look up and to solve: the models fitted at once on these data ask for the
         // actuators in the same order, and would wait for each other's beams.
-        let solved = || match self.solved[k].0.lock() {
+        let solved = || match self.own_set(k).lock() {
             Ok(solved) => solved,
             Err(poisoned) => poisoned.into_inner(),
         };
@@ -343,7 +357,7 @@ mod tests {
             }
         }
         for (k, o) in obs.iter().enumerate() {
-            let solved = kept.solved[k].0.lock().expect("not poisoned");
+            let solved = kept.own_set(k).lock().expect("not poisoned");
             // The first model's d31 and margin columns share its entry; the clamp step and the refused
             // margin take their own.
             assert_eq!(solved.recent.len(), 3);
