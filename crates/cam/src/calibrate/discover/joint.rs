@@ -21,36 +21,47 @@ use crate::calibrate::select::Candidate;
 use crate::calibrate::stats;
 use actuator_model::EffectModel;
 
-/// The resonance term of the criterion, `n_f ln(RSS_f / n_f)`, of the log resonance residuals of
-/// `model` on `act` (as measured, without the weight the fits give them): 0 without measured
-/// resonances, infinite where the model cannot give one.
+/// The log residuals of `model` on `act`: the deflections' and forces', and the resonances' as
+/// measured (without the weight the fits give them).
+pub(crate) fn split(act: &ActuationData, model: &EffectModel) -> (Vec<f64>, Vec<f64>) {
+    let mut r = Vec::new();
+    act.residuals(model, None, &mut r);
+    let w = act.resonances.weight();
+    let f1 = r.split_off(act.labels().len().min(r.len()));
+    (r, f1.into_iter().map(|x| x / w).collect())
+}
+
+/// The resonance term of the criterion, `n_f ln(RSS_f / n_f)`, of the log resonance residuals `f1`:
+/// 0 without measured resonances, infinite where the model cannot give one.
+fn resonance_term_of(f1: &[f64]) -> f64 {
+    if f1.is_empty() {
+        return 0.0;
+    }
+    profiled_term(f1.len(), f1.iter().map(|x| x * x).sum())
+}
+
+/// The resonance term of `model` on `act` ([`resonance_term_of`]).
 pub(crate) fn resonance_term(act: &ActuationData, model: &EffectModel) -> f64 {
     if act.resonances.len() == 0 {
         return 0.0;
     }
-    let mut r = Vec::new();
-    act.residuals(model, None, &mut r);
-    let w = act.resonances.weight();
-    let f1 = &r[act.labels().len().min(r.len())..];
-    let rss: f64 = f1.iter().map(|x| (x / w).powi(2)).sum();
-    profiled_term(f1.len(), rss)
+    resonance_term_of(&split(act, model).1)
 }
 
-/// A selection candidate scored as the primitive fits are, on the deflections and forces alone: its
-/// AICc and the RMS of its log residuals. The selection counts each `f1` beside the rows (one more
-/// reading); the primitive fits read the rows alone, and in `J` the resonances are a kind of their own
-/// ([`resonance_term`]), so with resonances measured the candidate is scored again on the rows.
-pub(crate) fn on_the_rows(act: &ActuationData, c: &Candidate) -> (f64, f64) {
+/// A selection candidate scored as the primitive fits are: its AICc and the RMS of its log residuals
+/// on the deflections and forces alone, and its resonance term. The selection counts each `f1` beside
+/// the rows (one more reading); the primitive fits read the rows alone, and in `J` the resonances are a
+/// kind of their own, so with resonances measured the candidate is scored again on the rows.
+pub(crate) fn on_the_rows(act: &ActuationData, c: &Candidate) -> (f64, f64, f64) {
     if act.resonances.len() == 0 {
-        return (c.aicc, (c.rss / c.n.max(1) as f64).sqrt());
+        return (c.aicc, (c.rss / c.n.max(1) as f64).sqrt(), 0.0);
     }
-    let mut r = Vec::new();
-    act.residuals(&c.model, None, &mut r);
-    r.truncate(act.labels().len());
-    let rss: f64 = r.iter().map(|x| x * x).sum();
+    let (rows, f1) = split(act, &c.model);
+    let rss: f64 = rows.iter().map(|x| x * x).sum();
     (
-        stats::aicc(r.len(), c.values.len(), rss),
-        (rss / r.len().max(1) as f64).sqrt(),
+        stats::aicc(rows.len(), c.values.len(), rss),
+        (rss / rows.len().max(1) as f64).sqrt(),
+        resonance_term_of(&f1),
     )
 }
 

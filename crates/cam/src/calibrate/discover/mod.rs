@@ -196,9 +196,8 @@ pub fn discover(
         .iter()
         .find(|c| c.role == Role::Null && c.effects.len() == 1)
         .map_or(f64::INFINITY, |c| {
-            joint::on_the_rows(&act, c).0
-                + scoring.base_term
-                + joint::resonance_term(&act, &c.model)
+            let (aicc, _, resonance) = joint::on_the_rows(&act, c);
+            aicc + scoring.base_term + resonance
         });
     let mut ranked = selection_candidates(data, &act, selection, settings, &scoring, eta_joint);
     let partners = partners(data, selection);
@@ -384,12 +383,12 @@ fn selection_candidates(
                 })
                 .collect();
             // The carried mass parameters refitted beside it: the mass term at its own values.
-            let (aicc, rmse_log) = joint::on_the_rows(act, c);
+            let (aicc, rmse_log, resonance) = joint::on_the_rows(act, c);
             let joint =
                 aicc + match (&scoring.masses, c.carried.is_empty()) {
                     (Some(m), false) => m.term(m.rss(data, &c.model)) + scoring.base_penalty,
                     _ => scoring.base_term,
-                } + joint::resonance_term(act, &c.model);
+                } + resonance;
             RankedCandidate {
                 name: names.join(" + "),
                 // A declared effect ranks with the library's, and says it is declared.

@@ -7,7 +7,7 @@
 //! deflections and forces, which a root compliance moves and a tip mass does not.
 
 use crate::calibrate::rounded::{six_digits, six_digits_pair};
-use crate::calibrate::select::observations::{ActuationData, StageData};
+use crate::calibrate::select::observations::ActuationData;
 use crate::calibrate::stats;
 use actuator_model::primitives::{Applied, Primitive};
 use actuator_model::EffectModel;
@@ -66,14 +66,7 @@ const COST_LEVEL: f64 = 0.01;
 /// Each form fitted to the resonance residuals of `model` on `act`, best gain first; empty with fewer
 /// than 4 resonances.
 pub(crate) fn rank(act: &ActuationData, model: &EffectModel) -> Vec<ResonanceForm> {
-    let n_act = act.labels().len();
-    let split = |m: &EffectModel| {
-        let mut r = Vec::new();
-        act.residuals(m, None, &mut r);
-        let w = act.resonances.weight();
-        let f1: Vec<f64> = r.split_off(n_act.min(r.len()));
-        (r, f1.into_iter().map(|x| x / w).collect::<Vec<f64>>())
-    };
+    let split = |m: &EffectModel| super::joint::split(act, m);
     let (act0, f0) = split(model);
     let n = f0.len();
     if n < 4 || act0.is_empty() {
