@@ -18,6 +18,7 @@ use crate::process::template::Template;
 use actuator_model::kinematics::Kinematics;
 use actuator_model::model::ModelChoice;
 use actuator_model::wing::Wing;
+use actuator_model::Performance;
 
 /// The wing and the transmission, SI.
 #[derive(Debug, Clone)]
@@ -46,19 +47,24 @@ impl Mechanism {
     pub fn of(spec: &DriveSpec, design: &Design, model: &ModelChoice) -> Result<Self, DriveError> {
         let perf = performance(design, model)?;
         let kinematics = kinematics(&spec.transmission, &perf)?;
+        // The template read once: the drawn linkage, the two-stage's flexures and the check of a
+        // linkage given by its stiffness all take their rules from it.
+        let template = Template::resolve(&design.process, &design.source);
         let laminate = match spec.transmission.flexures {
-            Some(_) => Some(linkage_laminate(spec, design, model)?),
+            Some(_) => Some(drawn(spec, &perf, &template.clone()?)?),
             None => None,
         };
-        // A linkage given by its stiffness alone is still drawn, as cut-sheet would draw it, to check
-        // that its flexures can be built at all.
-        let template = Template::resolve(&design.process, &design.source).ok();
+        let template = template.ok();
         let two_stage =
             stages::two_stage_flexures(&kinematics, &spec.transmission, template.as_ref());
         let unbuildable = match (&laminate, &two_stage) {
             (_, Some(checked)) => checked.clone().err(),
             (Some(_), None) => None,
-            (None, None) => unbuildable_linkage(spec, design, model),
+            // A linkage given by its stiffness alone is still drawn, as cut-sheet would draw it, to
+            // check that its flexures can be built at all.
+            (None, None) => template
+                .as_ref()
+                .and_then(|t| unbuildable_linkage(spec, &perf, t)),
         };
         let (flexure_stiffness, link_inertia, mass) = match &laminate {
             Some(l) => (l.flexure_stiffness(), l.link_inertia(), l.mass()),
@@ -81,17 +87,6 @@ impl Mechanism {
     }
 }
 
-/// The linkage laminate of a drive file for its design's process (docs/cam.md §7): the flexures the
-/// file gives, or the shortest the film allows at the template's width when it gives none.
-pub fn linkage_laminate(
-    spec: &DriveSpec,
-    design: &Design,
-    model: &ModelChoice,
-) -> Result<LinkageLaminate, DriveError> {
-    let template = Template::resolve(&design.process, &design.source)?;
-    linkage_laminate_in(&spec.transmission, &spec.source, design, model, &template)
-}
-
 /// The linkage laminate of the transmission `spec` (given in the file `source`, which refusals name)
 /// with the materials and rules of `template`'s `[linkage]` (a batch's template, whose kerf is the
 /// larger of the linkage's and the prepreg sheet's when the carbon shares the prepreg sheets).
@@ -105,7 +100,28 @@ pub fn linkage_laminate_in(
     if let Some(refusal) = no_drawing(spec, source) {
         return Err(refusal.into());
     }
-    let perf = performance(design, model)?;
+    laminate_for(spec, source, &performance(design, model)?, template)
+}
+
+/// The drawn linkage of a drive file's transmission for an actuator predicted as `perf`.
+fn drawn(
+    spec: &DriveSpec,
+    perf: &Performance,
+    template: &Template,
+) -> Result<LinkageLaminate, DriveError> {
+    if let Some(refusal) = no_drawing(&spec.transmission, &spec.source) {
+        return Err(refusal.into());
+    }
+    laminate_for(&spec.transmission, &spec.source, perf, template)
+}
+
+/// [`linkage_laminate_in`] for an actuator predicted as `perf`, a transmission that can be drawn.
+fn laminate_for(
+    spec: &TransmissionSpec,
+    source: &std::path::Path,
+    perf: &Performance,
+    template: &Template,
+) -> Result<LinkageLaminate, DriveError> {
     let Some(process) = template.linkage.as_ref() else {
         return Err(InputError::invalid(
             &template.source,
@@ -116,7 +132,7 @@ pub fn linkage_laminate_in(
         .into());
     };
     Ok(LinkageLaminate::design(
-        linkage(&spec.linkage, &perf)?,
+        linkage(&spec.linkage, perf)?,
         spec.end_angles(),
         &spec.flexures.clone().unwrap_or_default(),
         process,
@@ -147,15 +163,17 @@ fn no_drawing(spec: &TransmissionSpec, source: &std::path::Path) -> Option<Input
 /// Why the linkage of a drive file that gives no flexures cannot be built with its design's process
 /// (the flexure rules cut-sheet applies: the film's fatigue strain, the gap against the links beside it,
 /// the carbon left bonded), or `None` when it can, or when the process has no `[linkage]` to build it with.
-fn unbuildable_linkage(spec: &DriveSpec, design: &Design, model: &ModelChoice) -> Option<String> {
+fn unbuildable_linkage(
+    spec: &DriveSpec,
+    perf: &Performance,
+    template: &Template,
+) -> Option<String> {
     // A ratio alone or a two-stage linkage is not drawn; the two-stage's flexures are checked apart.
     no_drawing(&spec.transmission, &spec.source)
         .is_none()
         .then_some(())?;
-    let template = Template::resolve(&design.process, &design.source).ok()?;
     template.linkage.as_ref()?;
-    let refusal =
-        linkage_laminate_in(&spec.transmission, &spec.source, design, model, &template).err()?;
+    let refusal = drawn(spec, perf, template).err()?;
     // The refusal's field is the flexure request the file leaves out; what is wrong is its text.
     let why = match refusal {
         DriveError::Input(e) => e.expected,
