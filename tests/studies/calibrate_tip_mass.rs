@@ -234,3 +234,22 @@ fn full_tip_mass_tuning_seeds() {
         println!("  loop {:?}", turn(&csv));
     }
 }
+
+/// Each pool thread keeps its own resonances' modes (`crates/cam/src/calibrate/select/resonances.rs`),
+/// and their values are functions of the beam alone: the same data calibrated on one thread and on
+/// three give the same calibration, to the bit.
+#[test]
+fn a_calibration_with_resonances_is_the_same_at_any_thread_count() {
+    let data = parse(&data_set(3e-6, 59_990, true)).unwrap();
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let cal = pool.install(|| calibrate(&data, &Settings::default()).unwrap());
+        format!("{cal:?}")
+    };
+    let one = on(1);
+    assert!(one.contains("resonance"), "the data hold resonances");
+    assert!(one == on(3), "one thread and three differ");
+}
