@@ -17,7 +17,10 @@ fn main() {
         load.trim()
     );
     let model = ModelChoice::Kind(ModelKind::Original);
-    for name in ["drive-hawkmoth.toml", "drive-robobee.toml"] {
+    for name in [
+        "drive-hawkmoth.toml",
+        "drive-robobee-jafferis2016-linkage.toml",
+    ] {
         let mut times = Vec::new();
         for _ in 0..21 {
             let start = Instant::now();

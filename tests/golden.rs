@@ -236,8 +236,8 @@ fn drive_cases() -> Vec<Case> {
     let mut cases = Vec::new();
     for wing in [
         "drive-hawkmoth",
-        "drive-robobee",
-        "drive-robobee-two-stage",
+        "drive-robobee-jafferis2016-linkage",
+        "drive-robobee-jafferis2016-two-stage",
         "drive-robobee-jafferis2016",
     ] {
         let file = format!("examples/{wing}.toml");

@@ -147,7 +147,7 @@ fn actuators_with_their_linkages_nest_and_every_coupon_checks_out() {
         .map(|s| s["title"].as_str().unwrap())
         .collect();
     assert!(sections.contains(&"Linkages of thesis-7 (docs/cam.md §7)"));
-    assert!(sections.contains(&"Linkages of robobee-class (docs/cam.md §7)"));
+    assert!(sections.contains(&"Linkages of robobee-jafferis2016-derated (docs/cam.md §7)"));
 }
 
 /// The hawk-moth batch in `dir` with a template whose linkage carbon is laid up as thesis-7's prepreg
@@ -240,11 +240,12 @@ fn the_carbon_shares_the_prepreg_sheets_of_a_design_laid_up_alike() {
 fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
     let dir = tempfile::tempdir().unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let drive = std::fs::read_to_string(root.join("drive-robobee-linkage.toml")).unwrap();
+    let drive =
+        std::fs::read_to_string(root.join("drive-robobee-jafferis2016-linkage.toml")).unwrap();
     let table = &drive[drive.find("[transmission]").unwrap()..];
-    let design = std::fs::read_to_string(root.join("robobee-class.toml")).unwrap()
+    let design = std::fs::read_to_string(root.join("robobee-jafferis2016-derated.toml")).unwrap()
         + "\n"
-        + &table.replace("[transmission]", "[transmission]\nstroke_deg = 50");
+        + &table.replace("[transmission]", "[transmission]\nstroke_deg = 20");
     std::fs::write(dir.path().join("bee.toml"), design).unwrap();
     let batch = dir.path().join("batch.toml");
     std::fs::write(
@@ -271,8 +272,11 @@ fn a_design_with_a_transmission_nests_its_linkage_without_a_drive_file() {
     std::fs::write(
         dir.path().join("drive.toml"),
         drive
-            .replace("design = \"robobee-class.toml\"", "design = \"bee.toml\"")
-            .replace("stroke_deg = 50", "stroke_deg = 45"),
+            .replace(
+                "design = \"robobee-jafferis2016-derated.toml\"",
+                "design = \"bee.toml\"",
+            )
+            .replace("stroke_deg = 20", "stroke_deg = 15"),
     )
     .unwrap();
     std::fs::write(

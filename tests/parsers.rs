@@ -398,7 +398,7 @@ proptest! {
     #![proptest_config(config(SPEC_CASES))]
     #[test]
     fn drive_files(example in prop::sample::select(vec![
-        "examples/drive-hawkmoth.toml", "examples/drive-robobee.toml",
+        "examples/drive-hawkmoth.toml", "examples/drive-robobee-jafferis2016-linkage.toml",
     ]), edits in prop::collection::vec(edit(), 1..4)) {
         // A drive file names its design relative to itself: read it from the examples folder.
         let file = root(example);

@@ -9,28 +9,29 @@ use crate::common;
 use common::{drive_analysis, drive_design, example_path, refused_in_one_line, run, write_temp};
 use std::path::{Path, PathBuf};
 
-/// drive-robobee-two-stage.toml with its `[transmission]` (and what follows) replaced by `transmission`,
-/// beside a copy of its design.
+/// drive-robobee-jafferis2016-two-stage.toml with its `[transmission]` (and what follows) replaced by
+/// `transmission`, beside a copy of its design.
 fn with_transmission(transmission: &str) -> (tempfile::TempDir, PathBuf) {
-    let text = std::fs::read_to_string(example_path("drive-robobee-two-stage.toml")).unwrap();
+    let text =
+        std::fs::read_to_string(example_path("drive-robobee-jafferis2016-two-stage.toml")).unwrap();
     let head = &text[..text.find("[transmission]").unwrap()];
     let (dir, path) = write_temp("drive.toml", &format!("{head}{transmission}"));
     std::fs::copy(
-        example_path("robobee-class.toml"),
-        dir.path().join("robobee-class.toml"),
+        example_path("robobee-jafferis2016-derated.toml"),
+        dir.path().join("robobee-jafferis2016-derated.toml"),
     )
     .unwrap();
     (dir, path)
 }
 
-const GIVEN: &str = "flexure_stiffness_uNm_per_rad = 5\nlink_inertia_mg_mm2 = 0\nmass_mg = 3\n";
+const GIVEN: &str = "flexure_stiffness_uNm_per_rad = 17.80\nlink_inertia_mg_mm2 = 0\nmass_mg = 3\n";
 
 #[test]
 fn the_two_stage_linkage_reaches_the_published_ratio_that_one_stage_cannot_build() {
     // The example: crank 0.6 mm, four-bar 1 / 2 / 0.5 mm. At rest the ratio is the product of the
     // stages, (1 / 0.6 mm)(1 / 0.5) = 3333 rad/m (docs/physics.md §16.8), the top of the published
     // 2150-3333 rad/m.
-    let r = drive_analysis(&example_path("drive-robobee-two-stage.toml")).report;
+    let r = drive_analysis(&example_path("drive-robobee-jafferis2016-two-stage.toml")).report;
     let ratio = r.linkage.ratio_at_rest_deg_per_mm.to_radians() * 1e3;
     assert!((ratio - 1.0 / 0.6e-3 * 2.0).abs() < 1e-6, "{ratio}");
     assert!(r.unbuildable_linkage.is_none(), "{}", r.table());
@@ -102,14 +103,14 @@ fn a_ratio_law_drives_as_its_closed_form_and_no_drawing_is_made() {
     }
     assert!(a.report.table().contains("none drawn (a ratio law)"));
     let s = a.state.unwrap();
-    let integrated = a.system.integrate(s.force, 120.0, 80).unwrap();
+    let integrated = a.system.integrate(s.force, 155.0, 80).unwrap();
     assert!(
         (integrated / s.stroke_amplitude - 1.0).abs() < 0.02,
         "{integrated} vs {}",
         s.stroke_amplitude
     );
     // No linkage drawing can be made from a ratio alone: cut-sheet says so in one line and writes nothing.
-    let err = cut_sheet_refusal(&dir.path().join("robobee-class.toml"), &path);
+    let err = cut_sheet_refusal(&dir.path().join("robobee-jafferis2016-derated.toml"), &path);
     assert!(
         err.contains("drive.toml: transmission.ratio_rad_per_m = 3000")
             && err.contains("no linkage drawing can be made from a ratio alone"),
@@ -136,11 +137,11 @@ fn cut_sheet_refusal(design: &Path, drive: &Path) -> String {
 #[test]
 fn cut_sheet_refuses_a_two_stage_drive_in_one_line() {
     let err = cut_sheet_refusal(
-        &example_path("robobee-class.toml"),
-        &example_path("drive-robobee-two-stage.toml"),
+        &example_path("robobee-jafferis2016-derated.toml"),
+        &example_path("drive-robobee-jafferis2016-two-stage.toml"),
     );
     assert!(
-        err.contains("drive-robobee-two-stage.toml: transmission.four_bar")
+        err.contains("drive-robobee-jafferis2016-two-stage.toml: transmission.four_bar")
             && err.contains("no layer files are drawn"),
         "{err}"
     );
@@ -154,7 +155,7 @@ fn nest_refusal(drive: &Path) -> String {
     std::fs::write(
         &batch,
         format!(
-            "name = \"b\"\nseed = 1\n\n[[item]]\ndesign = \"robobee-class.toml\"\nquantity = 1\ndrive = {:?}\n\n[sheets]\nprepreg = {{ width_mm = 150, height_mm = 150 }}\nspacing_mm = 0.3\n",
+            "name = \"b\"\nseed = 1\n\n[[item]]\ndesign = \"robobee-jafferis2016-derated.toml\"\nquantity = 1\ndrive = {:?}\n\n[sheets]\nprepreg = {{ width_mm = 150, height_mm = 150 }}\nspacing_mm = 0.3\n",
             drive.file_name().unwrap().to_str().unwrap()
         ),
     )
@@ -184,7 +185,8 @@ fn nest_refusal(drive: &Path) -> String {
 /// that asks nest to cut either is refused in one line naming the drive file and its field.
 #[test]
 fn nest_refuses_a_two_stage_or_ratio_only_drive_in_one_line() {
-    let text = std::fs::read_to_string(example_path("drive-robobee-two-stage.toml")).unwrap();
+    let text =
+        std::fs::read_to_string(example_path("drive-robobee-jafferis2016-two-stage.toml")).unwrap();
     let (_dir, two_stage) = with_transmission(&text[text.find("[transmission]").unwrap()..]);
     let err = nest_refusal(&two_stage);
     assert!(
@@ -205,7 +207,8 @@ fn nest_refuses_a_two_stage_or_ratio_only_drive_in_one_line() {
 
 /// The example's `[transmission]` with `from` replaced by `to`, refused in one line naming `field`.
 fn refused(from: &str, to: &str, field: &str, allowed: &str) {
-    let text = std::fs::read_to_string(example_path("drive-robobee-two-stage.toml")).unwrap();
+    let text =
+        std::fs::read_to_string(example_path("drive-robobee-jafferis2016-two-stage.toml")).unwrap();
     let transmission = &text[text.find("[transmission]").unwrap()..];
     assert!(transmission.contains(from), "{from}");
     let (_dir, path) = with_transmission(&transmission.replace(from, to));
@@ -283,15 +286,16 @@ fn bad_ratio_and_four_bar_keys_are_refused_in_one_line() {
 }
 
 #[test]
-fn through_the_two_stage_the_assumed_actuator_is_what_falls_short_of_the_published_stroke() {
-    // docs/validation.md §4: the assumed robobee-class actuator through the example's 3333 rad/m
-    // two-stage reaches ±15.0° of ±55° at 120 Hz (original) and ±26.1° (nonlinear), both bound by
-    // parallel drive's depolarization limit, with every flexure buildable: the gap is the actuator's.
+fn through_the_two_stage_the_published_actuator_is_what_falls_short_of_the_published_stroke() {
+    // docs/validation.md §4: the published RoboBee actuator, biased within the tool's limits, through
+    // the example's 3333 rad/m two-stage reaches ±18.5° of ±55° at 155 Hz (original) and ±13.7°
+    // (nonlinear), both bound by the biased signal's range (half the bias), with every flexure
+    // buildable: the gap is the actuator's.
     use actuator_model::model::{ModelChoice, ModelKind};
-    let path = example_path("drive-robobee-two-stage.toml");
+    let path = example_path("drive-robobee-jafferis2016-two-stage.toml");
     let spec = actuator_cam::DriveSpec::load(&path).unwrap();
     let design = drive_design(&spec);
-    for (kind, stroke) in [(ModelKind::Original, 15.0), (ModelKind::Nonlinear, 26.1)] {
+    for (kind, stroke) in [(ModelKind::Original, 18.53), (ModelKind::Nonlinear, 13.74)] {
         let r = actuator_cam::analyse_drive(&spec, &design, &ModelChoice::Kind(kind))
             .unwrap()
             .report;
@@ -303,7 +307,7 @@ fn through_the_two_stage_the_assumed_actuator_is_what_falls_short_of_the_publish
             u.best_stroke_deg
         );
         assert!(
-            u.binding.starts_with("the depolarization limit"),
+            u.binding.starts_with("the bias of biased drive"),
             "{}",
             u.binding
         );

@@ -54,13 +54,16 @@ pub fn cut_sheet(design: &str, out: &Path, extra: &[&str]) -> Output {
     run(&args)
 }
 
-/// The shipped linkage example cut into `out` (`robobee-class.toml` with the drive that sizes its
-/// flexure linkage), which must succeed.
+/// The shipped linkage example cut into `out` (`robobee-jafferis2016-derated.toml` with the drive
+/// that sizes its flexure linkage), which must succeed.
 pub fn cut_linkage_example(out: &Path) {
     let o = cut_sheet(
-        "examples/robobee-class.toml",
+        "examples/robobee-jafferis2016-derated.toml",
         out,
-        &["--drive", "examples/drive-robobee-linkage.toml"],
+        &[
+            "--drive",
+            "examples/drive-robobee-jafferis2016-linkage.toml",
+        ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
@@ -251,4 +254,58 @@ pub fn coercive_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
     let path = dir.path().join(name);
     std::fs::write(&path, drive).unwrap();
     (dir, path)
+}
+
+/// The insect-scale one-stage example (`drive-robobee-jafferis2016-linkage.toml`, its design copied
+/// alongside by [`coercive_copy`], which its biased drive never feels) with its frequency, stroke and
+/// `[transmission]` replaced: a slider-crank solved for the stroke with a coupler 4 cranks long, from
+/// `travel_mm` (or the actuator's free deflection), its flexures given by their stiffness (5 µN·m/rad),
+/// not their sizes.
+pub fn insect_linkage_by_stiffness(
+    frequency_hz: u32,
+    stroke_deg: u32,
+    travel_mm: Option<f64>,
+) -> (tempfile::TempDir, PathBuf) {
+    let (dir, path) = coercive_copy("drive-robobee-jafferis2016-linkage.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("frequency_Hz = 155\n") && text.contains("stroke_deg = 20\n"));
+    let head = &text[..text.find("[transmission]").unwrap()];
+    let travel = travel_mm.map_or(String::new(), |t| format!("travel_mm = {t}\n"));
+    let text = head
+        .replace(
+            "frequency_Hz = 155\n",
+            &format!("frequency_Hz = {frequency_hz}\n"),
+        )
+        .replace("stroke_deg = 20\n", &format!("stroke_deg = {stroke_deg}\n"))
+        + "[transmission]\nsolve_for_stroke = true\ncoupler_ratio = 4\n"
+        + &travel
+        + "flexure_stiffness_uNm_per_rad = 5\nlink_inertia_mg_mm2 = 0\nmass_mg = 2\n";
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// `drive` on `path` (a drive file of [`insect_linkage_by_stiffness`], its design beside it in `dir`)
+/// reports `why` as the reason its linkage cannot be built, in one line, and cut-sheet refuses to draw
+/// the same linkage for the same reason.
+pub fn drive_and_cut_sheet_refuse(dir: &tempfile::TempDir, path: &Path, why: &str) {
+    let err = refused_in_one_line(&run(&["drive", path.to_str().unwrap()]));
+    assert!(
+        err.contains(
+            "drive-robobee-jafferis2016-linkage.toml: transmission: the linkage cannot be built: "
+        ) && err.contains(why.split(';').next().unwrap()),
+        "{err}"
+    );
+    let out = tempfile::tempdir().unwrap();
+    let cut = refused_in_one_line(&run(&[
+        "cut-sheet",
+        dir.path()
+            .join("robobee-jafferis2016-derated.toml")
+            .to_str()
+            .unwrap(),
+        "--drive",
+        path.to_str().unwrap(),
+        "-o",
+        out.path().join("out").to_str().unwrap(),
+    ]));
+    assert!(cut.contains(why.split(';').next().unwrap()), "{cut}");
 }

@@ -302,6 +302,6 @@ fn every_shipped_design_draws_its_model_mass_by_both_methods() {
             cases += 1;
         }
     }
-    // thesis-1, 7, 21, A, B, C, C-method-1 and robobee-class.
+    // thesis-1, 7, 21, A, B, C, C-method-1 and robobee-jafferis2016-derated.
     assert_eq!(cases, 16);
 }

@@ -60,11 +60,12 @@ struct Pair {
 }
 
 /// An example that writes no layer file, and why.
-const NO_LAYER_FILES: [(&str, &str); 3] = [
-    // Its flexures are a lumped stiffness the tool does not draw: `cut-sheet --drive` refuses it.
-    ("drive-robobee.toml", "a lumped transmission"),
+const NO_LAYER_FILES: [(&str, &str); 2] = [
     // `drive` checks a two-stage linkage's flexures, but `cut-sheet --drive` draws no layer of it.
-    ("drive-robobee-two-stage.toml", "a two-stage linkage"),
+    (
+        "drive-robobee-jafferis2016-two-stage.toml",
+        "a two-stage linkage",
+    ),
     // A published transmission ratio has no link lengths to draw: `cut-sheet --drive` refuses it.
     (
         "drive-robobee-jafferis2016.toml",
