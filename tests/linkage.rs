@@ -202,6 +202,42 @@ fn a_flexure_that_cannot_be_made_writes_nothing() {
     assert!(!out.exists());
 }
 
+/// A crank so short that its wing-hinge flexure cannot be made even though it barely strains: the
+/// refusal's bounds are never negative (the cut-backs' loose film takes a small bend alone, so the
+/// strain asks for no gap), and the shortest length is the film thicknesses' or the kerfs', which the
+/// line names.
+#[test]
+fn a_flexure_refusal_names_no_negative_length() {
+    let text = std::fs::read_to_string(example_path("drive-robobee-jafferis2016-linkage.toml"))
+        .unwrap()
+        .replace("stroke_deg = 20\n", "stroke_deg = 50\n")
+        .replace("travel_mm = 0.15\n", "travel_mm = 0.10\n")
+        .replace("coupler_ratio = 8\n", "coupler_ratio = 4\n")
+        .replace(
+            "design = \"robobee-jafferis2016-derated.toml\"",
+            &format!(
+                "design = {:?}",
+                example("robobee-jafferis2016-derated.toml")
+            ),
+        );
+    assert!(text.contains("travel_mm = 0.10\n") && text.contains("stroke_deg = 50\n"));
+    let dir = tempfile::tempdir().unwrap();
+    let drive = dir.path().join("drive.toml");
+    std::fs::write(&drive, text).unwrap();
+    let err = refused_in_one_line(&run(&["drive", drive.to_str().unwrap()]));
+    assert!(
+        err.contains("flexure O (crank on airframe, the wing hinge)")
+            && err.contains("at least 0.0 µm for the strain")
+            && err.contains("film thicknesses and two kerfs"),
+        "{err}"
+    );
+    // No number in the line is negative: every '-' is a hyphen between words.
+    let negative = err
+        .match_indices('-')
+        .any(|(i, _)| err[i + 1..].starts_with(|c: char| c.is_ascii_digit()));
+    assert!(!negative, "{err}");
+}
+
 /// robobee-jafferis2016-derated.toml with the `[transmission]` of
 /// drive-robobee-jafferis2016-linkage.toml and its stroke, written into `dir` as `design.toml` beside a
 /// copy of the drive file that drives it (`drive.toml`).

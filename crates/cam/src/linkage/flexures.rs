@@ -306,7 +306,10 @@ fn check_joint(
     // The cut-backs' film at the strip's width, as gap length of the flexure's width.
     let loose = 2.0 * cutback * f.width_mm / strip;
     let film = unbonded(f.length_mm, loose, f.width_mm, t, process.film_modulus);
-    let by_strain = film.shortest_length_for(bend.bend, process.film_fatigue_strain) * 1e3 - loose;
+    // A small bend is taken by the cut-backs' loose film alone: the strain then asks for no gap, not
+    // for a negative one.
+    let by_strain =
+        (film.shortest_length_for(bend.bend, process.film_fatigue_strain) * 1e3 - loose).max(0.0);
     let by_bending = process.min_length_thicknesses * t;
     let shortest = by_strain.max(by_bending).max(2.0 * kerf);
     let longest = process.max_length_fraction * neighbour;
@@ -336,7 +339,7 @@ fn check_joint(
             what: "length",
             value: f.length_mm * 1e3,
             allowed: format!(
-                "{:.1} to {:.1} µm: at least {:.1} µm for the strain bent {:.1}°{fold} (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film) and {} film thicknesses, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
+                "{:.1} to {:.1} µm: at least {:.1} µm for the strain bent {:.1}°{fold} (the film unbonded over the gap and {} mm of adhesive cut-back either side; {:.2} % fatigue strain of {} µm film), {} film thicknesses and two kerfs, at most {} of the {:.3} mm link beside it (a longer gap is no pivot)",
                 shortest * 1e3,
                 longest * 1e3,
                 by_strain * 1e3,
