@@ -159,3 +159,22 @@ fn the_published_vehicles_drive_file_holds_the_published_numbers() {
     assert_eq!(j["drive_mode"], "biased");
     close(number(biased_mode(&j), "bias_V"), 200.0, "bias");
 }
+
+/// The derated actuator the linkage examples drive (examples/robobee-jafferis2016-derated.toml) is the
+/// published one in all but its name and its drive: its geometry, laminate and carbon are the published
+/// file's, table for table, so "as published" cannot drift from the file that cites the source.
+#[test]
+fn the_derated_actuator_is_the_published_one_but_for_its_drive() {
+    let read = |name: &str| -> toml::Table {
+        toml::from_str(&std::fs::read_to_string(example_path(name)).unwrap()).unwrap()
+    };
+    let published = read("published/robobee-jafferis2016.toml");
+    let derated = read("robobee-jafferis2016-derated.toml");
+    for key in ["process", "geometry", "laminate", "materials"] {
+        assert_eq!(published.get(key), derated.get(key), "{key}");
+        assert!(published.contains_key(key), "{key}");
+    }
+    assert_ne!(published["drive"], derated["drive"]);
+    let keys = |t: &toml::Table| t.keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(&published), keys(&derated));
+}
