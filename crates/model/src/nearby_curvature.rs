@@ -101,9 +101,19 @@ impl Curvature {
     /// `dᵀGd` and `eᵀHe` at the ratios `ratios`.
     pub(crate) fn terms(&self, ratios: &Ratios) -> (f64, f64) {
         let d: [f64; 6] = std::array::from_fn(|i| ratios[i] - self.center[i]);
+        // The ratios that moved (an absent part's stays 0): the others add nothing.
+        let mut moved = [0; 6];
+        let mut count = 0;
+        for (i, di) in d.iter().enumerate() {
+            if *di != 0.0 {
+                moved[count] = i;
+                count += 1;
+            }
+        }
+        let moved = &moved[..count];
         let mut mode = 0.0;
-        for (row, di) in self.mode.iter().zip(d).filter(|(_, di)| *di != 0.0) {
-            mode += di * row.iter().zip(d).map(|(g, dj)| g * dj).sum::<f64>();
+        for &i in moved {
+            mode += d[i] * moved.iter().map(|&j| self.mode[i][j] * d[j]).sum::<f64>();
         }
         let h = &self.compliance;
         let e = [d[0], d[1]];
