@@ -363,7 +363,7 @@ impl ActuatorBeam {
     /// A matrix on the system held at its root: clamped (the first node's two degrees of freedom
     /// dropped), or turning with the clamp's spring about x = 0 (a non-positive compliance is a clamp),
     /// the held root `[0, h]` rigid with it: (v, θ) at x = h is (h ψ, ψ), ψ first.
-    fn held_at_root(&self, a: &DMatrix<f64>) -> DMatrix<f64> {
+    pub(crate) fn held_at_root(&self, a: &DMatrix<f64>) -> DMatrix<f64> {
         let full = a.nrows();
         let h = self.rigid_root;
         if self.clamp_compliance <= 0.0 {

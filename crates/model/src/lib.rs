@@ -27,6 +27,7 @@ pub mod laminate;
 pub mod large_deflection;
 pub mod material;
 pub mod model;
+mod nearby_curvature;
 pub mod nearby_modes;
 pub mod nonlinear;
 pub mod performance;

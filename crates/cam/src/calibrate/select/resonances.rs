@@ -263,13 +263,13 @@ impl Resonances {
         asked: &BeamModel,
         basis: &StackBasis,
     ) -> f64 {
-        // Locked only to look up and to solve: the models fitted at once on these data ask for the
-        // actuators in the same order, and would wait for each other's beams.
-        let solved = || match self.own_set(k).lock() {
+        // Held through the solve: the set is the calling thread's own (a thread outside the pool
+        // shares the first pool thread's).
+        let mut solved = match self.own_set(k).lock() {
             Ok(solved) => solved,
             Err(poisoned) => poisoned.into_inner(),
         };
-        if let Some(r) = solved().kept(asked, basis) {
+        if let Some(r) = solved.kept(asked, basis) {
             return r * self.weight();
         }
         let o = &self.obs[k];
@@ -277,7 +277,6 @@ impl Resonances {
         let beam = model
             .mass(&data.rows[o.row].actuator())
             .map(|mass| (model.beam(basis, &mass), model.tip_stiffness(basis)));
-        let mut solved = solved();
         let residual = match beam {
             Ok((beam, stiffness)) => match solved.modes.modal(&CELLS, &beam) {
                 Ok(mode) => o.ln_frequency - mode.frequency_at(stiffness).ln(),
