@@ -190,11 +190,40 @@ impl EffectModel {
     /// values are finite, as the mass asks of every primitive value ([`primitives::stack`]).
     pub fn same_beam(&self, other: &EffectModel) -> bool {
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
-        // Every field named, so that a field added to the model or its effects is classed here.
-        let EffectModel {
-            effects,
-            primitives,
-        } = self;
+        let (mine, theirs) = (self.beam_values(), other.beam_values());
+        mine.iter().zip(&theirs).all(|(&a, &b)| same(a, b))
+            && self.primitives.len() == other.primitives.len()
+            && self.primitives.iter().zip(&other.primitives).all(|(a, b)| {
+                a.primitive == b.primitive
+                    && (same(a.value, b.value)
+                        || (!a.primitive.changes_beam()
+                            && a.value.is_finite()
+                            && b.value.is_finite()))
+            })
+    }
+
+    /// A hash of what [`EffectModel::same_beam`] compares: models with the same beam have the same
+    /// digest, so a cache of beams compares models in full only where their digests agree.
+    pub fn beam_digest(&self) -> u64 {
+        let primitives = self.primitives.iter().map(|x| {
+            if x.primitive.changes_beam() {
+                x.value
+            } else {
+                0.0
+            }
+        });
+        self.beam_values()
+            .into_iter()
+            .chain(primitives)
+            .fold(self.primitives.len() as u64, |h, v| {
+                (h.rotate_left(5) ^ v.to_bits()).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
+            })
+    }
+
+    /// The effects' values the beam, the mass and the statics' tip stiffness read: all but what acts on
+    /// the drive alone (d31 and its field dependence, the undriven root and edge strips, a dead surface
+    /// layer). Every field named, so that a field added to the effects is classed here.
+    fn beam_values(&self) -> [f64; 13] {
         let Effects {
             d31_scale: _,
             d31_field_coefficient: _,
@@ -212,37 +241,27 @@ impl EffectModel {
             added_mass_per_length,
             added_mass_per_area,
             tip_mass,
-        } = *effects;
+        } = self.effects;
         let BondScale {
             modulus,
             poisson,
             density,
         } = bond_scale;
-        let o = &other.effects;
-        let values = [
-            (bond_thickness, o.bond_thickness),
-            (extension_flexibility, o.extension_flexibility),
-            (clamp_compliance, o.clamp_compliance),
-            (ply_thickness_scale, o.ply_thickness_scale),
-            (stiffness_scale, o.stiffness_scale),
-            (modulus, o.bond_scale.modulus),
-            (poisson, o.bond_scale.poisson),
-            (density, o.bond_scale.density),
-            (rigid_root, o.rigid_root),
-            (added_mass, o.added_mass),
-            (added_mass_per_length, o.added_mass_per_length),
-            (added_mass_per_area, o.added_mass_per_area),
-            (tip_mass, o.tip_mass),
-        ];
-        values.iter().all(|&(a, b)| same(a, b))
-            && primitives.len() == other.primitives.len()
-            && primitives.iter().zip(&other.primitives).all(|(a, b)| {
-                a.primitive == b.primitive
-                    && (same(a.value, b.value)
-                        || (!a.primitive.changes_beam()
-                            && a.value.is_finite()
-                            && b.value.is_finite()))
-            })
+        [
+            bond_thickness,
+            extension_flexibility,
+            clamp_compliance,
+            ply_thickness_scale,
+            stiffness_scale,
+            modulus,
+            poisson,
+            density,
+            rigid_root,
+            added_mass,
+            added_mass_per_length,
+            added_mass_per_area,
+            tip_mass,
+        ]
     }
 
     /// The first mode of the bare clamped actuator, what `predict` reports as `resonance_Hz` and

@@ -1095,6 +1095,9 @@ pub(crate) mod tests {
                 moved.primitives[i].value *= 1.5;
                 let drive_alone = !x.primitive.changes_beam();
                 assert_eq!(moved.same_beam(&model), drive_alone, "{x:?}");
+                // The digest agrees where the beams do, and here tells the others apart.
+                let same_digest = moved.beam_digest() == model.beam_digest();
+                assert_eq!(same_digest, drive_alone, "{x:?}");
                 if drive_alone {
                     assert_eq!(state(&moved), before, "{x:?}");
                     moved.primitives[i].value = f64::NAN;
@@ -1124,6 +1127,8 @@ pub(crate) mod tests {
                 let mut moved = model.clone();
                 set(&mut moved.effects);
                 assert_eq!(moved.same_beam(&model), drive_alone, "{name}");
+                let same_digest = moved.beam_digest() == model.beam_digest();
+                assert_eq!(same_digest, drive_alone, "{name}");
                 if drive_alone {
                     assert_eq!(state(&moved), before, "{name}");
                 }

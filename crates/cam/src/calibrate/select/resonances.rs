@@ -58,39 +58,12 @@ pub(crate) struct BeamModel<'m> {
 }
 
 impl<'m> BeamModel<'m> {
-    /// `model` with its digest: the bits of every value that [`EffectModel::same_beam`] compares, so
-    /// that models with the same beam have the same digest.
+    /// `model` with its digest ([`EffectModel::beam_digest`]).
     pub(crate) fn of(model: &'m EffectModel) -> Self {
-        let e = &model.effects;
-        let values = [
-            e.bond_thickness,
-            e.extension_flexibility,
-            e.clamp_compliance,
-            e.ply_thickness_scale,
-            e.stiffness_scale,
-            e.bond_scale.modulus,
-            e.bond_scale.poisson,
-            e.bond_scale.density,
-            e.rigid_root,
-            e.added_mass,
-            e.added_mass_per_length,
-            e.added_mass_per_area,
-            e.tip_mass,
-        ];
-        let beam_primitives = model.primitives.iter().map(|x| {
-            if x.primitive.changes_beam() {
-                x.value
-            } else {
-                0.0
-            }
-        });
-        let digest = values
-            .into_iter()
-            .chain(beam_primitives)
-            .fold(model.primitives.len() as u64, |h, v| {
-                (h.rotate_left(5) ^ v.to_bits()).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
-            });
-        BeamModel { model, digest }
+        BeamModel {
+            model,
+            digest: model.beam_digest(),
+        }
     }
 }
 
