@@ -228,6 +228,13 @@ pub fn chi_square_upper_p(x: f64, df: f64) -> f64 {
     (front * h).clamp(0.0, 1.0)
 }
 
+/// A standard normal draw (Box-Muller), for the tests that measure a test's level on simulated noise.
+#[cfg(test)]
+pub(crate) fn standard_normal(rng: &mut impl rand::Rng) -> f64 {
+    let (u, v): (f64, f64) = (rng.gen::<f64>().max(1e-300), rng.gen());
+    (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,12 +298,8 @@ mod tests {
         // Thirty actuators' mean residuals under no effect: a third measured at two voltages (their
         // means twice as noisy) and at the extremes of the design variable. The weighted test rejects
         // at its 1 % within the binomial scatter of 10,000 draws; the plain one rejects at more than 1.5 %.
-        use rand::{Rng, SeedableRng};
+        use rand::SeedableRng;
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(59_310);
-        let mut normal = || {
-            let (u, v): (f64, f64) = (rng.gen::<f64>().max(1e-300), rng.gen());
-            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-        };
         let n = 30;
         let x: Vec<f64> = (0..n).map(|k| k as f64).collect();
         let readings: Vec<f64> = (0..n)
@@ -305,7 +308,10 @@ mod tests {
         let (mut weighted, mut plain) = (0, 0);
         let draws = 10_000;
         for _ in 0..draws {
-            let y: Vec<f64> = readings.iter().map(|m| normal() / m.sqrt()).collect();
+            let y: Vec<f64> = readings
+                .iter()
+                .map(|m| standard_normal(&mut rng) / m.sqrt())
+                .collect();
             let rw = weighted_pearson(&x, &y, &readings).unwrap();
             let r = pearson(&x, &y).unwrap();
             weighted += (correlation_p(rw, n) < 0.01) as usize;

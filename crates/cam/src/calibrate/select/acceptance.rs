@@ -234,14 +234,9 @@ pub(super) fn best_and_rivals(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::{Rng, SeedableRng};
+    use crate::calibrate::stats::standard_normal;
+    use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-
-    /// A standard normal draw (Box-Muller).
-    fn normal(rng: &mut ChaCha8Rng) -> f64 {
-        let (u, v): (f64, f64) = (rng.gen::<f64>().max(1e-300), rng.gen());
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
 
     #[test]
     fn the_gain_test_holds_its_level_on_nested_lines_under_no_effect() {
@@ -259,7 +254,7 @@ mod tests {
         assert_eq!(level, 0.001);
         let (mut at5, mut at_level) = (0, 0);
         for _ in 0..draws {
-            let ys: Vec<f64> = (0..n).map(|_| normal(&mut rng)).collect();
+            let ys: Vec<f64> = (0..n).map(|_| standard_normal(&mut rng)).collect();
             let my = ys.iter().sum::<f64>() / n as f64;
             let rss0: f64 = ys.iter().map(|y| (y - my).powi(2)).sum();
             let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
