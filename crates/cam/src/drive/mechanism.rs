@@ -97,9 +97,6 @@ pub fn linkage_laminate_in(
     model: &ModelChoice,
     template: &Template,
 ) -> Result<LinkageLaminate, DriveError> {
-    if let Some(refusal) = no_drawing(spec, source) {
-        return Err(refusal.into());
-    }
     laminate_for(spec, source, &performance(design, model)?, template)
 }
 
@@ -109,19 +106,20 @@ fn drawn(
     perf: &Performance,
     template: &Template,
 ) -> Result<LinkageLaminate, DriveError> {
-    if let Some(refusal) = no_drawing(&spec.transmission, &spec.source) {
-        return Err(refusal.into());
-    }
     laminate_for(&spec.transmission, &spec.source, perf, template)
 }
 
-/// [`linkage_laminate_in`] for an actuator predicted as `perf`, a transmission that can be drawn.
+/// [`linkage_laminate_in`] for an actuator predicted as `perf`: refused where the transmission cannot
+/// be drawn ([`no_drawing`]) or the template has no `[linkage]`.
 fn laminate_for(
     spec: &TransmissionSpec,
     source: &std::path::Path,
     perf: &Performance,
     template: &Template,
 ) -> Result<LinkageLaminate, DriveError> {
+    if let Some(refusal) = no_drawing(spec, source) {
+        return Err(refusal.into());
+    }
     let Some(process) = template.linkage.as_ref() else {
         return Err(InputError::invalid(
             &template.source,
