@@ -1,6 +1,7 @@
 //! The Hermite beam element of `dynamics.rs`: a linearly tapered section between two nodes, its exact
 //! stiffness from the section's flexibility and its consistent cubic-Hermite mass (docs/physics.md §11.1).
 
+use crate::quadrature::{GAUSS4, GAUSS8};
 use nalgebra::{Matrix2, Matrix4};
 
 /// One beam element on `[a, b]` with bending stiffness `EI` and line mass `μ` linear between the ends.
@@ -11,26 +12,6 @@ pub(crate) struct Element {
     pub(crate) stiffness: [f64; 2],
     pub(crate) line_mass: [f64; 2],
 }
-
-/// Gauss-Legendre abscissae and weights on [-1, 1], 4 points (exact to degree 7).
-const GAUSS4: [(f64, f64); 4] = [
-    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-    (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-    (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-];
-
-/// Gauss-Legendre abscissae and weights on [-1, 1], 8 points.
-const GAUSS8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-];
 
 impl Element {
     /// Exact stiffness from the flexibility of the element as a cantilever from `a` (docs/physics.md

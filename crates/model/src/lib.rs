@@ -35,6 +35,7 @@ pub mod planform;
 pub mod plate;
 pub mod poling;
 pub mod primitives;
+mod quadrature;
 pub mod rayleigh_tip_mass;
 pub mod section;
 pub mod transmission;

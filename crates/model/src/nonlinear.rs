@@ -17,26 +17,11 @@ use crate::laminate::{Laminate, LayerRole};
 use crate::performance::{base_stress, beam_tip_compliance, evaluate, Performance};
 use crate::planform::Planform;
 use crate::plate::PlatePeak;
+use crate::quadrature::GAUSS5;
 use crate::section::Section;
 use nalgebra::Vector6;
 use std::f64::consts::FRAC_PI_2;
 
-/// Gauss-Legendre nodes on [-1, 1], five points (exact for polynomials to degree 9).
-const NODES: [f64; 5] = [
-    -0.906_179_845_938_664,
-    -0.538_469_310_105_683,
-    0.0,
-    0.538_469_310_105_683,
-    0.906_179_845_938_664,
-];
-/// Their weights.
-const WEIGHTS: [f64; 5] = [
-    0.236_926_885_056_189,
-    0.478_628_670_499_366,
-    0.568_888_888_888_889,
-    0.478_628_670_499_366,
-    0.236_926_885_056_189,
-];
 /// Panels through each PZT layer: the modulus switches over `1/a` = 125 µm/m of strain, a fraction of
 /// the strain across a plate in bending; three panels of five points give thesis design C's outputs
 /// to 1e-12 of eight.
@@ -101,7 +86,7 @@ impl<'a> NonlinearSection<'a> {
                 let h = (z[k + 1] - z[k]) / THICKNESS_PANELS as f64;
                 for p in 0..THICKNESS_PANELS {
                     let mid = z[k] + (p as f64 + 0.5) * h;
-                    for (n, w) in NODES.iter().zip(WEIGHTS) {
+                    for (n, w) in GAUSS5 {
                         points.push(Point {
                             z: mid + 0.5 * h * n,
                             weight: 0.5 * h * w,
@@ -408,7 +393,7 @@ fn stations(planform: &Planform) -> Vec<(f64, f64)> {
     for k in 0..n {
         let (x0, x1) = (edge(k), edge(k + 1));
         let h = x1 - x0;
-        for (node, w) in NODES.iter().zip(WEIGHTS) {
+        for (node, w) in GAUSS5 {
             out.push((x0 + 0.5 * h * (1.0 + node), 0.5 * h * w));
         }
     }

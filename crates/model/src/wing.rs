@@ -2,6 +2,7 @@
 //! (docs/physics.md §13).
 
 use crate::error::ModelError;
+use crate::quadrature::GAUSS5;
 
 /// Density of air at sea level, 15 °C (ISA), kg/m³.
 pub const AIR_DENSITY: f64 = 1.225;
@@ -180,15 +181,6 @@ impl WingPlanform {
         self.moment(0)
     }
 }
-
-/// Gauss-Legendre on [-1, 1], 5 points (exact to degree 9: a linear chord times r³ is degree 4).
-const GAUSS5: [(f64, f64); 5] = [
-    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
-    (-0.538_469_310_105_683, 0.478_628_670_499_366_5),
-    (0.0, 0.568_888_888_888_888_9),
-    (0.538_469_310_105_683, 0.478_628_670_499_366_5),
-    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
-];
 
 #[cfg(test)]
 mod tests {
