@@ -1,5 +1,6 @@
-//! Bounded nonlinear least squares: projected Levenberg-Marquardt with a forward-difference Jacobian,
-//! several starting points, and the covariance `σ² (JᵀJ)⁻¹` by SVD at the optimum.
+//! Bounded nonlinear least squares: projected Levenberg-Marquardt with a forward-difference Jacobian
+//! (a parameter on a bound the step pushes against held there), several starting points, and the
+//! covariance `σ² (JᵀJ)⁻¹` by SVD at the optimum.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -176,6 +177,47 @@ fn normal_equations(j: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>)
     (jtj, g)
 }
 
+/// Which parameters sit on a bound that the descent direction `-g` pushes against: the step leaves
+/// them there. Clamping a step that moves them as if free spoils the step of every parameter they are
+/// correlated with, and the search then creeps along the bound at a growing damping instead of
+/// converging (a projected Levenberg-Marquardt step on the free parameters alone converges as the
+/// unbounded one does on them).
+fn held_at_bounds(theta: &[f64], g: &DVector<f64>, bounds: &[ParameterRange]) -> Vec<bool> {
+    theta
+        .iter()
+        .zip(bounds)
+        .zip(g.iter())
+        .map(|((&t, b), &gk)| (t <= b.lo && gk > 0.0) || (t >= b.hi && gk < 0.0))
+        .collect()
+}
+
+/// The Levenberg-Marquardt step `-(JᵀJ + λ diag(JᵀJ))⁻¹ Jᵀr` on the parameters not `held`, zero on
+/// those held; None where the damped system is not positive definite.
+fn damped_step(
+    jtj: &DMatrix<f64>,
+    g: &DVector<f64>,
+    lambda: f64,
+    held: &[bool],
+) -> Option<DVector<f64>> {
+    let p = g.len();
+    let mut a = jtj.clone();
+    let mut rhs = -g;
+    for k in 0..p {
+        if held[k] {
+            // The held parameter's row and column decouple; its step solves to zero.
+            for m in 0..p {
+                a[(k, m)] = 0.0;
+                a[(m, k)] = 0.0;
+            }
+            a[(k, k)] = 1.0;
+            rhs[k] = 0.0;
+        } else {
+            a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+        }
+    }
+    a.cholesky().map(|c| c.solve(&rhs))
+}
+
 /// The search's residuals at `theta` in `r`, and their sum of squares with the constant they leave out;
 /// whether they are grouped.
 fn search_at<S>(search: &S, theta: &[f64], r: &mut Vec<f64>) -> (f64, bool)
@@ -216,13 +258,10 @@ where
             jacobian_into(&searched, bounds, &theta, &r, &mut j, &mut r_trial);
             j_at_theta = true;
             let (jtj, g) = normal_equations(&j, &r);
+            let held = held_at_bounds(&theta, &g, bounds);
             let mut improved = false;
             for _ in 0..30 {
-                let mut a = jtj.clone();
-                for k in 0..p {
-                    a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
-                }
-                let Some(step) = a.cholesky().map(|c| c.solve(&(-&g))) else {
+                let Some(step) = damped_step(&jtj, &g, lambda, &held) else {
                     lambda *= 10.0;
                     continue;
                 };
@@ -297,6 +336,38 @@ mod tests {
         ];
         let fit = least_squares(&f, &capped, &[vec![1.0, 0.1]]);
         assert!(fit.theta[1] <= 1.0 && (fit.theta[1] - 1.0).abs() < 1e-9);
+    }
+
+    /// Two strongly correlated parameters, the unbounded optimum of one beyond its bound: the fit ends
+    /// at the bounded optimum (the bound held, the other parameter's own least squares given it), as
+    /// the closed form gives it, not short of it along the bound.
+    #[test]
+    fn a_parameter_held_at_its_bound_leaves_the_others_to_converge() {
+        // y = a x + b (x + 0.05 x²) + noise-like wiggle; b's optimum is negative, its bound is 0.
+        let xs: Vec<f64> = (0..30).map(|i| 1.0 + i as f64 * 0.1).collect();
+        let ys: Vec<f64> = xs
+            .iter()
+            .enumerate()
+            .map(|(i, x)| 2.0 * x - 0.5 * (x + 0.05 * x * x) + 0.01 * ((i * 7 % 5) as f64 - 2.0))
+            .collect();
+        let f = |t: &[f64], out: &mut Vec<f64>| {
+            out.clear();
+            out.extend(
+                xs.iter()
+                    .zip(&ys)
+                    .map(|(x, y)| y - t[0] * x - t[1] * (x + 0.05 * x * x)),
+            );
+        };
+        let b = [
+            ParameterRange { lo: 0.0, hi: 10.0 },
+            ParameterRange { lo: 0.0, hi: 5.0 },
+        ];
+        let fit = least_squares(&f, &b, &[vec![1.0, 1.0]]);
+        // With b = 0, a = Σxy / Σx².
+        let a = xs.iter().zip(&ys).map(|(x, y)| x * y).sum::<f64>()
+            / xs.iter().map(|x| x * x).sum::<f64>();
+        assert_eq!(fit.theta[1], 0.0);
+        assert!((fit.theta[0] - a).abs() < 1e-10, "{} vs {a}", fit.theta[0]);
     }
 
     /// Rows that share every term of the model searched as their groups' weighted means give the fit
