@@ -255,7 +255,7 @@ impl ActuatorBeam {
     fn held_system(&self, active: usize, extension: usize) -> HeldSystem {
         let active = active.max(1);
         let (elements, compliant) = self.mesh(active, extension);
-        let mut kr = self.held_at_root(&assemble(&elements, Element::stiffness_matrix));
+        let mut kr = self.held_at_root(&assemble(&elements, Element::stiffness_matrix, |_| true));
         if self.clamp_compliance > 0.0 {
             kr[(0, 0)] += 1.0 / self.clamp_compliance;
         }
@@ -272,7 +272,7 @@ impl ActuatorBeam {
         active: usize,
         compliant: bool,
     ) -> (DMatrix<f64>, DVector<f64>) {
-        let mut m = assemble(elements, Element::mass_matrix);
+        let mut m = assemble(elements, Element::mass_matrix, |_| true);
         // The tip edges' fillets at the end of the active region (node `active`).
         m[(2 * active, 2 * active)] += self.tip_point_mass;
         let load = self.tip_load(&mut m, compliant);
@@ -429,11 +429,16 @@ impl ActuatorBeam {
     }
 }
 
-/// The global matrix of each element's `matrix`, two degrees of freedom (v, θ) a node.
-fn assemble(elements: &[Element], matrix: fn(&Element) -> Matrix4<f64>) -> DMatrix<f64> {
+/// The global matrix of each element's `matrix`, two degrees of freedom (v, θ) a node, over the
+/// elements whose index `part` holds (the nearby modes' stiffness parts assemble one region at a time).
+pub(crate) fn assemble(
+    elements: &[Element],
+    matrix: fn(&Element) -> Matrix4<f64>,
+    part: impl Fn(usize) -> bool,
+) -> DMatrix<f64> {
     let full = 2 * (elements.len() + 1);
     let mut a = DMatrix::<f64>::zeros(full, full);
-    for (e, el) in elements.iter().enumerate() {
+    for (e, el) in elements.iter().enumerate().filter(|(e, _)| part(*e)) {
         let me = matrix(el);
         for r in 0..4 {
             for c in 0..4 {

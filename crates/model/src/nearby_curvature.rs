@@ -12,7 +12,7 @@
 //! `fᵀK⁻¹f = c₀²/(c₀ + uᵀΔKu) + (ΔKu)ᵀ(K₀⁻¹ - uuᵀ/c₀)(ΔKu) + O(Δ³)`.
 
 use crate::beam_element::Element;
-use crate::dynamics::{ActuatorBeam, Shapes, COARSE_ELEMENTS};
+use crate::dynamics::{assemble, ActuatorBeam, Shapes, COARSE_ELEMENTS};
 use nalgebra::{DMatrix, DVector};
 
 /// The ratios the shapes depend on, `[a_e, a_c, b_l, b_e, b_t, b_n]` over `a_w` or `b_a`
@@ -128,22 +128,10 @@ impl Curvature {
 fn stiffness_parts(beam: &ActuatorBeam) -> [DMatrix<f64>; 3] {
     let active = COARSE_ELEMENTS.0;
     let elements = unit_elements(beam);
-    let full = 2 * (elements.len() + 1);
-    let part = |range: std::ops::Range<usize>| {
-        let mut a = DMatrix::<f64>::zeros(full, full);
-        for (e, el) in elements
-            .iter()
-            .enumerate()
-            .filter(|(e, _)| range.contains(e))
-        {
-            let me = Element::stiffness_matrix(el);
-            for r in 0..4 {
-                for c in 0..4 {
-                    a[(2 * e + r, 2 * e + c)] += me[(r, c)];
-                }
-            }
-        }
-        beam.held_at_root(&a)
+    let part = |region: std::ops::Range<usize>| {
+        beam.held_at_root(&assemble(&elements, Element::stiffness_matrix, |e| {
+            region.contains(&e)
+        }))
     };
     let k_w = part(0..active);
     let k_e = part(active..elements.len());
