@@ -16,7 +16,7 @@ use crate::banded::{dot, Band};
 use crate::beam_element::Element;
 use crate::effects::{Effects, StackBasis};
 use crate::error::ModelError;
-use crate::performance::MassBreakdown;
+use crate::performance::{beam_tip_compliance, extension_tip_compliance, MassBreakdown};
 use crate::planform::Planform;
 use crate::section::Section;
 use nalgebra::{DMatrix, DVector, Matrix4};
@@ -184,15 +184,15 @@ impl ActuatorBeam {
     pub fn from_effects(effects: &Effects, basis: &StackBasis, mass: &MassBreakdown) -> Self {
         let pl = basis.planform;
         let l_p = pl.piezo_length();
-        let c44 =
-            basis.beam_compliance * 3.0 * pl.nominal_width() / (l_p.powi(3) * pl.shape_factor());
+        // The section compliances the basis' tip compliances were made of (linear in them).
+        let c44 = basis.beam_compliance / beam_tip_compliance(1.0, &pl);
         let a_pzt = pl.piezo_area();
         let half_taper = 0.5 * (pl.base_width - pl.tip_width());
         let passive_areal = mass.passive / (a_pzt + pl.extension_area() + pl.tab_area());
         let extension =
             (effects.extension_flexibility > 0.0 && pl.extension_ratio > 0.0).then(|| {
-                effects.extension_flexibility * basis.extension_compliance * 3.0 * pl.tip_width()
-                    / pl.extension_length().powi(3)
+                effects.extension_flexibility * basis.extension_compliance
+                    / extension_tip_compliance(1.0, &pl)
             });
         ActuatorBeam {
             planform: pl,

@@ -100,6 +100,14 @@ pub fn beam_tip_compliance(bending_compliance: f64, planform: &Planform) -> f64 
         / (3.0 * planform.nominal_width())
 }
 
+/// The extra tip compliance `c = C44 l_ext³ / (3 w_tip)` of an extension of constant width `w_tip`
+/// whose section bends by `C44` (1/(N·m)) under a moment per width, m/N: a cantilever of length `l_ext`
+/// under its end load (docs/physics.md §3). 0 for a planform without an extension.
+pub fn extension_tip_compliance(bending_compliance: f64, planform: &Planform) -> f64 {
+    let l_ext = planform.extension_length();
+    bending_compliance * l_ext * l_ext * l_ext / (3.0 * planform.tip_width())
+}
+
 /// Blocked force `F_b = δ / c = 3 P w_nom (1 + 2 l_r) / (2 C44 l_p G)` (thesis eq. 2.35), N. For a
 /// rectangle this is `3 P w / (2 C44 l_p)`: the thesis' eq. 2.36 prints 4/3 in place of 3/2 (erratum,
 /// docs/physics.md §3).

@@ -3,6 +3,7 @@
 //! fit varies the effects without re-solving the laminate.
 
 use crate::error::ModelError;
+use crate::performance::{beam_tip_compliance, extension_tip_compliance};
 use crate::planform::Planform;
 
 /// What the δ/F_b physics needs of one actuator once the stack is fixed: lets a fit vary η, β, Δ, φ, c_θ
@@ -48,16 +49,15 @@ impl StackSection {
 
     /// [`StackSection::basis`] with the planform's terms computed already (the same numbers).
     pub fn basis_with(&self, pl: &Planform, t: &PlanformTerms) -> Result<StackBasis, ModelError> {
-        let beam =
-            self.bending_compliance * t.piezo_length_cubed * t.shape_factor / t.three_nominal_width;
-        let extension = match t.extension {
-            Some((length_cubed, three_tip_width)) => {
+        let beam = self.bending_compliance * t.beam_per_section;
+        let extension = match t.extension_per_section {
+            Some(per_section) => {
                 let Some(passive) = self.passive_bending_compliance else {
                     return Err(ModelError::Laminate(
                         "the stack was solved for an actuator without an extension".into(),
                     ));
                 };
-                passive * length_cubed / three_tip_width
+                passive * per_section
             }
             None => 0.0,
         };
@@ -71,26 +71,23 @@ impl StackSection {
     }
 }
 
-/// The planform's part of [`StackSection::basis`]: `l_p³`, the shape factor `G(w_r, l_r)` and `3 w_nom`, and
-/// with an extension `l_ext³` and `3 w_tip`. The same under every stack, so a fit that solves the stacks
-/// again on each evaluation computes them once per planform (the shape factor is an integral).
+/// The planform's part of [`StackSection::basis`]: the tip compliances per unit section compliance
+/// `C44` of the tapered beam ([`beam_tip_compliance`]) and, with an extension, of the extension
+/// ([`extension_tip_compliance`]). The same under every stack, so a fit that solves the stacks again on
+/// each evaluation computes them once per planform (the shape factor is an integral).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanformTerms {
-    piezo_length_cubed: f64,
-    shape_factor: f64,
-    three_nominal_width: f64,
-    extension: Option<(f64, f64)>,
+    beam_per_section: f64,
+    extension_per_section: Option<f64>,
 }
 
 impl PlanformTerms {
     /// The terms of `pl`.
     pub fn of(pl: &Planform) -> PlanformTerms {
         PlanformTerms {
-            piezo_length_cubed: pl.piezo_length().powi(3),
-            shape_factor: pl.shape_factor(),
-            three_nominal_width: 3.0 * pl.nominal_width(),
-            extension: (pl.extension_ratio > 0.0)
-                .then(|| (pl.extension_length().powi(3), 3.0 * pl.tip_width())),
+            beam_per_section: beam_tip_compliance(1.0, pl),
+            extension_per_section: (pl.extension_ratio > 0.0)
+                .then(|| extension_tip_compliance(1.0, pl)),
         }
     }
 }
