@@ -21,10 +21,13 @@ mod calibrate_child;
 mod child;
 #[path = "../tests/common/fixtures.rs"]
 mod fixtures;
+#[path = "../tests/synthetic/mod.rs"]
+mod synthetic;
 
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write as _;
+use synthetic::normal;
 
 /// An example actuator: its geometry columns as written, its highest voltage with the deflection and
 /// force there, and its mass.
@@ -67,13 +70,6 @@ fn bases() -> Vec<Base> {
         }
     }
     bases.into_iter().map(|(_, b)| b).collect()
-}
-
-/// A standard normal draw (Box-Muller).
-fn normal(rng: &mut ChaCha8Rng) -> f64 {
-    let u: f64 = rng.gen_range(f64::EPSILON..1.0);
-    let v: f64 = rng.gen();
-    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
 }
 
 /// `rows` rows (rounded down to whole actuators) at `voltages` voltages per actuator.
