@@ -1,6 +1,8 @@
 //! Numbers in report.json are rounded to 6 significant digits, so the file is short and the same on
 //! every run; a non-finite number is written as `null`. Fields opt in with
 //! `#[serde(serialize_with = "six_digits")]`; the in-memory values (and report.md) keep full precision.
+//! The text files write a non-finite number as a word ([`finite_or_word`]): no `inf` or `NaN` reaches
+//! a file a lab reads.
 
 use serde::Serializer;
 
@@ -37,6 +39,27 @@ pub fn six_digits_pair<S: Serializer>(x: &(f64, f64), s: S) -> Result<S::Ok, S::
     t.end()
 }
 
+/// `text(x)` for a finite `x`; else `unbounded` for an infinite one (an interval whose covariance the
+/// fit could not bound) and `none` for NaN (a value the model could not evaluate).
+pub fn finite_or_word(x: f64, text: impl FnOnce(f64) -> String) -> String {
+    if x.is_finite() {
+        text(x)
+    } else if x.is_infinite() {
+        "unbounded".to_string()
+    } else {
+        "none".to_string()
+    }
+}
+
+/// An interval `[lo, hi]` with each end written by `text` ([`finite_or_word`]).
+pub fn interval_text(interval: (f64, f64), text: impl Fn(f64) -> String) -> String {
+    format!(
+        "[{}, {}]",
+        finite_or_word(interval.0, &text),
+        finite_or_word(interval.1, &text)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,5 +88,16 @@ mod tests {
             serde_json::to_string(&s).unwrap(),
             r#"{"a":0.123457,"b":null,"c":null,"d":[1234570.0,null]}"#
         );
+    }
+
+    #[test]
+    fn text_writes_a_non_finite_number_as_a_word() {
+        let sci = |v: f64| format!("{v:.2e}");
+        assert_eq!(interval_text((1.5, 2.0), sci), "[1.50e0, 2.00e0]");
+        assert_eq!(
+            interval_text((f64::NEG_INFINITY, f64::INFINITY), sci),
+            "[unbounded, unbounded]"
+        );
+        assert_eq!(finite_or_word(f64::NAN, sci), "none");
     }
 }

@@ -3,6 +3,7 @@
 use super::tree::{Errors, LibraryOnlyErrors, Report, SelectedEffect, VerdictDetail};
 use crate::calibrate::baseline::OutputErrors;
 use crate::calibrate::discover::Discovery;
+use crate::calibrate::rounded::{finite_or_word, interval_text};
 use crate::calibrate::select::separating::DesignPoint;
 use std::fmt::Write as _;
 
@@ -97,8 +98,10 @@ fn discovery(d: &Discovery) -> String {
             .iter()
             .map(|e| {
                 format!(
-                    "{} {:+.3} [{:+.3}, {:+.3}]",
-                    e.variable, e.estimate, e.interval.0, e.interval.1
+                    "{} {} {}",
+                    e.variable,
+                    finite_or_word(e.estimate, |v| format!("{v:+.3}")),
+                    interval_text(e.interval, |v| format!("{v:+.3}"))
                 )
             })
             .collect();
@@ -116,8 +119,13 @@ fn discovery(d: &Discovery) -> String {
         let e = &t.exponent;
         let _ = writeln!(
             md,
-            "| {} | {} | {:+.3} | [{:+.3}, {:+.3}] | {:.3} | {:.2e} |",
-            t.residual, e.variable, e.estimate, e.interval.0, e.interval.1, t.r_squared, e.p
+            "| {} | {} | {} | {} | {:.3} | {:.2e} |",
+            t.residual,
+            e.variable,
+            finite_or_word(e.estimate, |v| format!("{v:+.3}")),
+            interval_text(e.interval, |v| format!("{v:+.3}")),
+            t.r_squared,
+            e.p
         );
     }
     let _ = writeln!(
@@ -128,14 +136,13 @@ fn discovery(d: &Discovery) -> String {
     for (i, c) in d.candidates.iter().take(8).enumerate() {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {:.4e} | [{:.4e}, {:.4e}] | {:.3} | {:.1} | {:.1} | {:.4} |",
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} | {:.1} | {:.4} |",
             i + 1,
             c.name,
             if c.library { "yes" } else { "no" },
             c.parameter,
-            c.estimate,
-            c.interval.0,
-            c.interval.1,
+            finite_or_word(c.estimate, |v| format!("{v:.4e}")),
+            interval_text(c.interval, |v| format!("{v:.4e}")),
             c.eta,
             c.delta_aicc,
             c.gain_over_eta,
@@ -180,8 +187,8 @@ fn discovery(d: &Discovery) -> String {
                 ("–".to_string(), "–".to_string())
             } else {
                 (
-                    format!("{:.4e}", f.estimate),
-                    format!("[{:.4e}, {:.4e}]", f.interval.0, f.interval.1),
+                    finite_or_word(f.estimate, |v| format!("{v:.4e}")),
+                    interval_text(f.interval, |v| format!("{v:.4e}")),
                 )
             };
             let _ = writeln!(
@@ -228,11 +235,13 @@ pub fn verdict_line(verdict: &str, detail: &VerdictDetail) -> String {
 /// it is smaller than one unit in the last of those places: a parameter in SI (a length or a mass in a
 /// declared effect, 2e-5 kg) would otherwise print as zero.
 fn param(v: f64, decimals: usize) -> String {
-    if v != 0.0 && v.is_finite() && v.abs() < 10f64.powi(-(decimals as i32) + 2) {
-        format!("{:.*e}", decimals - 1, v)
-    } else {
-        format!("{v:.decimals$}")
-    }
+    finite_or_word(v, |v| {
+        if v != 0.0 && v.abs() < 10f64.powi(-(decimals as i32) + 2) {
+            format!("{:.*e}", decimals - 1, v)
+        } else {
+            format!("{v:.decimals$}")
+        }
+    })
 }
 
 /// Terminal summary: verdict, fitted parameters with intervals, error tables.
@@ -248,12 +257,11 @@ pub fn summary(
     for e in selected {
         let _ = writeln!(
             out,
-            "  {}: {} = {} [{}, {}]",
+            "  {}: {} = {} {}",
             e.name,
             e.parameter,
             param(e.estimate, 4),
-            param(e.interval.0, 4),
-            param(e.interval.1, 4)
+            interval_text(e.interval, |v| param(v, 4))
         );
     }
     out.push_str(&error_tables(tables[0], library_only, tables[1], tables[2]));
@@ -271,12 +279,11 @@ pub fn markdown(r: &Report) -> String {
     for e in &r.selected_effects {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | [{}, {}] | {} |",
+            "| {} | {} | {} | {} | {} |",
             e.name,
             e.parameter,
             param(e.estimate, 5),
-            param(e.interval.0, 5),
-            param(e.interval.1, 5),
+            interval_text(e.interval, |v| param(v, 5)),
             param(e.std_error, 5)
         );
     }
@@ -446,7 +453,7 @@ mod tests {
         );
         assert_eq!(
             lines[1],
-            "  dead-length: dead_length_mm = 2.2931 [1.9080, inf]"
+            "  dead-length: dead_length_mm = 2.2931 [1.9080, unbounded]"
         );
     }
 
@@ -455,7 +462,8 @@ mod tests {
         assert_eq!(param(2.29312, 4), "2.2931");
         assert_eq!(param(0.0123, 4), "0.0123");
         assert_eq!(param(0.0, 4), "0.0000");
-        assert_eq!(param(f64::INFINITY, 4), "inf");
+        assert_eq!(param(f64::INFINITY, 4), "unbounded");
+        assert_eq!(param(f64::NAN, 4), "none");
         // 20 mg in kg and 0.3 mm in m, which four places would print as 0.0000 and 0.0003.
         assert_eq!(param(2.034e-5, 4), "2.034e-5");
         assert_eq!(param(3.07e-4, 4), "3.070e-4");
@@ -466,9 +474,9 @@ mod tests {
     fn markdown_renders_every_section_from_the_tree() {
         let md = markdown(&sample());
         assert!(md.starts_with("# Calibration of `measured.csv`\n\n12 actuators, 40 rows.\n\n## Verdict: ambiguous\n\nverdict: ambiguous ("));
-        assert!(
-            md.contains("| dead-length | dead_length_mm | 2.29312 | [1.90800, inf] | 0.19000 |\n")
-        );
+        assert!(md.contains(
+            "| dead-length | dead_length_mm | 2.29312 | [1.90800, unbounded] | 0.19000 |\n"
+        ));
         assert!(md.contains("| δ, F_b | {d31-scale, dead-length} | -120.50 | 0.0500 | yes |  |\n"));
         assert!(md.contains("| δ, F_b | original | -10.00 | 0.6000 |  |  |\n"));
         assert!(md.contains("F = 1.50 (3, 20), p = 0.250; pure-error σ(log) = 0.0400."));

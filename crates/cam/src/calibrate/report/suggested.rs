@@ -5,6 +5,7 @@
 
 use crate::calibrate::discover::suggest::Suggestion;
 use crate::calibrate::effects_file::primitive_fields;
+use crate::calibrate::rounded::{finite_or_word, interval_text};
 use crate::calibrate::Calibration;
 use std::fmt::Write;
 
@@ -56,13 +57,12 @@ fn entry(x: &Suggestion) -> String {
         .unwrap_or_default();
     let _ = writeln!(
         t,
-        "# rank {} of the {} candidates{beside}: {} = {:.4e} [{:.4e}, {:.4e}], {}AICc gain {:.1} over {}",
+        "# rank {} of the {} candidates{beside}: {} = {} {}, {}AICc gain {} over {}",
         x.rank,
         x.residual,
         x.parameter,
-        x.estimate,
-        x.interval.0,
-        x.interval.1,
+        finite_or_word(x.estimate, |v| format!("{v:.4e}")),
+        interval_text(x.interval, |v| format!("{v:.4e}")),
         // The deflection and force ranking's is the joint criterion (docs/calibration.md §3, "Joint
         // ranking").
         if x.residual == "deflection and force" {
@@ -70,7 +70,7 @@ fn entry(x: &Suggestion) -> String {
         } else {
             ""
         },
-        x.gain,
+        finite_or_word(x.gain, |v| format!("{v:.1}")),
         match x.residual {
             "mass" => "the chosen mass model",
             "resonance" => "the chosen model on the resonances",
@@ -94,4 +94,36 @@ fn entry(x: &Suggestion) -> String {
         }
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use actuator_model::primitives::Primitive;
+
+    #[test]
+    fn a_runner_up_without_an_interval_says_so_in_words() {
+        // A resonance candidate whose model could not be evaluated beside its optimum has no
+        // covariance: its interval is infinite, and the file says "unbounded", never "inf".
+        let x = Suggestion {
+            rank: 2,
+            residual: "resonance",
+            name: "tip-mass".into(),
+            partner: None,
+            primitive: Primitive::TipMass,
+            parameter: "tip_mass_kg",
+            null: 0.0,
+            bounds: (0.0, 1e-4),
+            estimate: 4.1e-19,
+            interval: (f64::NEG_INFINITY, f64::INFINITY),
+            gain: -2.2,
+            declared: false,
+        };
+        let text = entry(&x);
+        assert!(
+            text.starts_with("# rank 2 of the resonance candidates: tip_mass_kg = 4.1000e-19 [unbounded, unbounded], AICc gain -2.2 over the chosen model on the resonances\n"),
+            "{text}"
+        );
+        assert!(!text.contains("inf"), "{text}");
+    }
 }
