@@ -106,6 +106,20 @@ fn a_huge_curve_is_refused_by_its_extent_before_it_is_cut_into_chords() {
         );
         assert!(seconds < 1.0, "{name}: {seconds} s");
     }
+    // A path is refused at its first segment past the limit: the message names the side found so
+    // far, 3000 mm, not the height its later segments would have given.
+    let text = svg(
+        "100mm",
+        "100mm",
+        " viewBox=\"0 0 100 100\"",
+        "<path id=\"q\" d=\"M0 0 H3000 V3000 H0 Z\"/>",
+    );
+    let (_dir, path) = write_temp("square.svg", &text);
+    let err = actuator_cam::import_parts(&path).unwrap_err().to_string();
+    assert!(
+        err.contains("<path id=\"q\">: 3000 mm or more across: too large"),
+        "{err}"
+    );
     // 2000 mm across is allowed.
     let text = dxf_text(Some(4), &[circle("2A", [0.0, 0.0], 999.0)]);
     let (_dir, path) = write_temp("large.dxf", &text);

@@ -57,7 +57,9 @@ impl Extent {
         [0, 1].map(|k| (self.hi[k] - self.lo[k]).max(0.0))
     }
 
-    /// Refuse the entity when its extent passes [`MAX_SIDE_MM`] on either axis.
+    /// Refuse the entity when its extent passes [`MAX_SIDE_MM`] on either axis. Readers check as the
+    /// extent grows, segment by segment, to refuse a huge curve before it is cut into chords: the
+    /// message names the larger side found so far, which the whole entity reaches at least.
     pub fn check(&self, file: &Path, entity: &str) -> Result<(), InputError> {
         let [w, h] = self.size();
         if w <= MAX_SIDE_MM && h <= MAX_SIDE_MM {
@@ -67,9 +69,8 @@ impl Extent {
             file,
             entity,
             format!(
-                "{} x {} mm: too large for a part, which must lie within {MAX_SIDE_MM} x {MAX_SIDE_MM} mm (the largest sheet); is the drawing in mm?",
-                short_number(w),
-                short_number(h)
+                "{} mm or more across: too large for a part, which must lie within {MAX_SIDE_MM} x {MAX_SIDE_MM} mm (the largest sheet); is the drawing in mm?",
+                short_number(w.max(h)),
             ),
         ))
     }
