@@ -64,7 +64,7 @@ pub struct Prediction {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modal_mass_mg: Option<f64>,
     /// The same free deflection in every drive mode against the limits on the plates' field at
-    /// survival [`DESIGN_SURVIVAL`] (`predict` only; docs/physics.md §2.1).
+    /// survival `DESIGN_SURVIVAL` (`predict` only; docs/physics.md §2.1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modes: Option<Vec<ModeRow>>,
 }

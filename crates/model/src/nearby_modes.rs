@@ -96,7 +96,7 @@ pub struct NearbyModes {
 /// cell's forms are a function of the cell alone (its beam has fixed scalars), so any user, on any
 /// data, may share them, and a value does not depend on which user solved it or when. Owned by the
 /// caller and passed to [`NearbyModes::modal`]; safe to share between threads. Emptied past
-/// [`MOST_CELLS`] (about 35 MB); a cell emptied is solved again to the same bits.
+/// `MOST_CELLS` (about 35 MB); a cell emptied is solved again to the same bits.
 #[derive(Debug, Default)]
 pub struct ModeCache {
     cells: Mutex<HashMap<Cell, Forms, BuildHasherDefault<WordHasher>>>,

@@ -46,7 +46,7 @@ impl DeclaredParameter {
 }
 
 /// An effect a lab declared: a composition of primitives driven by one or more parameters, each with its
-/// own bounds and null value. Each parameter is fitted on the data that identify it ([`Stage`]): the
+/// own bounds and null value. Each parameter is fitted on the data that identify it (`Stage`): the
 /// parameters of one effect on the same stage are fitted together, as one candidate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DeclaredSpec {

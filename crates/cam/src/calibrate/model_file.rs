@@ -123,7 +123,7 @@ impl LibraryField {
     }
 }
 
-/// Parse and validate a calibrated model (named [`FILE_NAME`] in errors).
+/// Parse and validate a calibrated model (named `FILE_NAME` in errors).
 pub fn from_toml(text: &str) -> Result<CalibratedModel, InputError> {
     parse(Path::new(FILE_NAME), text)
 }

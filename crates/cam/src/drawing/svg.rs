@@ -223,7 +223,7 @@ pub struct LayerStyle {
 ///
 /// The page is the drawing's sheet, so the sheet's lower-left corner is the page's, as it is the
 /// DXF's origin; shapes past the sheet edge lie off the page, and the `<desc>` says so
-/// ([`origin_statement`]).
+/// (`origin_statement`).
 pub fn to_svg(drawing: &Drawing, opts: &SvgOptions) -> String {
     document(
         drawing,

@@ -62,7 +62,7 @@ pub struct Analysis {
 /// stiffness and blocked force per field depend on the field (the nonlinear ceramic) is predicted at
 /// the field its operating point needs: the operating point is found again at that field until the
 /// field settles (docs/physics.md §18.5), and a field that does not settle is reported, not drawn on.
-/// The wing and the linkage do not depend on the field: they are built once ([`Mechanism`]).
+/// The wing and the linkage do not depend on the field: they are built once (`Mechanism`).
 pub fn analyse(
     spec: &DriveSpec,
     design: &Design,

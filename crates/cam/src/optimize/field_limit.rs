@@ -11,7 +11,7 @@ pub enum FieldLimit {
     /// `max_voltage_V` at this PZT thickness and drive mode.
     Voltage,
     /// `max_peak_pzt_strain` in free deflection (uniform along the plate; a shape whose stroke strains
-    /// its plate more is left out, [`Problem::shape_rates`]).
+    /// its plate more is left out, `Problem::try_shape_rates`).
     Strain,
     /// The mode's limits on the plates' field (optimize for a wing): the failure fit along the poling,
     /// the depolarization field against it, or the biased signal's range (docs/physics.md §2.1).

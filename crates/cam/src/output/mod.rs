@@ -163,7 +163,7 @@ impl Output {
 
     /// Write the folder `dir` (named by `flag`) file by file, for a run whose files together would not
     /// fit in memory: each file goes into the staging folder as it is added, and nothing moves into place
-    /// before [`FolderStream::finish`]. The folder is held and checked against the policy now, before any
+    /// before `FolderStream::finish`. The folder is held and checked against the policy now, before any
     /// work; each file's name when it is added. Dropping the stream unfinished (an error half-way) removes
     /// everything it staged. Destinations added with [`Output::folder`] or [`Output::file`] are not
     /// written by a stream.
@@ -186,7 +186,7 @@ impl Output {
 
     /// Write one file at `path` (named by `flag`) bit by bit, for a file too large to hold in memory
     /// (a sweep's CSV of every design): the destination is held and checked against the policy now,
-    /// before any work, and the file moves into place only at [`FileStream::finish`]. Dropping the
+    /// before any work, and the file moves into place only at `FileStream::finish`. Dropping the
     /// stream unfinished removes what it staged. Destinations added with [`Output::folder`] or
     /// [`Output::file`] are not written by a stream.
     pub fn stream_file(self, flag: &str, path: &Path) -> Result<FileStream, OutputError> {

@@ -266,7 +266,7 @@ pub struct Template {
     /// Laser settings by layer and operation (`[laser.LAYER]`), as far as the template gives them.
     pub laser: super::laser::LaserSettings,
     /// The base tab the process gives a design that has none, mm (`[layers.passive] ground_tab_mm`,
-    /// default [`DEFAULT_GROUND_TAB_MM`]; 0 adds none): the wiring needs bare carbon to reach.
+    /// default `DEFAULT_GROUND_TAB_MM`; 0 adds none): the wiring needs bare carbon to reach.
     pub ground_tab_mm: f64,
 }
 

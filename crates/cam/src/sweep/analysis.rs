@@ -80,7 +80,7 @@ impl MainEffects {
     }
 }
 
-/// The running sums behind [`MainEffects`], fed one design at a time in sweep order, so a sweep need
+/// The running sums behind `MainEffects`, fed one design at a time in sweep order, so a sweep need
 /// not keep its designs.
 #[derive(Debug, Clone)]
 pub struct EffectSums {
@@ -190,7 +190,7 @@ pub struct Comparison {
     pub count: usize,
 }
 
-/// The running mean and spread behind [`Comparison`], one design at a time (Welford's update, so a
+/// The running mean and spread behind `Comparison`, one design at a time (Welford's update, so a
 /// sweep need not keep its percent differences: B. P. Welford, Technometrics 4(3), 1962).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ComparisonSums {

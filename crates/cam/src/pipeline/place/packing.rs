@@ -16,7 +16,7 @@ pub struct NestOptions {
     /// rounds after the base search ([`cam_nest::nest_until`]).
     pub iterations: usize,
     /// Wall-clock budget of the whole nest, if any: each layer searches until its share of it
-    /// ([`TimeBudget::share`]) or until `iterations`, whichever comes first.
+    /// (`TimeBudget::share`) or until `iterations`, whichever comes first.
     pub time: Option<TimeBudget>,
     /// Set by the command line's first Ctrl-C: every layer ends its search with its best layout
     /// so far, and the build goes on with those.
@@ -107,7 +107,7 @@ pub const WORKERS: usize = 2;
 
 /// What a build reports while the irregular nester works (a progress bar in the command layer).
 /// Calls come from the thread that runs the build, layer after layer in order (even when layers
-/// are nested at once, [`super::place_cut_layers`]); an observer never changes the layout.
+/// are nested at once, `place_cut_layers`); an observer never changes the layout.
 pub trait NestObserver {
     /// Cut layer `index` (0-based) of the build's `count` starts nesting `parts` part copies.
     fn layer(&self, index: usize, count: usize, layer: &str, parts: usize);
@@ -131,7 +131,7 @@ pub enum Packing<'a> {
     /// apart, no stock limit. What `cut-sheet` uses for one design.
     Shelf,
     /// The irregular nester: nominal outlines kerf + spacing apart within the stock (or along a
-    /// roll, [`crate::process::template::SheetSpec::roll`]), compared with the bounding-box baseline on the same parts,
+    /// roll, `SheetSpec::roll`), compared with the bounding-box baseline on the same parts,
     /// reporting to the observer as it goes. What `nest` uses for a batch.
     Irregular(NestOptions, &'a dyn NestObserver),
 }
