@@ -59,7 +59,7 @@ fn a_ring_of_20000_vertices_imports_in_well_under_a_few_seconds_from_dxf_and_svg
 fn a_huge_curve_is_refused_by_its_extent_before_it_is_cut_into_chords() {
     // A radius of 1e9 mm gave 100,000 chords and 47 s of checks before the batch found the part too
     // large; its analytic extent refuses it at once, naming the entity and the allowed size.
-    let limit = "too large for a part, which must lie within 2000 x 2000 mm (the largest sheet)";
+    let limit = "too large for a drawing, which must lie within 2000 x 2000 mm (the largest sheet)";
     let huge_bulge = [(0.0, 0.0, 0.0), (1.0, 0.0, 1e12), (1.0, 1.0, 0.0)];
     for (name, text, entity) in [
         (
@@ -117,7 +117,7 @@ fn a_huge_curve_is_refused_by_its_extent_before_it_is_cut_into_chords() {
     let (_dir, path) = write_temp("square.svg", &text);
     let err = actuator_cam::import_parts(&path).unwrap_err().to_string();
     assert!(
-        err.contains("<path id=\"q\">: 3000 mm or more across: too large"),
+        err.contains("<path id=\"q\">: 3000 mm or more across: too large for a drawing"),
         "{err}"
     );
     // 2000 mm across is allowed.

@@ -99,7 +99,7 @@ pub fn chain(file: &Path, pieces: Vec<Piece>) -> Result<Vec<Contour>, InputError
                     file,
                     &names[names.len() - 1],
                     format!(
-                        "open contour: nothing continues it at {} mm (it started at {} mm); a part outline must be closed",
+                        "open contour: nothing continues it at {} mm (it started at {} mm); an outline (of a part or a drawn sheet) must be closed",
                         xy(end),
                         xy(head)
                     ),
@@ -169,7 +169,7 @@ fn self_intersecting(file: &Path, contour: &Contour) -> InputError {
     entity_error(
         file,
         &contour.entity,
-        "self-intersecting contour: its edges cross or touch; a part outline must be a simple closed curve",
+        "self-intersecting contour: its edges cross or touch; an outline (of a part or a drawn sheet) must be a simple closed curve",
     )
 }
 
@@ -195,7 +195,7 @@ pub fn assemble(file: &Path, contours: Vec<Contour>) -> Result<Vec<ImportedPart>
     if contours.is_empty() {
         return Err(InputError::whole_file(
             file,
-            "no closed contour: a part file needs at least one closed LWPOLYLINE/POLYLINE, CIRCLE or loop of LINE/ARC entities (DXF), or a closed path, polygon, rect, circle or ellipse (SVG)",
+            "no closed contour: a drawing needs at least one closed LWPOLYLINE/POLYLINE, CIRCLE or loop of LINE/ARC entities (DXF), or a closed path, polygon, rect, circle or ellipse (SVG)",
         ));
     }
     let rings: Vec<Vec<Point>> = contours

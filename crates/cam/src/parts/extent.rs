@@ -69,7 +69,7 @@ impl Extent {
             file,
             entity,
             format!(
-                "{} mm or more across: too large for a part, which must lie within {MAX_SIDE_MM} x {MAX_SIDE_MM} mm (the largest sheet); is the drawing in mm?",
+                "{} mm or more across: too large for a drawing, which must lie within {MAX_SIDE_MM} x {MAX_SIDE_MM} mm (the largest sheet); is the drawing in mm?",
                 short_number(w.max(h)),
             ),
         ))

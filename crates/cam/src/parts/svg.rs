@@ -517,7 +517,7 @@ impl Walk<'_> {
                 return Err(entity_error(
                     file,
                     &name,
-                    "open contour: a part outline must be closed (end the path with Z, or use polygon instead of polyline/line)",
+                    "open contour: an outline (of a part or a drawn sheet) must be closed (end the path with Z, or use polygon instead of polyline/line)",
                 ));
             }
             if points.len() < 3 {
