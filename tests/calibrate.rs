@@ -323,3 +323,57 @@ fn cut_sheet_takes_the_calibrated_model() {
                 .contains("original, thesis-adjusted, nonlinear, euler-bernoulli")
     );
 }
+
+/// The words a non-finite number prints as in Rust (`inf`, `-inf`, `NaN`) and elsewhere (`nan`,
+/// `Infinity`), found as whole words in `text`.
+fn non_finite_words(text: &str) -> Vec<&str> {
+    text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| matches!(*w, "inf" | "NaN" | "nan" | "Infinity"))
+        .collect()
+}
+
+#[test]
+fn resonances_the_model_cannot_reach_leave_no_inf_or_nan_in_any_file() {
+    // Every actuator's first resonance at the top of the allowed range, 999999 Hz, a thousand times
+    // what any of them can ring at: a resonance candidate is then fitted where its model cannot be
+    // evaluated beside the optimum, and has no interval. Every file says so in words.
+    let text = std::fs::read_to_string(example()).unwrap();
+    let mut csv = String::new();
+    let mut header = true;
+    for line in text.lines() {
+        csv.push_str(line);
+        if !line.starts_with('#') {
+            let weighed = line.split(',').nth(8).is_some_and(|m| !m.is_empty());
+            csv.push_str(match (header, weighed) {
+                (true, _) => ",resonance_Hz",
+                (false, true) => ",999999",
+                _ => ",",
+            });
+            header = false;
+        }
+        csv.push('\n');
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let rows = dir.path().join("rows.csv");
+    std::fs::write(&rows, csv).unwrap();
+    let out = dir.path().join("out");
+    let run = cam_ok(&[
+        "calibrate",
+        rows.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let mut files = vec![("stdout".to_string(), common::stdout(&run))];
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let path = entry.unwrap().path();
+        if let Ok(text) = std::fs::read_to_string(&path) {
+            files.push((path.display().to_string(), text));
+        }
+    }
+    assert!(files
+        .iter()
+        .any(|(name, _)| name.ends_with("suggested-effects.toml")));
+    for (name, text) in &files {
+        assert!(non_finite_words(text).is_empty(), "{name}:\n{text}");
+    }
+}
