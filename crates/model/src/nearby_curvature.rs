@@ -158,10 +158,19 @@ pub(crate) fn unit_elements(beam: &ActuatorBeam) -> Vec<Element> {
 }
 
 /// The held mass of each part at unit scalar: active areal, edge line, extension areal, tip point,
-/// end point ([`ActuatorBeam::held_mass`], linear in the mass scalars).
+/// end point ([`ActuatorBeam::held_mass`], linear in the mass scalars). A part `beam` lacks (its scalar
+/// 0) is left a zero matrix: every form and term takes it times that 0, and a beam in the same cell
+/// lacks it too (`nearby_modes.rs`), so it is not assembled.
 pub(crate) fn mass_parts(beam: &ActuatorBeam) -> [DMatrix<f64>; 5] {
     let (active, extension) = COARSE_ELEMENTS;
-    std::array::from_fn(|j| {
+    let scalars = [
+        beam.areal_mass,
+        beam.edge_line_mass,
+        beam.extension_areal_mass,
+        beam.tip_point_mass,
+        beam.end_mass,
+    ];
+    let part = |j: usize| {
         let unit = |part: usize| if part == j { 1.0 } else { 0.0 };
         let part = ActuatorBeam {
             areal_mass: unit(0),
@@ -173,5 +182,23 @@ pub(crate) fn mass_parts(beam: &ActuatorBeam) -> [DMatrix<f64>; 5] {
         };
         let (elements, compliant) = part.mesh(active, extension);
         part.held_mass(&elements, active, compliant).0
-    })
+    };
+    // The areal mass is every beam's (positive, `ActuatorBeam::check`): it sets the held size.
+    let areal = part(0);
+    let n = areal.nrows();
+    let mut parts = [
+        areal,
+        DMatrix::zeros(0, 0),
+        DMatrix::zeros(0, 0),
+        DMatrix::zeros(0, 0),
+        DMatrix::zeros(0, 0),
+    ];
+    for j in 1..5 {
+        parts[j] = if scalars[j] != 0.0 {
+            part(j)
+        } else {
+            DMatrix::zeros(n, n)
+        };
+    }
+    parts
 }
