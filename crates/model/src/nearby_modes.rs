@@ -30,7 +30,8 @@ use crate::nearby_curvature::{mass_parts, unit_elements, Curvature, Ratios};
 use nalgebra::DMatrix;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Mantissa bits of a ratio that name its cell: cells `2⁻⁶` of the ratio wide (from 0.8 % to 1.6 %),
 /// read off the floating-point bits without a logarithm.
@@ -99,8 +100,15 @@ pub struct NearbyModes {
 /// `MOST_CELLS` (about 35 MB); a cell emptied is solved again to the same bits.
 #[derive(Debug, Default)]
 pub struct ModeCache {
-    cells: Mutex<HashMap<Cell, Forms, BuildHasherDefault<WordHasher>>>,
+    cells: Mutex<HashMap<Cell, Arc<Solving>, BuildHasherDefault<WordHasher>>>,
+    /// How many cells were solved.
+    solves: AtomicUsize,
 }
+
+/// A cell's forms, solved by the first user to ask; a user that asks while it is being solved waits
+/// for it rather than solving it again: the fits that run at once on the same data ask for the same
+/// cells at the same time.
+type Solving = OnceLock<Result<Forms, ModelError>>;
 
 /// Most cells kept in one [`ModeCache`].
 const MOST_CELLS: usize = 50_000;
@@ -108,22 +116,28 @@ const MOST_CELLS: usize = 50_000;
 impl ModeCache {
     /// The forms of `cell` (whose ratios `beam` has), solved if no user of the cache has yet.
     fn solved(&self, cell: &Cell, beam: &ActuatorBeam) -> Result<Forms, ModelError> {
-        let lock = || {
-            self.cells
+        let solving = {
+            let mut cells = self
+                .cells
                 .lock()
-                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+            if !cells.contains_key(cell) && cells.len() >= MOST_CELLS {
+                cells.clear();
+            }
+            Arc::clone(cells.entry(*cell).or_default())
         };
-        if let Some(f) = lock().get(cell) {
-            return Ok(*f);
-        }
-        // Solved outside the lock: two users may solve one cell at once, to the same forms.
-        let forms = Forms::of(&cell.beam(beam))?;
-        let mut cells = lock();
-        if cells.len() >= MOST_CELLS {
-            cells.clear();
-        }
-        cells.insert(*cell, forms);
-        Ok(forms)
+        // Solved outside the map's lock, once: other cells are looked up meanwhile.
+        solving
+            .get_or_init(|| {
+                self.solves.fetch_add(1, Ordering::Relaxed);
+                Forms::of(&cell.beam(beam))
+            })
+            .clone()
+    }
+
+    /// How many cells its users have had solved.
+    pub fn solves(&self) -> usize {
+        self.solves.load(Ordering::Relaxed)
     }
 }
 
@@ -496,6 +510,38 @@ mod tests {
                 .unwrap();
             assert_eq!(user.modal(&shared, beam).unwrap(), fresh);
         }
+    }
+
+    #[test]
+    fn users_that_ask_for_one_cell_at_once_have_it_solved_once() {
+        // Eight threads ask for the same forty beams at the same time, each in its own order: each
+        // cell is solved once, the others wait for it, and every thread gets what a fresh cache gives.
+        let mut rng = ChaCha8Rng::seed_from_u64(14);
+        let beams: Vec<ActuatorBeam> = (0..40).map(|_| moved(&full(), 0.2, &mut rng)).collect();
+        let want: Vec<FirstMode> = beams
+            .iter()
+            .map(|b| {
+                NearbyModes::default()
+                    .modal(&ModeCache::default(), b)
+                    .unwrap()
+            })
+            .collect();
+        let cells: std::collections::HashSet<Cell> = beams.iter().map(Cell::of).collect();
+        let shared = ModeCache::default();
+        let start = std::sync::Barrier::new(8);
+        std::thread::scope(|scope| {
+            for t in 0..8 {
+                let (beams, want, shared, start) = (&beams, &want, &shared, &start);
+                scope.spawn(move || {
+                    let mut user = NearbyModes::default();
+                    start.wait();
+                    for k in (0..beams.len()).map(|k| (k * (2 * t + 1)) % beams.len()) {
+                        assert_eq!(user.modal(shared, &beams[k]).unwrap(), want[k]);
+                    }
+                });
+            }
+        });
+        assert_eq!(shared.solves(), cells.len());
     }
 
     #[test]
