@@ -71,9 +71,15 @@ impl Curvature {
             .view_mut((n, 0), (1, n))
             .copy_from(&m_phi.transpose());
         let lu = bordered.lu();
+        // A part the cell beam lacks (its ratio 0) is lacked by every beam in the cell: its change is
+        // always 0, and its terms are never taken (`terms`), so they are not solved for.
         let solved: Vec<DVector<f64>> = parts
             .iter()
-            .map(|g| {
+            .zip(center)
+            .map(|(g, ratio)| {
+                if ratio == 0.0 {
+                    return DVector::zeros(n);
+                }
                 let mut rhs = DVector::zeros(n + 1);
                 rhs.rows_mut(0, n).copy_from(g);
                 lu.solve(&rhs)
