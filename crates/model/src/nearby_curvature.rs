@@ -192,19 +192,10 @@ pub(crate) fn mass_parts(beam: &ActuatorBeam) -> [DMatrix<f64>; 5] {
     // The areal mass is every beam's (positive, `ActuatorBeam::check`): it sets the held size.
     let areal = part(0);
     let n = areal.nrows();
-    let mut parts = [
-        areal,
-        DMatrix::zeros(0, 0),
-        DMatrix::zeros(0, 0),
-        DMatrix::zeros(0, 0),
-        DMatrix::zeros(0, 0),
-    ];
-    for j in 1..5 {
-        parts[j] = if scalars[j] != 0.0 {
-            part(j)
-        } else {
-            DMatrix::zeros(n, n)
-        };
-    }
+    let mut parts = std::array::from_fn(|j| match j {
+        1.. if scalars[j] != 0.0 => part(j),
+        _ => DMatrix::zeros(n, n),
+    });
+    parts[0] = areal;
     parts
 }
