@@ -50,6 +50,11 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
             .collect(),
         None => Vec::new(),
     };
+    args.output.check_ahead(
+        "calibrate",
+        std::iter::once(&args.measured).chain(&args.effects),
+        &[],
+    )?;
     let settings = Settings {
         seed: args.seed,
         max_effects: args.max_effects,

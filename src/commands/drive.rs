@@ -35,6 +35,11 @@ pub fn run(args: &DriveArgs) -> anyhow::Result<()> {
     let design = Design::load(&spec.design)?;
     let template = Template::resolve(&design.process, &design.source)?;
     let design = design_for_process(&design, &template)?;
+    args.output.check_ahead(
+        "drive",
+        [&args.drive, &spec.design],
+        &["report.md", "report.json", "frequency-response.svg"],
+    )?;
     let analysis = analyse_drive(&spec, &design, &args.model.model).map_err(|e| match e {
         // An input error names its own file.
         DriveError::Input(e) => anyhow::anyhow!("{e}"),

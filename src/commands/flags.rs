@@ -5,7 +5,9 @@
 //! `--flag "value": reason`, exit status 1. The ranges themselves are the library's (`input::limits`,
 //! with their reasons in docs/limits.md), so a flag and the file field it overrides allow the same.
 
-use actuator_cam::{limits, load_calibrated_model, parse_layup, Formats, InputError, Range};
+use actuator_cam::{
+    limits, load_calibrated_model, parse_layup, Formats, InputError, Output, Range,
+};
 use actuator_model::model::{ModelChoice, ModelKind};
 use actuator_model::Material;
 use clap::Args;
@@ -40,6 +42,23 @@ impl OutputDir {
     /// The folder of a command that always has one (its `-o` has a default).
     pub fn required(&self) -> &Path {
         self.output.as_deref().unwrap_or(Path::new("out"))
+    }
+
+    /// The folder, when there is one, checked against the output policy before `command`'s work
+    /// ([`Output::check_folder_ahead`]), with the `names` the run writes there whatever it finds.
+    pub fn check_ahead<P: AsRef<Path>>(
+        &self,
+        command: &str,
+        inputs: impl IntoIterator<Item = P>,
+        names: &[&str],
+    ) -> anyhow::Result<()> {
+        if let Some(dir) = self.folder() {
+            Output::new(command)
+                .force(self.force.force)
+                .inputs(inputs)
+                .check_folder_ahead("-o", dir, names)?;
+        }
+        Ok(())
     }
 }
 

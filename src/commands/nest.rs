@@ -114,6 +114,12 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let formats = args.format.formats();
     let max = limits::MAX_ITERATIONS as usize;
     let batch = Batch::load(&args.batch)?;
+    let inputs = || {
+        std::iter::once(batch.source.clone())
+            .chain(batch.items.iter().map(|i| i.design.source.clone()))
+            .chain(batch.parts.iter().map(|p| p.part.file.clone()))
+    };
+    args.output.check_ahead("nest", inputs(), &[])?;
     let time_s = args.time.or(batch.time_s);
     let iterations = args.iterations.or(batch.iterations);
     // A time budget alone searches until its deadline: the iteration cap is the largest allowed.
@@ -169,11 +175,7 @@ pub fn run(args: &NestArgs) -> anyhow::Result<()> {
     let count = files.len();
     Output::new("nest")
         .force(args.output.force.force)
-        .inputs(
-            std::iter::once(batch.source.clone())
-                .chain(batch.items.iter().map(|i| i.design.source.clone()))
-                .chain(batch.parts.iter().map(|p| p.part.file.clone())),
-        )
+        .inputs(inputs())
         .folder("-o", args.output.required(), files)
         .write()?;
     // A time budget that the first layout alone overran is said, with how long the layer's search took.

@@ -140,6 +140,11 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
     }
     let problem = Problem::from_spec(&spec, model, args.objective.into())
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
+    let mut names = vec!["report.txt", DESIGN_FILE];
+    if args.pareto {
+        names.extend(["pareto.csv", "pareto.svg"]);
+    }
+    args.output.check_ahead("optimize", [&args.spec], &names)?;
     let bar =
         (problem.grid_size() > PROGRESS_ABOVE && std::io::stderr().is_terminal()).then(Bar::new);
     let progress: &dyn Progress = match &bar {
@@ -183,7 +188,7 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
     let mut files = vec![
         ("report.txt".to_string(), text.into_bytes()),
         (
-            "design.toml".to_string(),
+            DESIGN_FILE.to_string(),
             optimized_design_toml(&spec, &outcome.problem, &best).into_bytes(),
         ),
     ];
@@ -250,6 +255,10 @@ fn run_flap(
     };
     let problem = Problem::from_spec(spec, model, Objective::MinMass)
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
+    let names = ["report.txt", DESIGN_FILE, "drive.toml", "pareto.csv"];
+    let names = &names[..if args.pareto { 4 } else { 3 }];
+    args.output
+        .check_ahead("optimize", [args.spec.as_path(), flap], names)?;
     let outcome = optimize_flap(spec, &problem, &load, &args.model.model)
         .map_err(|e| anyhow::anyhow!("{file}: requirement.flap = {}: {e}", flap.display()))?;
     let chosen = &outcome.chosen;

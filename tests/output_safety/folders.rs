@@ -254,3 +254,49 @@ fn a_file_size_limit_is_an_error_in_words_and_leaves_nothing() {
         "half-written output"
     );
 }
+
+#[test]
+fn a_folder_the_policy_refuses_is_refused_before_the_work() {
+    // optimize and drive print their report before they write: a refusal with nothing on stdout
+    // came before the work. nest and calibrate are refused by the same look ahead.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    fs::write(&file, "mine").unwrap();
+    let theirs = dir.path().join("theirs");
+    fs::create_dir(&theirs).unwrap();
+    fs::write(theirs.join("notes.txt"), "mine").unwrap();
+    let commands: [&[&str]; 4] = [
+        &["optimize", "examples/optimize-thesis.toml"],
+        &["drive", "examples/drive-hawkmoth.toml"],
+        &["nest", "examples/batch.toml"],
+        &["calibrate", "examples/measured-thesis-like.csv"],
+    ];
+    for command in commands {
+        for (out, says) in [
+            (&file, "exists and is not a directory"),
+            (&theirs, "did not write (notes.txt)"),
+        ] {
+            let mut args = command.to_vec();
+            args.extend(["-o", out.to_str().unwrap()]);
+            let o = run(&args);
+            let err = refused_in_one_line(&o);
+            assert!(err.contains(says), "{args:?}: {err}");
+            assert_eq!(stdout(&o), "", "{args:?}");
+        }
+    }
+    assert_eq!(fs::read_to_string(&file).unwrap(), "mine");
+    assert_eq!(fs::read_dir(&theirs).unwrap().count(), 1);
+    // An input under a name optimize writes, refused before the search even with --force.
+    fs::copy(example("optimize-thesis.toml"), theirs.join("design.toml")).unwrap();
+    let spec = theirs.join("design.toml");
+    let o = run(&[
+        "optimize",
+        spec.to_str().unwrap(),
+        "-o",
+        theirs.to_str().unwrap(),
+        "--force",
+    ]);
+    let err = refused_in_one_line(&o);
+    assert!(err.contains("design.toml is an input of this run"), "{err}");
+    assert_eq!(stdout(&o), "");
+}

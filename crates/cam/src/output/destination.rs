@@ -72,6 +72,31 @@ impl Destination {
 
     /// Check that the destination is a folder (or nothing yet), hold it, and read its manifest.
     pub(super) fn claim(&mut self, run: &Run) -> Result<Claim, OutputError> {
+        self.check_folder()?;
+        let claim =
+            Claim::take(&self.dir, &run.command, &run.ids).map_err(|e| self.claim_error(e))?;
+        // Held from here on: no other run of the tool adds to it.
+        self.read_contents()?;
+        Ok(claim)
+    }
+
+    /// What [`Destination::claim`] finds, without holding the folder: for the checks a run makes
+    /// before its work ([`super::Output::check_folder_ahead`]). False when there is nothing to judge
+    /// yet: no folder (the write makes it, and says why if it cannot), or a killed run's intent log
+    /// (the write finishes its moves, which the manifest does not list until then).
+    pub(super) fn look(&mut self) -> Result<bool, OutputError> {
+        self.check_folder()?;
+        if fs::symlink_metadata(&self.dir).is_err()
+            || fs::symlink_metadata(self.dir.join(INTENT)).is_ok()
+        {
+            return Ok(false);
+        }
+        self.read_contents()?;
+        Ok(true)
+    }
+
+    /// The destination is a folder, or nothing yet (and not a link to nothing).
+    fn check_folder(&self) -> Result<(), OutputError> {
         if let Some((link, target)) = dangling_link(&self.dir) {
             return Err(OutputError::DanglingLink {
                 flag: self.flag.clone(),
@@ -86,17 +111,19 @@ impl Destination {
                 shown: self.shown.clone(),
             });
         }
-        let claim =
-            Claim::take(&self.dir, &run.command, &run.ids).map_err(|e| self.claim_error(e))?;
+        Ok(())
+    }
+
+    /// The folder's manifest and the names in it.
+    fn read_contents(&mut self) -> Result<(), OutputError> {
         self.manifest = Manifest::read(&self.dir).map_err(|e| self.manifest_error(e))?;
-        // Held from here on: no other run of the tool adds to it.
         self.present = fs::read_dir(&self.dir).ok().and_then(|entries| {
             entries
                 .map(|e| e.map(|e| e.file_name().to_string_lossy().to_lowercase()))
                 .collect::<io::Result<BTreeSet<String>>>()
                 .ok()
         });
-        Ok(claim)
+        Ok(())
     }
 }
 
@@ -194,6 +221,22 @@ impl Run {
     /// Every input: the paths named, and every file read so far (listed on stderr by a test hook,
     /// [`super::hooks`]).
     pub(super) fn resolve(&mut self) {
+        let all = self.all_inputs();
+        super::hooks::list_inputs(&all);
+        self.ids = ids(&all);
+    }
+
+    /// The run as [`Run::resolve`] leaves it, for a look before the work: the inputs are listed once,
+    /// when the files are written.
+    pub(super) fn resolved_quietly(&self) -> Run {
+        Run {
+            ids: ids(&self.all_inputs()),
+            ..self.clone()
+        }
+    }
+
+    /// The paths named and every file read so far, each once.
+    fn all_inputs(&self) -> Vec<PathBuf> {
         let mut all: Vec<PathBuf> = Vec::new();
         for p in self
             .inputs
@@ -205,18 +248,22 @@ impl Run {
                 all.push(p);
             }
         }
-        super::hooks::list_inputs(&all);
-        self.ids = all
-            .iter()
-            .filter_map(|p| fs::metadata(p).ok())
-            .map(|m| file_id(&m))
-            .collect();
+        all
     }
 
     /// True when `path` is (the same file as) one of the run's inputs.
     pub(super) fn is_input(&self, path: &Path) -> bool {
         fs::metadata(path).is_ok_and(|m| self.ids.contains(&file_id(&m)))
     }
+}
+
+/// The (device, inode) of each path that exists.
+fn ids(paths: &[PathBuf]) -> Vec<(u64, u64)> {
+    paths
+        .iter()
+        .filter_map(|p| fs::metadata(p).ok())
+        .map(|m| file_id(&m))
+        .collect()
 }
 
 /// The policy for one file name: a plain name, not a folder, not an input of the run.

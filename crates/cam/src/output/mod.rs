@@ -161,6 +161,36 @@ impl Output {
         commit_all(&mut staged)
     }
 
+    /// Check the folder `dir` (named by `flag`) against the policy before the run's work, with the
+    /// names of the files the run writes there whatever it finds: a run of minutes that
+    /// [`Output::write`] would refuse is refused at its start. Nothing is held or written, and
+    /// [`Output::write`] checks again.
+    pub fn check_folder_ahead(
+        &self,
+        flag: &str,
+        dir: &Path,
+        names: &[&str],
+    ) -> Result<(), OutputError> {
+        let run = self.run.resolved_quietly();
+        let mut d = Destination::new(
+            flag,
+            dir.display().to_string(),
+            dir.to_path_buf(),
+            Kind::Folder,
+        );
+        if !d.look()? {
+            return Ok(());
+        }
+        for name in names {
+            check_target(&d, name, &run)?;
+        }
+        check_occupied(&d, run.force)?;
+        for name in names {
+            check_replace(&d, name, &run)?;
+        }
+        Ok(())
+    }
+
     /// Write the folder `dir` (named by `flag`) file by file, for a run whose files together would not
     /// fit in memory: each file goes into the staging folder as it is added, and nothing moves into place
     /// before `FolderStream::finish`. The folder is held and checked against the policy now, before any

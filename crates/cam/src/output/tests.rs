@@ -451,3 +451,55 @@ fn system_errors_are_said_in_words() {
         assert!(!said(errno).contains("os error"), "{}", said(errno));
     }
 }
+
+#[test]
+fn the_look_ahead_refuses_what_the_write_would_and_holds_nothing() {
+    let root = tempfile::tempdir().unwrap();
+    let run = || Output::new("test").inputs([root.path().join("in/spec.toml")]);
+    // A new folder, and one the same command wrote: nothing to refuse, and nothing made.
+    let fresh = root.path().join("fresh");
+    run().check_folder_ahead("-o", &fresh, &["x.txt"]).unwrap();
+    assert!(!fresh.exists());
+    let ours = root.path().join("ours");
+    run()
+        .folder("-o", &ours, files(&[("x.txt", "1")]))
+        .write()
+        .unwrap();
+    run().check_folder_ahead("-o", &ours, &["x.txt"]).unwrap();
+    assert_eq!(listing(&ours), [MANIFEST, "x.txt"]);
+    // A file where the folder should be.
+    let file = root.path().join("file");
+    fs::write(&file, "mine").unwrap();
+    let e = run().check_folder_ahead("-o", &file, &[]).unwrap_err();
+    assert!(
+        e.to_string().ends_with("exists and is not a directory"),
+        "{e}"
+    );
+    // A folder of the user's, refused without --force and taken with it; neither holds it (no lock).
+    let theirs = root.path().join("theirs");
+    fs::create_dir(&theirs).unwrap();
+    fs::write(theirs.join("notes.txt"), "mine").unwrap();
+    let e = run().check_folder_ahead("-o", &theirs, &[]).unwrap_err();
+    assert!(e.to_string().contains("did not write (notes.txt)"), "{e}");
+    run()
+        .force(true)
+        .check_folder_ahead("-o", &theirs, &["x.txt"])
+        .unwrap();
+    assert_eq!(listing(&theirs), ["notes.txt"]);
+    // An input under a name the run writes, refused even with --force; under another name, not.
+    fs::create_dir(root.path().join("in")).unwrap();
+    fs::write(root.path().join("in/spec.toml"), "mine").unwrap();
+    let e = run()
+        .force(true)
+        .check_folder_ahead("-o", &root.path().join("in"), &["spec.toml"])
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("spec.toml is an input of this run"),
+        "{e}"
+    );
+    run()
+        .force(true)
+        .check_folder_ahead("-o", &root.path().join("in"), &["x.txt"])
+        .unwrap();
+    assert_eq!(listing(&root.path().join("in")), ["spec.toml"]);
+}
