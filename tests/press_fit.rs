@@ -9,7 +9,7 @@
 use crate::common;
 use common::svg_read::read_svg_polygons;
 use common::*;
-use geo::{Contains, Coord};
+use geo::{BoundingRect, Contains, Coord, Rect};
 use std::collections::BTreeSet;
 
 /// Grid step, mm: well under the narrowest extension of the examples (about 0.5 mm).
@@ -22,6 +22,47 @@ fn bond_mm(design: &serde_json::Value) -> f64 {
         .and_then(|b| b.split_whitespace().rev().nth(1))
         .map(|t| t.parse().unwrap())
         .unwrap_or(0.0)
+}
+
+/// A mold cavity, with its bounding box looked at before the cavity itself: a grid point outside
+/// every box has an empty column, which the grid skips anyway.
+struct Cavity {
+    bounds: Rect<f64>,
+    outline: geo::Polygon<f64>,
+}
+
+impl Cavity {
+    fn holds(&self, p: &Coord<f64>) -> bool {
+        let (lo, hi) = (self.bounds.min(), self.bounds.max());
+        lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y && self.outline.contains(p)
+    }
+}
+
+/// The cavities of each mold sheet (panel 1), bottom to top: every closed polygon but the panel
+/// outline, which encloses the rest.
+fn cavities(out: &std::path::Path, sheets: usize) -> Vec<Vec<Cavity>> {
+    (1..=sheets)
+        .map(|k| {
+            let svg = std::fs::read_to_string(layer_file(out, &format!("mold-{k}-1.svg"))).unwrap();
+            let mut rings: Vec<Vec<[f64; 2]>> = read_svg_polygons(&svg)
+                .unwrap()
+                .into_iter()
+                .map(|(_, ring)| ring)
+                .collect();
+            rings.sort_by(|a, b| area(b).total_cmp(&area(a)));
+            rings
+                .iter()
+                .skip(1)
+                .map(|r| {
+                    let outline = polygon(r);
+                    Cavity {
+                        bounds: outline.bounding_rect().unwrap(),
+                        outline,
+                    }
+                })
+                .collect()
+        })
+        .collect()
 }
 
 #[test]
@@ -53,21 +94,7 @@ fn every_example_presses_every_part_within_the_tolerance() {
         let core_mm = d["ply_thickness_mm"].as_f64().unwrap() * plies + 2.0 * bond_mm(d);
         let laminate_mm = 2.0 * plate_mm + core_mm;
 
-        // The cavities of each mold sheet (panel 1), bottom to top: every closed polygon but the panel
-        // outline, which encloses the rest.
-        let cavities: Vec<Vec<geo::Polygon<f64>>> = (1..=films.len())
-            .map(|k| {
-                let svg =
-                    std::fs::read_to_string(layer_file(&out, &format!("mold-{k}-1.svg"))).unwrap();
-                let mut rings: Vec<Vec<[f64; 2]>> = read_svg_polygons(&svg)
-                    .unwrap()
-                    .into_iter()
-                    .map(|(_, ring)| ring)
-                    .collect();
-                rings.sort_by(|a, b| area(b).total_cmp(&area(a)));
-                rings.iter().skip(1).map(|r| polygon(r)).collect()
-            })
-            .collect();
+        let cavities = cavities(&out, films.len());
         let (w, h) = (100.0, 100.0);
         let mut columns: BTreeSet<Vec<usize>> = BTreeSet::new();
         let mut y = 0.013;
@@ -76,7 +103,7 @@ fn every_example_presses_every_part_within_the_tolerance() {
             while x < w {
                 let p = Coord { x, y };
                 let column: Vec<usize> = (0..films.len())
-                    .filter(|&k| cavities[k].iter().any(|c| c.contains(&p)))
+                    .filter(|&k| cavities[k].iter().any(|c| c.holds(&p)))
                     .collect();
                 if !column.is_empty() {
                     columns.insert(column);

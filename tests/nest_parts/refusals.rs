@@ -252,18 +252,19 @@ fn the_readers_size_check_is_the_nesters() {
 
 #[test]
 fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
-    // 200 squares of 70 mm make about 20 m of strip, where the nester's f32 margin is some
+    // 20 panels of 70 x 700 mm make about 14 m of strip, where the nester's f32 margin is some
     // hundredths of a millimetre: a bar that one part's check lets through is refused, and the
-    // edge gap the refusal gives is the one that takes it.
+    // edge gap the refusal gives is the one that takes it. (Few long parts rather than many
+    // squares: the strip's length sets the margin, the count only the time.)
     let settings = cam_nest::NestSettings {
         separation_mm: 0.35,
         seed: 1,
         iterations: 0,
         workers: 1,
     };
-    let square = cam_nest::NestItem {
-        outline: vec![[0.0, 0.0], [70.0, 0.0], [70.0, 70.0], [0.0, 70.0]],
-        demand: 200,
+    let panel = cam_nest::NestItem {
+        outline: vec![[0.0, 0.0], [70.0, 0.0], [70.0, 700.0], [0.0, 700.0]],
+        demand: 20,
         rotations_deg: vec![0.0],
     };
     let bar = |w: f64| cam_nest::NestItem {
@@ -274,7 +275,7 @@ fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
     let w = 79.27;
     let alone = cam_nest::fits_empty_sheet(&bar(w).outline, &[0.0], 80.0, f64::INFINITY, 0.35);
     assert!(alone.fits, "{alone:?}");
-    let err = cam_nest::nest_strip(&[square.clone(), bar(w)], 80.0, &settings, &|_| {})
+    let err = cam_nest::nest_strip(&[panel.clone(), bar(w)], 80.0, &settings, &|_| {})
         .expect_err("the margin of 20 m of parts refuses the bar");
     let message = err.to_string();
     assert!(
@@ -297,7 +298,7 @@ fn on_a_long_strip_the_nesters_refusal_names_the_gap_it_needs() {
     // construction's sampled starts can miss.
     for k in 0..3 {
         let narrower = 80.0 - 2.0 * edge_gap_mm - 0.001 - 0.4 * k as f64;
-        let items = [square.clone(), bar(narrower)];
+        let items = [panel.clone(), bar(narrower)];
         let strip = cam_nest::nest_strip(&items, 80.0, &settings, &|_| {})
             .unwrap_or_else(|e| panic!("{narrower} mm: {e}"));
         cam_nest::verify(&items, &strip.bin, &settings, &strip.solution, 1e-9)
