@@ -442,8 +442,11 @@ fn first_feasible_in_row(lengths: &[f64], e: f64, energy_min: f64) -> usize {
     at
 }
 
-/// Row kernel of a model that is not linear in `l_tot`: every length evaluated through the model, the best
-/// feasible point by the objective (the first on ties) and its index.
+/// Row kernel of a model that is not linear in `l_tot`: the lengths evaluated through the model, the best
+/// feasible point by the objective (the first on ties) and its index. The mass `l w_0 μ` grows along
+/// the row, so for the lightest design the first feasible point is the row's best, and a row that
+/// starts no lighter than `beat` (the best of the shape so far, which only a strictly better point
+/// replaces) has nothing to offer: neither is evaluated further.
 fn general_row(
     problem: &Problem,
     section: &Section,
@@ -451,14 +454,26 @@ fn general_row(
     lengths: &[f64],
     base_width: f64,
     energy_min: f64,
+    beat: f64,
 ) -> (f64, usize) {
     let mut best = (f64::INFINITY, usize::MAX);
+    let min_mass = problem.objective == Objective::MinMass;
+    if min_mass
+        && lengths
+            .first()
+            .is_some_and(|&l| l * base_width * rates.mass >= beat)
+    {
+        return best;
+    }
     for (i, &l) in lengths.iter().enumerate() {
         let energy = problem.model.energy(section, rates, l, base_width);
         if energy >= energy_min {
             let value = problem.value(energy, l * base_width * rates.mass);
             if value < best.0 {
                 best = (value, i);
+            }
+            if min_mass {
+                break;
             }
         }
     }
@@ -538,7 +553,8 @@ pub fn exhaustive(problem: &Problem, progress: &dyn Progress) -> GridResult {
                             f64::INFINITY
                         };
                         let (value, i_l) = if !separable {
-                            general_row(problem, section, &rates, &lengths, w0, energy_min)
+                            let beat = best.map_or(f64::INFINITY, |(v, _, _)| v);
+                            general_row(problem, section, &rates, &lengths, w0, energy_min, beat)
                         } else {
                             match problem.objective {
                                 Objective::MinMass => lightest_in_row(&lengths, e, mu, energy_min),
