@@ -13,6 +13,7 @@ pub mod pareto;
 pub mod progress;
 pub mod refine;
 pub mod report;
+mod row;
 pub mod search;
 pub mod spec;
 

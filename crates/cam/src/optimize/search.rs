@@ -11,6 +11,7 @@
 pub use super::field_limit::FieldLimit;
 use super::model::{SearchModel, ShapeRates, Stack};
 use super::progress::Progress;
+use super::row::{first_feasible_in_row, general_row, lightest_in_row};
 use super::spec::{SearchRanges, Spec};
 use actuator_model::poling::FieldCheck;
 use actuator_model::{Drive, Laminate, Material, ModelError, Performance, Planform, Section};
@@ -393,93 +394,6 @@ pub struct GridResult {
 /// How many shapes per laminate seed the refinement.
 pub const SEEDS_PER_CANDIDATE: usize = 3;
 
-/// Row kernel, min-mass: the lightest point with `l e >= U_min` and its index (first on ties).
-///
-/// Written for the vectoriser: the masked masses of a block of [`LANES`] points are reduced lane-wise
-/// without branches; only a block that improves on the row's best is searched for its first index.
-#[inline]
-fn lightest_in_row(lengths: &[f64], e: f64, mu: f64, energy_min: f64) -> (f64, usize) {
-    let mut best = f64::INFINITY;
-    let mut at = usize::MAX;
-    let masked = |l: f64| {
-        if l * e >= energy_min {
-            l * mu
-        } else {
-            f64::INFINITY
-        }
-    };
-    let mut start = 0;
-    for block in lengths.chunks(LANES) {
-        let mut lane_min = [f64::INFINITY; LANES];
-        for (m, &l) in lane_min.iter_mut().zip(block) {
-            *m = masked(l);
-        }
-        let block_min = lane_min
-            .iter()
-            .fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
-        if block_min < best {
-            best = block_min;
-            at = start + lane_min.iter().position(|&m| m == block_min).unwrap_or(0);
-        }
-        start += block.len();
-    }
-    (best, at)
-}
-
-/// Points per block in [`lightest_in_row`].
-const LANES: usize = 8;
-
-/// Row kernel, max energy density: `U/m = e/μ` is the same at every length of the row, so the best point
-/// is the first (lightest) one with `l e >= U_min`.
-#[inline]
-fn first_feasible_in_row(lengths: &[f64], e: f64, energy_min: f64) -> usize {
-    let mut at = usize::MAX;
-    for (i, &l) in lengths.iter().enumerate().rev() {
-        if l * e >= energy_min {
-            at = i;
-        }
-    }
-    at
-}
-
-/// Row kernel of a model that is not linear in `l_tot`: the lengths evaluated through the model, the best
-/// feasible point by the objective (the first on ties) and its index. The mass `l w_0 μ` grows along
-/// the row, so for the lightest design the first feasible point is the row's best, and a row that
-/// starts no lighter than `beat` (the best of the shape so far, which only a strictly better point
-/// replaces) has nothing to offer: neither is evaluated further.
-fn general_row(
-    problem: &Problem,
-    section: &Section,
-    rates: &ShapeRates,
-    lengths: &[f64],
-    base_width: f64,
-    energy_min: f64,
-    beat: f64,
-) -> (f64, usize) {
-    let mut best = (f64::INFINITY, usize::MAX);
-    let min_mass = problem.objective == Objective::MinMass;
-    if min_mass
-        && lengths
-            .first()
-            .is_some_and(|&l| l * base_width * rates.mass >= beat)
-    {
-        return best;
-    }
-    for (i, &l) in lengths.iter().enumerate() {
-        let energy = problem.model.energy(section, rates, l, base_width);
-        if energy >= energy_min {
-            let value = problem.value(energy, l * base_width * rates.mass);
-            if value < best.0 {
-                best = (value, i);
-            }
-            if min_mass {
-                break;
-            }
-        }
-    }
-    best
-}
-
 /// One laminate's grid from its `(laminate, l_r)` slices: its best design, its seeds for the
 /// refinement (the best of each shape, ranked by value, ties by grid index) and the design with the
 /// most energy.
@@ -553,8 +467,18 @@ pub fn exhaustive(problem: &Problem, progress: &dyn Progress) -> GridResult {
                             f64::INFINITY
                         };
                         let (value, i_l) = if !separable {
-                            let beat = best.map_or(f64::INFINITY, |(v, _, _)| v);
-                            general_row(problem, section, &rates, &lengths, w0, energy_min, beat)
+                            let bound = (
+                                problem.objective == Objective::MinMass,
+                                best.map_or(f64::INFINITY, |(v, _, _)| v),
+                            );
+                            general_row(
+                                &lengths,
+                                |l| l * w0 * rates.mass,
+                                energy_min,
+                                bound,
+                                |l| problem.model.energy(section, &rates, l, w0),
+                                |u, m| problem.value(u, m),
+                            )
                         } else {
                             match problem.objective {
                                 Objective::MinMass => lightest_in_row(&lengths, e, mu, energy_min),
