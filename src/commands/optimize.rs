@@ -140,11 +140,7 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
     }
     let problem = Problem::from_spec(&spec, model, args.objective.into())
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
-    let mut names = vec!["report.txt", DESIGN_FILE];
-    if args.pareto {
-        names.extend(["pareto.csv", "pareto.svg"]);
-    }
-    args.output.check_ahead("optimize", [&args.spec], &names)?;
+    check_output_ahead(args, &[&args.spec], false)?;
     let bar =
         (problem.grid_size() > PROGRESS_ABOVE && std::io::stderr().is_terminal()).then(Bar::new);
     let progress: &dyn Progress = match &bar {
@@ -214,6 +210,22 @@ pub fn run(args: &OptimizeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The `-o` folder checked before the search, with the files every run of `args` writes there (a
+/// wing's adds its drive file).
+fn check_output_ahead(args: &OptimizeArgs, inputs: &[&Path], wing: bool) -> anyhow::Result<()> {
+    let mut names = vec!["report.txt", DESIGN_FILE];
+    match (wing, args.pareto) {
+        (true, pareto) => names.extend(
+            ["drive.toml"]
+                .into_iter()
+                .chain(pareto.then_some("pareto.csv")),
+        ),
+        (false, true) => names.extend(["pareto.csv", "pareto.svg"]),
+        (false, false) => {}
+    }
+    args.output.check_ahead("optimize", inputs, &names)
+}
+
 /// The files of a run into the `-o` folder, through the one writer: nothing written unless all are.
 fn write_folder(
     args: &OptimizeArgs,
@@ -255,10 +267,7 @@ fn run_flap(
     };
     let problem = Problem::from_spec(spec, model, Objective::MinMass)
         .with_context(|| format!("{file}: the laminate cannot be solved"))?;
-    let names = ["report.txt", DESIGN_FILE, "drive.toml", "pareto.csv"];
-    let names = &names[..if args.pareto { 4 } else { 3 }];
-    args.output
-        .check_ahead("optimize", [args.spec.as_path(), flap], names)?;
+    check_output_ahead(args, &[&args.spec, flap], true)?;
     let outcome = optimize_flap(spec, &problem, &load, &args.model.model)
         .map_err(|e| anyhow::anyhow!("{file}: requirement.flap = {}: {e}", flap.display()))?;
     let chosen = &outcome.chosen;

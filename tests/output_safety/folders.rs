@@ -265,8 +265,9 @@ fn a_folder_the_policy_refuses_is_refused_before_the_work() {
     let theirs = dir.path().join("theirs");
     fs::create_dir(&theirs).unwrap();
     fs::write(theirs.join("notes.txt"), "mine").unwrap();
-    let commands: [&[&str]; 4] = [
+    let commands: [&[&str]; 5] = [
         &["optimize", "examples/optimize-thesis.toml"],
+        &["optimize", "examples/optimize-hawkmoth-wing.toml"],
         &["drive", "examples/drive-hawkmoth.toml"],
         &["nest", "examples/batch.toml"],
         &["calibrate", "examples/measured-thesis-like.csv"],

@@ -53,19 +53,22 @@ pub(super) fn first_feasible_in_row(lengths: &[f64], e: f64, energy_min: f64) ->
 /// Row kernel of a model that is not linear in `l_tot`: the lengths evaluated through the model
 /// (`energy` at a length), the best feasible point by the objective (`value` of energy and mass, the
 /// first on ties) and its index. The `mass` at a length, `l w_0 μ`, grows along the row, so for the
-/// lightest design (`min_mass`) the first feasible point is the row's best, and a row that starts no lighter than `beat` (the best of the shape so far, which only a strictly better
-/// point replaces) has nothing to offer: neither is evaluated further.
+/// lightest design (`lightest_to_beat` given, the shape's best so far, which only a strictly better
+/// point replaces) the first feasible point is the row's best, and a row that starts no lighter than
+/// the one to beat has nothing to offer: neither is evaluated further.
 pub(super) fn general_row(
     lengths: &[f64],
     mass: impl Fn(f64) -> f64,
     energy_min: f64,
-    (min_mass, beat): (bool, f64),
+    lightest_to_beat: Option<f64>,
     energy: impl Fn(f64) -> f64,
     value: impl Fn(f64, f64) -> f64,
 ) -> (f64, usize) {
     let mut best = (f64::INFINITY, usize::MAX);
-    if min_mass && lengths.first().is_some_and(|&l| mass(l) >= beat) {
-        return best;
+    if let (Some(beat), Some(&l)) = (lightest_to_beat, lengths.first()) {
+        if mass(l) >= beat {
+            return best;
+        }
     }
     for (i, &l) in lengths.iter().enumerate() {
         let energy = energy(l);
@@ -74,10 +77,52 @@ pub(super) fn general_row(
             if value < best.0 {
                 best = (value, i);
             }
-            if min_mass {
+            if lightest_to_beat.is_some() {
                 break;
             }
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn the_bounded_row_finds_what_a_full_scan_finds() {
+        // Random rows: energy not monotone in the length, feasibility anywhere, and a best of the
+        // shape so far above, below and between the row's masses. Against every point scanned.
+        let mut rng = ChaCha8Rng::seed_from_u64(60);
+        for _ in 0..2000 {
+            let lengths: Vec<f64> = (0..12).map(|i| 0.04 + 0.002 * i as f64).collect();
+            let energies: Vec<f64> = (0..12).map(|_| rng.gen_range(0.0..1.0)).collect();
+            let rate = rng.gen_range(0.5..2.0);
+            let energy_min = rng.gen_range(0.3..1.1);
+            let beat = rng.gen_range(0.0..0.12);
+            let at = |l: f64| lengths.iter().position(|&x| x == l).unwrap();
+            let mass = |l: f64| l * rate;
+            let scanned = lengths
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| energies[i] >= energy_min)
+                .map(|(i, &l)| (mass(l), i))
+                .find(|&(m, _)| m < beat);
+            let (m, i) = general_row(
+                &lengths,
+                mass,
+                energy_min,
+                Some(beat),
+                |l| energies[at(l)],
+                |_, m| m,
+            );
+            match scanned {
+                Some(want) => assert_eq!((m, i), want),
+                // Nothing lighter than the best so far: whatever the row returns must not replace it.
+                None => assert!(i == usize::MAX || m >= beat, "{m} {i} {beat}"),
+            }
+        }
+    }
 }

@@ -467,15 +467,13 @@ pub fn exhaustive(problem: &Problem, progress: &dyn Progress) -> GridResult {
                             f64::INFINITY
                         };
                         let (value, i_l) = if !separable {
-                            let bound = (
-                                problem.objective == Objective::MinMass,
-                                best.map_or(f64::INFINITY, |(v, _, _)| v),
-                            );
+                            let lightest_to_beat = (problem.objective == Objective::MinMass)
+                                .then(|| best.map_or(f64::INFINITY, |(v, _, _)| v));
                             general_row(
                                 &lengths,
                                 |l| l * w0 * rates.mass,
                                 energy_min,
-                                bound,
+                                lightest_to_beat,
                                 |l| problem.model.energy(section, &rates, l, w0),
                                 |u, m| problem.value(u, m),
                             )
